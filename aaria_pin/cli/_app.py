@@ -1,0 +1,37 @@
+"""The click group and its error handling."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import click
+
+from aaria_pin.errors import AariaError
+
+EXIT_BAD_INPUT = 2
+
+
+class _Group(click.Group):
+    """A click group that turns the toolkit's input errors into one line and exit status 2."""
+
+    def invoke(self, ctx: click.Context) -> Any:
+        try:
+            return super().invoke(ctx)
+        except AariaError as exc:
+            click.echo(f"aaria: error: {exc}", err=True)
+            ctx.exit(EXIT_BAD_INPUT)
+
+
+@click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="aaria-pin")
+def main() -> None:
+    """Aaria on Pinocchio: reconfigurable manipulators, IMU datasets, torques."""
+
+
+def _register() -> None:
+    from aaria_pin.cli import urdf_cmd
+
+    main.add_command(urdf_cmd.urdf)
+
+
+_register()

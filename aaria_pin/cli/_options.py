@@ -1,0 +1,52 @@
+"""Options shared by several commands: where a DH table comes from."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TypeVar
+
+import click
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+def table_source_options(func: F) -> F:
+    """Add ``--preset NAME | --dh FILE [--convention ...]`` to a command."""
+    func = click.option(
+        "--convention",
+        type=click.Choice(["aaria", "standard", "modified"]),
+        default="aaria",
+        show_default=True,
+        help="Convention of the --dh table.",
+    )(func)
+    func = click.option(
+        "--dh",
+        "dh_file",
+        type=click.Path(path_type=Path, dir_okay=False),
+        help="DH table file: CSV, .npy, or .mat holding senSenDH.",
+    )(func)
+    func = click.option("--preset", help="Built-in table: aaria-fig2, aaria-fig3, spherical-wrist.")(
+        func
+    )
+    return func
+
+
+def load_table_source(
+    preset: str | None, dh_file: Path | None, convention: str
+) -> tuple[Any, str, str]:
+    """Resolve ``--preset`` / ``--dh`` into ``(table, convention, name)``.
+
+    Raises:
+        click.UsageError: neither or both given.
+    """
+    from aaria_pin.io import read_table
+    from aaria_pin.presets import get_preset
+
+    if (preset is None) == (dh_file is None):
+        raise click.UsageError("give exactly one of --preset NAME or --dh FILE")
+    if preset is not None:
+        chosen = get_preset(preset)
+        return chosen.table, chosen.convention, chosen.name
+    assert dh_file is not None
+    return read_table(dh_file, "senSenDH"), convention, dh_file.stem

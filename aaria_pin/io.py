@@ -1,0 +1,113 @@
+"""Reading tables from files and writing outputs atomically.
+
+Tables come as CSV (comma separated, ``#`` comments, no header), ``.npy``, or MATLAB ``.mat``
+holding a named array (the paper's ``senSenDH``, ``senSenJ``, ``senSenB``). Every output is
+written to a temporary file beside its destination and renamed when complete, so a failure
+never leaves a partial file behind.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+
+from aaria_pin._se3 import Array
+from aaria_pin.errors import InputFileError, OutputFileError
+
+__all__ = ["atomic_output", "read_table", "write_text_atomic"]
+
+_TABLE_SUFFIXES = (".csv", ".txt", ".npy", ".mat")
+
+
+def read_table(path: str | os.PathLike[str], mat_name: str = "senSenDH") -> Array:
+    """Read a 2-D numeric table from a CSV, ``.npy`` or ``.mat`` file.
+
+    Args:
+        path: the file
+        mat_name: name of the array to take from a ``.mat`` file
+
+    Returns:
+        The table as a 2-D float array (shape is checked by the table's validator).
+
+    Raises:
+        InputFileError: the file is missing, unreadable, of an unknown kind, or not numeric.
+    """
+    file = Path(path)
+    suffix = file.suffix.lower()
+    if suffix not in _TABLE_SUFFIXES:
+        raise InputFileError(
+            f"{file}: unknown table file type {suffix!r}; allowed: {', '.join(_TABLE_SUFFIXES)}"
+        )
+    if not file.is_file():
+        raise InputFileError(f"{file}: no such file")
+    try:
+        if suffix == ".npy":
+            data = np.load(file, allow_pickle=False)
+        elif suffix == ".mat":
+            from scipy.io import loadmat
+
+            contents = loadmat(file)
+            if mat_name not in contents:
+                names = sorted(k for k in contents if not k.startswith("__"))
+                raise InputFileError(f"{file}: no array {mat_name!r} in the .mat file; has {names}")
+            data = contents[mat_name]
+        else:
+            data = np.loadtxt(file, delimiter=",", comments="#", ndmin=2)
+        table = np.asarray(data, dtype=float)
+    except InputFileError:
+        raise
+    except (OSError, ValueError, TypeError) as exc:
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise InputFileError(f"{file}: cannot be read as a numeric table ({reason})") from None
+    if table.ndim == 1:
+        table = table.reshape(1, -1)
+    if table.ndim != 2:
+        raise InputFileError(f"{file}: holds a {table.ndim}-D array; expected a 2-D table")
+    return table
+
+
+@contextlib.contextmanager
+def atomic_output(path: str | os.PathLike[str]) -> Iterator[Path]:
+    """Give a temporary path beside ``path``; rename it onto ``path`` when the block succeeds.
+
+    On any exception the temporary file is removed and ``path`` is left as it was.
+
+    Args:
+        path: the final output file
+
+    Yields:
+        The temporary file to write (same folder and suffix as ``path``).
+
+    Raises:
+        OutputFileError: the destination folder does not exist or is not writable.
+    """
+    final = Path(path)
+    folder = final.parent if str(final.parent) else Path(".")
+    if not folder.is_dir():
+        raise OutputFileError(f"{final}: folder {folder} does not exist")
+    if final.is_dir():
+        raise OutputFileError(f"{final}: is a folder; expected a file path")
+    try:
+        handle, name = tempfile.mkstemp(prefix=f".{final.name}.", suffix=final.suffix, dir=folder)
+    except OSError as exc:
+        raise OutputFileError(f"{final}: cannot write in {folder} ({exc.strerror})") from None
+    os.close(handle)
+    temporary = Path(name)
+    os.chmod(temporary, 0o644)
+    try:
+        yield temporary
+        os.replace(temporary, final)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
+
+
+def write_text_atomic(path: str | os.PathLike[str], text: str) -> None:
+    """Write a text file atomically (see :func:`atomic_output`)."""
+    with atomic_output(path) as temporary:
+        temporary.write_text(text, encoding="utf-8")
