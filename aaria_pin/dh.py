@@ -39,8 +39,8 @@ from aaria_pin.errors import TableError
 __all__ = [
     "AARIA_COLUMNS",
     "CONVENTIONS",
-    "R_WORLD_DH",
     "REVOLUTE_RANGE",
+    "R_WORLD_DH",
     "STANDARD_PRISMATIC_RANGE",
     "Convention",
     "JointSpec",

@@ -78,8 +78,13 @@ class BodyDimensions:
     density_overrides: Mapping[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        for name in ("link_width", "link_height", "housing_radius", "housing_length",
-                     "rail_radius"):
+        for name in (
+            "link_width",
+            "link_height",
+            "housing_radius",
+            "housing_length",
+            "rail_radius",
+        ):
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
                 raise ParameterError(f"{name} is {value!r} m; allowed: a finite length > 0")
@@ -133,9 +138,9 @@ def _frame_along(direction: Array, origin: Array) -> Array:
     return T
 
 
-def default_imu_slots(chain: KinematicChain, dims: BodyDimensions | None = None) -> tuple[
-    ImuSlot, ...
-]:
+def default_imu_slots(
+    chain: KinematicChain, dims: BodyDimensions | None = None
+) -> tuple[ImuSlot, ...]:
     """Default IMU mounts: base and tool tip at their frame origins, two per link.
 
     On link i, slot A sits at the middle of the link segment and slot B at 90 % of it, on
@@ -162,9 +167,13 @@ def default_imu_slots(chain: KinematicChain, dims: BodyDimensions | None = None)
             slots += [ImuSlot(name_a, None, np.eye(4)), ImuSlot(name_b, None, np.eye(4))]
             continue
         side = _frame_along(joint.link_end, np.zeros(3))[:3, 2] * dims.link_height / 2.0
-        slots.append(ImuSlot(name_a, link_name(module), translation(*(0.5 * joint.link_end + side))))
         slots.append(
-            ImuSlot(name_b, link_name(module), translation(*(_IMU_B_FRACTION * joint.link_end - side)))
+            ImuSlot(name_a, link_name(module), translation(*(0.5 * joint.link_end + side)))
+        )
+        slots.append(
+            ImuSlot(
+                name_b, link_name(module), translation(*(_IMU_B_FRACTION * joint.link_end - side))
+            )
         )
     return tuple(slots)
 
@@ -179,27 +188,59 @@ def _link_parts(chain: KinematicChain, dims: BodyDimensions) -> dict[str, list[P
         own: list[Part] = []
         T_parent_joint = T_parent_prev_end @ joint.T_prev_joint
         if joint.kind == "revolute":
-            own.append(Part("cylinder", (dims.housing_radius, dims.housing_length), np.eye(4),
-                            rho, "housing"))
+            own.append(
+                Part(
+                    "cylinder",
+                    (dims.housing_radius, dims.housing_length),
+                    np.eye(4),
+                    rho,
+                    "housing",
+                )
+            )
         else:
-            own.append(Part("box", (dims.link_width, dims.link_height, dims.link_width),
-                            np.eye(4), rho, "slider"))
+            own.append(
+                Part(
+                    "box",
+                    (dims.link_width, dims.link_height, dims.link_width),
+                    np.eye(4),
+                    rho,
+                    "slider",
+                )
+            )
             rail_length = joint.upper - joint.lower
             if rail_length > _SEGMENT_EPS:
-                parts[parent].append(Part("cylinder", (dims.rail_radius, rail_length),
-                                          T_parent_joint @ translation(z=(joint.upper + joint.lower) / 2),
-                                          dims.density_of(parent),
-                                          "rail"))
+                parts[parent].append(
+                    Part(
+                        "cylinder",
+                        (dims.rail_radius, rail_length),
+                        T_parent_joint @ translation(z=(joint.upper + joint.lower) / 2),
+                        dims.density_of(parent),
+                        "rail",
+                    )
+                )
         length = float(np.linalg.norm(joint.link_end))
         if length > _SEGMENT_EPS:
-            own.append(Part("box", (length, dims.link_width, dims.link_height),
-                            _frame_along(joint.link_end, joint.link_end / 2.0), rho, "link"))
+            own.append(
+                Part(
+                    "box",
+                    (length, dims.link_width, dims.link_height),
+                    _frame_along(joint.link_end, joint.link_end / 2.0),
+                    rho,
+                    "link",
+                )
+            )
         parts[name] = own
         parent, T_parent_prev_end = name, joint.T_post_end
     if chain.tool_length > _SEGMENT_EPS:
-        parts["tool"] = [Part("box", (chain.tool_length, dims.link_width, dims.link_height),
-                              translation(x=chain.tool_length / 2.0), dims.density_of("tool"),
-                              "tool")]
+        parts["tool"] = [
+            Part(
+                "box",
+                (chain.tool_length, dims.link_width, dims.link_height),
+                translation(x=chain.tool_length / 2.0),
+                dims.density_of("tool"),
+                "tool",
+            )
+        ]
     else:
         parts["tool"] = []
     return parts
@@ -231,23 +272,37 @@ def describe_chain(
     for joint in chain.joints:
         child = link_name(joint.module)
         links.append(LinkDescription(child, tuple(parts[child])))
-        joints.append(JointDescription(f"joint{joint.module}", joint.kind, parent, child,
-                                       T_parent_prev_end @ joint.T_prev_joint,
-                                       joint.lower, joint.upper))
+        joints.append(
+            JointDescription(
+                f"joint{joint.module}",
+                joint.kind,
+                parent,
+                child,
+                T_parent_prev_end @ joint.T_prev_joint,
+                joint.lower,
+                joint.upper,
+            )
+        )
         parent, T_parent_prev_end = child, joint.T_post_end
     links += [LinkDescription("tool", tuple(parts["tool"])), LinkDescription(TOOL_FRAME)]
     joints += [
         JointDescription("tool_joint", "fixed", parent, "tool", T_parent_prev_end),
-        JointDescription("tool_tip_joint", "fixed", "tool", TOOL_FRAME,
-                         translation(x=chain.tool_length)),
+        JointDescription(
+            "tool_tip_joint", "fixed", "tool", TOOL_FRAME, translation(x=chain.tool_length)
+        ),
     ]
     for slot in slots:
         if slot.parent is not None:
             links.append(LinkDescription(slot.name))
-            joints.append(JointDescription(f"{slot.name}_joint", "fixed", slot.parent, slot.name,
-                                           slot.T_parent_imu))
-    comment = (f"{chain.convention} DH table, modules {list(chain.modules)}, "
-               f"density {dims.density} kg/m^3; generated by aaria_pin")
+            joints.append(
+                JointDescription(
+                    f"{slot.name}_joint", "fixed", slot.parent, slot.name, slot.T_parent_imu
+                )
+            )
+    comment = (
+        f"{chain.convention} DH table, modules {list(chain.modules)}, "
+        f"density {dims.density} kg/m^3; generated by aaria_pin"
+    )
     return RobotDescription(name, tuple(links), tuple(joints), comment)
 
 
@@ -272,8 +327,13 @@ class DHRobot:
         from aaria_pin.model import build_model
 
         sensors = [slot.name for slot in self.imu_slots if slot.parent is not None]
-        return build_model(self.urdf, moving_base=moving_base, base_frame=BASE_FRAME,
-                           tool_frame=TOOL_FRAME, sensor_frames=sensors)
+        return build_model(
+            self.urdf,
+            moving_base=moving_base,
+            base_frame=BASE_FRAME,
+            tool_frame=TOOL_FRAME,
+            sensor_frames=sensors,
+        )
 
 
 def build_dh_robot(

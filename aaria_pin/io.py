@@ -49,13 +49,7 @@ def read_table(path: str | os.PathLike[str], mat_name: str = "senSenDH") -> Arra
         if suffix == ".npy":
             data = np.load(file, allow_pickle=False)
         elif suffix == ".mat":
-            from scipy.io import loadmat
-
-            contents = loadmat(file)
-            if mat_name not in contents:
-                names = sorted(k for k in contents if not k.startswith("__"))
-                raise InputFileError(f"{file}: no array {mat_name!r} in the .mat file; has {names}")
-            data = contents[mat_name]
+            data = _read_mat_array(file, mat_name)
         else:
             data = np.loadtxt(file, delimiter=",", comments="#", ndmin=2)
         table = np.asarray(data, dtype=float)
@@ -69,6 +63,30 @@ def read_table(path: str | os.PathLike[str], mat_name: str = "senSenDH") -> Arra
     if table.ndim != 2:
         raise InputFileError(f"{file}: holds a {table.ndim}-D array; expected a 2-D table")
     return table
+
+
+def _read_mat_array(file: Path, name: str) -> Array:
+    """One array of a MATLAB file: v4–v7 through scipy, v7.3 (HDF5) through h5py."""
+    from scipy.io import loadmat
+    from scipy.io.matlab import MatReadError
+
+    try:
+        contents = loadmat(file)
+    except NotImplementedError:  # a v7.3 file is HDF5, stored column-major
+        import h5py
+
+        with h5py.File(file, "r") as handle:
+            if name not in handle:
+                raise InputFileError(
+                    f"{file}: no array {name!r} in the .mat file; has {sorted(handle)}"
+                ) from None
+            return np.asarray(handle[name][()], dtype=float).T
+    except MatReadError as exc:
+        raise ValueError(str(exc)) from None
+    if name not in contents:
+        names = sorted(k for k in contents if not k.startswith("__"))
+        raise InputFileError(f"{file}: no array {name!r} in the .mat file; has {names}")
+    return np.asarray(contents[name], dtype=float)
 
 
 @contextlib.contextmanager

@@ -195,4 +195,3 @@ def emit_urdf(description: RobotDescription) -> str:
         links="".join(_link_xml(link) for link in description.links),
         joints="".join(_joint_xml(joint) for joint in description.joints),
     )
-

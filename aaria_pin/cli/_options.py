@@ -4,9 +4,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar, cast
 
 import click
+
+if TYPE_CHECKING:
+    from aaria_pin.dh import Convention
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -26,15 +29,15 @@ def table_source_options(func: F) -> F:
         type=click.Path(path_type=Path, dir_okay=False),
         help="DH table file: CSV, .npy, or .mat holding senSenDH.",
     )(func)
-    func = click.option("--preset", help="Built-in table: aaria-fig2, aaria-fig3, spherical-wrist.")(
-        func
-    )
+    func = click.option(
+        "--preset", help="Built-in table: aaria-fig2, aaria-fig3, spherical-wrist."
+    )(func)
     return func
 
 
 def load_table_source(
     preset: str | None, dh_file: Path | None, convention: str
-) -> tuple[Any, str, str]:
+) -> tuple[Any, Convention, str]:
     """Resolve ``--preset`` / ``--dh`` into ``(table, convention, name)``.
 
     Raises:
@@ -49,4 +52,4 @@ def load_table_source(
         chosen = get_preset(preset)
         return chosen.table, chosen.convention, chosen.name
     assert dh_file is not None
-    return read_table(dh_file, "senSenDH"), convention, dh_file.stem
+    return read_table(dh_file, "senSenDH"), cast("Convention", convention), dh_file.stem

@@ -11,20 +11,37 @@ from aaria_pin.cli._options import load_table_source, table_source_options
 
 @click.command()
 @table_source_options
-@click.option("--density", type=float, default=2700.0, show_default=True,
-              help="Density of every body [kg/m^3].")
-@click.option("-o", "--output", type=click.Path(path_type=Path, dir_okay=False), required=True,
-              help="URDF file to write.")
-def urdf(preset: str | None, dh_file: Path | None, convention: str, density: float,
-         output: Path) -> None:
+@click.option(
+    "--density",
+    type=float,
+    default=2700.0,
+    show_default=True,
+    help="Density of every body [kg/m^3].",
+)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(path_type=Path, dir_okay=False),
+    required=True,
+    help="URDF file to write.",
+)
+def urdf(
+    preset: str | None, dh_file: Path | None, convention: str, density: float, output: Path
+) -> None:
     """Write the URDF of a DH table (fixed base, tool tip and IMU frames included)."""
     from aaria_pin.dh_robot import BodyDimensions, build_dh_robot
     from aaria_pin.io import write_text_atomic
 
     table, table_convention, name = load_table_source(preset, dh_file, convention)
-    robot = build_dh_robot(table, table_convention, BodyDimensions(density=density),  # type: ignore[arg-type]
-                           name=name.replace("-", "_"))
+    robot = build_dh_robot(
+        table,
+        table_convention,
+        BodyDimensions(density=density),
+        name=name.replace("-", "_"),
+    )
     write_text_atomic(output, robot.urdf)
-    click.echo(f"wrote {output}: {len(robot.chain.joints)} joints "
-               f"(modules {', '.join(map(str, robot.chain.modules))}), "
-               f"{len(robot.imu_slots)} IMU slots")
+    click.echo(
+        f"wrote {output}: {len(robot.chain.joints)} joints "
+        f"(modules {', '.join(map(str, robot.chain.modules))}), "
+        f"{len(robot.imu_slots)} IMU slots"
+    )
