@@ -29,8 +29,9 @@ def main() -> None:
 
 
 def _register() -> None:
-    from aaria_pin.cli import urdf_cmd
+    from aaria_pin.cli import simulate_cmd, urdf_cmd
 
+    main.add_command(simulate_cmd.simulate)
     main.add_command(urdf_cmd.urdf)
 
 

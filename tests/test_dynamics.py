@@ -1,0 +1,105 @@
+"""Torques and base wrench: vs per-sample RNEA, a static hand calculation, and energy balance."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import W_T_DH, Rx, Rz, Tx, Tz
+
+from aaria_pin.dh_robot import BodyDimensions, build_dh_robot
+from aaria_pin.dynamics import inverse_dynamics, reference_inverse_dynamics
+from aaria_pin.oscillation import base_motion, default_base_table, default_joint_table, joint_trajectory
+from aaria_pin.presets import get_preset
+from aaria_pin.simulate import simulate_run
+from aaria_pin.trajectory import sample_times
+
+g = 9.81
+
+
+@pytest.mark.parametrize("name", ["aaria-fig2", "aaria-fig3"])
+def test_batched_equals_per_sample_rnea(name: str) -> None:
+    robot = build_dh_robot(get_preset(name).table)
+    model = robot.model(moving_base=True)
+    time = sample_times(2.0, 50)
+    trajectory = joint_trajectory(default_joint_table(robot.chain), robot.chain, time)
+    base = base_motion(default_base_table(), time)
+    for fast, reference in zip(inverse_dynamics(model, base, trajectory, threads=2),
+                               reference_inverse_dynamics(model, base, trajectory), strict=True):
+        np.testing.assert_allclose(fast, reference, atol=1e-9)
+
+
+def test_horizontal_link_under_gravity_by_hand() -> None:
+    a, a_tool = 0.8, 0.1
+    table = np.zeros((8, 5))
+    table[0] = [0.0, a, 0.0, 0.0, 1]  # revolute about DH z = world -y
+    table[6, 1] = a_tool
+    senJ = np.zeros((8, 5))
+    senJ[0, 2] = np.pi / 2  # link along DH y = world -x: horizontal
+    senB = np.zeros((2, 4))
+    dims = BodyDimensions()
+    record = simulate_run(table, senJ, senB, duration=0.2, rate=10, noise=False, dims=dims)
+    section = dims.link_width * dims.link_height * dims.density
+    m_link, m_tool = section * a, section * a_tool
+    m_housing = np.pi * dims.housing_radius**2 * dims.housing_length * dims.density
+    moment = (m_link * a / 2 + m_tool * (a + a_tool / 2)) * g  # lever arms along world -x
+    np.testing.assert_allclose(record.tau[:, 0], -moment, rtol=1e-12)
+    np.testing.assert_allclose(record.tau[:, 1:], 0.0)
+    expected_wrench = [0, 0, (m_link + m_tool + m_housing) * g, 0, moment, 0]
+    np.testing.assert_allclose(record.base_wrench, np.tile(expected_wrench, (3, 1)), atol=1e-10)
+
+
+def _body_poses(table, senJ, senB, t):
+    """World poses of the bodies (base, then each module's post-joint frame) from paper matrices."""
+    rows = np.repeat(senB, 3, axis=0) if senB.shape[0] == 2 else senB
+    x, y, z, ax, ay, az = (r[0] * np.sin(r[2] * t + r[3]) + r[1] for r in rows)
+    Ry = np.array([[np.cos(ay), 0, np.sin(ay), 0], [0, 1, 0, 0], [-np.sin(ay), 0, np.cos(ay), 0],
+                   [0, 0, 0, 1]])
+    T = Rx(ax) @ Ry @ Rz(az)
+    T[:3, 3] = (x, y, z)
+    poses = [T.copy()]
+    T = T @ W_T_DH
+    for i, (alpha, a, theta, d, link_type) in enumerate(table[:6]):
+        A, Ap, bias, w, phase = senJ[i]
+        if link_type == 1:
+            T = T @ Rx(alpha) @ Tz(d) @ Rz(A * np.sin(w * t + phase) + bias)
+        elif link_type == 2:
+            T = T @ Rx(alpha) @ Rz(theta) @ Tz(Ap * np.sin(w * t + phase) + bias)
+        else:
+            continue
+        poses.append(T.copy())
+        T = T @ Tx(a)
+    return poses
+
+
+def _energy(inertias, poses_m, poses_0, poses_p, h) -> float:
+    total = 0.0
+    for inertia, Tm, T0, Tp in zip(inertias, poses_m, poses_0, poses_p, strict=True):
+        c = [T[:3, :3] @ inertia.lever + T[:3, 3] for T in (Tm, T0, Tp)]
+        v = (c[2] - c[0]) / (2 * h)
+        S = T0[:3, :3].T @ (Tp[:3, :3] - Tm[:3, :3]) / (2 * h)
+        w = np.array([S[2, 1], S[0, 2], S[1, 0]])
+        total += 0.5 * inertia.mass * v @ v + 0.5 * w @ inertia.inertia @ w + inertia.mass * g * c[1][2]
+    return total
+
+
+@pytest.mark.parametrize("name", ["aaria-fig2", "aaria-fig3"])
+def test_power_of_torques_and_base_wrench_equals_rate_of_energy(name: str) -> None:
+    table = get_preset(name).table
+    senB = np.array([[0.05, 0.0, 1.5, 0.0], [0.1, 0.05, 1.1, 0.4]])
+    record = simulate_run(table, base_table=senB, duration=2.0, rate=4, noise=False)
+    model = build_dh_robot(table).model(moving_base=True).model
+    inertias = list(model.inertias)[1:]  # base body (root joint), then one per module
+    h, dt = 1e-5, 1e-3
+    for k in range(1, record.time.size, 2):
+        t = record.time[k]
+        energy = [_energy(inertias, *(_body_poses(table, record.senSenJ, senB, s + e)
+                                      for e in (-h, 0.0, h)), h) for s in (t - dt, t + dt)]
+        rate_of_energy = (energy[1] - energy[0]) / (2 * dt)
+        base = _body_poses(table, record.senSenJ, senB, t)[0]
+        base_m, base_p = (_body_poses(table, record.senSenJ, senB, t + e)[0] for e in (-h, h))
+        p_dot = (base_p[:3, 3] - base_m[:3, 3]) / (2 * h)
+        S = (base_p[:3, :3] - base_m[:3, :3]) @ base[:3, :3].T / (2 * h)
+        omega_world = np.array([S[2, 1], S[0, 2], S[1, 0]])
+        power = (record.tau[k] @ record.qd[k] + record.base_wrench[k, :3] @ p_dot
+                 + record.base_wrench[k, 3:] @ omega_world)
+        assert power == pytest.approx(rate_of_energy, rel=1e-4, abs=1e-3)

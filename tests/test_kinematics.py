@@ -1,0 +1,124 @@
+"""IMU signals: fast path vs Pinocchio per sample, and vs finite differences of paper matrices."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import W_T_DH, Rx, Rz, Tx, Tz
+
+from aaria_pin.dh_robot import build_dh_robot
+from aaria_pin.kinematics import imu_signals, reference_imu_signals
+from aaria_pin.oscillation import (
+    base_motion,
+    default_base_table,
+    default_joint_table,
+    joint_trajectory,
+)
+from aaria_pin.presets import get_preset
+from aaria_pin.simulate import simulate_run
+from aaria_pin.trajectory import sample_times
+
+G = np.array([0.0, 0.0, -9.81])
+BASE_6X4 = np.array([[0.04, 0.1, 1.1, 0.2], [0.03, -0.2, 0.9, 0.0], [0.05, 0.0, 1.3, 1.0],
+                     [0.2, 0.1, 0.8, 0.4], [0.15, -0.1, 1.2, 0.0], [0.25, 0.3, 0.6, 2.0]])
+
+
+@pytest.mark.parametrize("name", ["aaria-fig2", "aaria-fig3"])
+@pytest.mark.parametrize("base_table", [default_base_table(), BASE_6X4])
+def test_fast_path_equals_pinocchio_per_sample(name: str, base_table: np.ndarray) -> None:
+    robot = build_dh_robot(get_preset(name).table)
+    model = robot.model(moving_base=True)
+    time = sample_times(3.0, 40)
+    trajectory = joint_trajectory(default_joint_table(robot.chain), robot.chain, time)
+    base = base_motion(base_table, time)
+    frames = [*model.sensor_frames, "tool_tip", "link3"]
+    fast = imu_signals(model, base, trajectory, frames)
+    reference = reference_imu_signals(model, base, trajectory, frames)
+    np.testing.assert_allclose(fast, reference, rtol=0, atol=1e-9)
+
+
+def test_fixed_base_model_equals_pinocchio() -> None:
+    robot = build_dh_robot(get_preset("spherical-wrist").table, "standard")
+    model = robot.model(moving_base=False)
+    time = sample_times(2.0, 30)
+    q = np.column_stack([np.sin(time), np.cos(2 * time), 0.5 * time])
+    qd = np.column_stack([np.cos(time), -2 * np.sin(2 * time), 0.5 + 0 * time])
+    qdd = np.column_stack([-np.sin(time), -4 * np.cos(2 * time), 0 * time])
+    from aaria_pin.trajectory import BaseMotion, JointTrajectory
+
+    trajectory = JointTrajectory(time, q, qd, qdd)
+    base = BaseMotion.resting(time.size)
+    np.testing.assert_allclose(imu_signals(model, base, trajectory, model.sensor_frames),
+                               reference_imu_signals(model, base, trajectory, model.sensor_frames),
+                               atol=1e-9)
+
+
+# --- an independent computation: poses from the paper's matrices, derivatives by differences ---
+
+def _sine(row: np.ndarray, t: float) -> float:
+    amplitude, bias, frequency, phase = row
+    return amplitude * np.sin(frequency * t + phase) + bias
+
+
+def _world_poses(table, senJ, senB, mounts, t: float) -> list[np.ndarray]:
+    """World poses of the 14 IMU slots at time t (None for empty modules)."""
+    rows = np.repeat(senB, 3, axis=0) if senB.shape[0] == 2 else senB
+    x, y, z, ax, ay, az = (_sine(r, t) for r in rows)
+    Ry = np.array([[np.cos(ay), 0, np.sin(ay), 0], [0, 1, 0, 0], [-np.sin(ay), 0, np.cos(ay), 0],
+                   [0, 0, 0, 1]])
+    T_base = Rx(ax) @ Ry @ Rz(az)
+    T_base[:3, 3] = (x, y, z)
+    poses = [T_base @ mounts[0], None]
+    T = T_base @ W_T_DH
+    for i, (alpha, a, theta, d, link_type) in enumerate(table[:6]):
+        A, Ap, bias, w, phase = senJ[i]
+        if link_type == 0:
+            poses += [None, None]
+            continue
+        if link_type == 1:
+            T = T @ Rx(alpha) @ Tz(d) @ Rz(A * np.sin(w * t + phase) + bias)
+        else:
+            T = T @ Rx(alpha) @ Rz(theta) @ Tz(Ap * np.sin(w * t + phase) + bias)
+        poses += [T @ mounts[2 + 2 * i], T @ mounts[3 + 2 * i]]
+        T = T @ Tx(a)
+    poses[1] = T @ Tx(table[6, 1]) @ mounts[1]
+    return poses
+
+
+@pytest.mark.parametrize("name", ["aaria-fig2", "aaria-fig3"])
+def test_imu_signals_against_finite_differences_of_paper_matrices(name: str) -> None:
+    table = get_preset(name).table
+    record = simulate_run(table, base_table=BASE_6X4, duration=2.0, rate=5.0, noise=False)
+    h = 1e-4
+    for k in (1, 4, 9):
+        t = record.time[k]
+        before, now, after = (_world_poses(table, record.senSenJ, record.senSenB,
+                                           record.imu_mount, t + s) for s in (-h, 0.0, h))
+        for slot in range(14):
+            columns = record.senSen[k, 7 + 6 * slot: 13 + 6 * slot]
+            if now[slot] is None:
+                assert not columns.any()
+                continue
+            R, Rm, Rp = now[slot][:3, :3], before[slot][:3, :3], after[slot][:3, :3]
+            skew = R.T @ (Rp - Rm) / (2 * h)
+            omega = np.array([skew[2, 1] - skew[1, 2], skew[0, 2] - skew[2, 0],
+                              skew[1, 0] - skew[0, 1]]) / 2
+            accel = (after[slot][:3, 3] - 2 * now[slot][:3, 3] + before[slot][:3, 3]) / h**2
+            np.testing.assert_allclose(columns[:3], omega, atol=1e-6)
+            np.testing.assert_allclose(columns[3:], R.T @ (accel - G), atol=2e-4)
+        np.testing.assert_allclose(record.tool_pose[k], now[1] @ np.linalg.inv(record.imu_mount[1]),
+                                   atol=1e-12)
+
+
+def test_resting_imus_read_gravity_in_their_axes() -> None:
+    table = get_preset("aaria-fig2").table
+    senJ = np.zeros((8, 5))
+    senJ[:6, 2] = [0.03, 0.4, -0.7, 1.2, -0.02, 2.0]
+    senB = np.array([[0.0, 0.5, 0.0, 0.0], [0.0, 0.3, 0.0, 0.0]])
+    record = simulate_run(table, senJ, senB, duration=0.5, rate=10, noise=False)
+    poses = _world_poses(table, senJ, senB, record.imu_mount, 0.0)
+    for slot, pose in enumerate(poses):
+        columns = record.senSen[:, 7 + 6 * slot: 13 + 6 * slot]
+        np.testing.assert_allclose(columns[:, :3], 0.0, atol=1e-12)
+        np.testing.assert_allclose(columns[:, 3:], np.tile(pose[:3, :3].T @ [0, 0, 9.81], (6, 1)),
+                                   atol=1e-12)
