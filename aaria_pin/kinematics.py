@@ -32,7 +32,11 @@ __all__ = [
     "reference_imu_signals",
 ]
 
-_AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}
+_AXES = {
+    "X": np.array([1.0, 0.0, 0.0]),
+    "Y": np.array([0.0, 1.0, 0.0]),
+    "Z": np.array([0.0, 0.0, 1.0]),
+}
 
 
 @dataclass(frozen=True)
@@ -76,7 +80,9 @@ def _joint_kind(joint: pin.JointModel) -> tuple[str, Array]:
                 return kind, _AXES[suffix]
             if suffix in ("evoluteUnaligned", "rismaticUnaligned"):
                 return kind, np.asarray(joint.extract().axis, dtype=float)
-    raise ModelError(f"joint type {name} is not supported; allowed: revolute, prismatic, free-flyer")
+    raise ModelError(
+        f"joint type {name} is not supported; allowed: revolute, prismatic, free-flyer"
+    )
 
 
 def _cross(a: Array, b: Array) -> Array:
@@ -123,8 +129,14 @@ def frame_kinematics(
         if kind == "freeflyer":
             R = base.rotation
             state.append(
-                (R, base.position, _matvec(R, base.omega), _matvec(R, base.omega_dot),
-                 base.velocity, base.acceleration)
+                (
+                    R,
+                    base.position,
+                    _matvec(R, base.omega),
+                    _matvec(R, base.omega_dot),
+                    base.velocity,
+                    base.acceleration,
+                )
             )
             continue
         Rp, pp, wp, alp, vp, ap = state[model.parents[j]]

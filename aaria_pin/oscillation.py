@@ -38,8 +38,9 @@ BASE_COLUMNS = ("amplitude", "bias", "frequency", "phase")
 _RANGE_TOLERANCE = 1e-12
 
 
-def _finite_table(table: ArrayLike, shapes: tuple[tuple[int, int], ...], what: str,
-                  columns: tuple[str, ...]) -> Array:
+def _finite_table(
+    table: ArrayLike, shapes: tuple[tuple[int, int], ...], what: str, columns: tuple[str, ...]
+) -> Array:
     try:
         arr = np.array(table, dtype=float)
     except (TypeError, ValueError) as exc:
@@ -50,8 +51,10 @@ def _finite_table(table: ArrayLike, shapes: tuple[tuple[int, int], ...], what: s
     bad = np.argwhere(~np.isfinite(arr))
     if bad.size:
         row, col = bad[0]
-        raise TableError(f"{what}: row {row + 1}, column {col + 1} ({columns[col]}) is "
-                         f"{arr[row, col]}; allowed: a finite number")
+        raise TableError(
+            f"{what}: row {row + 1}, column {col + 1} ({columns[col]}) is "
+            f"{arr[row, col]}; allowed: a finite number"
+        )
     return arr
 
 
@@ -74,8 +77,10 @@ def validate_joint_table(table: ArrayLike, chain: KinematicChain) -> Array:
     for joint in chain.joints:
         row = joint.module - 1
         if arr[row, 3] < 0:
-            raise TableError(f"{what}: row {row + 1}, column 4 (frequency) is {arr[row, 3]:g} "
-                             "rad/s; allowed: >= 0")
+            raise TableError(
+                f"{what}: row {row + 1}, column 4 (frequency) is {arr[row, 3]:g} "
+                "rad/s; allowed: >= 0"
+            )
         amplitude = arr[row, 0] if joint.kind == "revolute" else arr[row, 1]
         low, high = arr[row, 2] - abs(amplitude), arr[row, 2] + abs(amplitude)
         if low < joint.lower - _RANGE_TOLERANCE or high > joint.upper + _RANGE_TOLERANCE:
@@ -99,8 +104,9 @@ def validate_base_table(table: ArrayLike) -> Array:
     negative = np.flatnonzero(arr[:, 2] < 0)
     if negative.size:
         row = negative[0]
-        raise TableError(f"{what}: row {row + 1}, column 3 (frequency) is {arr[row, 2]:g} rad/s;"
-                         " allowed: >= 0")
+        raise TableError(
+            f"{what}: row {row + 1}, column 3 (frequency) is {arr[row, 2]:g} rad/s; allowed: >= 0"
+        )
     return arr
 
 

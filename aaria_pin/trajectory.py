@@ -51,10 +51,12 @@ def sample_times(duration: float, rate: float) -> Array:
         ParameterError: a value outside those limits, or more than 2,000,000 samples.
     """
     if not (np.isfinite(duration) and 0 < duration <= MAX_DURATION):
-        raise ParameterError(f"duration {duration!r} s; allowed: 0 < duration <= {MAX_DURATION:g} s")
+        raise ParameterError(
+            f"duration {duration!r} s; allowed: 0 < duration <= {MAX_DURATION:g} s"
+        )
     if not (np.isfinite(rate) and 0 < rate <= MAX_RATE):
         raise ParameterError(f"rate {rate!r} Hz; allowed: 0 < rate <= {MAX_RATE:g} Hz")
-    n = int(round(duration * rate)) + 1
+    n = round(duration * rate) + 1
     if n > MAX_SAMPLES:
         raise ParameterError(
             f"duration × rate gives {n} samples; allowed: at most {MAX_SAMPLES} per run"

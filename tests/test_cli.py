@@ -118,3 +118,140 @@ def test_help_starts_fast_without_heavy_imports() -> None:
         [sys.executable, str(ROOT / "cli.py"), "--help"], capture_output=True, check=True
     )
     assert time.perf_counter() - start < 2.0  # generous bound for a loaded CI machine
+
+
+# --- aaria simulate ---
+
+
+def test_simulate_writes_h5_and_remakes_it_from_the_file(tmp_path: Path) -> None:
+    import h5py
+
+    from aaria_pin.record import SENSEN_COLUMNS
+
+    run = tmp_path / "run.h5"
+    code, out, err = _run(
+        "simulate",
+        "--preset",
+        "aaria-fig2",
+        "--duration",
+        "1",
+        "--rate",
+        "50",
+        "--seed",
+        "5",
+        "-o",
+        str(run),
+    )
+    assert code == 0, err
+    assert "51 samples" in out
+    with h5py.File(run, "r") as f:
+        assert f["senSen"].shape == (51, 91)
+        assert [
+            c.decode() if isinstance(c, bytes) else c for c in f["senSen"].attrs["columns"]
+        ] == list(SENSEN_COLUMNS)
+        for name, shape in (
+            ("senSenDH", (8, 5)),
+            ("senSenJ", (8, 5)),
+            ("senSenB", (2, 4)),
+            ("q", (51, 6)),
+            ("tau", (51, 6)),
+            ("base_wrench", (51, 6)),
+            ("tool_pose", (51, 4, 4)),
+            ("imu_mount", (14, 4, 4)),
+        ):
+            assert f[name].shape == shape
+        assert f.attrs["rate"] == 50 and f.attrs["seed"] == 5 and bool(f.attrs["noise"])
+        original = f["senSen"][()]
+    again = tmp_path / "again.h5"
+    code, _, err = _run("simulate", "--from", str(run), "-o", str(again))
+    assert code == 0, err
+    with h5py.File(again, "r") as f:
+        np.testing.assert_array_equal(f["senSen"][()], original)
+
+
+def test_simulate_mat_output_reads_back_with_scipy(tmp_path: Path) -> None:
+    from scipy.io import loadmat
+
+    table = get_preset("aaria-fig3").table
+    np.savetxt(tmp_path / "dh.csv", table, delimiter=",")
+    senJ = np.zeros((8, 5))
+    senJ[:6] = [0.3, 0.05, 0.0, 1.0, 0.0]
+    savemat(tmp_path / "j.mat", {"senSenJ": senJ})
+    np.save(tmp_path / "b.npy", np.array([[0.01, 0, 2.0, 0], [0.02, 0, 1.0, 0]]))
+    out_file = tmp_path / "run.mat"
+    code, _, err = _run(
+        "simulate",
+        "--dh",
+        str(tmp_path / "dh.csv"),
+        "--joints",
+        str(tmp_path / "j.mat"),
+        "--base",
+        str(tmp_path / "b.npy"),
+        "--duration",
+        "0.5",
+        "--rate",
+        "20",
+        "--no-noise",
+        "-o",
+        str(out_file),
+    )
+    assert code == 0, err
+    mat = loadmat(out_file)
+    assert mat["senSen"].shape == (11, 91)
+    np.testing.assert_array_equal(mat["senSenDH"], table)
+    np.testing.assert_array_equal(mat["senSenJ"], senJ)
+    assert mat["tool_pose"].shape == (11, 4, 4)
+    np.testing.assert_allclose(mat["q"][:, 0], 0.05 * np.sin(np.arange(11) / 20))
+
+
+@pytest.mark.parametrize(
+    ("extra", "pattern"),
+    [
+        (["--preset", "aaria-fig2", "--duration", "0"], "duration 0.0 s; allowed"),
+        (["--preset", "aaria-fig2", "--rate", "-5"], "rate -5.0 Hz; allowed"),
+        (["--preset", "aaria-fig2", "--duration", "1e12"], "duration"),
+        (["--preset", "spherical-wrist"], "standard DH table"),
+        (["--preset", "aaria-fig2", "--joints", "MISSING"], "no such file"),
+        (["--preset", "aaria-fig2", "--base", "BASE_BAD"], "base oscillation table: shape (3, 4)"),
+        (["--preset", "aaria-fig2", "--joints", "JOINT_RANGE"], "(prismatic module 1) moves over"),
+        (["--preset", "aaria-fig2", "--joints", "JOINT_NAN"], "row 2, column 3 (bias) is nan"),
+    ],
+)
+def test_simulate_bad_input(tmp_path: Path, extra: list[str], pattern: str) -> None:
+    np.savetxt(tmp_path / "base_bad.csv", np.zeros((3, 4)), delimiter=",")
+    joints = np.zeros((8, 5))
+    joints[0] = [0, 0.2, 0, 1, 0]
+    np.savetxt(tmp_path / "joint_range.csv", joints, delimiter=",")
+    joints = np.zeros((8, 5))
+    joints[1, 2] = np.nan
+    np.savetxt(tmp_path / "joint_nan.csv", joints, delimiter=",")
+    names = {
+        "MISSING": "missing.csv",
+        "BASE_BAD": "base_bad.csv",
+        "JOINT_RANGE": "joint_range.csv",
+        "JOINT_NAN": "joint_nan.csv",
+    }
+    args = [str(tmp_path / names[a]) if a in names else a for a in extra]
+    output = tmp_path / "run.h5"
+    code, _, err = _run("simulate", *args, "-o", str(output))
+    assert code == 2, err
+    assert pattern in err and err.count("\n") == 1
+    assert not output.exists()
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".run")]
+
+
+def test_simulate_unwritable_output(tmp_path: Path) -> None:
+    code, _, err = _run(
+        "simulate",
+        "--preset",
+        "aaria-fig2",
+        "--duration",
+        "0.1",
+        "-o",
+        str(tmp_path / "nope" / "run.h5"),
+    )
+    assert code == 2 and "does not exist" in err
+    code, _, err = _run(
+        "simulate", "--preset", "aaria-fig2", "--duration", "0.1", "-o", str(tmp_path / "run.txt")
+    )
+    assert code == 2 and ".txt" in err

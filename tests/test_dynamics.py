@@ -8,7 +8,12 @@ from conftest import W_T_DH, Rx, Rz, Tx, Tz
 
 from aaria_pin.dh_robot import BodyDimensions, build_dh_robot
 from aaria_pin.dynamics import inverse_dynamics, reference_inverse_dynamics
-from aaria_pin.oscillation import base_motion, default_base_table, default_joint_table, joint_trajectory
+from aaria_pin.oscillation import (
+    base_motion,
+    default_base_table,
+    default_joint_table,
+    joint_trajectory,
+)
 from aaria_pin.presets import get_preset
 from aaria_pin.simulate import simulate_run
 from aaria_pin.trajectory import sample_times
@@ -23,8 +28,11 @@ def test_batched_equals_per_sample_rnea(name: str) -> None:
     time = sample_times(2.0, 50)
     trajectory = joint_trajectory(default_joint_table(robot.chain), robot.chain, time)
     base = base_motion(default_base_table(), time)
-    for fast, reference in zip(inverse_dynamics(model, base, trajectory, threads=2),
-                               reference_inverse_dynamics(model, base, trajectory), strict=True):
+    for fast, reference in zip(
+        inverse_dynamics(model, base, trajectory, threads=2),
+        reference_inverse_dynamics(model, base, trajectory),
+        strict=True,
+    ):
         np.testing.assert_allclose(fast, reference, atol=1e-9)
 
 
@@ -52,8 +60,14 @@ def _body_poses(table, senJ, senB, t):
     """World poses of the bodies (base, then each module's post-joint frame) from paper matrices."""
     rows = np.repeat(senB, 3, axis=0) if senB.shape[0] == 2 else senB
     x, y, z, ax, ay, az = (r[0] * np.sin(r[2] * t + r[3]) + r[1] for r in rows)
-    Ry = np.array([[np.cos(ay), 0, np.sin(ay), 0], [0, 1, 0, 0], [-np.sin(ay), 0, np.cos(ay), 0],
-                   [0, 0, 0, 1]])
+    Ry = np.array(
+        [
+            [np.cos(ay), 0, np.sin(ay), 0],
+            [0, 1, 0, 0],
+            [-np.sin(ay), 0, np.cos(ay), 0],
+            [0, 0, 0, 1],
+        ]
+    )
     T = Rx(ax) @ Ry @ Rz(az)
     T[:3, 3] = (x, y, z)
     poses = [T.copy()]
@@ -78,7 +92,9 @@ def _energy(inertias, poses_m, poses_0, poses_p, h) -> float:
         v = (c[2] - c[0]) / (2 * h)
         S = T0[:3, :3].T @ (Tp[:3, :3] - Tm[:3, :3]) / (2 * h)
         w = np.array([S[2, 1], S[0, 2], S[1, 0]])
-        total += 0.5 * inertia.mass * v @ v + 0.5 * w @ inertia.inertia @ w + inertia.mass * g * c[1][2]
+        total += (
+            0.5 * inertia.mass * v @ v + 0.5 * w @ inertia.inertia @ w + inertia.mass * g * c[1][2]
+        )
     return total
 
 
@@ -92,14 +108,23 @@ def test_power_of_torques_and_base_wrench_equals_rate_of_energy(name: str) -> No
     h, dt = 1e-5, 1e-3
     for k in range(1, record.time.size, 2):
         t = record.time[k]
-        energy = [_energy(inertias, *(_body_poses(table, record.senSenJ, senB, s + e)
-                                      for e in (-h, 0.0, h)), h) for s in (t - dt, t + dt)]
+        energy = [
+            _energy(
+                inertias,
+                *(_body_poses(table, record.senSenJ, senB, s + e) for e in (-h, 0.0, h)),
+                h,
+            )
+            for s in (t - dt, t + dt)
+        ]
         rate_of_energy = (energy[1] - energy[0]) / (2 * dt)
         base = _body_poses(table, record.senSenJ, senB, t)[0]
         base_m, base_p = (_body_poses(table, record.senSenJ, senB, t + e)[0] for e in (-h, h))
         p_dot = (base_p[:3, 3] - base_m[:3, 3]) / (2 * h)
         S = (base_p[:3, :3] - base_m[:3, :3]) @ base[:3, :3].T / (2 * h)
         omega_world = np.array([S[2, 1], S[0, 2], S[1, 0]])
-        power = (record.tau[k] @ record.qd[k] + record.base_wrench[k, :3] @ p_dot
-                 + record.base_wrench[k, 3:] @ omega_world)
+        power = (
+            record.tau[k] @ record.qd[k]
+            + record.base_wrench[k, :3] @ p_dot
+            + record.base_wrench[k, 3:] @ omega_world
+        )
         assert power == pytest.approx(rate_of_energy, rel=1e-4, abs=1e-3)

@@ -19,8 +19,16 @@ from aaria_pin.simulate import simulate_run
 from aaria_pin.trajectory import sample_times
 
 G = np.array([0.0, 0.0, -9.81])
-BASE_6X4 = np.array([[0.04, 0.1, 1.1, 0.2], [0.03, -0.2, 0.9, 0.0], [0.05, 0.0, 1.3, 1.0],
-                     [0.2, 0.1, 0.8, 0.4], [0.15, -0.1, 1.2, 0.0], [0.25, 0.3, 0.6, 2.0]])
+BASE_6X4 = np.array(
+    [
+        [0.04, 0.1, 1.1, 0.2],
+        [0.03, -0.2, 0.9, 0.0],
+        [0.05, 0.0, 1.3, 1.0],
+        [0.2, 0.1, 0.8, 0.4],
+        [0.15, -0.1, 1.2, 0.0],
+        [0.25, 0.3, 0.6, 2.0],
+    ]
+)
 
 
 @pytest.mark.parametrize("name", ["aaria-fig2", "aaria-fig3"])
@@ -48,12 +56,15 @@ def test_fixed_base_model_equals_pinocchio() -> None:
 
     trajectory = JointTrajectory(time, q, qd, qdd)
     base = BaseMotion.resting(time.size)
-    np.testing.assert_allclose(imu_signals(model, base, trajectory, model.sensor_frames),
-                               reference_imu_signals(model, base, trajectory, model.sensor_frames),
-                               atol=1e-9)
+    np.testing.assert_allclose(
+        imu_signals(model, base, trajectory, model.sensor_frames),
+        reference_imu_signals(model, base, trajectory, model.sensor_frames),
+        atol=1e-9,
+    )
 
 
 # --- an independent computation: poses from the paper's matrices, derivatives by differences ---
+
 
 def _sine(row: np.ndarray, t: float) -> float:
     amplitude, bias, frequency, phase = row
@@ -64,8 +75,14 @@ def _world_poses(table, senJ, senB, mounts, t: float) -> list[np.ndarray]:
     """World poses of the 14 IMU slots at time t (None for empty modules)."""
     rows = np.repeat(senB, 3, axis=0) if senB.shape[0] == 2 else senB
     x, y, z, ax, ay, az = (_sine(r, t) for r in rows)
-    Ry = np.array([[np.cos(ay), 0, np.sin(ay), 0], [0, 1, 0, 0], [-np.sin(ay), 0, np.cos(ay), 0],
-                   [0, 0, 0, 1]])
+    Ry = np.array(
+        [
+            [np.cos(ay), 0, np.sin(ay), 0],
+            [0, 1, 0, 0],
+            [-np.sin(ay), 0, np.cos(ay), 0],
+            [0, 0, 0, 1],
+        ]
+    )
     T_base = Rx(ax) @ Ry @ Rz(az)
     T_base[:3, 3] = (x, y, z)
     poses = [T_base @ mounts[0], None]
@@ -92,22 +109,29 @@ def test_imu_signals_against_finite_differences_of_paper_matrices(name: str) -> 
     h = 1e-4
     for k in (1, 4, 9):
         t = record.time[k]
-        before, now, after = (_world_poses(table, record.senSenJ, record.senSenB,
-                                           record.imu_mount, t + s) for s in (-h, 0.0, h))
+        before, now, after = (
+            _world_poses(table, record.senSenJ, record.senSenB, record.imu_mount, t + s)
+            for s in (-h, 0.0, h)
+        )
         for slot in range(14):
-            columns = record.senSen[k, 7 + 6 * slot: 13 + 6 * slot]
+            columns = record.senSen[k, 7 + 6 * slot : 13 + 6 * slot]
             if now[slot] is None:
                 assert not columns.any()
                 continue
             R, Rm, Rp = now[slot][:3, :3], before[slot][:3, :3], after[slot][:3, :3]
             skew = R.T @ (Rp - Rm) / (2 * h)
-            omega = np.array([skew[2, 1] - skew[1, 2], skew[0, 2] - skew[2, 0],
-                              skew[1, 0] - skew[0, 1]]) / 2
+            omega = (
+                np.array(
+                    [skew[2, 1] - skew[1, 2], skew[0, 2] - skew[2, 0], skew[1, 0] - skew[0, 1]]
+                )
+                / 2
+            )
             accel = (after[slot][:3, 3] - 2 * now[slot][:3, 3] + before[slot][:3, 3]) / h**2
             np.testing.assert_allclose(columns[:3], omega, atol=1e-6)
             np.testing.assert_allclose(columns[3:], R.T @ (accel - G), atol=2e-4)
-        np.testing.assert_allclose(record.tool_pose[k], now[1] @ np.linalg.inv(record.imu_mount[1]),
-                                   atol=1e-12)
+        np.testing.assert_allclose(
+            record.tool_pose[k], now[1] @ np.linalg.inv(record.imu_mount[1]), atol=1e-12
+        )
 
 
 def test_resting_imus_read_gravity_in_their_axes() -> None:
@@ -118,7 +142,8 @@ def test_resting_imus_read_gravity_in_their_axes() -> None:
     record = simulate_run(table, senJ, senB, duration=0.5, rate=10, noise=False)
     poses = _world_poses(table, senJ, senB, record.imu_mount, 0.0)
     for slot, pose in enumerate(poses):
-        columns = record.senSen[:, 7 + 6 * slot: 13 + 6 * slot]
+        columns = record.senSen[:, 7 + 6 * slot : 13 + 6 * slot]
         np.testing.assert_allclose(columns[:, :3], 0.0, atol=1e-12)
-        np.testing.assert_allclose(columns[:, 3:], np.tile(pose[:3, :3].T @ [0, 0, 9.81], (6, 1)),
-                                   atol=1e-12)
+        np.testing.assert_allclose(
+            columns[:, 3:], np.tile(pose[:3, :3].T @ [0, 0, 9.81], (6, 1)), atol=1e-12
+        )

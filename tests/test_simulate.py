@@ -1,0 +1,66 @@
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from aaria_pin.presets import get_preset
+from aaria_pin.record import SENSEN_COLUMNS, imu_slot_order
+from aaria_pin.simulate import simulate_run
+
+FIG3 = get_preset("aaria-fig3").table
+
+
+def test_sensen_layout_column_by_column() -> None:
+    record = simulate_run(FIG3, duration=1.0, rate=20, noise=False)
+    assert record.senSen.shape == (21, 91)
+    assert len(SENSEN_COLUMNS) == 91
+    assert SENSEN_COLUMNS[:8] == ("time", "q1", "q2", "q3", "q4", "q5", "q6", "imu_base_wx")
+    assert SENSEN_COLUMNS[13:19] == tuple(
+        f"imu_tool_{s}" for s in ("wx", "wy", "wz", "fx", "fy", "fz")
+    )
+    assert SENSEN_COLUMNS[-1] == "imu_link6_b_fz"
+    np.testing.assert_allclose(record.senSen[:, 0], np.arange(21) / 20)
+    np.testing.assert_array_equal(record.senSen[:, 1:7], record.q)
+    slots = imu_slot_order()
+    for slot in ("imu_link2_a", "imu_link2_b"):  # module 2 is empty in Figure 3
+        start = SENSEN_COLUMNS.index(f"{slot}_wx")
+        assert not record.senSen[:, start : start + 6].any()
+        assert not record.imu_mount[slots.index(slot)].any()
+    for array in (record.q, record.qd, record.qdd, record.tau):
+        assert array.shape == (21, 6)
+        assert not array[:, 1].any()
+    assert record.base_wrench.shape == (21, 6)
+    assert record.tool_pose.shape == (21, 4, 4)
+    assert record.imu_mount.shape == (14, 4, 4)
+    np.testing.assert_array_equal(record.senSenDH, FIG3)
+    assert record.senSenJ.shape == (8, 5) and record.senSenB.shape == (2, 4)
+
+
+def test_same_seed_same_arrays_other_seed_others() -> None:
+    a = simulate_run(FIG3, duration=1.0, rate=50, seed=3)
+    b = simulate_run(FIG3, duration=1.0, rate=50, seed=3)
+    c = simulate_run(FIG3, duration=1.0, rate=50, seed=4)
+    exact = simulate_run(FIG3, duration=1.0, rate=50, noise=False)
+    np.testing.assert_array_equal(a.senSen, b.senSen)
+    assert not np.array_equal(a.senSen[:, 7:], c.senSen[:, 7:])
+    np.testing.assert_array_equal(a.senSen[:, :7], exact.senSen[:, :7])
+    noise = a.senSen[:, 7:] - exact.senSen[:, 7:]
+    assert 0 < np.abs(noise).max() < 0.5
+    np.testing.assert_array_equal(a.tau, exact.tau)
+
+
+def test_attributes_record_the_settings() -> None:
+    record = simulate_run(FIG3, duration=0.5, rate=10, seed=9, noise=False)
+    attrs = record.attributes
+    assert attrs["rate"] == 10 and attrs["duration"] == 0.5 and attrs["seed"] == 9
+    assert attrs["noise"] is False
+    assert attrs["gravity"] == [0.0, 0.0, -9.81]
+    assert "gyro_noise_density_rad_s_sqrtHz" in attrs["noise_parameters"]
+    assert attrs["version"]
+
+
+def test_standard_table_is_refused_for_a_run() -> None:
+    from aaria_pin.errors import TableError
+
+    with pytest.raises(TableError, match="8 × 5"):
+        simulate_run(get_preset("spherical-wrist").table)
