@@ -150,13 +150,17 @@ def base_motion(table: ArrayLike, time: Array) -> BaseMotion:
 def default_joint_table(chain: KinematicChain) -> Array:
     """A joint oscillation table that moves every module well within its range.
 
-    Revolute module i: amplitude 0.6 rad; prismatic module i: 40 % of its rail length (so it
-    spans 80 % of the range); no bias; frequency ``0.8 + 0.3·i`` rad/s; phase ``0.5·i`` rad.
+    Revolute module i: amplitude 0.6 rad; prismatic module i: prismatic amplitude 40 % of its
+    rail length (so it spans 80 % of its range); no bias; frequency ``0.8 + 0.3·i`` rad/s;
+    phase ``0.5·i`` rad. Rows of empty modules, the tool and the base stay zero.
     """
     table = np.zeros((8, 5))
     for joint in chain.joints:
         i = joint.module
-        table[i - 1] = [0.6, 0.4 * (joint.upper - joint.lower), 0.0, 0.8 + 0.3 * i, 0.5 * i]
+        revolute = joint.kind == "revolute"
+        amplitude = 0.6 if revolute else 0.0
+        prismatic_amplitude = 0.0 if revolute else 0.4 * (joint.upper - joint.lower)
+        table[i - 1] = [amplitude, prismatic_amplitude, 0.0, 0.8 + 0.3 * i, 0.5 * i]
     return table
 
 

@@ -1,5 +1,10 @@
 """Named DH tables: the paper's example arms and the spherical wrist.
 
+The Aaria presets also carry default joint and base oscillation tables, so a run needs nothing
+else: each revolute module swings ±0.6 rad and each prismatic module over 80 % of its rail, at
+``0.8 + 0.3·i`` rad/s with phase ``0.5·i`` rad (module i); the base moves ±5 cm along each world
+axis at 1 rad/s and turns ±0.05 rad about each gimbal axis at 0.7 rad/s.
+
 - ``aaria-fig2``: Table 3 of the Aaria paper (two prismatic and four revolute modules).
 - ``aaria-fig3``: Table 4 of the Aaria paper (module 2 empty; three prismatic, two revolute).
 - ``spherical-wrist``: Table 1 of the spherical-wrist report, a standard DH table
@@ -15,6 +20,7 @@ import numpy as np
 from aaria_pin._se3 import Array
 from aaria_pin.dh import Convention
 from aaria_pin.errors import ParameterError
+from aaria_pin.oscillation import default_base_table
 
 __all__ = ["PRESETS", "Preset", "get_preset", "preset_names"]
 
@@ -30,12 +36,16 @@ class Preset:
         table: the DH table (8 × 5 for Aaria, n × 5 otherwise)
         convention: the table's convention
         description: one line saying where the table comes from
+        joint_table: default joint oscillation table ``senSenJ`` (Aaria presets)
+        base_table: default base oscillation table ``senSenB`` (Aaria presets)
     """
 
     name: str
     table: Array
     convention: Convention
     description: str
+    joint_table: Array | None = None
+    base_table: Array | None = None
 
 
 PRESETS: dict[str, Preset] = {
@@ -57,6 +67,19 @@ PRESETS: dict[str, Preset] = {
             ),
             "aaria",
             "Aaria paper, Table 3 (Figure 2): 2 prismatic and 4 revolute modules",
+            np.array(
+                [
+                    [0.0, 0.056, 0.0, 1.1, 0.5],
+                    [0.6, 0.0, 0.0, 1.4, 1.0],
+                    [0.6, 0.0, 0.0, 1.7, 1.5],
+                    [0.6, 0.0, 0.0, 2.0, 2.0],
+                    [0.0, 0.052, 0.0, 2.3, 2.5],
+                    [0.6, 0.0, 0.0, 2.6, 3.0],
+                    [0.0, 0.0, 0.0, 0.0, 0.0],
+                    [0.0, 0.0, 0.0, 0.0, 0.0],
+                ]
+            ),
+            default_base_table(),
         ),
         Preset(
             "aaria-fig3",
@@ -74,6 +97,19 @@ PRESETS: dict[str, Preset] = {
             ),
             "aaria",
             "Aaria paper, Table 4 (Figure 3): module 2 empty, 3 prismatic and 2 revolute",
+            np.array(
+                [
+                    [0.0, 0.068, 0.0, 1.1, 0.5],
+                    [0.0, 0.0, 0.0, 0.0, 0.0],
+                    [0.0, 0.084, 0.0, 1.7, 1.5],
+                    [0.0, 0.092, 0.0, 2.0, 2.0],
+                    [0.6, 0.0, 0.0, 2.3, 2.5],
+                    [0.6, 0.0, 0.0, 2.6, 3.0],
+                    [0.0, 0.0, 0.0, 0.0, 0.0],
+                    [0.0, 0.0, 0.0, 0.0, 0.0],
+                ]
+            ),
+            default_base_table(),
         ),
         Preset(
             "spherical-wrist",

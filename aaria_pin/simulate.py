@@ -7,7 +7,8 @@ batched RNEA), adds ADIS16485-like noise if asked, and returns the :class:`RunRe
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import os
+from dataclasses import asdict
 from typing import Any
 
 import numpy as np
@@ -15,8 +16,9 @@ from numpy.typing import ArrayLike
 
 from aaria_pin import __version__
 from aaria_pin._se3 import Array
-from aaria_pin.dh_robot import BodyDimensions, DHRobot, build_dh_robot
+from aaria_pin.dh_robot import BodyDimensions, DHRobot, ImuSlot, build_dh_robot
 from aaria_pin.dynamics import inverse_dynamics
+from aaria_pin.errors import ParameterError
 from aaria_pin.imu import ADIS16485, ImuNoiseModel, add_imu_noise, noise_attributes
 from aaria_pin.kinematics import frame_kinematics
 from aaria_pin.model import GRAVITY
@@ -30,7 +32,13 @@ from aaria_pin.oscillation import (
 from aaria_pin.record import N_MODULES, RunRecord, assemble_sensen, imu_slot_order
 from aaria_pin.trajectory import sample_times
 
-__all__ = ["DEFAULT_DURATION", "DEFAULT_RATE", "RunInputs", "simulate_run"]
+__all__ = [
+    "DEFAULT_DURATION",
+    "DEFAULT_RATE",
+    "mounted_slots",
+    "simulate_from_run_file",
+    "simulate_run",
+]
 
 DEFAULT_DURATION = 10.0
 """Default run length [s]."""
@@ -48,26 +56,47 @@ UNITS = {
 }
 
 
-@dataclass(frozen=True)
-class RunInputs:
-    """The inputs of a run, as the paper names them.
-
-    Attributes:
-        senSenDH: 8 × 5 extended DH table
-        senSenJ: 8 × 5 joint oscillation table (default: :func:`default_joint_table`)
-        senSenB: 2 × 4 or 6 × 4 base oscillation table (default: :func:`default_base_table`)
-    """
-
-    senSenDH: Array
-    senSenJ: Array | None = None
-    senSenB: Array | None = None
-
-
 def _module_columns(robot: DHRobot, values: Array) -> Array:
     """Scatter per-joint columns into the six module columns (zeros for empty modules)."""
     out = np.zeros((values.shape[0], N_MODULES))
     out[:, [module - 1 for module in robot.chain.modules]] = values
     return out
+
+
+def mounted_slots(robot: DHRobot, imu_mount: ArrayLike) -> tuple[ImuSlot, ...]:
+    """The robot's IMU slots moved to the given mounting poses.
+
+    Args:
+        robot: the robot (its slots give names and parents)
+        imu_mount: 14 × 4 × 4 poses in the parent frames
+
+    Raises:
+        ParameterError: wrong shape, non-finite values, or a pose that is not rigid.
+    """
+    poses = np.asarray(imu_mount, dtype=float)
+    expected = (len(robot.imu_slots), 4, 4)
+    if poses.shape != expected:
+        raise ParameterError(f"imu_mount has shape {poses.shape}; allowed: {expected}")
+    if not np.all(np.isfinite(poses)):
+        raise ParameterError("imu_mount holds NaN or inf; allowed: finite poses")
+    slots = []
+    for slot, pose in zip(robot.imu_slots, poses, strict=True):
+        if slot.parent is None:
+            slots.append(slot)
+            continue
+        R = pose[:3, :3]
+        rigid = (
+            np.allclose(R.T @ R, np.eye(3), atol=1e-9)
+            and np.linalg.det(R) > 0
+            and np.allclose(pose[3], [0, 0, 0, 1])
+        )
+        if not rigid:
+            raise ParameterError(
+                f"imu_mount of {slot.name} is not a rigid transform; allowed: [R p; 0 0 0 1]"
+                " with R a rotation"
+            )
+        slots.append(ImuSlot(slot.name, slot.parent, pose.copy()))
+    return tuple(slots)
 
 
 def simulate_run(
@@ -81,6 +110,7 @@ def simulate_run(
     noise: bool = True,
     noise_model: ImuNoiseModel = ADIS16485,
     dims: BodyDimensions | None = None,
+    imu_mount: ArrayLike | None = None,
     threads: int = 1,
 ) -> RunRecord:
     """Simulate one run of an Aaria arm on a moving base.
@@ -95,12 +125,17 @@ def simulate_run(
         noise: add IMU noise (``False`` gives the exact signals)
         noise_model: IMU noise parameters
         dims: body dimensions and densities
+        imu_mount: 14 × 4 × 4 pose of each IMU slot in its parent frame, slot order as in
+            ``senSen`` (default: :func:`~aaria_pin.dh_robot.default_imu_slots`); entries of
+            empty modules are ignored
         threads: worker threads of the batched RNEA
 
     Returns:
         The run record.
     """
     robot = build_dh_robot(dh_table, "aaria", dims)
+    if imu_mount is not None:
+        robot = build_dh_robot(dh_table, "aaria", dims, imu_slots=mounted_slots(robot, imu_mount))
     time = sample_times(duration, rate)
     senSenJ = (
         default_joint_table(robot.chain) if joint_table is None else np.array(joint_table, float)
@@ -131,7 +166,10 @@ def simulate_run(
         "noise_parameters": noise_attributes(noise_model),
         "gravity": GRAVITY.tolist(),
         "units": UNITS,
-        "density": robot.dims.density,
+        "body_dimensions": {
+            **asdict(robot.dims),
+            "density_overrides": dict(robot.dims.density_overrides),
+        },
         "version": __version__,
     }
     return RunRecord(
@@ -150,3 +188,33 @@ def simulate_run(
         ),
         attributes=attributes,
     )
+
+
+def simulate_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> RunRecord:
+    """Re-make the run stored in a run file from its inputs alone.
+
+    The tables (``senSenDH``, ``senSenJ``, ``senSenB``), the IMU mounts and the rate, duration,
+    seed and noise setting come from the file; keyword arguments of :func:`simulate_run` given
+    here replace them.
+
+    Args:
+        path: an ``.h5`` or ``.mat`` run file
+        **overrides: keyword arguments of :func:`simulate_run`
+
+    Returns:
+        The run record; with no overrides it equals the stored one.
+    """
+    from aaria_pin.runfile import read_run
+
+    stored = read_run(path)
+    settings: dict[str, Any] = {
+        "duration": stored.attributes.get("duration", DEFAULT_DURATION),
+        "rate": stored.attributes.get("rate", DEFAULT_RATE),
+        "seed": stored.attributes.get("seed", 0),
+        "noise": bool(stored.attributes.get("noise", True)),
+        "imu_mount": stored.imu_mount,
+    }
+    if "body_dimensions" in stored.attributes:
+        settings["dims"] = BodyDimensions(**stored.attributes["body_dimensions"])
+    settings.update(overrides)
+    return simulate_run(stored.senSenDH, stored.senSenJ, stored.senSenB, **settings)

@@ -64,3 +64,58 @@ def test_standard_table_is_refused_for_a_run() -> None:
 
     with pytest.raises(TableError, match="8 × 5"):
         simulate_run(get_preset("spherical-wrist").table)
+
+
+def test_preset_oscillation_tables_follow_the_documented_rule() -> None:
+    from aaria_pin.dh import chain_from_table
+    from aaria_pin.oscillation import default_base_table, default_joint_table
+
+    for name in ("aaria-fig2", "aaria-fig3"):
+        preset = get_preset(name)
+        chain = chain_from_table(preset.table)
+        np.testing.assert_allclose(preset.joint_table, default_joint_table(chain), atol=1e-12)
+        np.testing.assert_array_equal(preset.base_table, default_base_table())
+
+
+def test_custom_imu_mounts_move_the_sensors_and_are_remade_from_file(tmp_path) -> None:
+    from aaria_pin.dh_robot import BodyDimensions
+    from aaria_pin.runfile import write_run
+    from aaria_pin.simulate import simulate_from_run_file
+
+    default = simulate_run(FIG3, duration=0.5, rate=20, noise=False)
+    mounts = default.imu_mount.copy()
+    slot = imu_slot_order().index("imu_link5_a")
+    mounts[slot, :3, :3] = [[0, -1, 0], [1, 0, 0], [0, 0, 1]]  # turned 90° about z
+    custom = simulate_run(
+        FIG3,
+        duration=0.5,
+        rate=20,
+        noise=True,
+        seed=2,
+        imu_mount=mounts,
+        dims=BodyDimensions(density=7850.0),
+    )
+    np.testing.assert_array_equal(custom.imu_mount, mounts)
+    column = SENSEN_COLUMNS.index("imu_link5_a_wx")
+    exact = simulate_run(FIG3, duration=0.5, rate=20, noise=False, imu_mount=mounts)
+    np.testing.assert_allclose(exact.senSen[:, column], default.senSen[:, column + 1], atol=1e-12)
+    np.testing.assert_allclose(exact.senSen[:, column + 1], -default.senSen[:, column], atol=1e-12)
+    write_run(tmp_path / "run.h5", custom)
+    remade = simulate_from_run_file(tmp_path / "run.h5")
+    for name, array in custom.arrays().items():
+        np.testing.assert_array_equal(getattr(remade, name), array, err_msg=name)
+
+
+@pytest.mark.parametrize("change", ["shape", "scale", "nan"])
+def test_bad_imu_mounts(change: str) -> None:
+    from aaria_pin.errors import ParameterError
+
+    mounts = np.tile(np.eye(4), (14, 1, 1))
+    if change == "shape":
+        mounts = mounts[:13]
+    elif change == "scale":
+        mounts[3, 0, 0] = 2.0
+    else:
+        mounts[4, 0, 3] = np.nan
+    with pytest.raises(ParameterError, match="imu_mount"):
+        simulate_run(FIG3, duration=0.2, rate=10, imu_mount=mounts)
