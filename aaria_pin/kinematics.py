@@ -1,11 +1,14 @@
 """Frame kinematics and IMU signals over whole trajectories, as arrays.
 
-:func:`frame_kinematics` walks the Pinocchio model's joint tree once, with every quantity an
-array over time (world-frame rotation, position, angular velocity and acceleration, linear
-velocity and acceleration of each joint frame), then places the requested frames. It supports
-revolute and prismatic joints about any axis and a free-flyer root that carries the prescribed
-base motion. :func:`reference_imu_signals` computes the same signals one sample at a time with
-Pinocchio's own frame algorithms; the tests hold the two equal.
+:class:`TrajectoryKinematics` walks the Pinocchio model's joint tree once, like Pinocchio's own
+forward pass but with every quantity an array over the whole trajectory: each joint frame's
+angular velocity, angular acceleration and proper acceleration (classical acceleration minus
+gravity), in the joint's own axes. Frames (IMUs, the tool) are read off their parent joint.
+It supports revolute and prismatic joints about any axis and a free-flyer root that carries
+the prescribed base motion.
+
+:func:`reference_imu_signals` and :func:`reference_frame_poses` compute the same quantities one
+sample at a time with Pinocchio's frame algorithms; the tests hold the two paths equal.
 
 An IMU reports angular velocity and specific force (the frame origin's acceleration minus
 gravity), both in its own axes.
@@ -21,14 +24,15 @@ import pinocchio as pin
 
 from aaria_pin._se3 import Array
 from aaria_pin.errors import ModelError
-from aaria_pin.model import GRAVITY, RobotModel
+from aaria_pin.model import RobotModel
 from aaria_pin.trajectory import BaseMotion, JointTrajectory
 
 __all__ = [
-    "FrameKinematics",
-    "frame_kinematics",
+    "TrajectoryKinematics",
+    "frame_poses",
     "full_state",
     "imu_signals",
+    "reference_frame_poses",
     "reference_imu_signals",
 ]
 
@@ -37,36 +41,6 @@ _AXES = {
     "Y": np.array([0.0, 1.0, 0.0]),
     "Z": np.array([0.0, 0.0, 1.0]),
 }
-
-
-@dataclass(frozen=True)
-class FrameKinematics:
-    """Kinematics of frames over time, shape (T, F, ...).
-
-    Attributes:
-        rotation: ``R_world_frame``, (T, F, 3, 3)
-        position: frame origin in the world, (T, F, 3) [m]
-        omega: angular velocity in frame axes, (T, F, 3) [rad/s]
-        acceleration: classical linear acceleration of the origin, frame axes, no gravity,
-            (T, F, 3) [m/s²]
-    """
-
-    rotation: Array
-    position: Array
-    omega: Array
-    acceleration: Array
-
-    def specific_force(self, gravity: Array = GRAVITY) -> Array:
-        """What an accelerometer on each frame measures: ``Rᵀ(a - g)``, (T, F, 3) [m/s²]."""
-        return self.acceleration - np.einsum("tfji,j->tfi", self.rotation, gravity)
-
-    def poses(self) -> Array:
-        """Homogeneous poses ``T_world_frame``, (T, F, 4, 4)."""
-        T = np.zeros((*self.position.shape[:2], 4, 4))
-        T[..., :3, :3] = self.rotation
-        T[..., :3, 3] = self.position
-        T[..., 3, 3] = 1.0
-        return T
 
 
 def _joint_kind(joint: pin.JointModel) -> tuple[str, Array]:
@@ -85,103 +59,195 @@ def _joint_kind(joint: pin.JointModel) -> tuple[str, Array]:
     )
 
 
+# Vectors are (3, T) arrays and rotations (3, 3, T) arrays ("structure of arrays"): every
+# operation is a few element-wise products of contiguous length-T rows, or a constant 3 × 3
+# matrix times a (3, T) block (one BLAS call). Quantities fixed in time are (3, 1) and broadcast.
+
+
 def _cross(a: Array, b: Array) -> Array:
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+    return np.stack(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
 
 
-def _axis_rotation(axis: Array, angle: Array) -> Array:
-    """Rotations about a fixed unit axis by angles (T,), Rodrigues' formula, (T, 3, 3)."""
-    c, s = np.cos(angle)[:, None, None], np.sin(angle)[:, None, None]
-    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    return np.eye(3) + s * K + (1 - c) * (K @ K)
+def _transport(f: Array, al: Array, w: Array, r: Array) -> Array:
+    """Acceleration of the point r of a body from its origin's: ``f + α × r + ω × (ω × r)``."""
+    return f + _cross(al, r) + _cross(w, _cross(w, r))
 
 
-def _matvec(R: Array, v: Array) -> Array:
-    return np.matmul(R, v[..., None])[..., 0]
+def _aligned(axis: Array) -> int | None:
+    """Index of the coordinate axis that ``axis`` is, or None for any other direction."""
+    nonzero = np.flatnonzero(axis)
+    if nonzero.size == 1 and axis[nonzero[0]] == 1.0:
+        return int(nonzero[0])
+    return None
 
 
-def frame_kinematics(
-    robot: RobotModel, base: BaseMotion, trajectory: JointTrajectory, frames: Sequence[str]
-) -> FrameKinematics:
-    """Kinematics of named frames over a whole trajectory.
+@dataclass(frozen=True)
+class _AxisRotation:
+    """Rotations by angles q (one per sample) about one fixed unit axis."""
+
+    axis: Array
+    cos: Array
+    sin: Array
+
+    def inverse_apply(self, v: Array) -> Array:
+        """``Rot(q)ᵀ · v`` for vectors v of shape (3, T) or (3, 1)."""
+        k, c, s = self.axis, self.cos, self.sin
+        index = _aligned(k)
+        if index is None:
+            k3 = k[:, None]
+            return v * c - _cross(k3, v) * s + k3 * (k @ v) * (1.0 - c)
+        i, j = (index + 1) % 3, (index + 2) % 3
+        out = np.empty((3, c.shape[0]))
+        out[index] = v[index]
+        out[i] = c * v[i] + s * v[j]
+        out[j] = c * v[j] - s * v[i]
+        return out
+
+    def right_multiply(self, R: Array) -> Array:
+        """``R · Rot(q)`` for rotations R of shape (3, 3, T) or (3, 3, 1)."""
+        k, c, s = self.axis, self.cos, self.sin
+        index = _aligned(k)
+        if index is None:
+            K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+            rot = np.eye(3)[:, :, None] + K[:, :, None] * s + (K @ K)[:, :, None] * (1.0 - c)
+            return np.einsum("ijt,jkt->ikt", R, rot)
+        i, j = (index + 1) % 3, (index + 2) % 3
+        out = np.empty((3, 3, c.shape[0]))
+        out[:, index] = R[:, index]
+        out[:, i] = R[:, i] * c + R[:, j] * s
+        out[:, j] = R[:, j] * c - R[:, i] * s
+        return out
+
+
+def _times_constant(R: Array, C: Array) -> Array:
+    """``R · C`` for rotations R (3, 3, T) and a constant 3 × 3 matrix C."""
+    return np.matmul(R.transpose(0, 2, 1), C).transpose(0, 2, 1)
+
+
+def _apply(R: Array, v: Array) -> Array:
+    """``R · v`` for rotations R (3, 3, T) and vectors v (3, T) or (3, 1)."""
+    return np.einsum("ijt,jt->it", R, v)
+
+
+class TrajectoryKinematics:
+    """Kinematics of a model over a whole trajectory, computed once, read for any frames.
 
     Args:
         robot: the model (a moving base needs ``robot.moving_base``)
-        base: the base motion (ignored, and taken as resting at the origin, on a fixed base)
+        base: the base motion (ignored on a fixed base, which rests at the world origin)
         trajectory: joint values over time, columns in model order
-        frames: frame names
-
-    Returns:
-        The frames' kinematics, frame axis 1 in the order of ``frames``.
     """
-    model = robot.model
-    n = trajectory.q.shape[0]
-    zero = np.zeros((1, 3))
-    # per joint: R, p, omega, alpha, v, a (world axes); a fixed root is broadcast over time
-    state: list[tuple[Array, Array, Array, Array, Array, Array]] = [
-        (np.eye(3)[None], zero, zero, zero, zero, zero)
-    ]
-    column = 0
-    for j in range(1, model.njoints):
-        kind, axis = _joint_kind(model.joints[j])
-        if kind == "freeflyer":
-            R = base.rotation
-            state.append(
-                (
-                    R,
-                    base.position,
-                    _matvec(R, base.omega),
-                    _matvec(R, base.omega_dot),
-                    base.velocity,
-                    base.acceleration,
-                )
-            )
-            continue
-        Rp, pp, wp, alp, vp, ap = state[model.parents[j]]
-        placement = model.jointPlacements[j]
-        Rp_pl = Rp @ placement.rotation
-        e = _matvec(Rp_pl, axis)
-        q, qd, qdd = (x[:, column, None] for x in (trajectory.q, trajectory.qd, trajectory.qdd))
-        column += 1
-        d = _matvec(Rp, placement.translation)
-        e_qd = e * qd
-        if kind == "revolute":
-            R = Rp_pl @ _axis_rotation(axis, q[:, 0])
-            w, al = wp + e_qd, alp + e * qdd + _cross(wp, e_qd)
-            v = vp + _cross(wp, d)
-            a = ap + _cross(alp, d) + _cross(wp, _cross(wp, d))
+
+    def __init__(self, robot: RobotModel, base: BaseMotion, trajectory: JointTrajectory) -> None:
+        self.robot = robot
+        self.base = base
+        self.n_samples = trajectory.q.shape[0]
+        model = robot.model
+        gravity = np.asarray(model.gravity.linear, dtype=float)
+        rest = np.zeros((3, 1))
+        # per joint, in its own axes: angular velocity, angular acceleration, proper acceleration
+        self._w: list[Array] = [rest]
+        self._al: list[Array] = [rest]
+        self._f: list[Array] = [-gravity[:, None]]
+        # per joint, to compose world poses: its motion and the origin's offset in the parent
+        self._kind: list[str] = ["universe"]
+        self._motion: list[_AxisRotation | None] = [None]
+        self._offset: list[Array] = [rest]
+        q, qd, qdd = trajectory.q.T, trajectory.qd.T, trajectory.qdd.T
+        column = 0
+        for j in range(1, model.njoints):
+            kind, axis = _joint_kind(model.joints[j])
+            self._kind.append(kind)
+            if kind == "freeflyer":
+                proper = (base.acceleration - gravity)[:, :, None]
+                self._w.append(np.ascontiguousarray(base.omega.T))
+                self._al.append(np.ascontiguousarray(base.omega_dot.T))
+                self._f.append(np.matmul(np.swapaxes(base.rotation, 1, 2), proper)[:, :, 0].T)
+                self._motion.append(None)
+                self._offset.append(rest)
+                continue
+            w_p, al_p, f_p = (x[model.parents[j]] for x in (self._w, self._al, self._f))
+            placement = model.jointPlacements[j]
+            Ct = placement.rotation.T
+            r = placement.translation[:, None]
+            k3 = axis[:, None]
+            qj, qdj, qddj = q[column], qd[column], qdd[column]
+            column += 1
+            if kind == "revolute":
+                motion = _AxisRotation(axis, np.cos(qj), np.sin(qj))
+                w_c = motion.inverse_apply(Ct @ w_p)
+                self._w.append(w_c + k3 * qdj)
+                self._al.append(motion.inverse_apply(Ct @ al_p) + k3 * qddj + _cross(w_c, k3 * qdj))
+                self._f.append(motion.inverse_apply(Ct @ _transport(f_p, al_p, w_p, r)))
+                self._motion.append(motion)
+                self._offset.append(r)
+            else:
+                e = (placement.rotation @ axis)[:, None]
+                d = r + e * qj
+                e_qd = e * qdj
+                f_o = _transport(f_p, al_p, w_p, d) + 2.0 * _cross(w_p, e_qd) + e * qddj
+                self._w.append(Ct @ w_p)
+                self._al.append(Ct @ al_p)
+                self._f.append(Ct @ f_o)
+                self._motion.append(None)
+                self._offset.append(d)
+
+    def imu_signals(self, frames: Sequence[str]) -> Array:
+        """Noise-free IMU signals ``[wx wy wz fx fy fz]`` of frames, (T, F, 6).
+
+        Angular velocity [rad/s] and specific force (acceleration minus gravity) [m/s²], both
+        in each frame's own axes.
+        """
+        out = np.empty((len(frames), 6, self.n_samples))
+        for index, name in enumerate(frames):
+            frame = self.robot.model.frames[self.robot.frame_id(name)]
+            j = frame.parentJoint
+            Ct = frame.placement.rotation.T
+            r = frame.placement.translation[:, None]
+            out[index, :3] = Ct @ self._w[j]
+            out[index, 3:] = Ct @ _transport(self._f[j], self._al[j], self._w[j], r)
+        return np.ascontiguousarray(out.transpose(2, 0, 1))
+
+    def _world(self, j: int, cache: dict[int, tuple[Array, Array]]) -> tuple[Array, Array]:
+        """World rotation (3, 3, T) and position (3, T) of joint j's frame."""
+        if j in cache:
+            return cache[j]
+        if self._kind[j] == "universe":
+            cache[j] = (np.eye(3)[:, :, None], np.zeros((3, 1)))
+        elif self._kind[j] == "freeflyer":
+            cache[j] = (self.base.rotation.transpose(1, 2, 0), self.base.position.T)
         else:
-            d = d + e * q
-            R, w, al = Rp_pl, wp, alp
-            v = vp + _cross(wp, d) + e_qd
-            a = ap + _cross(alp, d) + _cross(wp, _cross(wp, d)) + 2.0 * _cross(wp, e_qd) + e * qdd
-        state.append((np.broadcast_to(R, (n, 3, 3)), pp + d, w, al, v, a))
-    rotations, positions, omegas, accelerations = [], [], [], []
-    for name in frames:
-        frame = model.frames[robot.frame_id(name)]
-        Rj, pj, wj, alj, _, aj = state[frame.parentJoint]
-        R = Rj @ frame.placement.rotation
-        d = _matvec(Rj, frame.placement.translation)
-        a = aj + _cross(alj, d) + _cross(wj, _cross(wj, d))
-        Rt = np.swapaxes(np.broadcast_to(R, (n, 3, 3)), -1, -2)
-        rotations.append(np.broadcast_to(R, (n, 3, 3)))
-        positions.append(np.broadcast_to(pj + d, (n, 3)))
-        omegas.append(_matvec(Rt, np.broadcast_to(wj, (n, 3))))
-        accelerations.append(_matvec(Rt, np.broadcast_to(a, (n, 3))))
-    return FrameKinematics(
-        np.stack(rotations, axis=1),
-        np.stack(positions, axis=1),
-        np.stack(omegas, axis=1),
-        np.stack(accelerations, axis=1),
-    )
+            model = self.robot.model
+            R_p, p_p = self._world(model.parents[j], cache)
+            R = _times_constant(R_p, model.jointPlacements[j].rotation)
+            motion = self._motion[j]
+            cache[j] = (
+                motion.right_multiply(R) if motion is not None else R,
+                p_p + _apply(R_p, self._offset[j]),
+            )
+        return cache[j]
+
+    def poses(self, frames: Sequence[str]) -> Array:
+        """World poses ``T_world_frame`` of frames, (T, F, 4, 4)."""
+        cache: dict[int, tuple[Array, Array]] = {}
+        out = np.zeros((self.n_samples, len(frames), 4, 4))
+        out[:, :, 3, 3] = 1.0
+        for index, name in enumerate(frames):
+            frame = self.robot.model.frames[self.robot.frame_id(name)]
+            R_j, p_j = self._world(frame.parentJoint, cache)
+            out[:, index, :3, :3] = _times_constant(R_j, frame.placement.rotation).transpose(
+                2, 0, 1
+            )
+            out[:, index, :3, 3] = (p_j + _apply(R_j, frame.placement.translation[:, None])).T
+        return out
 
 
 def imu_signals(
     robot: RobotModel, base: BaseMotion, trajectory: JointTrajectory, frames: Sequence[str]
 ) -> Array:
-    """Noise-free IMU signals ``[wx wy wz fx fy fz]`` of frames, (T, F, 6).
+    """Noise-free IMU signals ``[wx wy wz fx fy fz]`` of frames over a trajectory, (T, F, 6).
 
     Args:
         robot: the model
@@ -192,8 +258,14 @@ def imu_signals(
     Returns:
         Angular velocity [rad/s] and specific force [m/s²] in each IMU's axes.
     """
-    kin = frame_kinematics(robot, base, trajectory, frames)
-    return np.concatenate([kin.omega, kin.specific_force()], axis=-1)
+    return TrajectoryKinematics(robot, base, trajectory).imu_signals(frames)
+
+
+def frame_poses(
+    robot: RobotModel, base: BaseMotion, trajectory: JointTrajectory, frames: Sequence[str]
+) -> Array:
+    """World poses ``T_world_frame`` of frames over a trajectory, (T, F, 4, 4)."""
+    return TrajectoryKinematics(robot, base, trajectory).poses(frames)
 
 
 def full_state(
@@ -209,9 +281,9 @@ def full_state(
         return trajectory.q, trajectory.qd, trajectory.qdd
     from scipy.spatial.transform import Rotation
 
-    Rt = np.swapaxes(base.rotation, -1, -2)
-    v_lin = _matvec(Rt, base.velocity)
-    a_lin = _matvec(Rt, base.acceleration) - _cross(base.omega, v_lin)
+    Rt = np.swapaxes(base.rotation, 1, 2)
+    v_lin = np.matmul(Rt, base.velocity[:, :, None])[:, :, 0]
+    a_lin = np.matmul(Rt, base.acceleration[:, :, None])[:, :, 0] - np.cross(base.omega, v_lin)
     quat = Rotation.from_matrix(base.rotation).as_quat()
     q = np.hstack([base.position, quat, trajectory.q])
     v = np.hstack([v_lin, base.omega, trajectory.qd])
@@ -235,4 +307,20 @@ def reference_imu_signals(
             out[k, f, :3] = pin.getFrameVelocity(model, data, frame_id, pin.LOCAL).angular
             acc = pin.getFrameClassicalAcceleration(model, data, frame_id, pin.LOCAL).linear
             out[k, f, 3:] = acc - R.T @ model.gravity.linear
+    return out
+
+
+def reference_frame_poses(
+    robot: RobotModel, base: BaseMotion, trajectory: JointTrajectory, frames: Sequence[str]
+) -> Array:
+    """The same as :func:`frame_poses`, one Pinocchio call per sample (the slow reference)."""
+    model = robot.model
+    data = model.createData()
+    q, _, _ = full_state(robot, base, trajectory)
+    ids = [robot.frame_id(name) for name in frames]
+    out = np.empty((q.shape[0], len(ids), 4, 4))
+    for k in range(q.shape[0]):
+        pin.framesForwardKinematics(model, data, q[k])
+        for f, frame_id in enumerate(ids):
+            out[k, f] = data.oMf[frame_id].homogeneous
     return out

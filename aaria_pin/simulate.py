@@ -20,7 +20,7 @@ from aaria_pin.dh_robot import BodyDimensions, DHRobot, ImuSlot, build_dh_robot
 from aaria_pin.dynamics import inverse_dynamics
 from aaria_pin.errors import ParameterError
 from aaria_pin.imu import ADIS16485, ImuNoiseModel, add_imu_noise, noise_attributes
-from aaria_pin.kinematics import frame_kinematics
+from aaria_pin.kinematics import TrajectoryKinematics
 from aaria_pin.model import GRAVITY
 from aaria_pin.oscillation import (
     base_motion,
@@ -147,11 +147,9 @@ def simulate_run(
 
     slots = imu_slot_order()
     present = [k for k, slot in enumerate(robot.imu_slots) if slot.parent is not None]
-    frames = [slots[k] for k in present] + [model.tool_frame]
-    kinematics = frame_kinematics(model, base, trajectory, frames)
+    kinematics = TrajectoryKinematics(model, base, trajectory)
     imu = np.zeros((time.size, len(slots), 6))
-    imu[:, present, :3] = kinematics.omega[:, :-1]
-    imu[:, present, 3:] = kinematics.specific_force()[:, :-1]
+    imu[:, present] = kinematics.imu_signals([slots[k] for k in present])
     if noise:
         rng = np.random.default_rng(seed)
         imu[:, present] = add_imu_noise(imu[:, present], rate, rng, noise_model)
@@ -182,7 +180,7 @@ def simulate_run(
         qdd=_module_columns(robot, trajectory.qdd),
         tau=_module_columns(robot, tau),
         base_wrench=base_wrench,
-        tool_pose=kinematics.poses()[:, -1],
+        tool_pose=kinematics.poses([model.tool_frame])[:, 0],
         imu_mount=np.array(
             [slot.T_parent_imu if slot.parent else np.zeros((4, 4)) for slot in robot.imu_slots]
         ),

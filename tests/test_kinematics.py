@@ -147,3 +147,59 @@ def test_resting_imus_read_gravity_in_their_axes() -> None:
         np.testing.assert_allclose(
             columns[:, 3:], np.tile(pose[:3, :3].T @ [0, 0, 9.81], (6, 1)), atol=1e-12
         )
+
+
+_ODD_AXES_URDF = """<?xml version="1.0"?>
+<robot name="odd">
+  <link name="base"><inertial><mass value="1"/><origin xyz="0 0 0.1"/>
+    <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="a"><inertial><mass value="2"/><origin xyz="0.2 0 0"/>
+    <inertia ixx="0.02" iyy="0.03" izz="0.04" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="b"><inertial><mass value="1"/><origin xyz="0 0.1 0"/>
+    <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="c"><inertial><mass value="1"/><origin xyz="0 0 0.1"/>
+    <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="imu_c"/><link name="tool_tip"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="a"/>
+    <origin xyz="0.1 0.2 0.3" rpy="0.3 -0.2 0.5"/><axis xyz="0.6 0 0.8"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="prismatic"><parent link="a"/><child link="b"/>
+    <origin xyz="0.4 0 0" rpy="0 0.4 0"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="j3" type="revolute"><parent link="b"/><child link="c"/>
+    <origin xyz="0 0.3 0" rpy="1.2 0 0"/><axis xyz="1 0 0"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="imu_c_joint" type="fixed"><parent link="c"/><child link="imu_c"/>
+    <origin xyz="0.05 0.02 0.2" rpy="0.1 0.2 0.3"/></joint>
+  <joint name="tool_joint" type="fixed"><parent link="c"/><child link="tool_tip"/>
+    <origin xyz="0 0 0.3" rpy="0 0 0"/></joint>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("moving_base", [False, True])
+def test_any_axis_urdf_equals_pinocchio(moving_base: bool) -> None:
+    from aaria_pin.kinematics import frame_poses, reference_frame_poses
+    from aaria_pin.model import build_model
+    from aaria_pin.trajectory import BaseMotion, JointTrajectory
+
+    model = build_model(_ODD_AXES_URDF, moving_base=moving_base)
+    assert model.model.joints[2 if moving_base else 1].shortname() == "JointModelRevoluteUnaligned"
+    time = sample_times(2.0, 25)
+    phases = np.array([0.0, 1.0, 2.0])
+    q = np.sin(np.outer(time, [1.0, 1.5, 0.7]) + phases)
+    qd = np.cos(np.outer(time, [1.0, 1.5, 0.7]) + phases) * [1.0, 1.5, 0.7]
+    qdd = -q * np.array([1.0, 1.5, 0.7]) ** 2
+    trajectory = JointTrajectory(time, q, qd, qdd)
+    base = base_motion(BASE_6X4, time) if moving_base else BaseMotion.resting(time.size)
+    frames = ["imu_c", "tool_tip", "a", "b"]
+    np.testing.assert_allclose(
+        imu_signals(model, base, trajectory, frames),
+        reference_imu_signals(model, base, trajectory, frames),
+        atol=1e-9,
+    )
+    np.testing.assert_allclose(
+        frame_poses(model, base, trajectory, frames),
+        reference_frame_poses(model, base, trajectory, frames),
+        atol=1e-12,
+    )
