@@ -65,9 +65,11 @@ def _joint_kind(joint: pin.JointModel) -> tuple[str, Array]:
 
 
 def _cross(a: Array, b: Array) -> Array:
-    return np.stack(
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-    )
+    out = np.empty((3, max(a.shape[1], b.shape[1])))
+    np.subtract(a[1] * b[2], a[2] * b[1], out=out[0])
+    np.subtract(a[2] * b[0], a[0] * b[2], out=out[1])
+    np.subtract(a[0] * b[1], a[1] * b[0], out=out[2])
+    return out
 
 
 def _transport(f: Array, al: Array, w: Array, r: Array) -> Array:
@@ -194,21 +196,31 @@ class TrajectoryKinematics:
                 self._motion.append(None)
                 self._offset.append(d)
 
-    def imu_signals(self, frames: Sequence[str]) -> Array:
+    def imu_signals(self, frames: Sequence[str], out: Array | None = None) -> Array:
         """Noise-free IMU signals ``[wx wy wz fx fy fz]`` of frames, (T, F, 6).
 
         Angular velocity [rad/s] and specific force (acceleration minus gravity) [m/s²], both
         in each frame's own axes.
+
+        Args:
+            frames: frame names
+            out: where to write them, shape (T, F, 6) (a view into a larger array is fine)
+
+        Returns:
+            ``out``, or a new array.
         """
-        out = np.empty((len(frames), 6, self.n_samples))
+        if out is None:
+            out = np.empty((self.n_samples, len(frames), 6))
+        block = np.empty((6, self.n_samples))
         for index, name in enumerate(frames):
             frame = self.robot.model.frames[self.robot.frame_id(name)]
             j = frame.parentJoint
             Ct = frame.placement.rotation.T
             r = frame.placement.translation[:, None]
-            out[index, :3] = Ct @ self._w[j]
-            out[index, 3:] = Ct @ _transport(self._f[j], self._al[j], self._w[j], r)
-        return np.ascontiguousarray(out.transpose(2, 0, 1))
+            block[:3] = Ct @ self._w[j]
+            block[3:] = Ct @ _transport(self._f[j], self._al[j], self._w[j], r)
+            out[:, index, :] = block.T
+        return out
 
     def _world(self, j: int, cache: dict[int, tuple[Array, Array]]) -> tuple[Array, Array]:
         """World rotation (3, 3, T) and position (3, T) of joint j's frame."""
@@ -279,16 +291,57 @@ def full_state(
     """
     if not robot.moving_base:
         return trajectory.q, trajectory.qd, trajectory.qdd
-    from scipy.spatial.transform import Rotation
-
-    Rt = np.swapaxes(base.rotation, 1, 2)
-    v_lin = np.matmul(Rt, base.velocity[:, :, None])[:, :, 0]
-    a_lin = np.matmul(Rt, base.acceleration[:, :, None])[:, :, 0] - np.cross(base.omega, v_lin)
-    quat = Rotation.from_matrix(base.rotation).as_quat()
-    q = np.hstack([base.position, quat, trajectory.q])
-    v = np.hstack([v_lin, base.omega, trajectory.qd])
-    a = np.hstack([a_lin, base.omega_dot, trajectory.qdd])
+    n = trajectory.q.shape[0]
+    R = base.rotation.transpose(1, 2, 0)  # (3, 3, T)
+    q, v, a = (
+        np.empty((n, robot.model.nq)),
+        np.empty((n, robot.model.nv)),
+        np.empty((n, 6 + trajectory.qd.shape[1])),
+    )
+    q[:, :3] = base.position
+    q[:, 3:7] = _quaternion_xyzw(R).T
+    q[:, 7:] = trajectory.q
+    v_lin = np.einsum("jit,tj->it", R, base.velocity)
+    v[:, :3] = v_lin.T
+    v[:, 3:6] = base.omega
+    v[:, 6:] = trajectory.qd
+    omega = np.ascontiguousarray(base.omega.T)
+    a[:, :3] = (np.einsum("jit,tj->it", R, base.acceleration) - _cross(omega, v_lin)).T
+    a[:, 3:6] = base.omega_dot
+    a[:, 6:] = trajectory.qdd
     return q, v, a
+
+
+def _quaternion_xyzw(R: Array) -> Array:
+    """Unit quaternions ``[x, y, z, w]`` (w >= 0) of rotations (3, 3, T), as (4, T).
+
+    Shepperd's method: each sample uses the largest of the four squared components, so the
+    square root never meets a small argument.
+    """
+    trace = R[0, 0] + R[1, 1] + R[2, 2]
+    candidates = np.stack(
+        [1 + 2 * R[0, 0] - trace, 1 + 2 * R[1, 1] - trace, 1 + 2 * R[2, 2] - trace, 1 + trace]
+    )
+    best = np.argmax(candidates, axis=0)
+    root = np.sqrt(np.take_along_axis(candidates, best[None], axis=0)[0])
+    half = 0.5 / root
+    quat = np.empty((4, R.shape[2]))
+    pairs = {  # off-diagonal sums/differences giving each component times 4·component[best]
+        0: (R[1, 0] + R[0, 1], R[0, 2] + R[2, 0], R[2, 1] - R[1, 2]),
+        1: (R[1, 0] + R[0, 1], R[2, 1] + R[1, 2], R[0, 2] - R[2, 0]),
+        2: (R[0, 2] + R[2, 0], R[2, 1] + R[1, 2], R[1, 0] - R[0, 1]),
+        3: (R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]),
+    }
+    others = {0: (1, 2, 3), 1: (0, 2, 3), 2: (0, 1, 3), 3: (0, 1, 2)}
+    for index in range(4):
+        mask = best == index
+        if not mask.any():
+            continue
+        quat[index, mask] = 0.5 * root[mask]
+        for component, value in zip(others[index], pairs[index], strict=True):
+            quat[component, mask] = value[mask] * half[mask]
+    quat *= np.where(quat[3] < 0, -1.0, 1.0)
+    return quat
 
 
 def reference_imu_signals(

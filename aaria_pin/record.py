@@ -21,8 +21,8 @@ __all__ = [
     "N_SENSEN_COLUMNS",
     "SENSEN_COLUMNS",
     "RunRecord",
-    "assemble_sensen",
     "imu_slot_order",
+    "new_sensen",
 ]
 
 N_MODULES = 6
@@ -47,23 +47,22 @@ SENSEN_COLUMNS: tuple[str, ...] = (
 N_SENSEN_COLUMNS = len(SENSEN_COLUMNS)
 
 
-def assemble_sensen(time: Array, q_modules: Array, imu: Array) -> Array:
-    """Put time, module joint values and IMU signals into the ``senSen`` layout.
+def new_sensen(time: Array) -> tuple[Array, Array, Array]:
+    """A ``senSen`` array with its time column filled, and views of its other blocks.
 
     Args:
         time: sample times, shape (T,) [s]
-        q_modules: joint values per module, shape (T, 6), zeros for empty modules
-        imu: IMU signals per slot, shape (T, 14, 6), ``[wx wy wz fx fy fz]``
 
     Returns:
-        ``senSen``, shape (T, 91).
+        ``senSen`` (T × 91, zeros but the time column), the joint-value block (T × 6 view of
+        columns 1–6) and the IMU block (T × 14 × 6 view of columns 7–90, ``[wx wy wz fx fy fz]``
+        per slot), to be filled in place.
     """
     n = time.shape[0]
-    sensen = np.empty((n, N_SENSEN_COLUMNS))
+    sensen = np.zeros((n, N_SENSEN_COLUMNS))
     sensen[:, 0] = time
-    sensen[:, 1 : 1 + N_MODULES] = q_modules
-    sensen[:, 1 + N_MODULES :] = imu.reshape(n, -1)
-    return sensen
+    imu = sensen[:, 1 + N_MODULES :].reshape(n, len(imu_slot_order()), len(IMU_SIGNALS))
+    return sensen, sensen[:, 1 : 1 + N_MODULES], imu
 
 
 @dataclass

@@ -29,7 +29,7 @@ from aaria_pin.oscillation import (
     joint_trajectory,
     validate_base_table,
 )
-from aaria_pin.record import N_MODULES, RunRecord, assemble_sensen, imu_slot_order
+from aaria_pin.record import N_MODULES, RunRecord, new_sensen
 from aaria_pin.trajectory import sample_times
 
 __all__ = [
@@ -145,17 +145,18 @@ def simulate_run(
     base = base_motion(senSenB, time)
     model = robot.model(moving_base=True)
 
-    slots = imu_slot_order()
-    present = [k for k, slot in enumerate(robot.imu_slots) if slot.parent is not None]
+    senSen, q, imu = new_sensen(time)
+    modules = [module - 1 for module in robot.chain.modules]
+    q[:, modules] = trajectory.q
     kinematics = TrajectoryKinematics(model, base, trajectory)
-    imu = np.zeros((time.size, len(slots), 6))
-    imu[:, present] = kinematics.imu_signals([slots[k] for k in present])
+    present = [k for k, slot in enumerate(robot.imu_slots) if slot.parent is not None]
+    for k in present:
+        kinematics.imu_signals([robot.imu_slots[k].name], out=imu[:, k : k + 1])
     if noise:
         rng = np.random.default_rng(seed)
         imu[:, present] = add_imu_noise(imu[:, present], rate, rng, noise_model)
     tau, base_wrench = inverse_dynamics(model, base, trajectory, threads)
 
-    q = _module_columns(robot, trajectory.q)
     attributes: dict[str, Any] = {
         "rate": float(rate),
         "duration": float(duration),
@@ -171,11 +172,11 @@ def simulate_run(
         "version": __version__,
     }
     return RunRecord(
-        senSen=assemble_sensen(time, q, imu),
+        senSen=senSen,
         senSenDH=robot.chain.table.copy(),
         senSenJ=senSenJ,
         senSenB=senSenB,
-        q=q,
+        q=np.ascontiguousarray(q),
         qd=_module_columns(robot, trajectory.qd),
         qdd=_module_columns(robot, trajectory.qdd),
         tau=_module_columns(robot, tau),

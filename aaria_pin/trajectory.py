@@ -79,13 +79,20 @@ def sine_motion(
         time: sample times, shape (T,) [s]
 
     Returns:
-        Value, first and second time derivative, each shape (T, k).
+        Value, first and second time derivative, each shape (T, k) (transposed views of
+        contiguous (k, T) arrays, so each motion's samples are contiguous).
     """
-    A = np.asarray(amplitude, dtype=float)
-    w = np.asarray(frequency, dtype=float)
-    angle = np.outer(time, w) + np.asarray(phase, dtype=float)
-    s, c = np.sin(angle), np.cos(angle)
-    return A * s + np.asarray(bias, dtype=float), A * w * c, -A * w * w * s
+    A = np.asarray(amplitude, dtype=float)[:, None]
+    w = np.asarray(frequency, dtype=float)[:, None]
+    angle = w * time + np.asarray(phase, dtype=float)[:, None]
+    s = np.sin(angle)
+    c = np.cos(angle, out=angle)
+    value = A * s
+    value += np.asarray(bias, dtype=float)[:, None]
+    velocity = c
+    velocity *= A * w
+    s *= -A * w * w
+    return value.T, velocity.T, s.T
 
 
 @dataclass(frozen=True)
@@ -141,15 +148,6 @@ class BaseMotion:
         return T
 
 
-def _rot(axis: int, angle: Array) -> Array:
-    c, s = np.cos(angle), np.sin(angle)
-    R = np.zeros((angle.shape[0], 3, 3))
-    i, j = [(1, 2), (2, 0), (0, 1)][axis]
-    R[:, axis, axis] = 1.0
-    R[:, i, i], R[:, i, j], R[:, j, i], R[:, j, j] = c, -s, s, c
-    return R
-
-
 def gimbal_xyz_motion(
     angles: Array, rates: Array, accelerations: Array
 ) -> tuple[Array, Array, Array]:
@@ -167,18 +165,23 @@ def gimbal_xyz_motion(
         ``R_world_base`` (T, 3, 3), angular velocity (T, 3) [rad/s] and angular acceleration
         (T, 3) [rad/s²], both in the rotated (body) axes.
     """
-    Rx, Ry, Rz = (_rot(k, angles[:, k]) for k in range(3))
-    ex, ey, ez = np.eye(3)
-    # body-axis unit vectors of the three gimbal axes: Rzᵀ·Ryᵀ·ex, Rzᵀ·ey, ez
-    u_z = np.broadcast_to(ez, angles.shape)
-    u_y = np.einsum("tji,j->ti", Rz, ey)
-    Ry_ex = np.einsum("tji,j->ti", Ry, ex)
-    u_x = np.einsum("tji,tj->ti", Rz, Ry_ex)
-    x_dot, y_dot, z_dot = rates.T[:, :, None]
-    omega = u_x * x_dot + u_y * y_dot + u_z * z_dot
-    # d/dt Rᵀ(θ) = -θ̇ [axis]× Rᵀ for a rotation about a fixed axis
-    du_y = -np.cross(ez, u_y) * z_dot
-    du_x = -np.cross(ez, u_x) * z_dot - np.einsum("tji,tj->ti", Rz, np.cross(ey, Ry_ex)) * y_dot
-    x_dd, y_dd, z_dd = accelerations.T[:, :, None]
-    omega_dot = u_x * x_dd + u_y * y_dd + u_z * z_dd + du_x * x_dot + du_y * y_dot
-    return Rx @ Ry @ Rz, omega, omega_dot
+    (cx, cy, cz), (sx, sy, sz) = np.cos(angles.T), np.sin(angles.T)
+    (xd, yd, zd), (xdd, ydd, zdd) = rates.T, accelerations.T
+    # Ry·Rz, then Rx mixes its rows 1 and 2; built as (3, 3, T) so each entry is contiguous
+    R = np.empty((3, 3, angles.shape[0]))
+    R[0, 0], R[0, 1], R[0, 2] = cy * cz, -cy * sz, sy
+    row1 = (sz, cz, 0.0)
+    row2 = (-sy * cz, sy * sz, cy)
+    for col in range(3):
+        R[1, col] = cx * row1[col] - sx * row2[col]
+        R[2, col] = sx * row1[col] + cx * row2[col]
+    # body rates: ω = Rzᵀ·Ryᵀ·ex·ẋ + Rzᵀ·ey·ẏ + ez·ż, and its time derivative
+    omega = np.empty((3, angles.shape[0]))
+    omega[0] = cy * cz * xd + sz * yd
+    omega[1] = -cy * sz * xd + cz * yd
+    omega[2] = sy * xd + zd
+    omega_dot = np.empty_like(omega)
+    omega_dot[0] = cy * cz * xdd + sz * ydd - (sy * cz * yd + cy * sz * zd) * xd + cz * zd * yd
+    omega_dot[1] = -cy * sz * xdd + cz * ydd + (sy * sz * yd - cy * cz * zd) * xd - sz * zd * yd
+    omega_dot[2] = sy * xdd + zdd + cy * yd * xd
+    return R.transpose(2, 0, 1), omega.T, omega_dot.T

@@ -203,3 +203,19 @@ def test_any_axis_urdf_equals_pinocchio(moving_base: bool) -> None:
         reference_frame_poses(model, base, trajectory, frames),
         atol=1e-12,
     )
+
+
+def test_quaternions_of_any_rotation_match_scipy() -> None:
+    from scipy.spatial.transform import Rotation
+
+    from aaria_pin.kinematics import _quaternion_xyzw
+
+    rotations = Rotation.random(2000, random_state=4)
+    half_turns = Rotation.from_rotvec(np.pi * np.eye(3))  # w = 0: the x, y, z branches
+    matrices = np.concatenate([rotations.as_matrix(), half_turns.as_matrix(), np.eye(3)[None]])
+    ours = _quaternion_xyzw(matrices.transpose(1, 2, 0)).T
+    theirs = Rotation.from_matrix(matrices).as_quat(canonical=True)
+    # q and -q are the same rotation; compare up to that sign
+    signs = np.sign(np.sum(ours * theirs, axis=1))
+    np.testing.assert_allclose(ours, theirs * signs[:, None], atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(ours, axis=1), 1.0, atol=1e-14)
