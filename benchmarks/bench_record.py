@@ -15,7 +15,7 @@ import time
 from collections.abc import Callable
 
 if hasattr(os, "sched_setaffinity"):
-    os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})  # one core
+    os.sched_setaffinity(0, {max(os.sched_getaffinity(0))})  # one core
 
 import numpy as np
 
@@ -59,11 +59,27 @@ def main() -> None:
 
     floor = median_seconds(lambda: batched_rnea(model.model, q, v, a, threads=1), repeats)
     record = median_seconds(
-        lambda: simulate_run(preset.table, preset.joint_table, preset.base_table,
-                             duration=duration, rate=rate, noise=False), repeats)
+        lambda: simulate_run(
+            preset.table,
+            preset.joint_table,
+            preset.base_table,
+            duration=duration,
+            rate=rate,
+            noise=False,
+        ),
+        repeats,
+    )
     noisy = median_seconds(
-        lambda: simulate_run(preset.table, preset.joint_table, preset.base_table,
-                             duration=duration, rate=rate, noise=True), repeats)
+        lambda: simulate_run(
+            preset.table,
+            preset.joint_table,
+            preset.base_table,
+            duration=duration,
+            rate=rate,
+            noise=True,
+        ),
+        repeats,
+    )
 
     short = sample_times((reference_samples - 1) / rate, rate)
     short_trajectory = joint_trajectory(preset.joint_table, robot.chain, short)
