@@ -20,7 +20,7 @@ from aaria_pin.dh_robot import BodyDimensions, DHRobot, ImuSlot, build_dh_robot
 from aaria_pin.dynamics import inverse_dynamics
 from aaria_pin.errors import ParameterError
 from aaria_pin.imu import ADIS16485, ImuNoiseModel, add_imu_noise, noise_attributes
-from aaria_pin.kinematics import TrajectoryKinematics
+from aaria_pin.kinematics import trajectory_signals
 from aaria_pin.model import GRAVITY
 from aaria_pin.oscillation import (
     base_motion,
@@ -148,10 +148,16 @@ def simulate_run(
     senSen, q, imu = new_sensen(time)
     modules = [module - 1 for module in robot.chain.modules]
     q[:, modules] = trajectory.q
-    kinematics = TrajectoryKinematics(model, base, trajectory)
     present = [k for k, slot in enumerate(robot.imu_slots) if slot.parent is not None]
-    for k in present:
-        kinematics.imu_signals([robot.imu_slots[k].name], out=imu[:, k : k + 1])
+    _, tool_pose = trajectory_signals(
+        model,
+        base,
+        trajectory,
+        [robot.imu_slots[k].name for k in present],
+        [model.tool_frame],
+        imu_out=imu,
+        imu_slots=present,
+    )
     if noise:
         rng = np.random.default_rng(seed)
         imu[:, present] = add_imu_noise(imu[:, present], rate, rng, noise_model)
@@ -181,7 +187,7 @@ def simulate_run(
         qdd=_module_columns(robot, trajectory.qdd),
         tau=_module_columns(robot, tau),
         base_wrench=base_wrench,
-        tool_pose=kinematics.poses([model.tool_frame])[:, 0],
+        tool_pose=tool_pose[:, 0],
         imu_mount=np.array(
             [slot.T_parent_imu if slot.parent else np.zeros((4, 4)) for slot in robot.imu_slots]
         ),

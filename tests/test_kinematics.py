@@ -208,12 +208,16 @@ def test_any_axis_urdf_equals_pinocchio(moving_base: bool) -> None:
 def test_quaternions_of_any_rotation_match_scipy() -> None:
     from scipy.spatial.transform import Rotation
 
-    from aaria_pin.kinematics import _quaternion_xyzw
+    from aaria_pin._kinematics_kernel import free_flyer_state
 
     rotations = Rotation.random(2000, random_state=4)
     half_turns = Rotation.from_rotvec(np.pi * np.eye(3))  # w = 0: the x, y, z branches
     matrices = np.concatenate([rotations.as_matrix(), half_turns.as_matrix(), np.eye(3)[None]])
-    ours = _quaternion_xyzw(matrices.transpose(1, 2, 0)).T
+    n = matrices.shape[0]
+    q, v, a = np.empty((n, 7)), np.empty((n, 6)), np.empty((n, 6))
+    zeros = np.zeros((n, 3))
+    free_flyer_state(matrices, zeros, zeros, zeros, zeros, zeros, q, v, a)
+    ours = q[:, 3:]
     theirs = Rotation.from_matrix(matrices).as_quat(canonical=True)
     # q and -q are the same rotation; compare up to that sign
     signs = np.sign(np.sum(ours * theirs, axis=1))
