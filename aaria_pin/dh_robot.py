@@ -132,9 +132,9 @@ def _frame_along(direction: Array, origin: Array) -> Array:
     reference = np.array([0.0, 0.0, 1.0]) if abs(x[2]) < 0.9 else np.array([0.0, -1.0, 0.0])
     z = reference - (reference @ x) * x
     z /= np.linalg.norm(z)
+    y = (z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0])
     T = np.eye(4)
-    T[:3, :3] = np.column_stack([x, np.cross(z, x), z])
-    T[:3, 3] = origin
+    T[:3, 0], T[:3, 1], T[:3, 2], T[:3, 3] = x, y, z, origin
     return T
 
 

@@ -3,7 +3,8 @@
     python benchmarks/bench_record.py            # full: aaria-fig2, moving base, 10,000 samples
     python benchmarks/bench_record.py --smoke    # CI: a few hundred samples, no timing asserted
 
-Prints a table of medians over repeats, measured side by side in one process, and the ratios.
+Prints a table of medians over repeats, measured in turn within each repeat in one process, and
+the median of the per-repeat ratios to the floor.
 """
 
 from __future__ import annotations
@@ -28,23 +29,30 @@ from aaria_pin.simulate import simulate_run
 from aaria_pin.trajectory import sample_times
 
 
-def median_seconds(func: Callable[[], object], repeats: int) -> float:
-    func()  # warm up
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
+def seconds(func: Callable[[], object]) -> float:
+    start = time.perf_counter()
+    func()
+    return time.perf_counter() - start
+
+
+def interleaved(funcs: dict[str, Callable[[], object]], repeats: int) -> dict[str, list[float]]:
+    """Times of each function, measured in turn within every repeat (after one warm-up round)."""
+    for func in funcs.values():
         func()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
+    times: dict[str, list[float]] = {name: [] for name in funcs}
+    for _ in range(repeats):
+        for name, func in funcs.items():
+            times[name].append(seconds(func))
+    return times
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--smoke", action="store_true", help="tiny sizes, for CI")
     parser.add_argument("--samples", type=int, default=10_000)
-    parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--repeats", type=int, default=21)
     args = parser.parse_args()
-    samples, repeats = (300, 2) if args.smoke else (args.samples, args.repeats)
+    samples, repeats = (300, 3) if args.smoke else (args.samples, args.repeats)
     reference_samples = min(samples, 300 if args.smoke else 1000)
 
     preset = get_preset("aaria-fig2")
@@ -57,27 +65,22 @@ def main() -> None:
     base = base_motion(preset.base_table, time_grid)
     q, v, a = full_state(model, base, trajectory)
 
-    floor = median_seconds(lambda: batched_rnea(model.model, q, v, a, threads=1), repeats)
-    record = median_seconds(
-        lambda: simulate_run(
+    def record(noise: bool) -> Callable[[], object]:
+        return lambda: simulate_run(
             preset.table,
             preset.joint_table,
             preset.base_table,
             duration=duration,
             rate=rate,
-            noise=False,
-        ),
-        repeats,
-    )
-    noisy = median_seconds(
-        lambda: simulate_run(
-            preset.table,
-            preset.joint_table,
-            preset.base_table,
-            duration=duration,
-            rate=rate,
-            noise=True,
-        ),
+            noise=noise,
+        )
+
+    times = interleaved(
+        {
+            "floor": lambda: batched_rnea(model.model, q, v, a, threads=1),
+            "record": record(False),
+            "noisy": record(True),
+        },
         repeats,
     )
 
@@ -90,18 +93,22 @@ def main() -> None:
         reference_imu_signals(model, short_base, short_trajectory, frames)
         reference_frame_poses(model, short_base, short_trajectory, [model.tool_frame])
 
-    loop = median_seconds(per_sample, max(1, repeats // 3)) * samples / reference_samples
+    loop = statistics.median(seconds(per_sample) for _ in range(max(1, repeats // 5)))
+    times["loop"] = [loop * samples / reference_samples] * repeats
 
-    print(f"aaria-fig2, moving base, {samples} samples, one core, median of {repeats}")
-    print(f"{'what':<46} {'seconds':>10} {'x floor':>8}")
-    rows = [
-        ("floor: rneaInParallel, 1 thread (tau only)", floor),
-        ("record, noise off (senSen, tau, wrench, pose)", record),
-        ("record, noise on", noisy),
-        (f"per-sample Pinocchio loop (from {reference_samples})", loop),
-    ]
-    for name, seconds in rows:
-        print(f"{name:<46} {seconds:>10.4f} {seconds / floor:>8.2f}")
+    print(f"aaria-fig2, moving base, {samples} samples, one core, {repeats} interleaved repeats")
+    print(f"{'what':<48} {'median s':>9} {'x floor':>8}")
+    labels = {
+        "floor": "floor: rneaInParallel, 1 thread (tau only)",
+        "record": "record, noise off (senSen, tau, wrench, pose)",
+        "noisy": "record, noise on",
+        "loop": f"per-sample Pinocchio loop (timed on {reference_samples})",
+    }
+    for name, label in labels.items():
+        ratios = [t / f for t, f in zip(times[name], times["floor"], strict=True)]
+        print(
+            f"{label:<48} {statistics.median(times[name]):>9.4f} {statistics.median(ratios):>8.2f}"
+        )
 
 
 if __name__ == "__main__":
