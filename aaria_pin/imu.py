@@ -21,6 +21,7 @@ from aaria_pin.errors import ParameterError
 
 __all__ = [
     "ADIS16485",
+    "BIAS_KNOTS_PER_CORRELATION_TIME",
     "DATASHEET_ROWS",
     "STANDARD_GRAVITY",
     "ImuNoiseModel",
@@ -29,6 +30,9 @@ __all__ = [
     "allan_deviation",
     "noise_attributes",
 ]
+
+BIAS_KNOTS_PER_CORRELATION_TIME = 200
+"""Knots of the bias process per correlation time (see :func:`add_imu_noise`)."""
 
 STANDARD_GRAVITY = 9.80665
 """Standard gravity, the data sheet's g [m/s²]."""
@@ -149,14 +153,18 @@ def add_imu_noise(
 
     * white noise: i.i.d. Gaussian, standard deviation ``noise_density·√rate``, so that the
       Allan deviation at averaging time ``τ`` is ``noise_density/√τ``;
-    * bias: first-order Gauss–Markov process ``b[k+1] = φ·b[k] + w[k]``, ``φ = exp(-1/(rate·T))``
-      with ``T = model.bias_correlation_time``, ``w ~ N(0, σ²(1-φ²))``, ``σ = bias_stability``,
+    * bias: first-order Gauss–Markov process ``b[k+1] = φ·b[k] + w[k]`` with
+      ``T = model.bias_correlation_time``, ``w ~ N(0, σ²(1-φ²))``, ``σ = bias_stability``,
       starting from its stationary distribution ``N(0, σ²)``, so it is stationary with standard
-      deviation ``σ`` and autocorrelation ``exp(-|Δt|/T)``; each IMU and axis has its own bias;
+      deviation ``σ`` and autocorrelation ``exp(-|Δt|/T)``; each IMU and axis has its own bias.
+      It is drawn on knots ``step = max(1, ⌊rate·T/200⌋)`` samples apart,
+      ``φ = exp(-step/(rate·T))``,
+      and interpolated linearly between them: a bias that wanders over 100 s needs no fresh
+      random number every millisecond, and at rates up to ``200/T`` Hz every sample is a knot;
     * saturation to ``±range``, then rounding to the nearest multiple of ``lsb``.
 
-    Random numbers are drawn from ``rng`` in a fixed order (white noise, then bias, each as one
-    ``(T, n_imu, 6)`` standard-normal array), so the same seed gives the same measurements.
+    Random numbers are drawn from ``rng`` in a fixed order (white noise as one ``(T, n_imu, 6)``
+    standard-normal array, then the bias knots), so the same seed gives the same measurements.
 
     Args:
         signals: exact signals, shape (T, n_imu, 6), rows ``[wx wy wz fx fy fz]``: angular
@@ -190,16 +198,29 @@ def add_imu_noise(
         raise ParameterError(
             f"IMU signal at index {index} is {exact[index]!r}; allowed: finite values"
         )
-    white = rng.standard_normal(exact.shape) * (_per_axis(model, "noise_density") * np.sqrt(rate))
-    innovations = rng.standard_normal(exact.shape)
-    dt_over_T = 1.0 / (rate * model.bias_correlation_time)
+    n = exact.shape[0]
+    measured = rng.standard_normal(exact.shape)
+    measured *= _per_axis(model, "noise_density") * np.sqrt(rate)
+    measured += exact
+    # the bias: a Gauss–Markov process on a grid of `step` samples, linear in between
+    step = max(1, int(rate * model.bias_correlation_time / BIAS_KNOTS_PER_CORRELATION_TIME))
+    knots = (n - 1) // step + 2
+    innovations = rng.standard_normal((knots, *exact.shape[1:]))
+    dt_over_T = step / (rate * model.bias_correlation_time)
     phi = float(np.exp(-dt_over_T))
     innovations[1:] *= np.sqrt(-np.expm1(-2.0 * dt_over_T))  # √(1 - φ²), stationary variance 1
     bias = lfilter([1.0], [1.0, -phi], innovations, axis=0) * _per_axis(model, "bias_stability")
+    ramp = (np.arange(step) / step)[None, :, None, None]
+    between = bias[:-1, None] + (bias[1:] - bias[:-1])[:, None] * ramp  # (knots-1, step, ...)
+    measured += between.reshape(-1, *exact.shape[1:])[:n]
     full_scale = _per_axis(model, "range")
     lsb = _per_axis(model, "lsb")
-    saturated = np.clip(exact + white + bias, -full_scale, full_scale)
-    return np.asarray(np.round(saturated / lsb) * lsb, dtype=np.float64)
+    np.minimum(measured, full_scale, out=measured)
+    np.maximum(measured, -full_scale, out=measured)
+    measured /= lsb
+    np.round(measured, out=measured)
+    measured *= lsb
+    return measured
 
 
 def noise_attributes(model: ImuNoiseModel = ADIS16485) -> dict[str, float]:
