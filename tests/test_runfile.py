@@ -88,9 +88,32 @@ def test_one_sample_run_keeps_shapes(tmp_path: Path, suffix: str) -> None:
     assert_records_equal(read, record)
 
 
+def test_default_hdf5_is_uncompressed_and_contiguous(tmp_path: Path) -> None:
+    record = make_record(samples=300)
+    path = write_run(tmp_path / "run.h5", record)
+    with h5py.File(path, "r") as handle:
+        for name, array in record.arrays().items():
+            assert handle[name].compression is None and handle[name].chunks is None
+            np.testing.assert_array_equal(handle[name][()], array)
+
+
+def test_lzf_compression_round_trips(tmp_path: Path) -> None:
+    record = make_record(samples=300)
+    path = write_run(tmp_path / "run.h5", record, compression="lzf")
+    with h5py.File(path, "r") as handle:
+        assert handle["senSen"].compression == "lzf"
+    assert_records_equal(read_run(path), record)
+
+
+def test_unknown_compression_is_refused(tmp_path: Path) -> None:
+    with pytest.raises(OutputFileError, match="compression 'zstd' is not allowed"):
+        write_run(tmp_path / "run.h5", make_record(samples=3), compression="zstd")
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_hdf5_layout_with_plain_h5py(tmp_path: Path) -> None:
     record = make_record(samples=5000)
-    path = write_run(tmp_path / "run.h5", record)
+    path = write_run(tmp_path / "run.h5", record, compression="gzip")
     with h5py.File(path, "r") as handle:
         assert list(handle) == list(RunRecord.ARRAY_NAMES)
         assert handle.attrs["format"] == "aaria_pin run"

@@ -43,6 +43,13 @@ def _read_mounts(path: Path) -> Any:
 @click.option("--seed", type=int, help="Seed of the IMU noise (default 0).")
 @click.option("--density", type=float, help="Density of every body [kg/m^3] (default 2700).")
 @click.option("--no-noise", is_flag=True, default=None, help="Exact IMU signals, no noise.")
+@click.option(
+    "--compress",
+    type=click.Choice(["none", "gzip", "lzf"]),
+    default="none",
+    show_default=True,
+    help="HDF5 filter of the time series (gzip: smaller, MATLAB-readable, slower).",
+)
 @click.option("-o", "--output", type=_FILE, required=True, help="Run file: .h5 or .mat.")
 def simulate(
     preset: str | None,
@@ -57,6 +64,7 @@ def simulate(
     seed: int | None,
     density: float | None,
     no_noise: bool | None,
+    compress: str,
     output: Path,
 ) -> None:
     """Simulate an arm on a moving base: joint values, 14 IMUs, torques, base wrench."""
@@ -90,7 +98,7 @@ def simulate(
             joints = chosen.joint_table if joints is None else joints
             base = chosen.base_table if base is None else base
         record = simulate_run(table, joints, base, **overrides)
-    write_run(output, record)
+    write_run(output, record, compression=None if compress == "none" else compress)
     click.echo(
         f"wrote {output}: {record.senSen.shape[0]} samples at {record.attributes['rate']:g} Hz, "
         f"noise {'on' if record.attributes['noise'] else 'off'}, "

@@ -44,7 +44,12 @@ _UNITS = {
 }
 
 
-def _write_hdf5(file: Path, arrays: Mapping[str, Array], attributes: list[tuple[str, Any]]) -> None:
+def _write_hdf5(
+    file: Path,
+    arrays: Mapping[str, Array],
+    attributes: list[tuple[str, Any]],
+    compression: str | None = None,
+) -> None:
     """Write the HDF5 layout (see the module docstring)."""
     import h5py
 
@@ -54,15 +59,15 @@ def _write_hdf5(file: Path, arrays: Mapping[str, Array], attributes: list[tuple[
         for key, value in attributes:
             handle.attrs[key] = value
         for name, data in arrays.items():
-            if name in _ROW_SHAPES and data.shape[0] > 0:
+            if compression is not None and name in _ROW_SHAPES and data.shape[0] > 0:
                 row_bytes = data[0].nbytes
                 rows = max(1, min(data.shape[0], _CHUNK_ROWS, _CHUNK_BYTES // row_bytes))
                 dataset = handle.create_dataset(
                     name,
                     data=data,
                     chunks=(rows, *data.shape[1:]),
-                    compression="gzip",
-                    compression_opts=1,
+                    compression=compression,
+                    compression_opts=1 if compression == "gzip" else None,
                     shuffle=True,
                 )
             else:
