@@ -184,7 +184,7 @@ def add_imu_noise(
 
     _check_rate(rate)
     try:
-        exact = np.array(signals, dtype=np.float64)
+        exact = np.asarray(signals, dtype=np.float64)
     except (TypeError, ValueError):
         raise ParameterError(
             f"IMU signals of type {type(signals).__name__} are not numeric; allowed: a real array"

@@ -149,18 +149,17 @@ def simulate_run(
     modules = [module - 1 for module in robot.chain.modules]
     q[:, modules] = trajectory.q
     present = [k for k, slot in enumerate(robot.imu_slots) if slot.parent is not None]
-    _, tool_pose = trajectory_signals(
+    exact, tool_pose = trajectory_signals(
         model,
         base,
         trajectory,
         [robot.imu_slots[k].name for k in present],
         [model.tool_frame],
-        imu_out=imu,
-        imu_slots=present,
+        imu_out=None if noise else imu,  # noise-free: straight into senSen
+        imu_slots=None if noise else present,
     )
     if noise:
-        rng = np.random.default_rng(seed)
-        imu[:, present] = add_imu_noise(imu[:, present], rate, rng, noise_model)
+        imu[:, present] = add_imu_noise(exact, rate, np.random.default_rng(seed), noise_model)
     tau, base_wrench = inverse_dynamics(model, base, trajectory, threads)
 
     attributes: dict[str, Any] = {
