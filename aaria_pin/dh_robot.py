@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -308,27 +309,37 @@ def describe_chain(
 
 @dataclass(frozen=True)
 class DHRobot:
-    """A robot built from a DH table: its chain, bodies, IMU slots and URDF.
+    """A robot built from a DH table: its chain, bodies, IMU slots, description and URDF.
 
     Attributes:
         chain: the kinematic chain
         dims: body dimensions and densities
         imu_slots: IMU mounts in record order
-        urdf: the URDF text (fixed base)
+        description: links and joints (fixed base)
     """
 
     chain: KinematicChain
     dims: BodyDimensions
     imu_slots: tuple[ImuSlot, ...]
-    urdf: str
+    description: RobotDescription
+
+    @cached_property
+    def urdf(self) -> str:
+        """The URDF text (fixed base), written on first use."""
+        return emit_urdf(self.description)
 
     def model(self, moving_base: bool = False) -> RobotModel:
-        """The Pinocchio model, with the IMU slots that have a parent as sensor frames."""
-        from aaria_pin.model import build_model
+        """The Pinocchio model, with the IMU slots that have a parent as sensor frames.
+
+        Built straight from the description (see
+        :func:`~aaria_pin.model.model_from_description`); it equals the model Pinocchio
+        parses from :attr:`urdf`.
+        """
+        from aaria_pin.model import model_from_description
 
         sensors = [slot.name for slot in self.imu_slots if slot.parent is not None]
-        return build_model(
-            self.urdf,
+        return model_from_description(
+            self.description,
             moving_base=moving_base,
             base_frame=BASE_FRAME,
             tool_frame=TOOL_FRAME,
@@ -358,4 +369,4 @@ def build_dh_robot(
     chain = chain_from_table(table, convention)
     dims = dims or BodyDimensions()
     slots = imu_slots if imu_slots is not None else default_imu_slots(chain, dims)
-    return DHRobot(chain, dims, slots, emit_urdf(describe_chain(chain, dims, name, slots)))
+    return DHRobot(chain, dims, slots, describe_chain(chain, dims, name, slots))

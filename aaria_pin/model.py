@@ -17,8 +17,10 @@ import numpy as np
 import pinocchio as pin
 
 from aaria_pin.errors import ModelError
+from aaria_pin.inertia import composite_inertia
+from aaria_pin.urdf import JointDescription, RobotDescription
 
-__all__ = ["GRAVITY", "RobotModel", "build_model"]
+__all__ = ["GRAVITY", "RobotModel", "build_model", "model_from_description"]
 
 GRAVITY = np.array([0.0, 0.0, -9.81])
 """Gravity in the world frame [m/s²]."""
@@ -30,7 +32,7 @@ class RobotModel:
 
     Attributes:
         model: the Pinocchio model (gravity set to :data:`GRAVITY`)
-        urdf: the URDF text it was built from
+        urdf: the URDF text it was built from (None when built from a description)
         moving_base: whether a free-flyer root joint carries the base
         base_frame: the base frame's name
         tool_frame: the tool frame's name
@@ -38,7 +40,7 @@ class RobotModel:
     """
 
     model: pin.Model
-    urdf: str
+    urdf: str | None
     moving_base: bool
     base_frame: str
     tool_frame: str
@@ -80,6 +82,107 @@ class RobotModel:
         return np.asarray(pin.neutral(self.model))
 
 
+def _finish(
+    model: pin.Model,
+    urdf: str | None,
+    moving_base: bool,
+    base_frame: str,
+    tool_frame: str,
+    sensor_frames: Sequence[str] | None,
+) -> RobotModel:
+    model.gravity.linear = GRAVITY
+    if sensor_frames is None:
+        sensor_frames = [frame.name for frame in model.frames if frame.name.startswith("imu_")]
+    robot = RobotModel(model, urdf, moving_base, base_frame, tool_frame, tuple(sensor_frames))
+    for name in (base_frame, tool_frame, *robot.sensor_frames):
+        robot.frame_id(name)
+    return robot
+
+
+def model_from_description(
+    description: RobotDescription,
+    *,
+    moving_base: bool = False,
+    base_frame: str = "base",
+    tool_frame: str = "tool_tip",
+    sensor_frames: Sequence[str] | None = None,
+) -> RobotModel:
+    """Build the Pinocchio model of a robot description directly, without URDF text.
+
+    The model equals the one Pinocchio's URDF parser builds from
+    ``emit_urdf(description)``: the same joints (revolute and prismatic about z), placements,
+    limits and inertias (fixed links merged into their moving parent), and a frame for every link
+    and fixed joint, with the same names. It skips writing and parsing XML, which matters when
+    thousands of random arms are built.
+
+    Args:
+        description: links and joints; the first link is the root
+        moving_base: add a free-flyer root joint carrying the base
+        base_frame: name of the base frame
+        tool_frame: name of the tool frame
+        sensor_frames: IMU frame names in record order (default: frames named ``imu_*``)
+
+    Returns:
+        The robot model.
+    """
+    model = pin.Model()
+    model.name = description.name
+    children: dict[str, list[JointDescription]] = {}
+    for joint in description.joints:
+        children.setdefault(joint.parent, []).append(joint)
+    parts = {link.name: link.parts for link in description.links}
+
+    def inertia(link: str) -> pin.Inertia | None:
+        if not parts[link]:
+            return None
+        mass_properties = composite_inertia(parts[link])
+        return pin.Inertia(mass_properties.mass, mass_properties.com, mass_properties.inertia_com)
+
+    root = description.links[0].name
+    joint_id, frame_id = 0, 0
+    if moving_base:
+        joint_id = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "root_joint")
+        frame_id = model.addJointFrame(joint_id, 0)
+    stack = [
+        (
+            root,
+            joint_id,
+            pin.SE3.Identity(),
+            model.addBodyFrame(root, joint_id, pin.SE3.Identity(), frame_id),
+        )
+    ]
+    if (root_inertia := inertia(root)) is not None:
+        model.appendBodyToJoint(joint_id, root_inertia, pin.SE3.Identity())
+    while stack:
+        link, joint_id, placement, link_frame = stack.pop()
+        for joint in reversed(children.get(link, [])):
+            offset = placement * pin.SE3(joint.T_parent_child)
+            child_inertia = inertia(joint.child)
+            if joint.kind == "fixed":
+                fixed = model.addFrame(
+                    pin.Frame(joint.name, joint_id, link_frame, offset, pin.FrameType.FIXED_JOINT)
+                )
+                child_frame = model.addBodyFrame(joint.child, joint_id, offset, fixed)
+                if child_inertia is not None:
+                    model.appendBodyToJoint(joint_id, child_inertia, offset)
+                stack.append((joint.child, joint_id, offset, child_frame))
+                continue
+            joint_model = pin.JointModelRZ() if joint.kind == "revolute" else pin.JointModelPZ()
+            new_joint = model.addJoint(
+                joint_id, joint_model, offset, joint.name,
+                np.array([joint.effort]), np.array([joint.velocity]),
+                np.array([joint.lower]), np.array([joint.upper]),
+            )  # fmt: skip
+            joint_frame = model.addJointFrame(new_joint, link_frame)
+            child_frame = model.addBodyFrame(
+                joint.child, new_joint, pin.SE3.Identity(), joint_frame
+            )
+            if child_inertia is not None:
+                model.appendBodyToJoint(new_joint, child_inertia, pin.SE3.Identity())
+            stack.append((joint.child, new_joint, pin.SE3.Identity(), child_frame))
+    return _finish(model, None, moving_base, base_frame, tool_frame, sensor_frames)
+
+
 def build_model(
     urdf: str,
     *,
@@ -111,10 +214,4 @@ def build_model(
             model = pin.buildModelFromXML(urdf)
     except (RuntimeError, ValueError) as exc:
         raise ModelError(f"URDF cannot be built into a model: {exc}") from None
-    model.gravity.linear = GRAVITY
-    if sensor_frames is None:
-        sensor_frames = [frame.name for frame in model.frames if frame.name.startswith("imu_")]
-    robot = RobotModel(model, urdf, moving_base, base_frame, tool_frame, tuple(sensor_frames))
-    for name in (base_frame, tool_frame, *robot.sensor_frames):
-        robot.frame_id(name)
-    return robot
+    return _finish(model, urdf, moving_base, base_frame, tool_frame, sensor_frames)

@@ -210,3 +210,40 @@ def test_prismatic_range_is_centred_rail_and_revolute_range() -> None:
     model = build_dh_robot(get_preset("aaria-fig2").table).model().model
     np.testing.assert_allclose(model.lowerPositionLimit[0], -0.07)
     np.testing.assert_allclose(model.upperPositionLimit[0], 0.07)
+
+
+@settings(max_examples=30, deadline=None)
+@given(table=aaria_tables(), seed=st.integers(0, 2**32 - 1), moving_base=st.booleans())
+def test_direct_model_equals_the_parsed_urdf(
+    table: np.ndarray, seed: int, moving_base: bool
+) -> None:
+    from aaria_pin.model import build_model
+
+    robot = build_dh_robot(table)
+    direct = robot.model(moving_base=moving_base).model
+    parsed = build_model(robot.urdf, moving_base=moving_base).model
+    assert direct.nq == parsed.nq and list(direct.names) == list(parsed.names)
+    for a, b in zip(direct.jointPlacements, parsed.jointPlacements, strict=True):
+        np.testing.assert_allclose(a.homogeneous, b.homogeneous, atol=1e-12)
+    for a, b in zip(direct.inertias, parsed.inertias, strict=True):
+        np.testing.assert_allclose(a.toDynamicParameters(), b.toDynamicParameters(), atol=1e-12)
+    np.testing.assert_allclose(direct.lowerPositionLimit, parsed.lowerPositionLimit)
+    np.testing.assert_allclose(direct.upperPositionLimit, parsed.upperPositionLimit)
+    assert sorted(f.name for f in direct.frames) == sorted(f.name for f in parsed.frames)
+    rng = np.random.default_rng(seed)
+    q = pin.randomConfiguration(parsed)
+    v, a = rng.normal(size=parsed.nv), rng.normal(size=parsed.nv)
+    np.testing.assert_allclose(
+        pin.rnea(direct, direct.createData(), q, v, a),
+        pin.rnea(parsed, parsed.createData(), q, v, a),
+        atol=1e-9,
+    )
+    d_direct, d_parsed = direct.createData(), parsed.createData()
+    pin.framesForwardKinematics(direct, d_direct, q)
+    pin.framesForwardKinematics(parsed, d_parsed, q)
+    for frame in parsed.frames:
+        np.testing.assert_allclose(
+            d_direct.oMf[direct.getFrameId(frame.name)].homogeneous,
+            d_parsed.oMf[parsed.getFrameId(frame.name)].homogeneous,
+            atol=1e-12,
+        )
