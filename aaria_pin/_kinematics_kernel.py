@@ -17,7 +17,7 @@ from numba import njit
 REVOLUTE, PRISMATIC, FREEFLYER = 0, 1, 2
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=True, error_model="numpy")
 def _rotation(axis: np.ndarray, angle: float, out: np.ndarray) -> None:  # pragma: no cover
     """Rotation matrix about a unit axis (Rodrigues)."""
     c, s = np.cos(angle), np.sin(angle)
@@ -34,7 +34,7 @@ def _rotation(axis: np.ndarray, angle: float, out: np.ndarray) -> None:  # pragm
     out[2, 2] = c + z * z * v
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=True, error_model="numpy")
 def trajectory_kinematics(  # type: ignore[no-untyped-def]  # pragma: no cover
     kinds,
     axes,
@@ -198,7 +198,7 @@ def trajectory_kinematics(  # type: ignore[no-untyped-def]  # pragma: no cover
             pose_out[t, index, 3, 3] = 1.0
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=True, error_model="numpy")
 def free_flyer_state(  # type: ignore[no-untyped-def]  # pragma: no cover
     base_R, base_p, base_v, base_a, base_w, base_wd, q_out, v_out, a_out
 ):
