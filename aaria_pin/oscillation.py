@@ -144,7 +144,8 @@ def base_motion(table: ArrayLike, time: Array) -> BaseMotion:
     amplitude, bias, frequency, phase = per_axis.T
     x, xd, xdd = sine_motion(amplitude, bias, frequency, phase, time)
     rotation, omega, omega_dot = gimbal_xyz_motion(x[:, 3:], xd[:, 3:], xdd[:, 3:])
-    return BaseMotion(x[:, :3], xd[:, :3], xdd[:, :3], rotation, omega, omega_dot)
+    position, velocity, acceleration = (np.ascontiguousarray(v[:, :3]) for v in (x, xd, xdd))
+    return BaseMotion(position, velocity, acceleration, rotation, omega, omega_dot)
 
 
 def default_joint_table(chain: KinematicChain) -> Array:

@@ -79,20 +79,20 @@ def sine_motion(
         time: sample times, shape (T,) [s]
 
     Returns:
-        Value, first and second time derivative, each shape (T, k) (transposed views of
-        contiguous (k, T) arrays, so each motion's samples are contiguous).
+        Value, first and second time derivative, each shape (T, k).
     """
-    A = np.asarray(amplitude, dtype=float)[:, None]
-    w = np.asarray(frequency, dtype=float)[:, None]
-    angle = w * time + np.asarray(phase, dtype=float)[:, None]
+    A = np.asarray(amplitude, dtype=float)
+    w = np.asarray(frequency, dtype=float)
+    angle = np.multiply.outer(time, w)
+    angle += np.asarray(phase, dtype=float)
     s = np.sin(angle)
     c = np.cos(angle, out=angle)
     value = A * s
-    value += np.asarray(bias, dtype=float)[:, None]
+    value += np.asarray(bias, dtype=float)
     velocity = c
     velocity *= A * w
     s *= -A * w * w
-    return value.T, velocity.T, s.T
+    return value, velocity, s
 
 
 @dataclass(frozen=True)
@@ -184,4 +184,8 @@ def gimbal_xyz_motion(
     omega_dot[0] = cy * cz * xdd + sz * ydd - (sy * cz * yd + cy * sz * zd) * xd + cz * zd * yd
     omega_dot[1] = -cy * sz * xdd + cz * ydd + (sy * sz * yd - cy * cz * zd) * xd - sz * zd * yd
     omega_dot[2] = sy * xdd + zdd + cy * yd * xd
-    return R.transpose(2, 0, 1), omega.T, omega_dot.T
+    return (
+        np.ascontiguousarray(R.transpose(2, 0, 1)),
+        np.ascontiguousarray(omega.T),
+        np.ascontiguousarray(omega_dot.T),
+    )
