@@ -10,13 +10,13 @@ keeping one part fixed (``vary``) leaves the draws of the others unchanged.
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+import tomllib
 
 from aaria_pin._se3 import Array
 from aaria_pin.errors import InputFileError, ParameterError
@@ -178,12 +178,12 @@ def config_from_mapping(data: Mapping[str, Any], where: str = "config") -> Rando
         raise ParameterError(
             f"{where}: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(known))}"
         )
-    values = {key: (tuple(v) if isinstance(v, list) else v) for key, v in data.items()}
+    values: dict[str, Any] = {
+        key: (tuple(v) if isinstance(v, list) else v) for key, v in data.items()
+    }
     try:
         return RandomConfig(**values)
     except (TypeError, ValueError) as exc:
-        if isinstance(exc, ParameterError):
-            raise ParameterError(f"{where}: {exc}") from None
         raise ParameterError(f"{where}: {exc}") from None
 
 

@@ -18,7 +18,7 @@ from aaria_pin import __version__
 from aaria_pin._se3 import Array
 from aaria_pin.dh_robot import BodyDimensions, DHRobot, ImuSlot, build_dh_robot
 from aaria_pin.dynamics import inverse_dynamics
-from aaria_pin.errors import ParameterError
+from aaria_pin.errors import InputFileError, ParameterError
 from aaria_pin.imu import ADIS16485, ImuNoiseModel, add_imu_noise, noise_attributes
 from aaria_pin.kinematics import trajectory_signals
 from aaria_pin.model import GRAVITY
@@ -44,6 +44,8 @@ DEFAULT_DURATION = 10.0
 """Default run length [s]."""
 DEFAULT_RATE = 100.0
 """Default sample rate [Hz]."""
+MAX_SEED = 2**63 - 1
+"""Largest noise seed (it is stored as a 64-bit attribute)."""
 
 UNITS = {
     "time": "s",
@@ -61,6 +63,14 @@ def _module_columns(robot: DHRobot, values: Array) -> Array:
     out = np.zeros((values.shape[0], N_MODULES))
     out[:, [module - 1 for module in robot.chain.modules]] = values
     return out
+
+
+def _seed_attributes(seed: int | np.random.SeedSequence) -> dict[str, Any]:
+    """``seed`` (and, for a data set's run, the spawn key of its noise stream)."""
+    if isinstance(seed, np.random.SeedSequence):
+        entropy = seed.entropy if isinstance(seed.entropy, int) else 0
+        return {"seed": entropy, "noise_spawn_key": [int(k) for k in seed.spawn_key]}
+    return {"seed": int(seed)}
 
 
 def mounted_slots(robot: DHRobot, imu_mount: ArrayLike) -> tuple[ImuSlot, ...]:
@@ -106,7 +116,7 @@ def simulate_run(
     *,
     duration: float = DEFAULT_DURATION,
     rate: float = DEFAULT_RATE,
-    seed: int = 0,
+    seed: int | np.random.SeedSequence = 0,
     noise: bool = True,
     noise_model: ImuNoiseModel = ADIS16485,
     dims: BodyDimensions | None = None,
@@ -121,7 +131,7 @@ def simulate_run(
         base_table: 2 × 4 or 6 × 4 base oscillation table (``senSenB``); default a gentle motion
         duration: run length [s]
         rate: sample rate [Hz]
-        seed: seed of the IMU noise
+        seed: seed of the IMU noise, 0 to 2⁶³ - 1 (or a ``SeedSequence``, as data sets use)
         noise: add IMU noise (``False`` gives the exact signals)
         noise_model: IMU noise parameters
         dims: body dimensions and densities
@@ -133,6 +143,10 @@ def simulate_run(
     Returns:
         The run record.
     """
+    if not (isinstance(seed, (int, np.integer)) and 0 <= seed <= MAX_SEED) and not isinstance(
+        seed, np.random.SeedSequence
+    ):
+        raise ParameterError(f"seed {seed!r}; allowed: an integer from 0 to {MAX_SEED}")
     robot = build_dh_robot(dh_table, "aaria", dims)
     if imu_mount is not None:
         robot = build_dh_robot(dh_table, "aaria", dims, imu_slots=mounted_slots(robot, imu_mount))
@@ -165,7 +179,7 @@ def simulate_run(
     attributes: dict[str, Any] = {
         "rate": float(rate),
         "duration": float(duration),
-        "seed": int(seed),
+        **_seed_attributes(seed),
         "noise": bool(noise),
         "noise_parameters": noise_attributes(noise_model),
         "gravity": GRAVITY.tolist(),
@@ -211,14 +225,25 @@ def simulate_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> Ru
     from aaria_pin.runfile import read_run
 
     stored = read_run(path)
+    attributes = stored.attributes
+    seed = attributes.get("seed", 0)
+    if isinstance(seed, float) and seed.is_integer():  # MATLAB saves numbers as doubles
+        seed = int(seed)
+    if "noise_spawn_key" in attributes:  # a run of a data set
+        seed = np.random.SeedSequence(seed, spawn_key=tuple(attributes["noise_spawn_key"]))
     settings: dict[str, Any] = {
-        "duration": stored.attributes.get("duration", DEFAULT_DURATION),
-        "rate": stored.attributes.get("rate", DEFAULT_RATE),
-        "seed": stored.attributes.get("seed", 0),
-        "noise": bool(stored.attributes.get("noise", True)),
+        "joint_table": stored.senSenJ,
+        "base_table": stored.senSenB,
+        "duration": float(attributes.get("duration", DEFAULT_DURATION)),
+        "rate": float(attributes.get("rate", DEFAULT_RATE)),
+        "seed": seed,
+        "noise": bool(attributes.get("noise", True)),
         "imu_mount": stored.imu_mount,
     }
-    if "body_dimensions" in stored.attributes:
-        settings["dims"] = BodyDimensions(**stored.attributes["body_dimensions"])
+    if "body_dimensions" in attributes:
+        try:
+            settings["dims"] = BodyDimensions(**attributes["body_dimensions"])
+        except TypeError as exc:
+            raise InputFileError(f"{path}: body_dimensions cannot be used ({exc})") from None
     settings.update(overrides)
-    return simulate_run(stored.senSenDH, stored.senSenJ, stored.senSenB, **settings)
+    return simulate_run(stored.senSenDH, **settings)

@@ -10,6 +10,7 @@ survives the trip.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cache
@@ -176,6 +177,20 @@ def _check_tree(description: RobotDescription) -> None:
         raise ModelError(f"robot {description.name!r}: expected one root {names[0]!r}, got {roots}")
 
 
+_XML_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]*")
+
+
+def _check_names(description: RobotDescription) -> None:
+    names = [description.name, *(link.name for link in description.links)]
+    names += [joint.name for joint in description.joints]
+    for name in names:
+        if not _XML_NAME.fullmatch(name):
+            raise ModelError(
+                f"name {name!r} is not allowed in a URDF; allowed: letters, digits, '_', '.', '-'"
+                " (not first)"
+            )
+
+
 def emit_urdf(description: RobotDescription) -> str:
     """Write a robot description as URDF text.
 
@@ -186,9 +201,11 @@ def emit_urdf(description: RobotDescription) -> str:
         The URDF document.
 
     Raises:
-        ModelError: duplicate link names, a joint naming an unknown link, or not one root.
+        ModelError: duplicate link names, a joint naming an unknown link, not one root, or a
+            name that is not an XML name.
     """
     _check_tree(description)
+    _check_names(description)
     return _template("robot.urdf").substitute(
         name=description.name,
         comment=description.comment.replace("--", "- -"),

@@ -18,8 +18,11 @@ class _Group(click.Group):
         try:
             return super().invoke(ctx)
         except AariaError as exc:
-            click.echo(f"aaria: error: {exc}", err=True)
-            ctx.exit(EXIT_BAD_INPUT)
+            message = str(exc)
+        except click.UsageError as exc:  # bad options of a command: one line too
+            message = exc.format_message()
+        click.echo(f"aaria: error: {' '.join(message.split())}", err=True)
+        ctx.exit(EXIT_BAD_INPUT)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})

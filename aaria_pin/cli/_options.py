@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar, cast
@@ -53,3 +54,9 @@ def load_table_source(
         return chosen.table, chosen.convention, chosen.name
     assert dh_file is not None
     return read_table(dh_file, "senSenDH"), cast("Convention", convention), dh_file.stem
+
+
+def robot_name(stem: str) -> str:
+    """A URDF robot name from a preset or file name: letters, digits and ``_`` only."""
+    cleaned = re.sub(r"[^A-Za-z0-9_]", "_", stem)
+    return cleaned if cleaned[:1].isalpha() else f"arm_{cleaned}"

@@ -10,6 +10,7 @@ import click
 from aaria_pin.cli._options import load_table_source, table_source_options
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
+MAX_SEED = 2**63 - 1
 
 
 def _read_mounts(path: Path) -> Any:
@@ -37,12 +38,18 @@ def _read_mounts(path: Path) -> Any:
     type=_FILE,
     help="IMU mounting poses: .npy (14 × 4 × 4) or a run file.",
 )
-@click.option("--from", "from_run", type=_FILE, help="Re-make the run stored in this run file.")
+@click.option(
+    "--from",
+    "from_run",
+    type=_FILE,
+    help="Re-make the run stored in this run file; the options given beside it replace "
+    "the stored ones.",
+)
 @click.option("--duration", type=float, help="Run length [s] (default 10).")
 @click.option("--rate", type=float, help="Sample rate [Hz] (default 100).")
-@click.option("--seed", type=int, help="Seed of the IMU noise (default 0).")
+@click.option("--seed", type=click.IntRange(0, MAX_SEED), help="Seed of the IMU noise (default 0).")
 @click.option("--density", type=float, help="Density of every body [kg/m^3] (default 2700).")
-@click.option("--no-noise", is_flag=True, default=None, help="Exact IMU signals, no noise.")
+@click.option("--noise/--no-noise", default=None, help="IMU noise on (default) or off.")
 @click.option(
     "--compress",
     type=click.Choice(["none", "gzip", "lzf"]),
@@ -63,7 +70,7 @@ def simulate(
     rate: float | None,
     seed: int | None,
     density: float | None,
-    no_noise: bool | None,
+    noise: bool | None,
     compress: str,
     output: Path,
 ) -> None:
@@ -75,15 +82,21 @@ def simulate(
     from aaria_pin.runfile import write_run
     from aaria_pin.simulate import simulate_from_run_file, simulate_run
 
-    given = {"duration": duration, "rate": rate, "seed": seed, "noise": False if no_noise else None}
+    given = {"duration": duration, "rate": rate, "seed": seed, "noise": noise}
     overrides: dict[str, Any] = {key: value for key, value in given.items() if value is not None}
+    if joints_file is not None:
+        overrides["joint_table"] = read_table(joints_file, "senSenJ")
+    if base_file is not None:
+        overrides["base_table"] = read_table(base_file, "senSenB")
     if mount_file is not None:
         overrides["imu_mount"] = _read_mounts(mount_file)
     if density is not None:
         overrides["dims"] = BodyDimensions(density=density)
     if from_run is not None:
-        if preset or dh_file or joints_file or base_file:
-            raise click.UsageError("--from takes the tables from the run file; drop --preset/--dh")
+        if preset or dh_file:
+            raise click.UsageError(
+                "--from takes the DH table from the run file; drop --preset/--dh"
+            )
         record = simulate_from_run_file(from_run, **overrides)
     else:
         table, table_convention, name = load_table_source(preset, dh_file, convention)
@@ -91,13 +104,11 @@ def simulate(
             raise ParameterError(
                 f"table {name!r} is a {table_convention} DH table; allowed: an Aaria 8 × 5 table"
             )
-        chosen = get_preset(preset) if preset else None
-        joints = read_table(joints_file, "senSenJ") if joints_file else None
-        base = read_table(base_file, "senSenB") if base_file else None
-        if chosen is not None:
-            joints = chosen.joint_table if joints is None else joints
-            base = chosen.base_table if base is None else base
-        record = simulate_run(table, joints, base, **overrides)
+        if preset is not None:
+            chosen = get_preset(preset)
+            overrides.setdefault("joint_table", chosen.joint_table)
+            overrides.setdefault("base_table", chosen.base_table)
+        record = simulate_run(table, **overrides)
     write_run(output, record, compression=None if compress == "none" else compress)
     click.echo(
         f"wrote {output}: {record.senSen.shape[0]} samples at {record.attributes['rate']:g} Hz, "

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from aaria_pin.cli._options import load_table_source, table_source_options
+from aaria_pin.cli._options import load_table_source, robot_name, table_source_options
 
 
 @click.command()
@@ -37,7 +37,7 @@ def urdf(
         table,
         table_convention,
         BodyDimensions(density=density),
-        name=name.replace("-", "_"),
+        name=robot_name(name),
     )
     write_text_atomic(output, robot.urdf)
     click.echo(
