@@ -39,6 +39,7 @@ from aaria_pin.errors import TableError
 __all__ = [
     "AARIA_COLUMNS",
     "CONVENTIONS",
+    "MAX_LENGTH",
     "REVOLUTE_RANGE",
     "R_WORLD_DH",
     "STANDARD_PRISMATIC_RANGE",
@@ -70,6 +71,8 @@ STANDARD_PRISMATIC_RANGE = (-0.5, 0.5)
 """Range of a prismatic joint of a standard or modified table about its offset d [m]."""
 
 _MAX_ROWS = 12
+MAX_LENGTH = 100.0
+"""Longest link length or offset accepted in a table [m]."""
 
 
 class LinkType(IntEnum):
@@ -176,10 +179,10 @@ def _check_link_type(arr: Array, row: int, allowed: Sequence[LinkType], what: st
 
 
 def _check_non_negative(arr: Array, row: int, col: int, what: str) -> None:
-    if arr[row, col] < 0:
+    if not 0 <= arr[row, col] <= MAX_LENGTH:
         raise TableError(
             f"{what}: row {row + 1}, column {col + 1} ({AARIA_COLUMNS[col]}) is"
-            f" {arr[row, col]:g} {_COLUMN_UNITS[col]}; allowed: a length >= 0"
+            f" {arr[row, col]:g} {_COLUMN_UNITS[col]}; allowed: a length from 0 to {MAX_LENGTH:g} m"
         )
 
 

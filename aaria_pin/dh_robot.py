@@ -50,6 +50,11 @@ __all__ = [
     "link_name",
 ]
 
+MAX_DENSITY = 1.0e5
+"""Largest density accepted [kg/m³] (the densest element, osmium, is 22,590)."""
+MAX_SECTION = 10.0
+"""Largest cross-section or housing dimension accepted [m]."""
+
 BASE_FRAME = "base"
 TOOL_FRAME = "tool_tip"
 _SEGMENT_EPS = 1e-12
@@ -87,11 +92,17 @@ class BodyDimensions:
             "rail_radius",
         ):
             value = getattr(self, name)
-            if not (np.isfinite(value) and value > 0):
-                raise ParameterError(f"{name} is {value!r} m; allowed: a finite length > 0")
-        for name, value in {"density": self.density, **self.density_overrides}.items():
-            if not (np.isfinite(value) and value > 0):
-                raise ParameterError(f"density of {name} is {value!r} kg/m^3; allowed: > 0")
+            if not (np.isfinite(value) and 0 < value <= MAX_SECTION):
+                raise ParameterError(
+                    f"{name} is {value!r} m; allowed: a length 0 < length <= {MAX_SECTION:g} m"
+                )
+        densities = {"every body": self.density, **self.density_overrides}
+        for name, value in densities.items():
+            if not (np.isfinite(value) and 0 < value <= MAX_DENSITY):
+                raise ParameterError(
+                    f"density of {name} is {value!r} kg/m^3; allowed: 0 < density"
+                    f" <= {MAX_DENSITY:g}"
+                )
 
     def density_of(self, link: str) -> float:
         """Density of one link [kg/m³]."""

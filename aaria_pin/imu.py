@@ -5,9 +5,11 @@ measurements: white noise plus a slowly wandering bias, saturated to the sensor'
 quantised to its resolution. :func:`allan_deviation` is the usual check of such noise, and
 :func:`noise_attributes` flattens a model into numbers that can be stored next to a data set.
 
-Noise convention: the white noise of a sensor with noise density ``N`` sampled at ``rate`` Hz has
-a per-sample standard deviation ``N·√rate``, so its Allan deviation at averaging time ``τ`` is
-``N/√τ`` (one-sided density of the rate signal, no low-pass filter).
+Noise convention: the noise density ``N`` is a one-sided spectral density, so white noise sampled
+at ``rate`` Hz (bandwidth ``rate/2``) has a per-sample standard deviation ``N·√(rate/2)``, and its
+Allan deviation at averaging time ``τ`` is ``N/√(2τ)``: the random walk coefficient is ``N/√2``.
+For the ADIS16485 that gives 0.28 °/√h and 0.028 m/s/√h against the data sheet's 0.3 °/√h and
+0.023 m/s/√h, so the two data-sheet figures agree under this convention.
 """
 
 from __future__ import annotations
@@ -151,8 +153,8 @@ def add_imu_noise(
 
     Per axis, ``measured = quantise(clip(exact + white + bias, ±range))``:
 
-    * white noise: i.i.d. Gaussian, standard deviation ``noise_density·√rate``, so that the
-      Allan deviation at averaging time ``τ`` is ``noise_density/√τ``;
+    * white noise: i.i.d. Gaussian, standard deviation ``noise_density·√(rate/2)``, so that
+      the Allan deviation at averaging time ``τ`` is ``noise_density/√(2τ)``;
     * bias: first-order Gauss–Markov process ``b[k+1] = φ·b[k] + w[k]`` with
       ``T = model.bias_correlation_time``, ``w ~ N(0, σ²(1-φ²))``, ``σ = bias_stability``,
       starting from its stationary distribution ``N(0, σ²)``, so it is stationary with standard
@@ -200,7 +202,7 @@ def add_imu_noise(
         )
     n = exact.shape[0]
     measured = rng.standard_normal(exact.shape)
-    measured *= _per_axis(model, "noise_density") * np.sqrt(rate)
+    measured *= _per_axis(model, "noise_density") * np.sqrt(rate / 2.0)
     measured += exact
     # the bias: a Gauss–Markov process on a grid of `step` samples, linear in between
     step = max(1, int(rate * model.bias_correlation_time / BIAS_KNOTS_PER_CORRELATION_TIME))

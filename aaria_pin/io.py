@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import os
 import tempfile
+import warnings
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -51,10 +52,16 @@ def read_table(path: str | os.PathLike[str], mat_name: str = "senSenDH") -> Arra
         elif suffix == ".mat":
             data = _read_mat_array(file, mat_name)
         else:
-            data = np.loadtxt(file, delimiter=",", comments="#", ndmin=2)
+            with warnings.catch_warnings():
+                warnings.simplefilter("error")  # an empty file is an error, not a warning
+                data = np.loadtxt(file, delimiter=",", comments="#", ndmin=2)
+        if np.iscomplexobj(data):
+            raise InputFileError(f"{file}: holds complex numbers; allowed: a real table")
         table = np.asarray(data, dtype=float)
     except InputFileError:
         raise
+    except UserWarning:
+        raise InputFileError(f"{file}: is empty; allowed: a numeric table") from None
     except (OSError, ValueError, TypeError) as exc:
         reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise InputFileError(f"{file}: cannot be read as a numeric table ({reason})") from None
@@ -116,7 +123,9 @@ def atomic_output(path: str | os.PathLike[str]) -> Iterator[Path]:
         raise OutputFileError(f"{final}: cannot write in {folder} ({exc.strerror})") from None
     os.close(handle)
     temporary = Path(name)
-    os.chmod(temporary, 0o644)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(temporary, 0o666 & ~umask)  # as a plain open() would have made it
     try:
         yield temporary
         os.replace(temporary, final)

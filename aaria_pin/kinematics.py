@@ -106,6 +106,28 @@ def _frames(robot: RobotModel, names: Sequence[str]) -> tuple[np.ndarray, Array,
     )
 
 
+def _check_shapes(robot: RobotModel, base: BaseMotion, trajectory: JointTrajectory) -> None:
+    """Refuse arrays the compiled kernel would read out of bounds."""
+    n = trajectory.q.shape[0]
+    expected = (n, robot.n_joints)
+    for name in ("q", "qd", "qdd"):
+        shape = np.shape(getattr(trajectory, name))
+        if shape != expected:
+            raise ModelError(f"trajectory {name} has shape {shape}; allowed: {expected}")
+    if robot.moving_base:
+        for name, tail in (
+            ("rotation", (3, 3)),
+            ("position", (3,)),
+            ("velocity", (3,)),
+            ("acceleration", (3,)),
+            ("omega", (3,)),
+            ("omega_dot", (3,)),
+        ):
+            shape = np.shape(getattr(base, name))
+            if shape != (n, *tail):
+                raise ModelError(f"base {name} has shape {shape}; allowed: {(n, *tail)}")
+
+
 def trajectory_signals(
     robot: RobotModel,
     base: BaseMotion,
@@ -136,6 +158,7 @@ def trajectory_signals(
 
     flat = _flatten(robot)
     n = trajectory.q.shape[0]
+    _check_shapes(robot, base, trajectory)
     if robot.moving_base:
         base_arrays = [
             np.ascontiguousarray(x, dtype=float)
@@ -146,6 +169,16 @@ def trajectory_signals(
     if imu_out is None:
         imu_out = np.empty((n, len(imu_frames), 6))
     slots = np.arange(len(imu_frames)) if imu_slots is None else np.asarray(imu_slots)
+    if (
+        imu_out.shape[0] != n
+        or imu_out.shape[2:] != (6,)
+        or len(slots) != len(imu_frames)
+        or (len(slots) and not 0 <= slots.min() <= slots.max() < imu_out.shape[1])
+    ):
+        raise ModelError(
+            f"imu_out of shape {imu_out.shape} and slots {slots.tolist()} do not fit"
+            f" {len(imu_frames)} IMUs over {n} samples"
+        )
     poses = np.empty((n, len(pose_frames), 4, 4))
     q, qd, qdd = (
         np.ascontiguousarray(x, dtype=float).reshape(n, -1)

@@ -7,6 +7,7 @@ and second derivatives.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,14 +32,15 @@ MAX_DURATION = 86_400.0
 MAX_RATE = 100_000.0
 """Highest sample rate [Hz]."""
 MAX_SAMPLES = 2_000_000
-"""Most samples in one run (memory: about 1.2 kB per sample for the whole record)."""
+"""Most samples in one run (peak memory about 2.6 kB per sample noise off, 4.7 kB noise on)."""
 
 
 def sample_times(duration: float, rate: float) -> Array:
     """The time grid of a run: from 0 to ``duration`` inclusive in steps of ``1/rate``.
 
-    Like Simulink's fixed-step output, a run of duration D at rate f has ``round(D·f) + 1``
-    samples.
+    Like Simulink's fixed-step output, a run of duration D at rate f has ``⌊D·f⌋ + 1``
+    samples (``D·f`` within 1e-9 of an integer counts as that integer): the first at 0, the last
+    at or just before D.
 
     Args:
         duration: run length [s], 0 < duration <= 86,400
@@ -56,7 +58,7 @@ def sample_times(duration: float, rate: float) -> Array:
         )
     if not (np.isfinite(rate) and 0 < rate <= MAX_RATE):
         raise ParameterError(f"rate {rate!r} Hz; allowed: 0 < rate <= {MAX_RATE:g} Hz")
-    n = round(duration * rate) + 1
+    n = math.floor(duration * rate + 1e-9) + 1
     if n > MAX_SAMPLES:
         raise ParameterError(
             f"duration × rate gives {n} samples; allowed: at most {MAX_SAMPLES} per run"

@@ -64,7 +64,7 @@ def _bad_table(tmp_path: Path, row: int, col: int, value: float) -> Path:
         (lambda p: ["--dh", str(_bad_table(p, 2, 4, 5))], "row 3, column 5 (link type) is 5"),
         (lambda p: ["--dh", str(_bad_table(p, 1, 1, np.nan))], "row 2, column 2 (a) is nan"),
         (lambda p: ["--dh", str(_bad_table(p, 0, 3, -0.5))], "row 1, column 4 (d) is -0.5"),
-        (lambda p: ["--preset", "aaria-fig2", "--density", "-3"], "density is -3.0"),
+        (lambda p: ["--preset", "aaria-fig2", "--density", "-3"], "density of every body is -3.0"),
         (lambda p: ["--preset", "nope"], "preset 'nope' is not known"),
         (lambda p: ["--dh", str(p / "missing.csv")], "no such file"),
         (

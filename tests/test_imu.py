@@ -75,7 +75,13 @@ def test_allan_deviation_recovers_noise_density(
     for axis in range(6):
         density = GYRO.noise_density if axis < 3 else ACCEL.noise_density
         adev = allan_deviation(noisy[:, 0, axis], RATE, taus)
-        np.testing.assert_allclose(adev * np.sqrt(taus), density, rtol=0.10)
+        np.testing.assert_allclose(adev * np.sqrt(2 * taus), density, rtol=0.10)
+
+
+def test_noise_density_agrees_with_the_random_walk_figures() -> None:
+    # one-sided density N sampled over rate/2: random walk coefficient N/√2 [unit/√s]
+    np.testing.assert_allclose(GYRO.noise_density / np.sqrt(2), GYRO.random_walk, rtol=0.10)
+    np.testing.assert_allclose(ACCEL.noise_density / np.sqrt(2), ACCEL.random_walk, rtol=0.25)
 
 
 def test_long_run_mean_is_bias_bounded(resting_noisy: tuple[np.ndarray, np.ndarray]) -> None:

@@ -31,9 +31,11 @@ _CHUNK_BYTES = 2**20
 
 _UNITS = {
     "senSen": "see columns: s, rad or m, rad/s, m/s^2",
-    "senSenDH": "see docs",
-    "senSenJ": "see docs",
-    "senSenB": "see docs",
+    "senSenDH": "columns: alpha rad, a m, theta rad, d m, "
+    "link type (0 empty, 1 revolute, 2 prismatic)",
+    "senSenJ": "columns: amplitude rad, prismatic amplitude m, bias rad or m, frequency rad/s, "
+    "phase rad",
+    "senSenB": "columns: amplitude m or rad, bias m or rad, frequency rad/s, phase rad",
     "q": "rad or m",
     "qd": "rad/s or m/s",
     "qdd": "rad/s^2 or m/s^2",
