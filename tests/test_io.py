@@ -64,3 +64,12 @@ def test_atomic_output_replaces_only_when_complete(tmp_path: Path) -> None:
 def test_atomic_output_into_a_missing_folder(tmp_path: Path) -> None:
     with pytest.raises(OutputFileError, match="does not exist"):
         write_text_atomic(tmp_path / "nope" / "out.txt", "x")
+
+
+def test_empty_and_complex_tables_are_refused(tmp_path: Path) -> None:
+    (tmp_path / "empty.csv").write_text("# nothing here\n")
+    with pytest.raises(InputFileError, match="is empty"):
+        read_table(tmp_path / "empty.csv")
+    np.save(tmp_path / "complex.npy", TABLE + 1j)
+    with pytest.raises(InputFileError, match="complex"):
+        read_table(tmp_path / "complex.npy")

@@ -223,3 +223,20 @@ def test_quaternions_of_any_rotation_match_scipy() -> None:
     signs = np.sign(np.sum(ours * theirs, axis=1))
     np.testing.assert_allclose(ours, theirs * signs[:, None], atol=1e-12)
     np.testing.assert_allclose(np.linalg.norm(ours, axis=1), 1.0, atol=1e-14)
+
+
+def test_wrong_trajectory_shapes_are_refused_before_the_kernel() -> None:
+    from aaria_pin.errors import ModelError
+    from aaria_pin.trajectory import JointTrajectory
+
+    robot = build_dh_robot(get_preset("aaria-fig3").table)
+    model = robot.model(moving_base=True)
+    time = sample_times(1.0, 10)
+    base = base_motion(default_base_table(), time)
+    short = np.zeros((time.size, 3))
+    with pytest.raises(ModelError, match=r"trajectory q has shape \(11, 3\); allowed: \(11, 5\)"):
+        imu_signals(model, base, JointTrajectory(time, short, short, short), model.sensor_frames)
+    good = joint_trajectory(default_joint_table(robot.chain), robot.chain, time)
+    half_base = base_motion(default_base_table(), time[:5])
+    with pytest.raises(ModelError, match="base rotation has shape"):
+        imu_signals(model, half_base, good, model.sensor_frames)

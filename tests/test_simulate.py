@@ -119,3 +119,50 @@ def test_bad_imu_mounts(change: str) -> None:
         mounts[4, 0, 3] = np.nan
     with pytest.raises(ParameterError, match="imu_mount"):
         simulate_run(FIG3, duration=0.2, rate=10, imu_mount=mounts)
+
+
+def test_joint_columns_follow_the_sine_formula() -> None:
+    record = simulate_run(FIG3, duration=1.0, rate=20, noise=False)
+    preset = get_preset("aaria-fig3")
+    t = np.arange(21) / 20
+    for module in (1, 3, 4, 5, 6):
+        A, Ap, bias, w, phase = preset.joint_table[module - 1]
+        amplitude = A if preset.table[module - 1, 4] == 1 else Ap
+        expected = amplitude * np.sin(w * t + phase) + bias
+        np.testing.assert_allclose(record.senSen[:, module], expected, atol=1e-15)
+        np.testing.assert_allclose(
+            record.qd[:, module - 1], amplitude * w * np.cos(w * t + phase), atol=1e-15
+        )
+
+
+def test_default_imu_mounts_by_hand() -> None:
+    from aaria_pin.dh_robot import BodyDimensions
+
+    record = simulate_run(FIG3, duration=0.1, rate=10, noise=False)
+    h = BodyDimensions().link_height
+    slots = imu_slot_order()
+    np.testing.assert_array_equal(record.imu_mount[slots.index("imu_base")], np.eye(4))
+    np.testing.assert_array_equal(record.imu_mount[slots.index("imu_tool")], np.eye(4))
+    for module in (1, 3, 4, 5, 6):
+        a = FIG3[module - 1, 1]
+        mount_a = record.imu_mount[slots.index(f"imu_link{module}_a")]
+        mount_b = record.imu_mount[slots.index(f"imu_link{module}_b")]
+        np.testing.assert_allclose(mount_a[:3, 3], [a / 2, 0, h / 2])
+        np.testing.assert_allclose(mount_b[:3, 3], [0.9 * a, 0, -h / 2])
+        np.testing.assert_array_equal(mount_a[:3, :3], np.eye(3))
+
+
+def test_bad_seeds_are_refused() -> None:
+    from aaria_pin.errors import ParameterError
+
+    for seed in (-1, 2**63, 1.5):
+        with pytest.raises(ParameterError, match="seed"):
+            simulate_run(FIG3, duration=0.1, rate=10, seed=seed)  # type: ignore[arg-type]
+
+
+def test_absurd_density_is_refused() -> None:
+    from aaria_pin.dh_robot import BodyDimensions
+    from aaria_pin.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="density of every body is 1e\\+308"):
+        BodyDimensions(density=1e308)
