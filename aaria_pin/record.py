@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from aaria_pin._se3 import Array
+from aaria_pin.dh_robot import imu_slot_names
 
 __all__ = [
     "IMU_SIGNALS",
@@ -31,10 +32,7 @@ IMU_SIGNALS = ("wx", "wy", "wz", "fx", "fy", "fz")
 
 def imu_slot_order() -> tuple[str, ...]:
     """The 14 IMU slot names in ``senSen`` order."""
-    names = ["imu_base", "imu_tool"]
-    for module in range(1, N_MODULES + 1):
-        names += [f"imu_link{module}_a", f"imu_link{module}_b"]
-    return tuple(names)
+    return imu_slot_names(range(1, N_MODULES + 1))
 
 
 SENSEN_COLUMNS: tuple[str, ...] = (

@@ -43,6 +43,26 @@ def paper_tool_pose(table: np.ndarray, q: np.ndarray) -> np.ndarray:
     return T @ Tx(table[6, 1])
 
 
+def wrist_equation_9(t1: float, t2: float, t3: float, d: float) -> np.ndarray:
+    """Equation (9) of the spherical-wrist report: the tool pose of its standard DH table."""
+    c1, s1, c2, s2, c3, s3 = (
+        np.cos(t1),
+        np.sin(t1),
+        np.cos(t2),
+        np.sin(t2),
+        np.cos(t3),
+        np.sin(t3),
+    )
+    return np.array(
+        [
+            [c1 * c2 * c3 - s1 * s3, -c1 * c2 * s3 - s1 * c3, c1 * s2, c1 * s2 * d],
+            [s1 * c2 * c3 + c1 * s3, -s1 * c2 * s3 + c1 * c3, s1 * s2, s1 * s2 * d],
+            [-s2 * c3, s2 * s3, c2, c2 * d],
+            [0, 0, 0, 1],
+        ]
+    )
+
+
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(12345)

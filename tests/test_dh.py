@@ -3,7 +3,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import W_T_DH, Rx, Rz, Tx, Tz, paper_tool_pose
+from conftest import W_T_DH, Rx, Rz, Tx, Tz, paper_tool_pose, wrist_equation_9
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -111,26 +111,11 @@ def test_post_joint_frame_is_the_frame_after_the_joint(rng) -> None:
 def test_standard_wrist_table_gives_equation_9(rng) -> None:
     robot = build_dh_robot(get_preset("spherical-wrist").table, "standard")
     model = robot.model()
-    d = 0.132
     for _ in range(20):
-        t1, t2, t3 = rng.uniform(-np.pi, np.pi, 3)
-        c1, s1, c2, s2, c3, s3 = (
-            np.cos(t1),
-            np.sin(t1),
-            np.cos(t2),
-            np.sin(t2),
-            np.cos(t3),
-            np.sin(t3),
+        q = rng.uniform(-np.pi, np.pi, 3)
+        np.testing.assert_allclose(
+            _pin_tool_pose(model, q), wrist_equation_9(*q, d=0.132), atol=1e-12
         )
-        eq9 = np.array(
-            [
-                [c1 * c2 * c3 - s1 * s3, -c1 * c2 * s3 - s1 * c3, c1 * s2, c1 * s2 * d],
-                [s1 * c2 * c3 + c1 * s3, -s1 * c2 * s3 + c1 * c3, s1 * s2, s1 * s2 * d],
-                [-s2 * c3, s2 * s3, c2, c2 * d],
-                [0, 0, 0, 1],
-            ]
-        )
-        np.testing.assert_allclose(_pin_tool_pose(model, np.array([t1, t2, t3])), eq9, atol=1e-12)
 
 
 @settings(max_examples=25, deadline=None)
@@ -217,9 +202,29 @@ def test_prismatic_range_is_centred_rail_and_revolute_range() -> None:
 def test_direct_model_equals_the_parsed_urdf(
     table: np.ndarray, seed: int, moving_base: bool
 ) -> None:
+    _assert_same_models(build_dh_robot(table), moving_base, seed)
+
+
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+def test_direct_model_equals_the_parsed_urdf_for_dh_tables(convention) -> None:
+    table = np.array([[0.3, 0.2, 0.1, 0.05, 1], [-1.2, 0.0, 0.4, 0.3, 2], [0.7, 0.4, -0.5, 0.0, 1]])
+    _assert_same_models(build_dh_robot(table, convention), True, 3)
+
+
+def test_direct_model_equals_the_parsed_urdf_with_custom_mounts() -> None:
+    from aaria_pin.dh_robot import ImuSlot
+
+    table = get_preset("aaria-fig3").table
+    slots = tuple(
+        ImuSlot(slot.name, slot.parent, Rz(0.3 * k) @ Rx(0.2) @ Tx(0.01 * k))
+        for k, slot in enumerate(build_dh_robot(table).imu_slots)
+    )
+    _assert_same_models(build_dh_robot(table, imu_slots=slots), False, 5)
+
+
+def _assert_same_models(robot, moving_base: bool, seed: int) -> None:
     from aaria_pin.model import build_model
 
-    robot = build_dh_robot(table)
     direct = robot.model(moving_base=moving_base).model
     parsed = build_model(robot.urdf, moving_base=moving_base).model
     assert direct.nq == parsed.nq and list(direct.names) == list(parsed.names)

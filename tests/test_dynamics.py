@@ -128,3 +128,47 @@ def test_power_of_torques_and_base_wrench_equals_rate_of_energy(name: str) -> No
             + record.base_wrench[k, 3:] @ omega_world
         )
         assert power == pytest.approx(rate_of_energy, rel=1e-4, abs=1e-3)
+
+
+@pytest.mark.parametrize("name", ["aaria-fig2", "aaria-fig3"])
+def test_base_wrench_by_newton_euler_on_every_body(name: str) -> None:
+    """F = Σ m(a_c - g); M about the base origin = Σ (c - p_b) × m(a_c - g) + dH/dt."""
+    table = get_preset(name).table
+    senB = np.array([[0.05, 0.0, 1.5, 0.0], [0.1, 0.05, 1.1, 0.4]])
+    record = simulate_run(table, base_table=senB, duration=2.0, rate=2, noise=False)
+    model = build_dh_robot(table).model(moving_base=True).model
+    inertias = list(model.inertias)[1:]
+    gravity = np.array([0.0, 0.0, -g])
+    h, dt = 1e-5, 1e-3
+
+    def poses(t: float) -> list[np.ndarray]:
+        return _body_poses(table, record.senSenJ, senB, t)
+
+    def com(t: float) -> list[np.ndarray]:
+        return [
+            T[:3, :3] @ inertia.lever + T[:3, 3]
+            for T, inertia in zip(poses(t), inertias, strict=True)
+        ]
+
+    def momentum(t: float) -> list[np.ndarray]:
+        before, now, after = poses(t - h), poses(t), poses(t + h)
+        out = []
+        for Tm, T0, Tp, inertia in zip(before, now, after, inertias, strict=True):
+            S = T0[:3, :3].T @ (Tp[:3, :3] - Tm[:3, :3]) / (2 * h)
+            omega_body = np.array([S[2, 1], S[0, 2], S[1, 0]])
+            out.append(T0[:3, :3] @ inertia.inertia @ omega_body)
+        return out
+
+    for k in range(1, record.time.size):
+        t = record.time[k]
+        c_m, c_0, c_p = com(t - dt), com(t), com(t + dt)
+        h_m, h_p = momentum(t - dt), momentum(t + dt)
+        p_base = poses(t)[0][:3, 3]
+        force, moment = np.zeros(3), np.zeros(3)
+        for i, inertia in enumerate(inertias):
+            accel = (c_p[i] - 2 * c_0[i] + c_m[i]) / dt**2
+            f = inertia.mass * (accel - gravity)
+            force += f
+            moment += np.cross(c_0[i] - p_base, f) + (h_p[i] - h_m[i]) / (2 * dt)
+        np.testing.assert_allclose(record.base_wrench[k, :3], force, rtol=1e-4, atol=1e-2)
+        np.testing.assert_allclose(record.base_wrench[k, 3:], moment, rtol=1e-4, atol=1e-2)

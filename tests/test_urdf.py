@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yourdfpy
-from conftest import paper_tool_pose
+from conftest import paper_tool_pose, wrist_equation_9
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -74,7 +74,7 @@ def test_urdf_round_trips_through_yourdfpy(name: str, rng) -> None:
         expected = (
             paper_tool_pose(preset.table, q)
             if preset.convention == "aaria"
-            else robot.chain.T_base_tool(q)
+            else wrist_equation_9(*q, d=0.132)
         )
         np.testing.assert_allclose(T, expected, atol=1e-9)
 
