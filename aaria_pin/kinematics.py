@@ -185,11 +185,23 @@ def trajectory_signals(
         for x in (trajectory.q, trajectory.qd, trajectory.qdd)
     )
     trajectory_kinematics(
-        flat.kinds, flat.axes, flat.parents, flat.columns, flat.placement_R, flat.placement_p,
-        q, qd, qdd, *base_arrays, flat.gravity,
-        *_frames(robot, imu_frames), slots.astype(np.int64), imu_out,
-        *_frames(robot, pose_frames), poses,
-    )  # fmt: skip
+        flat.kinds,
+        flat.axes,
+        flat.parents,
+        flat.columns,
+        flat.placement_R,
+        flat.placement_p,
+        q,
+        qd,
+        qdd,
+        *base_arrays,
+        flat.gravity,
+        *_frames(robot, imu_frames),
+        slots.astype(np.int64),
+        imu_out,
+        *_frames(robot, pose_frames),
+        poses,
+    )
     return imu_out, poses
 
 

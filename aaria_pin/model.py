@@ -169,10 +169,15 @@ def model_from_description(
                 continue
             joint_model = pin.JointModelRZ() if joint.kind == "revolute" else pin.JointModelPZ()
             new_joint = model.addJoint(
-                joint_id, joint_model, offset, joint.name,
-                np.array([joint.effort]), np.array([joint.velocity]),
-                np.array([joint.lower]), np.array([joint.upper]),
-            )  # fmt: skip
+                joint_id,
+                joint_model,
+                offset,
+                joint.name,
+                np.array([joint.effort]),
+                np.array([joint.velocity]),
+                np.array([joint.lower]),
+                np.array([joint.upper]),
+            )
             joint_frame = model.addJointFrame(new_joint, link_frame)
             child_frame = model.addBodyFrame(
                 joint.child, new_joint, pin.SE3.Identity(), joint_frame

@@ -252,11 +252,12 @@ def random_base_table(config: RandomConfig, rng: np.random.Generator) -> Array:
     for row in range(rows):
         rotation = row >= rows // 2
         table[row] = [
-            _uniform(rng, config.base_rotation_amplitude if rotation
-                     else config.base_translation_amplitude),
-            _uniform(rng, config.base_rotation_bias if rotation
-                     else config.base_translation_bias),
+            _uniform(
+                rng,
+                config.base_rotation_amplitude if rotation else config.base_translation_amplitude,
+            ),
+            _uniform(rng, config.base_rotation_bias if rotation else config.base_translation_bias),
             _uniform(rng, config.base_frequency),
             _uniform(rng, config.base_phase),
-        ]  # fmt: skip
+        ]
     return table

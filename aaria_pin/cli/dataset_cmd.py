@@ -1,0 +1,154 @@
+"""``aaria dataset``: many random runs into one HDF5 data set, in parallel."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+from aaria_pin.cli._options import table_source_options
+
+_FILE = click.Path(path_type=Path, dir_okay=False)
+
+
+def _progress_bar(quiet: bool) -> object:
+    if quiet or not sys.stderr.isatty():
+        return None
+
+    def show(done: int, total: int, seconds: float) -> None:
+        rate = done / seconds if seconds > 0 else 0.0
+        eta = (total - done) / rate if rate > 0 else float("nan")
+        width = 30
+        filled = int(width * done / max(total, 1))
+        click.echo(
+            f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} runs, "
+            f"{rate:.1f} runs/s, ETA {eta:.0f} s ",
+            err=True,
+            nl=done == total,
+        )
+
+    return show
+
+
+def _print_config(ctx: click.Context, _: click.Parameter, value: bool) -> None:
+    if value and not ctx.resilient_parsing:
+        from aaria_pin.randomize import default_config_toml
+
+        click.echo(default_config_toml(), nl=False)
+        ctx.exit(0)
+
+
+@click.command()
+@click.option("-n", "n_runs", type=int, required=True, help="Number of runs N.")
+@click.option("-o", "--output", type=_FILE, required=True, help="Data set file (.h5).")
+@click.option("--seed", type=click.IntRange(0, 2**63 - 1), default=0, show_default=True)
+@click.option("--workers", type=click.IntRange(1, 1024), help="Local worker processes [cores].")
+@click.option("--scheduler", help="Address of a Dask distributed scheduler, instead of workers.")
+@click.option("--duration", type=float, default=10.0, show_default=True, help="Run length [s].")
+@click.option("--rate", type=float, default=100.0, show_default=True, help="Sample rate [Hz].")
+@click.option("--noise/--no-noise", default=True, show_default=True, help="IMU noise.")
+@click.option(
+    "--dtype", type=click.Choice(["float32", "float64"]), default="float32", show_default=True
+)
+@click.option(
+    "--config", "config_file", type=_FILE, help="TOML file of ranges (see --print-config)."
+)
+@click.option(
+    "--vary",
+    default="structure,joints,base",
+    show_default=True,
+    help="What is random, comma separated; the rest comes from --preset/--dh.",
+)
+@table_source_options
+@click.option("--joints", "joints_file", type=_FILE, help="Fixed joint oscillation table.")
+@click.option("--base", "base_file", type=_FILE, help="Fixed base oscillation table.")
+@click.option("--resume", is_flag=True, help="Continue an interrupted data set file.")
+@click.option("--overwrite", is_flag=True, help="Replace an existing file.")
+@click.option("--quiet", is_flag=True, help="No progress bar.")
+@click.option(
+    "--print-config",
+    is_flag=True,
+    expose_value=False,
+    is_eager=True,
+    callback=_print_config,
+    help="Print the default configuration and exit.",
+)
+def dataset(
+    n_runs: int,
+    output: Path,
+    seed: int,
+    workers: int | None,
+    scheduler: str | None,
+    duration: float,
+    rate: float,
+    noise: bool,
+    dtype: str,
+    config_file: Path | None,
+    vary: str,
+    preset: str | None,
+    dh_file: Path | None,
+    convention: str,
+    joints_file: Path | None,
+    base_file: Path | None,
+    resume: bool,
+    overwrite: bool,
+    quiet: bool,
+) -> None:
+    """Simulate N random runs (MODE 1) or N runs of one arm (MODE 2) into a data set."""
+    from aaria_pin.dataset import DatasetSpec, generate_dataset
+    from aaria_pin.errors import ParameterError
+    from aaria_pin.io import read_table
+    from aaria_pin.presets import get_preset
+    from aaria_pin.randomize import load_config
+
+    if workers is not None and scheduler is not None:
+        raise click.UsageError("give --workers or --scheduler, not both")
+    parts = tuple(part.strip() for part in vary.split(",") if part.strip())
+    dh_table = joint_table = base_table = None
+    if preset is not None or dh_file is not None:
+        if preset is not None and dh_file is not None:
+            raise click.UsageError("give at most one of --preset NAME or --dh FILE")
+        if preset is not None:
+            chosen = get_preset(preset)
+            if chosen.convention != "aaria":
+                raise ParameterError(f"preset {preset!r} is not an Aaria table; allowed: aaria-*")
+            dh_table, joint_table, base_table = chosen.table, chosen.joint_table, chosen.base_table
+        else:
+            assert dh_file is not None
+            dh_table = read_table(dh_file, "senSenDH")
+    if joints_file is not None:
+        joint_table = read_table(joints_file, "senSenJ")
+    if base_file is not None:
+        base_table = read_table(base_file, "senSenB")
+    spec = DatasetSpec(
+        n_runs=n_runs,
+        seed=seed,
+        duration=duration,
+        rate=rate,
+        noise=noise,
+        dtype=dtype,
+        config=load_config(config_file),
+        vary=parts,
+        dh_table=dh_table,
+        joint_table=joint_table,
+        base_table=base_table,
+    )
+    report = generate_dataset(
+        output,
+        spec,
+        workers=workers,
+        scheduler=scheduler,
+        resume=resume,
+        overwrite=overwrite,
+        progress=_progress_bar(quiet),  # type: ignore[arg-type]
+    )
+    click.echo(
+        f"wrote {report.path}: {report.complete}/{n_runs} runs complete "
+        f"({report.written} in this job, {report.seconds:.1f} s)"
+    )
+    if report.failures:
+        for run, message in sorted(report.failures.items()):
+            click.echo(f"run {run} failed: {message}", err=True)
+        click.echo(f"failed runs: {sorted(report.failures)}", err=True)
+        raise SystemExit(1)

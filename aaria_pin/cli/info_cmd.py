@@ -1,0 +1,57 @@
+"""``aaria info``: a summary of a run file or a data set."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import click
+
+
+@click.command()
+@click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
+@click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
+def info(file: Path, as_json: bool) -> None:
+    """Summarise a run file or a data set: runs, shapes, sizes, seed, config, completeness."""
+    import h5py
+
+    from aaria_pin.dataset_file import DATASET_FORMAT
+    from aaria_pin.dataset_reader import dataset_summary
+    from aaria_pin.errors import InputFileError
+    from aaria_pin.runfile import run_file_summary
+
+    is_dataset = False
+    if file.suffix.lower() in (".h5", ".hdf5") and file.is_file():
+        try:
+            with h5py.File(file, "r") as handle:
+                is_dataset = handle.attrs.get("format") == DATASET_FORMAT
+        except OSError as exc:
+            raise InputFileError(f"{file}: cannot be read as HDF5 ({exc})") from None
+    summary: dict[str, Any] = dataset_summary(file) if is_dataset else run_file_summary(file)
+    if as_json:
+        click.echo(json.dumps(summary, indent=2, default=str))
+        return
+    if is_dataset:
+        click.echo(
+            f"{file}: data set of {summary['runs']} runs × {summary['samples']} samples "
+            f"({summary['dtype']}), {summary['complete']} complete, "
+            f"failed {summary['failed'] or 'none'}"
+        )
+        click.echo(
+            f"seed {summary['seed']}, vary {','.join(summary['vary'] or [])}, "
+            f"rate {summary['rate']} Hz, duration {summary['duration']} s, noise {summary['noise']}"
+        )
+        click.echo(
+            f"size on disk {summary['file_bytes'] / 1e6:.1f} MB "
+            f"(arrays {summary['data_bytes'] / 1e6:.1f} MB uncompressed)"
+        )
+        for name, shape in summary["arrays"].items():
+            click.echo(f"  {name:<12} {' × '.join(map(str, shape))}")
+        click.echo(f"config: {json.dumps(summary['config'])}")
+    else:
+        click.echo(f"{file}: run file ({summary['format']}), {summary['samples']} samples")
+        for name, shape in summary["arrays"].items():
+            click.echo(f"  {name:<12} {' × '.join(map(str, shape))}")
+        for key, value in summary["attributes"].items():
+            click.echo(f"  {key}: {value}")

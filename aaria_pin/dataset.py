@@ -1,0 +1,364 @@
+"""Data sets of many random runs: deterministic, parallel, streamed to one HDF5 file, resumable.
+
+Run k of a data set with seed S is a pure function of (S, k) and the spec: its inputs come from
+:func:`aaria_pin.randomize.run_streams` and its noise from the fourth stream, so the file is the
+same, array for array, whatever the number of workers, the scheduler (local processes or a Dask
+cluster), or the order in which runs finish. The main process is the only writer: it writes each
+run as it arrives (one chunk per run), marks it complete and flushes, so a killed job loses at
+most the runs in flight, and ``resume`` redoes exactly those.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from aaria_pin import __version__
+from aaria_pin._se3 import Array
+from aaria_pin.dataset_file import RUN_ARRAYS, DatasetFile, check_dataset_path
+from aaria_pin.errors import AariaError, ParameterError
+from aaria_pin.randomize import (
+    PARTS,
+    RandomConfig,
+    random_base_table,
+    random_dh_table,
+    random_joint_table,
+    run_streams,
+)
+
+__all__ = [
+    "MAX_RUNS",
+    "DatasetReport",
+    "DatasetSpec",
+    "generate_dataset",
+    "run_inputs",
+    "simulate_dataset_run",
+]
+
+MAX_RUNS = 100_000_000
+"""Most runs in one data set."""
+
+Progress = Callable[[int, int, float], None]
+
+
+@dataclass(frozen=True)
+class DatasetSpec:
+    """What a data set holds.
+
+    Attributes:
+        n_runs: number of runs N
+        seed: seed of the whole data set
+        duration: run length [s]
+        rate: sample rate [Hz]
+        noise: add IMU noise
+        dtype: ``"float32"`` or ``"float64"`` for the stored arrays
+        config: ranges and probabilities of the random parts
+        vary: the random parts, a subset of ``("structure", "joints", "base")``
+        dh_table: the fixed 8 × 5 table when the structure does not vary
+        joint_table: the fixed joint oscillation table when the joints do not vary (default:
+            :func:`~aaria_pin.oscillation.default_joint_table` of the structure)
+        base_table: the fixed base oscillation table when the base does not vary (default:
+            :func:`~aaria_pin.oscillation.default_base_table`)
+    """
+
+    n_runs: int
+    seed: int = 0
+    duration: float = 10.0
+    rate: float = 100.0
+    noise: bool = True
+    dtype: str = "float32"
+    config: RandomConfig = field(default_factory=RandomConfig)
+    vary: tuple[str, ...] = PARTS
+    dh_table: Array | None = None
+    joint_table: Array | None = None
+    base_table: Array | None = None
+
+    def __post_init__(self) -> None:
+        from aaria_pin.trajectory import sample_times
+
+        if not (isinstance(self.n_runs, (int, np.integer)) and 1 <= self.n_runs <= MAX_RUNS):
+            raise ParameterError(f"N is {self.n_runs!r}; allowed: 1 to {MAX_RUNS}")
+        if not (isinstance(self.seed, (int, np.integer)) and 0 <= self.seed < 2**63):
+            raise ParameterError(f"seed {self.seed!r}; allowed: an integer from 0 to 2^63 - 1")
+        if self.dtype not in ("float32", "float64"):
+            raise ParameterError(f"dtype {self.dtype!r}; allowed: float32, float64")
+        unknown = [part for part in self.vary if part not in PARTS]
+        if unknown:
+            raise ParameterError(f"--vary {unknown[0]!r}; allowed: {', '.join(PARTS)}")
+        if "structure" not in self.vary and self.dh_table is None:
+            raise ParameterError(
+                "the structure does not vary, so a DH table is needed; allowed: --preset or --dh"
+            )
+        sample_times(self.duration, self.rate)  # checks duration and rate
+
+    @property
+    def samples(self) -> int:
+        """Samples per run T."""
+        from aaria_pin.trajectory import sample_times
+
+        return int(sample_times(self.duration, self.rate).size)
+
+    def attributes(self) -> dict[str, Any]:
+        """File attributes describing the spec (what :meth:`matches` compares on resume)."""
+        from aaria_pin.imu import noise_attributes
+        from aaria_pin.model import GRAVITY
+        from aaria_pin.simulate import UNITS
+
+        fixed = {
+            name: getattr(self, name).tolist()
+            for name in ("dh_table", "joint_table", "base_table")
+            if getattr(self, name) is not None
+        }
+        return {
+            "seed": int(self.seed),
+            "rate": float(self.rate),
+            "duration": float(self.duration),
+            "noise": bool(self.noise),
+            "vary": list(self.vary),
+            "config": self.config.as_dict(),
+            "fixed_tables": fixed,
+            "noise_parameters": noise_attributes(),
+            "gravity": GRAVITY.tolist(),
+            "units": UNITS,
+            "version": __version__,
+        }
+
+    def mismatches(self, stored: dict[str, Any]) -> list[str]:
+        """Names of the settings that differ from a stored data set's attributes."""
+        mine = {**self.attributes(), "N": self.n_runs, "samples": self.samples, "dtype": self.dtype}
+        keys = (
+            "N",
+            "samples",
+            "dtype",
+            "seed",
+            "rate",
+            "duration",
+            "noise",
+            "vary",
+            "config",
+            "fixed_tables",
+        )
+        return [key for key in keys if _plain(stored.get(key)) != _plain(mine[key])]
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    return value
+
+
+def run_inputs(spec: DatasetSpec, run: int) -> tuple[Array, Array, Array, np.random.SeedSequence]:
+    """Inputs of run ``run``: DH table, joint table, base table (6 × 4) and its noise seed."""
+    from aaria_pin.dh import chain_from_aaria
+    from aaria_pin.oscillation import default_base_table, default_joint_table
+
+    structure, joints, base, _ = run_streams(spec.seed, run)
+    if "structure" in spec.vary:
+        dh = random_dh_table(spec.config, structure)
+    else:
+        assert spec.dh_table is not None
+        dh = np.asarray(spec.dh_table, dtype=float)
+    if "joints" in spec.vary:
+        joint_table = random_joint_table(spec.config, dh, joints)
+    elif spec.joint_table is not None:
+        joint_table = np.asarray(spec.joint_table, dtype=float)
+    else:
+        joint_table = default_joint_table(chain_from_aaria(dh))
+    if "base" in spec.vary:
+        base_table = random_base_table(spec.config, base)
+    else:
+        base_table = np.asarray(
+            spec.base_table if spec.base_table is not None else default_base_table(), dtype=float
+        )
+    if base_table.shape == (2, 4):
+        base_table = np.repeat(base_table, 3, axis=0)
+    noise_seed = np.random.SeedSequence(spec.seed, spawn_key=(run, len(PARTS)))
+    return dh, joint_table, base_table, noise_seed
+
+
+def simulate_dataset_run(spec: DatasetSpec, run: int) -> dict[str, Array]:
+    """The arrays of run ``run`` in the data set's dtype (a pure function of spec and run)."""
+    from aaria_pin.simulate import simulate_run
+
+    dh, joint_table, base_table, noise_seed = run_inputs(spec, run)
+    record = simulate_run(
+        dh,
+        joint_table,
+        base_table,
+        duration=spec.duration,
+        rate=spec.rate,
+        seed=noise_seed,
+        noise=spec.noise,
+    )
+    return {name: np.asarray(getattr(record, name), dtype=spec.dtype) for name in RUN_ARRAYS}
+
+
+def _job(spec: DatasetSpec, run: int) -> tuple[int, dict[str, Array] | None, str]:
+    """A worker's task: run ``run``, or the one-line error it raised with its inputs."""
+    try:
+        return run, simulate_dataset_run(spec, run), ""
+    except AariaError as exc:
+        try:
+            dh, joint_table, base_table, _ = run_inputs(spec, run)
+            inputs = (
+                f"senSenDH={dh.tolist()} senSenJ={joint_table.tolist()} "
+                f"senSenB={base_table.tolist()}"
+            )
+        except AariaError:
+            inputs = "inputs could not be drawn"
+        return run, None, f"{exc} ({inputs})"
+
+
+@dataclass(frozen=True)
+class DatasetReport:
+    """What a job did.
+
+    Attributes:
+        path: the data set file
+        written: runs written by this job
+        complete: runs complete in the file
+        failures: failed runs and their errors
+        seconds: wall time of this job [s]
+    """
+
+    path: Path
+    written: int
+    complete: int
+    failures: dict[int, str]
+    seconds: float
+
+
+def _local_results(
+    spec: DatasetSpec, runs: Sequence[int], workers: int
+) -> Iterator[tuple[int, dict[str, Array] | None, str]]:
+    """Results of runs from local worker processes, in completion order, a bounded window."""
+    import multiprocessing
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+
+    method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
+    context = multiprocessing.get_context(method)
+    window = 4 * workers
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        pending = iter(runs)
+        in_flight = {pool.submit(_job, spec, k) for k in _take(pending, window)}
+        while in_flight:
+            done, in_flight = wait(in_flight, return_when=FIRST_COMPLETED)
+            for future in done:
+                yield future.result()
+            in_flight |= {pool.submit(_job, spec, k) for k in _take(pending, len(done))}
+
+
+def _dask_results(
+    spec: DatasetSpec, runs: Sequence[int], address: str
+) -> Iterator[tuple[int, dict[str, Array] | None, str]]:
+    """Results of runs from an existing Dask distributed cluster, a bounded window."""
+    try:
+        from dask.distributed import Client, as_completed
+    except ImportError:
+        raise ParameterError(
+            "--scheduler needs Dask; allowed: pip install 'aaria-pin[distributed]'"
+        ) from None
+    try:
+        client = Client(address, timeout=30)
+    except (OSError, TimeoutError) as exc:
+        raise ParameterError(f"scheduler {address!r} cannot be reached ({exc})") from None
+    try:
+        window = 4 * max(1, sum(client.nthreads().values()))
+        pending = iter(runs)
+        first = _take(pending, window)
+        futures = as_completed([client.submit(_job, spec, k, pure=False) for k in first])
+        for future in futures:
+            yield future.result()
+            for k in _take(pending, 1):
+                futures.add(client.submit(_job, spec, k, pure=False))
+    finally:
+        client.close()
+
+
+def _take(iterator: Iterator[int], count: int) -> list[int]:
+    out = []
+    for _ in range(count):
+        try:
+            out.append(next(iterator))
+        except StopIteration:
+            break
+    return out
+
+
+def generate_dataset(
+    path: str | os.PathLike[str],
+    spec: DatasetSpec,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    resume: bool = False,
+    overwrite: bool = False,
+    progress: Progress | None = None,
+) -> DatasetReport:
+    """Simulate the runs of a data set and stream them into one HDF5 file.
+
+    Args:
+        path: the ``.h5`` file
+        spec: what the data set holds
+        workers: local worker processes (default: the number of cores)
+        scheduler: address of a Dask distributed scheduler (instead of local workers)
+        resume: continue an existing file (same spec), redoing the runs that are not complete
+        overwrite: replace an existing file
+        progress: called as ``progress(done, total, seconds)`` after each run
+
+    Returns:
+        What the job did; failed runs are listed there and in the file.
+
+    Raises:
+        OutputFileError: the file exists without ``resume``/``overwrite``, or cannot be made.
+        InputFileError: the file to resume is missing or is not a data set.
+        ParameterError: the file to resume holds another spec.
+    """
+    start = time.perf_counter()
+    file = Path(path)
+    check_dataset_path(file, resume, overwrite)
+    workers = workers or os.cpu_count() or 1
+    if workers < 1:
+        raise ParameterError(f"--workers {workers}; allowed: >= 1")
+    if resume:
+        store = DatasetFile.open_for_resume(file)
+        different = spec.mismatches(store.attributes)
+        if different:
+            store.close()
+            raise ParameterError(
+                f"{file}: was made with other settings ({', '.join(different)}); allowed: the"
+                " same N, seed, duration, rate, noise, dtype, vary, config and tables"
+            )
+        todo = [int(k) for k in np.flatnonzero(~store.complete_runs(verify=True))]
+        store.clear_failures()
+    else:
+        store = DatasetFile.create(file, spec.n_runs, spec.samples, spec.dtype, spec.attributes())
+        todo = list(range(spec.n_runs))
+    written = 0
+    with store:
+        results = (
+            _dask_results(spec, todo, scheduler)
+            if scheduler
+            else _local_results(spec, todo, workers)
+        )
+        for done, (run, arrays, error) in enumerate(results, start=1):
+            if arrays is None:
+                store.mark_failed(run, error)
+            else:
+                store.write_run(run, arrays)
+                written += 1
+            if progress is not None:
+                progress(done, len(todo), time.perf_counter() - start)
+        complete = int(store.complete_runs(verify=False).sum())
+        failures = store.failures()
+    return DatasetReport(file, written, complete, failures, time.perf_counter() - start)

@@ -1,0 +1,243 @@
+"""The HDF5 file of a data set: run arrays with a leading run axis, written one run at a time.
+
+Layout (``format = "aaria_pin dataset"``, ``format_version = 1``): the datasets of a run file
+with a leading run axis, ``senSen`` (N × T × 91), ``senSenDH`` (N × 8 × 5), ``senSenJ``
+(N × 8 × 5), ``senSenB`` (N × 6 × 4: a 2 × 4 table is stored expanded, one row per axis),
+``q``, ``qd``, ``qdd``, ``tau``, ``base_wrench`` (N × T × 6), ``tool_pose`` (N × T × 4 × 4),
+``imu_mount`` (N × 14 × 4 × 4), in the data set's dtype; ``complete`` (N, uint8: 1 once a run
+is written and flushed) and ``failed`` (N, uint8). Each array is chunked one run per chunk and
+compressed with gzip level 1 after the shuffle filter (the filter MATLAB's ``h5read`` reads; at
+level 1 it costs little more than lzf on shuffled floats), with HDF5's Fletcher-32 checksum so a
+run damaged by a crash is detected when read. File attributes: those of a run file (rate,
+duration, noise, noise parameters, gravity, units, version) plus ``N``, ``seed``, ``vary``,
+``config_json`` and ``dtype``; ``failures_json`` lists failed runs with their error.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from aaria_pin._se3 import Array
+from aaria_pin.errors import InputFileError, OutputFileError
+from aaria_pin.record import SENSEN_COLUMNS
+
+__all__ = [
+    "DATASET_FORMAT",
+    "DATASET_FORMAT_VERSION",
+    "RUN_ARRAYS",
+    "DatasetFile",
+    "run_shapes",
+]
+
+DATASET_FORMAT = "aaria_pin dataset"
+DATASET_FORMAT_VERSION = 1
+
+
+def run_shapes(samples: int) -> dict[str, tuple[int, ...]]:
+    """Shape of each array of one run of ``samples`` samples, in file order."""
+    return {
+        "senSen": (samples, len(SENSEN_COLUMNS)),
+        "senSenDH": (8, 5),
+        "senSenJ": (8, 5),
+        "senSenB": (6, 4),
+        "q": (samples, 6),
+        "qd": (samples, 6),
+        "qdd": (samples, 6),
+        "tau": (samples, 6),
+        "base_wrench": (samples, 6),
+        "tool_pose": (samples, 4, 4),
+        "imu_mount": (14, 4, 4),
+    }
+
+
+RUN_ARRAYS = tuple(run_shapes(1))
+"""Names of the per-run arrays, in file order."""
+
+
+def _json_safe(value: Any) -> Any:
+    if isinstance(value, (str, bool, int, float)):
+        return value
+    return json.dumps(value)
+
+
+class DatasetFile:
+    """An open data set file, for writing runs into it or resuming it.
+
+    Use :meth:`create` or :meth:`open_for_resume`; close with :meth:`close` (or a ``with``
+    block).
+    """
+
+    def __init__(self, handle: Any, path: Path) -> None:
+        self._handle = handle
+        self.path = path
+
+    @classmethod
+    def create(
+        cls,
+        path: str | os.PathLike[str],
+        n_runs: int,
+        samples: int,
+        dtype: str,
+        attributes: Mapping[str, Any],
+    ) -> DatasetFile:
+        """Create a new data set file (an existing file at ``path`` is replaced).
+
+        Args:
+            path: the ``.h5`` file
+            n_runs: number of runs N
+            samples: samples per run T
+            dtype: ``"float32"`` or ``"float64"``
+            attributes: file attributes (numbers and strings as they are, others as JSON)
+
+        Raises:
+            OutputFileError: the file cannot be created.
+        """
+        import h5py
+
+        file = Path(path)
+        try:
+            handle = h5py.File(file, "w", track_order=True)
+        except OSError as exc:
+            raise OutputFileError(f"{file}: cannot be created ({exc})") from None
+        handle.attrs["format"] = DATASET_FORMAT
+        handle.attrs["format_version"] = DATASET_FORMAT_VERSION
+        handle.attrs["N"] = n_runs
+        handle.attrs["samples"] = samples
+        handle.attrs["dtype"] = dtype
+        for key, value in attributes.items():
+            safe = _json_safe(value)
+            handle.attrs[key if safe is value else f"{key}_json"] = safe
+        for name, shape in run_shapes(samples).items():
+            dataset = handle.create_dataset(
+                name,
+                shape=(n_runs, *shape),
+                dtype=dtype,
+                chunks=(1, *shape),
+                compression="gzip",
+                compression_opts=1,
+                shuffle=True,
+                fletcher32=True,
+            )
+            if name == "senSen":
+                dataset.attrs.create(
+                    "columns", list(SENSEN_COLUMNS), dtype=h5py.string_dtype("utf-8")
+                )
+        handle.create_dataset("complete", shape=(n_runs,), dtype="u1", fillvalue=0)
+        handle.create_dataset("failed", shape=(n_runs,), dtype="u1", fillvalue=0)
+        handle.attrs["failures_json"] = "{}"
+        handle.flush()
+        return cls(handle, file)
+
+    @classmethod
+    def open_for_resume(cls, path: str | os.PathLike[str]) -> DatasetFile:
+        """Open an existing data set file to continue it.
+
+        Raises:
+            InputFileError: not a data set file, or unreadable.
+        """
+        import h5py
+
+        file = Path(path)
+        try:
+            handle = h5py.File(file, "r+")
+        except OSError as exc:
+            raise InputFileError(
+                f"{file}: cannot be opened to resume ({exc}); use --overwrite to start again"
+            ) from None
+        if handle.attrs.get("format") != DATASET_FORMAT:
+            handle.close()
+            raise InputFileError(f"{file}: not an aaria_pin data set; cannot resume it")
+        return cls(handle, file)
+
+    @property
+    def attributes(self) -> dict[str, Any]:
+        """File attributes, JSON ones decoded (keys without the ``_json`` suffix)."""
+        out: dict[str, Any] = {}
+        for key, value in self._handle.attrs.items():
+            if key.endswith("_json"):
+                out[key[: -len("_json")]] = json.loads(value)
+            else:
+                out[key] = value.item() if isinstance(value, np.generic) else value
+        return out
+
+    @property
+    def n_runs(self) -> int:
+        """Number of runs N."""
+        return int(self._handle.attrs["N"])
+
+    def complete_runs(self, verify: bool = True) -> np.ndarray:
+        """Boolean mask of the runs that are complete (and, if ``verify``, read back intact).
+
+        A run marked complete whose chunks fail their checksum (a crash mid-write) is unmarked.
+        """
+        complete = self._handle["complete"][()].astype(bool)
+        if verify:
+            for k in np.flatnonzero(complete):
+                try:
+                    for name in RUN_ARRAYS:
+                        self._handle[name][k]
+                except OSError:
+                    complete[k] = False
+                    self._handle["complete"][k] = 0
+        return complete
+
+    def write_run(self, run: int, arrays: Mapping[str, Array]) -> None:
+        """Write run ``run``'s arrays, then mark it complete and flush."""
+        for name in RUN_ARRAYS:
+            self._handle[name][run] = arrays[name]
+        self._handle.flush()
+        self._handle["complete"][run] = 1
+        self._handle["failed"][run] = 0
+        self._handle.flush()
+
+    def mark_failed(self, run: int, message: str) -> None:
+        """Record that run ``run`` failed, with its error message."""
+        failures = json.loads(self._handle.attrs["failures_json"])
+        failures[str(run)] = message
+        self._handle.attrs["failures_json"] = json.dumps(failures)
+        self._handle["failed"][run] = 1
+        self._handle.flush()
+
+    def clear_failures(self) -> None:
+        """Forget earlier failures (before a resumed job retries them)."""
+        self._handle.attrs["failures_json"] = "{}"
+        self._handle["failed"][...] = 0
+
+    def failures(self) -> dict[int, str]:
+        """Failed runs and their error messages."""
+        return {int(k): v for k, v in json.loads(self._handle.attrs["failures_json"]).items()}
+
+    def close(self) -> None:
+        """Flush and close the file."""
+        self._handle.close()
+
+    def __enter__(self) -> DatasetFile:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def check_dataset_path(path: Path, resume: bool, overwrite: bool) -> None:
+    """Refuse an output that exists without ``resume``/``overwrite``, or a missing folder.
+
+    Raises:
+        OutputFileError: as above, naming the flag to use.
+    """
+    if resume and overwrite:
+        raise OutputFileError("--resume and --overwrite exclude each other; allowed: one of them")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise OutputFileError(f"{path}: folder {folder} does not exist")
+    if path.suffix.lower() not in (".h5", ".hdf5"):
+        raise OutputFileError(f"{path}: unknown data set type {path.suffix!r}; allowed: .h5, .hdf5")
+    if path.exists() and not (resume or overwrite):
+        raise OutputFileError(f"{path}: exists; allowed: --resume to continue it, --overwrite")
+    if resume and not path.exists():
+        raise InputFileError(f"{path}: no such file to resume")
