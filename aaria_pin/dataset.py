@@ -21,7 +21,7 @@ import numpy as np
 
 from aaria_pin import __version__
 from aaria_pin._se3 import Array
-from aaria_pin.dataset_file import RUN_ARRAYS, DatasetFile, check_dataset_path
+from aaria_pin.dataset_file import INPUT_ARRAYS, RUN_ARRAYS, DatasetFile, check_dataset_path
 from aaria_pin.errors import AariaError, ParameterError
 from aaria_pin.randomize import (
     PARTS,
@@ -187,7 +187,9 @@ def run_inputs(spec: DatasetSpec, run: int) -> tuple[Array, Array, Array, np.ran
 
 
 def simulate_dataset_run(spec: DatasetSpec, run: int) -> dict[str, Array]:
-    """The arrays of run ``run`` in the data set's dtype (a pure function of spec and run)."""
+    """The arrays of run ``run`` (a pure function of spec and run); time series in the spec's
+    dtype, inputs in float64.
+    """
     from aaria_pin.simulate import simulate_run
 
     dh, joint_table, base_table, noise_seed = run_inputs(spec, run)
@@ -200,7 +202,10 @@ def simulate_dataset_run(spec: DatasetSpec, run: int) -> dict[str, Array]:
         seed=noise_seed,
         noise=spec.noise,
     )
-    return {name: np.asarray(getattr(record, name), dtype=spec.dtype) for name in RUN_ARRAYS}
+    return {
+        name: np.asarray(getattr(record, name), dtype=float if name in INPUT_ARRAYS else spec.dtype)
+        for name in RUN_ARRAYS
+    }
 
 
 def _job(spec: DatasetSpec, run: int) -> tuple[int, dict[str, Array] | None, str]:

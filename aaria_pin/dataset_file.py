@@ -4,7 +4,8 @@ Layout (``format = "aaria_pin dataset"``, ``format_version = 1``): the datasets 
 with a leading run axis, ``senSen`` (N × T × 91), ``senSenDH`` (N × 8 × 5), ``senSenJ``
 (N × 8 × 5), ``senSenB`` (N × 6 × 4: a 2 × 4 table is stored expanded, one row per axis),
 ``q``, ``qd``, ``qdd``, ``tau``, ``base_wrench`` (N × T × 6), ``tool_pose`` (N × T × 4 × 4),
-``imu_mount`` (N × 14 × 4 × 4), in the data set's dtype; ``complete`` (N, uint8: 1 once a run
+``imu_mount`` (N × 14 × 4 × 4); the time series in the data set's dtype, the inputs (tables
+and mounts) in float64; ``complete`` (N, uint8: 1 once a run
 is written and flushed) and ``failed`` (N, uint8). Each array is chunked one run per chunk and
 compressed with gzip level 1 after the shuffle filter (the filter MATLAB's ``h5read`` reads; at
 level 1 it costs little more than lzf on shuffled floats), with HDF5's Fletcher-32 checksum so a
@@ -30,6 +31,7 @@ from aaria_pin.record import SENSEN_COLUMNS
 __all__ = [
     "DATASET_FORMAT",
     "DATASET_FORMAT_VERSION",
+    "INPUT_ARRAYS",
     "RUN_ARRAYS",
     "DatasetFile",
     "run_shapes",
@@ -58,6 +60,9 @@ def run_shapes(samples: int) -> dict[str, tuple[int, ...]]:
 
 RUN_ARRAYS = tuple(run_shapes(1))
 """Names of the per-run arrays, in file order."""
+
+INPUT_ARRAYS = ("senSenDH", "senSenJ", "senSenB", "imu_mount")
+"""The run inputs, always stored as float64 so a run can be re-made exactly."""
 
 
 def _json_safe(value: Any) -> Any:
@@ -117,7 +122,7 @@ class DatasetFile:
             dataset = handle.create_dataset(
                 name,
                 shape=(n_runs, *shape),
-                dtype=dtype,
+                dtype="float64" if name in INPUT_ARRAYS else dtype,
                 chunks=(1, *shape),
                 compression="gzip",
                 compression_opts=1,

@@ -10,13 +10,13 @@ keeping one part fixed (``vary``) leaves the draws of the others unchanged.
 from __future__ import annotations
 
 import math
+import tomllib
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import tomllib
 
 from aaria_pin._se3 import Array
 from aaria_pin.errors import InputFileError, ParameterError
