@@ -187,8 +187,9 @@ def run_inputs(spec: DatasetSpec, run: int) -> tuple[Array, Array, Array, np.ran
 
 
 def simulate_dataset_run(spec: DatasetSpec, run: int) -> dict[str, Array]:
-    """The arrays of run ``run`` (a pure function of spec and run); time series in the spec's
-    dtype, inputs in float64.
+    """The arrays of run ``run``, a pure function of spec and run.
+
+    Time series are in the spec's dtype, inputs (tables, mounts) in float64.
     """
     from aaria_pin.simulate import simulate_run
 
