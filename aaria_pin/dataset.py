@@ -10,6 +10,7 @@ most the runs in flight, and ``resume`` redoes exactly those.
 
 from __future__ import annotations
 
+import itertools
 import os
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -21,7 +22,13 @@ import numpy as np
 
 from aaria_pin import __version__
 from aaria_pin._se3 import Array
-from aaria_pin.dataset_file import INPUT_ARRAYS, RUN_ARRAYS, DatasetFile, check_dataset_path
+from aaria_pin.dataset_file import (
+    INPUT_ARRAYS,
+    RUN_ARRAYS,
+    DatasetFile,
+    check_dataset_path,
+    encode_run,
+)
 from aaria_pin.errors import AariaError, ParameterError
 from aaria_pin.randomize import (
     PARTS,
@@ -43,6 +50,8 @@ __all__ = [
 
 MAX_RUNS = 100_000_000
 """Most runs in one data set."""
+FLUSH_SECONDS = 0.5
+"""How often the writer pushes completed runs to disk [s] (a crash loses at most these)."""
 
 Progress = Callable[[int, int, float], None]
 
@@ -209,10 +218,13 @@ def simulate_dataset_run(spec: DatasetSpec, run: int) -> dict[str, Array]:
     }
 
 
-def _job(spec: DatasetSpec, run: int) -> tuple[int, dict[str, Array] | None, str]:
-    """A worker's task: run ``run``, or the one-line error it raised with its inputs."""
+Encoded = dict[str, tuple[bytes, int]]
+
+
+def _job(spec: DatasetSpec, run: int) -> tuple[int, Encoded | None, str]:
+    """A worker's task: run ``run`` as compressed chunks, or its one-line error and inputs."""
     try:
-        return run, simulate_dataset_run(spec, run), ""
+        return run, encode_run(simulate_dataset_run(spec, run), spec.dtype), ""
     except AariaError as exc:
         try:
             dh, joint_table, base_table, _ = run_inputs(spec, run)
@@ -246,7 +258,7 @@ class DatasetReport:
 
 def _local_results(
     spec: DatasetSpec, runs: Sequence[int], workers: int
-) -> Iterator[tuple[int, dict[str, Array] | None, str]]:
+) -> Iterator[tuple[int, Encoded | None, str]]:
     """Results of runs from local worker processes, in completion order, a bounded window."""
     import multiprocessing
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -266,7 +278,7 @@ def _local_results(
 
 def _dask_results(
     spec: DatasetSpec, runs: Sequence[int], address: str
-) -> Iterator[tuple[int, dict[str, Array] | None, str]]:
+) -> Iterator[tuple[int, Encoded | None, str]]:
     """Results of runs from an existing Dask distributed cluster, a bounded window."""
     try:
         from dask.distributed import Client, as_completed
@@ -351,20 +363,30 @@ def generate_dataset(
         store = DatasetFile.create(file, spec.n_runs, spec.samples, spec.dtype, spec.attributes())
         todo = list(range(spec.n_runs))
     written = 0
+    last_flush = time.perf_counter()
     with store:
-        results = (
-            _dask_results(spec, todo, scheduler)
-            if scheduler
-            else _local_results(spec, todo, workers)
-        )
-        for done, (run, arrays, error) in enumerate(results, start=1):
+        # The first run is made here: it loads Pinocchio and the compiled kernels once, before
+        # the local workers fork, so none of them has to load them again.
+        head = [_job(spec, todo[0])] if todo else []
+        rest = todo[1:]
+        if not rest:
+            tail: Iterator[tuple[int, Encoded | None, str]] = iter(())
+        elif scheduler:
+            tail = _dask_results(spec, rest, scheduler)
+        else:
+            tail = _local_results(spec, rest, workers)
+        for done, (run, arrays, error) in enumerate(itertools.chain(head, tail), start=1):
             if arrays is None:
                 store.mark_failed(run, error)
             else:
                 store.write_run(run, arrays)
                 written += 1
+            if time.perf_counter() - last_flush > FLUSH_SECONDS:
+                store.flush()
+                last_flush = time.perf_counter()
             if progress is not None:
                 progress(done, len(todo), time.perf_counter() - start)
+        store.flush()
         complete = int(store.complete_runs(verify=False).sum())
         failures = store.failures()
     return DatasetReport(file, written, complete, failures, time.perf_counter() - start)

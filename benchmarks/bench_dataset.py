@@ -1,0 +1,52 @@
+"""Throughput of ``aaria dataset`` with default settings (noise on, compressed file).
+
+    python benchmarks/bench_dataset.py            # 200 runs of 1,000 samples, 1 and 2 workers
+    python benchmarks/bench_dataset.py --smoke    # CI: 10 runs of 100 samples, no timing asserted
+
+Samples per second of wall time, medians of repeats, whole job included (worker start-up, HDF5
+writing); and the ratio of two workers to one.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+from aaria_pin.dataset import DatasetSpec, generate_dataset
+
+
+def throughput(runs: int, samples: int, workers: int, folder: Path) -> float:
+    rate = 100.0
+    spec = DatasetSpec(n_runs=runs, seed=1, duration=(samples - 1) / rate, rate=rate)
+    start = time.perf_counter()
+    generate_dataset(folder / f"ds{workers}.h5", spec, workers=workers, overwrite=True)
+    return runs * samples / (time.perf_counter() - start)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--smoke", action="store_true", help="tiny sizes, for CI")
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args()
+    runs, samples, repeats = (10, 100, 1) if args.smoke else (200, 1000, args.repeats)
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        throughput(4, samples, 1, folder)  # warm the compiled kernels' cache
+        rates = {
+            workers: statistics.median(
+                throughput(runs, samples, workers, folder) for _ in range(repeats)
+            )
+            for workers in (1, 2)
+        }
+    print(f"aaria dataset, {runs} runs × {samples} samples, noise on, gzip, median of {repeats}")
+    print(f"{'workers':<10} {'samples/s':>12}")
+    for workers, value in rates.items():
+        print(f"{workers:<10} {value:>12,.0f}")
+    print(f"two workers / one worker (floor: the per-run throughput): {rates[2] / rates[1]:.2f}")
+
+
+if __name__ == "__main__":
+    main()
