@@ -37,6 +37,7 @@ __all__ = [
     "INPUT_ARRAYS",
     "RUN_ARRAYS",
     "DatasetFile",
+    "decode_attributes",
     "encode_run",
     "run_shapes",
 ]
@@ -67,6 +68,17 @@ RUN_ARRAYS = tuple(run_shapes(1))
 
 INPUT_ARRAYS = ("senSenDH", "senSenJ", "senSenB", "imu_mount")
 """The run inputs, always stored as float64 so a run can be re-made exactly."""
+
+
+def decode_attributes(attrs: Mapping[str, Any]) -> dict[str, Any]:
+    """HDF5 attributes as plain values: JSON ones decoded (keys without ``_json``)."""
+    out: dict[str, Any] = {}
+    for key, value in attrs.items():
+        if key.endswith("_json"):
+            out[key[: -len("_json")]] = json.loads(value)
+        else:
+            out[key] = value.item() if isinstance(value, np.generic) else value
+    return out
 
 
 def _json_safe(value: Any) -> Any:
@@ -169,13 +181,7 @@ class DatasetFile:
     @property
     def attributes(self) -> dict[str, Any]:
         """File attributes, JSON ones decoded (keys without the ``_json`` suffix)."""
-        out: dict[str, Any] = {}
-        for key, value in self._handle.attrs.items():
-            if key.endswith("_json"):
-                out[key[: -len("_json")]] = json.loads(value)
-            else:
-                out[key] = value.item() if isinstance(value, np.generic) else value
-        return out
+        return decode_attributes(self._handle.attrs)
 
     @property
     def n_runs(self) -> int:

@@ -15,7 +15,6 @@ Only complete runs are read; each run is one chunk on disk, so a window costs on
 
 from __future__ import annotations
 
-import json
 import os
 from collections.abc import Iterator, Sequence
 from pathlib import Path
@@ -24,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from aaria_pin._se3 import Array
-from aaria_pin.dataset_file import DATASET_FORMAT, RUN_ARRAYS
+from aaria_pin.dataset_file import DATASET_FORMAT, RUN_ARRAYS, decode_attributes
 from aaria_pin.errors import InputFileError, ParameterError
 
 __all__ = ["DatasetReader", "dataset_summary"]
@@ -64,13 +63,7 @@ class DatasetReader:
     @property
     def attributes(self) -> dict[str, Any]:
         """File attributes, JSON ones decoded (keys without the ``_json`` suffix)."""
-        out: dict[str, Any] = {}
-        for key, value in self._handle.attrs.items():
-            if key.endswith("_json"):
-                out[key[: -len("_json")]] = json.loads(value)
-            else:
-                out[key] = value.item() if isinstance(value, np.generic) else value
-        return out
+        return decode_attributes(self._handle.attrs)
 
     def run(self, index: int, names: Sequence[str] = RUN_ARRAYS) -> dict[str, Array]:
         """The arrays of one complete run.

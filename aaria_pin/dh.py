@@ -34,6 +34,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin._se3 import Array, chain, rot_x, rot_z, translation
+from aaria_pin._tables import finite_table
 from aaria_pin.errors import TableError
 
 __all__ = [
@@ -150,23 +151,6 @@ class KinematicChain:
         return T @ translation(x=self.tool_length)
 
 
-def _as_table(table: ArrayLike, what: str) -> Array:
-    try:
-        arr = np.asarray(table, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TableError(f"{what}: not a numeric table ({exc})") from None
-    if arr.ndim != 2 or arr.shape[1] != 5:
-        raise TableError(f"{what}: shape {arr.shape} is not allowed; expected rows × 5 columns")
-    bad = np.argwhere(~np.isfinite(arr))
-    if bad.size:
-        row, col = bad[0]
-        raise TableError(
-            f"{what}: row {row + 1}, column {col + 1} ({AARIA_COLUMNS[col]}) is {arr[row, col]};"
-            " allowed: a finite number"
-        )
-    return arr
-
-
 def _check_link_type(arr: Array, row: int, allowed: Sequence[LinkType], what: str) -> LinkType:
     value = arr[row, 4]
     codes = [int(t) for t in allowed]
@@ -200,9 +184,7 @@ def validate_aaria_table(table: ArrayLike) -> Array:
             a used row, or every module empty.
     """
     what = "Aaria DH table"
-    arr = _as_table(table, what).copy()
-    if arr.shape != (8, 5):
-        raise TableError(f"{what}: shape {arr.shape} is not allowed; expected 8 × 5")
+    arr = finite_table(table, AARIA_COLUMNS, what, rows=(8,))
     allowed = (LinkType.EMPTY, LinkType.REVOLUTE, LinkType.PRISMATIC)
     types = [_check_link_type(arr, row, allowed, what) for row in range(6)]
     for row, link_type in enumerate(types):
@@ -229,7 +211,7 @@ def validate_dh_table(table: ArrayLike, convention: Convention = "standard") -> 
         TableError: wrong shape, a non-finite value, an unknown link type or a negative a.
     """
     what = f"{convention} DH table"
-    arr = _as_table(table, what).copy()
+    arr = finite_table(table, AARIA_COLUMNS, what)
     if not 1 <= arr.shape[0] <= _MAX_ROWS:
         raise TableError(f"{what}: {arr.shape[0]} rows is not allowed; expected 1 to {_MAX_ROWS}")
     for row in range(arr.shape[0]):

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin._se3 import Array
+from aaria_pin._tables import finite_table
 from aaria_pin.dh import KinematicChain
 from aaria_pin.errors import TableError
 from aaria_pin.trajectory import BaseMotion, JointTrajectory, gimbal_xyz_motion, sine_motion
@@ -38,26 +39,6 @@ BASE_COLUMNS = ("amplitude", "bias", "frequency", "phase")
 _RANGE_TOLERANCE = 1e-12
 
 
-def _finite_table(
-    table: ArrayLike, shapes: tuple[tuple[int, int], ...], what: str, columns: tuple[str, ...]
-) -> Array:
-    try:
-        arr = np.array(table, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TableError(f"{what}: not a numeric table ({exc})") from None
-    if arr.shape not in shapes:
-        allowed = " or ".join(f"{r} × {c}" for r, c in shapes)
-        raise TableError(f"{what}: shape {arr.shape} is not allowed; expected {allowed}")
-    bad = np.argwhere(~np.isfinite(arr))
-    if bad.size:
-        row, col = bad[0]
-        raise TableError(
-            f"{what}: row {row + 1}, column {col + 1} ({columns[col]}) is "
-            f"{arr[row, col]}; allowed: a finite number"
-        )
-    return arr
-
-
 def validate_joint_table(table: ArrayLike, chain: KinematicChain) -> Array:
     """Check a joint oscillation table against a chain's joints and ranges.
 
@@ -73,7 +54,7 @@ def validate_joint_table(table: ArrayLike, chain: KinematicChain) -> Array:
             motion leaves its range.
     """
     what = "joint oscillation table"
-    arr = _finite_table(table, ((8, 5),), what, JOINT_COLUMNS)
+    arr = finite_table(table, JOINT_COLUMNS, what, rows=(8,))
     for joint in chain.joints:
         row = joint.module - 1
         if arr[row, 3] < 0:
@@ -100,7 +81,7 @@ def validate_base_table(table: ArrayLike) -> Array:
         TableError: wrong shape, a non-finite value or a negative frequency.
     """
     what = "base oscillation table"
-    arr = _finite_table(table, ((2, 4), (6, 4)), what, BASE_COLUMNS)
+    arr = finite_table(table, BASE_COLUMNS, what, rows=(2, 6))
     negative = np.flatnonzero(arr[:, 2] < 0)
     if negative.size:
         row = negative[0]
