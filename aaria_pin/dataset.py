@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from aaria_pin import __version__
+from aaria_pin._malloc import tune_malloc
 from aaria_pin._se3 import Array
 from aaria_pin.dataset_file import (
     INPUT_ARRAYS,
@@ -223,6 +224,7 @@ Encoded = dict[str, tuple[bytes, int]]
 
 def _job(spec: DatasetSpec, run: int) -> tuple[int, Encoded | None, str]:
     """A worker's task: run ``run`` as compressed chunks, or its one-line error and inputs."""
+    tune_malloc()
     try:
         return run, encode_run(simulate_dataset_run(spec, run), spec.dtype), ""
     except AariaError as exc:

@@ -200,29 +200,34 @@ def add_imu_noise(
         raise ParameterError(
             f"IMU signal at index {index} is {exact[index]!r}; allowed: finite values"
         )
-    n = exact.shape[0]
-    measured = rng.standard_normal(exact.shape)
-    measured *= _per_axis(model, "noise_density") * np.sqrt(rate / 2.0)
-    measured += exact
+    n, n_imu = exact.shape[:2]
+
+    # work on (T, n_imu·6) so every operation runs along rows of n_imu·6 values
+    def per_column(name: str) -> Array:
+        return np.tile(_per_axis(model, name), n_imu)
+
+    measured = rng.standard_normal(exact.shape).reshape(n, -1)
+    measured *= per_column("noise_density") * np.sqrt(rate / 2.0)
+    measured += exact.reshape(n, -1)
     # the bias: a Gauss–Markov process on a grid of `step` samples, linear in between
     step = max(1, int(rate * model.bias_correlation_time / BIAS_KNOTS_PER_CORRELATION_TIME))
     knots = (n - 1) // step + 2
-    innovations = rng.standard_normal((knots, *exact.shape[1:]))
+    innovations = rng.standard_normal((knots, *exact.shape[1:])).reshape(knots, -1)
     dt_over_T = step / (rate * model.bias_correlation_time)
     phi = float(np.exp(-dt_over_T))
     innovations[1:] *= np.sqrt(-np.expm1(-2.0 * dt_over_T))  # √(1 - φ²), stationary variance 1
-    bias = lfilter([1.0], [1.0, -phi], innovations, axis=0) * _per_axis(model, "bias_stability")
-    ramp = (np.arange(step) / step)[None, :, None, None]
-    between = bias[:-1, None] + (bias[1:] - bias[:-1])[:, None] * ramp  # (knots-1, step, ...)
-    measured += between.reshape(-1, *exact.shape[1:])[:n]
-    full_scale = _per_axis(model, "range")
-    lsb = _per_axis(model, "lsb")
+    bias = lfilter([1.0], [1.0, -phi], innovations, axis=0) * per_column("bias_stability")
+    ramp = (np.arange(step) / step)[None, :, None]
+    between = bias[:-1, None] + (bias[1:] - bias[:-1])[:, None] * ramp  # (knots-1, step, cols)
+    measured += between.reshape(-1, measured.shape[1])[:n]
+    full_scale = per_column("range")
+    lsb = per_column("lsb")
     np.minimum(measured, full_scale, out=measured)
     np.maximum(measured, -full_scale, out=measured)
     measured /= lsb
     np.round(measured, out=measured)
     measured *= lsb
-    return measured
+    return measured.reshape(exact.shape)
 
 
 def noise_attributes(model: ImuNoiseModel = ADIS16485) -> dict[str, float]:

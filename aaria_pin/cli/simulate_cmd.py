@@ -75,6 +75,7 @@ def simulate(
     output: Path,
 ) -> None:
     """Simulate an arm on a moving base: joint values, 14 IMUs, torques, base wrench."""
+    from aaria_pin._malloc import tune_malloc
     from aaria_pin.dh_robot import BodyDimensions
     from aaria_pin.errors import ParameterError
     from aaria_pin.io import read_table
@@ -82,6 +83,7 @@ def simulate(
     from aaria_pin.runfile import write_run
     from aaria_pin.simulate import simulate_from_run_file, simulate_run
 
+    tune_malloc()
     given = {"duration": duration, "rate": rate, "seed": seed, "noise": noise}
     overrides: dict[str, Any] = {key: value for key, value in given.items() if value is not None}
     if joints_file is not None:
