@@ -200,7 +200,7 @@ class DatasetFile:
             for k in np.flatnonzero(complete):
                 try:
                     intact = all(
-                        zlib.crc32(memoryview(np.ascontiguousarray(self._handle[name][k])))
+                        zlib.crc32(np.ascontiguousarray(self._handle[name][k]).data)
                         == checksums[k, index]
                         for index, name in enumerate(RUN_ARRAYS)
                     )
@@ -287,7 +287,7 @@ def encode_run(arrays: Mapping[str, Array], dtype: str) -> dict[str, tuple[bytes
             arrays[name], dtype="float64" if name in INPUT_ARRAYS else dtype
         )
         shuffled = array.view(np.uint8).reshape(-1, array.itemsize).T.tobytes()
-        encoded[name] = (compress(shuffled, 1), zlib.crc32(memoryview(array)))
+        encoded[name] = (compress(shuffled, 1), zlib.crc32(array.data))
     return encoded
 
 
