@@ -43,6 +43,33 @@ def paper_tool_pose(table: np.ndarray, q: np.ndarray) -> np.ndarray:
     return T @ Tx(table[6, 1])
 
 
+def paper_frames(
+    table: np.ndarray, senJ: np.ndarray, senB: np.ndarray, t: float
+) -> tuple[np.ndarray, list[np.ndarray | None], np.ndarray]:
+    """World poses at time t from the paper's matrices and sines: the base, each module's
+    post-joint frame (None for an empty module), and the tool tip."""
+    rows = np.repeat(senB, 3, axis=0) if senB.shape[0] == 2 else senB
+    x, y, z, ax, ay, az = (r[0] * np.sin(r[2] * t + r[3]) + r[1] for r in rows)
+    cy, sy = np.cos(ay), np.sin(ay)
+    Ry = np.array([[cy, 0, sy, 0], [0, 1, 0, 0], [-sy, 0, cy, 0], [0, 0, 0, 1.0]])
+    T_base = Rx(ax) @ Ry @ Rz(az)
+    T_base[:3, 3] = (x, y, z)
+    T = T_base @ W_T_DH
+    modules: list[np.ndarray | None] = []
+    for i, (alpha, a, theta, d, link_type) in enumerate(table[:6]):
+        A, Ap, bias, w, phase = senJ[i]
+        if link_type == 0:
+            modules.append(None)
+            continue
+        if link_type == 1:
+            T = T @ Rx(alpha) @ Tz(d) @ Rz(A * np.sin(w * t + phase) + bias)
+        else:
+            T = T @ Rx(alpha) @ Rz(theta) @ Tz(Ap * np.sin(w * t + phase) + bias)
+        modules.append(T.copy())
+        T = T @ Tx(a)
+    return T_base, modules, T @ Tx(table[6, 1])
+
+
 def wrist_equation_9(t1: float, t2: float, t3: float, d: float) -> np.ndarray:
     """Equation (9) of the spherical-wrist report: the tool pose of its standard DH table."""
     c1, s1, c2, s2, c3, s3 = (

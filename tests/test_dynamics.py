@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import W_T_DH, Rx, Rz, Tx, Tz
+from conftest import paper_frames
 
 from aaria_pin.dh_robot import BodyDimensions, build_dh_robot
 from aaria_pin.dynamics import inverse_dynamics, reference_inverse_dynamics
@@ -57,32 +57,9 @@ def test_horizontal_link_under_gravity_by_hand() -> None:
 
 
 def _body_poses(table, senJ, senB, t):
-    """World poses of the bodies (base, then each module's post-joint frame) from paper matrices."""
-    rows = np.repeat(senB, 3, axis=0) if senB.shape[0] == 2 else senB
-    x, y, z, ax, ay, az = (r[0] * np.sin(r[2] * t + r[3]) + r[1] for r in rows)
-    Ry = np.array(
-        [
-            [np.cos(ay), 0, np.sin(ay), 0],
-            [0, 1, 0, 0],
-            [-np.sin(ay), 0, np.cos(ay), 0],
-            [0, 0, 0, 1],
-        ]
-    )
-    T = Rx(ax) @ Ry @ Rz(az)
-    T[:3, 3] = (x, y, z)
-    poses = [T.copy()]
-    T = T @ W_T_DH
-    for i, (alpha, a, theta, d, link_type) in enumerate(table[:6]):
-        A, Ap, bias, w, phase = senJ[i]
-        if link_type == 1:
-            T = T @ Rx(alpha) @ Tz(d) @ Rz(A * np.sin(w * t + phase) + bias)
-        elif link_type == 2:
-            T = T @ Rx(alpha) @ Rz(theta) @ Tz(Ap * np.sin(w * t + phase) + bias)
-        else:
-            continue
-        poses.append(T.copy())
-        T = T @ Tx(a)
-    return poses
+    """World poses of the bodies: the base, then each non-empty module's post-joint frame."""
+    T_base, modules, _ = paper_frames(table, senJ, senB, t)
+    return [T_base, *(T for T in modules if T is not None)]
 
 
 def _energy(inertias, poses_m, poses_0, poses_p, h) -> float:

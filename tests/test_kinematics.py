@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import W_T_DH, Rx, Rz, Tx, Tz
+from conftest import paper_frames
 
 from aaria_pin.dh_robot import build_dh_robot
 from aaria_pin.kinematics import imu_signals, reference_imu_signals
@@ -66,39 +66,12 @@ def test_fixed_base_model_equals_pinocchio() -> None:
 # --- an independent computation: poses from the paper's matrices, derivatives by differences ---
 
 
-def _sine(row: np.ndarray, t: float) -> float:
-    amplitude, bias, frequency, phase = row
-    return amplitude * np.sin(frequency * t + phase) + bias
-
-
-def _world_poses(table, senJ, senB, mounts, t: float) -> list[np.ndarray]:
+def _world_poses(table, senJ, senB, mounts, t: float) -> list[np.ndarray | None]:
     """World poses of the 14 IMU slots at time t (None for empty modules)."""
-    rows = np.repeat(senB, 3, axis=0) if senB.shape[0] == 2 else senB
-    x, y, z, ax, ay, az = (_sine(r, t) for r in rows)
-    Ry = np.array(
-        [
-            [np.cos(ay), 0, np.sin(ay), 0],
-            [0, 1, 0, 0],
-            [-np.sin(ay), 0, np.cos(ay), 0],
-            [0, 0, 0, 1],
-        ]
-    )
-    T_base = Rx(ax) @ Ry @ Rz(az)
-    T_base[:3, 3] = (x, y, z)
-    poses = [T_base @ mounts[0], None]
-    T = T_base @ W_T_DH
-    for i, (alpha, a, theta, d, link_type) in enumerate(table[:6]):
-        A, Ap, bias, w, phase = senJ[i]
-        if link_type == 0:
-            poses += [None, None]
-            continue
-        if link_type == 1:
-            T = T @ Rx(alpha) @ Tz(d) @ Rz(A * np.sin(w * t + phase) + bias)
-        else:
-            T = T @ Rx(alpha) @ Rz(theta) @ Tz(Ap * np.sin(w * t + phase) + bias)
-        poses += [T @ mounts[2 + 2 * i], T @ mounts[3 + 2 * i]]
-        T = T @ Tx(a)
-    poses[1] = T @ Tx(table[6, 1]) @ mounts[1]
+    T_base, modules, T_tool = paper_frames(table, senJ, senB, t)
+    poses: list[np.ndarray | None] = [T_base @ mounts[0], T_tool @ mounts[1]]
+    for i, T in enumerate(modules):
+        poses += [None, None] if T is None else [T @ mounts[2 + 2 * i], T @ mounts[3 + 2 * i]]
     return poses
 
 
