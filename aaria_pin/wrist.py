@@ -1,0 +1,126 @@
+"""The spherical wrist of the wrist report: closed-form forward and inverse kinematics.
+
+Table 1 of the report, standard DH: ``a = 0``; ``alpha = -90°, +90°, 0``; ``d = 0, 0, d3``
+(132 mm). Its rotation is ``R = Rz(θ1)·Ry(θ2)·Rz(θ3)`` (equation (1), the ZYZ Euler angles about
+moving axes) and its tool point ``d3·(c1·s2, s1·s2, c2)``, on the sphere of radius d3
+(equation (9)).
+
+Inverse kinematics returns every solution: the two branches θ2 > 0 and θ2 < 0 (the second is the
+first with ``θ1 + π, -θ2, θ3 + π``). At the singularity ``sin θ2 = 0`` only ``θ1 + θ3``
+(θ2 = 0) or ``θ1 - θ3`` (θ2 = π) is fixed: within ``|sin θ2| < 1e-9`` the solution is flagged
+``singular`` and one member of the family is returned, at the singularity itself the canonical
+one ``θ3 = 0``. Joint limits, if given, filter the solutions (angles are taken
+modulo 2π into each joint's range).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from aaria_pin._se3 import Array
+from aaria_pin.errors import ParameterError
+from aaria_pin.rotations import angles_from_matrix, as_rotation
+
+__all__ = [
+    "REPORT_LIMITS",
+    "WRIST_D3",
+    "WristSolutions",
+    "wrist_fk",
+    "wrist_ik",
+]
+
+WRIST_D3 = 0.132
+"""Distance from the wrist centre to the tool point, the report's d3 [m]."""
+
+REPORT_LIMITS = np.radians([[0.0, 360.0], [0.0, 180.0], [-180.0, 180.0]])
+"""The report's joint ranges (joint 1: 0–360°, joint 2: 0–180°; joint 3 free) [rad]."""
+
+SINGULAR_TOLERANCE = 1e-9
+"""``|sin θ2|`` below which a rotation counts as singular."""
+
+
+def wrist_fk(joints: ArrayLike, d3: float = WRIST_D3) -> Array:
+    """Tool poses of the wrist, equation (9) of the report, vectorized.
+
+    Args:
+        joints: (..., 3) joint angles θ1, θ2, θ3 [rad]
+        d3: tool distance [m]
+
+    Returns:
+        (..., 4, 4) poses of the tool in the base frame.
+    """
+    q = np.asarray(joints, dtype=float)
+    if q.ndim == 0 or q.shape[-1] != 3 or not np.all(np.isfinite(q)):
+        raise ParameterError(f"joint angles of shape {q.shape}; allowed: finite (..., 3)")
+    c1, c2, c3 = np.cos(q[..., 0]), np.cos(q[..., 1]), np.cos(q[..., 2])
+    s1, s2, s3 = np.sin(q[..., 0]), np.sin(q[..., 1]), np.sin(q[..., 2])
+    T = np.zeros((*q.shape[:-1], 4, 4))
+    T[..., 0, :3] = np.stack([c1 * c2 * c3 - s1 * s3, -c1 * c2 * s3 - s1 * c3, c1 * s2], -1)
+    T[..., 1, :3] = np.stack([s1 * c2 * c3 + c1 * s3, -s1 * c2 * s3 + c1 * c3, s1 * s2], -1)
+    T[..., 2, :3] = np.stack([-s2 * c3, s2 * s3, c2], -1)
+    T[..., :3, 3] = d3 * T[..., :3, 2]
+    T[..., 3, 3] = 1.0
+    return T
+
+
+@dataclass(frozen=True)
+class WristSolutions:
+    """The inverse kinematics of one rotation.
+
+    Attributes:
+        solutions: (n, 3) joint angles [rad], n = 0, 1 or 2
+        singular: ``sin θ2 = 0``: only θ1 ± θ3 is fixed; the solution has θ3 = 0
+        reachable: at least one solution is within the joint limits
+    """
+
+    solutions: Array
+    singular: bool
+    reachable: bool
+
+
+def _wrap_into(angles: Array, limits: Array) -> tuple[Array, Array]:
+    """Angles shifted by multiples of 2π into [low, high], and whether that worked."""
+    low, high = limits[:, 0], limits[:, 1]
+    shifted = low + np.mod(angles - low, 2 * np.pi)
+    inside = shifted <= high + 1e-12
+    return shifted, inside.all(axis=-1)
+
+
+def wrist_ik(rotation: ArrayLike, limits: ArrayLike | None = None) -> WristSolutions:
+    """Every joint solution of the wrist for a tool rotation.
+
+    Args:
+        rotation: 3 × 3 rotation matrix (checked: orthonormal within 1e-6, det +1)
+        limits: optional 3 × 2 joint ranges ``[low, high]`` [rad] (e.g. :data:`REPORT_LIMITS`)
+
+    Returns:
+        The solutions, each verified by forward kinematics.
+
+    Raises:
+        ParameterError: not a rotation matrix, or bad limits.
+    """
+    R, _ = as_rotation(rotation)
+    if R.shape != (3, 3):
+        raise ParameterError(f"rotation has shape {R.shape}; allowed: (3, 3)")
+    first = angles_from_matrix(R, "ZYZ", lock_tolerance=SINGULAR_TOLERANCE)
+    singular = bool(first.locked)
+    theta1, theta2, theta3 = first.angles
+    candidates = [np.array([theta1, theta2, theta3])]
+    if not singular:  # the other branch: θ1 + π, -θ2, θ3 + π
+        other = np.array([theta1 + np.pi, -theta2, theta3 + np.pi])
+        candidates.append(np.arctan2(np.sin(other), np.cos(other)))
+    solutions = np.array(candidates)
+    for q in solutions:
+        if not np.allclose(wrist_fk(q)[:3, :3], R, atol=1e-9):  # pragma: no cover - a bug
+            raise AssertionError(f"wrist IK solution {q} does not reproduce the rotation")
+    if limits is None:
+        return WristSolutions(solutions, singular, True)
+    bounds = np.asarray(limits, dtype=float)
+    if bounds.shape != (3, 2) or not np.all(bounds[:, 0] <= bounds[:, 1]):
+        raise ParameterError(f"limits of shape {bounds.shape}; allowed: 3 × 2 [low, high]")
+    shifted, inside = _wrap_into(solutions, bounds)
+    kept = shifted[inside]
+    return WristSolutions(kept, singular, bool(len(kept)))

@@ -1,0 +1,95 @@
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from conftest import wrist_equation_9
+from scipy.spatial.transform import Rotation
+
+from aaria_pin.dh_robot import build_dh_robot
+from aaria_pin.errors import ParameterError
+from aaria_pin.presets import get_preset
+from aaria_pin.rotations import matrix_from_angles
+from aaria_pin.wrist import REPORT_LIMITS, wrist_fk, wrist_ik
+
+
+def test_fk_is_equation_9_and_pinocchio_on_the_emitted_urdf() -> None:
+    q = np.random.default_rng(0).uniform(-np.pi, np.pi, (50, 3))
+    T = wrist_fk(q)
+    model = build_dh_robot(get_preset("spherical-wrist").table, "standard").model()
+    data = model.model.createData()
+    for qk, Tk in zip(q, T, strict=True):
+        np.testing.assert_allclose(Tk, wrist_equation_9(*qk, d=0.132), atol=1e-14)
+        pin.framesForwardKinematics(model.model, data, qk)
+        np.testing.assert_allclose(Tk, data.oMf[model.frame_id("tool_tip")].homogeneous, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(T[:, :3, 3], axis=1), 0.132)  # on the sphere
+
+
+def test_ik_gives_both_branches_each_reproducing_the_rotation() -> None:
+    for R in Rotation.random(300, random_state=1).as_matrix():
+        result = wrist_ik(R)
+        assert not result.singular and len(result.solutions) == 2
+        signs = np.sign(result.solutions[:, 1])
+        assert set(signs) == {-1.0, 1.0}
+        for q in result.solutions:
+            np.testing.assert_allclose(wrist_fk(q)[:3, :3], R, atol=1e-12)
+
+
+@pytest.mark.parametrize("theta2", [0.0, np.pi, 1e-12, np.pi - 1e-12])
+def test_singularity_is_reported_with_a_canonical_member(theta2: float) -> None:
+    q = np.array([0.7, theta2, -1.1])
+    R = wrist_fk(q)[:3, :3]
+    result = wrist_ik(R)
+    assert result.singular and len(result.solutions) == 1
+    if np.sin(theta2) == np.sin(0.0) or theta2 in (0.0, np.pi):
+        assert result.solutions[0, 2] == 0.0  # exactly singular: the canonical member
+    np.testing.assert_allclose(wrist_fk(result.solutions[0])[:3, :3], R, atol=1e-9)
+
+
+def test_near_but_not_at_the_singularity() -> None:
+    R = wrist_fk([0.3, 1e-6, 0.5])[:3, :3]
+    result = wrist_ik(R)
+    assert not result.singular
+    for q in result.solutions:
+        np.testing.assert_allclose(wrist_fk(q)[:3, :3], R, atol=1e-9)
+
+
+def test_report_formulas_agree_where_they_hold_and_fail_beyond() -> None:
+    # equations (6)-(8): j2 = acos(r33), j1 = asin(r23/s2), j3 = asin(r32/s2)
+    q = np.radians([30.0, 45.0, 20.0])
+    R = wrist_fk(q)[:3, :3]
+    j2 = np.arccos(R[2, 2])
+    report = np.array([np.arcsin(R[1, 2] / np.sin(j2)), j2, np.arcsin(R[2, 1] / np.sin(j2))])
+    np.testing.assert_allclose(report, q, atol=1e-12)
+    np.testing.assert_allclose(wrist_ik(R).solutions[0], q, atol=1e-12)
+    beyond = np.radians([150.0, 45.0, -120.0])  # asin cannot return these
+    assert np.any(np.all(np.isclose(wrist_ik(wrist_fk(beyond)[:3, :3]).solutions, beyond), axis=1))
+
+
+def test_ik_from_angles_in_any_order() -> None:
+    R = matrix_from_angles(np.radians([10.0, -40.0, 75.0]), "zyx")
+    for q in wrist_ik(R).solutions:
+        np.testing.assert_allclose(wrist_fk(q)[:3, :3], R, atol=1e-12)
+
+
+def test_joint_limits_filter_and_unreachable() -> None:
+    R = wrist_fk(np.radians([200.0, 60.0, 10.0]))[:3, :3]
+    limited = wrist_ik(R, REPORT_LIMITS)
+    assert limited.reachable and len(limited.solutions) == 1
+    assert 0 <= limited.solutions[0, 1] <= np.pi
+    narrow = np.radians([[0.0, 90.0], [0.0, 30.0], [-180.0, 180.0]])
+    assert not wrist_ik(R, narrow).reachable
+
+
+@pytest.mark.parametrize(
+    ("matrix", "pattern"),
+    [
+        (np.eye(3) * 2, "not a rotation"),
+        (np.diag([1.0, -1.0, 1.0]), "det = -1"),
+        (np.full((3, 3), np.nan), "NaN"),
+        (np.eye(2), "shape"),
+    ],
+)
+def test_bad_matrices_are_refused(matrix, pattern: str) -> None:
+    with pytest.raises(ParameterError, match=pattern):
+        wrist_ik(matrix)
