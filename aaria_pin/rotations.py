@@ -156,16 +156,18 @@ def as_rotation(
         raise ParameterError(f"matrix has shape {R.shape}; allowed: (..., 3, 3)")
     if not np.all(np.isfinite(R)):
         raise ParameterError("matrix holds NaN or inf; allowed: finite numbers")
-    error = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(axis=(-1, -2))
-    det = np.linalg.det(R)
+    gram = np.einsum("...ki,...kj->...ij", R, R)
+    error = np.abs(gram - np.eye(3)).max(axis=(-1, -2))
+    det = np.einsum("...i,...i->...", R[..., 0, :], np.cross(R[..., 1, :], R[..., 2, :]))
     bad = (error > tolerance) | (det < 0)
     if not project:
         if np.any(bad):
             index = np.argwhere(np.atleast_1d(bad))[0]
             worst = float(np.atleast_1d(error)[tuple(index)])
             d = float(np.atleast_1d(det)[tuple(index)])
+            where = f" {index.tolist()}" if R.ndim > 2 else ""
             raise ParameterError(
-                f"matrix {index.tolist() if R.ndim > 2 else ''} is not a rotation"
+                f"matrix{where} is not a rotation"
                 f" (|RᵀR - I| = {worst:.3g}, det = {d:.6g}); allowed: orthonormal within"
                 f" {tolerance:g} with det +1, or project it"
             )
@@ -199,9 +201,14 @@ def angles_from_matrix(
     R, _ = as_rotation(matrix)
     (i, j, k), intrinsic = _parse(seq)
     if not intrinsic:  # fixed axes (a, b, c) = moving axes reversed (c, b, a)
-        reversed_seq = seq[::-1].upper()
-        result = angles_from_matrix(R, reversed_seq, lock_tolerance)
+        result = _moving_axes_angles(R, (k, j, i), lock_tolerance)
         return Angles(result.angles[..., ::-1].copy(), result.locked)
+    return _moving_axes_angles(R, (i, j, k), lock_tolerance)
+
+
+def _moving_axes_angles(R: Array, axes: tuple[int, int, int], lock_tolerance: float) -> Angles:
+    """Angles of ``R = Ri(a)·Rj(b)·Rk(c)`` (k = i for a proper Euler sequence)."""
+    i, j, k = axes
     proper = i == k
     if proper:
         k = 3 - i - j

@@ -30,6 +30,7 @@ __all__ = [
     "WristSolutions",
     "wrist_fk",
     "wrist_ik",
+    "wrist_ik_batch",
 ]
 
 WRIST_D3 = 0.132
@@ -81,12 +82,28 @@ class WristSolutions:
     reachable: bool
 
 
-def _wrap_into(angles: Array, limits: Array) -> tuple[Array, Array]:
+def _wrap_into(angles: Array, limits: Array) -> tuple[Array, np.ndarray]:
     """Angles shifted by multiples of 2π into [low, high], and whether that worked."""
     low, high = limits[:, 0], limits[:, 1]
     shifted = low + np.mod(angles - low, 2 * np.pi)
     inside = shifted <= high + 1e-12
-    return shifted, inside.all(axis=-1)
+    return shifted, np.asarray(inside.all(axis=-1), dtype=bool)
+
+
+def wrist_ik_batch(rotations: ArrayLike) -> tuple[Array, Array]:
+    """Both wrist branches for many rotations at once, without limits.
+
+    Args:
+        rotations: (..., 3, 3) rotation matrices
+
+    Returns:
+        Joint angles (..., 2, 3) [rad] (branch θ2 >= 0 first; at a singularity both rows are
+        members of the family) and the (...) singular flag.
+    """
+    first = angles_from_matrix(rotations, "ZYZ", lock_tolerance=SINGULAR_TOLERANCE)
+    mirrored = first.angles * np.array([1.0, -1.0, 1.0]) + np.array([np.pi, 0.0, np.pi])
+    second = np.arctan2(np.sin(mirrored), np.cos(mirrored))
+    return np.stack([first.angles, second], axis=-2), first.locked
 
 
 def wrist_ik(rotation: ArrayLike, limits: ArrayLike | None = None) -> WristSolutions:

@@ -93,3 +93,44 @@ def test_joint_limits_filter_and_unreachable() -> None:
 def test_bad_matrices_are_refused(matrix, pattern: str) -> None:
     with pytest.raises(ParameterError, match=pattern):
         wrist_ik(matrix)
+
+
+def test_cli_fk_and_ik(tmp_path) -> None:
+    import json
+
+    from click.testing import CliRunner
+
+    from aaria_pin.cli import main
+
+    result = CliRunner().invoke(main, ["wrist", "fk", "-30", "45", "10", "--json"])
+    assert result.exit_code == 0, result.output
+    out = json.loads(result.stdout)
+    np.testing.assert_allclose(
+        out["pose"], wrist_equation_9(*np.radians([-30, 45, 10]), d=0.132), atol=1e-12
+    )
+    assert [-30.0, 45.0, 10.0] in [[round(v, 9) for v in s] for s in out["solutions"]]
+    result = CliRunner().invoke(
+        main, ["wrist", "ik", "--angles", "10", "-40", "75", "--order", "ZYX", "--json"]
+    )
+    out = json.loads(result.stdout)
+    np.testing.assert_allclose(out["angles"], [10, -40, 75], atol=1e-9)
+    for q in out["solutions"]:
+        np.testing.assert_allclose(wrist_fk(np.radians(q))[:3, :3], out["rotation"], atol=1e-12)
+    plain = CliRunner().invoke(main, ["wrist", "ik", "--matrix", *"1 0 0 0 1 0 0 0 1".split()])
+    assert "singular" in plain.stdout
+    bad = CliRunner().invoke(main, ["wrist", "ik", "--matrix", *"2 0 0 0 1 0 0 0 1".split()])
+    assert bad.exit_code == 2 and "not a rotation" in bad.stderr
+    both = CliRunner().invoke(main, ["wrist", "ik"])
+    assert both.exit_code == 2 and "exactly one of --angles" in both.stderr
+
+
+def test_batch_ik_equals_the_single_ik() -> None:
+    from aaria_pin.wrist import wrist_ik_batch
+
+    R = Rotation.random(200, random_state=5).as_matrix()
+    batch, singular = wrist_ik_batch(R)
+    assert batch.shape == (200, 2, 3) and not singular.any()
+    for k in range(200):
+        np.testing.assert_allclose(batch[k], wrist_ik(R[k]).solutions, atol=1e-12)
+        for q in batch[k]:
+            np.testing.assert_allclose(wrist_fk(q)[:3, :3], R[k], atol=1e-12)

@@ -32,12 +32,13 @@ def main() -> None:
 
 
 def _register() -> None:
-    from aaria_pin.cli import dataset_cmd, info_cmd, simulate_cmd, urdf_cmd
+    from aaria_pin.cli import dataset_cmd, info_cmd, simulate_cmd, urdf_cmd, wrist_cmd
 
     main.add_command(dataset_cmd.dataset)
     main.add_command(info_cmd.info)
     main.add_command(simulate_cmd.simulate)
     main.add_command(urdf_cmd.urdf)
+    main.add_command(wrist_cmd.wrist)
 
 
 _register()

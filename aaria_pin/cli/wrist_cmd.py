@@ -1,0 +1,134 @@
+"""``aaria wrist``: forward and inverse kinematics of the report's spherical wrist."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import click
+
+_NUMBER = click.FLOAT
+_ORDERS = (
+    "xyz",
+    "xzy",
+    "yxz",
+    "yzx",
+    "zxy",
+    "zyx",
+    "XYZ",
+    "XZY",
+    "YXZ",
+    "YZX",
+    "ZXY",
+    "ZYX",
+    "ZYZ",
+    "zyz",
+)
+
+
+def _emit(result: dict[str, Any], as_json: bool, radians: bool) -> None:
+    if as_json:
+        click.echo(json.dumps(result))
+        return
+    unit = "rad" if radians else "deg"
+    click.echo("rotation:")
+    for row in result["rotation"]:
+        click.echo("  " + "  ".join(f"{v:+.6f}" for v in row))
+    click.echo("tool point [m]: " + "  ".join(f"{row[3]:+.6f}" for row in result["pose"][:3]))
+    click.echo(
+        f"angles ({result['order']}) [{unit}]: " + "  ".join(f"{v:+.4f}" for v in result["angles"])
+    )
+    click.echo(
+        f"joint solutions [{unit}]"
+        + (" (singular: only θ1 ± θ3 is fixed)" if result["singular"] else "")
+        + ":"
+    )
+    for solution in result["solutions"]:
+        click.echo("  " + "  ".join(f"{v:+.4f}" for v in solution))
+    if not result["solutions"]:
+        click.echo("  none: unreachable within the joint limits")
+
+
+def _report(rotation: Any, order: str, radians: bool, limits: bool) -> dict[str, Any]:
+    import numpy as np
+
+    from aaria_pin.rotations import angles_from_matrix
+    from aaria_pin.wrist import REPORT_LIMITS, wrist_fk, wrist_ik
+
+    ik = wrist_ik(rotation, REPORT_LIMITS if limits else None)
+    reference = ik.solutions[0] if len(ik.solutions) else wrist_ik(rotation).solutions[0]
+    pose = wrist_fk(reference)
+    angles = angles_from_matrix(pose[:3, :3], order)
+    scale = 1.0 if radians else 180.0 / np.pi
+    return {
+        "rotation": pose[:3, :3].tolist(),
+        "pose": pose.tolist(),
+        "order": order,
+        "angles": (angles.angles * scale).tolist(),
+        "gimbal_lock": bool(angles.locked),
+        "solutions": (ik.solutions * scale).tolist(),
+        "singular": ik.singular,
+        "reachable": ik.reachable,
+    }
+
+
+@click.group(context_settings={"ignore_unknown_options": True})
+def wrist() -> None:
+    """The spherical wrist of the wrist report (standard DH, d3 = 132 mm)."""
+
+
+@wrist.command(context_settings={"ignore_unknown_options": True})
+@click.argument("joints", nargs=3, type=_NUMBER)
+@click.option(
+    "--order",
+    type=click.Choice(_ORDERS),
+    default="xyz",
+    show_default=True,
+    help="Angle sequence to express the rotation in (lowercase: fixed axes).",
+)
+@click.option("--radians", is_flag=True, help="Angles in radians (default degrees).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def fk(joints: tuple[float, float, float], order: str, radians: bool, as_json: bool) -> None:
+    """Tool pose and angles of joint angles J1 J2 J3 (negative values work as they are)."""
+    import numpy as np
+
+    from aaria_pin.wrist import wrist_fk
+
+    q = np.array(joints) if radians else np.radians(joints)
+    _emit(_report(wrist_fk(q)[:3, :3], order, radians, limits=False), as_json, radians)
+
+
+@wrist.command(context_settings={"ignore_unknown_options": True})
+@click.option("--angles", nargs=3, type=_NUMBER, help="Tool rotation as three angles X Y Z.")
+@click.option(
+    "--order",
+    type=click.Choice(_ORDERS),
+    default="xyz",
+    show_default=True,
+    help="Sequence of --angles, and of the angles printed.",
+)
+@click.option("--matrix", nargs=9, type=_NUMBER, help="Tool rotation R11 R12 … R33, row by row.")
+@click.option("--limits", is_flag=True, help="Keep solutions in the report's 0–360°, 0–180°.")
+@click.option("--radians", is_flag=True, help="Angles in radians (default degrees).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def ik(
+    angles: tuple[float, float, float] | None,
+    order: str,
+    matrix: tuple[float, ...] | None,
+    limits: bool,
+    radians: bool,
+    as_json: bool,
+) -> None:
+    """Every joint solution for a tool rotation given as angles or as a matrix."""
+    import numpy as np
+
+    from aaria_pin.rotations import matrix_from_angles
+
+    if (angles is None) == (matrix is None):
+        raise click.UsageError("give exactly one of --angles X Y Z or --matrix R11 … R33")
+    if angles is not None:
+        values = np.array(angles) if radians else np.radians(angles)
+        rotation = matrix_from_angles(values, order)
+    else:
+        rotation = np.array(matrix).reshape(3, 3)
+    _emit(_report(rotation, order, radians, limits), as_json, radians)
