@@ -17,7 +17,6 @@ import numpy as np
 import pinocchio as pin
 
 from aaria_pin.errors import ModelError
-from aaria_pin.inertia import composite_inertia
 from aaria_pin.urdf import JointDescription, RobotDescription
 
 __all__ = ["GRAVITY", "RobotModel", "build_model", "model_from_description"]
@@ -130,12 +129,12 @@ def model_from_description(
     children: dict[str, list[JointDescription]] = {}
     for joint in description.joints:
         children.setdefault(joint.parent, []).append(joint)
-    parts = {link.name: link.parts for link in description.links}
+    links = {link.name: link for link in description.links}
 
     def inertia(link: str) -> pin.Inertia | None:
-        if not parts[link]:
+        mass_properties = links[link].inertia()
+        if mass_properties is None:
             return None
-        mass_properties = composite_inertia(parts[link])
         return pin.Inertia(mass_properties.mass, mass_properties.com, mass_properties.inertia_com)
 
     root = description.links[0].name

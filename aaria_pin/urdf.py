@@ -21,7 +21,7 @@ from typing import Literal
 
 from aaria_pin._se3 import Array, rpy_from_matrix
 from aaria_pin.errors import ModelError
-from aaria_pin.inertia import Part, composite_inertia
+from aaria_pin.inertia import Inertia, Part, composite_inertia
 
 __all__ = [
     "JointDescription",
@@ -42,10 +42,21 @@ _MATERIAL_OF_ROLE = {
 
 @dataclass(frozen=True)
 class LinkDescription:
-    """A link: a name and the solids it is made of (none for a massless frame link)."""
+    """A link: its name, its solids, and optionally measured mass properties.
+
+    A link without solids is a massless frame link; measured mass properties (e.g. from a CAD
+    report) replace those computed from the solids.
+    """
 
     name: str
     parts: tuple[Part, ...] = ()
+    mass_properties: Inertia | None = None
+
+    def inertia(self) -> Inertia | None:
+        """The link's mass properties: the measured ones, else the solids', else None."""
+        if self.mass_properties is not None:
+            return self.mass_properties
+        return composite_inertia(self.parts) if self.parts else None
 
 
 @dataclass(frozen=True)
@@ -120,8 +131,8 @@ def _geometry(part: Part) -> str:
 
 def _link_xml(link: LinkDescription) -> str:
     body = ""
-    if link.parts:
-        inertia = composite_inertia(link.parts)
+    inertia = link.inertia()
+    if inertia is not None:
         I = inertia.inertia_com
         body += _template("inertial.xml").substitute(
             xyz=_vec(inertia.com),

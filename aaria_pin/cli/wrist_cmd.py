@@ -132,3 +132,59 @@ def ik(
     else:
         rotation = np.array(matrix).reshape(3, 3)
     _emit(_report(rotation, order, radians, limits), as_json, radians)
+
+
+@wrist.command(context_settings={"ignore_unknown_options": True})
+@click.argument("targets", nargs=3, type=_NUMBER)
+@click.option("--speed", type=float, default=40.0, show_default=True, help="Joint speed [deg/s].")
+@click.option(
+    "--acceleration",
+    type=float,
+    default=80.0,
+    show_default=True,
+    help="Acceleration limit of the trapezoid [deg/s^2].",
+)
+@click.option(
+    "--profile",
+    type=click.Choice(["trapezoid", "ramp"]),
+    default="trapezoid",
+    show_default=True,
+    help="Smooth trapezoid (for torques) or the report's ramp.",
+)
+@click.option("--duration", type=float, help="Run length [s] (default: 1 s after arrival).")
+@click.option("--rate", type=float, default=100.0, show_default=True, help="Sample rate [Hz].")
+@click.option("--radians", is_flag=True, help="Targets in radians (default degrees).")
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False),
+    required=True,
+    help="Run file: .h5 or .mat (time, q, qd, qdd, tau, tool_pose).",
+)
+def simulate(
+    targets: tuple[float, float, float],
+    speed: float,
+    acceleration: float,
+    profile: str,
+    duration: float | None,
+    rate: float,
+    radians: bool,
+    output: str,
+) -> None:
+    """Move the wrist to TARGETS (J1 J2 J3) after 2 s and write joint torques along the way."""
+    import numpy as np
+
+    from aaria_pin.wrist_run import simulate_wrist, write_wrist_run
+
+    goal = np.array(targets) if radians else np.radians(targets)
+    run = simulate_wrist(
+        goal,
+        speed=np.radians(speed),
+        acceleration=np.radians(acceleration),
+        profile="ramp" if profile == "ramp" else "trapezoid",
+        duration=duration,
+        rate=rate,
+    )
+    write_wrist_run(output, run)
+    peaks = "  ".join(f"{v:.4g}" for v in np.abs(run.tau).max(axis=0))
+    click.echo(f"wrote {output}: {run.time.size} samples, peak |tau| per joint [N*m]: {peaks}")

@@ -1,0 +1,71 @@
+from __future__ import annotations
+
+import h5py
+import numpy as np
+import pinocchio as pin
+import pytest
+from click.testing import CliRunner
+
+from aaria_pin.cli import main
+from aaria_pin.errors import ParameterError
+from aaria_pin.wrist import wrist_fk
+from aaria_pin.wrist_run import APPENDIX_B_PARTS, report_wrist, simulate_wrist
+
+
+def test_model_carries_the_appendix_b_parts() -> None:
+    model = report_wrist().model().model
+    masses = [inertia.mass for inertia in model.inertias[1:]]
+    np.testing.assert_allclose(masses, [APPENDIX_B_PARTS[f"link{i}"][2] for i in (1, 2, 3)])
+    np.testing.assert_allclose(model.inertias[2].lever, [0.08277, 0.02, 0.0])
+
+
+def test_motion_reaches_the_targets_and_the_tool_pose_is_equation_9() -> None:
+    targets = np.radians([60.0, 45.0, -30.0])
+    run = simulate_wrist(targets)
+    np.testing.assert_allclose(run.q[-1], targets, atol=1e-12)
+    assert np.all(run.q[run.time <= 2.0] == 0.0)
+    for k in range(0, run.time.size, 50):
+        np.testing.assert_allclose(run.tool_pose[k], wrist_fk(run.q[k]), atol=1e-12)
+
+
+def test_torques_balance_the_energy() -> None:
+    run = simulate_wrist(np.radians([80.0, 60.0, -45.0]), rate=1000.0)
+    model = report_wrist().model().model
+    data = model.createData()
+    energy = np.array(
+        [
+            pin.computeKineticEnergy(model, data, q, v) + pin.computePotentialEnergy(model, data, q)
+            for q, v in zip(run.q, run.qd, strict=True)
+        ]
+    )
+    dt = run.time[1] - run.time[0]
+    power = np.einsum("ti,ti->t", run.tau, run.qd)
+    work = np.concatenate([[0.0], np.cumsum((power[1:] + power[:-1]) / 2) * dt])
+    assert np.ptp(energy) > 0.1  # the check is not trivial
+    np.testing.assert_allclose(energy - energy[0], work, atol=1e-5)
+
+
+def test_static_torque_by_hand() -> None:
+    run = simulate_wrist([0.0, np.pi / 2, 0.0], speed=10.0, acceleration=100.0, duration=3.0)
+    still = run.time > 2.5
+    np.testing.assert_allclose(run.tau[still, 0], 0.0, atol=1e-12)  # a vertical axis: no load
+    assert np.all(np.abs(run.tau[still, 1]) > 0.05)
+
+
+def test_cli_writes_the_run(tmp_path) -> None:
+    out = tmp_path / "wrist.h5"
+    result = CliRunner().invoke(main, ["wrist", "simulate", "60", "-45", "10", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    with h5py.File(out) as handle:
+        assert handle["tau"].shape[1] == 3 and handle["tool_pose"].shape[1:] == (4, 4)
+        np.testing.assert_allclose(handle["q"][-1], np.radians([60, -45, 10]), atol=1e-12)
+    bad = CliRunner().invoke(
+        main, ["wrist", "simulate", "1", "2", "3", "--speed", "-3", "-o", str(tmp_path / "x.h5")]
+    )
+    assert bad.exit_code == 2 and "speed" in bad.stderr
+    assert not (tmp_path / "x.h5").exists()
+
+
+def test_bad_targets() -> None:
+    with pytest.raises(ParameterError, match="targets"):
+        simulate_wrist([1.0, np.nan, 0.0])
