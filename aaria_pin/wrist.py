@@ -27,10 +27,13 @@ from aaria_pin.rotations import angles_from_matrix, as_rotation
 __all__ = [
     "REPORT_LIMITS",
     "WRIST_D3",
+    "Workspace",
     "WristSolutions",
+    "plot_workspace",
     "wrist_fk",
     "wrist_ik",
     "wrist_ik_batch",
+    "wrist_workspace",
 ]
 
 WRIST_D3 = 0.132
@@ -141,3 +144,98 @@ def wrist_ik(rotation: ArrayLike, limits: ArrayLike | None = None) -> WristSolut
     shifted, inside = _wrap_into(solutions, bounds)
     kept = shifted[inside]
     return WristSolutions(kept, singular, bool(len(kept)))
+
+
+@dataclass(frozen=True)
+class Workspace:
+    """Where the wrist's tool point can go.
+
+    Attributes:
+        points: (N, 3) sampled tool points [m]
+        radius: (min, max) distance of the points from the wrist centre [m]
+        solid_angle: solid angle the points cover, from a grid of equal-area cells [sr]
+        solid_angle_exact: the same from the joint ranges, where they allow a closed form [sr]
+    """
+
+    points: Array
+    radius: tuple[float, float]
+    solid_angle: float
+    solid_angle_exact: float | None
+
+
+def wrist_workspace(
+    samples: int = 200_000,
+    limits: ArrayLike | None = REPORT_LIMITS,
+    d3: float = WRIST_D3,
+    seed: int = 0,
+    cells: int | None = None,
+) -> Workspace:
+    """Sample the tool points the wrist reaches within its joint limits.
+
+    Args:
+        samples: number of random joint configurations
+        limits: 3 × 2 joint ranges [rad] (None: every angle)
+        d3: tool distance [m]
+        seed: seed of the samples
+        cells: number of equal-area cells of the sphere used to measure the covered solid angle
+            (default ``samples / 50``, 100 to 10,000, so a reachable cell is rarely left empty)
+
+    Returns:
+        The sampled workspace: the points lie on the sphere of radius d3.
+    """
+    if not (isinstance(samples, int) and samples >= 1):
+        raise ParameterError(f"samples {samples!r}; allowed: an integer >= 1")
+    bounds = np.array([[-np.pi, np.pi]] * 3) if limits is None else np.asarray(limits, float)
+    if bounds.shape != (3, 2) or not np.all(bounds[:, 0] <= bounds[:, 1]):
+        raise ParameterError(f"limits of shape {bounds.shape}; allowed: 3 × 2 [low, high]")
+    rng = np.random.default_rng(seed)
+    q = rng.uniform(bounds[:, 0], bounds[:, 1], (samples, 3))
+    points = wrist_fk(q, d3)[:, :3, 3]
+    radii = np.linalg.norm(points, axis=1)
+    # equal-area cells: uniform in z = cos(polar angle) and in azimuth
+    cells = cells or int(np.clip(samples // 50, 100, 10_000))
+    rows = max(1, int(np.sqrt(cells / 2)))
+    unit = points / radii[:, None]
+    band = np.minimum(((unit[:, 2] + 1) / 2 * rows).astype(int), rows - 1)
+    sector = np.minimum(
+        ((np.arctan2(unit[:, 1], unit[:, 0]) + np.pi) / (2 * np.pi) * 2 * rows).astype(int),
+        2 * rows - 1,
+    )
+    hit = np.unique(band * 2 * rows + sector).size
+    solid_angle = 4 * np.pi * hit / (2 * rows * rows)
+    exact = None
+    span1 = min(bounds[0, 1] - bounds[0, 0], 2 * np.pi)
+    if bounds[1, 0] >= 0 and bounds[1, 1] <= np.pi:
+        exact = float(span1 * (np.cos(bounds[1, 0]) - np.cos(bounds[1, 1])))
+    return Workspace(points, (float(radii.min()), float(radii.max())), solid_angle, exact)
+
+
+def plot_workspace(
+    workspace: Workspace, path: str, title: str = "spherical wrist workspace"
+) -> None:
+    """A 3D scatter of the workspace's tool points, written as a PNG (needs matplotlib)."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise ParameterError(
+            "--plot needs matplotlib; allowed: pip install 'aaria-pin[plot]'"
+        ) from None
+    from aaria_pin.io import atomic_output
+
+    shown = workspace.points[:: max(1, len(workspace.points) // 20_000)]
+    figure = plt.figure(figsize=(6, 6), dpi=100)
+    axes = figure.add_subplot(projection="3d")
+    axes.scatter(*shown.T, s=0.5, c=shown[:, 2], cmap="viridis")
+    axes.set_xlabel("x [m]")
+    axes.set_ylabel("y [m]")
+    axes.set_zlabel("z [m]")
+    axes.set_box_aspect((1, 1, 1))
+    axes.set_title(
+        f"{title}\nradius {workspace.radius[1] * 1000:.1f} mm, {workspace.solid_angle:.3f} sr"
+    )
+    with atomic_output(path) as temporary:
+        figure.savefig(temporary, format="png")
+    plt.close(figure)

@@ -134,3 +134,45 @@ def test_batch_ik_equals_the_single_ik() -> None:
         np.testing.assert_allclose(batch[k], wrist_ik(R[k]).solutions, atol=1e-12)
         for q in batch[k]:
             np.testing.assert_allclose(wrist_fk(q)[:3, :3], R[k], atol=1e-12)
+
+
+def test_workspace_is_a_sphere_and_its_solid_angle() -> None:
+    from aaria_pin.wrist import wrist_workspace
+
+    full = wrist_workspace(50_000)  # the report's limits: 0-360°, 0-180°
+    np.testing.assert_allclose(full.radius, (0.132, 0.132))
+    np.testing.assert_allclose(full.solid_angle_exact, 4 * np.pi)  # the whole sphere
+    np.testing.assert_allclose(full.solid_angle, 4 * np.pi, rtol=0.02)
+    upper = wrist_workspace(50_000, np.radians([[0, 360], [0, 90], [-180, 180]]))
+    np.testing.assert_allclose(upper.solid_angle_exact, 2 * np.pi)  # a hemisphere
+    np.testing.assert_allclose(upper.solid_angle, 2 * np.pi, rtol=0.03)
+    assert np.all(upper.points[:, 2] >= -1e-12)
+
+
+def test_workspace_cli_plot(tmp_path) -> None:
+    import json
+
+    from click.testing import CliRunner
+
+    from aaria_pin.cli import main
+
+    png = tmp_path / "ws.png"
+    result = CliRunner().invoke(
+        main,
+        [
+            "wrist",
+            "workspace",
+            "--samples",
+            "20000",
+            "--theta2",
+            "0",
+            "90",
+            "--plot",
+            str(png),
+            "--json",
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    out = json.loads(result.stdout.splitlines()[0])
+    assert out["sphere_fraction"] == pytest.approx(0.5, abs=0.03)
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 10_000

@@ -188,3 +188,68 @@ def simulate(
     write_wrist_run(output, run)
     peaks = "  ".join(f"{v:.4g}" for v in np.abs(run.tau).max(axis=0))
     click.echo(f"wrote {output}: {run.time.size} samples, peak |tau| per joint [N*m]: {peaks}")
+
+
+@wrist.command()
+@click.option("--samples", type=click.IntRange(1, 10_000_000), default=200_000, show_default=True)
+@click.option(
+    "--theta1",
+    nargs=2,
+    type=float,
+    default=(0.0, 360.0),
+    show_default=True,
+    help="Joint 1 range [deg] (the report's 0-360).",
+)
+@click.option(
+    "--theta2",
+    nargs=2,
+    type=float,
+    default=(0.0, 180.0),
+    show_default=True,
+    help="Joint 2 range [deg] (the report's 0-180).",
+)
+@click.option("--seed", type=click.IntRange(0, 2**63 - 1), default=0, show_default=True)
+@click.option("--plot", type=click.Path(dir_okay=False), help="Write a PNG of the tool points.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def workspace(
+    samples: int,
+    theta1: tuple[float, float],
+    theta2: tuple[float, float],
+    seed: int,
+    plot: str | None,
+    as_json: bool,
+) -> None:
+    """Sample the reachable tool points: radius and covered solid angle."""
+    import numpy as np
+
+    from aaria_pin.wrist import plot_workspace, wrist_workspace
+
+    limits = np.radians([list(theta1), list(theta2), [-180.0, 180.0]])
+    space = wrist_workspace(samples, limits, seed=seed)
+    if plot:
+        plot_workspace(space, plot)
+    summary = {
+        "radius_m": list(space.radius),
+        "solid_angle_sr": space.solid_angle,
+        "solid_angle_exact_sr": space.solid_angle_exact,
+        "sphere_fraction": space.solid_angle / (4 * np.pi),
+        "samples": samples,
+    }
+    if as_json:
+        click.echo(json.dumps(summary))
+        return
+    click.echo(
+        f"tool points on the sphere of radius {space.radius[1] * 1000:.3f} mm "
+        f"(sampled radii {space.radius[0] * 1000:.3f}-{space.radius[1] * 1000:.3f} mm)"
+    )
+    exact = (
+        f", exactly {space.solid_angle_exact:.4f} sr from the joint ranges"
+        if space.solid_angle_exact is not None
+        else ""
+    )
+    click.echo(
+        f"covered solid angle {space.solid_angle:.4f} sr "
+        f"({summary['sphere_fraction']:.1%} of the sphere){exact}"
+    )
+    if plot:
+        click.echo(f"wrote {plot}")
