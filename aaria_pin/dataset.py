@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import itertools
 import os
+import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
@@ -29,6 +30,7 @@ from aaria_pin.dataset_file import (
     DatasetFile,
     check_dataset_path,
     encode_run,
+    read_dataset_attributes,
 )
 from aaria_pin.errors import AariaError, ParameterError
 from aaria_pin.randomize import (
@@ -115,7 +117,7 @@ class DatasetSpec:
         return int(sample_times(self.duration, self.rate).size)
 
     def attributes(self) -> dict[str, Any]:
-        """File attributes describing the spec (what :meth:`matches` compares on resume)."""
+        """File attributes describing the spec (what :meth:`mismatches` compares on resume)."""
         from aaria_pin.imu import noise_attributes
         from aaria_pin.model import GRAVITY
         from aaria_pin.simulate import UNITS
@@ -143,6 +145,8 @@ class DatasetSpec:
         """Names of the settings that differ from a stored data set's attributes."""
         mine = {**self.attributes(), "N": self.n_runs, "samples": self.samples, "dtype": self.dtype}
         keys = (
+            "version",
+            "noise_parameters",
             "N",
             "samples",
             "dtype",
@@ -224,19 +228,19 @@ Encoded = dict[str, tuple[bytes, int]]
 
 def _job(spec: DatasetSpec, run: int) -> tuple[int, Encoded | None, str]:
     """A worker's task: run ``run`` as compressed chunks, or its one-line error and inputs."""
-    tune_malloc()
     try:
         return run, encode_run(simulate_dataset_run(spec, run), spec.dtype), ""
-    except AariaError as exc:
+    except Exception as exc:  # any failure of one run is reported, and the others go on
+        message = str(exc) if isinstance(exc, AariaError) else f"{type(exc).__name__}: {exc}"
         try:
             dh, joint_table, base_table, _ = run_inputs(spec, run)
             inputs = (
                 f"senSenDH={dh.tolist()} senSenJ={joint_table.tolist()} "
                 f"senSenB={base_table.tolist()}"
             )
-        except AariaError:
+        except Exception:
             inputs = "inputs could not be drawn"
-        return run, None, f"{exc} ({inputs})"
+        return run, None, f"{message} ({inputs})"
 
 
 @dataclass(frozen=True)
@@ -258,61 +262,116 @@ class DatasetReport:
     seconds: float
 
 
-def _local_results(
-    spec: DatasetSpec, runs: Sequence[int], workers: int
-) -> Iterator[tuple[int, Encoded | None, str]]:
-    """Results of runs from local worker processes, in completion order, a bounded window."""
-    import multiprocessing
-    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+Result = tuple[int, Encoded | None, str]
 
-    method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
-    context = multiprocessing.get_context(method)
-    window = 4 * workers
-    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+
+def _worker_setup() -> None:
+    """In each local worker: leave Ctrl-C to the parent, die with it, keep freed memory."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:  # Linux: the kernel kills the worker when its parent dies (no orphan holds the file)
+        import ctypes
+
+        ctypes.CDLL(None).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):  # pragma: no cover - not Linux
+        pass
+    tune_malloc()
+
+
+class _LocalRunner:
+    """Local worker processes, started before the data set file is opened (none inherits it)."""
+
+    def __init__(self, workers: int) -> None:
+        import multiprocessing
+
+        method = "fork" if sys.platform.startswith("linux") else "spawn"
+        self._context = multiprocessing.get_context(method)
+        self._workers = workers
+        self._pool = self._start()
+
+    def _start(self) -> Any:
+        from concurrent.futures import ProcessPoolExecutor
+
+        pool = ProcessPoolExecutor(self._workers, self._context, initializer=_worker_setup)
+        for future in [pool.submit(int, 0) for _ in range(self._workers)]:
+            future.result()  # fork now
+        return pool
+
+    def results(self, spec: DatasetSpec, runs: Sequence[int]) -> Iterator[Result]:
+        """Results in completion order, at most four runs per worker in flight.
+
+        A worker that dies fails the runs it had in flight and is replaced.
+        """
+        from concurrent.futures import FIRST_COMPLETED, wait
+        from concurrent.futures.process import BrokenProcessPool
+
         pending = iter(runs)
-        in_flight = {pool.submit(_job, spec, k) for k in _take(pending, window)}
-        while in_flight:
-            done, in_flight = wait(in_flight, return_when=FIRST_COMPLETED)
+        in_flight: dict[Any, int] = {}
+        while True:
+            for run in itertools.islice(pending, 4 * self._workers - len(in_flight)):
+                in_flight[self._pool.submit(_job, spec, run)] = run
+            if not in_flight:
+                return
+            done, _ = wait(in_flight, return_when=FIRST_COMPLETED)
             for future in done:
-                yield future.result()
-            in_flight |= {pool.submit(_job, spec, k) for k in _take(pending, len(done))}
+                run = in_flight.pop(future)
+                try:
+                    yield future.result()
+                except BrokenProcessPool:
+                    for lost in [run, *in_flight.values()]:
+                        yield lost, None, "a worker process died during this run"
+                    in_flight.clear()
+                    self._pool.shutdown(wait=False, cancel_futures=True)
+                    self._pool = self._start()
+                    break
+
+    def close(self) -> None:
+        """Stop the workers: queued runs are cancelled, running ones finish."""
+        self._pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _dask_results(
-    spec: DatasetSpec, runs: Sequence[int], address: str
-) -> Iterator[tuple[int, Encoded | None, str]]:
-    """Results of runs from an existing Dask distributed cluster, a bounded window."""
-    try:
-        from dask.distributed import Client, as_completed
-    except ImportError:
-        raise ParameterError(
-            "--scheduler needs Dask; allowed: pip install 'aaria-pin[distributed]'"
-        ) from None
-    try:
-        client = Client(address, timeout=30)
-    except (OSError, TimeoutError) as exc:
-        raise ParameterError(f"scheduler {address!r} cannot be reached ({exc})") from None
-    try:
-        window = 4 * max(1, sum(client.nthreads().values()))
-        pending = iter(runs)
-        first = _take(pending, window)
-        futures = as_completed([client.submit(_job, spec, k, pure=False) for k in first])
-        for future in futures:
-            yield future.result()
-            for k in _take(pending, 1):
-                futures.add(client.submit(_job, spec, k, pure=False))
-    finally:
-        client.close()
+class _DaskRunner:
+    """An existing Dask distributed cluster, connected before the file is touched."""
 
-
-def _take(iterator: Iterator[int], count: int) -> list[int]:
-    out = []
-    for _ in range(count):
+    def __init__(self, address: str) -> None:
         try:
-            out.append(next(iterator))
-        except StopIteration:
-            break
-    return out
+            from dask.distributed import Client
+        except ImportError:
+            raise ParameterError(
+                "--scheduler needs Dask; allowed: pip install 'aaria-pin[distributed]'"
+            ) from None
+        try:
+            self._client = Client(address, timeout=30)
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise ParameterError(f"scheduler {address!r} cannot be reached ({exc})") from None
+
+    def results(self, spec: DatasetSpec, runs: Sequence[int]) -> Iterator[Result]:
+        """Results in completion order, at most four runs per worker thread in flight."""
+        from dask.distributed import as_completed
+
+        window = 4 * max(1, sum(self._client.nthreads().values()))
+        pending = iter(runs)
+        run_of: dict[Any, int] = {}
+
+        def submit(run: int) -> Any:
+            future = self._client.submit(_job, spec, run, pure=False)
+            run_of[future] = run
+            return future
+
+        futures = as_completed([submit(k) for k in itertools.islice(pending, window)])
+        for future in futures:
+            run = run_of.pop(future)
+            try:
+                yield future.result()
+            except Exception as exc:  # the cluster lost the worker: this run fails
+                yield run, None, f"the cluster could not run it ({type(exc).__name__}: {exc})"
+            for k in itertools.islice(pending, 1):
+                futures.add(submit(k))
+
+    def close(self) -> None:
+        """Disconnect from the cluster."""
+        self._client.close()
 
 
 def generate_dataset(
@@ -347,48 +406,58 @@ def generate_dataset(
     start = time.perf_counter()
     file = Path(path)
     check_dataset_path(file, resume, overwrite)
-    workers = workers or os.cpu_count() or 1
+    if workers is None:  # the cores this process may use
+        workers = (
+            len(os.sched_getaffinity(0))
+            if hasattr(os, "sched_getaffinity")
+            else (os.cpu_count() or 1)
+        )
     if workers < 1:
         raise ParameterError(f"--workers {workers}; allowed: >= 1")
-    if resume:
-        store = DatasetFile.open_for_resume(file)
-        different = spec.mismatches(store.attributes)
+    if resume:  # compare settings read-only first: a mismatch changes nothing
+        different = spec.mismatches(read_dataset_attributes(file))
         if different:
-            store.close()
             raise ParameterError(
                 f"{file}: was made with other settings ({', '.join(different)}); allowed: the"
-                " same N, seed, duration, rate, noise, dtype, vary, config and tables"
+                " same settings as the job that made it"
             )
-        todo = [int(k) for k in np.flatnonzero(~store.complete_runs(verify=True))]
-        store.clear_failures()
-    else:
-        store = DatasetFile.create(file, spec.n_runs, spec.samples, spec.dtype, spec.attributes())
-        todo = list(range(spec.n_runs))
+    if scheduler is None:
+        tune_malloc()
+        # One run made here loads Pinocchio and the compiled kernels before the workers fork,
+        # so none of them has to load them again; it is kept if the file still needs it.
+        warm = _job(spec, 0)
+    runner: _LocalRunner | _DaskRunner = (
+        _DaskRunner(scheduler) if scheduler else _LocalRunner(workers)
+    )
     written = 0
-    last_flush = time.perf_counter()
-    with store:
-        # The first run is made here: it loads Pinocchio and the compiled kernels once, before
-        # the local workers fork, so none of them has to load them again.
-        head = [_job(spec, todo[0])] if todo else []
-        rest = todo[1:]
-        if not rest:
-            tail: Iterator[tuple[int, Encoded | None, str]] = iter(())
-        elif scheduler:
-            tail = _dask_results(spec, rest, scheduler)
+    try:
+        if resume:
+            store = DatasetFile.open_for_resume(file)
+            store.clear_failures()
         else:
-            tail = _local_results(spec, rest, workers)
-        for done, (run, arrays, error) in enumerate(itertools.chain(head, tail), start=1):
-            if arrays is None:
-                store.mark_failed(run, error)
-            else:
-                store.write_run(run, arrays)
-                written += 1
-            if time.perf_counter() - last_flush > FLUSH_SECONDS:
-                store.flush()
-                last_flush = time.perf_counter()
-            if progress is not None:
-                progress(done, len(todo), time.perf_counter() - start)
-        store.flush()
-        complete = int(store.complete_runs(verify=False).sum())
-        failures = store.failures()
+            store = DatasetFile.create(
+                file, spec.n_runs, spec.samples, spec.dtype, spec.attributes()
+            )
+        with store:
+            todo = [int(k) for k in np.flatnonzero(~store.complete_runs())]
+            head = [warm] if scheduler is None and todo and todo[0] == 0 else []
+            rest = todo[len(head) :]
+            last_flush = time.perf_counter()
+            results = itertools.chain(head, runner.results(spec, rest) if rest else ())
+            for done, (run, arrays, error) in enumerate(results, start=1):
+                if arrays is None:
+                    store.mark_failed(run, error)
+                else:
+                    store.write_run(run, arrays)
+                    written += 1
+                if time.perf_counter() - last_flush > FLUSH_SECONDS:
+                    store.flush()
+                    last_flush = time.perf_counter()
+                if progress is not None:
+                    progress(done, len(todo), time.perf_counter() - start)
+            store.flush()
+            complete = int(store.complete_runs().sum())
+            failures = store.failures()
+    finally:
+        runner.close()
     return DatasetReport(file, written, complete, failures, time.perf_counter() - start)

@@ -29,6 +29,7 @@ import numpy as np
 
 from aaria_pin._se3 import Array
 from aaria_pin.errors import InputFileError, OutputFileError
+from aaria_pin.io import atomic_output
 from aaria_pin.record import SENSEN_COLUMNS
 
 __all__ = [
@@ -39,6 +40,7 @@ __all__ = [
     "DatasetFile",
     "decode_attributes",
     "encode_run",
+    "read_dataset_attributes",
     "run_shapes",
 ]
 
@@ -111,6 +113,9 @@ class DatasetFile:
     ) -> DatasetFile:
         """Create a new data set file (an existing file at ``path`` is replaced).
 
+        The file is made under a temporary name and renamed when its layout is complete, so a
+        crash during creation leaves no half-made file at ``path``.
+
         Args:
             path: the ``.h5`` file
             n_runs: number of runs N
@@ -121,62 +126,49 @@ class DatasetFile:
         Raises:
             OutputFileError: the file cannot be created.
         """
+        file = Path(path)
+        with atomic_output(file) as temporary:
+            handle = _new_file(temporary, n_runs, samples, dtype, attributes)
+            handle.close()
+        return cls._open(file)
+
+    @classmethod
+    def _open(cls, file: Path) -> DatasetFile:
         import h5py
 
-        file = Path(path)
         try:
-            handle = h5py.File(file, "w", track_order=True)
+            handle = h5py.File(file, "r+")
         except OSError as exc:
-            raise OutputFileError(f"{file}: cannot be created ({exc})") from None
-        handle.attrs["format"] = DATASET_FORMAT
-        handle.attrs["format_version"] = DATASET_FORMAT_VERSION
-        handle.attrs["N"] = n_runs
-        handle.attrs["samples"] = samples
-        handle.attrs["dtype"] = dtype
-        for key, value in attributes.items():
-            safe = _json_safe(value)
-            handle.attrs[key if safe is value else f"{key}_json"] = safe
-        for name, shape in run_shapes(samples).items():
-            dataset = handle.create_dataset(
-                name,
-                shape=(n_runs, *shape),
-                dtype="float64" if name in INPUT_ARRAYS else dtype,
-                chunks=(1, *shape),
-                compression="gzip",
-                compression_opts=1,
-                shuffle=True,
-            )
-            if name == "senSen":
-                dataset.attrs.create(
-                    "columns", list(SENSEN_COLUMNS), dtype=h5py.string_dtype("utf-8")
-                )
-        handle.create_dataset("checksum", shape=(n_runs, len(RUN_ARRAYS)), dtype="u4")
-        handle.create_dataset("complete", shape=(n_runs,), dtype="u1", fillvalue=0)
-        handle.create_dataset("failed", shape=(n_runs,), dtype="u1", fillvalue=0)
-        handle.attrs["failures_json"] = "{}"
-        handle.flush()
+            raise InputFileError(f"{file}: cannot be opened ({exc})") from None
         return cls(handle, file)
 
     @classmethod
     def open_for_resume(cls, path: str | os.PathLike[str]) -> DatasetFile:
-        """Open an existing data set file to continue it.
+        """Reopen a data set to continue it: a fresh copy of its intact runs replaces it.
+
+        Every run flagged complete whose stored chunks match their CRC-32 is copied, chunk bytes
+        as they are, into a new file that then replaces the old one; damaged, unflagged and
+        half-written runs are left out, to be redone. A crash can leave HDF5's chunk index
+        pointing past the end of the file; the copy starts from clean metadata.
 
         Raises:
-            InputFileError: not a data set file, or unreadable.
+            InputFileError: missing, unreadable, or not a complete data set layout.
         """
-        import h5py
-
         file = Path(path)
+        old = _open_dataset_read_only(file)
         try:
-            handle = h5py.File(file, "r+")
-        except OSError as exc:
-            raise InputFileError(
-                f"{file}: cannot be opened to resume ({exc}); use --overwrite to start again"
-            ) from None
-        if handle.attrs.get("format") != DATASET_FORMAT:
-            handle.close()
-            raise InputFileError(f"{file}: not an aaria_pin data set; cannot resume it")
-        return cls(handle, file)
+            attrs = dict(old.attrs)
+            n_runs, samples = int(attrs.pop("N")), int(attrs.pop("samples"))
+            dtype = str(attrs.pop("dtype"))
+            for key in ("format", "format_version"):
+                attrs.pop(key, None)
+            with atomic_output(file) as temporary:
+                new = _new_file(temporary, n_runs, samples, dtype, {}, raw_attributes=attrs)
+                _copy_intact_runs(old, new)
+                new.close()
+        finally:
+            old.close()
+        return cls._open(file)
 
     @property
     def attributes(self) -> dict[str, Any]:
@@ -188,28 +180,9 @@ class DatasetFile:
         """Number of runs N."""
         return int(self._handle.attrs["N"])
 
-    def complete_runs(self, verify: bool = True) -> np.ndarray:
-        """Boolean mask of the runs that are complete (and, if ``verify``, read back intact).
-
-        A run marked complete whose arrays cannot be read or do not match their CRC-32 (a crash
-        mid-write) is unmarked.
-        """
-        complete = self._handle["complete"][()].astype(bool)
-        if verify:
-            checksums = self._handle["checksum"][()]
-            for k in np.flatnonzero(complete):
-                try:
-                    intact = all(
-                        zlib.crc32(np.ascontiguousarray(self._handle[name][k]).data)
-                        == checksums[k, index]
-                        for index, name in enumerate(RUN_ARRAYS)
-                    )
-                except OSError:
-                    intact = False
-                if not intact:
-                    complete[k] = False
-                    self._handle["complete"][k] = 0
-        return complete
+    def complete_runs(self) -> np.ndarray:
+        """Boolean mask of the runs that are complete."""
+        return np.asarray(self._handle["complete"][()], dtype=bool)
 
     def write_run(self, run: int, encoded: Mapping[str, tuple[bytes, int]]) -> None:
         """Store run ``run``'s encoded chunks (see :func:`encode_run`) and mark it complete.
@@ -269,7 +242,7 @@ class DatasetFile:
 
 
 def encode_run(arrays: Mapping[str, Array], dtype: str) -> dict[str, tuple[bytes, int]]:
-    """Each array of a run as the bytes of its HDF5 chunk, and the CRC-32 of its data.
+    """Each array of a run as the bytes of its HDF5 chunk, and the CRC-32 of those bytes.
 
     The chunk is what HDF5's filters make of it: the shuffle filter (byte ``j`` of every
     element together), then deflate, so h5py, MATLAB and any HDF5 reader decode it. Deflate runs
@@ -287,8 +260,107 @@ def encode_run(arrays: Mapping[str, Array], dtype: str) -> dict[str, tuple[bytes
             arrays[name], dtype="float64" if name in INPUT_ARRAYS else dtype
         )
         shuffled = array.view(np.uint8).reshape(-1, array.itemsize).T.tobytes()
-        encoded[name] = (compress(shuffled, 1), zlib.crc32(array.data))
+        chunk = compress(shuffled, 1)
+        encoded[name] = (chunk, zlib.crc32(chunk))
     return encoded
+
+
+def _new_file(
+    path: Path,
+    n_runs: int,
+    samples: int,
+    dtype: str,
+    attributes: Mapping[str, Any],
+    raw_attributes: Mapping[str, Any] | None = None,
+) -> Any:
+    """Write the empty layout of a data set into ``path`` and return the open h5py file."""
+    import h5py
+
+    try:
+        handle = h5py.File(path, "w", track_order=True)
+    except OSError as exc:
+        raise OutputFileError(f"{path}: cannot be created ({exc})") from None
+    handle.attrs["format"] = DATASET_FORMAT
+    handle.attrs["format_version"] = DATASET_FORMAT_VERSION
+    handle.attrs["N"] = n_runs
+    handle.attrs["samples"] = samples
+    handle.attrs["dtype"] = dtype
+    for key, value in attributes.items():
+        safe = _json_safe(value)
+        handle.attrs[key if safe is value else f"{key}_json"] = safe
+    for key, value in (raw_attributes or {}).items():
+        handle.attrs[key] = value
+    handle.attrs.setdefault("failures_json", "{}")
+    for name, shape in run_shapes(samples).items():
+        dataset = handle.create_dataset(
+            name,
+            shape=(n_runs, *shape),
+            dtype="float64" if name in INPUT_ARRAYS else dtype,
+            chunks=(1, *shape),
+            compression="gzip",
+            compression_opts=1,
+            shuffle=True,
+        )
+        if name == "senSen":
+            dataset.attrs.create("columns", list(SENSEN_COLUMNS), dtype=h5py.string_dtype("utf-8"))
+    handle.create_dataset("checksum", shape=(n_runs, len(RUN_ARRAYS)), dtype="u4")
+    handle.create_dataset("complete", shape=(n_runs,), dtype="u1", fillvalue=0)
+    handle.create_dataset("failed", shape=(n_runs,), dtype="u1", fillvalue=0)
+    handle.flush()
+    return handle
+
+
+def _open_dataset_read_only(file: Path) -> Any:
+    """Open a data set for reading, refusing anything that is not a complete layout."""
+    import h5py
+
+    if not file.is_file():
+        raise InputFileError(f"{file}: no such file to resume")
+    try:
+        handle = h5py.File(file, "r")
+    except OSError as exc:
+        raise InputFileError(
+            f"{file}: cannot be opened ({exc}); allowed: --overwrite to start again"
+        ) from None
+    missing = [name for name in (*RUN_ARRAYS, "checksum", "complete") if name not in handle]
+    if handle.attrs.get("format") != DATASET_FORMAT or missing:
+        handle.close()
+        raise InputFileError(f"{file}: not a complete aaria_pin data set; cannot resume it")
+    return handle
+
+
+def read_dataset_attributes(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """A data set's attributes (decoded), opening it read-only."""
+    handle = _open_dataset_read_only(Path(path))
+    try:
+        return decode_attributes(handle.attrs)
+    finally:
+        handle.close()
+
+
+def _copy_intact_runs(old: Any, new: Any) -> None:
+    """Copy the chunk bytes of every complete run whose CRC-32 matches into ``new``."""
+    complete = np.asarray(old["complete"][()], dtype=bool)
+    checksums = old["checksum"][()]
+    intact = []
+    for run in np.flatnonzero(complete):
+        chunks = []
+        try:
+            for index, name in enumerate(RUN_ARRAYS):
+                origin = (int(run),) + (0,) * (old[name].ndim - 1)
+                _, data = old[name].id.read_direct_chunk(origin)
+                if zlib.crc32(data) != checksums[run, index]:
+                    raise ValueError("checksum")
+                chunks.append((name, origin, data))
+        except (OSError, ValueError, KeyError):
+            continue
+        for name, origin, data in chunks:
+            new[name].id.write_direct_chunk(origin, data)
+        intact.append(int(run))
+    if intact:
+        new["checksum"][intact] = checksums[intact]
+        new["complete"][intact] = 1
+    new.flush()
 
 
 def check_dataset_path(path: Path, resume: bool, overwrite: bool) -> None:
@@ -306,5 +378,5 @@ def check_dataset_path(path: Path, resume: bool, overwrite: bool) -> None:
         raise OutputFileError(f"{path}: unknown data set type {path.suffix!r}; allowed: .h5, .hdf5")
     if path.exists() and not (resume or overwrite):
         raise OutputFileError(f"{path}: exists; allowed: --resume to continue it, --overwrite")
-    if resume and not path.exists():
+    if resume and not path.is_file():
         raise InputFileError(f"{path}: no such file to resume")

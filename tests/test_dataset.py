@@ -119,7 +119,7 @@ def test_half_written_and_corrupted_runs_are_redone(reference: Path, tmp_path: P
 def test_killed_job_resumes_to_the_uninterrupted_result(tmp_path: Path, sig: int) -> None:
     args = [
         "-n",
-        "60",
+        "600",
         "--seed",
         "3",
         "--duration",
@@ -137,11 +137,16 @@ def test_killed_job_resumes_to_the_uninterrupted_result(tmp_path: Path, sig: int
         [sys.executable, "-m", "aaria_pin.cli", "dataset", *args, "-o", str(killed)],
         start_new_session=True,
     )
-    time.sleep(4.0)
+    deadline = time.monotonic() + 120
+    while not killed.exists() and time.monotonic() < deadline:  # the file is laid out
+        time.sleep(0.02)
+    time.sleep(0.8)  # some runs are written, most are not
     os.killpg(process.pid, sig)
     process.wait()
     result = CliRunner().invoke(main, ["dataset", *args, "-o", str(killed), "--resume"])
     assert result.exit_code == 0, result.output
+    redone = int(result.stdout.split("(")[1].split()[0])
+    assert 0 < redone < 600, result.stdout  # the kill landed mid-way
     _assert_same(uninterrupted, killed)
 
 

@@ -56,9 +56,8 @@ def _print_config(ctx: click.Context, _: click.Parameter, value: bool) -> None:
 )
 @click.option(
     "--vary",
-    default="structure,joints,base",
-    show_default=True,
-    help="What is random, comma separated; the rest comes from --preset/--dh.",
+    help="What is random, comma separated (default: structure,joints,base less the parts given"
+    " by --preset/--dh, --joints, --base).",
 )
 @table_source_options
 @click.option("--joints", "joints_file", type=_FILE, help="Fixed joint oscillation table.")
@@ -85,7 +84,7 @@ def dataset(
     noise: bool,
     dtype: str,
     config_file: Path | None,
-    vary: str,
+    vary: str | None,
     preset: str | None,
     dh_file: Path | None,
     convention: str,
@@ -104,7 +103,20 @@ def dataset(
 
     if workers is not None and scheduler is not None:
         raise click.UsageError("give --workers or --scheduler, not both")
-    parts = tuple(part.strip() for part in vary.split(",") if part.strip())
+    fixed = {
+        "structure": preset is not None or dh_file is not None,
+        "joints": joints_file is not None,
+        "base": base_file is not None,
+    }
+    if vary is None:
+        parts = tuple(part for part, given in fixed.items() if not given)
+    else:
+        parts = tuple(part.strip() for part in vary.split(",") if part.strip())
+        clash = [part for part in parts if fixed.get(part)]
+        if clash:
+            raise ParameterError(
+                f"--vary {clash[0]} and a fixed {clash[0]} table were both given; allowed: one"
+            )
     dh_table = joint_table = base_table = None
     if preset is not None or dh_file is not None:
         if preset is not None and dh_file is not None:
