@@ -140,10 +140,37 @@ class RandomConfig:
         }
 
 
+_DESCRIPTIONS = {
+    "link_type_probabilities": "probabilities of empty, revolute, prismatic for each module",
+    "a": "link length a [m]",
+    "alpha_choices": "twist alpha, one of these [rad]",
+    "theta_choices": "offset theta of a prismatic module, one of these [rad]",
+    "d": "offset d of a revolute module, rail length of a prismatic one [m]",
+    "tool_a": "tool length [m]",
+    "revolute_amplitude": "revolute joint amplitude [rad]",
+    "revolute_bias": "revolute joint bias [rad]",
+    "prismatic_amplitude_fraction": "prismatic amplitude as a fraction of the rail length, <= 0.5",
+    "prismatic_bias_fraction": "prismatic bias, a fraction in [-1, 1] of the rail left, d/2 - A",
+    "joint_frequency": "joint frequency [rad/s]",
+    "joint_phase": "joint phase [rad]",
+    "base_translation_amplitude": "base translation amplitude, each of x, y, z [m]",
+    "base_translation_bias": "base translation bias [m]",
+    "base_rotation_amplitude": "base gimbal amplitude, each of ax, ay, az [rad]",
+    "base_rotation_bias": "base gimbal bias [rad]",
+    "base_frequency": "base frequency [rad/s]",
+    "base_phase": "base phase [rad]",
+    "base_per_axis": "true: one sine per base axis (6 x 4 table); false: 2 x 4",
+}
+
+
 def default_config_toml() -> str:
     """The default configuration as TOML text (what ``aaria dataset --print-config`` prints)."""
-    lines = ["# aaria dataset --config: ranges are [low, high], angles in rad, lengths in m"]
+    lines = [
+        "# aaria dataset --config: ranges are [low, high] (uniform), choices are drawn uniformly;",
+        "# any key may be left out (its default stays); unknown keys are refused.",
+    ]
     for key, value in RandomConfig().as_dict().items():
+        lines.append(f"# {_DESCRIPTIONS[key]}")
         if isinstance(value, bool):
             lines.append(f"{key} = {'true' if value else 'false'}")
         else:
