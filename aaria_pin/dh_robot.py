@@ -21,7 +21,7 @@ length gives no box. The tool is a box of length a_7.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import TYPE_CHECKING
 
@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike
 from aaria_pin._se3 import Array, translation
 from aaria_pin.dh import Convention, KinematicChain, chain_from_table
 from aaria_pin.errors import ParameterError
-from aaria_pin.inertia import ALUMINIUM_DENSITY, Part
+from aaria_pin.inertia import ALUMINIUM_DENSITY, Inertia, Part
 from aaria_pin.urdf import JointDescription, LinkDescription, RobotDescription, emit_urdf
 
 if TYPE_CHECKING:
@@ -364,6 +364,7 @@ def build_dh_robot(
     dims: BodyDimensions | None = None,
     name: str = "aaria_arm",
     imu_slots: tuple[ImuSlot, ...] | None = None,
+    mass_properties: Mapping[str, Inertia] | None = None,
 ) -> DHRobot:
     """Validate a table and build its robot.
 
@@ -373,6 +374,9 @@ def build_dh_robot(
         dims: body dimensions and densities
         name: robot name in the URDF
         imu_slots: IMU mounts (defaults: :func:`default_imu_slots`)
+        mass_properties: measured mass properties by link name (``"link2"``, ``"base"``,
+            ``"tool"``), replacing those of the link's solids; a ``"tool"`` entry of zero mass
+            removes the tool's
 
     Returns:
         The robot.
@@ -380,4 +384,16 @@ def build_dh_robot(
     chain = chain_from_table(table, convention)
     dims = dims or BodyDimensions()
     slots = imu_slots if imu_slots is not None else default_imu_slots(chain, dims)
-    return DHRobot(chain, dims, slots, describe_chain(chain, dims, name, slots))
+    description = describe_chain(chain, dims, name, slots)
+    if mass_properties:
+        unknown = sorted(set(mass_properties) - {link.name for link in description.links})
+        if unknown:
+            raise ParameterError(f"mass properties for {unknown[0]!r}: no such link")
+        links = tuple(
+            replace(link, mass_properties=mass_properties[link.name])
+            if link.name in mass_properties
+            else link
+            for link in description.links
+        )
+        description = replace(description, links=links)
+    return DHRobot(chain, dims, slots, description)

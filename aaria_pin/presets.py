@@ -13,18 +13,43 @@ axis at 1 rad/s and turns ±0.05 rad about each gimbal axis at 0.7 rad/s.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from aaria_pin._se3 import Array
 from aaria_pin.dh import Convention
 from aaria_pin.errors import ParameterError
+from aaria_pin.inertia import Inertia
 from aaria_pin.oscillation import default_base_table
 
-__all__ = ["PRESETS", "Preset", "get_preset", "preset_names"]
+__all__ = ["APPENDIX_B_PARTS", "PRESETS", "Preset", "get_preset", "preset_names"]
 
 _HALF_PI = np.pi / 2
+
+APPENDIX_B_PARTS = {
+    # link: (part, material, mass [kg], centre of mass [mm], principal moments [kg·mm²])
+    "base": ("part 1", "1060 aluminium alloy", 0.05987, (0.0, 15.34, 0.0), (26.55, 46.97, 26.55)),
+    "link1": ("part 2", "Delrin 2700 NC010", 0.03481, (7.14, 0.0, 36.0), (20.23, 17.90, 5.90)),
+    "link2": (
+        "part 3",
+        "1060 aluminium alloy",
+        0.29058,
+        (82.77, 20.0, 0.0),
+        (175.09, 425.71, 310.43),
+    ),
+    "link3": (
+        "part 4",
+        "ABS plastic",
+        0.16480,
+        (-0.00039, 28.38, -0.00035),
+        (103.45, 88.05, 99.66),
+    ),
+}
+"""Appendix B of the wrist report, by the link each part is mounted on: part 2 on link 1, part 3
+on link 2, part 4 (the gripper) on link 3; the report gives no placement of the parts' CAD
+frames, so each is taken as its link's frame."""
 
 
 @dataclass(frozen=True)
@@ -38,6 +63,8 @@ class Preset:
         description: one line saying where the table comes from
         joint_table: default joint oscillation table ``senSenJ`` (Aaria presets)
         base_table: default base oscillation table ``senSenB`` (Aaria presets)
+        mass_properties: measured mass properties by link name, replacing those computed from
+            the bodies' solids (the wrist's Appendix B parts)
     """
 
     name: str
@@ -46,6 +73,7 @@ class Preset:
     description: str
     joint_table: Array | None = None
     base_table: Array | None = None
+    mass_properties: Mapping[str, Inertia] = field(default_factory=dict)
 
 
 PRESETS: dict[str, Preset] = {
@@ -121,7 +149,12 @@ PRESETS: dict[str, Preset] = {
                 ]
             ),
             "standard",
-            "spherical-wrist report, Table 1: standard DH, d3 = 132 mm",
+            "spherical-wrist report, Table 1: standard DH, d3 = 132 mm; Appendix B parts",
+            mass_properties={
+                link: Inertia(mass, np.array(com) * 1e-3, np.diag(moments) * 1e-6)
+                for link, (_, _, mass, com, moments) in APPENDIX_B_PARTS.items()
+            }
+            | {"tool": Inertia(0.0)},
         ),
     )
 }

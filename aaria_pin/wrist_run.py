@@ -11,7 +11,7 @@ acceleration limit, for torques), then holds.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
@@ -21,49 +21,23 @@ from numpy.typing import ArrayLike
 from aaria_pin._se3 import Array
 from aaria_pin.dh_robot import DHRobot, build_dh_robot
 from aaria_pin.errors import OutputFileError, ParameterError
-from aaria_pin.inertia import Inertia
 from aaria_pin.io import atomic_output
 from aaria_pin.presets import get_preset
 from aaria_pin.profiles import ramp_profile, trapezoid_profile
 from aaria_pin.trajectory import BaseMotion, JointTrajectory, sample_times
 
-__all__ = ["APPENDIX_B_PARTS", "WristRun", "report_wrist", "simulate_wrist", "write_wrist_run"]
-
-APPENDIX_B_PARTS = {
-    # link: (part, material, mass [kg], centre of mass [mm], principal moments [kg·mm²])
-    "base": ("part 1", "1060 aluminium alloy", 0.05987, (0.0, 15.34, 0.0), (26.55, 46.97, 26.55)),
-    "link1": ("part 2", "Delrin 2700 NC010", 0.03481, (7.14, 0.0, 36.0), (20.23, 17.90, 5.90)),
-    "link2": (
-        "part 3",
-        "1060 aluminium alloy",
-        0.29058,
-        (82.77, 20.0, 0.0),
-        (175.09, 425.71, 310.43),
-    ),
-    "link3": (
-        "part 4",
-        "ABS plastic",
-        0.16480,
-        (-0.00039, 28.38, -0.00035),
-        (103.45, 88.05, 99.66),
-    ),
-}
-"""Appendix B of the wrist report, by the link each part is mounted on."""
+__all__ = ["WristRun", "report_wrist", "simulate_wrist", "write_wrist_run"]
 
 
 def report_wrist() -> DHRobot:
-    """The spherical wrist with the mass properties of the report's Appendix B parts."""
-    robot = build_dh_robot(get_preset("spherical-wrist").table, "standard", name="spherical_wrist")
-    links = []
-    for link in robot.description.links:
-        if link.name in APPENDIX_B_PARTS:
-            _, _, mass, com, moments = APPENDIX_B_PARTS[link.name]
-            measured = Inertia(mass, np.array(com) * 1e-3, np.diag(moments) * 1e-6)
-            link = replace(link, mass_properties=measured)
-        elif link.name == "tool":
-            link = replace(link, parts=())
-        links.append(link)
-    return replace(robot, description=replace(robot.description, links=tuple(links)))
+    """The ``spherical-wrist`` preset: Table 1 with the report's Appendix B parts."""
+    preset = get_preset("spherical-wrist")
+    return build_dh_robot(
+        preset.table,
+        preset.convention,
+        name="spherical_wrist",
+        mass_properties=preset.mass_properties,
+    )
 
 
 @dataclass(frozen=True)

@@ -8,8 +8,9 @@ from click.testing import CliRunner
 
 from aaria_pin.cli import main
 from aaria_pin.errors import ParameterError
+from aaria_pin.presets import APPENDIX_B_PARTS
 from aaria_pin.wrist import wrist_fk
-from aaria_pin.wrist_run import APPENDIX_B_PARTS, report_wrist, simulate_wrist
+from aaria_pin.wrist_run import report_wrist, simulate_wrist
 
 
 def test_model_carries_the_appendix_b_parts() -> None:
@@ -69,3 +70,18 @@ def test_cli_writes_the_run(tmp_path) -> None:
 def test_bad_targets() -> None:
     with pytest.raises(ParameterError, match="targets"):
         simulate_wrist([1.0, np.nan, 0.0])
+
+
+def test_the_preset_urdf_carries_the_parts_too(tmp_path) -> None:
+    import xml.etree.ElementTree as ET
+
+    out = tmp_path / "wrist.urdf"
+    result = CliRunner().invoke(main, ["urdf", "--preset", "spherical-wrist", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    masses = {
+        link.get("name"): float(link.find("inertial/mass").get("value"))
+        for link in ET.parse(out).getroot().iter("link")
+        if link.find("inertial") is not None
+    }
+    assert masses["link2"] == pytest.approx(0.29058)
+    assert masses["base"] == pytest.approx(0.05987)

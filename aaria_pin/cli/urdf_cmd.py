@@ -31,6 +31,7 @@ def urdf(
     """Write the URDF of a DH table (fixed base, tool tip and IMU frames included)."""
     from aaria_pin.dh_robot import BodyDimensions, build_dh_robot
     from aaria_pin.io import write_text_atomic
+    from aaria_pin.presets import get_preset
 
     table, table_convention, name = load_table_source(preset, dh_file, convention)
     robot = build_dh_robot(
@@ -38,6 +39,7 @@ def urdf(
         table_convention,
         BodyDimensions(density=density),
         name=robot_name(name),
+        mass_properties=get_preset(preset).mass_properties if preset else None,
     )
     write_text_atomic(output, robot.urdf)
     click.echo(
