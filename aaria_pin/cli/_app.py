@@ -32,11 +32,19 @@ def main() -> None:
 
 
 def _register() -> None:
-    from aaria_pin.cli import dataset_cmd, info_cmd, simulate_cmd, urdf_cmd, wrist_cmd
+    from aaria_pin.cli import (
+        dataset_cmd,
+        info_cmd,
+        simulate_cmd,
+        torques_cmd,
+        urdf_cmd,
+        wrist_cmd,
+    )
 
     main.add_command(dataset_cmd.dataset)
     main.add_command(info_cmd.info)
     main.add_command(simulate_cmd.simulate)
+    main.add_command(torques_cmd.torques)
     main.add_command(urdf_cmd.urdf)
     main.add_command(wrist_cmd.wrist)
 

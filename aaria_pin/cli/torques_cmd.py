@@ -1,0 +1,84 @@
+"""``aaria torques``: torque-level analysis of a run file or a data set."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import click
+
+
+def _print_run(report: dict[str, Any]) -> None:
+    click.echo(
+        f"{'module':<7} {'type':<10} {'peak |tau|':>12} {'rms':>10} {'gravity':>8} "
+        f"{'coriolis':>9} {'inertial':>9} {'energy net':>11} {'energy abs':>11}"
+    )
+    for joint in report["joints"]:
+        shares = joint["shares"]
+        click.echo(
+            f"{joint['module']:<7} {joint['type']:<10} {joint['peak_abs']:>8.4g} {joint['unit']:<3}"
+            f" {joint['rms']:>10.4g} {shares['gravity']:>8.1%} {shares['coriolis']:>9.1%}"
+            f" {shares['inertial']:>9.1%} {joint['energy_net_J']:>9.4g} J"
+            f" {joint['energy_abs_J']:>9.4g} J"
+        )
+    peaks = report["base_wrench_peak"]
+    click.echo(
+        "base wrench peaks: " + ", ".join(f"{k} {v:.4g}" for k, v in peaks.items()) + " (N, N*m)"
+    )
+
+
+@click.command()
+@click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
+@click.option("--run", "run_index", type=click.IntRange(0), help="One run of a data set.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def torques(file: Path, run_index: int | None, as_json: bool) -> None:
+    """Peak and RMS torques, their gravity / Coriolis / inertial split, power and energy."""
+    import h5py
+
+    from aaria_pin.dataset_file import DATASET_FORMAT
+    from aaria_pin.errors import InputFileError
+    from aaria_pin.torque_analysis import dataset_torque_report, record_torque_report
+
+    is_dataset = False
+    if file.suffix.lower() in (".h5", ".hdf5") and file.is_file():
+        try:
+            with h5py.File(file, "r") as handle:
+                is_dataset = handle.attrs.get("format") == DATASET_FORMAT
+        except OSError as exc:
+            raise InputFileError(f"{file}: cannot be read as HDF5 ({exc})") from None
+    if is_dataset and run_index is None:
+        report = dataset_torque_report(str(file))
+        if as_json:
+            click.echo(json.dumps(report))
+            return
+        for module, kinds in report["by_module"].items():
+            for kind, stats in kinds.items():
+                click.echo(
+                    f"module {module} {kind:<10} runs {stats['runs']:>6}  peak |tau| "
+                    f"median {stats['median']:.4g}  p95 {stats['p95']:.4g}  "
+                    f"max {stats['max']:.4g}"
+                )
+        click.echo(
+            "largest peaks: "
+            + "; ".join(
+                f"run {x['run']} module {x['module']} ({x['type']}) {x['peak_abs']:.4g}"
+                for x in report["largest"]
+            )
+        )
+        return
+    if is_dataset:
+        from aaria_pin.dataset_record import dataset_run_record
+
+        record = dataset_run_record(str(file), run_index or 0)
+    else:
+        if run_index is not None:
+            raise click.UsageError("--run is for a data set; this is a run file")
+        from aaria_pin.runfile import read_run
+
+        record = read_run(file)
+    report = record_torque_report(record)
+    if as_json:
+        click.echo(json.dumps(report))
+    else:
+        _print_run(report)
