@@ -121,6 +121,7 @@ def simulate_run(
     noise_model: ImuNoiseModel = ADIS16485,
     dims: BodyDimensions | None = None,
     imu_mount: ArrayLike | None = None,
+    torques: ArrayLike | None = None,
     threads: int = 1,
 ) -> RunRecord:
     """Simulate one run of an Aaria arm on a moving base.
@@ -138,6 +139,10 @@ def simulate_run(
         imu_mount: 14 × 4 × 4 pose of each IMU slot in its parent frame, slot order as in
             ``senSen`` (default: :func:`~aaria_pin.dh_robot.default_imu_slots`); entries of
             empty modules are ignored
+        torques: (T, 6) joint torques [N·m] or forces [N] by module (columns of empty modules
+            are ignored): the joints then move under them by forward dynamics
+            (:func:`~aaria_pin.forward.forward_simulate`), starting from the joint table's values
+            and velocities at t = 0, instead of following the joint table
         threads: worker threads of the batched RNEA
 
     Returns:
@@ -158,6 +163,14 @@ def simulate_run(
     trajectory = joint_trajectory(senSenJ, robot.chain, time)
     base = base_motion(senSenB, time)
     model = robot.model(moving_base=True)
+    if torques is not None:
+        from aaria_pin.forward import check_torques, forward_simulate
+
+        by_module = check_torques(torques, time.size, N_MODULES, "torque table")
+        columns = [module - 1 for module in robot.chain.modules]
+        trajectory = forward_simulate(
+            model, base, by_module[:, columns], time, trajectory.q[0], trajectory.qd[0]
+        )
 
     senSen, q, imu = new_sensen(time)
     modules = [module - 1 for module in robot.chain.modules]
@@ -188,6 +201,7 @@ def simulate_run(
             **asdict(robot.dims),
             "density_overrides": dict(robot.dims.density_overrides),
         },
+        "drive": "motion" if torques is None else "torque",
         "version": __version__,
     }
     return RunRecord(

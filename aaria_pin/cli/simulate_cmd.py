@@ -49,6 +49,19 @@ def _read_mounts(path: Path) -> Any:
 @click.option("--rate", type=float, help="Sample rate [Hz] (default 100).")
 @click.option("--seed", type=click.IntRange(0, MAX_SEED), help="Seed of the IMU noise (default 0).")
 @click.option("--density", type=float, help="Density of every body [kg/m^3] (default 2700).")
+@click.option(
+    "--drive",
+    type=click.Choice(["motion", "torque"]),
+    default="motion",
+    show_default=True,
+    help="Follow the joint table, or move under --torques by forward dynamics.",
+)
+@click.option(
+    "--torques",
+    "torques_file",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help="T x 6 joint torques by module (CSV, .npy, .mat 'tau', or a run file) for --drive torque.",
+)
 @click.option("--noise/--no-noise", default=None, help="IMU noise on (default) or off.")
 @click.option(
     "--compress",
@@ -70,6 +83,8 @@ def simulate(
     rate: float | None,
     seed: int | None,
     density: float | None,
+    drive: str,
+    torques_file: Path | None,
     noise: bool | None,
     compress: str,
     output: Path,
@@ -94,6 +109,15 @@ def simulate(
         overrides["imu_mount"] = _read_mounts(mount_file)
     if density is not None:
         overrides["dims"] = BodyDimensions(density=density)
+    if (drive == "torque") != (torques_file is not None):
+        raise click.UsageError("--drive torque and --torques FILE go together")
+    if torques_file is not None:
+        if torques_file.suffix.lower() in (".h5", ".hdf5"):
+            from aaria_pin.runfile import read_run
+
+            overrides["torques"] = read_run(torques_file).tau
+        else:
+            overrides["torques"] = read_table(torques_file, "tau")
     if from_run is not None:
         if preset or dh_file:
             raise click.UsageError(
