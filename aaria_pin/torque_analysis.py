@@ -20,7 +20,12 @@ from aaria_pin.model import RobotModel
 from aaria_pin.record import RunRecord
 from aaria_pin.trajectory import BaseMotion, JointTrajectory
 
-__all__ = ["dataset_torque_report", "record_torque_report", "torque_split"]
+__all__ = [
+    "dataset_torque_report",
+    "plot_torque_report",
+    "record_torque_report",
+    "torque_split",
+]
 
 _TERMS = ("gravity", "coriolis", "inertial")
 
@@ -157,3 +162,41 @@ def dataset_torque_report(path: str, top: int = 5) -> dict[str, Any]:
             for peak, run, module, kind in largest[:top]
         ],
     }
+
+
+def plot_torque_report(report: dict[str, Any], path: str, title: str = "joint torques") -> None:
+    """Bars of each joint's RMS torque split into gravity, Coriolis and inertial, and its peak.
+
+    Needs matplotlib (``pip install 'aaria-pin[plot]'``); written atomically as a PNG.
+    """
+    from aaria_pin.errors import ParameterError
+    from aaria_pin.io import atomic_output
+
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise ParameterError(
+            "--plot needs matplotlib; allowed: pip install 'aaria-pin[plot]'"
+        ) from None
+    joints = report["joints"]
+    labels = [f"{j['module']} ({j['type'][0]}, {j['unit']})" for j in joints]
+    x = np.arange(len(joints))
+    figure, axes = plt.subplots(figsize=(7, 4), dpi=100)
+    bottom = np.zeros(len(joints))
+    for term, colour in zip(_TERMS, ("tab:green", "tab:orange", "tab:blue"), strict=True):
+        values = np.array([j["rms_terms"][term] for j in joints])
+        axes.bar(x, values, bottom=bottom, color=colour, label=f"RMS {term}")
+        bottom += values
+    axes.plot(x, [j["peak_abs"] for j in joints], "kD", label="peak |tau|")
+    axes.set_xticks(x, labels)
+    axes.set_xlabel("module (type, unit)")
+    axes.set_ylabel("torque [N*m] or force [N]")
+    axes.set_title(title)
+    axes.legend()
+    figure.tight_layout()
+    with atomic_output(path) as temporary:
+        figure.savefig(temporary, format="png")
+    plt.close(figure)

@@ -32,7 +32,8 @@ def _print_run(report: dict[str, Any]) -> None:
 @click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
 @click.option("--run", "run_index", type=click.IntRange(0), help="One run of a data set.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-def torques(file: Path, run_index: int | None, as_json: bool) -> None:
+@click.option("--plot", type=click.Path(dir_okay=False), help="PNG of the split per joint.")
+def torques(file: Path, run_index: int | None, as_json: bool, plot: str | None) -> None:
     """Peak and RMS torques, their gravity / Coriolis / inertial split, power and energy."""
     import h5py
 
@@ -78,6 +79,10 @@ def torques(file: Path, run_index: int | None, as_json: bool) -> None:
 
         record = read_run(file)
     report = record_torque_report(record)
+    if plot:
+        from aaria_pin.torque_analysis import plot_torque_report
+
+        plot_torque_report(report, plot, f"joint torques of {file.name}")
     if as_json:
         click.echo(json.dumps(report))
     else:
