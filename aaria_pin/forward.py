@@ -6,6 +6,10 @@ accelerations set to zero (gravity, Coriolis and the base's own acceleration) an
 joints' block of the mass matrix (CRBA). The state is integrated with the classical fourth-order
 Runge–Kutta scheme, ``substeps`` steps per sample; torques and the base state are held linear
 between samples.
+
+Pinocchio's ABA is not used here: it would let the base react to the joints' motion, while the
+base here is prescribed. Solving the joints' block of the CRBA mass matrix against the RNEA bias
+is the same dynamics with the base's motion imposed.
 """
 
 from __future__ import annotations

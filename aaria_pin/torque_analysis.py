@@ -68,9 +68,9 @@ def record_torque_report(record: RunRecord) -> dict[str, Any]:
 
     Returns:
         A plain dictionary: ``joints`` (one entry per non-empty module: type, peak |tau|, RMS,
-        RMS of each term of the split and its share of their sum, net and absolute mechanical
-        energy), ``base_wrench_peak`` (per component), ``split_residual`` (largest
-        ``|g + C·v + M·a - tau|``).
+        RMS of each term of the split and its share of their sum, peak |tau·qd| and mean
+        mechanical power, net and absolute mechanical energy), ``base_wrench_peak`` (per
+        component), ``split_residual`` (largest ``|g + C·v + M·a - tau|``).
     """
     from aaria_pin.dh_robot import BodyDimensions, build_dh_robot
     from aaria_pin.oscillation import base_motion
@@ -102,6 +102,8 @@ def record_torque_report(record: RunRecord) -> dict[str, Any]:
                 "rms": float(_rms(tau[:, index])),
                 "rms_terms": rms_terms,
                 "shares": {term: value / total for term, value in rms_terms.items()},
+                "power_peak_W": float(np.abs(power[:, index]).max()),
+                "power_mean_W": float(np.mean(power[:, index])),
                 "energy_net_J": float(np.trapezoid(power[:, index], dx=dt)),
                 "energy_abs_J": float(np.trapezoid(np.abs(power[:, index]), dx=dt)),
             }
