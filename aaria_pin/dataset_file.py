@@ -40,6 +40,7 @@ __all__ = [
     "DatasetFile",
     "decode_attributes",
     "encode_run",
+    "is_dataset_file",
     "read_dataset_attributes",
     "run_shapes",
 ]
@@ -327,6 +328,24 @@ def _open_dataset_read_only(file: Path) -> Any:
         handle.close()
         raise InputFileError(f"{file}: not a complete aaria_pin data set; cannot resume it")
     return handle
+
+
+def is_dataset_file(path: str | os.PathLike[str]) -> bool:
+    """Whether a file is an aaria_pin data set (an HDF5 file with its ``format``).
+
+    Raises:
+        InputFileError: an ``.h5`` file that HDF5 cannot read.
+    """
+    import h5py
+
+    file = Path(path)
+    if file.suffix.lower() not in (".h5", ".hdf5") or not file.is_file():
+        return False
+    try:
+        with h5py.File(file, "r") as handle:
+            return bool(handle.attrs.get("format") == DATASET_FORMAT)
+    except OSError as exc:
+        raise InputFileError(f"{file}: cannot be read as HDF5 ({exc})") from None
 
 
 def read_dataset_attributes(path: str | os.PathLike[str]) -> dict[str, Any]:

@@ -171,18 +171,10 @@ def plot_torque_report(report: dict[str, Any], path: str, title: str = "joint to
 
     Needs matplotlib (``pip install 'aaria-pin[plot]'``); written atomically as a PNG.
     """
-    from aaria_pin.errors import ParameterError
+    from aaria_pin._plotting import pyplot
     from aaria_pin.io import atomic_output
 
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        raise ParameterError(
-            "--plot needs matplotlib; allowed: pip install 'aaria-pin[plot]'"
-        ) from None
+    plt = pyplot()
     joints = report["joints"]
     labels = [f"{j['module']} ({j['type'][0]}, {j['unit']})" for j in joints]
     x = np.arange(len(joints))

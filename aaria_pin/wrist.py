@@ -214,15 +214,9 @@ def plot_workspace(
     workspace: Workspace, path: str, title: str = "spherical wrist workspace"
 ) -> None:
     """A 3D scatter of the workspace's tool points, written as a PNG (needs matplotlib)."""
-    try:
-        import matplotlib
+    from aaria_pin._plotting import pyplot
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        raise ParameterError(
-            "--plot needs matplotlib; allowed: pip install 'aaria-pin[plot]'"
-        ) from None
+    plt = pyplot()
     from aaria_pin.io import atomic_output
 
     shown = workspace.points[:: max(1, len(workspace.points) // 20_000)]

@@ -14,20 +14,11 @@ import click
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
 def info(file: Path, as_json: bool) -> None:
     """Summarise a run file or a data set: runs, shapes, sizes, seed, config, completeness."""
-    import h5py
-
-    from aaria_pin.dataset_file import DATASET_FORMAT
+    from aaria_pin.dataset_file import is_dataset_file
     from aaria_pin.dataset_reader import dataset_summary
-    from aaria_pin.errors import InputFileError
     from aaria_pin.runfile import run_file_summary
 
-    is_dataset = False
-    if file.suffix.lower() in (".h5", ".hdf5") and file.is_file():
-        try:
-            with h5py.File(file, "r") as handle:
-                is_dataset = handle.attrs.get("format") == DATASET_FORMAT
-        except OSError as exc:
-            raise InputFileError(f"{file}: cannot be read as HDF5 ({exc})") from None
+    is_dataset = is_dataset_file(file)
     summary: dict[str, Any] = dataset_summary(file) if is_dataset else run_file_summary(file)
     if as_json:
         click.echo(json.dumps(summary, indent=2, default=str))

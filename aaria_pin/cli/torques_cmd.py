@@ -35,19 +35,10 @@ def _print_run(report: dict[str, Any]) -> None:
 @click.option("--plot", type=click.Path(dir_okay=False), help="PNG of the split per joint.")
 def torques(file: Path, run_index: int | None, as_json: bool, plot: str | None) -> None:
     """Peak and RMS torques, their gravity / Coriolis / inertial split, power and energy."""
-    import h5py
-
-    from aaria_pin.dataset_file import DATASET_FORMAT
-    from aaria_pin.errors import InputFileError
+    from aaria_pin.dataset_file import is_dataset_file
     from aaria_pin.torque_analysis import dataset_torque_report, record_torque_report
 
-    is_dataset = False
-    if file.suffix.lower() in (".h5", ".hdf5") and file.is_file():
-        try:
-            with h5py.File(file, "r") as handle:
-                is_dataset = handle.attrs.get("format") == DATASET_FORMAT
-        except OSError as exc:
-            raise InputFileError(f"{file}: cannot be read as HDF5 ({exc})") from None
+    is_dataset = is_dataset_file(file)
     if is_dataset and run_index is None:
         report = dataset_torque_report(str(file))
         if as_json:
