@@ -7,7 +7,8 @@ layout.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import contextlib
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -80,26 +81,32 @@ def _write_hdf5(
         )
 
 
-def _read_hdf5(file: Path) -> tuple[dict[str, Array], dict[str, Any]]:
-    """Arrays (fitted to the record shapes) and decoded attributes of an HDF5 run file."""
-    import h5py
-
+@contextlib.contextmanager
+def _hdf5_errors(file: Path) -> Iterator[None]:
+    """Turn h5py's errors on reading ``file`` into one-line :class:`InputFileError`."""
     try:
-        with h5py.File(file, "r") as handle:
-            _check_format(file, handle.attrs.get("format"), handle.attrs.get("format_version"))
-            datasets = _hdf5_datasets(file, handle, h5py.Dataset)
-            shapes = _fit_shapes(file, {name: item.shape for name, item in datasets.items()})
-            arrays = {
-                name: np.asarray(item[()], dtype=np.float64).reshape(shapes[name])
-                for name, item in datasets.items()
-            }
-            attributes = _hdf5_attributes(file, handle.attrs)
+        yield
     except InputFileError:
         raise
     except (OSError, ValueError, TypeError, KeyError) as exc:
         raise InputFileError(
             f"{file}: cannot be read as an HDF5 run file ({_reason(exc)})"
         ) from None
+
+
+def _read_hdf5(file: Path) -> tuple[dict[str, Array], dict[str, Any]]:
+    """Arrays (fitted to the record shapes) and decoded attributes of an HDF5 run file."""
+    import h5py
+
+    with _hdf5_errors(file), h5py.File(file, "r") as handle:
+        _check_format(file, handle.attrs.get("format"), handle.attrs.get("format_version"))
+        datasets = _hdf5_datasets(file, handle, h5py.Dataset)
+        shapes = _fit_shapes(file, {name: item.shape for name, item in datasets.items()})
+        arrays = {
+            name: np.asarray(item[()], dtype=np.float64).reshape(shapes[name])
+            for name, item in datasets.items()
+        }
+        attributes = _hdf5_attributes(file, handle.attrs)
     return arrays, attributes
 
 
@@ -107,20 +114,13 @@ def _summarise_hdf5(file: Path) -> tuple[dict[str, tuple[int, ...]], dict[str, A
     """Stored shapes, decoded attributes and format version of an HDF5 run file."""
     import h5py
 
-    try:
-        with h5py.File(file, "r") as handle:
-            version = _check_format(
-                file, handle.attrs.get("format"), handle.attrs.get("format_version")
-            )
-            datasets = _hdf5_datasets(file, handle, h5py.Dataset)
-            shapes = {name: tuple(item.shape) for name, item in datasets.items()}
-            attributes = _hdf5_attributes(file, handle.attrs)
-    except InputFileError:
-        raise
-    except (OSError, ValueError, TypeError, KeyError) as exc:
-        raise InputFileError(
-            f"{file}: cannot be read as an HDF5 run file ({_reason(exc)})"
-        ) from None
+    with _hdf5_errors(file), h5py.File(file, "r") as handle:
+        version = _check_format(
+            file, handle.attrs.get("format"), handle.attrs.get("format_version")
+        )
+        datasets = _hdf5_datasets(file, handle, h5py.Dataset)
+        shapes = {name: tuple(item.shape) for name, item in datasets.items()}
+        attributes = _hdf5_attributes(file, handle.attrs)
     return shapes, attributes, version
 
 

@@ -7,8 +7,9 @@ layout.
 
 from __future__ import annotations
 
+import contextlib
 import re
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -65,23 +66,30 @@ def _write_mat(file: Path, arrays: Mapping[str, Array], attributes: list[tuple[s
     savemat(file, contents, appendmat=False, format="5", do_compression=True, oned_as="row")
 
 
+@contextlib.contextmanager
+def _mat_errors(file: Path, read_error: type[Exception]) -> Iterator[None]:
+    """Turn scipy's errors on reading ``file`` into one-line :class:`InputFileError`."""
+    try:
+        yield
+    except NotImplementedError:
+        raise InputFileError(
+            f"{file}: is a MATLAB v7.3 file; allowed: MATLAB v5 .mat run files or .h5"
+        ) from None
+    except (read_error, OSError, ValueError, TypeError, EOFError) as exc:
+        raise InputFileError(
+            f"{file}: cannot be read as a .mat run file ({_reason(exc)})"
+        ) from None
+
+
 def _load_mat(file: Path, names: list[str] | None = None) -> dict[str, Any]:
     """Variables of a MATLAB v5 file, unsqueezed, in MATLAB's own classes."""
     from scipy.io import loadmat
     from scipy.io.matlab import MatReadError
 
-    try:
+    with _mat_errors(file, MatReadError):
         return loadmat(
             file, appendmat=False, squeeze_me=False, mat_dtype=True, variable_names=names
         )
-    except NotImplementedError:
-        raise InputFileError(
-            f"{file}: is a MATLAB v7.3 file; allowed: MATLAB v5 .mat run files or .h5"
-        ) from None
-    except (MatReadError, OSError, ValueError, TypeError, EOFError) as exc:
-        raise InputFileError(
-            f"{file}: cannot be read as a .mat run file ({_reason(exc)})"
-        ) from None
 
 
 def _mat_value(value: Any) -> Any:
@@ -137,16 +145,8 @@ def _summarise_mat(file: Path) -> tuple[dict[str, tuple[int, ...]], dict[str, An
     from scipy.io import whosmat
     from scipy.io.matlab import MatReadError
 
-    try:
+    with _mat_errors(file, MatReadError):
         variables = whosmat(file, appendmat=False)
-    except NotImplementedError:
-        raise InputFileError(
-            f"{file}: is a MATLAB v7.3 file; allowed: MATLAB v5 .mat run files or .h5"
-        ) from None
-    except (MatReadError, OSError, ValueError, TypeError, EOFError) as exc:
-        raise InputFileError(
-            f"{file}: cannot be read as a .mat run file ({_reason(exc)})"
-        ) from None
     attribute_names = [name for name, _, _ in variables if name.startswith(_MAT_ATTRIBUTE_PREFIX)]
     contents = _load_mat(file, attribute_names) if attribute_names else {}
     attributes, version = _mat_attributes(file, contents)
