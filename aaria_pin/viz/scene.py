@@ -1,0 +1,385 @@
+"""What a picture of an arm holds: solids, lines and frames fixed to named frames.
+
+A :class:`Scene` lists the frames it needs (``scene.frames``: ``"world"`` first, then frames of
+the Pinocchio model) and the things drawn on them, each in its frame's coordinates [m]:
+
+- :class:`Solid` — a mesh of flat faces (boxes, cylinders), e.g. a link's box;
+- :class:`Lines` — line segments, e.g. the three axes of a coordinate frame (a triad);
+- :class:`Bone` — a segment from one frame's origin to another's (for robots described without
+  solids, such as a generic URDF: links drawn as segments between joint origins).
+
+:func:`posed_geometry` places everything with one pose per frame and returns plain arrays
+(world faces, lines and their roles), which the PNG renderer and the HTML viewer draw alike.
+Builders: :func:`scene_from_description` (solids of a robot description, the roles of its parts
+giving the colours), :func:`scene_from_dh_robot` (adds the paper's frames: world green, DH red at
+each link's end, tool tip yellow, IMUs small and purple) and :func:`scene_from_model` (any
+Pinocchio model: bones between joint origins, joints as green cylinders).
+
+Colours follow the paper (section IV): revolute joints green cylinders, prismatic joints green
+rods, links and tool blue boxes, DH frames red, the world frame green, the tool frame yellow,
+sensors purple.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from aaria_pin._se3 import Array
+from aaria_pin.dh_robot import DHRobot, link_name
+from aaria_pin.model import RobotModel
+from aaria_pin.urdf import RobotDescription
+
+__all__ = [
+    "COLOURS",
+    "PART_ROLES",
+    "WORLD",
+    "Bone",
+    "Lines",
+    "PosedGeometry",
+    "Scene",
+    "Solid",
+    "box_solid",
+    "cylinder_solid",
+    "posed_geometry",
+    "scene_from_description",
+    "scene_from_dh_robot",
+    "scene_from_model",
+    "triad",
+]
+
+WORLD = "world"
+"""Name of the world frame in a scene (its pose is always the identity)."""
+
+COLOURS: dict[str, tuple[float, float, float]] = {
+    "joint": (0.10, 0.70, 0.15),
+    "link": (0.15, 0.35, 0.90),
+    "dh_frame": (0.90, 0.05, 0.05),
+    "world_frame": (0.05, 0.75, 0.10),
+    "tool_frame": (1.00, 0.85, 0.00),
+    "imu_frame": (0.60, 0.15, 0.80),
+    "bone": (0.15, 0.35, 0.90),
+    "other": (0.55, 0.55, 0.55),
+}
+"""RGB colour (0–1) of each drawing role."""
+
+PART_ROLES = {
+    "housing": "joint",
+    "rail": "joint",
+    "slider": "joint",
+    "link": "link",
+    "tool": "link",
+}
+"""Drawing role of each body part role of :class:`~aaria_pin.inertia.Part`."""
+
+_CYLINDER_SIDES = 16
+
+
+@dataclass(frozen=True)
+class Solid:
+    """A mesh of flat faces fixed to a frame.
+
+    Attributes:
+        frame: the frame it is fixed to
+        vertices: (V, 3) vertices in the frame [m]
+        faces: (F, 4) vertex indices of each face (a triangle repeats its last vertex)
+        role: drawing role, a key of :data:`COLOURS`
+    """
+
+    frame: str
+    vertices: Array
+    faces: Array
+    role: str
+
+
+@dataclass(frozen=True)
+class Lines:
+    """Line segments fixed to a frame.
+
+    Attributes:
+        frame: the frame they are fixed to
+        points: (L, 2, 3) segment end points in the frame [m]
+        role: drawing role, a key of :data:`COLOURS`
+        width: line width [px]
+    """
+
+    frame: str
+    points: Array
+    role: str
+    width: float = 2.0
+
+
+@dataclass(frozen=True)
+class Bone:
+    """A segment from the origin of one frame to the origin of another."""
+
+    frame_a: str
+    frame_b: str
+    role: str = "bone"
+    width: float = 4.0
+
+
+@dataclass(frozen=True)
+class Scene:
+    """Everything drawn for one robot, and the frames it needs.
+
+    Attributes:
+        name: the robot's name
+        frames: frame names, ``"world"`` first; poses are given in this order
+        solids: meshes
+        lines: line sets (frames' axes)
+        bones: segments between frame origins
+    """
+
+    name: str
+    frames: tuple[str, ...]
+    solids: tuple[Solid, ...] = ()
+    lines: tuple[Lines, ...] = ()
+    bones: tuple[Bone, ...] = ()
+
+    @property
+    def model_frames(self) -> tuple[str, ...]:
+        """The frames whose poses come from the model (all but the world)."""
+        return self.frames[1:]
+
+
+@dataclass(frozen=True)
+class PosedGeometry:
+    """A scene placed in the world: plain arrays, independent of any plotting library.
+
+    Attributes:
+        faces: (N, 4, 3) face corners in the world [m]
+        face_roles: (N,) drawing role of each face
+        segments: (M, 2, 3) line segments in the world [m] (lines and bones)
+        segment_roles: (M,) drawing role of each segment
+        segment_widths: (M,) line width of each segment [px]
+    """
+
+    faces: Array
+    face_roles: tuple[str, ...]
+    segments: Array
+    segment_roles: tuple[str, ...]
+    segment_widths: Array
+
+    def bounds(self) -> Array:
+        """(2, 3) lower and upper corner of everything drawn [m]."""
+        points = np.concatenate([self.faces.reshape(-1, 3), self.segments.reshape(-1, 3)])
+        if points.size == 0:
+            return np.array([[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]])
+        return np.array([points.min(axis=0), points.max(axis=0)])
+
+
+def box_solid(frame: str, T_frame_box: Array, size: Sequence[float], role: str) -> Solid:
+    """A box centred on ``T_frame_box`` with edge lengths ``size`` (x, y, z) [m]."""
+    half = np.asarray(size, dtype=float) / 2.0
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    local = corners * half
+    vertices = local @ T_frame_box[:3, :3].T + T_frame_box[:3, 3]
+    faces = np.array(
+        [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+    )
+    return Solid(frame, vertices, faces, role)
+
+
+def cylinder_solid(
+    frame: str, T_frame_cylinder: Array, radius: float, length: float, role: str
+) -> Solid:
+    """A cylinder along the z axis of ``T_frame_cylinder``, centred on its origin [m]."""
+    n = _CYLINDER_SIDES
+    angle = 2.0 * np.pi * np.arange(n) / n
+    ring = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)])
+    local = np.concatenate(
+        [
+            np.column_stack([ring, np.full(n, -length / 2.0)]),
+            np.column_stack([ring, np.full(n, length / 2.0)]),
+            [[0.0, 0.0, -length / 2.0], [0.0, 0.0, length / 2.0]],
+        ]
+    )
+    vertices = local @ T_frame_cylinder[:3, :3].T + T_frame_cylinder[:3, 3]
+    k = np.arange(n)
+    k1 = (k + 1) % n
+    sides = np.column_stack([k, k1, n + k1, n + k])
+    bottom = np.column_stack([np.full(n, 2 * n), k1, k, k])
+    top = np.column_stack([np.full(n, 2 * n + 1), n + k, n + k1, n + k1])
+    return Solid(frame, vertices, np.concatenate([sides, bottom, top]), role)
+
+
+def triad(
+    frame: str, length: float, role: str, T_frame_triad: Array | None = None, width: float = 2.0
+) -> Lines:
+    """The three axes of a coordinate frame as segments of ``length`` [m] from its origin."""
+    T = np.eye(4) if T_frame_triad is None else T_frame_triad
+    origin = T[:3, 3]
+    points = np.array([[origin, origin + length * T[:3, axis]] for axis in range(3)])
+    return Lines(frame, points, role, width)
+
+
+def scene_from_description(description: RobotDescription, name: str | None = None) -> Scene:
+    """Solids of every link's parts, fixed to the link's frame (no coordinate frames).
+
+    Args:
+        description: links (with solid parts) and joints
+        name: scene name (default: the description's)
+
+    Returns:
+        The scene; part roles map to drawing roles by :data:`PART_ROLES`.
+    """
+    solids: list[Solid] = []
+    frames = [WORLD]
+    for link in description.links:
+        for part in link.parts:
+            role = PART_ROLES.get(part.role, "other")
+            if part.shape == "box":
+                solids.append(box_solid(link.name, part.T_body_part, part.dimensions, role))
+            else:
+                radius, length = part.dimensions
+                solids.append(cylinder_solid(link.name, part.T_body_part, radius, length, role))
+            if link.name not in frames:
+                frames.append(link.name)
+    return Scene(name or description.name, tuple(frames), tuple(solids))
+
+
+def _reach(robot: DHRobot) -> float:
+    """A length scale of the arm: the sum of its link, offset and tool lengths [m]."""
+    lengths = [float(np.linalg.norm(robot.chain.T_base_entry[:3, 3]))]
+    for joint in robot.chain.joints:
+        lengths.append(float(np.linalg.norm(joint.link_end)))
+        lengths.append(float(np.linalg.norm(joint.T_prev_joint[:3, 3])))
+    lengths.append(robot.chain.tool_length)
+    return max(sum(lengths), 0.1)
+
+
+def scene_from_dh_robot(robot: DHRobot, name: str | None = None) -> Scene:
+    """The paper's picture of a DH arm: its solids and its frames.
+
+    Frames: the world (green, at the world origin), ``dh0`` and each link's end frame (red:
+    the paper draws the DH frames at the end of each link, not on the joint), the tool tip
+    (yellow), and every mounted IMU (purple, smaller). Frame axes are 8 % of the arm's reach
+    (IMUs 3 %).
+
+    Args:
+        robot: the arm
+        name: scene name (default: the robot's)
+
+    Returns:
+        The scene.
+    """
+    base = scene_from_description(robot.description, name)
+    size = 0.08 * _reach(robot)
+    frames = list(base.frames)
+    lines = [triad(WORLD, 1.2 * size, "world_frame", width=3.0), triad("dh0", size, "dh_frame")]
+    for joint in robot.chain.joints:
+        lines.append(triad(link_name(joint.module), size, "dh_frame", joint.T_post_end))
+    lines.append(triad("tool_tip", size, "tool_frame", width=3.0))
+    for slot in robot.imu_slots:
+        if slot.parent is not None:
+            lines.append(triad(slot.name, 0.4 * size, "imu_frame", width=1.5))
+    for item in lines:
+        if item.frame not in frames:
+            frames.append(item.frame)
+    return Scene(base.name, tuple(frames), base.solids, tuple(lines))
+
+
+def _joint_axis(joint: pin.JointModel) -> Array | None:
+    """Axis of a one-degree-of-freedom revolute or prismatic joint, else None."""
+    short = joint.shortname()
+    for prefix in ("JointModelR", "JointModelP"):
+        if short.startswith(prefix):
+            suffix = short[len(prefix) :]
+            if suffix in ("X", "Y", "Z"):
+                return np.eye(3)["XYZ".index(suffix)]
+            if suffix in ("evoluteUnaligned", "rismaticUnaligned"):
+                return np.asarray(joint.extract().axis, dtype=float)
+    return None
+
+
+def scene_from_model(robot: RobotModel, size: float = 0.05) -> Scene:
+    """A stick figure of any Pinocchio model: bones between joint origins, green joints.
+
+    For robots described without solids (a generic URDF): each joint is a green cylinder along
+    its axis (revolute) or a thin green rod (prismatic), bones join each joint's origin to its
+    parent joint's origin and the tool frame to its joint, and the world, tool and sensor frames
+    are drawn as in :func:`scene_from_dh_robot`.
+
+    Args:
+        robot: the model
+        size: joint cylinder radius [m]; frame axes are 4 times it
+
+    Returns:
+        The scene.
+    """
+    model = robot.model
+    frames = [WORLD]
+    solids: list[Solid] = []
+    bones: list[Bone] = []
+    first = 2 if robot.moving_base else 1
+    joint_frame = {j: str(model.names[j]) for j in range(first, model.njoints)}
+    for j, frame in joint_frame.items():
+        frames.append(frame)
+        axis = _joint_axis(model.joints[j])
+        if axis is not None:
+            T = np.eye(4)
+            z = axis / np.linalg.norm(axis)
+            helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+            x = np.cross(helper, z)
+            x /= np.linalg.norm(x)
+            T[:3, 0], T[:3, 1], T[:3, 2] = x, np.cross(z, x), z
+            prismatic = model.joints[j].shortname().startswith("JointModelP")
+            radius, length = (size / 3.0, 6.0 * size) if prismatic else (size, 2.0 * size)
+            solids.append(cylinder_solid(frame, T, radius, length, "joint"))
+        parent = int(model.parents[j])
+        if parent in joint_frame:
+            bones.append(Bone(joint_frame[parent], frame))
+    tool_parent = int(model.frames[robot.frame_id(robot.tool_frame)].parentJoint)
+    frames.append(robot.tool_frame)
+    if tool_parent in joint_frame:
+        bones.append(Bone(joint_frame[tool_parent], robot.tool_frame))
+    lines = [
+        triad(WORLD, 5.0 * size, "world_frame", width=3.0),
+        triad(robot.tool_frame, 4.0 * size, "tool_frame", width=3.0),
+    ]
+    for sensor in robot.sensor_frames:
+        frames.append(sensor)
+        lines.append(triad(sensor, 1.6 * size, "imu_frame", width=1.5))
+    unique = tuple(dict.fromkeys(frames))
+    return Scene(str(model.name), unique, tuple(solids), tuple(lines), tuple(bones))
+
+
+def posed_geometry(scene: Scene, poses: Array) -> PosedGeometry:
+    """Place a scene with one pose per frame.
+
+    Args:
+        scene: the scene
+        poses: (F, 4, 4) world pose of each frame of ``scene.frames`` (the world's included)
+
+    Returns:
+        Faces and segments in world coordinates [m].
+    """
+    index = {name: k for k, name in enumerate(scene.frames)}
+
+    def place(frame: str, points: Array) -> Array:
+        T = poses[index[frame]]
+        return np.asarray(points @ T[:3, :3].T + T[:3, 3])
+
+    faces = [place(s.frame, s.vertices)[s.faces] for s in scene.solids]
+    face_roles = [s.role for s in scene.solids for _ in range(len(s.faces))]
+    segments = [
+        place(item.frame, item.points.reshape(-1, 3)).reshape(-1, 2, 3) for item in scene.lines
+    ]
+    roles = [item.role for item in scene.lines for _ in range(len(item.points))]
+    widths = [item.width for item in scene.lines for _ in range(len(item.points))]
+    for bone in scene.bones:
+        a, b = poses[index[bone.frame_a]][:3, 3], poses[index[bone.frame_b]][:3, 3]
+        segments.append(np.array([[a, b]]))
+        roles.append(bone.role)
+        widths.append(bone.width)
+    return PosedGeometry(
+        np.concatenate(faces) if faces else np.zeros((0, 4, 3)),
+        tuple(face_roles),
+        np.concatenate(segments) if segments else np.zeros((0, 2, 3)),
+        tuple(roles),
+        np.asarray(widths, dtype=float),
+    )
