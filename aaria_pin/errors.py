@@ -10,10 +10,12 @@ from __future__ import annotations
 __all__ = [
     "AariaError",
     "InputFileError",
+    "MeshWarning",
     "ModelError",
     "OutputFileError",
     "ParameterError",
     "TableError",
+    "UrdfError",
 ]
 
 
@@ -39,3 +41,11 @@ class OutputFileError(AariaError):
 
 class ModelError(AariaError):
     """A robot description cannot be turned into a model (bad URDF, unknown frame, ...)."""
+
+
+class UrdfError(ModelError):
+    """A URDF document is malformed or describes no physical robot (names the link or joint)."""
+
+
+class MeshWarning(UserWarning):
+    """A mesh a URDF refers to is missing (it still simulates: inertias come from the URDF)."""

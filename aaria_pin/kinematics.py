@@ -48,12 +48,16 @@ def _joint_kind(joint: pin.JointModel) -> tuple[str, Array]:
     name = joint.shortname()
     if name == "JointModelFreeFlyer":
         return "freeflyer", np.zeros(3)
-    for prefix, kind in (("JointModelR", "revolute"), ("JointModelP", "prismatic")):
+    for prefix, kind in (
+        ("JointModelRUB", "revolute"),
+        ("JointModelR", "revolute"),
+        ("JointModelP", "prismatic"),
+    ):
         if name.startswith(prefix):
             suffix = name[len(prefix) :]
             if suffix in _AXES:
                 return kind, _AXES[suffix]
-            if suffix in ("evoluteUnaligned", "rismaticUnaligned"):
+            if suffix in ("evoluteUnaligned", "evoluteUnboundedUnaligned", "rismaticUnaligned"):
                 return kind, np.asarray(joint.extract().axis, dtype=float)
     raise ModelError(
         f"joint type {name} is not supported; allowed: revolute, prismatic, free-flyer"
@@ -239,7 +243,7 @@ def full_state(
     ``[Rᵀp̈ - ω × Rᵀṗ, ω̇]``.
     """
     if not robot.moving_base:
-        return trajectory.q, trajectory.qd, trajectory.qdd
+        return _configuration(robot, trajectory.q), trajectory.qd, trajectory.qdd
     from aaria_pin._kinematics_kernel import free_flyer_state
 
     n, n_joints = trajectory.q.shape
@@ -260,10 +264,34 @@ def full_state(
         v,
         a,
     )
-    q[:, 7:] = trajectory.q
+    if robot.model.nq != 7 + n_joints:
+        q = np.hstack([q[:, :7], _configuration(robot, trajectory.q)])
+    else:
+        q[:, 7:] = trajectory.q
     v[:, 6:] = trajectory.qd
     a[:, 6:] = trajectory.qdd
     return q, v, a
+
+
+def _configuration(robot: RobotModel, joint_values: Array) -> Array:
+    """Pinocchio configurations of the actuated joints from one value per joint, (T, nq - base).
+
+    A continuous (unbounded revolute) joint has two configuration entries, ``cos θ, sin θ``;
+    every other joint its value.
+    """
+    model = robot.model
+    if model.nq - robot.base_nq == joint_values.shape[1]:
+        return joint_values
+    out = np.empty((joint_values.shape[0], model.nq - robot.base_nq))
+    first = 2 if robot.moving_base else 1
+    for column, joint in enumerate(model.joints[first:]):
+        start = joint.idx_q - robot.base_nq
+        if joint.nq == 2:
+            out[:, start] = np.cos(joint_values[:, column])
+            out[:, start + 1] = np.sin(joint_values[:, column])
+        else:
+            out[:, start] = joint_values[:, column]
+    return out
 
 
 def reference_imu_signals(

@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike
 
 from aaria_pin import __version__
 from aaria_pin._se3 import Array
+from aaria_pin._seeds import check_seed, seed_attributes, stored_seed
 from aaria_pin.dh_robot import BodyDimensions, DHRobot, ImuSlot, build_dh_robot
 from aaria_pin.dynamics import inverse_dynamics
 from aaria_pin.errors import InputFileError, ParameterError
@@ -44,8 +45,6 @@ DEFAULT_DURATION = 10.0
 """Default run length [s]."""
 DEFAULT_RATE = 100.0
 """Default sample rate [Hz]."""
-MAX_SEED = 2**63 - 1
-"""Largest noise seed (it is stored as a 64-bit attribute)."""
 
 UNITS = {
     "time": "s",
@@ -63,14 +62,6 @@ def _module_columns(robot: DHRobot, values: Array) -> Array:
     out = np.zeros((values.shape[0], N_MODULES))
     out[:, [module - 1 for module in robot.chain.modules]] = values
     return out
-
-
-def _seed_attributes(seed: int | np.random.SeedSequence) -> dict[str, Any]:
-    """``seed`` (and, for a data set's run, the spawn key of its noise stream)."""
-    if isinstance(seed, np.random.SeedSequence):
-        entropy = seed.entropy if isinstance(seed.entropy, int) else 0
-        return {"seed": entropy, "noise_spawn_key": [int(k) for k in seed.spawn_key]}
-    return {"seed": int(seed)}
 
 
 def mounted_slots(robot: DHRobot, imu_mount: ArrayLike) -> tuple[ImuSlot, ...]:
@@ -148,10 +139,7 @@ def simulate_run(
     Returns:
         The run record.
     """
-    if not (isinstance(seed, (int, np.integer)) and 0 <= seed <= MAX_SEED) and not isinstance(
-        seed, np.random.SeedSequence
-    ):
-        raise ParameterError(f"seed {seed!r}; allowed: an integer from 0 to {MAX_SEED}")
+    check_seed(seed)
     robot = build_dh_robot(dh_table, "aaria", dims)
     if imu_mount is not None:
         robot = build_dh_robot(dh_table, "aaria", dims, imu_slots=mounted_slots(robot, imu_mount))
@@ -192,7 +180,7 @@ def simulate_run(
     attributes: dict[str, Any] = {
         "rate": float(rate),
         "duration": float(duration),
-        **_seed_attributes(seed),
+        **seed_attributes(seed),
         "noise": bool(noise),
         "noise_parameters": noise_attributes(noise_model),
         "gravity": GRAVITY.tolist(),
@@ -240,11 +228,7 @@ def simulate_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> Ru
 
     stored = read_run(path)
     attributes = stored.attributes
-    seed = attributes.get("seed", 0)
-    if isinstance(seed, float) and seed.is_integer():  # MATLAB saves numbers as doubles
-        seed = int(seed)
-    if "noise_spawn_key" in attributes:  # a run of a data set
-        seed = np.random.SeedSequence(seed, spawn_key=tuple(attributes["noise_spawn_key"]))
+    seed = stored_seed(attributes)
     settings: dict[str, Any] = {
         "joint_table": stored.senSenJ,
         "base_table": stored.senSenB,

@@ -41,6 +41,7 @@ import os
 from pathlib import Path
 
 from aaria_pin.errors import InputFileError, OutputFileError
+from aaria_pin.generic_record import GenericRunRecord
 from aaria_pin.io import atomic_output
 from aaria_pin.record import RunRecord
 from aaria_pin.runfile._attributes import (
@@ -50,18 +51,28 @@ from aaria_pin.runfile._attributes import (
     _encode_attributes,
     _reason,
 )
+from aaria_pin.runfile._generic import (
+    GENERIC_FORMAT,
+    is_generic_hdf5,
+    read_generic_hdf5,
+    write_generic_hdf5,
+)
 from aaria_pin.runfile._hdf5 import _read_hdf5, _summarise_hdf5, _write_hdf5
 from aaria_pin.runfile._mat import _check_mat_contents, _read_mat, _summarise_mat, _write_mat
 from aaria_pin.runfile._shapes import _checked_arrays, _fit_shapes
 
 __all__ = [
     "COMPRESSIONS",
+    "GENERIC_FORMAT",
     "JSON_SUFFIX",
     "RUN_FORMAT",
     "RUN_FORMAT_VERSION",
     "RUN_SUFFIXES",
+    "is_generic_run_file",
+    "read_generic_run",
     "read_run",
     "run_file_summary",
+    "write_generic_run",
     "write_run",
 ]
 
@@ -175,6 +186,51 @@ def run_file_summary(path: str | os.PathLike[str]) -> dict[str, object]:
         "arrays": fitted,
         "attributes": attributes,
     }
+
+
+def write_generic_run(path: str | os.PathLike[str], record: GenericRunRecord) -> Path:
+    """Write the run of a URDF robot to an HDF5 file (layout: :mod:`aaria_pin.runfile._generic`).
+
+    Written beside its destination and renamed when complete.
+
+    Args:
+        path: the run file, ``.h5`` or ``.hdf5``
+        record: the run to write
+
+    Returns:
+        The path written.
+
+    Raises:
+        OutputFileError: another suffix, a missing folder, an attribute that cannot be stored,
+            or a write failure.
+    """
+    final = Path(path)
+    if final.suffix.lower() not in _HDF5_SUFFIXES:
+        raise OutputFileError(
+            f"{final}: a URDF robot's run is written as HDF5; allowed suffixes: "
+            f"{', '.join(_HDF5_SUFFIXES)}"
+        )
+    with atomic_output(final) as temporary:
+        write_generic_hdf5(temporary, final, record)
+    return final
+
+
+def read_generic_run(path: str | os.PathLike[str]) -> GenericRunRecord:
+    """Read a generic run file written by :func:`write_generic_run`.
+
+    Raises:
+        InputFileError: missing, not HDF5, not a generic run file, or damaged.
+    """
+    file = _existing_run_file(path)
+    if file.suffix.lower() not in _HDF5_SUFFIXES:
+        raise InputFileError(f"{file}: a generic run file is HDF5 (.h5, .hdf5)")
+    return read_generic_hdf5(file)
+
+
+def is_generic_run_file(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` is an existing HDF5 file marked as a generic (URDF robot) run file."""
+    file = Path(path)
+    return file.suffix.lower() in _HDF5_SUFFIXES and file.is_file() and is_generic_hdf5(file)
 
 
 # --- files ---------------------------------------------------------------------------------------
