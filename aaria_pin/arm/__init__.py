@@ -1,0 +1,8 @@
+"""The pick-and-place arm of the robotic-arm report: meshes, URDF, planar IK, hand, task.
+
+Modules: :mod:`~aaria_pin.arm.parts` (trimesh meshes, STL, mass properties),
+:mod:`~aaria_pin.arm.emit` (URDF with mesh links), :mod:`~aaria_pin.arm.preset` (the
+``pick-place-arm`` preset), :mod:`~aaria_pin.arm.ik` (two-link planar IK, no swing through the
+pillar), :mod:`~aaria_pin.arm.hand` (ZYZ hand angles), :mod:`~aaria_pin.arm.task` (the
+pick-and-place trajectory and payload torques).
+"""

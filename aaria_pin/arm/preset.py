@@ -1,0 +1,338 @@
+"""The ``pick-place-arm`` preset: the robotic-arm report's arm as meshes, a URDF and a model.
+
+The report (Tschupp & Studer, "Robotic Arm Simulation", 2016) builds its arm of five pieces in
+OpenSCAD: a pillar (no motion), an upper arm (moves along z), a forearm (turns about z), a hand
+with two fingers (turns about all three axes) and a separate finger that squeezes (slides).
+Its IK (section 4.2.8) treats the arm as two links turning about vertical axes, of lengths A
+(upper arm) and B (forearm). This preset is that arm:
+
+``pillar`` (root, fixed to the floor) —``lift`` (prismatic, z)→ ``carriage`` (a collar on the
+pillar) —``shoulder`` (revolute, z, about the pillar's axis)→ ``upper_arm`` (length A)
+—``elbow`` (revolute, z)→ ``forearm`` (length B) —``hand_yaw`` (z), ``hand_pitch`` (y),
+``hand_roll`` (z)→ ``hand`` (the report's ZYZ hand; the three axes meet at the wrist centre)
+—``finger`` (prismatic, along the hand's x: the gap to the two fixed fingers)→ ``finger``; a
+massless frame ``grasp`` on the hand marks where a gripped cylinder's axis sits.
+
+**Dimensions.** The report's text gives no dimension (its OpenSCAD files are not in it), so
+every number of :class:`ArmDimensions` is chosen here, to be of the size the report's pictures
+suggest (a table-top arm) and consistent with its IK: the forearm is shorter than the upper
+arm (A = 0.40 m > B = 0.30 m), so folding it back leaves the hand outside the pillar and the
+reachable annulus is 0.10–0.70 m. Densities are chosen too: aluminium (2700 kg/m³) for every
+moving part, steel (7850 kg/m³) for the pillar and its foot.
+
+**Meshes.** Each link's mesh is generated with trimesh (:mod:`aaria_pin.arm.parts`), in the
+link frame; the URDF references ``meshes/<link>.stl`` relative to itself, and
+:func:`write_arm_urdf` writes the URDF and its STL files together (``aaria arm urdf -o DIR``).
+The files are made at run time, not shipped: they follow the dimensions, and a model built by
+:func:`build_arm_model` needs no file at all (mass properties come from the meshes in memory).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from aaria_pin._se3 import Array, rot_x, translation
+from aaria_pin.arm.emit import MeshJoint, MeshLink, emit_mesh_urdf
+from aaria_pin.arm.parts import (
+    MeshPart,
+    box_mesh,
+    combine,
+    cylinder_mesh,
+    export_stl,
+    ring_mesh,
+    stadium_mesh,
+)
+from aaria_pin.errors import ParameterError
+
+__all__ = [
+    "ARM_JOINTS",
+    "ARM_PRESETS",
+    "ArmDimensions",
+    "arm_joints",
+    "arm_parts",
+    "arm_urdf",
+    "build_arm_model",
+    "get_arm_preset",
+    "grasp_offset",
+    "write_arm_urdf",
+]
+
+ARM_JOINTS = ("lift", "shoulder", "elbow", "hand_yaw", "hand_pitch", "hand_roll", "finger")
+"""The actuated joints, in model order."""
+
+_STEEL = 7850.0
+_ALUMINIUM = 2700.0
+
+
+@dataclass(frozen=True)
+class ArmDimensions:
+    """Dimensions of the arm [m] (all chosen here: the report gives none, see module docstring).
+
+    Attributes:
+        upper_arm: A, shoulder axis to elbow axis (report's ``upperArm_len``)
+        forearm: B, elbow axis to wrist axis (report's ``foreArm_len``)
+        pillar_radius: radius of the pillar
+        pillar_height: height of the pillar above the floor
+        lift_range: lowest and highest height of the carriage's centre above the floor
+        shoulder_drop: shoulder (upper arm mid-plane) below the carriage's centre
+        elbow_drop: forearm mid-plane below the upper arm's
+        wrist_drop: wrist centre below the forearm's mid-plane
+        grasp_depth: grasp point below the wrist centre, along the hand's approach axis
+        finger_face: the fixed fingers' gripping face on the hand's x axis (a cylinder of
+            radius -finger_face is gripped on the wrist's axis)
+        finger_length: length of the fingers along the approach axis
+        finger_travel: the sliding finger's largest gap to the fixed fingers
+        density: density of every moving part [kg/m³]
+    """
+
+    upper_arm: float = 0.40
+    forearm: float = 0.30
+    pillar_radius: float = 0.05
+    pillar_height: float = 0.85
+    lift_range: tuple[float, float] = (0.27, 0.78)
+    shoulder_drop: float = 0.05
+    elbow_drop: float = 0.04
+    wrist_drop: float = 0.06
+    grasp_depth: float = 0.08
+    finger_face: float = -0.03
+    finger_length: float = 0.08
+    finger_travel: float = 0.12
+    density: float = _ALUMINIUM
+
+    def __post_init__(self) -> None:
+        for name in ("upper_arm", "forearm", "pillar_radius", "pillar_height", "density"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):
+                raise ParameterError(f"arm {name} is {value!r}; allowed: a finite number > 0")
+        if not self.upper_arm - self.forearm > self.pillar_radius:
+            raise ParameterError(
+                f"upper arm A = {self.upper_arm} m, forearm B = {self.forearm} m; allowed:"
+                f" A - B > pillar radius {self.pillar_radius} m (the folded hand clears the"
+                " pillar)"
+            )
+
+    @property
+    def grasp_below_carriage(self) -> float:
+        """Height of the grasp point below the carriage's centre with the hand down [m]."""
+        return self.shoulder_drop + self.elbow_drop + self.wrist_drop + self.grasp_depth
+
+    @property
+    def annulus(self) -> tuple[float, float]:
+        """Inner and outer radius of the wrist's reachable annulus, |A - B| and A + B [m]."""
+        return abs(self.upper_arm - self.forearm), self.upper_arm + self.forearm
+
+
+ARM_PRESETS = {"pick-place-arm": ArmDimensions()}
+"""Arm presets by name."""
+
+
+def get_arm_preset(name: str) -> ArmDimensions:
+    """The dimensions of a named arm preset.
+
+    Raises:
+        ParameterError: an unknown name.
+    """
+    if name not in ARM_PRESETS:
+        raise ParameterError(f"arm preset {name!r} is unknown; allowed: {', '.join(ARM_PRESETS)}")
+    return ARM_PRESETS[name]
+
+
+def arm_parts(dims: ArmDimensions) -> dict[str, MeshPart]:
+    """Each link's mesh (in its link frame), density and colour, by link name."""
+    d = dims
+    r, w = d.pillar_radius, 0.06
+    face, t = d.finger_face, 0.015
+    palm_x = (face - t, face + d.finger_travel + 2 * t)
+    grey, blue, green, orange = (
+        (0.55, 0.55, 0.58, 1.0),
+        (0.2, 0.35, 0.85, 1.0),
+        (0.13, 0.69, 0.30, 1.0),
+        (0.95, 0.55, 0.1, 1.0),
+    )
+    pillar = combine(
+        box_mesh((0.30, 0.30, 0.02), (0.0, 0.0, 0.01)),
+        cylinder_mesh(r, d.pillar_height - 0.02, (0.0, 0.0, 0.01 + d.pillar_height / 2)),
+    )
+    ring = ring_mesh(r + 0.002, r + 0.03, 0.04)
+    bar = stadium_mesh(d.upper_arm - (r + 0.03 + w / 2), w, 0.04)
+    bar.apply_translation((r + 0.03 + w / 2, 0.0, 0.0))
+    upper = combine(ring, bar)
+    half_gap = d.wrist_drop - 0.02  # forearm's lower face to the wrist centre
+    fingers = [
+        box_mesh((t, t, d.finger_length), (face - t / 2, y, 0.04 + d.finger_length / 2))
+        for y in (-0.02, 0.02)
+    ]
+    parts = {
+        "pillar": MeshPart("pillar", pillar, _STEEL, grey),
+        "carriage": MeshPart("carriage", ring_mesh(r + 0.002, r + 0.03, 0.06), d.density, green),
+        "upper_arm": MeshPart("upper_arm", upper, d.density, blue),
+        "forearm": MeshPart("forearm", stadium_mesh(d.forearm, 0.05, 0.04), d.density, blue),
+        "hand_yaw_link": MeshPart(
+            "hand_yaw_link",
+            cylinder_mesh(0.025, half_gap, (0.0, 0.0, -half_gap / 2)),
+            d.density,
+            green,
+        ),
+        "hand_pitch_link": MeshPart(
+            "hand_pitch_link", box_mesh((0.03, 0.05, 0.03)), d.density, green
+        ),
+        "hand": MeshPart(
+            "hand",
+            combine(
+                box_mesh((palm_x[1] - palm_x[0], 0.06, 0.02), (sum(palm_x) / 2, 0.0, 0.03)),
+                *fingers,
+            ),
+            d.density,
+            orange,
+        ),
+        "finger": MeshPart(
+            "finger",
+            box_mesh((t, 0.025, d.finger_length), (t / 2, 0.0, d.finger_length / 2)),
+            d.density,
+            orange,
+        ),
+    }
+    return parts
+
+
+def arm_joints(dims: ArmDimensions) -> tuple[MeshJoint, ...]:
+    """The joints: placements at q = 0, axes and limits (velocities chosen here)."""
+    d = dims
+    turn = 2.0 * np.pi
+    y_axis = (0.0, 1.0, 0.0)
+    return (
+        MeshJoint(
+            "lift",
+            "prismatic",
+            "pillar",
+            "carriage",
+            np.eye(4),
+            lower=d.lift_range[0],
+            upper=d.lift_range[1],
+            effort=500.0,
+            velocity=0.2,
+        ),
+        MeshJoint(
+            "shoulder",
+            "revolute",
+            "carriage",
+            "upper_arm",
+            translation(z=-d.shoulder_drop),
+            lower=-turn,
+            upper=turn,
+            effort=100.0,
+            velocity=1.5,
+        ),
+        MeshJoint(
+            "elbow",
+            "revolute",
+            "upper_arm",
+            "forearm",
+            translation(d.upper_arm, 0.0, -d.elbow_drop),
+            lower=-np.pi,
+            upper=np.pi,
+            effort=50.0,
+            velocity=1.5,
+        ),
+        MeshJoint(
+            "hand_yaw",
+            "revolute",
+            "forearm",
+            "hand_yaw_link",
+            translation(d.forearm, 0.0, -d.wrist_drop) @ rot_x(np.pi),
+            lower=-turn,
+            upper=turn,
+            effort=10.0,
+            velocity=2.0,
+        ),
+        MeshJoint(
+            "hand_pitch",
+            "revolute",
+            "hand_yaw_link",
+            "hand_pitch_link",
+            np.eye(4),
+            axis=y_axis,
+            lower=-np.pi,
+            upper=np.pi,
+            effort=10.0,
+            velocity=2.0,
+        ),
+        MeshJoint(
+            "hand_roll",
+            "revolute",
+            "hand_pitch_link",
+            "hand",
+            np.eye(4),
+            lower=-turn,
+            upper=turn,
+            effort=10.0,
+            velocity=2.0,
+        ),
+        MeshJoint(
+            "finger",
+            "prismatic",
+            "hand",
+            "finger",
+            translation(d.finger_face, 0.0, 0.04),
+            axis=(1.0, 0.0, 0.0),
+            lower=0.0,
+            upper=d.finger_travel,
+            effort=50.0,
+            velocity=0.05,
+        ),
+        MeshJoint("grasp_mount", "fixed", "hand", "grasp", grasp_offset(dims, -d.finger_face)),
+    )
+
+
+def grasp_offset(dims: ArmDimensions, radius: float) -> Array:
+    """Pose of the grasp point of a cylinder of ``radius`` [m] in the hand frame (4 × 4)."""
+    return translation(dims.finger_face + radius, 0.0, dims.grasp_depth)
+
+
+def arm_urdf(dims: ArmDimensions, mesh_folder: str = "meshes") -> str:
+    """URDF text of the arm; each link's mesh is ``<mesh_folder>/<link>.stl``."""
+    parts = arm_parts(dims)
+    links = [
+        MeshLink(name, f"{mesh_folder}/{name}.stl", part.inertia(), part.rgba)
+        for name, part in parts.items()
+    ]
+    links.append(MeshLink("grasp"))
+    return emit_mesh_urdf(
+        "pick_place_arm",
+        links,
+        arm_joints(dims),
+        comment="pick-place-arm of aaria_pin (robotic-arm report); meshes by trimesh",
+    )
+
+
+def write_arm_urdf(folder: str | os.PathLike[str], dims: ArmDimensions) -> Path:
+    """Write ``folder/pick_place_arm.urdf`` and ``folder/meshes/<link>.stl``.
+
+    Returns:
+        The URDF's path.
+    """
+    from aaria_pin.errors import OutputFileError
+    from aaria_pin.io import write_text_atomic
+
+    root = Path(folder)
+    try:
+        (root / "meshes").mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputFileError(f"{root}: cannot make the folder ({exc.strerror})") from None
+    for name, part in arm_parts(dims).items():
+        export_stl(part.mesh, root / "meshes" / f"{name}.stl")
+    urdf = root / "pick_place_arm.urdf"
+    write_text_atomic(urdf, arm_urdf(dims))
+    return urdf
+
+
+def build_arm_model(dims: ArmDimensions) -> Any:
+    """The Pinocchio model of the arm on its fixed pillar (no mesh file needed)."""
+    import pinocchio as pin
+
+    return pin.buildModelFromXML(arm_urdf(dims))
