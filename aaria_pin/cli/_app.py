@@ -35,17 +35,23 @@ def _register() -> None:
     from aaria_pin.cli import (
         dataset_cmd,
         info_cmd,
+        plot_cmd,
+        render_cmd,
         simulate_cmd,
         torques_cmd,
         urdf_cmd,
+        view_cmd,
         wrist_cmd,
     )
 
     main.add_command(dataset_cmd.dataset)
     main.add_command(info_cmd.info)
+    main.add_command(plot_cmd.plot)
+    main.add_command(render_cmd.render)
     main.add_command(simulate_cmd.simulate)
     main.add_command(torques_cmd.torques)
     main.add_command(urdf_cmd.urdf)
+    main.add_command(view_cmd.view)
     main.add_command(wrist_cmd.wrist)
 
 

@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike
 from aaria_pin._se3 import Array
 from aaria_pin.dh import Convention
 from aaria_pin.dh_robot import DHRobot, build_dh_robot
-from aaria_pin.errors import InputFileError
+from aaria_pin.errors import InputFileError, ParameterError
 from aaria_pin.model import RobotModel
 from aaria_pin.trajectory import BaseMotion, JointTrajectory
 from aaria_pin.viz.scene import Scene, scene_from_dh_robot
@@ -37,6 +37,7 @@ __all__ = [
     "load_run_view",
     "register_run_kind",
     "run_kind",
+    "sample_at",
     "table_view",
 ]
 
@@ -152,6 +153,20 @@ def table_view(
     zeros = np.zeros((1, n))
     trajectory = JointTrajectory(np.zeros(1), zeros, zeros.copy(), zeros.copy())
     return scene, _poses(model, scene, BaseMotion.resting(1), trajectory)[0]
+
+
+def sample_at(time: Array, t: float) -> int:
+    """Index of the sample nearest to time ``t`` [s].
+
+    Raises:
+        ParameterError: ``t`` outside the run (beyond half a sample step of its ends).
+    """
+    step = float(np.median(np.diff(time))) if time.size > 1 else 0.0
+    if not (np.isfinite(t) and time[0] - step / 2 <= t <= time[-1] + step / 2):
+        raise ParameterError(
+            f"time {t:g} s is outside the run; allowed: {time[0]:g} to {time[-1]:g} s"
+        )
+    return int(np.argmin(np.abs(time - t)))
 
 
 # --- run kinds -----------------------------------------------------------------------------------
