@@ -1,6 +1,6 @@
 """A self-contained HTML page that plays a run in an interactive 3D view.
 
-The page is the template ``viewer.html`` (shipped in the package) with the run embedded as JSON:
+The page is the template ``viewer.html.in`` (package data) with the run embedded as JSON:
 the scene's solids, lines and bones in their frames' coordinates, and the world pose of every
 frame at each shown sample (``[R row-major, p]``, 12 numbers a frame, rounded to 0.1 mm and
 1e-5). Its inline script projects the scene itself onto a ``<canvas>`` (no WebGL, no library):
@@ -43,7 +43,7 @@ _LEGEND = (
 
 @cache
 def _template() -> str:
-    return (resources.files("aaria_pin.viz") / "viewer.html").read_text(encoding="utf-8")
+    return (resources.files("aaria_pin.viz") / "viewer.html.in").read_text(encoding="utf-8")
 
 
 def shown_samples(n_samples: int, max_samples: int = DEFAULT_MAX_SAMPLES) -> np.ndarray:
