@@ -205,7 +205,8 @@ def plan_planar_move(
         name: (float(shoulder_move(alpha0, s.alpha)), float(elbow_move(beta0, s.beta)))
         for name, s in options.items()
     }
+    chosen: str = branch
     if branch == "nearest":
-        branch = min(BRANCHES, key=lambda n: (max(abs(moves[n][0]), abs(moves[n][1])), n))
-    d_alpha, d_beta = moves[branch]
+        chosen = min(BRANCHES, key=lambda n: (max(abs(moves[n][0]), abs(moves[n][1])), n))
+    d_alpha, d_beta = moves[chosen]
     return PlanarAngles(np.asarray(alpha0 + d_alpha), np.asarray(beta0 + d_beta))

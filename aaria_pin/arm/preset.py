@@ -52,6 +52,7 @@ from aaria_pin.errors import ParameterError
 __all__ = [
     "ARM_JOINTS",
     "ARM_PRESETS",
+    "PALM_FACE",
     "ArmDimensions",
     "arm_joints",
     "arm_parts",
@@ -64,6 +65,9 @@ __all__ = [
 
 ARM_JOINTS = ("lift", "shoulder", "elbow", "hand_yaw", "hand_pitch", "hand_roll", "finger")
 """The actuated joints, in model order."""
+
+PALM_FACE = 0.04
+"""Depth of the palm's gripping face below the wrist centre, where the fingers start [m]."""
 
 _STEEL = 7850.0
 _ALUMINIUM = 2700.0
@@ -122,6 +126,11 @@ class ArmDimensions:
         return self.shoulder_drop + self.elbow_drop + self.wrist_drop + self.grasp_depth
 
     @property
+    def fingertip_below_grasp(self) -> float:
+        """How far the fingertips reach below the grasp point along the approach axis [m]."""
+        return PALM_FACE + self.finger_length - self.grasp_depth
+
+    @property
     def annulus(self) -> tuple[float, float]:
         """Inner and outer radius of the wrist's reachable annulus, |A - B| and A + B [m]."""
         return abs(self.upper_arm - self.forearm), self.upper_arm + self.forearm
@@ -164,7 +173,7 @@ def arm_parts(dims: ArmDimensions) -> dict[str, MeshPart]:
     upper = combine(ring, bar)
     half_gap = d.wrist_drop - 0.02  # forearm's lower face to the wrist centre
     fingers = [
-        box_mesh((t, t, d.finger_length), (face - t / 2, y, 0.04 + d.finger_length / 2))
+        box_mesh((t, t, d.finger_length), (face - t / 2, y, PALM_FACE + d.finger_length / 2))
         for y in (-0.02, 0.02)
     ]
     parts = {
@@ -184,7 +193,7 @@ def arm_parts(dims: ArmDimensions) -> dict[str, MeshPart]:
         "hand": MeshPart(
             "hand",
             combine(
-                box_mesh((palm_x[1] - palm_x[0], 0.06, 0.02), (sum(palm_x) / 2, 0.0, 0.03)),
+                box_mesh((palm_x[1] - palm_x[0], 0.06, 0.02), (sum(palm_x) / 2, 0.0, PALM_FACE - 0.01)),
                 *fingers,
             ),
             d.density,
@@ -278,7 +287,7 @@ def arm_joints(dims: ArmDimensions) -> tuple[MeshJoint, ...]:
             "prismatic",
             "hand",
             "finger",
-            translation(d.finger_face, 0.0, 0.04),
+            translation(d.finger_face, 0.0, PALM_FACE),
             axis=(1.0, 0.0, 0.0),
             lower=0.0,
             upper=d.finger_travel,
