@@ -1,0 +1,119 @@
+"""PNG pictures: an arm in the paper's colours, and a run's signal panels."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("matplotlib")
+
+from aaria_pin.errors import ParameterError
+from aaria_pin.presets import get_preset
+from aaria_pin.runfile import write_run
+from aaria_pin.simulate import simulate_run
+from aaria_pin.viz.plot import plot_panels, signal_panels
+from aaria_pin.viz.render import render_geometry
+from aaria_pin.viz.scene import COLOURS, posed_geometry
+from aaria_pin.viz.sources import load_run_view, table_view
+
+
+def read_png(path: Path) -> np.ndarray:
+    from PIL import Image
+
+    with Image.open(path) as image:
+        return np.asarray(image.convert("RGB"), dtype=float) / 255.0
+
+
+def colour_pixels(image: np.ndarray, colour: tuple[float, float, float]) -> int:
+    """Pixels that are the colour at 50–100 % brightness (faces are shaded), within 0.08."""
+    c = np.asarray(colour)
+    scale = image @ c / (c @ c)
+    residual = np.linalg.norm(image - scale[..., None] * c, axis=-1)
+    return int(np.count_nonzero((residual < 0.08) & (scale > 0.5) & (scale < 1.05)))
+
+
+def scheme_counts(image: np.ndarray) -> dict[str, int]:
+    names = {
+        "green": "joint",
+        "blue": "link",
+        "red": "dh_frame",
+        "yellow": "tool_frame",
+        "purple": "imu_frame",
+    }
+    return {name: colour_pixels(image, COLOURS[role]) for name, role in names.items()}
+
+
+@pytest.mark.parametrize("name", ["aaria-fig2", "aaria-fig3", "spherical-wrist"])
+def test_preset_picture_has_the_size_and_the_paper_colours(tmp_path: Path, name: str) -> None:
+    preset = get_preset(name)
+    scene, poses = table_view(preset.table, preset.convention, name)
+    path = render_geometry(posed_geometry(scene, poses), tmp_path / "arm.png", name, width=640,
+                           height=480)
+    image = read_png(path)
+    assert image.shape == (480, 640, 3)
+    assert np.count_nonzero(image.min(axis=-1) < 0.9) > 2000  # not blank
+    counts = scheme_counts(image)
+    for colour in ("green", "blue", "red", "yellow", "purple"):
+        assert counts[colour] >= 15, counts
+
+
+def test_colour_check_fails_on_a_picture_without_the_scheme(tmp_path: Path) -> None:
+    """The pixel test can fail: a picture of only grey faces has none of the scheme's colours."""
+    preset = get_preset("aaria-fig2")
+    scene, poses = table_view(preset.table, preset.convention, "grey")
+    geometry = posed_geometry(scene, poses)
+    grey = type(geometry)(
+        geometry.faces,
+        tuple("other" for _ in geometry.face_roles),
+        geometry.segments,
+        tuple("other" for _ in geometry.segment_roles),
+        geometry.segment_widths,
+    )
+    image = read_png(render_geometry(grey, tmp_path / "grey.png", "", width=400, height=300))
+    counts = scheme_counts(image)
+    assert max(counts[c] for c in ("green", "red", "yellow", "purple")) < 15, counts
+
+
+def test_bad_sizes_write_nothing(tmp_path: Path) -> None:
+    preset = get_preset("aaria-fig2")
+    scene, poses = table_view(preset.table, preset.convention, "x")
+    with pytest.raises(ParameterError, match="allowed: 100 to"):
+        render_geometry(posed_geometry(scene, poses), tmp_path / "a.png", "x", width=50)
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.fixture(scope="module")
+def run_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    record = simulate_run(get_preset("aaria-fig2").table, duration=2.0, rate=50.0)
+    return write_run(tmp_path_factory.mktemp("run") / "run.h5", record)
+
+
+def test_signal_panels_cover_joints_torques_wrench_and_every_imu(run_file: Path) -> None:
+    view = load_run_view(run_file)
+    panels = signal_panels(view.signals)
+    assert len(panels) == 2 + 2 + 2 * 14
+    units = [panel.ylabel for panel in panels]
+    assert units[2:4] == ["force [N]", "moment [N·m]"]
+    assert units.count("angular velocity [rad/s]") == 14
+    assert units.count("specific force [m/s²]") == 14
+    one = signal_panels(view.signals, "imu_link3_b")
+    assert [p.title for p in one[4:]] == ["imu_link3_b: gyroscope", "imu_link3_b: accelerometer"]
+    assert np.array_equal(one[4].values, view.signals.imus["imu_link3_b"][:, :3])
+    with pytest.raises(ParameterError, match="imu_link3_b"):
+        signal_panels(view.signals, "imu_nowhere")
+
+
+def test_signal_png_has_one_row_of_panels_per_pair(tmp_path: Path, run_file: Path) -> None:
+    view = load_run_view(run_file)
+    panels = signal_panels(view.signals, "imu_tool")
+    path = plot_panels(view.time, panels, tmp_path / "s.png", "run", width=1000, row_height=250)
+    image = read_png(path)
+    assert image.shape == (3 * 250, 1000, 3)
+    # every panel draws coloured traces (matplotlib's default cycle is coloured, axes grey)
+    saturation = image.max(axis=-1) - image.min(axis=-1)
+    for row in range(3):
+        for column in range(2):
+            cell = saturation[row * 250 : (row + 1) * 250, column * 500 : (column + 1) * 500]
+            assert np.count_nonzero(cell > 0.3) > 200, (row, column)
