@@ -10,7 +10,8 @@ Its IK (section 4.2.8) treats the arm as two links turning about vertical axes, 
 pillar) —``shoulder`` (revolute, z, about the pillar's axis)→ ``upper_arm`` (length A)
 —``elbow`` (revolute, z)→ ``forearm`` (length B) —``hand_yaw`` (z), ``hand_pitch`` (y),
 ``hand_roll`` (z)→ ``hand`` (the report's ZYZ hand; the three axes meet at the wrist centre)
-—``finger`` (prismatic, along the hand's x: the gap to the two fixed fingers)→ ``finger``; a
+—``finger`` (prismatic, along the hand's x: the gap to the two fixed fingers)→
+``sliding_finger``; a
 massless frame ``grasp`` on the hand marks where a gripped cylinder's axis sits.
 
 **Dimensions.** The report's text gives no dimension (its OpenSCAD files are not in it), so
@@ -193,14 +194,16 @@ def arm_parts(dims: ArmDimensions) -> dict[str, MeshPart]:
         "hand": MeshPart(
             "hand",
             combine(
-                box_mesh((palm_x[1] - palm_x[0], 0.06, 0.02), (sum(palm_x) / 2, 0.0, PALM_FACE - 0.01)),
+                box_mesh(
+                    (palm_x[1] - palm_x[0], 0.06, 0.02), (sum(palm_x) / 2, 0.0, PALM_FACE - 0.01)
+                ),
                 *fingers,
             ),
             d.density,
             orange,
         ),
-        "finger": MeshPart(
-            "finger",
+        "sliding_finger": MeshPart(
+            "sliding_finger",
             box_mesh((t, 0.025, d.finger_length), (t / 2, 0.0, d.finger_length / 2)),
             d.density,
             orange,
@@ -286,7 +289,7 @@ def arm_joints(dims: ArmDimensions) -> tuple[MeshJoint, ...]:
             "finger",
             "prismatic",
             "hand",
-            "finger",
+            "sliding_finger",
             translation(d.finger_face, 0.0, PALM_FACE),
             axis=(1.0, 0.0, 0.0),
             lower=0.0,

@@ -96,7 +96,9 @@ class Cylinder:
 
     def inertia(self) -> Inertia:
         """Its mass properties about its centre, axis along z (solid, uniform)."""
-        return Inertia(self.mass, np.zeros(3), cylinder_inertia(self.mass, self.radius, self.height))
+        return Inertia(
+            self.mass, np.zeros(3), cylinder_inertia(self.mass, self.radius, self.height)
+        )
 
 
 @dataclass(frozen=True)
@@ -172,7 +174,13 @@ def _arm_over(
     offset = dims.finger_face + radius  # grasp point along the tool's x axis
     wx, wy = x - offset * np.cos(yaw), y - offset * np.sin(yaw)
     planar = plan_planar_move(
-        float(q[1]), float(q[2]), wx, wy, dims.upper_arm, dims.forearm, branch  # type: ignore[arg-type]
+        float(q[1]),
+        float(q[2]),
+        wx,
+        wy,
+        dims.upper_arm,
+        dims.forearm,
+        branch,  # type: ignore[arg-type]
     )
     heading = float(planar.alpha + planar.beta)
     hand = hand_angles(downward_grasp(yaw), heading, previous=q[3:6]).angles

@@ -33,6 +33,7 @@ def main() -> None:
 
 def _register() -> None:
     from aaria_pin.cli import (
+        arm_cmd,
         dataset_cmd,
         info_cmd,
         plot_cmd,
@@ -44,6 +45,7 @@ def _register() -> None:
         wrist_cmd,
     )
 
+    main.add_command(arm_cmd.arm)
     main.add_command(dataset_cmd.dataset)
     main.add_command(info_cmd.info)
     main.add_command(plot_cmd.plot)

@@ -1,0 +1,187 @@
+"""The pick-and-place run: path, torques with the payload, tool pose, and its run file.
+
+:func:`simulate_pick_place` plans the task (:mod:`aaria_pin.arm.task`), computes the joint
+torques by RNEA with the cylinder on the hand while it is held and without it
+(:mod:`aaria_pin.arm.payload`), and the grasp point's pose. :func:`pick_place_record` turns the
+run into the generic run record of URDF robots (:class:`aaria_pin.generic_record.GenericRunRecord`:
+``signals`` = time and joint values, no IMU; ``q``, ``qd``, ``qdd``, ``tau``; ``tool_pose`` = the
+grasp point; the URDF text), written by :func:`aaria_pin.runfile.write_generic_run`, so
+``aaria info`` reads it. The task's settings, phases and held interval are file attributes.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from aaria_pin import __version__
+from aaria_pin._se3 import Array
+from aaria_pin.arm.payload import HAND_JOINT, payload_inertia, task_torques
+from aaria_pin.arm.preset import (
+    ARM_JOINTS,
+    ArmDimensions,
+    arm_urdf,
+    build_arm_model,
+    get_arm_preset,
+    grasp_offset,
+)
+from aaria_pin.arm.task import PHASES, Cylinder, JointPath, plan_pick_place
+from aaria_pin.generic_record import GenericRunRecord
+from aaria_pin.model import GRAVITY
+
+__all__ = [
+    "PickPlaceRun",
+    "link_poses",
+    "pick_place_record",
+    "simulate_pick_place",
+    "write_pick_place_run",
+]
+
+_UNITS = {
+    "q": "m (lift, finger), rad (shoulder, elbow, hand)",
+    "tau": "N (lift, finger), N*m (shoulder, elbow, hand)",
+    "tool_pose": "m",
+    "time": "s",
+}
+
+
+@dataclass(frozen=True)
+class PickPlaceRun:
+    """A pick-and-place run.
+
+    Attributes:
+        path: the joint path, its phases and held mask
+        tau: joint torques [N·m] and forces [N] with the cylinder on the hand where held (T, 7)
+        tau_free: the same without the cylinder (T, 7)
+        tool_pose: the grasp point's pose in the world (T, 4, 4) [m]
+        cylinder: the cylinder (where it stood)
+        place: where it was put down (x, y) [m]
+        dims: the arm
+        preset: the arm preset's name
+        branch: the IK branch rule used
+    """
+
+    path: JointPath
+    tau: Array
+    tau_free: Array
+    tool_pose: Array
+    cylinder: Cylinder
+    place: tuple[float, float]
+    dims: ArmDimensions
+    preset: str
+    branch: str
+
+
+def link_poses(model: Any, q: Array, frames: list[str]) -> Array:
+    """Poses of named frames in the world for every sample (T, F, 4, 4) [m]."""
+    import pinocchio as pin
+
+    data = model.createData()
+    ids = [model.getFrameId(name, pin.FrameType.BODY) for name in frames]
+    out = np.empty((len(q), len(ids), 4, 4))
+    for k, qk in enumerate(np.asarray(q, dtype=float)):
+        pin.framesForwardKinematics(model, data, qk)
+        for j, frame in enumerate(ids):
+            out[k, j] = data.oMf[frame].homogeneous
+    return out
+
+
+def simulate_pick_place(
+    cylinder: Cylinder,
+    place: tuple[float, float],
+    *,
+    preset: str = "pick-place-arm",
+    rate: float = 100.0,
+    branch: str = "nearest",
+    threads: int = 1,
+) -> PickPlaceRun:
+    """Plan the task and compute its torques and tool pose.
+
+    Args:
+        cylinder: the cylinder and where it stands
+        place: where to put it (x, y) [m]
+        preset: the arm preset
+        rate: sample rate [Hz]
+        branch: IK branch: ``"nearest"``, ``"left"`` or ``"right"``
+        threads: RNEA worker threads
+
+    Returns:
+        The run.
+
+    Raises:
+        ParameterError: as :func:`aaria_pin.arm.task.plan_pick_place`, or an unknown preset.
+    """
+    dims = get_arm_preset(preset)
+    path = plan_pick_place(dims, cylinder, place, rate=rate, branch=branch)
+    model = build_arm_model(dims)
+    tau, tau_free = task_torques(
+        model, payload_inertia(dims, cylinder), path.q, path.qd, path.qdd, path.held, threads
+    )
+    hand = link_poses(model, path.q, ["hand"])[:, 0]
+    tool_pose = hand @ grasp_offset(dims, cylinder.radius)
+    return PickPlaceRun(
+        path,
+        tau,
+        tau_free,
+        tool_pose,
+        cylinder,
+        (float(place[0]), float(place[1])),
+        dims,
+        preset,
+        branch,
+    )
+
+
+def pick_place_record(run: PickPlaceRun) -> GenericRunRecord:
+    """The run as a generic run record (module docstring)."""
+    path = run.path
+    n = path.time.size
+    c = run.cylinder
+    attributes: dict[str, Any] = {
+        "robot": "pick_place_arm",
+        "source": run.preset,
+        "task": "pick-place",
+        "moving_base": False,
+        "base_frame": "pillar",
+        "tool_frame": "grasp",
+        "payload_joint": HAND_JOINT,
+        "rate": float(1.0 / (path.time[1] - path.time[0])) if n > 1 else 0.0,
+        "duration": float(path.time[-1]),
+        "cylinder": {"x": c.x, "y": c.y, "radius": c.radius, "height": c.height, "mass": c.mass},
+        "place": list(run.place),
+        "branch": run.branch,
+        "phases": list(PHASES),
+        "phase_start": path.boundaries[:, 0].tolist(),
+        "phase_end": path.boundaries[:, 1].tolist(),
+        "held_interval": [float(path.boundaries[2, 1]), float(path.boundaries[6, 0])],
+        "waypoints": path.waypoints.tolist(),
+        "peak_payload_share": np.abs(run.tau - run.tau_free).max(axis=0).tolist(),
+        "gravity": GRAVITY.tolist(),
+        "units": _UNITS,
+        "version": __version__,
+    }
+    return GenericRunRecord(
+        signals=np.column_stack([path.time, path.q]),
+        joint_names=ARM_JOINTS,
+        q=np.ascontiguousarray(path.q),
+        qd=np.ascontiguousarray(path.qd),
+        qdd=np.ascontiguousarray(path.qdd),
+        tau=np.ascontiguousarray(run.tau),
+        base_pose=np.broadcast_to(np.eye(4), (n, 4, 4)).copy(),
+        base_wrench=np.zeros((n, 6)),
+        tool_pose=run.tool_pose,
+        imu_mounts=(),
+        urdf=arm_urdf(run.dims),
+        attributes=attributes,
+    )
+
+
+def write_pick_place_run(path: str | os.PathLike[str], run: PickPlaceRun) -> Path:
+    """Write the run as a generic run file (``.h5``), atomically."""
+    from aaria_pin.runfile import write_generic_run
+
+    return write_generic_run(path, pick_place_record(run))

@@ -1,0 +1,124 @@
+"""``aaria arm``: the robotic-arm report's pick-and-place arm (URDF with meshes, the task)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+
+@click.group()
+def arm() -> None:
+    """The pick-and-place arm of the robotic-arm report."""
+
+
+@arm.command("urdf")
+@click.option(
+    "-o",
+    "--output",
+    "folder",
+    required=True,
+    type=click.Path(path_type=Path),
+    help="Folder: writes pick_place_arm.urdf and meshes/*.stl.",
+)
+@click.option("--preset", default="pick-place-arm", show_default=True, help="Arm preset.")
+def urdf(folder: Path, preset: str) -> None:
+    """Write the arm's URDF and the STL meshes of its parts."""
+    from aaria_pin.arm.preset import arm_parts, get_arm_preset, write_arm_urdf
+
+    dims = get_arm_preset(preset)
+    path = write_arm_urdf(folder, dims)
+    click.echo(f"wrote {path} and {len(arm_parts(dims))} meshes in {folder / 'meshes'}")
+
+
+@arm.command("pick-place")
+@click.option(
+    "--cylinder",
+    "cylinder_xy",
+    nargs=2,
+    type=float,
+    required=True,
+    metavar="X Y",
+    help="Where the cylinder stands [m].",
+)
+@click.option(
+    "--place",
+    "place_xy",
+    nargs=2,
+    type=float,
+    required=True,
+    metavar="X Y",
+    help="Where to put it down [m].",
+)
+@click.option("--mass", type=float, default=0.5, show_default=True, help="Cylinder mass [kg].")
+@click.option("--radius", type=float, default=0.03, show_default=True, help="Radius [m].")
+@click.option("--height", type=float, default=0.12, show_default=True, help="Height [m].")
+@click.option(
+    "--branch",
+    type=click.Choice(["nearest", "left", "right"]),
+    default="nearest",
+    show_default=True,
+    help="IK branch of every move.",
+)
+@click.option("--rate", type=float, default=100.0, show_default=True, help="Sample rate [Hz].")
+@click.option("--preset", default="pick-place-arm", show_default=True, help="Arm preset.")
+@click.option(
+    "-o", "--output", required=True, type=click.Path(path_type=Path), help="Run file (.h5)."
+)
+@click.option(
+    "--sheet",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="PNG contact sheet of the poses (start and end of every phase).",
+)
+@click.option(
+    "--animation", type=click.Path(path_type=Path), default=None, help="GIF animation of the task."
+)
+@click.option("--fps", type=int, default=10, show_default=True, help="Animation frame rate.")
+def pick_place(
+    cylinder_xy: tuple[float, float],
+    place_xy: tuple[float, float],
+    mass: float,
+    radius: float,
+    height: float,
+    branch: str,
+    rate: float,
+    preset: str,
+    output: Path,
+    sheet: Path | None,
+    animation: Path | None,
+    fps: int,
+) -> None:
+    """Pick a cylinder from the floor and put it elsewhere: path, torques, run file."""
+    import numpy as np
+
+    from aaria_pin.arm.run import simulate_pick_place, write_pick_place_run
+    from aaria_pin.arm.task import PHASES, Cylinder
+    from aaria_pin.errors import OutputFileError
+
+    for picture, suffix in ((sheet, ".png"), (animation, ".gif")):
+        if picture is not None and picture.suffix.lower() != suffix:
+            raise OutputFileError(f"{picture}: unknown picture type; allowed: {suffix}")
+    if output.suffix.lower() not in (".h5", ".hdf5"):
+        raise OutputFileError(f"{output}: unknown run file type; allowed: .h5, .hdf5")
+    cylinder = Cylinder(cylinder_xy[0], cylinder_xy[1], radius, height, mass)
+    run = simulate_pick_place(cylinder, place_xy, preset=preset, rate=rate, branch=branch)
+    write_pick_place_run(output, run)
+    click.echo(f"wrote {output}: {run.path.time.size} samples, {run.path.time[-1]:.2f} s")
+    for name, (start, end) in zip(PHASES, run.path.boundaries, strict=True):
+        click.echo(f"  {name:<9} {start:6.2f} - {end:6.2f} s")
+    peak = np.abs(run.tau).max(axis=0)
+    share = np.abs(run.tau - run.tau_free).max(axis=0)
+    from aaria_pin.arm.preset import ARM_JOINTS
+
+    click.echo("  joint       peak |tau|   payload share (peak)")
+    for joint, p, s in zip(ARM_JOINTS, peak, share, strict=True):
+        click.echo(f"  {joint:<10} {p:10.4g}   {s:10.4g}")
+    if sheet is not None:
+        from aaria_pin.arm.pictures import write_contact_sheet
+
+        click.echo(f"wrote {write_contact_sheet(sheet, run)}")
+    if animation is not None:
+        from aaria_pin.arm.pictures import write_animation
+
+        click.echo(f"wrote {write_animation(animation, run, fps=fps)}")
