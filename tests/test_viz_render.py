@@ -49,8 +49,9 @@ def scheme_counts(image: np.ndarray) -> dict[str, int]:
 def test_preset_picture_has_the_size_and_the_paper_colours(tmp_path: Path, name: str) -> None:
     preset = get_preset(name)
     scene, poses = table_view(preset.table, preset.convention, name)
-    path = render_geometry(posed_geometry(scene, poses), tmp_path / "arm.png", name, width=640,
-                           height=480)
+    path = render_geometry(
+        posed_geometry(scene, poses), tmp_path / "arm.png", name, width=640, height=480
+    )
     image = read_png(path)
     assert image.shape == (480, 640, 3)
     assert np.count_nonzero(image.min(axis=-1) < 0.9) > 2000  # not blank
