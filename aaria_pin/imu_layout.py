@@ -40,6 +40,7 @@ __all__ = [
     "DEFAULT_MIN_OFFSET",
     "add_imu_frames",
     "default_imu_layout",
+    "frame_index",
     "moving_links",
     "read_imu_layout",
 ]
@@ -60,8 +61,22 @@ def _pose(xyz: Sequence[float], rpy: Sequence[float] = (0.0, 0.0, 0.0)) -> Array
     return T
 
 
-def moving_links(model: pin.Model) -> list[tuple[int, str]]:
-    """(joint index, child link name) of every actuated joint, in model order.
+def frame_index(model: pin.Model, name: str) -> int:
+    """Index of a frame by name, a link (body frame) first when a joint has the same name.
+
+    Raises:
+        ModelError: no frame of that name.
+    """
+    if model.existFrame(name, pin.FrameType.BODY):
+        return int(model.getFrameId(name, pin.FrameType.BODY))
+    for index, frame in enumerate(model.frames):
+        if frame.name == name:
+            return index
+    raise ModelError(f"frame {name!r} is not in model {model.name!r}")
+
+
+def moving_links(model: pin.Model) -> list[tuple[int, int, str]]:
+    """(joint index, frame index, link name) of each actuated joint's child link, model order.
 
     The child link is the body frame the URDF parser attaches to the joint first.
     """
@@ -69,15 +84,12 @@ def moving_links(model: pin.Model) -> list[tuple[int, str]]:
     for joint_id in range(1, model.njoints):
         if model.joints[joint_id].shortname() == "JointModelFreeFlyer":
             continue
-        body = next(
-            (
-                frame.name
-                for frame in model.frames
-                if frame.type == pin.FrameType.BODY and frame.parentJoint == joint_id
-            ),
-            None,
+        frame_id = next(
+            index
+            for index, frame in enumerate(model.frames)
+            if frame.type == pin.FrameType.BODY and frame.parentJoint == joint_id
         )
-        links.append((joint_id, body if body is not None else model.names[joint_id]))
+        links.append((joint_id, frame_id, model.frames[frame_id].name))
     return links
 
 
@@ -124,8 +136,8 @@ def default_imu_layout(
         ImuMount("imu_base", base_frame, np.eye(4)),
         ImuMount("imu_tool", tool_frame, np.eye(4)),
     ]
-    for joint_id, link in moving_links(model):
-        frame = model.frames[model.getFrameId(link)]
+    for joint_id, frame_id, link in moving_links(model):
+        frame = model.frames[frame_id]
         T_joint_link = frame.placement.homogeneous
         com_joint = np.asarray(model.inertias[joint_id].lever, dtype=float)
         com_joint = _offset_from_axis(com_joint, _joint_axis(model.joints[joint_id]), min_offset)
@@ -196,7 +208,7 @@ def add_imu_frames(model: pin.Model, mounts: Sequence[ImuMount]) -> None:
             )
         if model.existFrame(mount.name):
             raise ModelError(f"IMU name {mount.name!r} is already a frame of the robot")
-        parent_id = model.getFrameId(mount.parent)
+        parent_id = frame_index(model, mount.parent)
         parent = model.frames[parent_id]
         placement = parent.placement * pin.SE3(mount.T_parent_imu)
         model.addFrame(

@@ -72,9 +72,12 @@ class RobotModel:
         Raises:
             ModelError: no frame of that name.
         """
-        if not self.model.existFrame(name):
-            raise ModelError(f"frame {name!r} is not in model {self.model.name!r}")
-        return int(self.model.getFrameId(name))
+        if self.model.existFrame(name, pin.FrameType.BODY):  # a link before a same-named joint
+            return int(self.model.getFrameId(name, pin.FrameType.BODY))
+        for index, frame in enumerate(self.model.frames):
+            if frame.name == name:
+                return index
+        raise ModelError(f"frame {name!r} is not in model {self.model.name!r}")
 
     def neutral(self) -> np.ndarray:
         """Configuration with the base at the world origin and every joint at zero."""

@@ -25,6 +25,8 @@ __all__ = ["JOINT_TYPES", "UrdfJoint", "UrdfSummary", "check_urdf", "resolve_mes
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 """URDF joint types a simulation supports (``floating`` and ``planar`` are refused)."""
 
+_INERTIA_FLOOR = 1e-12
+"""Negative principal moments smaller than this [kg·m²] are round-off, whatever the scale."""
 _INERTIA_TOLERANCE = 1e-6
 """Largest negative principal moment tolerated, relative to the largest one (round-off).
 
@@ -117,7 +119,7 @@ def _check_inertial(link: ET.Element, name: str) -> None:
     matrix = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
     moments = np.linalg.eigvalsh(matrix)
     scale = max(float(np.abs(moments).max()), 1e-300)
-    if moments[0] < -_INERTIA_TOLERANCE * scale:
+    if moments[0] < -max(_INERTIA_TOLERANCE * scale, _INERTIA_FLOOR):
         raise UrdfError(
             f"{what}: inertia [ixx ixy ixz iyy iyz izz] = {[ixx, ixy, ixz, iyy, iyz, izz]} is "
             f"not positive definite (principal moments {np.round(moments, 9).tolist()} kg*m^2); "

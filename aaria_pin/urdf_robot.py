@@ -7,7 +7,8 @@ one row per actuated joint in model order and the Aaria columns ``[amplitude (ra
 amplitude (m), bias, frequency (rad/s), phase (rad)]``: joint i follows
 ``q_i(t) = A·sin(w·t + phase) + bias`` (A from the column of its type), and must stay within the
 URDF's position limits (``bias ± |A|``) and velocity limits (``|A|·w``). A mimic joint follows
-its leader, ``q = multiplier·q_leader + offset``; its row is ignored.
+its leader, ``q = multiplier·q_leader + offset``; its row is ignored and its own limits are not
+checked (some URDFs, PR2's grippers among them, give mimic limits their leader breaks).
 """
 
 from __future__ import annotations

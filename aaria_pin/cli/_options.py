@@ -60,3 +60,45 @@ def robot_name(stem: str) -> str:
     """A URDF robot name from a preset or file name: letters, digits and ``_`` only."""
     cleaned = re.sub(r"[^A-Za-z0-9_]", "_", stem)
     return cleaned if cleaned[:1].isalpha() else f"arm_{cleaned}"
+
+
+def robot_source_options(func: F) -> F:
+    """Add ``--robot NAME | --urdf FILE`` and the URDF robot's tool, IMU and base options."""
+    func = click.option(
+        "--fixed-base", is_flag=True, help="URDF robot: keep the root link fixed at the origin."
+    )(func)
+    func = click.option(
+        "--imu-layout",
+        "imu_layout_file",
+        type=click.Path(path_type=Path, dir_okay=False),
+        help="URDF robot: IMU layout file (TOML, [[imu]] name, parent, xyz, rpy).",
+    )(func)
+    func = click.option("--tool", "tool_frame", help="URDF robot: the tool frame.")(func)
+    func = click.option(
+        "--urdf",
+        "urdf_file",
+        type=click.Path(path_type=Path, dir_okay=False),
+        help="A URDF file to simulate instead of a DH arm.",
+    )(func)
+    func = click.option(
+        "--robot", help="A robot of example-robot-data (see 'aaria robots'), e.g. ur5, panda."
+    )(func)
+    return func
+
+
+def load_robot_source(robot: str | None, urdf_file: Path | None) -> tuple[str, Path, str]:
+    """Resolve ``--robot`` / ``--urdf`` into ``(urdf text, its folder, source name)``.
+
+    Raises:
+        click.UsageError: both given.
+    """
+    from aaria_pin.robots import find_robot
+    from aaria_pin.urdf_robot import read_urdf_file
+
+    if robot is not None and urdf_file is not None:
+        raise click.UsageError("give one of --robot NAME or --urdf FILE, not both")
+    if robot is not None:
+        entry = find_robot(robot)
+        return read_urdf_file(entry.urdf), entry.urdf.parent, entry.name
+    assert urdf_file is not None
+    return read_urdf_file(urdf_file), urdf_file.parent, str(urdf_file)

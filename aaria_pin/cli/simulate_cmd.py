@@ -7,7 +7,12 @@ from typing import Any
 
 import click
 
-from aaria_pin.cli._options import load_table_source, table_source_options
+from aaria_pin.cli._options import (
+    load_robot_source,
+    load_table_source,
+    robot_source_options,
+    table_source_options,
+)
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
 MAX_SEED = 2**63 - 1
@@ -30,6 +35,7 @@ def _read_mounts(path: Path) -> Any:
 
 @click.command()
 @table_source_options
+@robot_source_options
 @click.option("--joints", "joints_file", type=_FILE, help="Joint oscillation table (senSenJ).")
 @click.option("--base", "base_file", type=_FILE, help="Base oscillation table (senSenB).")
 @click.option(
@@ -75,6 +81,11 @@ def simulate(
     preset: str | None,
     dh_file: Path | None,
     convention: str,
+    robot: str | None,
+    urdf_file: Path | None,
+    tool_frame: str | None,
+    imu_layout_file: Path | None,
+    fixed_base: bool,
     joints_file: Path | None,
     base_file: Path | None,
     mount_file: Path | None,
@@ -89,7 +100,12 @@ def simulate(
     compress: str,
     output: Path,
 ) -> None:
-    """Simulate an arm on a moving base: joint values, 14 IMUs, torques, base wrench."""
+    """Simulate an arm on a moving base: joint values, IMUs, torques, base wrench.
+
+    The arm is a DH arm (--preset, --dh, or --from an Aaria run file; 14 IMU slots, the senSen
+    layout) or any URDF robot (--robot, --urdf, or --from a generic run file; two IMUs per
+    moving link plus base and tool, the generic layout).
+    """
     from aaria_pin._malloc import tune_malloc
     from aaria_pin.dh_robot import BodyDimensions
     from aaria_pin.errors import ParameterError
@@ -99,6 +115,37 @@ def simulate(
     from aaria_pin.simulate import simulate_from_run_file, simulate_run
 
     tune_malloc()
+    urdf_given = robot is not None or urdf_file is not None
+    if urdf_given or (from_run is not None and _is_generic(from_run)):
+        _simulate_urdf(
+            robot,
+            urdf_file,
+            tool_frame,
+            imu_layout_file,
+            fixed_base,
+            joints_file,
+            base_file,
+            from_run,
+            duration,
+            rate,
+            seed,
+            noise,
+            compress,
+            output,
+            refused={
+                "--preset": preset,
+                "--dh": dh_file,
+                "--imu-mount": mount_file,
+                "--density": density,
+                "--torques": torques_file,
+            },
+        )
+        return
+    for flag, value in (("--tool", tool_frame), ("--imu-layout", imu_layout_file)):
+        if value is not None:
+            raise click.UsageError(f"{flag} is for URDF robots (--robot or --urdf)")
+    if fixed_base:
+        raise click.UsageError("--fixed-base is for URDF robots (--robot or --urdf)")
     given = {"duration": duration, "rate": rate, "seed": seed, "noise": noise}
     overrides: dict[str, Any] = {key: value for key, value in given.items() if value is not None}
     if joints_file is not None:
@@ -139,5 +186,77 @@ def simulate(
     click.echo(
         f"wrote {output}: {record.senSen.shape[0]} samples at {record.attributes['rate']:g} Hz, "
         f"noise {'on' if record.attributes['noise'] else 'off'}, "
+        f"peak |tau| {abs(record.tau).max():.4g}"
+    )
+
+
+def _is_generic(path: Path) -> bool:
+    from aaria_pin.runfile import is_generic_run_file
+
+    return is_generic_run_file(path)
+
+
+def _simulate_urdf(
+    robot: str | None,
+    urdf_file: Path | None,
+    tool_frame: str | None,
+    imu_layout_file: Path | None,
+    fixed_base: bool,
+    joints_file: Path | None,
+    base_file: Path | None,
+    from_run: Path | None,
+    duration: float | None,
+    rate: float | None,
+    seed: int | None,
+    noise: bool | None,
+    compress: str,
+    output: Path,
+    refused: dict[str, Any],
+) -> None:
+    """``aaria simulate --robot/--urdf``: one run of a URDF robot to a generic run file."""
+    import warnings
+
+    from aaria_pin.imu_layout import read_imu_layout
+    from aaria_pin.io import read_table
+    from aaria_pin.runfile import write_generic_run
+    from aaria_pin.urdf_run import simulate_urdf_from_run_file, simulate_urdf_run
+
+    for flag, value in refused.items():
+        if value is not None:
+            raise click.UsageError(f"{flag} is for DH arms; not allowed with a URDF robot")
+    if compress != "none":
+        raise click.UsageError("--compress is for DH arms; a URDF robot's run is uncompressed")
+    given = {"duration": duration, "rate": rate, "seed": seed, "noise": noise}
+    overrides: dict[str, Any] = {key: value for key, value in given.items() if value is not None}
+    if tool_frame is not None:
+        overrides["tool_frame"] = tool_frame
+    if imu_layout_file is not None:
+        overrides["imu_layout"] = read_imu_layout(imu_layout_file)
+    if joints_file is not None:
+        overrides["joint_table"] = read_table(joints_file, "joint_table")
+    if base_file is not None:
+        overrides["base_table"] = read_table(base_file, "senSenB")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        if from_run is not None:
+            if robot is not None or urdf_file is not None:
+                raise click.UsageError(
+                    "--from takes the URDF from the run file; drop --robot/--urdf"
+                )
+            if fixed_base:
+                overrides["moving_base"] = False
+            record = simulate_urdf_from_run_file(from_run, **overrides)
+        else:
+            text, folder, source = load_robot_source(robot, urdf_file)
+            record = simulate_urdf_run(
+                text, urdf_dir=folder, source=source, moving_base=not fixed_base, **overrides
+            )
+    for warning in caught:
+        click.echo(f"aaria: warning: {warning.message}", err=True)
+    write_generic_run(output, record)
+    click.echo(
+        f"wrote {output}: {record.attributes['robot']}, {len(record.joint_names)} joints, "
+        f"{len(record.imu_mounts)} IMUs, {record.signals.shape[0]} samples at "
+        f"{record.attributes['rate']:g} Hz, noise {'on' if record.attributes['noise'] else 'off'}, "
         f"peak |tau| {abs(record.tau).max():.4g}"
     )
