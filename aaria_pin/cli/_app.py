@@ -38,6 +38,7 @@ def _register() -> None:
         info_cmd,
         plot_cmd,
         render_cmd,
+        robots_cmd,
         simulate_cmd,
         torques_cmd,
         urdf_cmd,
@@ -50,6 +51,7 @@ def _register() -> None:
     main.add_command(info_cmd.info)
     main.add_command(plot_cmd.plot)
     main.add_command(render_cmd.render)
+    main.add_command(robots_cmd.robots)
     main.add_command(simulate_cmd.simulate)
     main.add_command(torques_cmd.torques)
     main.add_command(urdf_cmd.urdf)
