@@ -146,8 +146,37 @@ def test_stick_figure_of_any_model_joins_joint_origins() -> None:
     robot = build_dh_robot(get_preset("aaria-fig2").table)
     model = robot.model()
     scene = scene_from_model(model)
-    assert len(scene.bones) == len(robot.chain.joints)  # 5 between joints + 1 to the tool
+    # base to joint 1, 5 between joints, 1 to the tool
+    assert len(scene.bones) == len(robot.chain.joints) + 1
     assert sum(s.role == "joint" for s in scene.solids) == len(robot.chain.joints)
     poses = np.stack([np.eye(4)] * len(scene.frames))
     geometry = posed_geometry(scene, poses)
     assert geometry.segments.shape[0] == 3 * len(scene.lines) + len(scene.bones)
+
+
+@pytest.mark.slow
+def test_generic_runs_of_a_urdf_robot_and_the_pick_place_arm(tmp_path: Path) -> None:
+    """Generic run files (any URDF robot, the pick-and-place arm) are posed from their URDF."""
+    from click.testing import CliRunner
+
+    from aaria_pin.cli import main
+    from aaria_pin.runfile import read_generic_run
+
+    ur5, arm = tmp_path / "ur5.h5", tmp_path / "arm.h5"
+    for args in (
+        ["simulate", "--robot", "ur5", "--duration", "1", "--rate", "50", "-o", str(ur5)],
+        ["arm", "pick-place", "--cylinder", "0.4", "0.1", "--place", "0.2", "-0.3", "-o", str(arm)],
+    ):
+        result = CliRunner().invoke(main, args)
+        assert result.exit_code == 0, result.output
+    for path in (ur5, arm):
+        assert run_kind(path) == "generic"
+        view = load_run_view(path)
+        record = read_generic_run(path)
+        samples = np.arange(0, view.time.size, 7)
+        poses = view.frame_poses(samples)
+        tool = poses[:, view.scene.frames.index(record.attributes["tool_frame"])]
+        assert np.allclose(tool, record.tool_pose[samples], atol=1e-9)
+        assert len(view.scene.bones) >= len(record.joint_names)
+        assert len(view.signals.imus) == len(record.imu_mounts)
+    assert load_run_view(ur5).signals.base_wrench is not None  # moving base by default

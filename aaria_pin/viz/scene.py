@@ -301,8 +301,8 @@ def scene_from_model(robot: RobotModel, size: float = 0.05) -> Scene:
 
     For robots described without solids (a generic URDF): each joint is a green cylinder along
     its axis (revolute) or a thin green rod (prismatic), bones join each joint's origin to its
-    parent joint's origin and the tool frame to its joint, and the world, tool and sensor frames
-    are drawn as in :func:`scene_from_dh_robot`.
+    parent joint's origin (a first joint to the base frame) and the tool frame to its joint,
+    and the world, tool and sensor frames are drawn as in :func:`scene_from_dh_robot`.
 
     Args:
         robot: the model
@@ -333,8 +333,10 @@ def scene_from_model(robot: RobotModel, size: float = 0.05) -> Scene:
         parent = int(model.parents[j])
         if parent in joint_frame:
             bones.append(Bone(joint_frame[parent], frame))
+        else:  # a first joint: from the base frame
+            bones.append(Bone(robot.base_frame, frame))
     tool_parent = int(model.frames[robot.frame_id(robot.tool_frame)].parentJoint)
-    frames.append(robot.tool_frame)
+    frames += [robot.base_frame, robot.tool_frame]
     if tool_parent in joint_frame:
         bones.append(Bone(joint_frame[tool_parent], robot.tool_frame))
     lines = [

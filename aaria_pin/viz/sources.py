@@ -6,11 +6,12 @@ and body dimensions), the frame poses over time computed by Pinocchio from the s
 values and the base motion (:func:`aaria_pin.kinematics.frame_poses`), and the stored signals.
 
 Run kinds are recognised by :func:`run_kind` and loaded by the loader registered for them:
-``"aaria"`` (``aaria simulate`` / data-set run files) and ``"wrist"`` (``aaria wrist
-simulate``). Other kinds (a generic URDF robot, the pick-and-place arm) plug in with
-:func:`register_run_kind`: a probe that recognises the file and a loader that returns a
-:class:`RunView` (build its scene with :func:`~aaria_pin.viz.scene.scene_from_model` when the
-robot has no solids).
+``"aaria"`` (``aaria simulate`` / data-set run files), ``"wrist"`` (``aaria wrist simulate``)
+and ``"generic"`` (the generic run file of a URDF robot, which the pick-and-place arm writes
+too: the model is rebuilt from the URDF text the file holds, drawn as a stick figure by
+:func:`~aaria_pin.viz.scene.scene_from_model`, since URDF meshes are not drawn). Other kinds
+plug in with :func:`register_run_kind`: a probe that recognises the file and a loader that
+returns a :class:`RunView`.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from aaria_pin.dh_robot import DHRobot, build_dh_robot
 from aaria_pin.errors import InputFileError, ParameterError
 from aaria_pin.model import RobotModel
 from aaria_pin.trajectory import BaseMotion, JointTrajectory
-from aaria_pin.viz.scene import Scene, scene_from_dh_robot
+from aaria_pin.viz.scene import Scene, scene_from_dh_robot, scene_from_model
 
 __all__ = [
     "RunView",
@@ -331,5 +332,79 @@ def _load_wrist(file: Path) -> RunView:
     return _view(file.name, "wrist", robot, False, BaseMotion.resting(time.size), q, signals)
 
 
+def _is_generic(file: Path) -> bool:
+    from aaria_pin.runfile import is_generic_run_file
+
+    return is_generic_run_file(file)
+
+
+def _load_generic(file: Path) -> RunView:
+    import pinocchio as pin
+
+    from aaria_pin.errors import ModelError
+    from aaria_pin.imu_layout import add_imu_frames
+    from aaria_pin.runfile import read_generic_run
+
+    record = read_generic_run(file)
+    attributes = record.attributes
+    try:
+        model = pin.buildModelFromXML(record.urdf)
+    except (RuntimeError, ValueError) as exc:
+        raise InputFileError(f"{file}: its URDF cannot be built ({exc})") from None
+    add_imu_frames(model, record.imu_mounts)
+    base_frame = str(attributes.get("base_frame") or model.frames[1].name)
+    tool_frame = str(attributes.get("tool_frame") or model.frames[-1].name)
+    imu_names = tuple(mount.name for mount in record.imu_mounts)
+    try:
+        robot = RobotModel(model, record.urdf, False, base_frame, tool_frame, imu_names)
+        for name in (base_frame, tool_frame):
+            robot.frame_id(name)
+    except ModelError as exc:
+        raise InputFileError(f"{file}: {exc}") from None
+    time = np.asarray(record.time, dtype=float)
+    q = np.asarray(record.q, dtype=float)
+    origins = _poses(robot, scene_from_model(robot), BaseMotion.resting(1), _still(q[:1]))
+    extent = float(np.ptp(origins[0, :, :3, 3], axis=0).max())
+    scene = scene_from_model(robot, size=max(0.01, 0.04 * extent))
+    kinds = [
+        "prismatic" if model.joints[j].shortname().startswith("JointModelP") else "revolute"
+        for j in range(1, model.njoints)
+    ]
+    q_labels = tuple(
+        f"{name} [{'m' if kind == 'prismatic' else 'rad'}]"
+        for name, kind in zip(record.joint_names, kinds, strict=False)
+    )
+    tau_labels = tuple(
+        f"{name} [{'N' if kind == 'prismatic' else 'N·m'}]"
+        for name, kind in zip(record.joint_names, kinds, strict=False)
+    )
+    moving = bool(attributes.get("moving_base", False))
+    signals = Signals(
+        time,
+        q,
+        q_labels,
+        np.asarray(record.tau, dtype=float),
+        tau_labels,
+        np.asarray(record.base_wrench, dtype=float) if moving else None,
+        {name: np.asarray(record.imu_signals(name), dtype=float) for name in imu_names},
+    )
+    base_pose = np.asarray(record.base_pose, dtype=float)
+
+    def frame_poses(samples: Array) -> Array:
+        index = np.asarray(samples, dtype=int)
+        local = _poses(robot, scene, BaseMotion.resting(index.size), _still(q[index]))
+        local[:, 1:] = base_pose[index, None] @ local[:, 1:]
+        return local
+
+    return RunView(file.name, "generic", scene, signals, frame_poses)
+
+
+def _still(q: Array) -> JointTrajectory:
+    values = np.ascontiguousarray(q)
+    zeros = np.zeros_like(values)
+    return JointTrajectory(np.zeros(values.shape[0]), values, zeros, zeros.copy())
+
+
 register_run_kind("aaria", _is_aaria, _load_aaria)
 register_run_kind("wrist", _is_wrist, _load_wrist)
+register_run_kind("generic", _is_generic, _load_generic)
