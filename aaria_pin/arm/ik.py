@@ -154,7 +154,7 @@ def elbow_move(beta0: ArrayLike, beta1: ArrayLike) -> Array:
         beta1: goal elbow angles [rad], in [-π, π]
 
     Returns:
-        The turn [rad], in [-2π, 2π].
+        The turn [rad], in (-2π, 2π); ``β0 + turn`` is β1 or, for β1 = ±π, the one on β0's side.
 
     Raises:
         ParameterError: an angle outside [-π, π] (it would already be past the pillar).
@@ -166,6 +166,9 @@ def elbow_move(beta0: ArrayLike, beta1: ArrayLike) -> Array:
                 f"{name} elbow angle {np.max(np.abs(value)):.6g} rad; allowed: [-pi, pi]"
                 " (beyond, the forearm has swung through the pillar)"
             )
+    # A goal of ±π is one pose (the forearm folded over the upper arm): reach it on the side
+    # the forearm is on, without a full turn.
+    b1 = np.where((np.abs(b1) >= np.pi) & (b0 != 0), np.copysign(np.pi, b0), b1)
     return np.asarray(b1 - b0)
 
 
