@@ -49,7 +49,8 @@ def test_downward_grasp_points_down_with_the_finger_at_yaw() -> None:
         expected = np.angle(np.exp(1j * (0.4 - yaw)))
         assert np.angle(np.exp(1j * (h.angles[0] + h.angles[2]))) == pytest.approx(expected)
         np.testing.assert_allclose(
-            matrix_from_angles(h.angles, "ZYZ"), matrix_from_angles([expected, 0, 0], "ZYZ"),
+            matrix_from_angles(h.angles, "ZYZ"),
+            matrix_from_angles([expected, 0, 0], "ZYZ"),
             atol=1e-12,
         )
 

@@ -46,7 +46,9 @@ def test_rims_give_straight_and_folded_arms() -> None:
 
 @pytest.mark.parametrize("r", [A - B - 1e-6, A + B + 1e-6, 2.0, 0.0])
 def test_targets_outside_the_annulus_are_refused_naming_it(r: float) -> None:
-    with pytest.raises(ParameterError, match=r"outside the reachable annulus 0\.1 m <= r <= 0\.7 m"):
+    with pytest.raises(
+        ParameterError, match=r"outside the reachable annulus 0\.1 m <= r <= 0\.7 m"
+    ):
         planar_ik(r, 0.0, A, B)
 
 

@@ -39,7 +39,9 @@ def test_cylinder_mesh_inertia_is_the_prism_closed_form(sections: int) -> None:
     area = sections / 2 * radius**2 * np.sin(2 * np.pi / sections)
     assert props.mass == pytest.approx(density * area * length, rel=1e-12)
     np.testing.assert_allclose(
-        props.inertia_com, prism_inertia(props.mass, radius, length, sections), rtol=1e-10,
+        props.inertia_com,
+        prism_inertia(props.mass, radius, length, sections),
+        rtol=1e-10,
         atol=1e-12,
     )
     # and it tends to the circular cylinder's as the polygon gets finer (error O(1/n²))
@@ -87,9 +89,15 @@ def test_urdf_carries_the_mesh_mass_properties() -> None:
     model = pin.buildModelFromXML(arm_urdf(dims))
     assert tuple(model.names[1:]) == ARM_JOINTS
     parts = arm_parts(dims)
-    child = {"lift": "carriage", "shoulder": "upper_arm", "elbow": "forearm",
-             "hand_yaw": "hand_yaw_link", "hand_pitch": "hand_pitch_link", "hand_roll": "hand",
-             "finger": "sliding_finger"}
+    child = {
+        "lift": "carriage",
+        "shoulder": "upper_arm",
+        "elbow": "forearm",
+        "hand_yaw": "hand_yaw_link",
+        "hand_pitch": "hand_pitch_link",
+        "hand_roll": "hand",
+        "finger": "sliding_finger",
+    }
     for joint, link in child.items():
         props = parts[link].inertia()
         inertia = model.inertias[model.getJointId(joint)]

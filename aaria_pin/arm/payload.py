@@ -14,6 +14,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from aaria_pin._se3 import Array
 from aaria_pin.arm.preset import ArmDimensions, grasp_offset
@@ -51,7 +52,7 @@ def with_payload(model: Any, payload: Any, joint: str = HAND_JOINT) -> Any:
 
 
 def task_torques(
-    model: Any, payload: Any, q: Array, qd: Array, qdd: Array, held: Array, threads: int = 1
+    model: Any, payload: Any, q: Array, qd: Array, qdd: Array, held: ArrayLike, threads: int = 1
 ) -> tuple[Array, Array]:
     """Joint torques along a path, with the payload on the hand where ``held``.
 
@@ -71,9 +72,14 @@ def task_torques(
     held = np.asarray(held, dtype=bool)
     if held.shape != (np.shape(q)[0],):
         raise ParameterError(f"held mask of shape {held.shape}; allowed: ({np.shape(q)[0]},)")
-    tau_free = batched_rnea(model, q, qd, qdd, threads)
+    n = held.size
+    # (reshaped: a one-sample batch comes back from Pinocchio as a vector)
+    tau_free = np.reshape(batched_rnea(model, q, qd, qdd, threads), (n, model.nv))
     tau = tau_free.copy()
     if np.any(held):
         loaded = with_payload(model, payload)
-        tau[held] = batched_rnea(loaded, q[held], qd[held], qdd[held], threads)
+        rows = int(held.sum())
+        tau[held] = np.reshape(
+            batched_rnea(loaded, q[held], qd[held], qdd[held], threads), (rows, model.nv)
+        )
     return tau, tau_free

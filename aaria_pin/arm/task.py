@@ -25,9 +25,11 @@ leaves 3 cm of gap.
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 
 from aaria_pin._se3 import Array
 from aaria_pin.arm.hand import downward_grasp, hand_angles
@@ -110,7 +112,8 @@ class JointPath:
         q: joint values (T, 7), order of :data:`aaria_pin.arm.preset.ARM_JOINTS` [m or rad]
         qd: joint velocities (T, 7)
         qdd: joint accelerations (T, 7)
-        phase: index into :data:`PHASES` of each sample, -1 before the first (T,)
+        phase: index into :data:`PHASES` of each sample, -1 before the first and after the
+            last (T,), integers
         held: True where the cylinder is in the hand (T,)
         boundaries: start and end time of each phase [s], (7, 2)
         waypoints: joint values at the phase boundaries, (8, 7)
@@ -120,8 +123,8 @@ class JointPath:
     q: Array
     qd: Array
     qdd: Array
-    phase: Array
-    held: Array
+    phase: NDArray[np.int_]
+    held: NDArray[np.bool_]
     boundaries: Array
     waypoints: Array
 
@@ -270,10 +273,7 @@ def plan_pick_place(
     joints = [j for j in arm_joints(dims) if j.kind != "fixed"]
     velocity = np.array([j.velocity for j in joints])
     acceleration = np.array([_ACCELERATION[j.name] for j in joints])
-    durations = [
-        _duration(b - a, velocity, acceleration)
-        for a, b in zip(waypoints[:-1], waypoints[1:], strict=True)
-    ]
+    durations = [_duration(b - a, velocity, acceleration) for a, b in itertools.pairwise(waypoints)]
     starts = settle + np.concatenate([[0.0], np.cumsum(durations)[:-1]])
     boundaries = np.column_stack([starts, starts + durations])
     total = float(boundaries[-1, 1] + settle)
