@@ -77,6 +77,7 @@ def test_plot_and_view_of_both_run_kinds(tmp_path: Path, files: dict[str, Path])
     [
         (["render", "--from", "{run}", "--time", "99", "-o", "{out}.png"], "outside the run"),
         (["render", "--preset", "aaria-fig2", "--from", "{run}", "-o", "{out}.png"], "one of"),
+        (["render", "-o", "{out}.png"], "exactly one of --preset NAME, --dh FILE or --from"),
         (["render", "--preset", "aaria-fig2", "--time", "1", "-o", "{out}.png"], "--from"),
         (["render", "--preset", "nope", "-o", "{out}.png"], "not known"),
         (["render", "--preset", "aaria-fig2", "-o", "{out}.jpg"], "allowed: .png"),

@@ -51,9 +51,9 @@ def render(
 
     if output.suffix.lower() != ".png":
         raise OutputFileError(f"{output}: unknown picture type {output.suffix!r}; allowed: .png")
+    if [preset, dh_file, run_file].count(None) != 2:
+        raise click.UsageError("give exactly one of --preset NAME, --dh FILE or --from RUN_FILE")
     if run_file is not None:
-        if preset is not None or dh_file is not None:
-            raise click.UsageError("give one of --preset, --dh or --from")
         view = load_run_view(run_file)
         k = sample_at(view.time, view.time[0] if at_time is None else at_time)
         scene, poses = view.scene, view.frame_poses(np.array([k]))[0]
