@@ -25,13 +25,16 @@ from aaria_pin import __version__
 from aaria_pin._malloc import tune_malloc
 from aaria_pin._se3 import Array
 from aaria_pin.dataset_file import (
+    AARIA_LAYOUT,
     INPUT_ARRAYS,
     RUN_ARRAYS,
     DatasetFile,
+    RunLayout,
     check_dataset_path,
     encode_run,
     read_dataset_attributes,
 )
+from aaria_pin.dataset_urdf import URDF_INPUTS, UrdfSource, urdf_layout
 from aaria_pin.errors import AariaError, ParameterError
 from aaria_pin.randomize import (
     PARTS,
@@ -77,6 +80,8 @@ class DatasetSpec:
             :func:`~aaria_pin.oscillation.default_joint_table` of the structure)
         base_table: the fixed base oscillation table when the base does not vary (default:
             :func:`~aaria_pin.oscillation.default_base_table`)
+        urdf: a URDF robot instead of DH arms (its structure cannot vary; the joint table has
+            one row per actuated joint; see :mod:`aaria_pin.dataset_urdf`)
     """
 
     n_runs: int
@@ -90,6 +95,7 @@ class DatasetSpec:
     dh_table: Array | None = None
     joint_table: Array | None = None
     base_table: Array | None = None
+    urdf: UrdfSource | None = None
 
     def __post_init__(self) -> None:
         from aaria_pin.trajectory import sample_times
@@ -103,7 +109,11 @@ class DatasetSpec:
         unknown = [part for part in self.vary if part not in PARTS]
         if unknown:
             raise ParameterError(f"--vary {unknown[0]!r}; allowed: {', '.join(PARTS)}")
-        if "structure" not in self.vary and self.dh_table is None:
+        if self.urdf is not None and ("structure" in self.vary or self.dh_table is not None):
+            raise ParameterError(
+                "a URDF robot's structure is fixed; allowed: --vary joints,base and no DH table"
+            )
+        if "structure" not in self.vary and self.dh_table is None and self.urdf is None:
             raise ParameterError(
                 "the structure does not vary, so a DH table is needed; allowed: --preset or --dh"
             )
@@ -127,7 +137,9 @@ class DatasetSpec:
             for name in ("dh_table", "joint_table", "base_table")
             if getattr(self, name) is not None
         }
+        robot = {} if self.urdf is None else {"robot": self.urdf.attributes()}
         return {
+            **robot,
             "seed": int(self.seed),
             "rate": float(self.rate),
             "duration": float(self.duration),
@@ -157,8 +169,13 @@ class DatasetSpec:
             "vary",
             "config",
             "fixed_tables",
+            "robot",
         )
-        return [key for key in keys if _plain(stored.get(key)) != _plain(mine[key])]
+        return [key for key in keys if _plain(stored.get(key)) != _plain(mine.get(key))]
+
+    def layout(self) -> RunLayout:
+        """The run layout of the data set file (Aaria, or the URDF robot's generic one)."""
+        return AARIA_LAYOUT if self.urdf is None else urdf_layout(self.urdf)
 
 
 def _plain(value: Any) -> Any:
@@ -207,6 +224,10 @@ def simulate_dataset_run(spec: DatasetSpec, run: int) -> dict[str, Array]:
     """
     from aaria_pin.simulate import simulate_run
 
+    if spec.urdf is not None:
+        from aaria_pin.dataset_urdf import urdf_run_arrays
+
+        return urdf_run_arrays(spec, run)
     dh, joint_table, base_table, noise_seed = run_inputs(spec, run)
     record = simulate_run(
         dh,
@@ -229,18 +250,27 @@ Encoded = dict[str, tuple[bytes, int]]
 def _job(spec: DatasetSpec, run: int) -> tuple[int, Encoded | None, str]:
     """A worker's task: run ``run`` as compressed chunks, or its one-line error and inputs."""
     try:
-        return run, encode_run(simulate_dataset_run(spec, run), spec.dtype), ""
+        names = INPUT_ARRAYS if spec.urdf is None else URDF_INPUTS
+        return run, encode_run(simulate_dataset_run(spec, run), spec.dtype, names), ""
     except Exception as exc:  # any failure of one run is reported, and the others go on
         message = str(exc) if isinstance(exc, AariaError) else f"{type(exc).__name__}: {exc}"
-        try:
-            dh, joint_table, base_table, _ = run_inputs(spec, run)
-            inputs = (
-                f"senSenDH={dh.tolist()} senSenJ={joint_table.tolist()} "
-                f"senSenB={base_table.tolist()}"
-            )
-        except Exception:
-            inputs = "inputs could not be drawn"
-        return run, None, f"{message} ({inputs})"
+        return run, None, f"{message} ({_describe_inputs(spec, run)})"
+
+
+def _describe_inputs(spec: DatasetSpec, run: int) -> str:
+    """The inputs of a failed run, for its error message."""
+    try:
+        if spec.urdf is not None:
+            from aaria_pin.dataset_urdf import urdf_run_inputs
+
+            joint_table, base_table, _ = urdf_run_inputs(spec, run, spec.urdf.load())
+            return f"joint_table={joint_table.tolist()} base_table={base_table.tolist()}"
+        dh, joint_table, base_table, _ = run_inputs(spec, run)
+        return (
+            f"senSenDH={dh.tolist()} senSenJ={joint_table.tolist()} senSenB={base_table.tolist()}"
+        )
+    except Exception:
+        return "inputs could not be drawn"
 
 
 @dataclass(frozen=True)
@@ -436,7 +466,7 @@ def generate_dataset(
             store.clear_failures()
         else:
             store = DatasetFile.create(
-                file, spec.n_runs, spec.samples, spec.dtype, spec.attributes()
+                file, spec.n_runs, spec.samples, spec.dtype, spec.attributes(), spec.layout()
             )
         with store:
             todo = [int(k) for k in np.flatnonzero(~store.complete_runs())]

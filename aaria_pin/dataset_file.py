@@ -22,6 +22,7 @@ import json
 import os
 import zlib
 from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -33,13 +34,16 @@ from aaria_pin.io import atomic_output
 from aaria_pin.record import SENSEN_COLUMNS
 
 __all__ = [
+    "AARIA_LAYOUT",
     "DATASET_FORMAT",
     "DATASET_FORMAT_VERSION",
     "INPUT_ARRAYS",
     "RUN_ARRAYS",
     "DatasetFile",
+    "RunLayout",
     "decode_attributes",
     "encode_run",
+    "file_layout",
     "is_dataset_file",
     "read_dataset_attributes",
     "run_shapes",
@@ -73,6 +77,64 @@ INPUT_ARRAYS = ("senSenDH", "senSenJ", "senSenB", "imu_mount")
 """The run inputs, always stored as float64 so a run can be re-made exactly."""
 
 
+@dataclass(frozen=True)
+class RunLayout:
+    """The arrays of one run of a data set: names, shapes, which are inputs, column names.
+
+    Attributes:
+        shapes: shape of each array of one run, in file order; -1 stands for the T samples
+        inputs: the arrays stored as float64 whatever the data set's dtype
+        columns: column names of the first array (``senSen`` or ``signals``)
+        strings: text datasets written once per file (e.g. ``urdf``)
+    """
+
+    shapes: dict[str, tuple[int, ...]]
+    inputs: tuple[str, ...]
+    columns: tuple[str, ...]
+    strings: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Array names, in file order."""
+        return tuple(self.shapes)
+
+    def run_shapes(self, samples: int) -> dict[str, tuple[int, ...]]:
+        """Shapes of one run's arrays for T = ``samples``."""
+        return {
+            name: tuple(samples if dim == -1 else dim for dim in shape)
+            for name, shape in self.shapes.items()
+        }
+
+    def to_json(self) -> str:
+        """The layout as the file's ``layout_json`` attribute (strings and columns apart)."""
+        return json.dumps(
+            {"shapes": {k: list(v) for k, v in self.shapes.items()}, "inputs": list(self.inputs)}
+        )
+
+
+AARIA_LAYOUT = RunLayout(
+    {
+        name: tuple(-1 if dim == 0 else dim for dim in shape)
+        for name, shape in run_shapes(0).items()
+    },
+    INPUT_ARRAYS,
+    SENSEN_COLUMNS,
+)
+"""The Aaria run layout (``senSen`` and the 8 × 5 tables); files without ``layout_json``."""
+
+
+def file_layout(handle: Any) -> RunLayout:
+    """The run layout of an open data set file (Aaria when it records none)."""
+    text = handle.attrs.get("layout_json")
+    if text is None:
+        return AARIA_LAYOUT
+    data = json.loads(text)
+    shapes = {name: tuple(shape) for name, shape in data["shapes"].items()}
+    first = handle[next(iter(shapes))]
+    columns = tuple(str(c) for c in first.attrs.get("columns", ()))
+    return RunLayout(shapes, tuple(data["inputs"]), columns)
+
+
 def decode_attributes(attrs: Mapping[str, Any]) -> dict[str, Any]:
     """HDF5 attributes as plain values: JSON ones decoded (keys without ``_json``)."""
     out: dict[str, Any] = {}
@@ -100,7 +162,8 @@ class DatasetFile:
     def __init__(self, handle: Any, path: Path) -> None:
         self._handle = handle
         self.path = path
-        self._datasets = {name: handle[name] for name in RUN_ARRAYS}
+        self.layout = file_layout(handle)
+        self._datasets = {name: handle[name] for name in self.layout.names}
         self._pending: dict[int, list[int]] = {}  # run -> checksums, written at the next flush
 
     @classmethod
@@ -111,6 +174,7 @@ class DatasetFile:
         samples: int,
         dtype: str,
         attributes: Mapping[str, Any],
+        layout: RunLayout = AARIA_LAYOUT,
     ) -> DatasetFile:
         """Create a new data set file (an existing file at ``path`` is replaced).
 
@@ -123,13 +187,14 @@ class DatasetFile:
             samples: samples per run T
             dtype: ``"float32"`` or ``"float64"``
             attributes: file attributes (numbers and strings as they are, others as JSON)
+            layout: the arrays of a run (default the Aaria layout)
 
         Raises:
             OutputFileError: the file cannot be created.
         """
         file = Path(path)
         with atomic_output(file) as temporary:
-            handle = _new_file(temporary, n_runs, samples, dtype, attributes)
+            handle = _new_file(temporary, n_runs, samples, dtype, attributes, layout)
             handle.close()
         return cls._open(file)
 
@@ -163,8 +228,18 @@ class DatasetFile:
             dtype = str(attrs.pop("dtype"))
             for key in ("format", "format_version"):
                 attrs.pop(key, None)
+            layout = file_layout(old)
+            strings = {
+                name: old[name].asstr()[()]
+                for name in old
+                if name not in (*layout.names, "checksum", "complete", "failed")
+            }
+            layout = RunLayout(layout.shapes, layout.inputs, layout.columns, strings)
+            attrs.pop("layout_json", None)
             with atomic_output(file) as temporary:
-                new = _new_file(temporary, n_runs, samples, dtype, {}, raw_attributes=attrs)
+                new = _new_file(
+                    temporary, n_runs, samples, dtype, {}, layout, raw_attributes=attrs
+                )
                 _copy_intact_runs(old, new)
                 new.close()
         finally:
@@ -192,7 +267,7 @@ class DatasetFile:
         during it leaves a run whose checksum fails, which a resumed job redoes.
         """
         checksums = []
-        for name in RUN_ARRAYS:
+        for name in self.layout.names:
             data, checksum = encoded[name]
             dataset = self._datasets[name]
             dataset.id.write_direct_chunk((run,) + (0,) * (dataset.ndim - 1), data)
@@ -242,24 +317,24 @@ class DatasetFile:
         self.close()
 
 
-def encode_run(arrays: Mapping[str, Array], dtype: str) -> dict[str, tuple[bytes, int]]:
+def encode_run(
+    arrays: Mapping[str, Array], dtype: str, inputs: tuple[str, ...] = INPUT_ARRAYS
+) -> dict[str, tuple[bytes, int]]:
     """Each array of a run as the bytes of its HDF5 chunk, and the CRC-32 of those bytes.
 
     The chunk is what HDF5's filters make of it: the shuffle filter (byte ``j`` of every
     element together), then deflate, so h5py, MATLAB and any HDF5 reader decode it. Deflate runs
     through ISA-L (``isal``: a standard zlib stream, about 8 times faster than zlib at the same
     size), or zlib where ``isal`` is missing. Inputs (tables, mounts) stay float64, time series
-    take ``dtype``.
+    take ``dtype``. The arrays are encoded in the order given (the layout's file order).
     """
     try:
         from isal.isal_zlib import compress
     except ImportError:  # pragma: no cover - isal is a dependency; zlib makes the same format
         from zlib import compress
     encoded = {}
-    for name in RUN_ARRAYS:
-        array = np.ascontiguousarray(
-            arrays[name], dtype="float64" if name in INPUT_ARRAYS else dtype
-        )
+    for name, value in arrays.items():
+        array = np.ascontiguousarray(value, dtype="float64" if name in inputs else dtype)
         shuffled = array.view(np.uint8).reshape(-1, array.itemsize).T.tobytes()
         chunk = compress(shuffled, 1)
         encoded[name] = (chunk, zlib.crc32(chunk))
@@ -272,6 +347,7 @@ def _new_file(
     samples: int,
     dtype: str,
     attributes: Mapping[str, Any],
+    layout: RunLayout,
     raw_attributes: Mapping[str, Any] | None = None,
 ) -> Any:
     """Write the empty layout of a data set into ``path`` and return the open h5py file."""
@@ -292,19 +368,24 @@ def _new_file(
     for key, value in (raw_attributes or {}).items():
         handle.attrs[key] = value
     handle.attrs.setdefault("failures_json", "{}")
-    for name, shape in run_shapes(samples).items():
+    if layout is not AARIA_LAYOUT:
+        handle.attrs["layout_json"] = layout.to_json()
+    strings = h5py.string_dtype("utf-8")
+    for index, (name, shape) in enumerate(layout.run_shapes(samples).items()):
         dataset = handle.create_dataset(
             name,
             shape=(n_runs, *shape),
-            dtype="float64" if name in INPUT_ARRAYS else dtype,
+            dtype="float64" if name in layout.inputs else dtype,
             chunks=(1, *shape),
             compression="gzip",
             compression_opts=1,
             shuffle=True,
         )
-        if name == "senSen":
-            dataset.attrs.create("columns", list(SENSEN_COLUMNS), dtype=h5py.string_dtype("utf-8"))
-    handle.create_dataset("checksum", shape=(n_runs, len(RUN_ARRAYS)), dtype="u4")
+        if index == 0:
+            dataset.attrs.create("columns", list(layout.columns), dtype=strings)
+    for name, text in layout.strings.items():
+        handle.create_dataset(name, data=text, dtype=strings)
+    handle.create_dataset("checksum", shape=(n_runs, len(layout.shapes)), dtype="u4")
     handle.create_dataset("complete", shape=(n_runs,), dtype="u1", fillvalue=0)
     handle.create_dataset("failed", shape=(n_runs,), dtype="u1", fillvalue=0)
     handle.flush()
@@ -323,8 +404,12 @@ def _open_dataset_read_only(file: Path) -> Any:
         raise InputFileError(
             f"{file}: cannot be opened ({exc}); allowed: --overwrite to start again"
         ) from None
-    missing = [name for name in (*RUN_ARRAYS, "checksum", "complete") if name not in handle]
-    if handle.attrs.get("format") != DATASET_FORMAT or missing:
+    if handle.attrs.get("format") != DATASET_FORMAT:
+        handle.close()
+        raise InputFileError(f"{file}: not a complete aaria_pin data set; cannot resume it")
+    names = file_layout(handle).names
+    missing = [name for name in (*names, "checksum", "complete") if name not in handle]
+    if missing:
         handle.close()
         raise InputFileError(f"{file}: not a complete aaria_pin data set; cannot resume it")
     return handle
@@ -365,7 +450,7 @@ def _copy_intact_runs(old: Any, new: Any) -> None:
     for run in np.flatnonzero(complete):
         chunks = []
         try:
-            for index, name in enumerate(RUN_ARRAYS):
+            for index, name in enumerate(file_layout(old).names):
                 origin = (int(run),) + (0,) * (old[name].ndim - 1)
                 _, data = old[name].id.read_direct_chunk(origin)
                 if zlib.crc32(data) != checksums[run, index]:

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from aaria_pin._se3 import Array
-from aaria_pin.dataset_file import DATASET_FORMAT, RUN_ARRAYS, decode_attributes
+from aaria_pin.dataset_file import DATASET_FORMAT, decode_attributes, file_layout
 from aaria_pin.errors import InputFileError, ParameterError
 
 __all__ = ["DatasetReader", "dataset_summary"]
@@ -51,6 +51,8 @@ class DatasetReader:
             self._handle.close()
             raise InputFileError(f"{self.path}: not an aaria_pin data set")
         self.complete = self._handle["complete"][()].astype(bool)
+        self.names = file_layout(self._handle).names
+        """Names of a run's arrays, in file order."""
 
     def __len__(self) -> int:
         return int(self._handle.attrs["N"])
@@ -65,8 +67,8 @@ class DatasetReader:
         """File attributes, JSON ones decoded (keys without the ``_json`` suffix)."""
         return decode_attributes(self._handle.attrs)
 
-    def run(self, index: int, names: Sequence[str] = RUN_ARRAYS) -> dict[str, Array]:
-        """The arrays of one complete run.
+    def run(self, index: int, names: Sequence[str] | None = None) -> dict[str, Array]:
+        """The arrays of one complete run (by default all of them, in file order).
 
         Raises:
             ParameterError: index out of range, a run that is not complete, or an unknown name.
@@ -75,25 +77,28 @@ class DatasetReader:
             raise ParameterError(f"run {index}; allowed: 0 to {len(self) - 1}")
         if not self.complete[index]:
             raise ParameterError(f"run {index} is not complete in {self.path}")
-        unknown = [name for name in names if name not in RUN_ARRAYS]
+        names = self.names if names is None else names
+        unknown = [name for name in names if name not in self.names]
         if unknown:
-            raise ParameterError(f"array {unknown[0]!r}; allowed: {', '.join(RUN_ARRAYS)}")
+            raise ParameterError(f"array {unknown[0]!r}; allowed: {', '.join(self.names)}")
         return {name: self._handle[name][index] for name in names}
 
     def windows(
-        self, length: int, stride: int | None = None, names: Sequence[str] = ("senSen",)
+        self, length: int, stride: int | None = None, names: Sequence[str] | None = None
     ) -> Iterator[tuple[int, int, dict[str, Array]]]:
         """Fixed-length windows over every complete run, run by run.
 
         Args:
             length: samples per window
             stride: samples between window starts (default ``length``: no overlap)
-            names: time-series arrays to cut (``senSen``, ``q``, ``tau``, ...)
+            names: time-series arrays to cut (``senSen``, ``q``, ``tau``, ...; default the
+                first array, ``senSen`` or ``signals``)
 
         Yields:
             ``(run index, first sample, {name: (length, ...) array})``.
         """
         stride = stride or length
+        names = self.names[:1] if names is None else names
         if not (1 <= length <= self.samples and stride >= 1):
             raise ParameterError(
                 f"window length {length}, stride {stride}; allowed: 1 <= length <= {self.samples}"
@@ -132,10 +137,11 @@ def dataset_summary(path: str | os.PathLike[str]) -> dict[str, Any]:
             "rate": attributes.get("rate"),
             "duration": attributes.get("duration"),
             "noise": attributes.get("noise"),
-            "arrays": {name: list(handle[name].shape) for name in RUN_ARRAYS},
+            "arrays": {name: list(handle[name].shape) for name in reader.names},
             "file_bytes": reader.path.stat().st_size,
             "data_bytes": int(
-                sum(handle[name].size * handle[name].dtype.itemsize for name in RUN_ARRAYS)
+                sum(handle[name].size * handle[name].dtype.itemsize for name in reader.names)
             ),
             "config": attributes.get("config"),
+            **({"robot": attributes["robot"]} if "robot" in attributes else {}),
         }

@@ -11,15 +11,18 @@ from __future__ import annotations
 
 import math
 import tomllib
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from aaria_pin._se3 import Array
 from aaria_pin.errors import InputFileError, ParameterError
+
+if TYPE_CHECKING:
+    from aaria_pin.urdf_check import UrdfJoint
 
 __all__ = [
     "PARTS",
@@ -29,6 +32,7 @@ __all__ = [
     "random_base_table",
     "random_dh_table",
     "random_joint_table",
+    "random_urdf_joint_table",
     "run_streams",
 ]
 
@@ -269,6 +273,50 @@ def random_joint_table(config: RandomConfig, dh_table: Array, rng: np.random.Gen
             amplitude = draws[2] * rail
             room = rail / 2 - amplitude
             table[row] = [0.0, amplitude, draws[3] * room * (1 - 1e-9), draws[4], draws[5]]
+    return table
+
+
+def random_urdf_joint_table(
+    config: RandomConfig, joints: Sequence[UrdfJoint], rng: np.random.Generator
+) -> Array:
+    """A random n × 5 joint oscillation table for a URDF robot, within its limits.
+
+    Each joint draws the same six numbers as an Aaria module, in the same order. A revolute
+    joint swings by a revolute amplitude, at most 45 % of its range, about its range's middle
+    moved by a revolute bias that is cut to the room left (a continuous joint: amplitude and
+    bias as drawn); a prismatic joint swings by a fraction of its range about the middle moved
+    by a fraction of the room left. The frequency is cut so that |amplitude| × frequency stays
+    within the joint's velocity limit. Mimic joints get zero rows (they follow their leader).
+    """
+    table = np.zeros((len(joints), 5))
+    for row, joint in enumerate(joints):
+        draws = [
+            _uniform(rng, config.revolute_amplitude),
+            _uniform(rng, config.revolute_bias),
+            _uniform(rng, config.prismatic_amplitude_fraction),
+            _uniform(rng, config.prismatic_bias_fraction),
+            _uniform(rng, config.joint_frequency),
+            _uniform(rng, config.joint_phase),
+        ]
+        if joint.mimic is not None:
+            continue
+        span = joint.upper - joint.lower
+        middle = 0.5 * (joint.upper + joint.lower) if math.isfinite(span) else 0.0
+        if joint.kind == "prismatic":
+            amplitude = draws[2] * span
+            bias = middle + draws[3] * (span / 2 - amplitude) * (1 - 1e-9)
+        elif math.isfinite(span):
+            amplitude = min(draws[0], 0.45 * span)
+            room = span / 2 - amplitude
+            bias = middle + min(max(draws[1], -room), room) * (1 - 1e-9)
+        else:
+            amplitude, bias = draws[0], draws[1]
+        frequency = draws[4]
+        if amplitude > 0 and math.isfinite(joint.velocity):
+            frequency = min(frequency, joint.velocity / amplitude * (1 - 1e-9))
+        column = 1 if joint.kind == "prismatic" else 0
+        table[row, column] = amplitude
+        table[row, 2:] = [bias, frequency, draws[5]]
     return table
 
 

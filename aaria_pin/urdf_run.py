@@ -26,12 +26,13 @@ from aaria_pin.model import GRAVITY
 from aaria_pin.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.trajectory import sample_times
 from aaria_pin.urdf_robot import (
+    UrdfRobot,
     default_urdf_joint_table,
     load_urdf_robot,
     urdf_joint_trajectory,
 )
 
-__all__ = ["simulate_urdf_from_run_file", "simulate_urdf_run"]
+__all__ = ["simulate_loaded_robot", "simulate_urdf_from_run_file", "simulate_urdf_run"]
 
 UNITS = {
     "time": "s",
@@ -92,7 +93,53 @@ def simulate_urdf_run(
         tool_frame=tool_frame,
         imu_layout=imu_layout,
     )
+    return simulate_loaded_robot(
+        loaded,
+        joint_table,
+        base_table,
+        source=source,
+        duration=duration,
+        rate=rate,
+        seed=seed,
+        noise=noise,
+        noise_model=noise_model,
+        threads=threads,
+    )
+
+
+def simulate_loaded_robot(
+    loaded: UrdfRobot,
+    joint_table: ArrayLike | None = None,
+    base_table: ArrayLike | None = None,
+    *,
+    source: str | None = None,
+    duration: float = 10.0,
+    rate: float = 100.0,
+    seed: int | np.random.SeedSequence = 0,
+    noise: bool = True,
+    noise_model: ImuNoiseModel = ADIS16485,
+    threads: int = 1,
+) -> GenericRunRecord:
+    """The same as :func:`simulate_urdf_run` for a robot already loaded (a data set's runs).
+
+    Args:
+        loaded: the robot (:func:`~aaria_pin.urdf_robot.load_urdf_robot`)
+        joint_table: as in :func:`simulate_urdf_run`
+        base_table: as in :func:`simulate_urdf_run`
+        source: as in :func:`simulate_urdf_run`
+        duration: run length [s]
+        rate: sample rate [Hz]
+        seed: seed of the IMU noise
+        noise: add IMU noise
+        noise_model: IMU noise parameters
+        threads: worker threads of the batched RNEA
+
+    Returns:
+        The run record.
+    """
+    check_seed(seed)
     robot = loaded.robot
+    moving_base = robot.moving_base
     time = sample_times(duration, rate)
     table = (
         default_urdf_joint_table(loaded) if joint_table is None else np.array(joint_table, float)

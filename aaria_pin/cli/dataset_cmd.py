@@ -4,10 +4,14 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
-from aaria_pin.cli._options import table_source_options
+from aaria_pin.cli._options import robot_source_options, table_source_options
+
+if TYPE_CHECKING:
+    from aaria_pin.dataset_urdf import UrdfSource
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
 
@@ -60,6 +64,7 @@ def _print_config(ctx: click.Context, _: click.Parameter, value: bool) -> None:
     " by --preset/--dh, --joints, --base).",
 )
 @table_source_options
+@robot_source_options
 @click.option("--joints", "joints_file", type=_FILE, help="Fixed joint oscillation table.")
 @click.option("--base", "base_file", type=_FILE, help="Fixed base oscillation table.")
 @click.option("--resume", is_flag=True, help="Continue an interrupted data set file.")
@@ -88,13 +93,22 @@ def dataset(
     preset: str | None,
     dh_file: Path | None,
     convention: str,
+    robot: str | None,
+    urdf_file: Path | None,
+    tool_frame: str | None,
+    imu_layout_file: Path | None,
+    fixed_base: bool,
     joints_file: Path | None,
     base_file: Path | None,
     resume: bool,
     overwrite: bool,
     quiet: bool,
 ) -> None:
-    """Simulate N random runs (MODE 1) or N runs of one arm (MODE 2) into a data set."""
+    """Simulate N random runs (MODE 1) or N runs of one arm (MODE 2) into a data set.
+
+    With --robot NAME or --urdf FILE the arm is that URDF robot: its joint and base motions
+    vary, its structure does not.
+    """
     from aaria_pin.dataset import DatasetSpec, generate_dataset
     from aaria_pin.errors import ParameterError
     from aaria_pin.io import read_table
@@ -103,8 +117,11 @@ def dataset(
 
     if workers is not None and scheduler is not None:
         raise click.UsageError("give --workers or --scheduler, not both")
+    source = _urdf_source(robot, urdf_file, tool_frame, imu_layout_file, fixed_base)
+    if source is not None and (preset is not None or dh_file is not None):
+        raise click.UsageError("give a DH arm (--preset/--dh) or a URDF robot, not both")
     fixed = {
-        "structure": preset is not None or dh_file is not None,
+        "structure": preset is not None or dh_file is not None or source is not None,
         "joints": joints_file is not None,
         "base": base_file is not None,
     }
@@ -130,7 +147,7 @@ def dataset(
             assert dh_file is not None
             dh_table = read_table(dh_file, "senSenDH")
     if joints_file is not None:
-        joint_table = read_table(joints_file, "senSenJ")
+        joint_table = read_table(joints_file, "senSenJ" if source is None else "joint_table")
     if base_file is not None:
         base_table = read_table(base_file, "senSenB")
     spec = DatasetSpec(
@@ -145,6 +162,7 @@ def dataset(
         dh_table=dh_table,
         joint_table=joint_table,
         base_table=base_table,
+        urdf=source,
     )
     report = generate_dataset(
         output,
@@ -164,3 +182,38 @@ def dataset(
             click.echo(f"run {run} failed: {message}", err=True)
         click.echo(f"failed runs: {sorted(report.failures)}", err=True)
         raise SystemExit(1)
+
+
+def _urdf_source(
+    robot: str | None,
+    urdf_file: Path | None,
+    tool_frame: str | None,
+    imu_layout_file: Path | None,
+    fixed_base: bool,
+) -> UrdfSource | None:
+    """The URDF robot of ``--robot``/``--urdf`` (None for DH arms), its missing meshes told."""
+    if robot is None and urdf_file is None:
+        if tool_frame is not None or imu_layout_file is not None or fixed_base:
+            raise click.UsageError("--tool, --imu-layout and --fixed-base need --robot or --urdf")
+        return None
+    import warnings
+
+    from aaria_pin.cli._options import load_robot_source
+    from aaria_pin.dataset_urdf import UrdfSource
+    from aaria_pin.imu_layout import read_imu_layout
+    from aaria_pin.urdf_robot import load_urdf_robot
+
+    text, folder, name = load_robot_source(robot, urdf_file)
+    layout = None if imu_layout_file is None else read_imu_layout(imu_layout_file)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        load_urdf_robot(  # checks the robot once, here, before any worker starts
+            text,
+            urdf_dir=folder,
+            moving_base=not fixed_base,
+            tool_frame=tool_frame,
+            imu_layout=layout,
+        )
+    for warning in caught:
+        click.echo(f"aaria: warning: {warning.message}", err=True)
+    return UrdfSource(text, name, str(folder), not fixed_base, tool_frame, layout)

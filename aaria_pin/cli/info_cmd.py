@@ -16,10 +16,15 @@ def info(file: Path, as_json: bool) -> None:
     """Summarise a run file or a data set: runs, shapes, sizes, seed, config, completeness."""
     from aaria_pin.dataset_file import is_dataset_file
     from aaria_pin.dataset_reader import dataset_summary
-    from aaria_pin.runfile import run_file_summary
+    from aaria_pin.runfile import generic_run_summary, is_generic_run_file, run_file_summary
 
     is_dataset = is_dataset_file(file)
-    summary: dict[str, Any] = dataset_summary(file) if is_dataset else run_file_summary(file)
+    if is_dataset:
+        summary: dict[str, Any] = dataset_summary(file)
+    elif is_generic_run_file(file):
+        summary = generic_run_summary(file)
+    else:
+        summary = run_file_summary(file)
     if as_json:
         click.echo(json.dumps(summary, indent=2, default=str))
         return
@@ -33,6 +38,13 @@ def info(file: Path, as_json: bool) -> None:
             f"seed {summary['seed']}, vary {','.join(summary['vary'] or [])}, "
             f"rate {summary['rate']} Hz, duration {summary['duration']} s, noise {summary['noise']}"
         )
+        if "robot" in summary:
+            robot = summary["robot"]
+            click.echo(
+                f"robot {robot['name']} ({robot['source']}), {len(robot['joint_names'])} joints, "
+                f"{len(robot['imu_names'])} IMUs, tool {robot['tool_frame']}, "
+                f"{'moving' if robot['moving_base'] else 'fixed'} base"
+            )
         click.echo(
             f"size on disk {summary['file_bytes'] / 1e6:.1f} MB "
             f"(arrays {summary['data_bytes'] / 1e6:.1f} MB uncompressed)"
@@ -42,6 +54,9 @@ def info(file: Path, as_json: bool) -> None:
         click.echo(f"config: {json.dumps(summary['config'])}")
     else:
         click.echo(f"{file}: run file ({summary['format']}), {summary['samples']} samples")
+        if "joints" in summary:
+            click.echo(f"  joints: {', '.join(summary['joints'])}")
+            click.echo(f"  IMUs: {', '.join(summary['imus'])}")
         for name, shape in summary["arrays"].items():
             click.echo(f"  {name:<12} {' × '.join(map(str, shape))}")
         for key, value in summary["attributes"].items():

@@ -68,6 +68,7 @@ __all__ = [
     "RUN_FORMAT",
     "RUN_FORMAT_VERSION",
     "RUN_SUFFIXES",
+    "generic_run_summary",
     "is_generic_run_file",
     "read_generic_run",
     "read_run",
@@ -225,6 +226,31 @@ def read_generic_run(path: str | os.PathLike[str]) -> GenericRunRecord:
     if file.suffix.lower() not in _HDF5_SUFFIXES:
         raise InputFileError(f"{file}: a generic run file is HDF5 (.h5, .hdf5)")
     return read_generic_hdf5(file)
+
+
+def generic_run_summary(path: str | os.PathLike[str]) -> dict[str, object]:
+    """Describe a generic run file (for ``aaria info``), as :func:`run_file_summary` does.
+
+    Besides the keys of :func:`run_file_summary` it gives ``columns`` (of ``signals``),
+    ``joints`` and ``imus`` (names).
+    """
+    record = read_generic_run(path)
+    arrays = {
+        name: tuple(getattr(record, name).shape)
+        for name in ("signals", "q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pose")
+    }
+    arrays["imu_mount"] = (len(record.imu_mounts), 4, 4)
+    return {
+        "path": str(path),
+        "format": "HDF5, generic layout",
+        "format_version": 1,
+        "samples": record.signals.shape[0],
+        "arrays": arrays,
+        "columns": list(record.columns),
+        "joints": list(record.joint_names),
+        "imus": [mount.name for mount in record.imu_mounts],
+        "attributes": record.attributes,
+    }
 
 
 def is_generic_run_file(path: str | os.PathLike[str]) -> bool:
