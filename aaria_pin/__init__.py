@@ -15,6 +15,8 @@ _EXPORTS = {
     "AariaError": "aaria_pin.errors",
     "BodyDimensions": "aaria_pin.dh_robot",
     "DHRobot": "aaria_pin.dh_robot",
+    "GenericRunRecord": "aaria_pin.generic_record",
+    "ImuMount": "aaria_pin.generic_record",
     "ImuSlot": "aaria_pin.dh_robot",
     "InputFileError": "aaria_pin.errors",
     "KinematicChain": "aaria_pin.dh",
@@ -24,13 +26,17 @@ _EXPORTS = {
     "Part": "aaria_pin.inertia",
     "RobotModel": "aaria_pin.model",
     "TableError": "aaria_pin.errors",
+    "UrdfError": "aaria_pin.errors",
     "build_dh_robot": "aaria_pin.dh_robot",
     "build_model": "aaria_pin.model",
     "chain_from_table": "aaria_pin.dh",
     "composite_inertia": "aaria_pin.inertia",
     "emit_urdf": "aaria_pin.urdf",
+    "find_robot": "aaria_pin.robots",
     "get_preset": "aaria_pin.presets",
+    "load_urdf_robot": "aaria_pin.urdf_robot",
     "read_table": "aaria_pin.io",
+    "simulate_urdf_run": "aaria_pin.urdf_run",
 }
 
 __all__ = sorted(["__version__", *_EXPORTS])

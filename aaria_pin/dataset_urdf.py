@@ -33,6 +33,10 @@ URDF_INPUTS = ("joint_table", "base_table", "imu_mount")
 """The run inputs of a URDF robot's data set, stored as float64."""
 
 
+_LOADED: dict[tuple[Any, ...], UrdfRobot] = {}
+"""The robot last loaded in this process, by its source's settings."""
+
+
 @dataclass(frozen=True, eq=False)
 class UrdfSource:
     """The robot of a data set: its URDF and how it is simulated.
@@ -53,22 +57,33 @@ class UrdfSource:
     tool_frame: str | None = None
     imu_layout: tuple[ImuMount, ...] | None = None
 
+    def _key(self) -> tuple[Any, ...]:
+        layout = None
+        if self.imu_layout is not None:
+            layout = tuple((m.name, m.parent, m.T_parent_imu.tobytes()) for m in self.imu_layout)
+        return (self.urdf, self.urdf_dir, self.moving_base, self.tool_frame, layout)
+
     def load(self) -> UrdfRobot:
-        """The checked robot, with its IMU frames."""
+        """The checked robot, with its IMU frames (kept per process: runs share it)."""
         import warnings
         from pathlib import Path
 
         from aaria_pin.urdf_robot import load_urdf_robot
 
-        with warnings.catch_warnings():  # missing meshes were reported when the job started
-            warnings.simplefilter("ignore")
-            return load_urdf_robot(
-                self.urdf,
-                urdf_dir=None if self.urdf_dir is None else Path(self.urdf_dir),
-                moving_base=self.moving_base,
-                tool_frame=self.tool_frame,
-                imu_layout=self.imu_layout,
-            )
+        key = self._key()
+        if key not in _LOADED:
+            with warnings.catch_warnings():  # missing meshes were reported when the job started
+                warnings.simplefilter("ignore")
+                loaded = load_urdf_robot(
+                    self.urdf,
+                    urdf_dir=None if self.urdf_dir is None else Path(self.urdf_dir),
+                    moving_base=self.moving_base,
+                    tool_frame=self.tool_frame,
+                    imu_layout=self.imu_layout,
+                )
+            _LOADED.clear()  # one robot per data set: keep the last only
+            _LOADED[key] = loaded
+        return _LOADED[key]
 
     def attributes(self) -> dict[str, Any]:
         """What a data set file records of the robot (compared on resume)."""

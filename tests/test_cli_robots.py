@@ -1,0 +1,114 @@
+"""The command line for URDF robots: aaria robots, simulate --robot/--urdf, bad URDFs."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from aaria_pin.cli import main
+from aaria_pin.runfile import read_generic_run
+
+
+def _run(*args: str) -> tuple[int, str, str]:
+    result = CliRunner().invoke(main, list(args))
+    return result.exit_code, result.stdout, result.stderr
+
+
+def test_robots_lists_the_catalogue() -> None:
+    code, out, err = _run("robots", "--paths")
+    assert code == 0
+    lines = dict(line.split(maxsplit=1) for line in out.splitlines())
+    assert lines["ur5"].endswith("ur5_robot.urdf") and "panda" in lines
+    assert "robots in" in err
+
+
+def test_simulate_a_robot_then_remake_it_from_its_file(tmp_path: Path) -> None:
+    first = tmp_path / "panda.h5"
+    code, out, _ = _run("simulate", "--robot", "panda", "--duration", "1", "-o", str(first))
+    assert code == 0 and "panda, 9 joints, 20 IMUs, 101 samples" in out
+    again = tmp_path / "again.h5"
+    assert _run("simulate", "--from", str(first), "-o", str(again))[0] == 0
+    a, b = read_generic_run(first), read_generic_run(again)
+    np.testing.assert_array_equal(a.signals, b.signals)
+    np.testing.assert_array_equal(a.tau, b.tau)
+    code, out, _ = _run("info", str(first))
+    assert code == 0 and "joints: panda_joint1" in out
+
+
+def test_simulate_a_urdf_file_with_layout_tables_and_fixed_base(tmp_path: Path) -> None:
+    from aaria_pin.robots import find_robot
+
+    urdf = tmp_path / "ur5.urdf"
+    text = find_robot("ur5").urdf.read_text()
+    urdf.write_text(text.replace("package://example-robot-data/", "package://gone/"))
+    joints = tmp_path / "joints.csv"
+    rows = [f"0.3,0,0,{1 + 0.1 * i},0" for i in range(6)]
+    joints.write_text(
+        "# amplitude, prismatic amplitude, bias, frequency, phase\n" + "\n".join(rows)
+    )
+    layout = tmp_path / "imus.toml"
+    layout.write_text('[[imu]]\nname = "imu_wrist"\nparent = "tool0"\nxyz = [0, 0, 0.02]\n')
+    out = tmp_path / "run.h5"
+    code, _, stderr = _run(
+        "simulate", "--urdf", str(urdf), "--joints", str(joints), "--imu-layout", str(layout),
+        "--fixed-base", "--tool", "wrist_3_link", "--no-noise", "--duration", "1", "-o", str(out),
+    )  # fmt: skip
+    assert code == 0, stderr
+    assert stderr.startswith("aaria: warning: ") and "mesh file(s)" in stderr
+    record = read_generic_run(out)
+    assert [m.name for m in record.imu_mounts] == ["imu_wrist"]
+    assert (
+        record.attributes["tool_frame"] == "wrist_3_link" and not record.attributes["moving_base"]
+    )
+    np.testing.assert_allclose(record.q[:, 0], 0.3 * np.sin(1.0 * record.time))
+
+
+@pytest.mark.parametrize(
+    ("urdf_text", "pattern"),
+    [
+        ("<robot name='r'><link name='a'/>", "not well-formed XML: line 1"),
+        (
+            "<robot name='r'><link name='a'/><link name='b'/><joint name='j' type='fixed'>"
+            "<child link='b'/></joint></robot>",
+            "joint 'j': no <parent link=...>",
+        ),
+        (
+            "<robot name='r'><link name='a'/><link name='b'><inertial><mass value='-1'/>"
+            "</inertial></link><joint name='j' type='fixed'><parent link='a'/><child link='b'/>"
+            "</joint></robot>",
+            "link 'b': mass -1 kg",
+        ),
+    ],
+)
+def test_bad_urdf_one_line_exit_2_no_file(tmp_path: Path, urdf_text: str, pattern: str) -> None:
+    urdf = tmp_path / "bad.urdf"
+    urdf.write_text(urdf_text)
+    out = tmp_path / "run.h5"
+    code, _, err = _run("simulate", "--urdf", str(urdf), "-o", str(out))
+    assert code == 2 and pattern in err and err.count("\n") == 1
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("extra", "pattern"),
+    [
+        (["--robot", "ur6"], "close names: ur5"),
+        (["--robot", "ur5", "--preset", "aaria-fig2"], "--preset is for DH arms"),
+        (["--robot", "ur5", "--urdf", "x.urdf"], "not both"),
+        (["--preset", "aaria-fig2", "--fixed-base"], "--fixed-base is for URDF robots"),
+        (["--robot", "ur5", "--tool", "nowhere"], "frame 'nowhere'"),
+        (["--robot", "ur5", "-o", "run.mat"], "written as HDF5"),
+    ],
+)
+def test_simulate_robot_bad_options(tmp_path: Path, extra: list[str], pattern: str) -> None:
+    args = ["simulate", "--duration", "0.5", *extra]
+    if "-o" not in extra:
+        args += ["-o", str(tmp_path / "run.h5")]
+    else:
+        args[args.index("-o") + 1] = str(tmp_path / "run.mat")
+    code, _, err = _run(*args)
+    assert code == 2 and pattern in err, err
+    assert not list(tmp_path.iterdir())
