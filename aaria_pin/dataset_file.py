@@ -237,9 +237,7 @@ class DatasetFile:
             layout = RunLayout(layout.shapes, layout.inputs, layout.columns, strings)
             attrs.pop("layout_json", None)
             with atomic_output(file) as temporary:
-                new = _new_file(
-                    temporary, n_runs, samples, dtype, {}, layout, raw_attributes=attrs
-                )
+                new = _new_file(temporary, n_runs, samples, dtype, {}, layout, raw_attributes=attrs)
                 _copy_intact_runs(old, new)
                 new.close()
         finally:

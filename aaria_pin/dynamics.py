@@ -41,7 +41,7 @@ def batched_rnea(model: pin.Model, q: Array, v: Array, a: Array, threads: int = 
         np.ascontiguousarray(v).T,
         np.ascontiguousarray(a).T,
     )
-    return np.asarray(tau).T
+    return np.asarray(tau).reshape(model.nv, -1).T  # a one-sample batch comes back as a vector
 
 
 def _split(robot: RobotModel, base: BaseMotion, generalized: Array) -> tuple[Array, Array]:

@@ -36,6 +36,20 @@ def test_batched_equals_per_sample_rnea(name: str) -> None:
         np.testing.assert_allclose(fast, reference, atol=1e-9)
 
 
+def test_a_one_sample_batch_keeps_its_sample_axis() -> None:
+    """Pinocchio returns a one-sample batch as a vector; batched_rnea keeps (1, nv)."""
+    import pinocchio as pin
+
+    from aaria_pin.dynamics import batched_rnea
+
+    model = build_dh_robot(get_preset("aaria-fig2").table).model().model
+    q = np.full((1, model.nq), 0.3)
+    v, a = np.full((1, model.nv), 0.2), np.full((1, model.nv), -0.1)
+    tau = batched_rnea(model, q, v, a)
+    assert tau.shape == (1, model.nv)
+    np.testing.assert_allclose(tau[0], pin.rnea(model, model.createData(), q[0], v[0], a[0]))
+
+
 def test_horizontal_link_under_gravity_by_hand() -> None:
     a, a_tool = 0.8, 0.1
     table = np.zeros((8, 5))

@@ -84,7 +84,7 @@ def test_layout_file_replaces_the_default(tmp_path: Path) -> None:
     layout = tmp_path / "imus.toml"
     layout.write_text(
         '[[imu]]\nname = "imu_wrist"\nparent = "wrist_3_link"\nxyz = [0.0, 0.0, 0.05]\n'
-        'rpy = [0.0, 0.0, 1.5707963267948966]\n\n'
+        "rpy = [0.0, 0.0, 1.5707963267948966]\n\n"
         '[[imu]]\nname = "imu_elbow"\nparent = "elbow_joint"\n'
     )
     mounts = read_imu_layout(layout)

@@ -74,7 +74,7 @@ def test_tables_leaving_the_urdf_limits_are_refused() -> None:
         urdf_joint_trajectory(too_far, loaded, time)
     too_fast = table.copy()
     too_fast[0, 3] = 100.0
-    with pytest.raises(TableError, match="velocity limit 2.175 rad/s"):
+    with pytest.raises(TableError, match=r"velocity limit 2\.175 rad/s"):
         urdf_joint_trajectory(too_fast, loaded, time)
     with pytest.raises(TableError, match=r"shape \(8, 5\) is not allowed; expected 9 × 5"):
         urdf_joint_trajectory(table[:8], loaded, time)

@@ -72,14 +72,9 @@ def task_torques(
     held = np.asarray(held, dtype=bool)
     if held.shape != (np.shape(q)[0],):
         raise ParameterError(f"held mask of shape {held.shape}; allowed: ({np.shape(q)[0]},)")
-    n = held.size
-    # (reshaped: a one-sample batch comes back from Pinocchio as a vector)
-    tau_free = np.reshape(batched_rnea(model, q, qd, qdd, threads), (n, model.nv))
+    tau_free = batched_rnea(model, q, qd, qdd, threads)
     tau = tau_free.copy()
     if np.any(held):
         loaded = with_payload(model, payload)
-        rows = int(held.sum())
-        tau[held] = np.reshape(
-            batched_rnea(loaded, q[held], qd[held], qdd[held], threads), (rows, model.nv)
-        )
+        tau[held] = batched_rnea(loaded, q[held], qd[held], qdd[held], threads)
     return tau, tau_free
