@@ -49,6 +49,7 @@ __all__ = [
     "MAX_RUNS",
     "DatasetReport",
     "DatasetSpec",
+    "base_and_noise_inputs",
     "generate_dataset",
     "run_inputs",
     "simulate_dataset_run",
@@ -191,7 +192,7 @@ def _plain(value: Any) -> Any:
 def run_inputs(spec: DatasetSpec, run: int) -> tuple[Array, Array, Array, np.random.SeedSequence]:
     """Inputs of run ``run``: DH table, joint table, base table (6 × 4) and its noise seed."""
     from aaria_pin.dh import chain_from_aaria
-    from aaria_pin.oscillation import default_base_table, default_joint_table
+    from aaria_pin.oscillation import default_joint_table
 
     structure, joints, base, _ = run_streams(spec.seed, run)
     if "structure" in spec.vary:
@@ -205,6 +206,22 @@ def run_inputs(spec: DatasetSpec, run: int) -> tuple[Array, Array, Array, np.ran
         joint_table = np.asarray(spec.joint_table, dtype=float)
     else:
         joint_table = default_joint_table(chain_from_aaria(dh))
+    base_table, noise_seed = base_and_noise_inputs(spec, run, base)
+    return dh, joint_table, base_table, noise_seed
+
+
+def base_and_noise_inputs(
+    spec: DatasetSpec, run: int, base: np.random.Generator
+) -> tuple[Array, np.random.SeedSequence]:
+    """Base table (6 × 4) and noise seed of run ``run`` (DH arms and URDF robots alike).
+
+    Args:
+        spec: the data set
+        run: the run index
+        base: the run's base stream (the third of :func:`~aaria_pin.randomize.run_streams`)
+    """
+    from aaria_pin.oscillation import default_base_table
+
     if "base" in spec.vary:
         base_table = random_base_table(spec.config, base)
     else:
@@ -213,8 +230,7 @@ def run_inputs(spec: DatasetSpec, run: int) -> tuple[Array, Array, Array, np.ran
         )
     if base_table.shape == (2, 4):
         base_table = np.repeat(base_table, 3, axis=0)
-    noise_seed = np.random.SeedSequence(spec.seed, spawn_key=(run, len(PARTS)))
-    return dh, joint_table, base_table, noise_seed
+    return base_table, np.random.SeedSequence(spec.seed, spawn_key=(run, len(PARTS)))
 
 
 def simulate_dataset_run(spec: DatasetSpec, run: int) -> dict[str, Array]:

@@ -125,13 +125,8 @@ def urdf_run_inputs(
     spec: DatasetSpec, run: int, loaded: UrdfRobot
 ) -> tuple[Array, Array, np.random.SeedSequence]:
     """Joint table, base table (6 × 4) and noise seed of run ``run`` of a URDF data set."""
-    from aaria_pin.oscillation import default_base_table
-    from aaria_pin.randomize import (
-        PARTS,
-        random_base_table,
-        random_urdf_joint_table,
-        run_streams,
-    )
+    from aaria_pin.dataset import base_and_noise_inputs
+    from aaria_pin.randomize import random_urdf_joint_table, run_streams
     from aaria_pin.urdf_robot import default_urdf_joint_table
 
     _, joints, base, _ = run_streams(spec.seed, run)
@@ -141,15 +136,7 @@ def urdf_run_inputs(
         joint_table = np.asarray(spec.joint_table, dtype=float)
     else:
         joint_table = default_urdf_joint_table(loaded)
-    if "base" in spec.vary:
-        base_table = random_base_table(spec.config, base)
-    else:
-        base_table = np.asarray(
-            spec.base_table if spec.base_table is not None else default_base_table(), dtype=float
-        )
-    if base_table.shape == (2, 4):
-        base_table = np.repeat(base_table, 3, axis=0)
-    noise_seed = np.random.SeedSequence(spec.seed, spawn_key=(run, len(PARTS)))
+    base_table, noise_seed = base_and_noise_inputs(spec, run, base)
     return joint_table, base_table, noise_seed
 
 

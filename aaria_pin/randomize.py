@@ -253,19 +253,24 @@ def random_dh_table(config: RandomConfig, rng: np.random.Generator) -> Array:
     return table
 
 
+def _joint_draws(config: RandomConfig, rng: np.random.Generator) -> list[float]:
+    """One joint's six draws: revolute amplitude, bias; prismatic fractions; frequency, phase."""
+    return [
+        _uniform(rng, config.revolute_amplitude),
+        _uniform(rng, config.revolute_bias),
+        _uniform(rng, config.prismatic_amplitude_fraction),
+        _uniform(rng, config.prismatic_bias_fraction),
+        _uniform(rng, config.joint_frequency),
+        _uniform(rng, config.joint_phase),
+    ]
+
+
 def random_joint_table(config: RandomConfig, dh_table: Array, rng: np.random.Generator) -> Array:
     """A random 8 × 5 joint oscillation table that keeps every joint within its range."""
     table = np.zeros((8, 5))
     for row in range(6):
         link_type = int(dh_table[row, 4])
-        draws = [
-            _uniform(rng, config.revolute_amplitude),
-            _uniform(rng, config.revolute_bias),
-            _uniform(rng, config.prismatic_amplitude_fraction),
-            _uniform(rng, config.prismatic_bias_fraction),
-            _uniform(rng, config.joint_frequency),
-            _uniform(rng, config.joint_phase),
-        ]
+        draws = _joint_draws(config, rng)
         if link_type == 1:
             table[row] = [draws[0], 0.0, draws[1], draws[4], draws[5]]
         elif link_type == 2:
@@ -290,14 +295,7 @@ def random_urdf_joint_table(
     """
     table = np.zeros((len(joints), 5))
     for row, joint in enumerate(joints):
-        draws = [
-            _uniform(rng, config.revolute_amplitude),
-            _uniform(rng, config.revolute_bias),
-            _uniform(rng, config.prismatic_amplitude_fraction),
-            _uniform(rng, config.prismatic_bias_fraction),
-            _uniform(rng, config.joint_frequency),
-            _uniform(rng, config.joint_phase),
-        ]
+        draws = _joint_draws(config, rng)
         if joint.mimic is not None:
             continue
         span = joint.upper - joint.lower

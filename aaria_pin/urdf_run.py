@@ -24,6 +24,7 @@ from aaria_pin.imu import ADIS16485, ImuNoiseModel, add_imu_noise, noise_attribu
 from aaria_pin.kinematics import trajectory_signals
 from aaria_pin.model import GRAVITY
 from aaria_pin.oscillation import base_motion, default_base_table, validate_base_table
+from aaria_pin.simulate import UNITS
 from aaria_pin.trajectory import sample_times
 from aaria_pin.urdf_robot import (
     UrdfRobot,
@@ -33,16 +34,6 @@ from aaria_pin.urdf_robot import (
 )
 
 __all__ = ["simulate_loaded_robot", "simulate_urdf_from_run_file", "simulate_urdf_run"]
-
-UNITS = {
-    "time": "s",
-    "q": "rad (revolute) or m (prismatic)",
-    "angular_velocity": "rad/s",
-    "specific_force": "m/s^2",
-    "tau": "N*m (revolute) or N (prismatic)",
-    "base_wrench": "N (force), N*m (moment about the base origin), world-aligned axes",
-    "length": "m",
-}
 
 
 def simulate_urdf_run(
