@@ -56,7 +56,7 @@ def info(file: Path, as_json: bool) -> None:
         click.echo(f"{file}: run file ({summary['format']}), {summary['samples']} samples")
         if "joints" in summary:
             click.echo(f"  joints: {', '.join(summary['joints'])}")
-            click.echo(f"  IMUs: {', '.join(summary['imus'])}")
+            click.echo(f"  IMUs: {', '.join(summary['imus']) or 'none'}")
         for name, shape in summary["arrays"].items():
             click.echo(f"  {name:<12} {' × '.join(map(str, shape))}")
         for key, value in summary["attributes"].items():
