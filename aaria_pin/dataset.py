@@ -114,6 +114,14 @@ class DatasetSpec:
             raise ParameterError(
                 "a URDF robot's structure is fixed; allowed: --vary joints,base and no DH table"
             )
+        if self.urdf is not None and self.joint_table is not None and "joints" not in self.vary:
+            from aaria_pin.urdf_robot import validate_urdf_joint_table
+
+            validate_urdf_joint_table(self.joint_table, self.urdf.load())
+        if self.urdf is not None and not self.urdf.moving_base and "base" in self.vary:
+            raise ParameterError(
+                "the robot's base is fixed, so the base cannot vary; allowed: --vary joints"
+            )
         if "structure" not in self.vary and self.dh_table is None and self.urdf is None:
             raise ParameterError(
                 "the structure does not vary, so a DH table is needed; allowed: --preset or --dh"

@@ -8,7 +8,7 @@ generic run file with a leading run axis: ``signals`` (N × T × C, attribute ``
 ``qdd``, ``tau`` (N × T × n), ``base_wrench`` (N × T × 6), ``tool_pose`` (N × T × 4 × 4) and
 ``imu_mount`` (N × S × 4 × 4); the URDF text is the string dataset ``urdf``, and the file
 attributes add ``robot`` (source, name, base and tool frames, moving base, joint names, IMU
-names and parents, the URDF's SHA-256).
+names, parents and poses, the URDF's SHA-256).
 """
 
 from __future__ import annotations
@@ -98,6 +98,7 @@ class UrdfSource:
             "joint_names": list(loaded.robot.joint_names),
             "imu_names": [mount.name for mount in loaded.imu_mounts],
             "imu_parents": [mount.parent for mount in loaded.imu_mounts],
+            "imu_poses": [mount.T_parent_imu.tolist() for mount in loaded.imu_mounts],
         }
 
 

@@ -35,12 +35,12 @@ import pinocchio as pin
 from aaria_pin._se3 import Array
 from aaria_pin.errors import InputFileError, ModelError
 from aaria_pin.generic_record import ImuMount
+from aaria_pin.model import frame_index
 
 __all__ = [
     "DEFAULT_MIN_OFFSET",
     "add_imu_frames",
     "default_imu_layout",
-    "frame_index",
     "moving_links",
     "read_imu_layout",
 ]
@@ -59,20 +59,6 @@ def _pose(xyz: Sequence[float], rpy: Sequence[float] = (0.0, 0.0, 0.0)) -> Array
     T[:3, :3] = _rpy_matrix(rpy)
     T[:3, 3] = xyz
     return T
-
-
-def frame_index(model: pin.Model, name: str) -> int:
-    """Index of a frame by name, a link (body frame) first when a joint has the same name.
-
-    Raises:
-        ModelError: no frame of that name.
-    """
-    if model.existFrame(name, pin.FrameType.BODY):
-        return int(model.getFrameId(name, pin.FrameType.BODY))
-    for index, frame in enumerate(model.frames):
-        if frame.name == name:
-            return index
-    raise ModelError(f"frame {name!r} is not in model {model.name!r}")
 
 
 def moving_links(model: pin.Model) -> list[tuple[int, int, str]]:
@@ -94,9 +80,9 @@ def moving_links(model: pin.Model) -> list[tuple[int, int, str]]:
 
 
 def _joint_axis(joint: pin.JointModel) -> Array:
-    from aaria_pin.kinematics import _joint_kind
+    from aaria_pin.kinematics import joint_kind
 
-    return _joint_kind(joint)[1]
+    return joint_kind(joint)[1]
 
 
 def _offset_from_axis(com: Array, axis: Array, min_offset: float) -> Array:
@@ -179,6 +165,8 @@ def read_imu_layout(path: str | os.PathLike[str]) -> tuple[ImuMount, ...]:
     mounts: list[ImuMount] = []
     for number, entry in enumerate(entries, start=1):
         where = f"{file}: [[imu]] number {number}"
+        if not isinstance(entry, dict):
+            raise InputFileError(f"{where}: {entry!r} is not a table; allowed: [[imu]] tables")
         unknown = set(entry) - {"name", "parent", "xyz", "rpy"}
         if unknown:
             raise InputFileError(

@@ -32,6 +32,7 @@ __all__ = [
     "frame_poses",
     "full_state",
     "imu_signals",
+    "joint_kind",
     "reference_frame_poses",
     "reference_imu_signals",
     "trajectory_signals",
@@ -44,7 +45,25 @@ _AXES = {
 }
 
 
-def _joint_kind(joint: pin.JointModel) -> tuple[str, Array]:
+def _unaligned_axis(joint: pin.JointModel, kind: str) -> Array:
+    """The unit axis of an unaligned joint, from its motion subspace at the neutral value.
+
+    (Pinocchio 4 exposes no ``axis`` on the unbounded unaligned revolute joint.)
+    """
+    data = joint.createData()
+    neutral = np.array([1.0, 0.0]) if joint.nq == 2 else np.zeros(joint.nq)
+    joint.calc(data, neutral)
+    S = np.asarray(data.S, dtype=float).reshape(6)
+    axis = S[3:] if kind == "revolute" else S[:3]
+    return axis / np.linalg.norm(axis)
+
+
+def joint_kind(joint: pin.JointModel) -> tuple[str, Array]:
+    """A Pinocchio joint's kind (``"revolute"``, ``"prismatic"``, ``"freeflyer"``) and unit axis.
+
+    Raises:
+        ModelError: any other joint type.
+    """
     name = joint.shortname()
     if name == "JointModelFreeFlyer":
         return "freeflyer", np.zeros(3)
@@ -58,7 +77,7 @@ def _joint_kind(joint: pin.JointModel) -> tuple[str, Array]:
             if suffix in _AXES:
                 return kind, _AXES[suffix]
             if suffix in ("evoluteUnaligned", "evoluteUnboundedUnaligned", "rismaticUnaligned"):
-                return kind, np.asarray(joint.extract().axis, dtype=float)
+                return kind, _unaligned_axis(joint, kind)
     raise ModelError(
         f"joint type {name} is not supported; allowed: revolute, prismatic, free-flyer"
     )
@@ -85,7 +104,7 @@ def _flatten(robot: RobotModel) -> _FlatModel:
     kinds, axes, columns = [FREEFLYER], [np.zeros(3)], [0]
     column = 0
     for j in range(1, model.njoints):
-        kind, axis = _joint_kind(model.joints[j])
+        kind, axis = joint_kind(model.joints[j])
         kinds.append(codes[kind])
         axes.append(axis)
         columns.append(column)

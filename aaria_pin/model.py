@@ -19,7 +19,7 @@ import pinocchio as pin
 from aaria_pin.errors import ModelError
 from aaria_pin.urdf import JointDescription, RobotDescription
 
-__all__ = ["GRAVITY", "RobotModel", "build_model", "model_from_description"]
+__all__ = ["GRAVITY", "RobotModel", "build_model", "frame_index", "model_from_description"]
 
 GRAVITY = np.array([0.0, 0.0, -9.81])
 """Gravity in the world frame [m/s²]."""
@@ -72,16 +72,25 @@ class RobotModel:
         Raises:
             ModelError: no frame of that name.
         """
-        if self.model.existFrame(name, pin.FrameType.BODY):  # a link before a same-named joint
-            return int(self.model.getFrameId(name, pin.FrameType.BODY))
-        for index, frame in enumerate(self.model.frames):
-            if frame.name == name:
-                return index
-        raise ModelError(f"frame {name!r} is not in model {self.model.name!r}")
+        return frame_index(self.model, name)
 
     def neutral(self) -> np.ndarray:
         """Configuration with the base at the world origin and every joint at zero."""
         return np.asarray(pin.neutral(self.model))
+
+
+def frame_index(model: pin.Model, name: str) -> int:
+    """Index of a frame by name, a link (body frame) first when a joint has the same name.
+
+    Raises:
+        ModelError: no frame of that name.
+    """
+    if model.existFrame(name, pin.FrameType.BODY):
+        return int(model.getFrameId(name, pin.FrameType.BODY))
+    for index, frame in enumerate(model.frames):
+        if frame.name == name:
+            return index
+    raise ModelError(f"frame {name!r} is not in model {model.name!r}")
 
 
 def _finish(

@@ -286,29 +286,30 @@ def random_urdf_joint_table(
 ) -> Array:
     """A random n × 5 joint oscillation table for a URDF robot, within its limits.
 
-    Each joint draws the same six numbers as an Aaria module, in the same order. A revolute
-    joint swings by a revolute amplitude, at most 45 % of its range, about its range's middle
-    moved by a revolute bias that is cut to the room left (a continuous joint: amplitude and
-    bias as drawn); a prismatic joint swings by a fraction of its range about the middle moved
-    by a fraction of the room left. The frequency is cut so that |amplitude| × frequency stays
+    Each joint draws the same six numbers as an Aaria module, in the same order, over the part
+    of its range that motions use (:func:`~aaria_pin.urdf_robot.usable_range`: at most 0.5 m of
+    a prismatic range, 2π of a revolute one, about the middle; a continuous joint's is
+    centred on 0). A revolute joint swings by a revolute amplitude, at most 45 % of that range,
+    about its middle moved by a revolute bias cut to the room left; a prismatic joint swings by
+    a fraction of the range about the middle moved by a fraction of the room left. The
+    frequency is cut so that |amplitude| × frequency stays
     within the joint's velocity limit. Mimic joints get zero rows (they follow their leader).
     """
+    from aaria_pin.urdf_robot import usable_range
+
     table = np.zeros((len(joints), 5))
     for row, joint in enumerate(joints):
         draws = _joint_draws(config, rng)
         if joint.mimic is not None:
             continue
-        span = joint.upper - joint.lower
-        middle = 0.5 * (joint.upper + joint.lower) if math.isfinite(span) else 0.0
+        middle, span = usable_range(joint)
         if joint.kind == "prismatic":
             amplitude = draws[2] * span
             bias = middle + draws[3] * (span / 2 - amplitude) * (1 - 1e-9)
-        elif math.isfinite(span):
+        else:
             amplitude = min(draws[0], 0.45 * span)
             room = span / 2 - amplitude
             bias = middle + min(max(draws[1], -room), room) * (1 - 1e-9)
-        else:
-            amplitude, bias = draws[0], draws[1]
         frequency = draws[4]
         if amplitude > 0 and math.isfinite(joint.velocity):
             frequency = min(frequency, joint.velocity / amplitude * (1 - 1e-9))

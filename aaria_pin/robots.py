@@ -93,6 +93,10 @@ def find_robot(name: str) -> RobotEntry:
             return entry
     import difflib
 
+    same = [e.name for e in catalogue.values() if e.urdf.stem.removesuffix("_robot") == name]
+    if same:
+        raise ParameterError(f"robot name {name!r} is ambiguous; allowed: {', '.join(same)}")
+
     close = difflib.get_close_matches(name, list(catalogue), n=5, cutoff=0.5)
     hint = f"close names: {', '.join(close)}" if close else "see 'aaria robots'"
     raise ParameterError(f"robot {name!r} is not in example-robot-data; {hint}")

@@ -267,10 +267,23 @@ def check_urdf(text: str, urdf_dir: Path | None = None) -> UrdfSummary:
             )
         parent_of[joint.child] = joint.name
         joints.append(joint)
-    names = {joint.name for joint in joints}
+    by_name = {joint.name: joint for joint in joints}
     for joint in joints:
-        if joint.mimic is not None and joint.mimic[0] not in names:
+        if joint.mimic is None:
+            continue
+        leader = by_name.get(joint.mimic[0])
+        if leader is None:
             raise UrdfError(f"joint {joint.name!r}: mimics unknown joint {joint.mimic[0]!r}")
+        if leader is joint or leader.mimic is not None or leader.kind == "fixed":
+            raise UrdfError(
+                f"joint {joint.name!r}: mimics {leader.name!r}, which is itself, a mimic joint or "
+                "fixed; allowed: a leader that moves on its own"
+            )
+        if (leader.kind == "prismatic") != (joint.kind == "prismatic"):
+            raise UrdfError(
+                f"joint {joint.name!r} ({joint.kind}) mimics {leader.name!r} ({leader.kind}); "
+                "allowed: a leader of the same kind (both prismatic or both revolute)"
+            )
     roots = [link for link in links if link not in parent_of]
     if len(roots) != 1:
         raise UrdfError(

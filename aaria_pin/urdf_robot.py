@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike
 
 from aaria_pin._se3 import Array
 from aaria_pin._tables import finite_table
-from aaria_pin.errors import InputFileError, MeshWarning, ModelError, TableError
+from aaria_pin.errors import InputFileError, MeshWarning, ModelError, TableError, UrdfError
 from aaria_pin.generic_record import ImuMount
 from aaria_pin.model import RobotModel, build_model
 from aaria_pin.oscillation import JOINT_COLUMNS
@@ -31,12 +31,16 @@ from aaria_pin.trajectory import JointTrajectory, sine_motion
 from aaria_pin.urdf_check import UrdfJoint, UrdfSummary, check_urdf
 
 __all__ = [
+    "PRISMATIC_SPAN",
+    "REVOLUTE_SPAN",
     "TOOL_FRAME_NAMES",
     "UrdfRobot",
     "default_urdf_joint_table",
     "load_urdf_robot",
     "read_urdf_file",
     "urdf_joint_trajectory",
+    "usable_range",
+    "validate_urdf_joint_table",
 ]
 
 TOOL_FRAME_NAMES = ("tool0", "tool", "tcp", "tool_tip", "ee_link", "end_effector")
@@ -44,6 +48,11 @@ TOOL_FRAME_NAMES = ("tool0", "tool", "tcp", "tool_tip", "ee_link", "end_effector
 then the deepest leaf link)."""
 
 _RANGE_TOLERANCE = 1e-12
+PRISMATIC_SPAN = 0.5
+"""Longest stretch of a prismatic joint's range that default and random motions use [m]: the
+middle of a longer range (URDFs write ``±1e9`` for "unbounded")."""
+REVOLUTE_SPAN = 2 * np.pi
+"""The same for a revolute joint's range [rad] (and a continuous joint's)."""
 
 
 @dataclass(frozen=True)
@@ -164,6 +173,11 @@ def load_urdf_robot(
     robot = RobotModel(
         model, urdf, moving_base, summary.root_link, tool, tuple(m.name for m in mounts)
     )
+    if robot.n_joints == 0:
+        raise UrdfError(
+            f"robot {summary.name!r} has no actuated joint (all its joints are fixed); allowed: "
+            "at least one revolute, continuous or prismatic joint"
+        )
     joints = tuple(summary.joint(name) for name in robot.joint_names)
     for joint in joints:
         if joint.kind == "fixed":  # pragma: no cover - Pinocchio never makes a fixed joint
@@ -171,8 +185,20 @@ def load_urdf_robot(
     return UrdfRobot(robot, summary, tuple(mounts), joints)
 
 
-def _range(joint: UrdfJoint) -> tuple[float, float]:
-    return joint.lower, joint.upper
+def usable_range(joint: UrdfJoint) -> tuple[float, float]:
+    """Middle and span of the part of a joint's range that default and random motions use.
+
+    The URDF range, cut about its middle to :data:`PRISMATIC_SPAN` (prismatic) or
+    :data:`REVOLUTE_SPAN` (revolute); a continuous joint's is centred on 0.
+
+    Returns:
+        ``(middle, span)`` [rad or m].
+    """
+    cap = PRISMATIC_SPAN if joint.kind == "prismatic" else REVOLUTE_SPAN
+    span = joint.upper - joint.lower
+    if not np.isfinite(span):
+        return 0.0, cap
+    return 0.5 * (joint.lower + joint.upper), min(span, cap)
 
 
 def default_urdf_joint_table(robot: UrdfRobot) -> Array:
@@ -180,17 +206,17 @@ def default_urdf_joint_table(robot: UrdfRobot) -> Array:
 
     Joint i (from 1, model order) swings about the middle of its range (0 for a continuous
     joint): a revolute joint by 0.6 rad or 40 % of its range if less, a prismatic joint by
-    40 % of its range; at ``0.8 + 0.3·i`` rad/s, slowed if needed to half its velocity limit;
+    40 % of its range or of :data:`PRISMATIC_SPAN` if the range is longer; at ``0.8 + 0.3·i``
+    rad/s, slowed if needed to half its velocity limit;
     phase ``0.5·i`` rad. Mimic joints get zeros (they follow their leader).
     """
     table = np.zeros((len(robot.joints), 5))
     for i, joint in enumerate(robot.joints, start=1):
         if joint.mimic is not None:
             continue
-        lower, upper = _range(joint)
-        span = upper - lower
-        bias = 0.0 if not np.isfinite(span) else 0.5 * (lower + upper)
-        amplitude = 0.6 if not np.isfinite(span) else 0.4 * span
+        middle, span = usable_range(joint)
+        bias = middle
+        amplitude = 0.4 * span
         if joint.kind != "prismatic":
             amplitude = min(0.6, amplitude)
         frequency = 0.8 + 0.3 * i
@@ -202,7 +228,16 @@ def default_urdf_joint_table(robot: UrdfRobot) -> Array:
     return table
 
 
-def _validate(table: ArrayLike, robot: UrdfRobot) -> Array:
+def validate_urdf_joint_table(table: ArrayLike, robot: UrdfRobot) -> Array:
+    """Check a URDF robot's joint oscillation table against its joints' limits.
+
+    Returns:
+        The table as a float array (a copy).
+
+    Raises:
+        TableError: wrong shape, a non-finite value, a negative frequency, or a joint that
+            leaves its position or velocity limits.
+    """
     what = "joint oscillation table"
     arr = finite_table(table, JOINT_COLUMNS, what, rows=(len(robot.joints),))
     for row, joint in enumerate(robot.joints):
@@ -243,7 +278,7 @@ def urdf_joint_trajectory(table: ArrayLike, robot: UrdfRobot, time: Array) -> Jo
         TableError: wrong shape, a non-finite value, a negative frequency, or a joint that
             leaves its position or velocity limits.
     """
-    arr = _validate(table, robot)
+    arr = validate_urdf_joint_table(table, robot)
     prismatic = np.array([joint.kind == "prismatic" for joint in robot.joints])
     amplitude = np.where(prismatic, arr[:, 1], arr[:, 0])
     q, qd, qdd = sine_motion(amplitude, arr[:, 2], arr[:, 3], arr[:, 4], time)

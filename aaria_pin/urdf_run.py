@@ -84,7 +84,7 @@ def simulate_urdf_run(
         tool_frame=tool_frame,
         imu_layout=imu_layout,
     )
-    return simulate_loaded_robot(
+    record = simulate_loaded_robot(
         loaded,
         joint_table,
         base_table,
@@ -96,6 +96,8 @@ def simulate_urdf_run(
         noise_model=noise_model,
         threads=threads,
     )
+    record.attributes["urdf_dir"] = "" if urdf_dir is None else str(urdf_dir)
+    return record
 
 
 def simulate_loaded_robot(
@@ -199,7 +201,8 @@ def simulate_urdf_from_run_file(path: str | os.PathLike[str], **overrides: Any) 
     """Re-make the run stored in a generic run file from its inputs alone.
 
     The URDF, joint and base tables, IMU layout, tool frame, base mode, rate, duration, seed
-    and noise setting come from the file; keyword arguments of :func:`simulate_urdf_run` given
+    and noise setting come from the file (and the URDF's folder, for its meshes, if it is still
+    there); keyword arguments of :func:`simulate_urdf_run` given
     here replace them.
 
     Args:
@@ -217,6 +220,7 @@ def simulate_urdf_from_run_file(path: str | os.PathLike[str], **overrides: Any) 
         "joint_table": stored.joint_table,
         "base_table": stored.base_table,
         "source": attributes.get("source") or None,
+        "urdf_dir": Path(attributes["urdf_dir"]) if attributes.get("urdf_dir") else None,
         "moving_base": bool(attributes.get("moving_base", True)),
         "tool_frame": attributes.get("tool_frame"),
         "imu_layout": stored.imu_mounts,

@@ -112,3 +112,45 @@ def test_simulate_robot_bad_options(tmp_path: Path, extra: list[str], pattern: s
     code, _, err = _run(*args)
     assert code == 2 and pattern in err, err
     assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize(
+    ("extra", "pattern"),
+    [
+        (["--robot", "ur5", "--drive", "torque"], "--drive torque is for DH arms"),
+        (["--robot", "ur5", "--fixed-base", "--base", "base.csv"], "not allowed with --fixed-base"),
+        (["--robot", "ur3"], "robot name 'ur3' is ambiguous; allowed: ur/ur3, ur/ur3_robot"),
+    ],
+)
+def test_options_that_would_do_nothing_are_refused(
+    tmp_path: Path, extra: list[str], pattern: str
+) -> None:
+    code, _, err = _run("simulate", *extra, "-o", str(tmp_path / "run.h5"))
+    assert code == 2 and pattern in err, err
+    assert not (tmp_path / "run.h5").exists()
+
+
+def test_from_a_generic_run_refuses_another_tool(tmp_path: Path) -> None:
+    first = tmp_path / "ur5.h5"
+    assert _run("simulate", "--robot", "ur5", "--duration", "0.5", "-o", str(first))[0] == 0
+    code, _, err = _run("simulate", "--from", str(first), "--tool", "wrist_2_link", "-o", "x.h5")
+    assert code == 2 and "--tool with --from" in err
+
+
+def test_fixed_base_data_set_varies_the_joints_only(tmp_path: Path) -> None:
+    out = tmp_path / "fixed.h5"
+    code, _, err = _run(
+        "dataset", "--robot", "ur5", "--fixed-base", "-n", "2", "--duration", "0.5",
+        "--workers", "1", "--quiet", "-o", str(out),
+    )  # fmt: skip
+    assert code == 0, err
+    from aaria_pin.dataset_reader import DatasetReader
+
+    with DatasetReader(out) as reader:
+        assert reader.attributes["vary"] == ["joints"]
+        np.testing.assert_array_equal(reader.run(0)["base_wrench"], 0.0)
+    code, _, err = _run(
+        "dataset", "--robot", "ur5", "--fixed-base", "--vary", "joints,base", "-n", "2",
+        "-o", str(tmp_path / "x.h5"),
+    )  # fmt: skip
+    assert code == 2 and "base cannot vary" in err and not (tmp_path / "x.h5").exists()

@@ -130,3 +130,35 @@ def test_cli_dataset_of_a_robot_and_info(tmp_path: Path) -> None:
                str(tmp_path / "x.h5")]
     )  # fmt: skip
     assert refused.exit_code == 2 and not (tmp_path / "x.h5").exists()
+
+
+def test_resume_refuses_other_imu_poses(panda_set: Path, tmp_path: Path) -> None:
+    from aaria_pin.generic_record import ImuMount
+
+    copy = tmp_path / "copy.h5"
+    copy.write_bytes(panda_set.read_bytes())
+    with h5py.File(copy, "r+") as handle:
+        handle["complete"][3] = 0
+    default = _panda().load().imu_mounts
+    moved = tuple(
+        ImuMount(m.name, m.parent, m.T_parent_imu + np.pad([[0, 0, 0, 0.01]], ((2, 1), (0, 0))))
+        if k == 0
+        else m
+        for k, m in enumerate(default)
+    )
+    source = _panda()
+    other = DatasetSpec(
+        n_runs=4, seed=5, duration=1.0, vary=("joints", "base"),
+        urdf=UrdfSource(source.urdf, "panda", source.urdf_dir, imu_layout=moved),
+    )  # fmt: skip
+    with pytest.raises(ParameterError, match="robot"):
+        generate_dataset(copy, other, workers=1, resume=True)
+
+
+def test_a_fixed_joint_table_is_checked_before_any_run() -> None:
+    from aaria_pin.errors import TableError
+
+    table = np.zeros((9, 5))
+    table[3, 2] = 1.0  # panda_joint4 spans [-3.07, -0.07] rad
+    with pytest.raises(TableError, match="panda_joint4"):
+        DatasetSpec(n_runs=2, vary=("base",), joint_table=table, urdf=_panda())

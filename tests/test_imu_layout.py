@@ -130,3 +130,10 @@ def test_default_layout_is_a_function_of_the_model() -> None:
     assert [m.name for m in first] == [m.name for m in second]
     for a, b in zip(first, second, strict=True):
         np.testing.assert_array_equal(a.T_parent_imu, b.T_parent_imu)
+
+
+def test_a_layout_entry_that_is_not_a_table_is_refused(tmp_path: Path) -> None:
+    layout = tmp_path / "imus.toml"
+    layout.write_text("imu = [1, 2]\n")
+    with pytest.raises(InputFileError, match="1 is not a table"):
+        read_imu_layout(layout)

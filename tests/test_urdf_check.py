@@ -134,3 +134,39 @@ def test_catalogue_names_and_close_matches() -> None:
     assert all(entry.urdf.is_file() for entry in catalogue.values())
     with pytest.raises(Exception, match="close names: ur5"):
         find_robot("ur6")
+
+
+@pytest.mark.parametrize(
+    ("mimic", "pattern"),
+    [
+        ('<mimic joint="shoulder"/>', "which is itself, a mimic joint or fixed"),
+        ('<mimic joint="elbow"/>', "which is itself, a mimic joint or fixed"),
+    ],
+)
+def test_self_and_chained_mimics_are_refused(mimic: str, pattern: str) -> None:
+    """Pinocchio refuses mimic chains too: a leader must move on its own."""
+    text = f"""<robot name="m"><link name="a"/><link name="b"/><link name="c"/>
+      <joint name="shoulder" type="revolute"><parent link="a"/><child link="b"/>{mimic}
+        <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+      <joint name="elbow" type="revolute"><parent link="b"/><child link="c"/>
+        <mimic joint="shoulder"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    </robot>"""
+    with pytest.raises(UrdfError, match=pattern):
+        check_urdf(text)
+
+
+def test_a_prismatic_mimic_of_a_revolute_joint_is_refused() -> None:
+    text = two_links().replace(
+        "</robot>",
+        '<link name="f"/><joint name="finger" type="prismatic"><parent link="arm"/>'
+        '<child link="f"/><mimic joint="shoulder"/>'
+        '<limit lower="0" upper="0.1" effort="1" velocity="1"/></joint></robot>',
+    )
+    with pytest.raises(UrdfError, match=r"joint 'finger' \(prismatic\) mimics 'shoulder'"):
+        check_urdf(text)
+
+
+def test_a_robot_without_actuated_joints_is_refused() -> None:
+    text = two_links().replace('type="revolute"', 'type="fixed"')
+    with pytest.raises(UrdfError, match="robot 'two' has no actuated joint"):
+        load_urdf_robot(text)

@@ -86,3 +86,19 @@ def test_prismatic_finger_uses_the_prismatic_column() -> None:
     finger = [j.name for j in loaded.joints].index("panda_finger_joint1")
     assert table[finger, 0] == 0 and table[finger, 1] == pytest.approx(0.4 * 0.04)
     assert table[finger, 2] == pytest.approx(0.02)  # the middle of [0, 0.04] m
+
+
+def test_huge_prismatic_limits_give_a_bounded_motion() -> None:
+    """URDFs write ±1e9 m for an unbounded rail: motions use its middle half metre."""
+    from aaria_pin.randomize import RandomConfig, random_urdf_joint_table
+
+    text = """<robot name="rail"><link name="a"/><link name="b"><inertial><mass value="1"/>
+      <inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+      <joint name="slide" type="prismatic"><parent link="a"/><child link="b"/>
+      <axis xyz="1 0 0"/><limit lower="-1e9" upper="1e9" effort="1" velocity="1"/>
+      </joint></robot>"""
+    loaded = load_urdf_robot(text)
+    assert default_urdf_joint_table(loaded)[0, 1] == pytest.approx(0.2)
+    for seed in range(20):
+        table = random_urdf_joint_table(RandomConfig(), loaded.joints, np.random.default_rng(seed))
+        assert abs(table[0, 1]) + abs(table[0, 2]) <= 0.25 + 1e-12

@@ -125,11 +125,17 @@ def dataset(
         "joints": joints_file is not None,
         "base": base_file is not None,
     }
+    if source is not None and not source.moving_base:
+        if base_file is not None:
+            raise click.UsageError("--base moves the base; not allowed with --fixed-base")
+        fixed["base"] = True
     if vary is None:
         parts = tuple(part for part, given in fixed.items() if not given)
     else:
         parts = tuple(part.strip() for part in vary.split(",") if part.strip())
         clash = [part for part in parts if fixed.get(part)]
+        if "base" in clash and fixed_base:
+            raise ParameterError("--fixed-base: the base cannot vary; allowed: --vary joints")
         if clash:
             raise ParameterError(
                 f"--vary {clash[0]} and a fixed {clash[0]} table were both given; allowed: one"

@@ -138,6 +138,7 @@ def simulate(
                 "--imu-mount": mount_file,
                 "--density": density,
                 "--torques": torques_file,
+                "--drive torque": "torque" if drive == "torque" else None,
             },
         )
         return
@@ -226,6 +227,15 @@ def _simulate_urdf(
             raise click.UsageError(f"{flag} is for DH arms; not allowed with a URDF robot")
     if compress != "none":
         raise click.UsageError("--compress is for DH arms; a URDF robot's run is uncompressed")
+    if output.suffix.lower() not in (".h5", ".hdf5"):
+        raise click.UsageError(f"{output}: a URDF robot's run is written as HDF5 (.h5, .hdf5)")
+    if fixed_base and base_file is not None:
+        raise click.UsageError("--base moves the base; not allowed with --fixed-base")
+    if from_run is not None and tool_frame is not None:
+        raise click.UsageError(
+            "--tool with --from: the run file's IMU layout was made for its tool; re-simulate "
+            "with --robot/--urdf instead"
+        )
     given = {"duration": duration, "rate": rate, "seed": seed, "noise": noise}
     overrides: dict[str, Any] = {key: value for key, value in given.items() if value is not None}
     if tool_frame is not None:
