@@ -77,7 +77,7 @@ class UrdfSource:
                 loaded = load_urdf_robot(
                     self.urdf,
                     urdf_dir=None if self.urdf_dir is None else Path(self.urdf_dir),
-                    moving_base=self.moving_base,
+                    moving_base=True,  # held at rest for a fixed base (see urdf_run)
                     tool_frame=self.tool_frame,
                     imu_layout=self.imu_layout,
                 )
@@ -153,6 +153,7 @@ def urdf_run_arrays(spec: DatasetSpec, run: int) -> dict[str, Array]:
         loaded,
         joint_table,
         base_table,
+        moving_base=source.moving_base,
         duration=spec.duration,
         rate=spec.rate,
         seed=noise_seed,

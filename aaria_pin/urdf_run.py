@@ -25,7 +25,7 @@ from aaria_pin.kinematics import trajectory_signals
 from aaria_pin.model import GRAVITY
 from aaria_pin.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.simulate import UNITS
-from aaria_pin.trajectory import sample_times
+from aaria_pin.trajectory import BaseMotion, sample_times
 from aaria_pin.urdf_robot import (
     UrdfRobot,
     default_urdf_joint_table,
@@ -63,7 +63,8 @@ def simulate_urdf_run(
             and not stored on a fixed base)
         urdf_dir: the URDF's folder, for relative mesh paths
         source: where the URDF came from (a robot name or a file), stored as an attribute
-        moving_base: carry the root link on the base motion (False: fixed at the origin)
+        moving_base: carry the root link on the base motion (False: fixed at the origin; the
+            base wrench is then the load on the fixed mount)
         tool_frame: the tool frame (default: chosen as in :func:`load_urdf_robot`)
         imu_layout: the IMUs (default: two per moving link plus base and tool)
         duration: run length [s]
@@ -80,7 +81,7 @@ def simulate_urdf_run(
     loaded = load_urdf_robot(
         urdf,
         urdf_dir=urdf_dir,
-        moving_base=moving_base,
+        moving_base=True,  # a fixed base is a free-flyer held at rest: RNEA gives the mount's load
         tool_frame=tool_frame,
         imu_layout=imu_layout,
     )
@@ -88,6 +89,7 @@ def simulate_urdf_run(
         loaded,
         joint_table,
         base_table,
+        moving_base=moving_base,
         source=source,
         duration=duration,
         rate=rate,
@@ -105,6 +107,7 @@ def simulate_loaded_robot(
     joint_table: ArrayLike | None = None,
     base_table: ArrayLike | None = None,
     *,
+    moving_base: bool | None = None,
     source: str | None = None,
     duration: float = 10.0,
     rate: float = 100.0,
@@ -119,6 +122,9 @@ def simulate_loaded_robot(
         loaded: the robot (:func:`~aaria_pin.urdf_robot.load_urdf_robot`)
         joint_table: as in :func:`simulate_urdf_run`
         base_table: as in :func:`simulate_urdf_run`
+        moving_base: False holds a free-flyer robot's base at rest at the origin (its base
+            wrench is then the fixed mount's load); default: moving if the model has a
+            free-flyer (a model without one gives a zero base wrench)
         source: as in :func:`simulate_urdf_run`
         duration: run length [s]
         rate: sample rate [Hz]
@@ -132,7 +138,7 @@ def simulate_loaded_robot(
     """
     check_seed(seed)
     robot = loaded.robot
-    moving_base = robot.moving_base
+    moving_base = robot.moving_base if moving_base is None else moving_base and robot.moving_base
     time = sample_times(duration, rate)
     table = (
         default_urdf_joint_table(loaded) if joint_table is None else np.array(joint_table, float)
@@ -141,7 +147,9 @@ def simulate_loaded_robot(
     base_arr = None
     if moving_base:
         base_arr = default_base_table() if base_table is None else validate_base_table(base_table)
-    base = base_motion(default_base_table() if base_arr is None else base_arr, time)
+        base = base_motion(base_arr, time)
+    else:
+        base = BaseMotion.resting(time.size)
 
     n, n_joints, n_imus = time.size, robot.n_joints, len(loaded.imu_mounts)
     signals = np.empty((n, 1 + n_joints + 6 * n_imus))

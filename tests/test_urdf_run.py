@@ -244,7 +244,32 @@ def test_fixed_base_run_has_identity_base_and_gravity_only_base_imu() -> None:
     assert record.base_table is None
     np.testing.assert_array_equal(record.base_pose, np.broadcast_to(np.eye(4), (101, 4, 4)))
     np.testing.assert_allclose(record.imu_signals("imu_base"), [[0, 0, 0, 0, 0, 9.81]] * 101)
-    np.testing.assert_array_equal(record.base_wrench, 0.0)
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_fixed_mount_carries_the_static_weight(name: str) -> None:
+    """A still robot on a fixed base: the mount pushes up by m·g, with moment c × (m·g)."""
+    file = _robot_file(name)
+    text = read_urdf_file(file)
+    loaded = load_urdf_robot(text)
+    table = default_urdf_joint_table(loaded)
+    table[:, :2] = 0.0  # no swing: every joint rests at its bias
+    record = simulate_urdf_run(text, table, moving_base=False, duration=0.5, noise=False)
+    model = pin.buildModelFromUrdf(str(file))
+    data = model.createData()
+    mass = sum(inertia.mass for inertia in model.inertias)
+    floating = pin.buildModelFromUrdf(str(file), pin.JointModelFreeFlyer())  # root link counted
+    q_at_rest = np.r_[0, 0, 0, 0, 0, 0, 1, _pinocchio_configuration(model, record.q[0])]
+    com = pin.centerOfMass(floating, floating.createData(), q_at_rest)
+    force = np.array([0.0, 0.0, mass * 9.81])
+    np.testing.assert_allclose(record.base_wrench[:, :3], np.tile(force, (51, 1)), atol=1e-9)
+    np.testing.assert_allclose(
+        record.base_wrench[:, 3:], np.tile(np.cross(com, force), (51, 1)), atol=1e-9
+    )
+    gravity_torques = pin.computeGeneralizedGravity(
+        model, data, _pinocchio_configuration(model, record.q[0])
+    )
+    np.testing.assert_allclose(record.tau[0], gravity_torques, atol=1e-9)
 
 
 def test_sample_grid_matches_the_aaria_run() -> None:
