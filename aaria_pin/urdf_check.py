@@ -47,6 +47,7 @@ class UrdfJoint:
         upper: upper position limit [rad or m] (+inf for a continuous joint)
         velocity: velocity limit [rad/s or m/s] (inf if not given)
         mimic: (leader joint, multiplier, offset) of a mimic joint, else None
+        effort: effort limit [N·m or N] (inf if not given or 0)
     """
 
     name: str
@@ -57,6 +58,7 @@ class UrdfJoint:
     upper: float
     velocity: float
     mimic: tuple[str, float, float] | None
+    effort: float = np.inf
 
 
 @dataclass(frozen=True)
@@ -146,7 +148,7 @@ def _joint(element: ET.Element, links: set[str]) -> UrdfJoint:
         if link not in links:
             raise UrdfError(f"{what}: {end} link {link!r} is not a link of the robot")
         ends[end] = link
-    lower, upper, velocity = -np.inf, np.inf, np.inf
+    lower, upper, velocity, effort = -np.inf, np.inf, np.inf, np.inf
     limit = element.find("limit")
     if kind in ("revolute", "prismatic"):
         if limit is None:
@@ -162,6 +164,7 @@ def _joint(element: ET.Element, links: set[str]) -> UrdfJoint:
         if velocity < 0:
             raise UrdfError(f"{what}: velocity limit {velocity:g}; allowed: >= 0")
         velocity = velocity or np.inf  # 0 is how many URDFs say "not given"
+        effort = abs(_float(limit, "effort", f"{what} <limit>", np.inf)) or np.inf
     axis = element.find("axis")
     if axis is not None and kind != "fixed":
         values = (axis.get("xyz") or "1 0 0").split()
@@ -182,7 +185,9 @@ def _joint(element: ET.Element, links: set[str]) -> UrdfJoint:
             _float(mimic_element, "multiplier", f"{what} <mimic>", 1.0),
             _float(mimic_element, "offset", f"{what} <mimic>", 0.0),
         )
-    return UrdfJoint(name, kind, ends["parent"], ends["child"], lower, upper, velocity, mimic)
+    return UrdfJoint(
+        name, kind, ends["parent"], ends["child"], lower, upper, velocity, mimic, effort
+    )
 
 
 def _package_roots() -> list[Path]:

@@ -36,6 +36,7 @@ __all__ = [
     "TOOL_FRAME_NAMES",
     "UrdfRobot",
     "default_urdf_joint_table",
+    "effort_excess",
     "load_urdf_robot",
     "read_urdf_file",
     "urdf_joint_trajectory",
@@ -183,6 +184,24 @@ def load_urdf_robot(
         if joint.kind == "fixed":  # pragma: no cover - Pinocchio never makes a fixed joint
             raise ModelError(f"joint {joint.name!r} is fixed but has a model joint")
     return UrdfRobot(robot, summary, tuple(mounts), joints)
+
+
+def effort_excess(robot: UrdfRobot, tau: Array) -> dict[str, tuple[float, float]]:
+    """Joints whose torque or force exceeds the URDF's effort limit somewhere in a run.
+
+    Args:
+        robot: the robot
+        tau: joint torques [N·m] or forces [N], (T, n), model order
+
+    Returns:
+        Joint name → (peak |tau|, effort limit), for the joints over their limit.
+    """
+    peaks = np.abs(np.asarray(tau)).max(axis=0) if len(tau) else np.zeros(len(robot.joints))
+    return {
+        joint.name: (float(peak), joint.effort)
+        for joint, peak in zip(robot.joints, peaks, strict=True)
+        if peak > joint.effort
+    }
 
 
 def usable_range(joint: UrdfJoint) -> tuple[float, float]:

@@ -29,6 +29,7 @@ from aaria_pin.trajectory import BaseMotion, sample_times
 from aaria_pin.urdf_robot import (
     UrdfRobot,
     default_urdf_joint_table,
+    effort_excess,
     load_urdf_robot,
     urdf_joint_trajectory,
 )
@@ -178,6 +179,9 @@ def simulate_loaded_robot(
         "moving_base": bool(moving_base),
         "base_frame": robot.base_frame,
         "tool_frame": robot.tool_frame,
+        "effort_exceeded": {
+            name: list(values) for name, values in effort_excess(loaded, tau).items()
+        },
         "rate": float(rate),
         "duration": float(duration),
         **seed_attributes(seed),

@@ -155,3 +155,21 @@ def test_fixed_base_data_set_varies_the_joints_only(tmp_path: Path) -> None:
         "-o", str(tmp_path / "x.h5"),
     )  # fmt: skip
     assert code == 2 and "base cannot vary" in err and not (tmp_path / "x.h5").exists()
+
+
+def test_torques_beyond_the_effort_limit_are_reported(tmp_path: Path) -> None:
+    urdf = tmp_path / "weak.urdf"
+    urdf.write_text(
+        """<robot name="weak"><link name="base"/>
+      <link name="arm"><inertial><origin xyz="0.5 0 0"/><mass value="10"/>
+        <inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+      <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/>
+        <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="5" velocity="2"/></joint>
+    </robot>"""
+    )
+    out = tmp_path / "weak.h5"
+    code, _, err = _run("simulate", "--urdf", str(urdf), "--duration", "1", "-o", str(out))
+    assert code == 0
+    peak, limit = read_generic_run(out).attributes["effort_exceeded"]["shoulder"]
+    assert limit == 5 and peak > 10 * 9.81 * 0.5 * np.cos(1.0)  # the weight's lever at |q| <= 0.6
+    assert "joint 'shoulder' reaches |tau|" in err and "effort limit 5" in err

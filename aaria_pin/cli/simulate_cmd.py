@@ -263,6 +263,12 @@ def _simulate_urdf(
             )
     for warning in caught:
         click.echo(f"aaria: warning: {warning.message}", err=True)
+    for joint, (peak, limit) in record.attributes["effort_exceeded"].items():
+        click.echo(
+            f"aaria: warning: joint {joint!r} reaches |tau| {peak:.4g}, beyond its URDF effort "
+            f"limit {limit:.4g} (N*m or N)",
+            err=True,
+        )
     write_generic_run(output, record)
     click.echo(
         f"wrote {output}: {record.attributes['robot']}, {len(record.joint_names)} joints, "
