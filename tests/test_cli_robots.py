@@ -25,6 +25,16 @@ def test_robots_lists_the_catalogue() -> None:
     assert "robots in" in err
 
 
+@pytest.mark.slow
+def test_robots_check_tells_which_load_and_why_others_do_not() -> None:
+    code, out, _ = _run("robots", "--check")
+    assert code == 0
+    status = {line.split()[0]: line.split(maxsplit=1)[1] for line in out.splitlines()}
+    assert status["ur5"] == "6 joints, 14 IMUs"
+    assert status["iris_simple"].startswith("refused: robot 'iris' has no actuated joint")
+    assert sum(not s.startswith("refused") for s in status.values()) == 61
+
+
 def test_simulate_a_robot_then_remake_it_from_its_file(tmp_path: Path) -> None:
     first = tmp_path / "panda.h5"
     code, out, _ = _run("simulate", "--robot", "panda", "--duration", "1", "-o", str(first))

@@ -3,14 +3,18 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import click
 
 
 @click.command()
 @click.option("--paths", is_flag=True, help="Also print each robot's URDF file.")
+@click.option(
+    "--check", is_flag=True, help="Load each robot: its joint count, or why it is refused."
+)
 @click.option("--json", "as_json", is_flag=True, help="Print name → URDF file as JSON.")
-def robots(paths: bool, as_json: bool) -> None:
+def robots(paths: bool, check: bool, as_json: bool) -> None:
     """List the robots of example-robot-data, for --robot NAME of simulate and dataset."""
     from aaria_pin.robots import robot_catalogue, robots_folder
 
@@ -20,5 +24,24 @@ def robots(paths: bool, as_json: bool) -> None:
         return
     folder = robots_folder()
     for name, entry in catalogue.items():
-        click.echo(f"{name:<32} {entry.urdf.relative_to(folder)}" if paths else name)
+        line = f"{name:<32} {entry.urdf.relative_to(folder)}" if paths else f"{name:<32}"
+        if check:
+            line += f"  {_status(entry.urdf)}"
+        click.echo(line.rstrip())
     click.echo(f"{len(catalogue)} robots in {folder}", err=True)
+
+
+def _status(urdf: Path) -> str:
+    """``N joints, M IMUs`` for a robot that loads, else ``refused: <reason>``."""
+    import warnings
+
+    from aaria_pin.errors import AariaError
+    from aaria_pin.urdf_robot import load_urdf_robot, read_urdf_file
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            loaded = load_urdf_robot(read_urdf_file(urdf), urdf_dir=urdf.parent)
+    except AariaError as exc:
+        return f"refused: {exc}"
+    return f"{loaded.robot.n_joints} joints, {len(loaded.imu_mounts)} IMUs"
