@@ -32,6 +32,24 @@ def test_box_mesh_inertia_is_the_closed_form(size: tuple[float, float, float]) -
     np.testing.assert_allclose(props.inertia_com, box_inertia(mass, size), rtol=1e-10, atol=1e-12)
 
 
+def test_rotated_box_mesh_inertia_is_r_i_rt() -> None:
+    from aaria_pin.rotations import matrix_from_angles
+
+    size, center = (0.1, 0.25, 0.4), np.array([0.2, -0.3, 0.1])
+    R = np.asarray(matrix_from_angles([0.4, -0.7, 1.1], "ZYX"))
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, center
+    mesh = box_mesh(size)
+    mesh.apply_transform(T)
+    props = mesh_inertia(mesh, 1000.0)
+    mass = 1000.0 * float(np.prod(size))
+    expected = R @ box_inertia(mass, size) @ R.T
+    assert np.abs(expected - np.diag(np.diag(expected))).max() > 0.1 * np.abs(expected).max()
+    assert props.mass == pytest.approx(mass, rel=1e-12)
+    np.testing.assert_allclose(props.com, center, atol=1e-12)
+    np.testing.assert_allclose(props.inertia_com, expected, rtol=1e-10, atol=1e-12)
+
+
 @pytest.mark.parametrize("sections", [6, 12, 48, 256])
 def test_cylinder_mesh_inertia_is_the_prism_closed_form(sections: int) -> None:
     radius, length, density = 0.05, 0.3, 7850.0

@@ -35,7 +35,8 @@ def test_static_payload_share_is_the_hand_computation() -> None:
     J = pin.computeFrameJacobian(model, data, q, hand, pin.LOCAL_WORLD_ALIGNED)
     pin.framesForwardKinematics(model, data, q)
     oMh = data.oMf[hand]
-    com = oMh.rotation @ grasp_offset(DIMS, cylinder.radius)[:3, 3]  # from the hand origin
+    offset = grasp_offset(DIMS, cylinder.radius, cylinder.height)
+    com = oMh.rotation @ offset[:3, 3]  # from the hand origin
     weight = np.array([0.0, 0.0, -9.81 * cylinder.mass])
     wrench = np.concatenate([-weight, np.cross(com, -weight)])  # what the hand must supply
     np.testing.assert_allclose(tau[0] - tau_free[0], J.T @ wrench, atol=1e-10)

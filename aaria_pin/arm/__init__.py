@@ -1,8 +1,11 @@
 """The pick-and-place arm of the robotic-arm report: meshes, URDF, planar IK, hand, task.
 
 Modules: :mod:`~aaria_pin.arm.parts` (trimesh meshes, STL, mass properties),
-:mod:`~aaria_pin.arm.emit` (URDF with mesh links), :mod:`~aaria_pin.arm.preset` (the
-``pick-place-arm`` preset), :mod:`~aaria_pin.arm.ik` (two-link planar IK, no swing through the
-pillar), :mod:`~aaria_pin.arm.hand` (ZYZ hand angles), :mod:`~aaria_pin.arm.task` (the
-pick-and-place trajectory and payload torques).
+:mod:`~aaria_pin.arm.emit` (URDF with mesh links), :mod:`~aaria_pin.arm.dims` (dimensions,
+where a gripped cylinder sits), :mod:`~aaria_pin.arm.preset` (the ``pick-place-arm`` preset),
+:mod:`~aaria_pin.arm.ik` (two-link planar IK, no swing through the pillar),
+:mod:`~aaria_pin.arm.hand` (ZYZ hand angles), :mod:`~aaria_pin.arm.task` (the pick-and-place
+trajectory), :mod:`~aaria_pin.arm.payload` (payload torques, mount wrench),
+:mod:`~aaria_pin.arm.run` (the run and its file), :mod:`~aaria_pin.arm.pictures` (PNG, GIF),
+:mod:`~aaria_pin.arm.view_source` (the viewers' plug-in; imports the viz package).
 """

@@ -7,6 +7,12 @@ grasp axis) and ``I_c`` the solid cylinder's inertia about its centre (axis alon
 approach axis z, so the tensor is the same in hand axes). Torques come from RNEA
 (:func:`aaria_pin.dynamics.batched_rnea`) over whole intervals: the whole path on the bare
 model, the held interval again on the loaded one.
+
+**Mount wrench.** Built on a free-flyer root held still at the world origin (configuration
+``[0 0 0, 0 0 0 1, q]``, zero base velocity and acceleration), the same RNEA gives the joint
+torques of the fixed arm and, in its first six entries, the wrench that the pillar's mount
+applies to the arm (:func:`still_base_state`): ``[fx fy fz mx my mz]`` in world axes (the
+base is not turned) about the pillar's origin on the floor [N, N·m].
 """
 
 from __future__ import annotations
@@ -17,12 +23,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin._se3 import Array
-from aaria_pin.arm.preset import ArmDimensions, grasp_offset
+from aaria_pin.arm.dims import ArmDimensions, grasp_offset
 from aaria_pin.arm.task import Cylinder
 from aaria_pin.dynamics import batched_rnea
 from aaria_pin.errors import ParameterError
 
-__all__ = ["HAND_JOINT", "payload_inertia", "task_torques", "with_payload"]
+__all__ = ["HAND_JOINT", "payload_inertia", "still_base_state", "task_torques", "with_payload"]
 
 HAND_JOINT = "hand_roll"
 """The joint whose body carries the gripped cylinder."""
@@ -33,7 +39,7 @@ def payload_inertia(dims: ArmDimensions, cylinder: Cylinder) -> Any:
     import pinocchio as pin
 
     inertia = cylinder.inertia()
-    com = grasp_offset(dims, cylinder.radius)[:3, 3]
+    com = grasp_offset(dims, cylinder.radius, cylinder.height)[:3, 3]
     return pin.Inertia(inertia.mass, com, inertia.inertia_com)
 
 
@@ -78,3 +84,35 @@ def task_torques(
         loaded = with_payload(model, payload)
         tau[held] = batched_rnea(loaded, q[held], qd[held], qdd[held], threads)
     return tau, tau_free
+
+
+def still_base_state(model: Any, q: Array, qd: Array, qdd: Array) -> tuple[Array, Array, Array]:
+    """The state of a free-flyer model whose root is held still at the world origin.
+
+    Args:
+        model: the arm's Pinocchio model on a free-flyer root (nq = 7 + n, nv = 6 + n)
+        q: joint values (T, n)
+        qd: joint velocities (T, n)
+        qdd: joint accelerations (T, n)
+
+    Returns:
+        Configurations (T, 7 + n), velocities and accelerations (T, 6 + n).
+
+    Raises:
+        ParameterError: a model that is not of that shape.
+    """
+    q = np.asarray(q, dtype=float)
+    n = q.shape[1]
+    if model.nq != 7 + n or model.nv != 6 + n:
+        raise ParameterError(
+            f"model of nq = {model.nq}, nv = {model.nv}; allowed: a free-flyer root and"
+            f" {n} joints (nq = {7 + n}, nv = {6 + n})"
+        )
+    rest = np.zeros((q.shape[0], 7))
+    rest[:, 6] = 1.0  # identity quaternion (x, y, z, w)
+    still = np.zeros((q.shape[0], 6))
+    return (
+        np.hstack([rest, q]),
+        np.hstack([still, np.asarray(qd, dtype=float)]),
+        np.hstack([still, np.asarray(qdd, dtype=float)]),
+    )

@@ -17,7 +17,7 @@ import numpy as np
 from aaria_pin._se3 import Array
 from aaria_pin.arm.parts import cylinder_mesh
 from aaria_pin.arm.preset import arm_parts, build_arm_model
-from aaria_pin.arm.run import PickPlaceRun, link_poses
+from aaria_pin.arm.run import PickPlaceRun, cylinder_track, link_poses
 from aaria_pin.arm.task import PHASES
 from aaria_pin.errors import ParameterError
 
@@ -26,15 +26,9 @@ __all__ = ["cylinder_poses", "sheet_samples", "write_animation", "write_contact_
 
 def cylinder_poses(run: PickPlaceRun) -> Array:
     """The cylinder's centre pose in the world at every sample (T, 4, 4) [m]."""
-    path, c = run.path, run.cylinder
-    n = path.time.size
-    poses = np.broadcast_to(np.eye(4), (n, 4, 4)).copy()
-    poses[:, :3, 3] = (c.x, c.y, c.height / 2)
-    after = path.time >= path.boundaries[6, 0]
-    poses[after, :3, 3] = (run.place[0], run.place[1], c.height / 2)
-    held = path.held
-    poses[held, :3, 3] = run.tool_pose[held, :3, 3]
-    return poses
+    c = run.cylinder
+    held = (float(run.path.boundaries[2, 1]), float(run.path.boundaries[6, 0]))
+    return cylinder_track(run.path.time, held, (c.x, c.y), run.place, c.height, run.tool_pose)
 
 
 def sheet_samples(run: PickPlaceRun) -> list[tuple[int, str]]:
@@ -91,14 +85,16 @@ def write_contact_sheet(path: str | os.PathLike[str], run: PickPlaceRun, dpi: in
     plt = pyplot()
     drawer = _Drawer(run)
     fig = plt.figure(figsize=(12, 6.5))
-    for panel, (k, label) in enumerate(sheet_samples(run)):
-        ax = fig.add_subplot(2, 4, panel + 1, projection="3d")
-        drawer.draw(ax, k, label)
-    fig.tight_layout()
     final = Path(path)
-    with atomic_output(final) as temporary:
-        fig.savefig(temporary, dpi=dpi, format="png")
-    plt.close(fig)
+    try:
+        for panel, (k, label) in enumerate(sheet_samples(run)):
+            ax = fig.add_subplot(2, 4, panel + 1, projection="3d")
+            drawer.draw(ax, k, label)
+        fig.tight_layout()
+        with atomic_output(final) as temporary:
+            fig.savefig(temporary, dpi=dpi, format="png")
+    finally:
+        plt.close(fig)
     return final
 
 
@@ -122,12 +118,14 @@ def write_animation(
     time = run.path.time
     frames = np.unique(np.searchsorted(time, np.arange(0.0, time[-1], 1.0 / fps)))
     fig = plt.figure(figsize=(5, 5))
-    ax = fig.add_subplot(projection="3d")
-    animation = FuncAnimation(
-        fig, lambda k: drawer.draw(ax, int(k), "pick and place"), frames=frames, blit=False
-    )
     final = Path(path)
-    with atomic_output(final) as temporary:
-        animation.save(str(temporary), writer=PillowWriter(fps=fps), dpi=dpi)
-    plt.close(fig)
+    try:
+        ax = fig.add_subplot(projection="3d")
+        animation = FuncAnimation(
+            fig, lambda k: drawer.draw(ax, int(k), "pick and place"), frames=frames, blit=False
+        )
+        with atomic_output(final) as temporary:
+            animation.save(str(temporary), writer=PillowWriter(fps=fps), dpi=dpi)
+    finally:
+        plt.close(fig)
     return final

@@ -12,10 +12,12 @@ pillar) —``shoulder`` (revolute, z, about the pillar's axis)→ ``upper_arm`` 
 ``hand_roll`` (z)→ ``hand`` (the report's ZYZ hand; the three axes meet at the wrist centre)
 —``finger`` (prismatic, along the hand's x: the gap to the two fixed fingers)→
 ``sliding_finger``; a
-massless frame ``grasp`` on the hand marks where a gripped cylinder's axis sits.
+massless frame ``grasp`` on the hand marks a gripped cylinder's centre (for a cylinder of the
+radius and height given, :data:`DEFAULT_GRASP` by default).
 
 **Dimensions.** The report's text gives no dimension (its OpenSCAD files are not in it), so
-every number of :class:`ArmDimensions` is chosen here, to be of the size the report's pictures
+every number of :class:`~aaria_pin.arm.dims.ArmDimensions` (in :mod:`aaria_pin.arm.dims`,
+with where a gripped cylinder sits in the hand) is chosen, to be of the size the report's pictures
 suggest (a table-top arm) and consistent with its IK: the forearm is shorter than the upper
 arm (A = 0.40 m > B = 0.30 m), so folding it back leaves the hand outside the pillar and the
 reachable annulus is 0.10–0.70 m. Densities are chosen too: aluminium (2700 kg/m³) for every
@@ -31,13 +33,20 @@ The files are made at run time, not shipped: they follow the dimensions, and a m
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from aaria_pin._se3 import Array, rot_x, translation
+from aaria_pin._se3 import rot_x, translation
+from aaria_pin.arm.dims import (
+    ARM_JOINTS,
+    ARM_PRESETS,
+    PALM_FACE,
+    ArmDimensions,
+    get_arm_preset,
+    grasp_offset,
+)
 from aaria_pin.arm.emit import MeshJoint, MeshLink, emit_mesh_urdf
 from aaria_pin.arm.parts import (
     MeshPart,
@@ -48,11 +57,11 @@ from aaria_pin.arm.parts import (
     ring_mesh,
     stadium_mesh,
 )
-from aaria_pin.errors import ParameterError
 
 __all__ = [
     "ARM_JOINTS",
     "ARM_PRESETS",
+    "DEFAULT_GRASP",
     "PALM_FACE",
     "ArmDimensions",
     "arm_joints",
@@ -64,99 +73,17 @@ __all__ = [
     "write_arm_urdf",
 ]
 
-ARM_JOINTS = ("lift", "shoulder", "elbow", "hand_yaw", "hand_pitch", "hand_roll", "finger")
-"""The actuated joints, in model order."""
-
-PALM_FACE = 0.04
-"""Depth of the palm's gripping face below the wrist centre, where the fingers start [m]."""
-
 _STEEL = 7850.0
-_ALUMINIUM = 2700.0
 
-
-@dataclass(frozen=True)
-class ArmDimensions:
-    """Dimensions of the arm [m] (all chosen here: the report gives none, see module docstring).
-
-    Attributes:
-        upper_arm: A, shoulder axis to elbow axis (report's ``upperArm_len``)
-        forearm: B, elbow axis to wrist axis (report's ``foreArm_len``)
-        pillar_radius: radius of the pillar
-        pillar_height: height of the pillar above the floor
-        lift_range: lowest and highest height of the carriage's centre above the floor
-        shoulder_drop: shoulder (upper arm mid-plane) below the carriage's centre
-        elbow_drop: forearm mid-plane below the upper arm's
-        wrist_drop: wrist centre below the forearm's mid-plane
-        grasp_depth: grasp point below the wrist centre, along the hand's approach axis
-        finger_face: the fixed fingers' gripping face on the hand's x axis (a cylinder of
-            radius -finger_face is gripped on the wrist's axis)
-        finger_length: length of the fingers along the approach axis
-        finger_travel: the sliding finger's largest gap to the fixed fingers
-        density: density of every moving part [kg/m³]
-    """
-
-    upper_arm: float = 0.40
-    forearm: float = 0.30
-    pillar_radius: float = 0.05
-    pillar_height: float = 0.85
-    lift_range: tuple[float, float] = (0.27, 0.78)
-    shoulder_drop: float = 0.05
-    elbow_drop: float = 0.04
-    wrist_drop: float = 0.06
-    grasp_depth: float = 0.08
-    finger_face: float = -0.03
-    finger_length: float = 0.08
-    finger_travel: float = 0.12
-    density: float = _ALUMINIUM
-
-    def __post_init__(self) -> None:
-        for name in ("upper_arm", "forearm", "pillar_radius", "pillar_height", "density"):
-            value = getattr(self, name)
-            if not (np.isfinite(value) and value > 0):
-                raise ParameterError(f"arm {name} is {value!r}; allowed: a finite number > 0")
-        if not self.upper_arm - self.forearm > self.pillar_radius:
-            raise ParameterError(
-                f"upper arm A = {self.upper_arm} m, forearm B = {self.forearm} m; allowed:"
-                f" A - B > pillar radius {self.pillar_radius} m (the folded hand clears the"
-                " pillar)"
-            )
-
-    @property
-    def grasp_below_carriage(self) -> float:
-        """Height of the grasp point below the carriage's centre with the hand down [m]."""
-        return self.shoulder_drop + self.elbow_drop + self.wrist_drop + self.grasp_depth
-
-    @property
-    def fingertip_below_grasp(self) -> float:
-        """How far the fingertips reach below the grasp point along the approach axis [m]."""
-        return PALM_FACE + self.finger_length - self.grasp_depth
-
-    @property
-    def annulus(self) -> tuple[float, float]:
-        """Inner and outer radius of the wrist's reachable annulus, |A - B| and A + B [m]."""
-        return abs(self.upper_arm - self.forearm), self.upper_arm + self.forearm
-
-
-ARM_PRESETS = {"pick-place-arm": ArmDimensions()}
-"""Arm presets by name."""
-
-
-def get_arm_preset(name: str) -> ArmDimensions:
-    """The dimensions of a named arm preset.
-
-    Raises:
-        ParameterError: an unknown name.
-    """
-    if name not in ARM_PRESETS:
-        raise ParameterError(f"arm preset {name!r} is unknown; allowed: {', '.join(ARM_PRESETS)}")
-    return ARM_PRESETS[name]
+DEFAULT_GRASP = (0.03, 0.12)
+"""Radius and height of the cylinder whose grasp point frame ``grasp`` marks by default [m]."""
 
 
 def arm_parts(dims: ArmDimensions) -> dict[str, MeshPart]:
     """Each link's mesh (in its link frame), density and colour, by link name."""
     d = dims
-    r, w = d.pillar_radius, 0.06
-    face, t = d.finger_face, 0.015
+    r, w, foot = d.pillar_radius, 0.06, d.foot_thickness
+    face, t = d.finger_face, d.finger_thickness
     palm_x = (face - t, face + d.finger_travel + 2 * t)
     grey, blue, green, orange = (
         (0.55, 0.55, 0.58, 1.0),
@@ -165,8 +92,8 @@ def arm_parts(dims: ArmDimensions) -> dict[str, MeshPart]:
         (0.95, 0.55, 0.1, 1.0),
     )
     pillar = combine(
-        box_mesh((0.30, 0.30, 0.02), (0.0, 0.0, 0.01)),
-        cylinder_mesh(r, d.pillar_height - 0.02, (0.0, 0.0, 0.01 + d.pillar_height / 2)),
+        box_mesh((d.foot_size, d.foot_size, foot), (0.0, 0.0, foot / 2)),
+        cylinder_mesh(r, d.pillar_height - foot, (0.0, 0.0, (foot + d.pillar_height) / 2)),
     )
     ring = ring_mesh(r + 0.002, r + 0.03, 0.04)
     bar = stadium_mesh(d.upper_arm - (r + 0.03 + w / 2), w, 0.04)
@@ -212,8 +139,15 @@ def arm_parts(dims: ArmDimensions) -> dict[str, MeshPart]:
     return parts
 
 
-def arm_joints(dims: ArmDimensions) -> tuple[MeshJoint, ...]:
-    """The joints: placements at q = 0, axes and limits (velocities chosen here)."""
+def arm_joints(
+    dims: ArmDimensions, grasp: tuple[float, float] = DEFAULT_GRASP
+) -> tuple[MeshJoint, ...]:
+    """The joints: placements at q = 0, axes and limits (velocities chosen here).
+
+    Args:
+        dims: the arm
+        grasp: radius and height of the gripped cylinder that places frame ``grasp`` [m]
+    """
     d = dims
     turn = 2.0 * np.pi
     y_axis = (0.0, 1.0, 0.0)
@@ -297,17 +231,20 @@ def arm_joints(dims: ArmDimensions) -> tuple[MeshJoint, ...]:
             effort=50.0,
             velocity=0.05,
         ),
-        MeshJoint("grasp_mount", "fixed", "hand", "grasp", grasp_offset(dims, -d.finger_face)),
+        MeshJoint("grasp_mount", "fixed", "hand", "grasp", grasp_offset(dims, *grasp)),
     )
 
 
-def grasp_offset(dims: ArmDimensions, radius: float) -> Array:
-    """Pose of the grasp point of a cylinder of ``radius`` [m] in the hand frame (4 × 4)."""
-    return translation(dims.finger_face + radius, 0.0, dims.grasp_depth)
+def arm_urdf(
+    dims: ArmDimensions, mesh_folder: str = "meshes", grasp: tuple[float, float] = DEFAULT_GRASP
+) -> str:
+    """URDF text of the arm; each link's mesh is ``<mesh_folder>/<link>.stl``.
 
-
-def arm_urdf(dims: ArmDimensions, mesh_folder: str = "meshes") -> str:
-    """URDF text of the arm; each link's mesh is ``<mesh_folder>/<link>.stl``."""
+    Args:
+        dims: the arm
+        mesh_folder: the meshes' folder, relative to the URDF
+        grasp: radius and height of the gripped cylinder that places frame ``grasp`` [m]
+    """
     parts = arm_parts(dims)
     links = [
         MeshLink(name, f"{mesh_folder}/{name}.stl", part.inertia(), part.rgba)
@@ -317,13 +254,22 @@ def arm_urdf(dims: ArmDimensions, mesh_folder: str = "meshes") -> str:
     return emit_mesh_urdf(
         "pick_place_arm",
         links,
-        arm_joints(dims),
+        arm_joints(dims, grasp),
         comment="pick-place-arm of aaria_pin (robotic-arm report); meshes by trimesh",
     )
 
 
-def write_arm_urdf(folder: str | os.PathLike[str], dims: ArmDimensions) -> Path:
+def write_arm_urdf(
+    folder: str | os.PathLike[str],
+    dims: ArmDimensions,
+    grasp: tuple[float, float] = DEFAULT_GRASP,
+) -> Path:
     """Write ``folder/pick_place_arm.urdf`` and ``folder/meshes/<link>.stl``.
+
+    Args:
+        folder: the output folder (made if missing)
+        dims: the arm
+        grasp: radius and height of the gripped cylinder that places frame ``grasp`` [m]
 
     Returns:
         The URDF's path.
@@ -339,12 +285,24 @@ def write_arm_urdf(folder: str | os.PathLike[str], dims: ArmDimensions) -> Path:
     for name, part in arm_parts(dims).items():
         export_stl(part.mesh, root / "meshes" / f"{name}.stl")
     urdf = root / "pick_place_arm.urdf"
-    write_text_atomic(urdf, arm_urdf(dims))
+    write_text_atomic(urdf, arm_urdf(dims, grasp=grasp))
     return urdf
 
 
-def build_arm_model(dims: ArmDimensions) -> Any:
-    """The Pinocchio model of the arm on its fixed pillar (no mesh file needed)."""
+def build_arm_model(
+    dims: ArmDimensions, grasp: tuple[float, float] = DEFAULT_GRASP, *, free_flyer: bool = False
+) -> Any:
+    """The Pinocchio model of the arm (no mesh file needed).
+
+    Args:
+        dims: the arm
+        grasp: radius and height of the gripped cylinder that places frame ``grasp`` [m]
+        free_flyer: root the pillar on a free-flyer joint (held still, its generalized force is
+            the wrench of the pillar's mount), instead of fixing it to the world
+    """
     import pinocchio as pin
 
-    return pin.buildModelFromXML(arm_urdf(dims))
+    urdf = arm_urdf(dims, grasp=grasp)
+    if free_flyer:
+        return pin.buildModelFromXML(urdf, pin.JointModelFreeFlyer())
+    return pin.buildModelFromXML(urdf)

@@ -1,12 +1,14 @@
 """The pick-and-place run: path, torques with the payload, tool pose, and its run file.
 
-:func:`simulate_pick_place` plans the task (:mod:`aaria_pin.arm.task`), computes the joint
-torques by RNEA with the cylinder on the hand while it is held and without it
-(:mod:`aaria_pin.arm.payload`), and the grasp point's pose. :func:`pick_place_record` turns the
-run into the generic run record of URDF robots (:class:`aaria_pin.generic_record.GenericRunRecord`:
-``signals`` = time and joint values, no IMU; ``q``, ``qd``, ``qdd``, ``tau``; ``tool_pose`` = the
-grasp point; the URDF text), written by :func:`aaria_pin.runfile.write_generic_run`, so
-``aaria info`` reads it. The task's settings, phases and held interval are file attributes.
+:func:`simulate_pick_place` plans the task (:mod:`aaria_pin.arm.task`), computes the joint torques
+by RNEA with the cylinder on the hand while it is held and without it
+(:mod:`aaria_pin.arm.payload`), the wrench of the pillar's mount, and the grasp point's pose.
+:func:`pick_place_record` turns the run into the generic run record of URDF robots
+(:class:`aaria_pin.generic_record.GenericRunRecord`: ``signals`` = time and joint values, no IMU;
+``q``, ``qd``, ``qdd``, ``tau``; ``base_wrench`` = the mount's; ``tool_pose`` = the grasp point;
+the URDF text, whose frame ``grasp`` is placed for the run's cylinder, so it equals ``tool_pose``),
+written by :func:`aaria_pin.runfile.write_generic_run`, so ``aaria info`` reads it. The task's
+settings, phases and held interval are file attributes.
 """
 
 from __future__ import annotations
@@ -20,21 +22,17 @@ import numpy as np
 
 from aaria_pin import __version__
 from aaria_pin._se3 import Array
-from aaria_pin.arm.payload import HAND_JOINT, payload_inertia, task_torques
-from aaria_pin.arm.preset import (
-    ARM_JOINTS,
-    ArmDimensions,
-    arm_urdf,
-    build_arm_model,
-    get_arm_preset,
-    grasp_offset,
-)
+from aaria_pin.arm.dims import ARM_JOINTS, ArmDimensions, get_arm_preset, grasp_offset
+from aaria_pin.arm.payload import HAND_JOINT, payload_inertia, still_base_state, task_torques
+from aaria_pin.arm.preset import arm_joints, arm_urdf, build_arm_model
 from aaria_pin.arm.task import PHASES, Cylinder, JointPath, plan_pick_place
 from aaria_pin.generic_record import GenericRunRecord
 from aaria_pin.model import GRAVITY
 
 __all__ = [
     "PickPlaceRun",
+    "cylinder_track",
+    "effort_excess",
     "link_poses",
     "pick_place_record",
     "simulate_pick_place",
@@ -45,6 +43,7 @@ _UNITS = {
     "q": "m (lift, finger), rad (shoulder, elbow, hand)",
     "tau": "N (lift, finger), N*m (shoulder, elbow, hand)",
     "tool_pose": "m",
+    "base_wrench": "N (fx, fy, fz), N*m (mx, my, mz)",
     "time": "s",
 }
 
@@ -57,6 +56,9 @@ class PickPlaceRun:
         path: the joint path, its phases and held mask
         tau: joint torques [N·m] and forces [N] with the cylinder on the hand where held (T, 7)
         tau_free: the same without the cylinder (T, 7)
+        base_wrench: the wrench the pillar's mount applies to the arm, cylinder included where
+            held, ``[fx fy fz mx my mz]`` in world axes about the pillar's origin on the floor
+            (T, 6) [N, N·m]
         tool_pose: the grasp point's pose in the world (T, 4, 4) [m]
         cylinder: the cylinder (where it stood)
         place: where it was put down (x, y) [m]
@@ -68,6 +70,7 @@ class PickPlaceRun:
     path: JointPath
     tau: Array
     tau_free: Array
+    base_wrench: Array
     tool_pose: Array
     cylinder: Cylinder
     place: tuple[float, float]
@@ -117,16 +120,19 @@ def simulate_pick_place(
     """
     dims = get_arm_preset(preset)
     path = plan_pick_place(dims, cylinder, place, rate=rate, branch=branch)
-    model = build_arm_model(dims)
-    tau, tau_free = task_torques(
-        model, payload_inertia(dims, cylinder), path.q, path.qd, path.qdd, path.held, threads
+    grasp = (cylinder.radius, cylinder.height)
+    rooted = build_arm_model(dims, grasp, free_flyer=True)
+    state = still_base_state(rooted, path.q, path.qd, path.qdd)
+    generalized, free = task_torques(
+        rooted, payload_inertia(dims, cylinder), *state, path.held, threads
     )
-    hand = link_poses(model, path.q, ["hand"])[:, 0]
-    tool_pose = hand @ grasp_offset(dims, cylinder.radius)
+    hand = link_poses(build_arm_model(dims, grasp), path.q, ["hand"])[:, 0]
+    tool_pose = hand @ grasp_offset(dims, *grasp)
     return PickPlaceRun(
         path,
-        tau,
-        tau_free,
+        np.ascontiguousarray(generalized[:, 6:]),
+        np.ascontiguousarray(free[:, 6:]),
+        np.ascontiguousarray(generalized[:, :6]),
         tool_pose,
         cylinder,
         (float(place[0]), float(place[1])),
@@ -148,6 +154,7 @@ def pick_place_record(run: PickPlaceRun) -> GenericRunRecord:
         "moving_base": False,
         "base_frame": "pillar",
         "tool_frame": "grasp",
+        "base_wrench_frame": "world axes, about the pillar's origin on the floor",
         "payload_joint": HAND_JOINT,
         "rate": float(1.0 / (path.time[1] - path.time[0])) if n > 1 else 0.0,
         "duration": float(path.time[-1]),
@@ -172,12 +179,54 @@ def pick_place_record(run: PickPlaceRun) -> GenericRunRecord:
         qdd=np.ascontiguousarray(path.qdd),
         tau=np.ascontiguousarray(run.tau),
         base_pose=np.broadcast_to(np.eye(4), (n, 4, 4)).copy(),
-        base_wrench=np.zeros((n, 6)),
+        base_wrench=np.ascontiguousarray(run.base_wrench),
         tool_pose=run.tool_pose,
         imu_mounts=(),
-        urdf=arm_urdf(run.dims),
+        urdf=arm_urdf(run.dims, grasp=(c.radius, c.height)),
         attributes=attributes,
     )
+
+
+def cylinder_track(
+    time: Array,
+    held_interval: tuple[float, float],
+    pick: tuple[float, float],
+    place: tuple[float, float],
+    height: float,
+    tool_pose: Array,
+) -> Array:
+    """The cylinder's centre pose in the world at every sample (T, 4, 4) [m].
+
+    Args:
+        time: sample times (T,) [s]
+        held_interval: start and end of the hold [s] (held: start <= t < end)
+        pick: where it stands first (x, y) [m]
+        place: where it is put down (x, y) [m]
+        height: its height [m]
+        tool_pose: the grasp point's pose (T, 4, 4) [m]: the cylinder's centre while held
+    """
+    time = np.asarray(time, dtype=float)
+    poses = np.broadcast_to(np.eye(4), (time.size, 4, 4)).copy()
+    poses[:, :3, 3] = (pick[0], pick[1], height / 2)
+    poses[time >= held_interval[1], :3, 3] = (place[0], place[1], height / 2)
+    held = (time >= held_interval[0]) & (time < held_interval[1])
+    poses[held] = np.asarray(tool_pose)[held]  # its mid-plane is symmetric: z up or down alike
+    return poses
+
+
+def effort_excess(run: PickPlaceRun) -> list[tuple[str, float, float]]:
+    """Joints whose peak torque exceeds the URDF's effort limit.
+
+    Returns:
+        ``(joint, peak |tau|, limit)`` for each such joint, in model order [N·m or N].
+    """
+    limits = {j.name: j.effort for j in arm_joints(run.dims) if j.kind != "fixed"}
+    peaks = np.abs(run.tau).max(axis=0)
+    return [
+        (name, float(peak), float(limits[name]))
+        for name, peak in zip(ARM_JOINTS, peaks, strict=True)
+        if peak > limits[name]
+    ]
 
 
 def write_pick_place_run(path: str | os.PathLike[str], run: PickPlaceRun) -> Path:

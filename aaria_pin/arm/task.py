@@ -16,11 +16,13 @@ place), so the gripped cylinder stays upright. The wrist goes to where the grasp
 the cylinder's axis; shoulder and elbow turn as :func:`aaria_pin.arm.ik.plan_planar_move` says,
 so the forearm never swings through the pillar.
 
-**Grasp.** The cylinder is held at half its height, pressed by the sliding finger against the
-two fixed ones (gap = its diameter); it is held (its mass on the hand) from the end of ``grasp``
-to the start of ``release``. Clearances (chosen): the fingertips pass 3 cm over the cylinder's
-top, the carried cylinder's bottom is at least 10 cm above its grasp height, the open finger
-leaves 3 cm of gap.
+**Grasp.** The cylinder is held at half its height, its top just under the palm
+(:mod:`aaria_pin.arm.dims`: heights the fingers can hold without the palm or the floor in the way),
+pressed by the sliding finger against the two fixed ones (gap = its diameter); it is held (its mass
+on the hand) from the end of ``grasp`` to the start of ``release``. It must stand clear of the
+pillar's foot plate by its radius plus a finger's thickness. Clearances (chosen): the fingertips
+pass 3 cm over the cylinder's top, the carried cylinder's bottom is at least 10 cm above its grasp
+height, the open finger leaves 3 cm of gap.
 """
 
 from __future__ import annotations
@@ -32,9 +34,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from aaria_pin._se3 import Array
+from aaria_pin.arm.dims import ArmDimensions, height_limits
 from aaria_pin.arm.hand import downward_grasp, hand_angles
-from aaria_pin.arm.ik import plan_planar_move
-from aaria_pin.arm.preset import ArmDimensions, arm_joints
+from aaria_pin.arm.ik import ANNULUS_TOLERANCE, plan_planar_move
+from aaria_pin.arm.preset import arm_joints
 from aaria_pin.errors import ParameterError
 from aaria_pin.inertia import Inertia, cylinder_inertia
 
@@ -65,7 +68,6 @@ _ACCELERATION = {  # chosen: joint acceleration limits [rad/s² or m/s²]
 _TIP_CLEARANCE = 0.03
 _CARRY_CLEARANCE = 0.10
 _OPEN_MARGIN = 0.03
-_FLOOR_CLEARANCE = 0.005
 
 
 @dataclass(frozen=True)
@@ -136,12 +138,12 @@ def home_pose(dims: ArmDimensions) -> Array:
 
 
 def _check_cylinder(dims: ArmDimensions, cylinder: Cylinder, where: str) -> None:
-    reach = dims.fingertip_below_grasp
-    if cylinder.height / 2 - reach < _FLOOR_CLEARANCE:
+    low, high = height_limits(dims)
+    if not low - 1e-12 <= cylinder.height <= high + 1e-12:
         raise ParameterError(
-            f"cylinder height {cylinder.height} m; allowed: >= "
-            f"{2 * (reach + _FLOOR_CLEARANCE):.3g} m (held at half height, the fingertips"
-            " would touch the floor)"
+            f"cylinder height {cylinder.height} m; allowed: {low:.3g} to {high:.3g} m (held with"
+            f" its top {dims.palm_clearance} m below the palm: shorter, the fingertips would touch"
+            " the floor; taller, the fingers would not reach its half height)"
         )
     if 2 * cylinder.radius + _OPEN_MARGIN > dims.finger_travel:
         raise ParameterError(
@@ -149,33 +151,47 @@ def _check_cylinder(dims: ArmDimensions, cylinder: Cylinder, where: str) -> None
             f"{(dims.finger_travel - _OPEN_MARGIN) / 2:.3g} m (the finger opens"
             f" {dims.finger_travel} m)"
         )
-    if np.hypot(cylinder.x, cylinder.y) < dims.pillar_radius + cylinder.radius:
+    half = dims.foot_size / 2
+    gap = float(np.hypot(max(abs(cylinder.x) - half, 0.0), max(abs(cylinder.y) - half, 0.0)))
+    margin = cylinder.radius + dims.finger_thickness
+    if gap < margin:
         raise ParameterError(
-            f"{where} ({cylinder.x}, {cylinder.y}) m overlaps the pillar (radius"
-            f" {dims.pillar_radius} m); allowed: at least pillar radius + cylinder radius from"
-            " the origin"
+            f"{where} ({cylinder.x:g}, {cylinder.y:g}) m is {gap:.3g} m from the pillar's foot"
+            f" plate ({dims.foot_size} m square about the origin); allowed: at least cylinder"
+            f" radius + finger thickness = {margin:.3g} m from it (the cylinder and the fingers"
+            " stand on the floor)"
         )
 
 
-def _lift_for(dims: ArmDimensions, grasp_height: float, what: str) -> float:
-    lift = grasp_height + dims.grasp_below_carriage
+def _lift_for(dims: ArmDimensions, grasp_height: float, height: float, what: str) -> float:
+    below = dims.grasp_below_carriage(height)
+    lift = grasp_height + below
     low, high = dims.lift_range
     if not low - 1e-12 <= lift <= high + 1e-12:
         raise ParameterError(
             f"{what} needs the lift at {lift:.4g} m; allowed: {low} to {high} m (grasp heights"
-            f" {low - dims.grasp_below_carriage:.4g} to {high - dims.grasp_below_carriage:.4g}"
-            " m above the floor)"
+            f" {low - below:.4g} to {high - below:.4g} m above the floor)"
         )
     return lift
 
 
 def _arm_over(
-    dims: ArmDimensions, q: Array, x: float, y: float, radius: float, branch: str
+    dims: ArmDimensions, q: Array, x: float, y: float, radius: float, branch: str, what: str
 ) -> Array:
     """Joint values that put the grasp point over (x, y), hand down, finger radial."""
     yaw = float(np.arctan2(y, x))
     offset = dims.finger_face + radius  # grasp point along the tool's x axis
     wx, wy = x - offset * np.cos(yaw), y - offset * np.sin(yaw)
+    inner, outer = dims.annulus
+    distance, wrist = float(np.hypot(x, y)), float(np.hypot(wx, wy))
+    if not inner - ANNULUS_TOLERANCE <= wrist <= outer + ANNULUS_TOLERANCE:
+        raise ParameterError(
+            f"{what} ({x:g}, {y:g}) m at {distance:.4g} m from the pillar's axis is out of reach:"
+            f" the grasp point of a {radius:g} m radius cylinder is {offset:.4g} m out from the"
+            f" wrist along the finger's travel, so the wrist would be at {wrist:.4g} m, outside"
+            f" the reachable annulus {inner:.4g} m <= r <= {outer:.4g} m; allowed: {what} at"
+            f" {inner + offset:.4g} to {outer + offset:.4g} m from the pillar's axis"
+        )
     planar = plan_planar_move(
         float(q[1]),
         float(q[2]),
@@ -249,13 +265,13 @@ def plan_pick_place(
     if q0.shape != (7,) or not np.all(np.isfinite(q0)):
         raise ParameterError(f"start pose of shape {q0.shape}; allowed: 7 finite joint values")
     h = cylinder.height
-    grasp_lift = _lift_for(dims, h / 2, "grasping the cylinder at half height")
-    carry = max(h + dims.fingertip_below_grasp + _TIP_CLEARANCE, h / 2 + _CARRY_CLEARANCE)
-    carry_lift = _lift_for(dims, carry, "carrying the cylinder clear of the floor")
+    grasp_lift = _lift_for(dims, h / 2, h, "grasping the cylinder at half height")
+    carry = max(h + dims.fingertip_below_grasp(h) + _TIP_CLEARANCE, h / 2 + _CARRY_CLEARANCE)
+    carry_lift = _lift_for(dims, carry, h, "carrying the cylinder clear of the floor")
     open_gap = 2 * cylinder.radius + _OPEN_MARGIN
     closed = 2 * cylinder.radius
 
-    above_pick = _arm_over(dims, q0, cylinder.x, cylinder.y, cylinder.radius, branch)
+    above_pick = _arm_over(dims, q0, cylinder.x, cylinder.y, cylinder.radius, branch, "cylinder")
     above_pick[0], above_pick[6] = carry_lift, open_gap
     down = above_pick.copy()
     down[0] = grasp_lift
@@ -263,7 +279,7 @@ def plan_pick_place(
     gripped[6] = closed
     up = gripped.copy()
     up[0] = carry_lift
-    above_place = _arm_over(dims, up, target.x, target.y, cylinder.radius, branch)
+    above_place = _arm_over(dims, up, target.x, target.y, cylinder.radius, branch, "place")
     placed = above_place.copy()
     placed[0] = grasp_lift
     released = placed.copy()

@@ -6,6 +6,25 @@ from pathlib import Path
 
 import click
 
+_FPS = (1, 50)
+
+
+def _check_output(path: Path, suffixes: tuple[str, ...], what: str) -> None:
+    """Refuse an output of another type or in a folder that does not exist.
+
+    Raises:
+        OutputFileError: naming the path and what is allowed.
+    """
+    from aaria_pin.errors import OutputFileError
+
+    if path.suffix.lower() not in suffixes:
+        raise OutputFileError(f"{path}: unknown {what} type; allowed: {', '.join(suffixes)}")
+    folder = path.parent
+    if not folder.is_dir():
+        raise OutputFileError(f"{path}: no folder {folder}; allowed: a file in an existing folder")
+    if path.is_dir():
+        raise OutputFileError(f"{path}: is a folder; allowed: a {what} file name")
+
 
 @click.group()
 def arm() -> None:
@@ -22,12 +41,23 @@ def arm() -> None:
     help="Folder: writes pick_place_arm.urdf and meshes/*.stl.",
 )
 @click.option("--preset", default="pick-place-arm", show_default=True, help="Arm preset.")
-def urdf(folder: Path, preset: str) -> None:
-    """Write the arm's URDF and the STL meshes of its parts."""
+@click.option(
+    "--radius", type=float, default=0.03, show_default=True, help="Gripped cylinder's radius [m]."
+)
+@click.option(
+    "--height", type=float, default=0.12, show_default=True, help="Gripped cylinder's height [m]."
+)
+def urdf(folder: Path, preset: str, radius: float, height: float) -> None:
+    """Write the arm's URDF and the STL meshes of its parts.
+
+    Its frame ``grasp`` is the centre of a gripped cylinder of --radius and --height.
+    """
     from aaria_pin.arm.preset import arm_parts, get_arm_preset, write_arm_urdf
+    from aaria_pin.arm.task import Cylinder
 
     dims = get_arm_preset(preset)
-    path = write_arm_urdf(folder, dims)
+    Cylinder(0.0, 0.0, radius, height)  # checks the numbers
+    path = write_arm_urdf(folder, dims, (radius, height))
     click.echo(f"wrote {path} and {len(arm_parts(dims))} meshes in {folder / 'meshes'}")
 
 
@@ -74,7 +104,13 @@ def urdf(folder: Path, preset: str) -> None:
 @click.option(
     "--animation", type=click.Path(path_type=Path), default=None, help="GIF animation of the task."
 )
-@click.option("--fps", type=int, default=10, show_default=True, help="Animation frame rate.")
+@click.option(
+    "--fps",
+    type=int,
+    default=10,
+    show_default=True,
+    help=f"Animation frame rate ({_FPS[0]} to {_FPS[1]}).",
+)
 def pick_place(
     cylinder_xy: tuple[float, float],
     place_xy: tuple[float, float],
@@ -92,15 +128,21 @@ def pick_place(
     """Pick a cylinder from the floor and put it elsewhere: path, torques, run file."""
     import numpy as np
 
-    from aaria_pin.arm.run import simulate_pick_place, write_pick_place_run
+    from aaria_pin.arm.dims import ARM_JOINTS
+    from aaria_pin.arm.run import effort_excess, simulate_pick_place, write_pick_place_run
     from aaria_pin.arm.task import PHASES, Cylinder
-    from aaria_pin.errors import OutputFileError
+    from aaria_pin.errors import ParameterError
 
-    for picture, suffix in ((sheet, ".png"), (animation, ".gif")):
-        if picture is not None and picture.suffix.lower() != suffix:
-            raise OutputFileError(f"{picture}: unknown picture type; allowed: {suffix}")
-    if output.suffix.lower() not in (".h5", ".hdf5"):
-        raise OutputFileError(f"{output}: unknown run file type; allowed: .h5, .hdf5")
+    # every input checked before anything is computed or written
+    _check_output(output, (".h5", ".hdf5"), "run file")
+    for picture, suffix, what in (
+        (sheet, ".png", "contact sheet"),
+        (animation, ".gif", "animation"),
+    ):
+        if picture is not None:
+            _check_output(picture, (suffix,), what)
+    if not _FPS[0] <= fps <= _FPS[1]:
+        raise ParameterError(f"--fps {fps}; allowed: {_FPS[0]} to {_FPS[1]} frames per second")
     cylinder = Cylinder(cylinder_xy[0], cylinder_xy[1], radius, height, mass)
     run = simulate_pick_place(cylinder, place_xy, preset=preset, rate=rate, branch=branch)
     write_pick_place_run(output, run)
@@ -109,11 +151,14 @@ def pick_place(
         click.echo(f"  {name:<9} {start:6.2f} - {end:6.2f} s")
     peak = np.abs(run.tau).max(axis=0)
     share = np.abs(run.tau - run.tau_free).max(axis=0)
-    from aaria_pin.arm.preset import ARM_JOINTS
-
     click.echo("  joint       peak |tau|   payload share (peak)")
     for joint, p, s in zip(ARM_JOINTS, peak, share, strict=True):
         click.echo(f"  {joint:<10} {p:10.4g}   {s:10.4g}")
+    for joint, peak_value, limit in effort_excess(run):
+        click.echo(
+            f"warning: {joint} peak |tau| {peak_value:.4g} exceeds the URDF effort limit {limit:g}",
+            err=True,
+        )
     if sheet is not None:
         from aaria_pin.arm.pictures import write_contact_sheet
 
