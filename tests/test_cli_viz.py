@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
+from click.testing import CliRunner, Result
 
 pytest.importorskip("matplotlib")
 
@@ -17,7 +17,7 @@ from aaria_pin.simulate import simulate_run
 from aaria_pin.wrist_run import simulate_wrist, write_wrist_run
 
 
-def run(*args: str):
+def run(*args: str) -> Result:
     return CliRunner().invoke(main, list(args))
 
 
@@ -69,7 +69,61 @@ def test_plot_and_view_of_both_run_kinds(tmp_path: Path, files: dict[str, Path])
         assert result.exit_code == 0, result.output
         assert " 40 of " in result.output and "<canvas" in page.read_text(encoding="utf-8")
     result = run("plot", str(files["run"]), "--imu", "imu_link1_a", "-o", str(tmp_path / "i.png"))
-    assert result.exit_code == 0 and "6 panels" in result.output
+    assert result.exit_code == 0 and "8 panels" in result.output  # fig3: both joint kinds
+
+
+def test_plot_of_a_generic_run_keeps_torques_apart_from_forces(tmp_path: Path) -> None:
+    run_file = tmp_path / "ur5.h5"
+    args = ["simulate", "--robot", "ur5", "--duration", "1", "--rate", "20", "-o", str(run_file)]
+    assert run(*args).exit_code == 0
+    result = run("plot", str(run_file), "--imu", "imu_base", "-o", str(tmp_path / "u.png"))
+    assert result.exit_code == 0, result.output
+    assert "6 panels" in result.output  # revolute joints only, base wrench, one IMU
+    assert png_size(tmp_path / "u.png")[0] == 1400
+
+
+def isolate_plugins(monkeypatch: pytest.MonkeyPatch, *plugins: str) -> None:
+    from aaria_pin.viz import sources
+
+    monkeypatch.setattr(sources, "_PLUGINS", plugins)
+    monkeypatch.setattr(sources, "_PRESETS", {})
+    monkeypatch.setattr(sources, "_plugins_loaded", False)
+
+
+def test_render_pick_place_arm_without_its_plugin_is_one_clear_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    isolate_plugins(monkeypatch, "aaria_pin_missing_plugin")
+    result = run("render", "--preset", "pick-place-arm", "-o", str(tmp_path / "arm.png"))
+    assert result.exit_code == 2, result.output
+    assert len(result.output.strip().splitlines()) == 1
+    assert "'pick-place-arm' is a model preset" in result.output
+    assert "allowed: aaria-fig2, aaria-fig3, spherical-wrist" in result.output
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_render_draws_a_plugin_preset_and_lists_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import sys
+
+    (tmp_path / "aaria_cli_preset_plugin.py").write_text(
+        "from aaria_pin.presets import get_preset\n"
+        "from aaria_pin.viz.sources import table_view\n"
+        "P = get_preset('aaria-fig3')\n"
+        "PRESETS = {'demo-arm': lambda: table_view(P.table, P.convention, 'demo arm')}\n"
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    isolate_plugins(monkeypatch, "aaria_cli_preset_plugin")
+    try:
+        out = tmp_path / "demo.png"
+        result = run("render", "--preset", "demo-arm", "--width", "300", "-o", str(out))
+        assert result.exit_code == 0, result.output
+        assert png_size(out) == (300, 800) and "demo arm" in result.output
+        result = run("render", "--preset", "nope", "-o", str(tmp_path / "n.png"))
+        assert result.exit_code == 2 and "spherical-wrist, demo-arm" in result.output
+    finally:
+        sys.modules.pop("aaria_cli_preset_plugin", None)
 
 
 @pytest.mark.parametrize(
@@ -87,6 +141,8 @@ def test_plot_and_view_of_both_run_kinds(tmp_path: Path, files: dict[str, Path])
         (["plot", "{table}", "-o", "{out}.png"], "unknown|not a run file"),
         (["view", "{missing}", "-o", "{out}.html"], "no such file"),
         (["view", "{run}", "-o", "{out}.txt"], "allowed: .html"),
+        (["plot", "{run}", "-o", "{out}.svg"], r"'\.svg' .*allowed: \.png$"),
+        (["render", "--from", "{missing}", "-o", "{out}.png"], "no such file"),
     ],
 )
 def test_bad_input_one_line_exit_2_nothing_written(
@@ -101,3 +157,16 @@ def test_bad_input_one_line_exit_2_nothing_written(
     assert re.search(pattern, result.output), result.output
     assert len(result.output.strip().splitlines()) == 1
     assert list(tmp_path.iterdir()) == []
+
+
+def test_render_pick_place_arm_through_the_arm_plugin(tmp_path: Path) -> None:
+    """Where the arm's plug-in gives the preset, render draws it (the arm at rest)."""
+    from aaria_pin.viz.sources import preset_names
+
+    if "pick-place-arm" not in preset_names():
+        pytest.skip("aaria_pin.arm.view_source gives no PRESETS['pick-place-arm'] yet")
+    out = tmp_path / "arm.png"
+    result = run("render", "--preset", "pick-place-arm", "--width", "400", "--height", "300",
+                 "-o", str(out))  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert png_size(out) == (400, 300)

@@ -13,8 +13,11 @@ import pytest
 
 from aaria_pin.errors import ParameterError
 from aaria_pin.presets import get_preset
-from aaria_pin.runfile import write_run
+from aaria_pin.robots import find_robot
+from aaria_pin.runfile import write_generic_run, write_run
 from aaria_pin.simulate import simulate_run
+from aaria_pin.urdf_robot import read_urdf_file
+from aaria_pin.urdf_run import simulate_urdf_run
 from aaria_pin.viz.html import shown_samples, viewer_html, write_viewer
 from aaria_pin.viz.sources import load_run_view
 from aaria_pin.wrist_run import simulate_wrist, write_wrist_run
@@ -27,12 +30,18 @@ def pages(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     folder = tmp_path_factory.mktemp("pages")
     record = simulate_run(get_preset("aaria-fig2").table, duration=4.0, rate=50.0)
     wrist = simulate_wrist(np.radians([90.0, 60.0, -45.0]), start=0.2, rate=50.0)
+    ur5 = find_robot("ur5")
+    generic = simulate_urdf_run(
+        read_urdf_file(ur5.urdf), urdf_dir=ur5.urdf.parent, source="ur5", duration=4.0, rate=50.0
+    )
     out = {}
     for name, run_file in (
         ("aaria", write_run(folder / "fig2.h5", record)),
         ("wrist", write_wrist_run(folder / "wrist.h5", wrist)),
+        ("generic", write_generic_run(folder / "ur5.h5", generic)),
     ):
         view = load_run_view(run_file)
+        assert view.kind == name
         k = shown_samples(view.time.size, 120)
         out[name] = write_viewer(
             folder / f"{name}.html", view.scene, view.time[k], view.frame_poses(k), view.title
@@ -76,6 +85,22 @@ def test_title_and_data_cannot_break_out_of_the_page(pages: dict[str, Path]) -> 
     page = viewer_html(scene, np.zeros(1), np.eye(4)[None, None], "</script><b>")
     assert "</script><b>" not in page and "&lt;/script&gt;&lt;b&gt;" in page
     assert embedded(page)["title"] == "</script><b>"
+
+
+def test_placeholders_in_the_title_or_the_data_are_left_alone() -> None:
+    """The title is put in first and the data after it: neither is scanned for the other."""
+    from aaria_pin.viz.scene import Scene, triad
+
+    title = "__AARIA_TITLE__ & __AARIA_DATA__"
+    scene = Scene(
+        "x", ("world", "__AARIA_TITLE__"), lines=(triad("__AARIA_TITLE__", 0.1, "other"),)
+    )
+    page = viewer_html(scene, np.zeros(1), np.stack([np.eye(4)] * 2)[None], title)
+    data = embedded(page)
+    assert data["title"] == title and data["frames"] == ["world", "__AARIA_TITLE__"]
+    shown = "&#95;&#95;AARIA&#95;TITLE&#95;&#95; &amp; &#95;&#95;AARIA&#95;DATA&#95;&#95;"
+    assert f"<title>{shown}</title>" in page and f'<h1 id="title">{shown}</h1>' in page
+    assert page.count('id="data"') == 1
 
 
 # --- in the browser -------------------------------------------------------------------------
@@ -144,7 +169,7 @@ def test_console_check_catches_a_broken_page(tmp_path: Path) -> None:
 
 @needs_chromium
 @pytest.mark.slow
-@pytest.mark.parametrize("name", ["aaria", "wrist"])
+@pytest.mark.parametrize("name", ["aaria", "wrist", "generic"])
 def test_page_runs_in_chromium_and_the_slider_moves_the_arm(
     tmp_path: Path, pages: dict[str, Path], name: str
 ) -> None:

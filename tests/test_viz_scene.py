@@ -12,6 +12,8 @@ from aaria_pin.errors import InputFileError, ParameterError
 from aaria_pin.presets import get_preset
 from aaria_pin.runfile import write_run
 from aaria_pin.simulate import simulate_run
+from aaria_pin.viz._generic_source import load_generic_run
+from aaria_pin.viz._joints import joint_type_kind
 from aaria_pin.viz.scene import (
     WORLD,
     box_solid,
@@ -169,9 +171,10 @@ def test_generic_runs_of_a_urdf_robot_and_the_pick_place_arm(tmp_path: Path) -> 
     ):
         result = CliRunner().invoke(main, args)
         assert result.exit_code == 0, result.output
+    assert run_kind(ur5) == "generic"
+    assert run_kind(arm) in ("generic", "pick-place")  # the arm's plug-in kind, where it is
     for path in (ur5, arm):
-        assert run_kind(path) == "generic"
-        view = load_run_view(path)
+        view = load_generic_run(path)  # the generic kind reads both
         record = read_generic_run(path)
         samples = np.arange(0, view.time.size, 7)
         poses = view.frame_poses(samples)
@@ -180,3 +183,63 @@ def test_generic_runs_of_a_urdf_robot_and_the_pick_place_arm(tmp_path: Path) -> 
         assert len(view.scene.bones) >= len(record.joint_names)
         assert len(view.signals.imus) == len(record.imu_mounts)
     assert load_run_view(ur5).signals.base_wrench is not None  # moving base by default
+    # joint kinds from the URDF joint types: the arm's lift and finger slide
+    assert load_generic_run(ur5).signals.kinds == ("revolute",) * 6
+    arm_view = load_generic_run(arm)
+    prismatic = {
+        name
+        for name, kind in zip(
+            read_generic_run(arm).joint_names, arm_view.signals.kinds, strict=True
+        )
+        if kind == "prismatic"
+    }
+    assert prismatic == {"lift", "finger"}
+    assert arm_view.signals.tau_labels[0] == "lift [N]"
+
+
+def test_joint_kinds_are_told_by_exact_pinocchio_type_names() -> None:
+    import pinocchio as pin
+
+    cases = {
+        pin.JointModelRX(): "revolute",
+        pin.JointModelRUBZ(): "revolute",
+        pin.JointModelRevoluteUnaligned(0.0, 1.0, 0.0): "revolute",
+        pin.JointModelRevoluteUnboundedUnaligned(): "revolute",
+        pin.JointModelPY(): "prismatic",
+        pin.JointModelPrismaticUnaligned(1.0, 0.0, 0.0): "prismatic",
+        pin.JointModelPlanar(): None,  # starts with "JointModelP" but slides in two axes
+        pin.JointModelFreeFlyer(): None,
+        pin.JointModelSpherical(): None,
+    }
+    for joint, kind in cases.items():
+        assert joint_type_kind(joint.shortname()) == kind, joint.shortname()
+
+
+URDF = """<robot name="two">
+  <link name="base"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01"
+    ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="a"><inertial><origin xyz="0.1 0 0"/><mass value="1"/><inertia ixx="0.01"
+    iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="b"><inertial><mass value="0.5"/><inertia ixx="0.01" iyy="0.01" izz="0.01"
+    ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="spin" type="continuous"><parent link="base"/><child link="a"/>
+    <axis xyz="0 0 1"/></joint>
+  <joint name="slide" type="prismatic"><parent link="a"/><child link="b"/>
+    <origin xyz="0.2 0 0"/><axis xyz="1 0 0"/><limit lower="-0.1" upper="0.1" effort="50"
+    velocity="1"/></joint>
+</robot>"""
+
+
+def test_a_continuous_joint_is_revolute_and_a_prismatic_one_gets_forces(tmp_path: Path) -> None:
+    """A URDF continuous joint (Pinocchio's RUBZ) is revolute: N·m; the prismatic one: N."""
+    from aaria_pin.runfile import write_generic_run
+    from aaria_pin.urdf_run import simulate_urdf_run
+
+    record = simulate_urdf_run(URDF, duration=0.5, rate=20.0, noise=False)
+    view = load_run_view(write_generic_run(tmp_path / "two.h5", record))
+    assert view.kind == "generic"
+    assert view.signals.kinds == ("revolute", "prismatic")
+    assert view.signals.q_labels == ("spin [rad]", "slide [m]")
+    assert view.signals.tau_labels == ("spin [N·m]", "slide [N]")
+    joints = [s for s in view.scene.solids if s.role == "joint"]
+    assert len(joints) == 2  # a cylinder for the continuous joint too

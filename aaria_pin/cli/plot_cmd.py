@@ -6,27 +6,21 @@ from pathlib import Path
 
 import click
 
+from aaria_pin.cli._viz_options import output_option
+
 
 @click.command()
 @click.argument("run_file", type=click.Path(path_type=Path, dir_okay=False))
 @click.option("--imu", help="Show only this IMU (e.g. imu_link3_a); default every IMU.")
 @click.option("--width", type=int, default=1400, show_default=True, help="Width [px].")
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(path_type=Path, dir_okay=False),
-    required=True,
-    help="PNG file to write.",
-)
+@output_option("PNG", (".png",))
 def plot(run_file: Path, imu: str | None, width: int, output: Path) -> None:
     """Plot joint values, torques and forces, the base wrench and the IMUs of a run."""
-    from aaria_pin.errors import OutputFileError, ParameterError
+    from aaria_pin.errors import ParameterError
     from aaria_pin.viz.plot import plot_panels, signal_panels
     from aaria_pin.viz.render import MAX_PIXELS
     from aaria_pin.viz.sources import load_run_view
 
-    if output.suffix.lower() != ".png":
-        raise OutputFileError(f"{output}: unknown picture type {output.suffix!r}; allowed: .png")
     if not 400 <= width <= MAX_PIXELS:
         raise ParameterError(f"width {width} px; allowed: 400 to {MAX_PIXELS} px")
     view = load_run_view(run_file)

@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from aaria_pin.cli._options import load_table_source, table_source_options
+from aaria_pin.cli._viz_options import output_option
 
 
 @click.command()
@@ -15,20 +16,14 @@ from aaria_pin.cli._options import load_table_source, table_source_options
     "--from",
     "run_file",
     type=click.Path(path_type=Path, dir_okay=False),
-    help="Run file (aaria simulate, aaria wrist simulate): the arm at --time.",
+    help="Run file (aaria simulate, aaria wrist simulate, generic runs): the arm at --time.",
 )
 @click.option("--time", "at_time", type=float, help="Time in the run [s] (default: its start).")
 @click.option("--width", type=int, default=1000, show_default=True, help="Width [px].")
 @click.option("--height", type=int, default=800, show_default=True, help="Height [px].")
 @click.option("--elevation", type=float, default=20.0, show_default=True, help="View [deg].")
 @click.option("--azimuth", type=float, default=-60.0, show_default=True, help="View [deg].")
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(path_type=Path, dir_okay=False),
-    required=True,
-    help="PNG file to write.",
-)
+@output_option("PNG", (".png",))
 def render(
     preset: str | None,
     dh_file: Path | None,
@@ -41,29 +36,33 @@ def render(
     azimuth: float,
     output: Path,
 ) -> None:
-    """Draw an arm in 3D: a preset or table with every joint at zero, or a run at a time."""
+    """Draw an arm in 3D: a preset or table with every joint at zero, or a run at a time.
+
+    --preset also takes the model presets of plug-ins (pick-place-arm, once aaria_pin.arm
+    provides it): the model at rest.
+    """
     import numpy as np
 
-    from aaria_pin.errors import OutputFileError
     from aaria_pin.viz.render import render_geometry
     from aaria_pin.viz.scene import posed_geometry
-    from aaria_pin.viz.sources import load_run_view, sample_at, table_view
+    from aaria_pin.viz.sources import load_run_view, preset_view, sample_at, table_view
 
-    if output.suffix.lower() != ".png":
-        raise OutputFileError(f"{output}: unknown picture type {output.suffix!r}; allowed: .png")
     if [preset, dh_file, run_file].count(None) != 2:
         raise click.UsageError("give exactly one of --preset NAME, --dh FILE or --from RUN_FILE")
+    if run_file is None and at_time is not None:
+        raise click.UsageError("--time needs --from RUN_FILE")
     if run_file is not None:
         view = load_run_view(run_file)
         k = sample_at(view.time, view.time[0] if at_time is None else at_time)
         scene, poses = view.scene, view.frame_poses(np.array([k]))[0]
         title = f"{view.title}, t = {view.time[k]:.3f} s"
+    elif preset is not None:
+        scene, poses = preset_view(preset)
+        title = scene.name
     else:
-        if at_time is not None:
-            raise click.UsageError("--time needs --from RUN_FILE")
-        table, table_convention, name = load_table_source(preset, dh_file, convention)
+        table, table_convention, name = load_table_source(None, dh_file, convention)
         scene, poses = table_view(table, table_convention, name)
-        title = name if preset is not None else str(dh_file.name if dh_file else name)
+        title = dh_file.name if dh_file is not None else name
     render_geometry(
         posed_geometry(scene, poses),
         output,

@@ -6,6 +6,8 @@ from pathlib import Path
 
 import click
 
+from aaria_pin.cli._viz_options import output_option
+
 
 @click.command()
 @click.argument("run_file", type=click.Path(path_type=Path, dir_okay=False))
@@ -16,21 +18,12 @@ import click
     show_default=True,
     help="Most samples in the page (the run is decimated evenly).",
 )
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(path_type=Path, dir_okay=False),
-    required=True,
-    help="HTML file to write.",
-)
+@output_option("HTML page", (".html", ".htm"))
 def view(run_file: Path, max_samples: int, output: Path) -> None:
     """Write an HTML page with an interactive 3D view that plays the run (works offline)."""
-    from aaria_pin.errors import OutputFileError
     from aaria_pin.viz.html import shown_samples, write_viewer
     from aaria_pin.viz.sources import load_run_view
 
-    if output.suffix.lower() not in (".html", ".htm"):
-        raise OutputFileError(f"{output}: unknown page type {output.suffix!r}; allowed: .html")
     run = load_run_view(run_file)
     samples = shown_samples(run.time.size, max_samples)
     write_viewer(output, run.scene, run.time[samples], run.frame_poses(samples), run.title)

@@ -2,11 +2,12 @@
 
 The page is the template ``viewer.html.in`` (package data) with the run embedded as JSON:
 the scene's solids, lines and bones in their frames' coordinates, and the world pose of every
-frame at each shown sample (``[R row-major, p]``, 12 numbers a frame, rounded to 0.1 mm and
-1e-5). Its inline script projects the scene itself onto a ``<canvas>`` (no WebGL, no library):
-drag to orbit, wheel to zoom, a play/pause button and a time slider; ``#t=SECONDS`` in the
-address opens the page paused at that time. Nothing is fetched when it is opened (its content
-security policy forbids any load), so it works offline and can be mailed as one file.
+frame at each shown sample (``[R row-major, p]``, 12 numbers a frame, each rounded to 5
+decimals: positions to 0.01 mm, rotation entries to 1e-5). Its inline script projects the
+scene itself onto a ``<canvas>`` (no WebGL, no library): drag to orbit, wheel to zoom, a
+play/pause button and a time slider; ``#t=SECONDS`` in the address opens the page paused at
+that time. Nothing is fetched when it is opened (its content security policy forbids any
+load), so it works offline and can be mailed as one file.
 """
 
 from __future__ import annotations
@@ -27,6 +28,9 @@ from aaria_pin.io import write_text_atomic
 from aaria_pin.viz.scene import COLOURS, WORLD, Scene, posed_geometry
 
 __all__ = ["DEFAULT_MAX_SAMPLES", "shown_samples", "viewer_html", "write_viewer"]
+
+_TITLE, _DATA = "__AARIA_TITLE__", "__AARIA_DATA__"
+"""Placeholders of the template: the page title (twice) and the run's JSON (once)."""
 
 DEFAULT_MAX_SAMPLES = 500
 """Most samples a page holds by default (the run is decimated evenly to fit)."""
@@ -139,8 +143,10 @@ def viewer_html(scene: Scene, time: Array, poses: Array, title: str) -> str:
         )
     data = json.dumps(_payload(scene, time, poses, title), separators=(",", ":"))
     data = data.replace("<", "\\u003c")  # no "</script>" inside the script element
-    page = _template().replace("__AARIA_DATA__", data)
-    return page.replace("__AARIA_TITLE__", html.escape(title))
+    # the title first (escaped for HTML, "_" as "&#95;" so it cannot spell a placeholder), then
+    # the data, which is not scanned again: a title or frame name "__AARIA_TITLE__" stays as is
+    page = _template().replace(_TITLE, html.escape(title).replace("_", "&#95;"))
+    return page.replace(_DATA, data, 1)
 
 
 def write_viewer(

@@ -1,8 +1,10 @@
 """A run's signals as scope traces: labelled panels with units, one PNG.
 
-Rows of two panels sharing the time axis: joint values and joint torques/forces; the base
-wrench's force and moment (runs on a moving base); then one row per IMU, gyroscope on the left
-and accelerometer on the right.
+Rows of two panels sharing the time axis: revolute joints, angles [rad] and torques [N·m];
+prismatic joints, positions [m] and forces [N] (so a large lift force does not flatten the
+torques); the base wrench's force and moment (runs on a moving base); then one row per IMU,
+gyroscope on the left and accelerometer on the right. Each panel's legend sits outside its
+axes, to the right, so it covers no trace.
 """
 
 from __future__ import annotations
@@ -11,15 +13,24 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from aaria_pin._plotting import pyplot
+import numpy as np
+
 from aaria_pin._se3 import Array
 from aaria_pin.errors import ParameterError
-from aaria_pin.io import atomic_output
+from aaria_pin.viz._figure import png_figure
 from aaria_pin.viz.sources import Signals
 
 __all__ = ["Panel", "plot_panels", "signal_panels"]
 
 _AXES = ("x", "y", "z")
+
+_JOINT_ROWS = (
+    # kind, then (title, y label) of the joint values panel and of the torques/forces panel
+    ("revolute", ("revolute joints: angles", "angle [rad]"),
+     ("revolute joints: torques", "torque [N·m]")),
+    ("prismatic", ("prismatic joints: positions", "position [m]"),
+     ("prismatic joints: forces", "force [N]")),
+)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -39,6 +50,28 @@ class Panel:
     labels: tuple[str, ...]
 
 
+def _name(label: str) -> str:
+    """A label without its unit (the panel's y label gives it): ``"q1 [rad]"`` → ``"q1"``."""
+    return label.rsplit(" [", 1)[0]
+
+
+def _joint_panels(signals: Signals) -> list[Panel]:
+    """One row per joint kind present: values on the left, torques or forces on the right."""
+    kinds = signals.kinds
+    panels = []
+    for kind, (q_title, q_unit), (tau_title, tau_unit) in _JOINT_ROWS:
+        columns = [k for k, joint in enumerate(kinds) if joint == kind]
+        if not columns:
+            continue
+        q_labels = tuple(_name(signals.q_labels[k]) for k in columns)
+        tau_labels = tuple(_name(signals.tau_labels[k]) for k in columns)
+        panels += [
+            Panel(q_title, q_unit, signals.q[:, columns], q_labels),
+            Panel(tau_title, tau_unit, signals.tau[:, columns], tau_labels),
+        ]
+    return panels
+
+
 def signal_panels(signals: Signals, imu: str | None = None) -> list[Panel]:
     """The panels of a run, in row-major order (two per row).
 
@@ -47,7 +80,7 @@ def signal_panels(signals: Signals, imu: str | None = None) -> list[Panel]:
         imu: show only this IMU (default: every IMU of the run)
 
     Returns:
-        The panels; an odd count leaves the last row's right panel empty.
+        The panels, an even count: joints by kind, base wrench, IMUs.
 
     Raises:
         ParameterError: ``imu`` is not an IMU of the run.
@@ -55,17 +88,7 @@ def signal_panels(signals: Signals, imu: str | None = None) -> list[Panel]:
     if imu is not None and imu not in signals.imus:
         allowed = ", ".join(signals.imus) if signals.imus else "none (this run has no IMUs)"
         raise ParameterError(f"IMU {imu!r} is not in the run; allowed: {allowed}")
-    kinds = {label.split("[")[-1].rstrip("]") for label in signals.q_labels}
-    force_kinds = {label.split("[")[-1].rstrip("]") for label in signals.tau_labels}
-    panels = [
-        Panel("joint values", f"q [{', '.join(sorted(kinds))}]", signals.q, signals.q_labels),
-        Panel(
-            "joint torques and forces",
-            f"tau, f [{', '.join(sorted(force_kinds))}]",
-            signals.tau,
-            signals.tau_labels,
-        ),
-    ]
+    panels = _joint_panels(signals)
     if signals.base_wrench is not None:
         panels += [
             Panel(
@@ -122,40 +145,35 @@ def plot_panels(
 
     Returns:
         The path written.
+
+    Raises:
+        ParameterError: no panel, a panel whose labels do not match its traces, or matplotlib
+            missing.
     """
     if not panels:
         raise ParameterError("nothing to plot; allowed: a run with signals")
-    plt = pyplot()
+    for panel in panels:
+        if np.shape(panel.values) != (len(time), len(panel.labels)):
+            raise ParameterError(
+                f"panel {panel.title!r}: traces of shape {np.shape(panel.values)} for"
+                f" {len(time)} samples and {len(panel.labels)} labels; allowed: (samples, labels)"
+            )
     rows = (len(panels) + 1) // 2
-    dpi = 100
-    figure, axes = plt.subplots(
-        rows,
-        2,
-        figsize=(width / dpi, rows * row_height / dpi),
-        dpi=dpi,
-        sharex=True,
-        squeeze=False,
-    )
-    try:
+    with png_figure(path, width, rows * row_height, layout="constrained") as figure:
+        axes = figure.subplots(rows, 2, sharex=True, squeeze=False)
         for k, ax in enumerate(axes.flat):
             if k >= len(panels):
                 ax.set_visible(False)
                 continue
             panel = panels[k]
-            for column, label in enumerate(panel.labels):
-                ax.plot(time, panel.values[:, column], linewidth=1.0, label=label)
+            for trace, label in zip(panel.values.T, panel.labels, strict=True):
+                ax.plot(time, trace, linewidth=1.0, label=label)
             ax.set_title(panel.title, fontsize=10)
             ax.set_ylabel(panel.ylabel, fontsize=9)
             ax.grid(True, alpha=0.3)
-            ax.legend(fontsize=7, loc="upper right", ncol=min(len(panel.labels), 6))
+            ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
             if k >= len(panels) - 2:
                 ax.set_xlabel("time [s]")
                 ax.tick_params(labelbottom=True)
         figure.suptitle(title)
-        figure.tight_layout()
-        final = Path(path)
-        with atomic_output(final) as temporary:
-            figure.savefig(temporary, format="png", dpi=dpi)
-    finally:
-        plt.close(figure)
-    return final
+    return Path(path)

@@ -12,10 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
-from aaria_pin._plotting import pyplot
 from aaria_pin._se3 import Array
 from aaria_pin.errors import ParameterError
-from aaria_pin.io import atomic_output
+from aaria_pin.viz._figure import png_figure
 from aaria_pin.viz.scene import COLOURS, PosedGeometry
 
 __all__ = ["MAX_PIXELS", "face_colours", "render_geometry"]
@@ -79,12 +78,9 @@ def render_geometry(
     for name, value in (("width", width), ("height", height)):
         if not 100 <= value <= MAX_PIXELS:
             raise ParameterError(f"{name} {value} px; allowed: 100 to {MAX_PIXELS} px")
-    plt = pyplot()
-    from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
+    with png_figure(path, width, height) as figure:
+        from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
-    dpi = 100
-    figure = plt.figure(figsize=(width / dpi, height / dpi), dpi=dpi)
-    try:
         axes = figure.add_subplot(projection="3d", computed_zorder=False)
         if geometry.faces.shape[0]:
             solids = Poly3DCollection(
@@ -114,9 +110,4 @@ def render_geometry(
         axes.view_init(elev=elevation, azim=azimuth)
         axes.set_title(title)
         figure.subplots_adjust(left=0.0, right=1.0, bottom=0.02, top=0.95)
-        final = Path(path)
-        with atomic_output(final) as temporary:
-            figure.savefig(temporary, format="png", dpi=dpi)
-    finally:
-        plt.close(figure)
-    return final
+    return Path(path)

@@ -32,6 +32,7 @@ from aaria_pin._se3 import Array
 from aaria_pin.dh_robot import DHRobot, link_name
 from aaria_pin.model import RobotModel
 from aaria_pin.urdf import RobotDescription
+from aaria_pin.viz._joints import joint_type_kind
 
 __all__ = [
     "COLOURS",
@@ -283,17 +284,13 @@ def scene_from_dh_robot(robot: DHRobot, name: str | None = None) -> Scene:
     return Scene(base.name, tuple(frames), base.solids, tuple(lines))
 
 
-def _joint_axis(joint: pin.JointModel) -> Array | None:
-    """Axis of a one-degree-of-freedom revolute or prismatic joint, else None."""
-    short = joint.shortname()
-    for prefix in ("JointModelR", "JointModelP"):
-        if short.startswith(prefix):
-            suffix = short[len(prefix) :]
-            if suffix in ("X", "Y", "Z"):
-                return np.eye(3)["XYZ".index(suffix)]
-            if suffix in ("evoluteUnaligned", "rismaticUnaligned"):
-                return np.asarray(joint.extract().axis, dtype=float)
-    return None
+def _joint_axis(joint: pin.JointModel) -> tuple[str, Array] | None:
+    """Kind and unit axis of a one-axis revolute or prismatic joint (bounded or not), else None."""
+    from aaria_pin.kinematics import joint_kind
+
+    if joint_type_kind(joint.shortname()) is None:
+        return None
+    return joint_kind(joint)
 
 
 def scene_from_model(robot: RobotModel, size: float = 0.05) -> Scene:
@@ -319,15 +316,16 @@ def scene_from_model(robot: RobotModel, size: float = 0.05) -> Scene:
     joint_frame = {j: str(model.names[j]) for j in range(first, model.njoints)}
     for j, frame in joint_frame.items():
         frames.append(frame)
-        axis = _joint_axis(model.joints[j])
-        if axis is not None:
+        kind_axis = _joint_axis(model.joints[j])
+        if kind_axis is not None:
+            kind, axis = kind_axis
             T = np.eye(4)
             z = axis / np.linalg.norm(axis)
             helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
             x = np.cross(helper, z)
             x /= np.linalg.norm(x)
             T[:3, 0], T[:3, 1], T[:3, 2] = x, np.cross(z, x), z
-            prismatic = model.joints[j].shortname().startswith("JointModelP")
+            prismatic = kind == "prismatic"
             radius, length = (size / 3.0, 6.0 * size) if prismatic else (size, 2.0 * size)
             solids.append(cylinder_solid(frame, T, radius, length, "joint"))
         parent = int(model.parents[j])

@@ -1,0 +1,198 @@
+"""What a run kind's loader returns (:class:`RunView`, :class:`Signals`) and the helpers it uses.
+
+The loaders of :mod:`aaria_pin.viz.sources` (one module per run kind) build on these; the
+public names are re-exported by :mod:`~aaria_pin.viz.sources`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from aaria_pin._se3 import Array
+from aaria_pin.dh_robot import DHRobot
+from aaria_pin.model import RobotModel
+from aaria_pin.trajectory import BaseMotion, JointTrajectory
+from aaria_pin.viz.scene import Scene, scene_from_dh_robot
+
+__all__ = [
+    "RunView",
+    "Signals",
+    "dh_view",
+    "hdf5_attributes",
+    "joint_labels",
+    "mat_names",
+    "scene_poses",
+    "still",
+]
+
+_FORCE_UNITS = {"N": "prismatic", "N·m": "revolute"}
+
+
+@dataclass(frozen=True)
+class Signals:
+    """The signals of a run, labelled, with units.
+
+    Attributes:
+        time: sample times (T,) [s]
+        q: joint values (T, n) [rad or m]
+        q_labels: one label per column of ``q``, units included (``"q1 [rad]"``)
+        tau: joint torques or forces (T, n) [N·m or N]
+        tau_labels: one label per column of ``tau``, units included
+        base_wrench: ``[fx fy fz mx my mz]`` (T, 6) [N, N·m], or None
+        imus: IMU name → ``[wx wy wz fx fy fz]`` (T, 6) [rad/s, m/s²], in record order
+        joint_kinds: ``"revolute"`` or ``"prismatic"`` per joint (column of ``q`` and ``tau``);
+            empty: told by the unit of each torque label (``[N]`` prismatic, ``[N·m]`` revolute)
+    """
+
+    time: Array
+    q: Array
+    q_labels: tuple[str, ...]
+    tau: Array
+    tau_labels: tuple[str, ...]
+    base_wrench: Array | None = None
+    imus: dict[str, Array] = field(default_factory=dict)
+    joint_kinds: tuple[str, ...] = ()
+
+    @property
+    def kinds(self) -> tuple[str, ...]:
+        """The kind of each joint, ``"revolute"`` or ``"prismatic"`` (see ``joint_kinds``)."""
+        if self.joint_kinds:
+            return self.joint_kinds
+        return tuple(
+            _FORCE_UNITS.get(label.rsplit("[", 1)[-1].rstrip("]"), "revolute")
+            for label in self.tau_labels
+        )
+
+
+@dataclass(frozen=True)
+class RunView:
+    """A run ready to be drawn.
+
+    Attributes:
+        title: what to call it (the file name)
+        kind: the run kind (``"aaria"``, ``"wrist"``, …)
+        scene: the arm's scene
+        signals: the stored signals
+        frame_poses: given sample indices (S,), the world pose of every scene frame,
+            (S, F, 4, 4)
+    """
+
+    title: str
+    kind: str
+    scene: Scene
+    signals: Signals
+    frame_poses: Callable[[Array], Array]
+
+    @property
+    def time(self) -> Array:
+        """Sample times (T,) [s]."""
+        return self.signals.time
+
+
+def scene_poses(
+    robot: RobotModel, scene: Scene, base: BaseMotion, trajectory: JointTrajectory
+) -> Array:
+    """World poses (T, F, 4, 4) of a scene's frames, the world's identity first.
+
+    Args:
+        robot: the model the scene draws
+        scene: the scene (``scene.model_frames`` are frames of ``robot``)
+        base: the base motion, one sample per trajectory sample
+        trajectory: joint values (T, n) [rad or m]
+    """
+    from aaria_pin.kinematics import frame_poses
+
+    model_poses = frame_poses(robot, base, trajectory, scene.model_frames)
+    world = np.broadcast_to(np.eye(4), (model_poses.shape[0], 1, 4, 4))
+    return np.concatenate([world, model_poses], axis=1)
+
+
+def still(q: Array) -> JointTrajectory:
+    """Joint values (T, n) [rad or m] as a trajectory with zero rates (enough for poses)."""
+    values = np.ascontiguousarray(q)
+    zeros = np.zeros_like(values)
+    return JointTrajectory(np.zeros(values.shape[0]), values, zeros, zeros.copy())
+
+
+def _subset(base: BaseMotion, samples: Array) -> BaseMotion:
+    return BaseMotion(
+        *(
+            np.ascontiguousarray(getattr(base, name)[samples])
+            for name in ("position", "velocity", "acceleration", "rotation", "omega", "omega_dot")
+        )
+    )
+
+
+def dh_view(
+    title: str,
+    kind: str,
+    robot: DHRobot,
+    moving_base: bool,
+    base: BaseMotion,
+    q: Array,
+    signals: Signals,
+) -> RunView:
+    """The view of a run of a DH arm.
+
+    Args:
+        title: what to call it
+        kind: its run kind
+        robot: the arm
+        moving_base: whether the run's base moves
+        base: the base motion over the run
+        q: joint values (T, n) [rad or m], one column per joint of ``robot``
+        signals: the stored signals
+    """
+    model = robot.model(moving_base=moving_base)
+    scene = scene_from_dh_robot(robot, title)
+
+    def frame_poses(samples: Array) -> Array:
+        index = np.asarray(samples, dtype=int)
+        return scene_poses(model, scene, _subset(base, index), still(q[index]))
+
+    return RunView(title, kind, scene, signals, frame_poses)
+
+
+def joint_labels(
+    symbols: Sequence[str], kinds: Sequence[str], modules: Sequence[int]
+) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """Labels with units of joint values and torques: ``("q2 [rad]", …), ("tau2 [N·m]", …)``.
+
+    Args:
+        symbols: torque symbol per joint (``"tau"``, ``"f"``)
+        kinds: ``"revolute"`` or ``"prismatic"`` per joint
+        modules: module number per joint
+    """
+    q_labels = tuple(
+        f"q{m} [{'rad' if k == 'revolute' else 'm'}]" for k, m in zip(kinds, modules, strict=True)
+    )
+    tau_labels = tuple(
+        f"{s}{m} [{'N·m' if k == 'revolute' else 'N'}]"
+        for s, k, m in zip(symbols, kinds, modules, strict=True)
+    )
+    return q_labels, tau_labels
+
+
+def hdf5_attributes(file: Path) -> tuple[set[str], dict[str, object]]:
+    """Top-level names and attributes of an HDF5 file; empty for any other file."""
+    import h5py
+
+    try:
+        with h5py.File(file, "r") as handle:
+            return set(handle.keys()), {key: handle.attrs[key] for key in handle.attrs}
+    except OSError:
+        return set(), {}
+
+
+def mat_names(file: Path) -> set[str]:
+    """Variable names of a MATLAB file; empty for any other file."""
+    from scipy.io import whosmat
+
+    try:
+        return {name for name, _, _ in whosmat(file)}
+    except (OSError, ValueError, NotImplementedError):
+        return set()
