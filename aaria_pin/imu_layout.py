@@ -98,7 +98,7 @@ def _offset_from_axis(com: Array, axis: Array, min_offset: float) -> Array:
         helper = np.eye(3)[int(np.argmin(np.abs(axis)))]
         direction = np.cross(axis, helper)
         direction /= np.linalg.norm(direction)
-    return com + direction * (min_offset - distance)
+    return com - radial + direction * min_offset  # the point on the axis, moved out
 
 
 def default_imu_layout(

@@ -37,6 +37,7 @@ __all__ = [
     "DEFAULT_DURATION",
     "DEFAULT_RATE",
     "mounted_slots",
+    "sampling_attributes",
     "simulate_from_run_file",
     "simulate_run",
 ]
@@ -62,6 +63,25 @@ def _module_columns(robot: DHRobot, values: Array) -> Array:
     out = np.zeros((values.shape[0], N_MODULES))
     out[:, [module - 1 for module in robot.chain.modules]] = values
     return out
+
+
+def sampling_attributes(
+    rate: float,
+    duration: float,
+    seed: int | np.random.SeedSequence,
+    noise: bool,
+    noise_model: ImuNoiseModel,
+) -> dict[str, Any]:
+    """The attributes every run file records: rate, duration, seed, noise, gravity, units."""
+    return {
+        "rate": float(rate),
+        "duration": float(duration),
+        **seed_attributes(seed),
+        "noise": bool(noise),
+        "noise_parameters": noise_attributes(noise_model),
+        "gravity": GRAVITY.tolist(),
+        "units": UNITS,
+    }
 
 
 def mounted_slots(robot: DHRobot, imu_mount: ArrayLike) -> tuple[ImuSlot, ...]:
@@ -178,13 +198,7 @@ def simulate_run(
     tau, base_wrench = inverse_dynamics(model, base, trajectory, threads)
 
     attributes: dict[str, Any] = {
-        "rate": float(rate),
-        "duration": float(duration),
-        **seed_attributes(seed),
-        "noise": bool(noise),
-        "noise_parameters": noise_attributes(noise_model),
-        "gravity": GRAVITY.tolist(),
-        "units": UNITS,
+        **sampling_attributes(rate, duration, seed, noise, noise_model),
         "body_dimensions": {
             **asdict(robot.dims),
             "density_overrides": dict(robot.dims.density_overrides),

@@ -17,14 +17,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin import __version__
-from aaria_pin._seeds import check_seed, seed_attributes, stored_seed
+from aaria_pin._seeds import check_seed, stored_seed
 from aaria_pin.dynamics import inverse_dynamics
 from aaria_pin.generic_record import GenericRunRecord, ImuMount
-from aaria_pin.imu import ADIS16485, ImuNoiseModel, add_imu_noise, noise_attributes
+from aaria_pin.imu import ADIS16485, ImuNoiseModel, add_imu_noise
 from aaria_pin.kinematics import trajectory_signals
-from aaria_pin.model import GRAVITY
 from aaria_pin.oscillation import base_motion, default_base_table, validate_base_table
-from aaria_pin.simulate import UNITS
+from aaria_pin.simulate import sampling_attributes
 from aaria_pin.trajectory import BaseMotion, sample_times
 from aaria_pin.urdf_robot import (
     UrdfRobot,
@@ -182,13 +181,7 @@ def simulate_loaded_robot(
         "effort_exceeded": {
             name: list(values) for name, values in effort_excess(loaded, tau).items()
         },
-        "rate": float(rate),
-        "duration": float(duration),
-        **seed_attributes(seed),
-        "noise": bool(noise),
-        "noise_parameters": noise_attributes(noise_model),
-        "gravity": GRAVITY.tolist(),
-        "units": UNITS,
+        **sampling_attributes(rate, duration, seed, noise, noise_model),
         "version": __version__,
     }
     return GenericRunRecord(

@@ -137,3 +137,9 @@ def test_a_layout_entry_that_is_not_a_table_is_refused(tmp_path: Path) -> None:
     layout.write_text("imu = [1, 2]\n")
     with pytest.raises(InputFileError, match="1 is not a table"):
         read_imu_layout(layout)
+
+
+def test_a_centre_of_mass_a_hair_off_the_axis_still_ends_at_the_minimum() -> None:
+    """Found by hypothesis: 1e-10 m off the axis, the offset must not cancel that hair."""
+    moved = _offset_from_axis(np.array([0.0, 1e-10, 0.0]), np.array([0.0, 0.0, -1.0]), 0.05)
+    assert np.hypot(moved[0], moved[1]) == pytest.approx(0.05, abs=1e-15)
