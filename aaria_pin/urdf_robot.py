@@ -38,6 +38,7 @@ __all__ = [
     "default_urdf_joint_table",
     "effort_excess",
     "load_urdf_robot",
+    "missing_meshes_message",
     "read_urdf_file",
     "urdf_joint_trajectory",
     "usable_range",
@@ -92,6 +93,17 @@ def read_urdf_file(path: str | os.PathLike[str]) -> str:
         raise InputFileError(f"{file}: no such file") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise InputFileError(f"{file}: cannot be read ({exc})") from None
+
+
+def missing_meshes_message(summary: UrdfSummary) -> str:
+    """The one-line warning for a URDF whose meshes are missing (first three named)."""
+    shown = ", ".join(summary.missing_meshes[:3])
+    more = len(summary.missing_meshes) - 3
+    return (
+        f"{len(summary.missing_meshes)} mesh file(s) of {summary.name!r} not found "
+        f"({shown}{f', and {more} more' if more > 0 else ''}); simulating with the URDF's "
+        "inertias"
+    )
 
 
 def _default_tool(summary: UrdfSummary) -> str:
@@ -149,15 +161,7 @@ def load_urdf_robot(
 
     summary = check_urdf(urdf, urdf_dir)
     if summary.missing_meshes:
-        shown = ", ".join(summary.missing_meshes[:3])
-        more = len(summary.missing_meshes) - 3
-        warnings.warn(
-            f"{len(summary.missing_meshes)} mesh file(s) of {summary.name!r} not found "
-            f"({shown}{f', and {more} more' if more > 0 else ''}); simulating with the URDF's "
-            "inertias",
-            MeshWarning,
-            stacklevel=2,
-        )
+        warnings.warn(missing_meshes_message(summary), MeshWarning, stacklevel=2)
     tool = tool_frame if tool_frame is not None else _default_tool(summary)
     bare = build_model(
         urdf,

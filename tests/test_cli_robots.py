@@ -183,3 +183,17 @@ def test_torques_beyond_the_effort_limit_are_reported(tmp_path: Path) -> None:
     peak, limit = read_generic_run(out).attributes["effort_exceeded"]["shoulder"]
     assert limit == 5 and peak > 10 * 9.81 * 0.5 * np.cos(1.0)  # the weight's lever at |q| <= 0.6
     assert "joint 'shoulder' reaches |tau|" in err and "effort limit 5" in err
+
+
+def test_dataset_of_a_urdf_with_missing_meshes_warns_once(tmp_path: Path) -> None:
+    from aaria_pin.robots import find_robot
+
+    urdf = tmp_path / "ur5.urdf"
+    text = find_robot("ur5").urdf.read_text()
+    urdf.write_text(text.replace("package://example-robot-data/", "package://gone/"))
+    code, _, err = _run(
+        "dataset", "--urdf", str(urdf), "-n", "2", "--duration", "0.5", "--workers", "1",
+        "--quiet", "-o", str(tmp_path / "set.h5"),
+    )  # fmt: skip
+    assert code == 0, err
+    assert err.count("aaria: warning: 14 mesh file(s) of 'ur5' not found") == 1

@@ -202,24 +202,15 @@ def _urdf_source(
         if tool_frame is not None or imu_layout_file is not None or fixed_base:
             raise click.UsageError("--tool, --imu-layout and --fixed-base need --robot or --urdf")
         return None
-    import warnings
-
     from aaria_pin.cli._options import load_robot_source
     from aaria_pin.dataset_urdf import UrdfSource
     from aaria_pin.imu_layout import read_imu_layout
-    from aaria_pin.urdf_robot import load_urdf_robot
+    from aaria_pin.urdf_robot import missing_meshes_message
 
     text, folder, name = load_robot_source(robot, urdf_file)
     layout = None if imu_layout_file is None else read_imu_layout(imu_layout_file)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        load_urdf_robot(  # checks the robot once, here, before any worker starts
-            text,
-            urdf_dir=folder,
-            moving_base=not fixed_base,
-            tool_frame=tool_frame,
-            imu_layout=layout,
-        )
-    for warning in caught:
-        click.echo(f"aaria: warning: {warning.message}", err=True)
-    return UrdfSource(text, name, str(folder), not fixed_base, tool_frame, layout)
+    source = UrdfSource(text, name, str(folder), not fixed_base, tool_frame, layout)
+    summary = source.load().summary  # checks the robot here, once, before any worker starts
+    if summary.missing_meshes:
+        click.echo(f"aaria: warning: {missing_meshes_message(summary)}", err=True)
+    return source

@@ -55,6 +55,7 @@ from aaria_pin.runfile._generic import (
     GENERIC_FORMAT,
     is_generic_hdf5,
     read_generic_hdf5,
+    summarise_generic_hdf5,
     write_generic_hdf5,
 )
 from aaria_pin.runfile._hdf5 import _read_hdf5, _summarise_hdf5, _write_hdf5
@@ -234,22 +235,16 @@ def generic_run_summary(path: str | os.PathLike[str]) -> dict[str, object]:
     Besides the keys of :func:`run_file_summary` it gives ``columns`` (of ``signals``),
     ``joints`` and ``imus`` (names).
     """
-    record = read_generic_run(path)
-    arrays = {
-        name: tuple(getattr(record, name).shape)
-        for name in ("signals", "q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pose")
-    }
-    arrays["imu_mount"] = (len(record.imu_mounts), 4, 4)
+    file = _existing_run_file(path)
+    if file.suffix.lower() not in _HDF5_SUFFIXES:
+        raise InputFileError(f"{file}: a generic run file is HDF5 (.h5, .hdf5)")
+    summary = summarise_generic_hdf5(file)
     return {
-        "path": str(path),
+        "path": str(file),
         "format": "HDF5, generic layout",
         "format_version": 1,
-        "samples": record.signals.shape[0],
-        "arrays": arrays,
-        "columns": list(record.columns),
-        "joints": list(record.joint_names),
-        "imus": [mount.name for mount in record.imu_mounts],
-        "attributes": record.attributes,
+        "samples": summary["arrays"]["signals"][0],
+        **summary,
     }
 
 

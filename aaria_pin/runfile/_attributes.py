@@ -117,15 +117,32 @@ def _decode_attribute(file: Path, name: str, value: Any) -> tuple[str, Any]:
     return name, value
 
 
-def _check_format(file: Path, fmt: Any, version: Any) -> int:
-    """Check the ``format`` marks a run file of a known version; return the version."""
+def _check_format(
+    file: Path,
+    fmt: Any,
+    version: Any,
+    expected: str = RUN_FORMAT,
+    newest: int = RUN_FORMAT_VERSION,
+) -> int:
+    """Check the ``format`` marks a file of the expected kind and a known version.
+
+    Args:
+        file: the file, for messages
+        fmt: its ``format`` attribute
+        version: its ``format_version`` attribute
+        expected: the ``format`` wanted (an Aaria run file by default)
+        newest: the newest version this aaria_pin reads
+
+    Returns:
+        The version.
+    """
     if isinstance(fmt, bytes):
         fmt = fmt.decode("utf-8", errors="replace")
     if fmt is None:
         raise InputFileError(f"{file}: not an aaria_pin run file (no 'format' attribute)")
-    if fmt != RUN_FORMAT:
+    if fmt != expected:
         raise InputFileError(
-            f"{file}: not an aaria_pin run file (format is {fmt!r}; expected {RUN_FORMAT!r})"
+            f"{file}: not an {expected} file (format is {fmt!r}; expected {expected!r})"
         )
     if isinstance(version, (float, np.floating)) and float(version).is_integer():
         version = int(version)  # MATLAB stores numbers as double unless told otherwise
@@ -133,10 +150,10 @@ def _check_format(file: Path, fmt: Any, version: Any) -> int:
         raise InputFileError(
             f"{file}: format_version {version!r} is not allowed; expected an integer"
         )
-    if not 1 <= int(version) <= RUN_FORMAT_VERSION:
+    if not 1 <= int(version) <= newest:
         raise InputFileError(
             f"{file}: format_version {int(version)} is not supported; "
-            f"this aaria_pin reads 1 to {RUN_FORMAT_VERSION}"
+            f"this aaria_pin reads 1 to {newest}"
         )
     return int(version)
 

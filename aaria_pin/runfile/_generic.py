@@ -19,12 +19,8 @@ import numpy as np
 from aaria_pin._se3 import Array
 from aaria_pin.errors import InputFileError, OutputFileError
 from aaria_pin.generic_record import GenericRunRecord, ImuMount
-from aaria_pin.runfile._attributes import (
-    _RESERVED_ATTRIBUTES,
-    _decode_attribute,
-    _encode_attributes,
-    _reason,
-)
+from aaria_pin.runfile._attributes import _check_format, _encode_attributes, _reason
+from aaria_pin.runfile._hdf5 import _hdf5_attributes, _hdf5_errors
 
 GENERIC_FORMAT = "aaria_pin generic run"
 """Value of the ``format`` attribute that marks a generic run file."""
@@ -80,10 +76,6 @@ def write_generic_hdf5(temporary: Path, final: Path, record: GenericRunRecord) -
         raise OutputFileError(f"{final}: cannot be written ({_reason(exc)})") from None
 
 
-def _strings(values: Any) -> list[str]:
-    return [v.decode("utf-8") if isinstance(v, bytes) else str(v) for v in np.atleast_1d(values)]
-
-
 def is_generic_hdf5(file: Path) -> bool:
     """Whether an HDF5 file is marked as a generic run file."""
     import h5py
@@ -98,6 +90,48 @@ def is_generic_hdf5(file: Path) -> bool:
     return bool(fmt == GENERIC_FORMAT)
 
 
+def _strings_attribute(item: Any, name: str) -> list[str]:
+    """A string-list attribute of an HDF5 object (empty if absent)."""
+    values = np.atleast_1d(item.attrs.get(name, []))
+    return [v.decode("utf-8") if isinstance(v, bytes) else str(v) for v in values]
+
+
+def summarise_generic_hdf5(file: Path) -> dict[str, Any]:
+    """Shapes, names and attributes of a generic run file, without reading its arrays.
+
+    Returns:
+        ``arrays`` (name → shape), ``columns``, ``joints``, ``imus`` and ``attributes``.
+
+    Raises:
+        InputFileError: not a generic run file, a newer version, or unreadable.
+    """
+    import h5py
+
+    with _hdf5_errors(file), h5py.File(file, "r") as handle:
+        _check_generic(file, handle)
+        return {
+            "arrays": {name: tuple(handle[name].shape) for name in (*_SERIES, "imu_mount")},
+            "columns": _strings_attribute(handle["signals"], "columns"),
+            "joints": _strings_attribute(handle["q"], "joint_names"),
+            "imus": _strings_attribute(handle["imu_mount"], "imu_names"),
+            "attributes": _hdf5_attributes(file, handle.attrs),
+        }
+
+
+def _check_generic(file: Path, handle: Any) -> None:
+    """Refuse a file that is not a generic run file of a known version, or lacks a dataset."""
+    _check_format(
+        file,
+        handle.attrs.get("format"),
+        handle.attrs.get("format_version"),
+        GENERIC_FORMAT,
+        GENERIC_FORMAT_VERSION,
+    )
+    missing = [n for n in (*_SERIES, "imu_mount", "urdf") if n not in handle]
+    if missing:
+        raise InputFileError(f"{file}: generic run file without {', '.join(missing)}")
+
+
 def read_generic_hdf5(file: Path) -> GenericRunRecord:
     """Read a generic run file written by :func:`write_generic_hdf5`.
 
@@ -107,61 +141,34 @@ def read_generic_hdf5(file: Path) -> GenericRunRecord:
     """
     import h5py
 
-    try:
-        with h5py.File(file, "r") as handle:
-            fmt = handle.attrs.get("format")
-            if isinstance(fmt, bytes):
-                fmt = fmt.decode("utf-8", errors="replace")
-            if fmt != GENERIC_FORMAT:
-                raise InputFileError(
-                    f"{file}: not a generic run file (format {fmt!r}; expected {GENERIC_FORMAT!r})"
-                )
-            version = int(handle.attrs.get("format_version", 0))
-            if not 1 <= version <= GENERIC_FORMAT_VERSION:
-                raise InputFileError(
-                    f"{file}: format_version {version} is not supported; "
-                    f"this aaria_pin reads 1 to {GENERIC_FORMAT_VERSION}"
-                )
-            missing = [n for n in (*_SERIES, "imu_mount", "urdf") if n not in handle]
-            if missing:
-                raise InputFileError(f"{file}: generic run file without {', '.join(missing)}")
-            arrays: dict[str, Array] = {
-                name: np.asarray(handle[name][()], dtype=float) for name in _SERIES
-            }
-            tables = {
-                name: np.asarray(handle[name][()], dtype=float) if name in handle else None
-                for name in ("joint_table", "base_table")
-            }
-            mounts_ds = handle["imu_mount"]
-            poses = np.asarray(mounts_ds[()], dtype=float).reshape(-1, 4, 4)
-            mounts = tuple(
-                ImuMount(name, parent, pose)
-                for name, parent, pose in zip(
-                    _strings(mounts_ds.attrs.get("imu_names", [])),
-                    _strings(mounts_ds.attrs.get("imu_parents", [])),
-                    poses,
-                    strict=True,
-                )
+    with _hdf5_errors(file), h5py.File(file, "r") as handle:
+        _check_generic(file, handle)
+        arrays: dict[str, Array] = {
+            name: np.asarray(handle[name][()], dtype=float) for name in _SERIES
+        }
+        tables = {
+            name: np.asarray(handle[name][()], dtype=float) if name in handle else None
+            for name in ("joint_table", "base_table")
+        }
+        mounts_ds = handle["imu_mount"]
+        mounts = tuple(
+            ImuMount(name, parent, pose)
+            for name, parent, pose in zip(
+                _strings_attribute(mounts_ds, "imu_names"),
+                _strings_attribute(mounts_ds, "imu_parents"),
+                np.asarray(mounts_ds[()], dtype=float).reshape(-1, 4, 4),
+                strict=True,
             )
-            joint_names = tuple(_strings(handle["q"].attrs.get("joint_names", [])))
-            urdf = handle["urdf"][()]
-            attributes: dict[str, Any] = {}
-            for name in handle.attrs:
-                if name not in _RESERVED_ATTRIBUTES:
-                    key, value = _decode_attribute(file, name, handle.attrs[name])
-                    attributes[key] = value
-    except InputFileError:
-        raise
-    except (OSError, KeyError, TypeError, ValueError) as exc:
-        raise InputFileError(
-            f"{file}: cannot be read as a generic run file ({_reason(exc)})"
-        ) from None
+        )
+        joint_names = tuple(_strings_attribute(handle["q"], "joint_names"))
+        urdf = handle["urdf"].asstr()[()]
+        attributes = _hdf5_attributes(file, handle.attrs)
     try:
         return GenericRunRecord(
             **arrays,
             joint_names=joint_names,
             imu_mounts=mounts,
-            urdf=urdf.decode("utf-8") if isinstance(urdf, bytes) else str(urdf),
+            urdf=urdf,
             joint_table=tables["joint_table"],
             base_table=tables["base_table"],
             attributes=attributes,
