@@ -102,3 +102,9 @@ def load_robot_source(robot: str | None, urdf_file: Path | None) -> tuple[str, P
         return read_urdf_file(entry.urdf), entry.urdf.parent, entry.name
     assert urdf_file is not None
     return read_urdf_file(urdf_file), urdf_file.parent, str(urdf_file)
+
+
+def sampling_overrides(params: dict[str, Any]) -> dict[str, Any]:
+    """``duration``, ``rate``, ``seed`` and ``noise`` of a command's options, where given."""
+    keys = ("duration", "rate", "seed", "noise")
+    return {key: params[key] for key in keys if params.get(key) is not None}

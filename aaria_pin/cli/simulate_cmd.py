@@ -8,9 +8,9 @@ from typing import Any
 import click
 
 from aaria_pin.cli._options import (
-    load_robot_source,
     load_table_source,
     robot_source_options,
+    sampling_overrides,
     table_source_options,
 )
 
@@ -111,44 +111,22 @@ def simulate(
     from aaria_pin.errors import ParameterError
     from aaria_pin.io import read_table
     from aaria_pin.presets import get_preset
-    from aaria_pin.runfile import write_run
+    from aaria_pin.runfile import is_generic_run_file, write_run
     from aaria_pin.simulate import simulate_from_run_file, simulate_run
 
     tune_malloc()
     urdf_given = robot is not None or urdf_file is not None
-    if urdf_given or (from_run is not None and _is_generic(from_run)):
-        _simulate_urdf(
-            robot,
-            urdf_file,
-            tool_frame,
-            imu_layout_file,
-            fixed_base,
-            joints_file,
-            base_file,
-            from_run,
-            duration,
-            rate,
-            seed,
-            noise,
-            compress,
-            output,
-            refused={
-                "--preset": preset,
-                "--dh": dh_file,
-                "--imu-mount": mount_file,
-                "--density": density,
-                "--torques": torques_file,
-                "--drive torque": "torque" if drive == "torque" else None,
-            },
-        )
+    if urdf_given or (from_run is not None and is_generic_run_file(from_run)):
+        from aaria_pin.cli._simulate_urdf import simulate_urdf_command
+
+        simulate_urdf_command(click.get_current_context().params)
         return
     for flag, value in (("--tool", tool_frame), ("--imu-layout", imu_layout_file)):
         if value is not None:
             raise click.UsageError(f"{flag} is for URDF robots (--robot or --urdf)")
     if fixed_base:
         raise click.UsageError("--fixed-base is for URDF robots (--robot or --urdf)")
-    given = {"duration": duration, "rate": rate, "seed": seed, "noise": noise}
-    overrides: dict[str, Any] = {key: value for key, value in given.items() if value is not None}
+    overrides = sampling_overrides(click.get_current_context().params)
     if joints_file is not None:
         overrides["joint_table"] = read_table(joints_file, "senSenJ")
     if base_file is not None:
@@ -187,92 +165,5 @@ def simulate(
     click.echo(
         f"wrote {output}: {record.senSen.shape[0]} samples at {record.attributes['rate']:g} Hz, "
         f"noise {'on' if record.attributes['noise'] else 'off'}, "
-        f"peak |tau| {abs(record.tau).max():.4g}"
-    )
-
-
-def _is_generic(path: Path) -> bool:
-    from aaria_pin.runfile import is_generic_run_file
-
-    return is_generic_run_file(path)
-
-
-def _simulate_urdf(
-    robot: str | None,
-    urdf_file: Path | None,
-    tool_frame: str | None,
-    imu_layout_file: Path | None,
-    fixed_base: bool,
-    joints_file: Path | None,
-    base_file: Path | None,
-    from_run: Path | None,
-    duration: float | None,
-    rate: float | None,
-    seed: int | None,
-    noise: bool | None,
-    compress: str,
-    output: Path,
-    refused: dict[str, Any],
-) -> None:
-    """``aaria simulate --robot/--urdf``: one run of a URDF robot to a generic run file."""
-    import warnings
-
-    from aaria_pin.imu_layout import read_imu_layout
-    from aaria_pin.io import read_table
-    from aaria_pin.runfile import write_generic_run
-    from aaria_pin.urdf_run import simulate_urdf_from_run_file, simulate_urdf_run
-
-    for flag, value in refused.items():
-        if value is not None:
-            raise click.UsageError(f"{flag} is for DH arms; not allowed with a URDF robot")
-    if compress != "none":
-        raise click.UsageError("--compress is for DH arms; a URDF robot's run is uncompressed")
-    if output.suffix.lower() not in (".h5", ".hdf5"):
-        raise click.UsageError(f"{output}: a URDF robot's run is written as HDF5 (.h5, .hdf5)")
-    if fixed_base and base_file is not None:
-        raise click.UsageError("--base moves the base; not allowed with --fixed-base")
-    if from_run is not None and tool_frame is not None:
-        raise click.UsageError(
-            "--tool with --from: the run file's IMU layout was made for its tool; re-simulate "
-            "with --robot/--urdf instead"
-        )
-    given = {"duration": duration, "rate": rate, "seed": seed, "noise": noise}
-    overrides: dict[str, Any] = {key: value for key, value in given.items() if value is not None}
-    if tool_frame is not None:
-        overrides["tool_frame"] = tool_frame
-    if imu_layout_file is not None:
-        overrides["imu_layout"] = read_imu_layout(imu_layout_file)
-    if joints_file is not None:
-        overrides["joint_table"] = read_table(joints_file, "joint_table")
-    if base_file is not None:
-        overrides["base_table"] = read_table(base_file, "senSenB")
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        if from_run is not None:
-            if robot is not None or urdf_file is not None:
-                raise click.UsageError(
-                    "--from takes the URDF from the run file; drop --robot/--urdf"
-                )
-            if fixed_base:
-                overrides["moving_base"] = False
-            record = simulate_urdf_from_run_file(from_run, **overrides)
-        else:
-            text, folder, source = load_robot_source(robot, urdf_file)
-            record = simulate_urdf_run(
-                text, urdf_dir=folder, source=source, moving_base=not fixed_base, **overrides
-            )
-    for warning in caught:
-        click.echo(f"aaria: warning: {warning.message}", err=True)
-    for joint, (peak, limit) in record.attributes["effort_exceeded"].items():
-        click.echo(
-            f"aaria: warning: joint {joint!r} reaches |tau| {peak:.4g}, beyond its URDF effort "
-            f"limit {limit:.4g} (N*m or N)",
-            err=True,
-        )
-    write_generic_run(output, record)
-    click.echo(
-        f"wrote {output}: {record.attributes['robot']}, {len(record.joint_names)} joints, "
-        f"{len(record.imu_mounts)} IMUs, {record.signals.shape[0]} samples at "
-        f"{record.attributes['rate']:g} Hz, noise {'on' if record.attributes['noise'] else 'off'}, "
         f"peak |tau| {abs(record.tau).max():.4g}"
     )

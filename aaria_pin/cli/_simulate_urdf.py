@@ -1,0 +1,96 @@
+"""``aaria simulate --robot/--urdf`` (or ``--from`` a generic run file): a URDF robot's run."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import click
+
+from aaria_pin.cli._options import load_robot_source, sampling_overrides
+
+_DH_ONLY = {
+    "preset": "--preset",
+    "dh_file": "--dh",
+    "mount_file": "--imu-mount",
+    "density": "--density",
+    "torques_file": "--torques",
+}
+
+
+def _refuse_options_without_effect(params: dict[str, Any]) -> None:
+    """Options of ``aaria simulate`` that would do nothing for a URDF robot: usage errors."""
+    for key, flag in _DH_ONLY.items():
+        if params[key] is not None:
+            raise click.UsageError(f"{flag} is for DH arms; not allowed with a URDF robot")
+    if params["drive"] == "torque":
+        raise click.UsageError("--drive torque is for DH arms; not allowed with a URDF robot")
+    if params["compress"] != "none":
+        raise click.UsageError("--compress is for DH arms; a URDF robot's run is uncompressed")
+    output = params["output"]
+    if output.suffix.lower() not in (".h5", ".hdf5"):
+        raise click.UsageError(f"{output}: a URDF robot's run is written as HDF5 (.h5, .hdf5)")
+    if params["fixed_base"] and params["base_file"] is not None:
+        raise click.UsageError("--base moves the base; not allowed with --fixed-base")
+    if params["from_run"] is not None and params["tool_frame"] is not None:
+        raise click.UsageError(
+            "--tool with --from: the run file's IMU layout was made for its tool; re-simulate "
+            "with --robot/--urdf instead"
+        )
+    if params["from_run"] is not None and (params["robot"] or params["urdf_file"]):
+        raise click.UsageError("--from takes the URDF from the run file; drop --robot/--urdf")
+
+
+def simulate_urdf_command(params: dict[str, Any]) -> None:
+    """Run ``aaria simulate`` for a URDF robot from the command's option values.
+
+    Args:
+        params: the option values of ``aaria simulate`` by parameter name
+    """
+    import warnings
+
+    from aaria_pin.imu_layout import read_imu_layout
+    from aaria_pin.io import read_table
+    from aaria_pin.runfile import write_generic_run
+    from aaria_pin.urdf_run import simulate_urdf_from_run_file, simulate_urdf_run
+
+    _refuse_options_without_effect(params)
+    overrides = sampling_overrides(params)
+    if params["tool_frame"] is not None:
+        overrides["tool_frame"] = params["tool_frame"]
+    if params["imu_layout_file"] is not None:
+        overrides["imu_layout"] = read_imu_layout(params["imu_layout_file"])
+    if params["joints_file"] is not None:
+        overrides["joint_table"] = read_table(params["joints_file"], "joint_table")
+    if params["base_file"] is not None:
+        overrides["base_table"] = read_table(params["base_file"], "senSenB")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        if params["from_run"] is not None:
+            if params["fixed_base"]:
+                overrides["moving_base"] = False
+            record = simulate_urdf_from_run_file(params["from_run"], **overrides)
+        else:
+            text, folder, source = load_robot_source(params["robot"], params["urdf_file"])
+            record = simulate_urdf_run(
+                text,
+                urdf_dir=folder,
+                source=source,
+                moving_base=not params["fixed_base"],
+                **overrides,
+            )
+    for warning in caught:
+        click.echo(f"aaria: warning: {warning.message}", err=True)
+    for joint, (peak, limit) in record.attributes["effort_exceeded"].items():
+        click.echo(
+            f"aaria: warning: joint {joint!r} reaches |tau| {peak:.4g}, beyond its URDF effort "
+            f"limit {limit:.4g} (N*m or N)",
+            err=True,
+        )
+    output = params["output"]
+    write_generic_run(output, record)
+    click.echo(
+        f"wrote {output}: {record.attributes['robot']}, {len(record.joint_names)} joints, "
+        f"{len(record.imu_mounts)} IMUs, {record.signals.shape[0]} samples at "
+        f"{record.attributes['rate']:g} Hz, noise {'on' if record.attributes['noise'] else 'off'}, "
+        f"peak |tau| {abs(record.tau).max():.4g}"
+    )
