@@ -97,12 +97,10 @@ def test_render_draws_the_arm(run_file, tmp_path) -> None:
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def test_viewers_load_pick_place_runs_once_the_kind_is_registered(run_file) -> None:
+def test_viewers_load_pick_place_runs_through_the_plugin(run_file) -> None:
     from aaria_pin.viz.sources import load_run_view, run_kind
 
     _, path = run_file
-    if run_kind(path) == "generic":
-        pytest.skip("viz has not registered aaria_pin.arm.view_source yet (see its docstring)")
     assert run_kind(path) == PICK_PLACE_KIND
     assert load_run_view(path).kind == PICK_PLACE_KIND
 

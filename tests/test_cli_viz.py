@@ -8,8 +8,6 @@ import numpy as np
 import pytest
 from click.testing import CliRunner, Result
 
-pytest.importorskip("matplotlib")
-
 from aaria_pin.cli import main
 from aaria_pin.presets import get_preset
 from aaria_pin.runfile import write_run
@@ -160,11 +158,10 @@ def test_bad_input_one_line_exit_2_nothing_written(
 
 
 def test_render_pick_place_arm_through_the_arm_plugin(tmp_path: Path) -> None:
-    """Where the arm's plug-in gives the preset, render draws it (the arm at rest)."""
+    """The arm's plug-in gives the preset; render draws it (the arm at rest)."""
     from aaria_pin.viz.sources import preset_names
 
-    if "pick-place-arm" not in preset_names():
-        pytest.skip("aaria_pin.arm.view_source gives no PRESETS['pick-place-arm'] yet")
+    assert "pick-place-arm" in preset_names()
     out = tmp_path / "arm.png"
     result = run("render", "--preset", "pick-place-arm", "--width", "400", "--height", "300",
                  "-o", str(out))  # fmt: skip

@@ -9,8 +9,6 @@ from typing import Any
 import numpy as np
 import pytest
 
-pytest.importorskip("matplotlib")
-
 from aaria_pin.errors import ParameterError
 from aaria_pin.presets import get_preset
 from aaria_pin.runfile import write_run

@@ -172,7 +172,7 @@ def test_generic_runs_of_a_urdf_robot_and_the_pick_place_arm(tmp_path: Path) -> 
         result = CliRunner().invoke(main, args)
         assert result.exit_code == 0, result.output
     assert run_kind(ur5) == "generic"
-    assert run_kind(arm) in ("generic", "pick-place")  # the arm's plug-in kind, where it is
+    assert run_kind(arm) == "pick-place"  # the arm's plug-in kind
     for path in (ur5, arm):
         view = load_generic_run(path)  # the generic kind reads both
         record = read_generic_run(path)
