@@ -48,6 +48,7 @@ __all__ = [
     "describe_chain",
     "imu_slot_names",
     "link_name",
+    "mount_imu_slots",
 ]
 
 MAX_DENSITY = 1.0e5
@@ -358,6 +359,42 @@ class DHRobot:
         )
 
 
+def mount_imu_slots(slots: tuple[ImuSlot, ...], imu_mount: ArrayLike) -> tuple[ImuSlot, ...]:
+    """IMU slots moved to the given mounting poses (names and parents kept).
+
+    Args:
+        slots: the slots (their names and parents are kept; slots without a parent stay)
+        imu_mount: one 4 × 4 pose per slot, in its parent frame
+
+    Raises:
+        ParameterError: wrong shape, non-finite values, or a pose that is not rigid.
+    """
+    poses = np.asarray(imu_mount, dtype=float)
+    expected = (len(slots), 4, 4)
+    if poses.shape != expected:
+        raise ParameterError(f"imu_mount has shape {poses.shape}; allowed: {expected}")
+    if not np.all(np.isfinite(poses)):
+        raise ParameterError("imu_mount holds NaN or inf; allowed: finite poses")
+    moved = []
+    for slot, pose in zip(slots, poses, strict=True):
+        if slot.parent is None:
+            moved.append(slot)
+            continue
+        R = pose[:3, :3]
+        rigid = (
+            np.allclose(R.T @ R, np.eye(3), atol=1e-9)
+            and np.linalg.det(R) > 0
+            and np.allclose(pose[3], [0, 0, 0, 1])
+        )
+        if not rigid:
+            raise ParameterError(
+                f"imu_mount of {slot.name} is not a rigid transform; allowed: [R p; 0 0 0 1]"
+                " with R a rotation"
+            )
+        moved.append(ImuSlot(slot.name, slot.parent, pose.copy()))
+    return tuple(moved)
+
+
 def build_dh_robot(
     table: ArrayLike,
     convention: Convention = "aaria",
@@ -365,6 +402,7 @@ def build_dh_robot(
     name: str = "aaria_arm",
     imu_slots: tuple[ImuSlot, ...] | None = None,
     mass_properties: Mapping[str, Inertia] | None = None,
+    imu_mount: ArrayLike | None = None,
 ) -> DHRobot:
     """Validate a table and build its robot.
 
@@ -377,6 +415,8 @@ def build_dh_robot(
         mass_properties: measured mass properties by link name (``"link2"``, ``"base"``,
             ``"tool"``), replacing those of the link's solids; a ``"tool"`` entry of zero mass
             removes the tool's
+        imu_mount: one 4 × 4 mounting pose per IMU slot, replacing the slots' poses (see
+            :func:`mount_imu_slots`)
 
     Returns:
         The robot.
@@ -384,6 +424,8 @@ def build_dh_robot(
     chain = chain_from_table(table, convention)
     dims = dims or BodyDimensions()
     slots = imu_slots if imu_slots is not None else default_imu_slots(chain, dims)
+    if imu_mount is not None:
+        slots = mount_imu_slots(slots, imu_mount)
     description = describe_chain(chain, dims, name, slots)
     if mass_properties:
         unknown = sorted(set(mass_properties) - {link.name for link in description.links})

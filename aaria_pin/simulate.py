@@ -17,9 +17,15 @@ from numpy.typing import ArrayLike
 from aaria_pin import __version__
 from aaria_pin._se3 import Array
 from aaria_pin._seeds import check_seed, seed_attributes, stored_seed
-from aaria_pin.dh_robot import BodyDimensions, DHRobot, ImuSlot, build_dh_robot
+from aaria_pin.dh_robot import (
+    BodyDimensions,
+    DHRobot,
+    ImuSlot,
+    build_dh_robot,
+    mount_imu_slots,
+)
 from aaria_pin.dynamics import inverse_dynamics
-from aaria_pin.errors import InputFileError, ParameterError
+from aaria_pin.errors import InputFileError
 from aaria_pin.imu import ADIS16485, ImuNoiseModel, add_imu_noise, noise_attributes
 from aaria_pin.kinematics import trajectory_signals
 from aaria_pin.model import GRAVITY
@@ -85,39 +91,8 @@ def sampling_attributes(
 
 
 def mounted_slots(robot: DHRobot, imu_mount: ArrayLike) -> tuple[ImuSlot, ...]:
-    """The robot's IMU slots moved to the given mounting poses.
-
-    Args:
-        robot: the robot (its slots give names and parents)
-        imu_mount: 14 × 4 × 4 poses in the parent frames
-
-    Raises:
-        ParameterError: wrong shape, non-finite values, or a pose that is not rigid.
-    """
-    poses = np.asarray(imu_mount, dtype=float)
-    expected = (len(robot.imu_slots), 4, 4)
-    if poses.shape != expected:
-        raise ParameterError(f"imu_mount has shape {poses.shape}; allowed: {expected}")
-    if not np.all(np.isfinite(poses)):
-        raise ParameterError("imu_mount holds NaN or inf; allowed: finite poses")
-    slots = []
-    for slot, pose in zip(robot.imu_slots, poses, strict=True):
-        if slot.parent is None:
-            slots.append(slot)
-            continue
-        R = pose[:3, :3]
-        rigid = (
-            np.allclose(R.T @ R, np.eye(3), atol=1e-9)
-            and np.linalg.det(R) > 0
-            and np.allclose(pose[3], [0, 0, 0, 1])
-        )
-        if not rigid:
-            raise ParameterError(
-                f"imu_mount of {slot.name} is not a rigid transform; allowed: [R p; 0 0 0 1]"
-                " with R a rotation"
-            )
-        slots.append(ImuSlot(slot.name, slot.parent, pose.copy()))
-    return tuple(slots)
+    """The robot's IMU slots moved to the given mounting poses (see :func:`mount_imu_slots`)."""
+    return mount_imu_slots(robot.imu_slots, imu_mount)
 
 
 def simulate_run(
@@ -160,9 +135,7 @@ def simulate_run(
         The run record.
     """
     check_seed(seed)
-    robot = build_dh_robot(dh_table, "aaria", dims)
-    if imu_mount is not None:
-        robot = build_dh_robot(dh_table, "aaria", dims, imu_slots=mounted_slots(robot, imu_mount))
+    robot = build_dh_robot(dh_table, "aaria", dims, imu_mount=imu_mount)
     time = sample_times(duration, rate)
     senSenJ = (
         default_joint_table(robot.chain) if joint_table is None else np.array(joint_table, float)

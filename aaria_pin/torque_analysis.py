@@ -1,24 +1,24 @@
 """Torque-level analysis of a run: peaks, RMS, the gravity / Coriolis / inertial split, power.
 
-The split is Pinocchio's own: gravity ``g(q)`` (``computeGeneralizedGravity``), Coriolis and
-centrifugal ``C(q, v)·v`` (``nonLinearEffects`` minus gravity) and inertial ``M(q)·a``
-(``crba``), on the full model with its moving base, so the three add up to the RNEA torque at
-every sample. Each term is one call per sample (a few tens of microseconds); the analysis is
-not on the data path.
+The split comes from three batched RNEA passes over the whole trajectory, on the full model
+with its moving base: gravity ``g(q)`` (RNEA at zero velocity and acceleration), Coriolis and
+centrifugal ``C(q, v)·v`` (RNEA at zero acceleration, less gravity) and inertial ``M(q)·a`` (the
+full RNEA less the zero-acceleration one), so the three add up to the RNEA torque at every
+sample.
 """
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pinocchio as pin
 
 from aaria_pin._se3 import Array
-from aaria_pin.kinematics import full_state
-from aaria_pin.model import RobotModel
 from aaria_pin.record import RunRecord
 from aaria_pin.trajectory import BaseMotion, JointTrajectory
+
+if TYPE_CHECKING:  # Pinocchio loads only where a model is used, not for a data set's report
+    from aaria_pin.model import RobotModel
 
 __all__ = [
     "dataset_torque_report",
@@ -43,20 +43,20 @@ def torque_split(
     Returns:
         ``{"gravity", "coriolis", "inertial"}``, joint columns only; their sum is the RNEA torque.
     """
-    model = robot.model
-    data = model.createData()
+    from aaria_pin.dynamics import batched_rnea
+    from aaria_pin.kinematics import full_state
+
     q, v, a = full_state(robot, base, trajectory)
+    zeros = np.zeros_like(v)
+    gravity = batched_rnea(robot.model, q, zeros, zeros)  # g(q)
+    nonlinear = batched_rnea(robot.model, q, v, zeros)  # C(q, v)·v + g(q)
+    total = batched_rnea(robot.model, q, v, a)  # M(q)·a + C(q, v)·v + g(q)
     n_base = robot.base_nv
-    out = {term: np.empty((q.shape[0], robot.n_joints)) for term in _TERMS}
-    for k in range(q.shape[0]):
-        gravity = pin.computeGeneralizedGravity(model, data, q[k])
-        nonlinear = pin.nonLinearEffects(model, data, q[k], v[k])
-        mass = pin.crba(model, data, q[k])
-        mass = np.triu(mass) + np.triu(mass, 1).T  # crba fills the upper triangle
-        out["gravity"][k] = gravity[n_base:]
-        out["coriolis"][k] = (nonlinear - gravity)[n_base:]
-        out["inertial"][k] = (mass @ a[k])[n_base:]
-    return out
+    return {
+        "gravity": gravity[:, n_base:],
+        "coriolis": (nonlinear - gravity)[:, n_base:],
+        "inertial": (total - nonlinear)[:, n_base:],
+    }
 
 
 def _rms(x: Array) -> Array:
