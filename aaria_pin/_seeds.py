@@ -1,12 +1,17 @@
-"""Noise seeds of a run: the allowed range, the check, and how a run file records them."""
+"""Noise seeds of a run: the allowed range, the check, and how a run file records them.
+
+numpy is imported inside the functions, so the command line can read :data:`MAX_SEED` at
+start-up for free.
+"""
 
 from __future__ import annotations
 
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from aaria_pin.errors import ParameterError
+
+if TYPE_CHECKING:
+    import numpy as np
 
 MAX_SEED = 2**63 - 1
 """Largest noise seed (it is stored as a 64-bit attribute)."""
@@ -14,6 +19,8 @@ MAX_SEED = 2**63 - 1
 
 def check_seed(seed: int | np.random.SeedSequence) -> None:
     """Refuse a seed that is neither an integer from 0 to 2⁶³ - 1 nor a ``SeedSequence``."""
+    import numpy as np
+
     if not (isinstance(seed, (int, np.integer)) and 0 <= seed <= MAX_SEED) and not isinstance(
         seed, np.random.SeedSequence
     ):
@@ -22,6 +29,8 @@ def check_seed(seed: int | np.random.SeedSequence) -> None:
 
 def seed_attributes(seed: int | np.random.SeedSequence) -> dict[str, Any]:
     """``seed`` (and, for a data set's run, the spawn key of its noise stream)."""
+    import numpy as np
+
     if isinstance(seed, np.random.SeedSequence):
         entropy = seed.entropy if isinstance(seed.entropy, int) else 0
         return {"seed": entropy, "noise_spawn_key": [int(k) for k in seed.spawn_key]}
@@ -30,6 +39,8 @@ def seed_attributes(seed: int | np.random.SeedSequence) -> dict[str, Any]:
 
 def stored_seed(attributes: dict[str, Any]) -> int | np.random.SeedSequence:
     """The noise seed a run file's attributes record (inverse of :func:`seed_attributes`)."""
+    import numpy as np
+
     seed = attributes.get("seed", 0)
     if isinstance(seed, float) and seed.is_integer():  # MATLAB saves numbers as doubles
         seed = int(seed)

@@ -24,6 +24,7 @@ import numpy as np
 from aaria_pin import __version__
 from aaria_pin._malloc import tune_malloc
 from aaria_pin._se3 import Array
+from aaria_pin._seeds import check_seed
 from aaria_pin.dataset_file import (
     AARIA_LAYOUT,
     INPUT_ARRAYS,
@@ -44,6 +45,7 @@ from aaria_pin.randomize import (
     random_joint_table,
     run_streams,
 )
+from aaria_pin.trajectory import DEFAULT_DURATION, DEFAULT_RATE
 
 __all__ = [
     "MAX_RUNS",
@@ -87,8 +89,8 @@ class DatasetSpec:
 
     n_runs: int
     seed: int = 0
-    duration: float = 10.0
-    rate: float = 100.0
+    duration: float = DEFAULT_DURATION
+    rate: float = DEFAULT_RATE
     noise: bool = True
     dtype: str = "float32"
     config: RandomConfig = field(default_factory=RandomConfig)
@@ -103,8 +105,7 @@ class DatasetSpec:
 
         if not (isinstance(self.n_runs, (int, np.integer)) and 1 <= self.n_runs <= MAX_RUNS):
             raise ParameterError(f"N is {self.n_runs!r}; allowed: 1 to {MAX_RUNS}")
-        if not (isinstance(self.seed, (int, np.integer)) and 0 <= self.seed < 2**63):
-            raise ParameterError(f"seed {self.seed!r}; allowed: an integer from 0 to 2^63 - 1")
+        check_seed(self.seed)
         if self.dtype not in ("float32", "float64"):
             raise ParameterError(f"dtype {self.dtype!r}; allowed: float32, float64")
         unknown = [part for part in self.vary if part not in PARTS]

@@ -443,12 +443,13 @@ def read_dataset_attributes(path: str | os.PathLike[str]) -> dict[str, Any]:
 def _copy_intact_runs(old: Any, new: Any) -> None:
     """Copy the chunk bytes of every complete run whose CRC-32 matches into ``new``."""
     complete = np.asarray(old["complete"][()], dtype=bool)
+    names = file_layout(old).names
     checksums = old["checksum"][()]
     intact = []
     for run in np.flatnonzero(complete):
         chunks = []
         try:
-            for index, name in enumerate(file_layout(old).names):
+            for index, name in enumerate(names):
                 origin = (int(run),) + (0,) * (old[name].ndim - 1)
                 _, data = old[name].id.read_direct_chunk(origin)
                 if zlib.crc32(data) != checksums[run, index]:

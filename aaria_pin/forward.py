@@ -115,12 +115,13 @@ def forward_simulate(
             k = i + s / substeps
             dk = 1.0 / substeps
             k1v, k1a = y, acceleration(k, x, y)
+            if s == 0:
+                a[i] = k1a  # the acceleration at sample i itself
             k2v, k2a = y + h / 2 * k1a, acceleration(k + dk / 2, x + h / 2 * k1v, y + h / 2 * k1a)
             k3v, k3a = y + h / 2 * k2a, acceleration(k + dk / 2, x + h / 2 * k2v, y + h / 2 * k2a)
             k4v, k4a = y + h * k3a, acceleration(k + dk, x + h * k3v, y + h * k3a)
             x = x + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
             y = y + h / 6 * (k1a + 2 * k2a + 2 * k3a + k4a)
         q[i + 1], v[i + 1] = x, y
-    for i in range(T):
-        a[i] = acceleration(float(i), q[i], v[i])
+    a[T - 1] = acceleration(float(T - 1), q[T - 1], v[T - 1])
     return JointTrajectory(time, q, v, a)

@@ -23,7 +23,7 @@ from aaria_pin.errors import ParameterError
 __all__ = ["IMU_SIGNALS", "GenericRunRecord", "ImuMount", "signal_columns"]
 
 IMU_SIGNALS = ("wx", "wy", "wz", "fx", "fy", "fz")
-"""The six signals of an IMU, in column order."""
+"""The six signals of an IMU, in column order (the Aaria ``senSen`` layout uses them too)."""
 
 
 @dataclass(frozen=True)

@@ -23,6 +23,7 @@ from aaria_pin.dh import Convention
 from aaria_pin.errors import ParameterError
 from aaria_pin.inertia import Inertia
 from aaria_pin.oscillation import default_base_table
+from aaria_pin.wrist import WRIST_D3
 
 __all__ = ["APPENDIX_B_PARTS", "PRESETS", "Preset", "get_preset", "preset_names"]
 
@@ -145,7 +146,7 @@ PRESETS: dict[str, Preset] = {
                 [
                     [-_HALF_PI, 0.0, 0.0, 0.0, 1],
                     [_HALF_PI, 0.0, 0.0, 0.0, 1],
-                    [0.0, 0.0, 0.0, 0.132, 1],
+                    [0.0, 0.0, 0.0, WRIST_D3, 1],
                 ]
             ),
             "standard",

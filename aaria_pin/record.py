@@ -15,6 +15,7 @@ import numpy as np
 
 from aaria_pin._se3 import Array
 from aaria_pin.dh_robot import imu_slot_names
+from aaria_pin.generic_record import IMU_SIGNALS
 
 __all__ = [
     "IMU_SIGNALS",
@@ -27,7 +28,6 @@ __all__ = [
 ]
 
 N_MODULES = 6
-IMU_SIGNALS = ("wx", "wy", "wz", "fx", "fy", "fz")
 
 
 def imu_slot_order() -> tuple[str, ...]:

@@ -93,7 +93,7 @@ def find_robot(name: str) -> RobotEntry:
             return entry
     import difflib
 
-    same = [e.name for e in catalogue.values() if e.urdf.stem.removesuffix("_robot") == name]
+    same = [e.name for e in catalogue.values() if _short(e.urdf.stem) == name]
     if same:
         raise ParameterError(f"robot name {name!r} is ambiguous; allowed: {', '.join(same)}")
 

@@ -37,7 +37,7 @@ from aaria_pin.oscillation import (
     validate_base_table,
 )
 from aaria_pin.record import N_MODULES, RunRecord, new_sensen
-from aaria_pin.trajectory import sample_times
+from aaria_pin.trajectory import DEFAULT_DURATION, DEFAULT_RATE, sample_times
 
 __all__ = [
     "DEFAULT_DURATION",
@@ -48,10 +48,6 @@ __all__ = [
     "simulate_run",
 ]
 
-DEFAULT_DURATION = 10.0
-"""Default run length [s]."""
-DEFAULT_RATE = 100.0
-"""Default sample rate [Hz]."""
 
 UNITS = {
     "time": "s",
@@ -64,10 +60,10 @@ UNITS = {
 }
 
 
-def _module_columns(robot: DHRobot, values: Array) -> Array:
+def _module_columns(columns: list[int], values: Array) -> Array:
     """Scatter per-joint columns into the six module columns (zeros for empty modules)."""
     out = np.zeros((values.shape[0], N_MODULES))
-    out[:, [module - 1 for module in robot.chain.modules]] = values
+    out[:, columns] = values
     return out
 
 
@@ -144,18 +140,17 @@ def simulate_run(
     trajectory = joint_trajectory(senSenJ, robot.chain, time)
     base = base_motion(senSenB, time)
     model = robot.model(moving_base=True)
+    columns = [module - 1 for module in robot.chain.modules]  # module order → senSen columns
     if torques is not None:
         from aaria_pin.forward import check_torques, forward_simulate
 
         by_module = check_torques(torques, time.size, N_MODULES, "torque table")
-        columns = [module - 1 for module in robot.chain.modules]
         trajectory = forward_simulate(
             model, base, by_module[:, columns], time, trajectory.q[0], trajectory.qd[0]
         )
 
     senSen, q, imu = new_sensen(time)
-    modules = [module - 1 for module in robot.chain.modules]
-    q[:, modules] = trajectory.q
+    q[:, columns] = trajectory.q
     present = [k for k, slot in enumerate(robot.imu_slots) if slot.parent is not None]
     exact, tool_pose = trajectory_signals(
         model,
@@ -185,9 +180,9 @@ def simulate_run(
         senSenJ=senSenJ,
         senSenB=senSenB,
         q=np.ascontiguousarray(q),
-        qd=_module_columns(robot, trajectory.qd),
-        qdd=_module_columns(robot, trajectory.qdd),
-        tau=_module_columns(robot, tau),
+        qd=_module_columns(columns, trajectory.qd),
+        qdd=_module_columns(columns, trajectory.qdd),
+        tau=_module_columns(columns, tau),
         base_wrench=base_wrench,
         tool_pose=tool_pose[:, 0],
         imu_mount=np.array(

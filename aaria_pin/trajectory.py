@@ -17,6 +17,8 @@ from aaria_pin._se3 import Array
 from aaria_pin.errors import ParameterError
 
 __all__ = [
+    "DEFAULT_DURATION",
+    "DEFAULT_RATE",
     "MAX_DURATION",
     "MAX_RATE",
     "MAX_SAMPLES",
@@ -27,6 +29,10 @@ __all__ = [
     "sine_motion",
 ]
 
+DEFAULT_DURATION = 10.0
+"""Default run length [s]."""
+DEFAULT_RATE = 100.0
+"""Default sample rate [Hz]."""
 MAX_DURATION = 86_400.0
 """Longest run [s]."""
 MAX_RATE = 100_000.0

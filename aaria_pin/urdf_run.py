@@ -23,7 +23,7 @@ from aaria_pin.generic_record import GenericRunRecord, ImuMount
 from aaria_pin.imu import ADIS16485, ImuNoiseModel, add_imu_noise
 from aaria_pin.kinematics import trajectory_signals
 from aaria_pin.oscillation import base_motion, default_base_table, validate_base_table
-from aaria_pin.simulate import sampling_attributes
+from aaria_pin.simulate import DEFAULT_DURATION, DEFAULT_RATE, sampling_attributes
 from aaria_pin.trajectory import BaseMotion, sample_times
 from aaria_pin.urdf_robot import (
     UrdfRobot,
@@ -46,8 +46,8 @@ def simulate_urdf_run(
     moving_base: bool = True,
     tool_frame: str | None = None,
     imu_layout: tuple[ImuMount, ...] | None = None,
-    duration: float = 10.0,
-    rate: float = 100.0,
+    duration: float = DEFAULT_DURATION,
+    rate: float = DEFAULT_RATE,
     seed: int | np.random.SeedSequence = 0,
     noise: bool = True,
     noise_model: ImuNoiseModel = ADIS16485,
@@ -109,8 +109,8 @@ def simulate_loaded_robot(
     *,
     moving_base: bool | None = None,
     source: str | None = None,
-    duration: float = 10.0,
-    rate: float = 100.0,
+    duration: float = DEFAULT_DURATION,
+    rate: float = DEFAULT_RATE,
     seed: int | np.random.SeedSequence = 0,
     noise: bool = True,
     noise_model: ImuNoiseModel = ADIS16485,
@@ -229,8 +229,8 @@ def simulate_urdf_from_run_file(path: str | os.PathLike[str], **overrides: Any) 
         "moving_base": bool(attributes.get("moving_base", True)),
         "tool_frame": attributes.get("tool_frame"),
         "imu_layout": stored.imu_mounts,
-        "duration": float(attributes.get("duration", 10.0)),
-        "rate": float(attributes.get("rate", 100.0)),
+        "duration": float(attributes.get("duration", DEFAULT_DURATION)),
+        "rate": float(attributes.get("rate", DEFAULT_RATE)),
         "seed": stored_seed(attributes),
         "noise": bool(attributes.get("noise", True)),
     }

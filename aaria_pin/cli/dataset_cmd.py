@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import click
 
+from aaria_pin._seeds import MAX_SEED
 from aaria_pin.cli._options import robot_source_options, table_source_options
 
 if TYPE_CHECKING:
@@ -46,7 +47,7 @@ def _print_config(ctx: click.Context, _: click.Parameter, value: bool) -> None:
 @click.command()
 @click.option("-n", "n_runs", type=int, required=True, help="Number of runs N.")
 @click.option("-o", "--output", type=_FILE, required=True, help="Data set file (.h5).")
-@click.option("--seed", type=click.IntRange(0, 2**63 - 1), default=0, show_default=True)
+@click.option("--seed", type=click.IntRange(0, MAX_SEED), default=0, show_default=True)
 @click.option("--workers", type=click.IntRange(1, 1024), help="Local worker processes [cores].")
 @click.option("--scheduler", help="Address of a Dask distributed scheduler, instead of workers.")
 @click.option("--duration", type=float, default=10.0, show_default=True, help="Run length [s].")

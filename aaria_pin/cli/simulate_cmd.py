@@ -7,6 +7,7 @@ from typing import Any
 
 import click
 
+from aaria_pin._seeds import MAX_SEED
 from aaria_pin.cli._options import (
     load_table_source,
     robot_source_options,
@@ -15,7 +16,6 @@ from aaria_pin.cli._options import (
 )
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
-MAX_SEED = 2**63 - 1
 
 
 def _read_mounts(path: Path) -> Any:

@@ -7,6 +7,8 @@ from typing import Any
 
 import click
 
+from aaria_pin._seeds import MAX_SEED
+
 _NUMBER = click.FLOAT
 _ORDERS = (
     "xyz",
@@ -208,7 +210,7 @@ def simulate(
     show_default=True,
     help="Joint 2 range [deg] (the report's 0-180).",
 )
-@click.option("--seed", type=click.IntRange(0, 2**63 - 1), default=0, show_default=True)
+@click.option("--seed", type=click.IntRange(0, MAX_SEED), default=0, show_default=True)
 @click.option("--plot", type=click.Path(dir_okay=False), help="Write a PNG of the tool points.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def workspace(
