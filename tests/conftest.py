@@ -43,6 +43,63 @@ def paper_tool_pose(table: np.ndarray, q: np.ndarray) -> np.ndarray:
     return T @ Tx(table[6, 1])
 
 
+GRAVITY = np.array([0.0, 0.0, -9.81])
+"""Gravity in the world [m/s²], written here for the tests' own computations."""
+
+
+def vee(S: np.ndarray) -> np.ndarray:
+    """The vector of the skew-symmetric part of a 3 × 3 matrix (exact for a skew matrix)."""
+    return 0.5 * np.array([S[2, 1] - S[1, 2], S[0, 2] - S[2, 0], S[1, 0] - S[0, 1]])
+
+
+def _paper_base_at(rows: np.ndarray, t: complex) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Base position, rotation Rx(ax)·Ry(ay)·Rz(az) and body angular velocity at time t, from
+    the sines (complex t allowed, for complex-step derivatives)."""
+    A, bias, w, phase = rows.T
+    x = A * np.sin(w * t + phase) + bias
+    xd = A * w * np.cos(w * t + phase)
+    ax, ay, az = x[3:]
+
+    def rot(axis: int, angle: complex) -> np.ndarray:
+        c, s = np.cos(angle), np.sin(angle)
+        i, j = [(1, 2), (2, 0), (0, 1)][axis]
+        R = np.eye(3, dtype=complex)
+        R[i, i], R[i, j], R[j, i], R[j, j] = c, -s, s, c
+        return R
+
+    Rx_, Ry_, Rz_ = rot(0, ax), rot(1, ay), rot(2, az)
+    e = np.eye(3)
+    # ω_body = Rzᵀ·Ryᵀ·e_x·ȧx + Rzᵀ·e_y·ȧy + e_z·ȧz (moving-axis gimbal rates)
+    omega = Rz_.T @ Ry_.T @ e[0] * xd[3] + Rz_.T @ e[1] * xd[4] + e[2] * xd[5]
+    return x[:3], Rx_ @ Ry_ @ Rz_, omega
+
+
+def paper_base_state(
+    senB: np.ndarray, t: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The base's motion written out from the paper's sines, independently of the library.
+
+    Returns:
+        Position, velocity, acceleration (world), rotation, body angular velocity and its
+        derivative, each with a leading time axis. Derivatives are exact: sine derivatives for
+        the position, a complex step (h = 1e-30) for the angular acceleration.
+    """
+    rows = np.repeat(senB, 3, axis=0) if senB.shape[0] == 2 else np.asarray(senB, dtype=float)
+    A, _, w, phase = rows[:3].T
+    out: list[list[np.ndarray]] = [[] for _ in range(6)]
+    for time in np.atleast_1d(t):
+        position, R, omega = _paper_base_at(rows, time)
+        h = 1e-30
+        omega_dot = _paper_base_at(rows, time + 1j * h)[2].imag / h
+        velocity = A * w * np.cos(w * time + phase)
+        acceleration = -A * w**2 * np.sin(w * time + phase)
+        for store, value in zip(
+            out, (position, velocity, acceleration, R, omega, omega_dot), strict=True
+        ):
+            store.append(np.real(value))
+    return tuple(np.array(values) for values in out)  # type: ignore[return-value]
+
+
 def paper_frames(
     table: np.ndarray, senJ: np.ndarray, senB: np.ndarray, t: float
 ) -> tuple[np.ndarray, list[np.ndarray | None], np.ndarray]:
@@ -88,6 +145,16 @@ def wrist_equation_9(t1: float, t2: float, t3: float, d: float) -> np.ndarray:
             [0, 0, 0, 1],
         ]
     )
+
+
+def run_cli(*args: str) -> tuple[int, str, str]:
+    """Run the ``aaria`` command line in-process: exit status, stdout, stderr."""
+    from click.testing import CliRunner
+
+    from aaria_pin.cli import main
+
+    result = CliRunner().invoke(main, list(args))
+    return result.exit_code, result.stdout, result.stderr
 
 
 @pytest.fixture

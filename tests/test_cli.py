@@ -7,35 +7,29 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
+from conftest import run_cli
 from scipy.io import savemat
 
-from aaria_pin.cli import main
 from aaria_pin.presets import get_preset
 
 ROOT = Path(__file__).resolve().parent.parent
 
 
-def _run(*args: str) -> tuple[int, str, str]:
-    result = CliRunner().invoke(main, list(args))
-    return result.exit_code, result.stdout, result.stderr
-
-
 def test_urdf_from_preset_and_from_files(tmp_path: Path) -> None:
-    code, out, _ = _run("urdf", "--preset", "aaria-fig2", "-o", str(tmp_path / "a.urdf"))
+    code, out, _ = run_cli("urdf", "--preset", "aaria-fig2", "-o", str(tmp_path / "a.urdf"))
     assert code == 0, out
     assert "6 joints" in out
     table = get_preset("aaria-fig3").table
     np.savetxt(tmp_path / "t.csv", table, delimiter=",")
     savemat(tmp_path / "t.mat", {"senSenDH": table})
     for name in ("t.csv", "t.mat"):
-        code, out, _ = _run(
+        code, out, _ = run_cli(
             "urdf", "--dh", str(tmp_path / name), "-o", str(tmp_path / f"{name}.urdf")
         )
         assert code == 0, out
         assert "modules 1, 3, 4, 5, 6" in out
     np.savetxt(tmp_path / "wrist.csv", get_preset("spherical-wrist").table, delimiter=",")
-    code, out, _ = _run(
+    code, out, _ = run_cli(
         "urdf",
         "--dh",
         str(tmp_path / "wrist.csv"),
@@ -80,7 +74,7 @@ def _bad_table(tmp_path: Path, row: int, col: int, value: float) -> Path:
 def test_bad_input_one_line_exit_2_no_output(tmp_path: Path, setup, pattern: str) -> None:
     output = tmp_path / "out.urdf"
     args = setup(tmp_path)
-    code, _, err = _run("urdf", *args, "-o", str(output))
+    code, _, err = run_cli("urdf", *args, "-o", str(output))
     assert code == 2
     assert pattern in err
     assert err.count("\n") == 1 and err.startswith("aaria: error: ")
@@ -89,7 +83,7 @@ def test_bad_input_one_line_exit_2_no_output(tmp_path: Path, setup, pattern: str
 
 
 def test_unwritable_output(tmp_path: Path) -> None:
-    code, _, err = _run("urdf", "--preset", "aaria-fig2", "-o", str(tmp_path / "no" / "r.urdf"))
+    code, _, err = run_cli("urdf", "--preset", "aaria-fig2", "-o", str(tmp_path / "no" / "r.urdf"))
     assert code == 2 and "does not exist" in err
 
 
@@ -97,13 +91,13 @@ def test_neither_or_both_table_sources_and_bad_option_values(tmp_path: Path) -> 
     table = tmp_path / "t.csv"
     np.savetxt(table, get_preset("aaria-fig2").table, delimiter=",")
     for args in (["urdf"], ["urdf", "--preset", "aaria-fig2", "--dh", str(table)]):
-        code, _, err = _run(*args, "-o", str(tmp_path / "r.urdf"))
+        code, _, err = run_cli(*args, "-o", str(tmp_path / "r.urdf"))
         assert code == 2 and err == "aaria: error: give exactly one of --preset NAME or --dh FILE\n"
-    code, _, err = _run(
+    code, _, err = run_cli(
         "simulate", "--preset", "aaria-fig2", "--duration", "abc", "-o", str(tmp_path / "r.h5")
     )
     assert code == 2 and err.count("\n") == 1 and "'abc' is not a valid float" in err
-    code, _, err = _run(
+    code, _, err = run_cli(
         "simulate", "--preset", "aaria-fig2", "--seed", "-1", "-o", str(tmp_path / "r.h5")
     )
     assert code == 2 and err.count("\n") == 1 and "--seed" in err
@@ -115,7 +109,7 @@ def test_file_names_with_xml_characters_give_a_valid_urdf(tmp_path: Path) -> Non
 
     table = tmp_path / 'a&b"x.csv'
     np.savetxt(table, get_preset("aaria-fig2").table, delimiter=",")
-    code, _, err = _run("urdf", "--dh", str(table), "-o", str(tmp_path / "r.urdf"))
+    code, _, err = run_cli("urdf", "--dh", str(table), "-o", str(tmp_path / "r.urdf"))
     assert code == 0, err
     assert ET.parse(tmp_path / "r.urdf").getroot().get("name") == "a_b_x"
 
@@ -152,7 +146,7 @@ def test_simulate_writes_h5_and_remakes_it_from_the_file(tmp_path: Path) -> None
     from aaria_pin.record import SENSEN_COLUMNS
 
     run = tmp_path / "run.h5"
-    code, out, err = _run(
+    code, out, err = run_cli(
         "simulate",
         "--preset",
         "aaria-fig2",
@@ -186,7 +180,7 @@ def test_simulate_writes_h5_and_remakes_it_from_the_file(tmp_path: Path) -> None
         assert f.attrs["rate"] == 50 and f.attrs["seed"] == 5 and bool(f.attrs["noise"])
         original = f["senSen"][()]
     again = tmp_path / "again.h5"
-    code, _, err = _run("simulate", "--from", str(run), "-o", str(again))
+    code, _, err = run_cli("simulate", "--from", str(run), "-o", str(again))
     assert code == 0, err
     with h5py.File(again, "r") as f:
         np.testing.assert_array_equal(f["senSen"][()], original)
@@ -202,7 +196,7 @@ def test_simulate_mat_output_reads_back_with_scipy(tmp_path: Path) -> None:
     savemat(tmp_path / "j.mat", {"senSenJ": senJ})
     np.save(tmp_path / "b.npy", np.array([[0.01, 0, 2.0, 0], [0.02, 0, 1.0, 0]]))
     out_file = tmp_path / "run.mat"
-    code, _, err = _run(
+    code, _, err = run_cli(
         "simulate",
         "--dh",
         str(tmp_path / "dh.csv"),
@@ -256,7 +250,7 @@ def test_simulate_bad_input(tmp_path: Path, extra: list[str], pattern: str) -> N
     }
     args = [str(tmp_path / names[a]) if a in names else a for a in extra]
     output = tmp_path / "run.h5"
-    code, _, err = _run("simulate", *args, "-o", str(output))
+    code, _, err = run_cli("simulate", *args, "-o", str(output))
     assert code == 2, err
     assert pattern in err and err.count("\n") == 1
     assert not output.exists()
@@ -264,7 +258,7 @@ def test_simulate_bad_input(tmp_path: Path, extra: list[str], pattern: str) -> N
 
 
 def test_simulate_unwritable_output(tmp_path: Path) -> None:
-    code, _, err = _run(
+    code, _, err = run_cli(
         "simulate",
         "--preset",
         "aaria-fig2",
@@ -274,7 +268,7 @@ def test_simulate_unwritable_output(tmp_path: Path) -> None:
         str(tmp_path / "nope" / "run.h5"),
     )
     assert code == 2 and "does not exist" in err
-    code, _, err = _run(
+    code, _, err = run_cli(
         "simulate", "--preset", "aaria-fig2", "--duration", "0.1", "-o", str(tmp_path / "run.txt")
     )
     assert code == 2 and ".txt" in err

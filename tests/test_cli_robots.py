@@ -6,19 +6,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
+from conftest import run_cli
 
-from aaria_pin.cli import main
 from aaria_pin.runfile import read_generic_run
 
 
-def _run(*args: str) -> tuple[int, str, str]:
-    result = CliRunner().invoke(main, list(args))
-    return result.exit_code, result.stdout, result.stderr
-
-
 def test_robots_lists_the_catalogue() -> None:
-    code, out, err = _run("robots", "--paths")
+    code, out, err = run_cli("robots", "--paths")
     assert code == 0
     lines = dict(line.split(maxsplit=1) for line in out.splitlines())
     assert lines["ur5"].endswith("ur5_robot.urdf") and "panda" in lines
@@ -27,7 +21,7 @@ def test_robots_lists_the_catalogue() -> None:
 
 @pytest.mark.slow
 def test_robots_check_tells_which_load_and_why_others_do_not() -> None:
-    code, out, _ = _run("robots", "--check")
+    code, out, _ = run_cli("robots", "--check")
     assert code == 0
     status = {line.split()[0]: line.split(maxsplit=1)[1] for line in out.splitlines()}
     assert status["ur5"] == "6 joints, 14 IMUs"
@@ -37,14 +31,14 @@ def test_robots_check_tells_which_load_and_why_others_do_not() -> None:
 
 def test_simulate_a_robot_then_remake_it_from_its_file(tmp_path: Path) -> None:
     first = tmp_path / "panda.h5"
-    code, out, _ = _run("simulate", "--robot", "panda", "--duration", "1", "-o", str(first))
+    code, out, _ = run_cli("simulate", "--robot", "panda", "--duration", "1", "-o", str(first))
     assert code == 0 and "panda, 9 joints, 20 IMUs, 101 samples" in out
     again = tmp_path / "again.h5"
-    assert _run("simulate", "--from", str(first), "-o", str(again))[0] == 0
+    assert run_cli("simulate", "--from", str(first), "-o", str(again))[0] == 0
     a, b = read_generic_run(first), read_generic_run(again)
     np.testing.assert_array_equal(a.signals, b.signals)
     np.testing.assert_array_equal(a.tau, b.tau)
-    code, out, _ = _run("info", str(first))
+    code, out, _ = run_cli("info", str(first))
     assert code == 0 and "joints: panda_joint1" in out
 
 
@@ -62,7 +56,7 @@ def test_simulate_a_urdf_file_with_layout_tables_and_fixed_base(tmp_path: Path) 
     layout = tmp_path / "imus.toml"
     layout.write_text('[[imu]]\nname = "imu_wrist"\nparent = "tool0"\nxyz = [0, 0, 0.02]\n')
     out = tmp_path / "run.h5"
-    code, _, stderr = _run(
+    code, _, stderr = run_cli(
         "simulate", "--urdf", str(urdf), "--joints", str(joints), "--imu-layout", str(layout),
         "--fixed-base", "--tool", "wrist_3_link", "--no-noise", "--duration", "1", "-o", str(out),
     )  # fmt: skip
@@ -97,7 +91,7 @@ def test_bad_urdf_one_line_exit_2_no_file(tmp_path: Path, urdf_text: str, patter
     urdf = tmp_path / "bad.urdf"
     urdf.write_text(urdf_text)
     out = tmp_path / "run.h5"
-    code, _, err = _run("simulate", "--urdf", str(urdf), "-o", str(out))
+    code, _, err = run_cli("simulate", "--urdf", str(urdf), "-o", str(out))
     assert code == 2 and pattern in err and err.count("\n") == 1
     assert not out.exists()
 
@@ -119,7 +113,7 @@ def test_simulate_robot_bad_options(tmp_path: Path, extra: list[str], pattern: s
         args += ["-o", str(tmp_path / "run.h5")]
     else:
         args[args.index("-o") + 1] = str(tmp_path / "run.mat")
-    code, _, err = _run(*args)
+    code, _, err = run_cli(*args)
     assert code == 2 and pattern in err, err
     assert not list(tmp_path.iterdir())
 
@@ -135,21 +129,21 @@ def test_simulate_robot_bad_options(tmp_path: Path, extra: list[str], pattern: s
 def test_options_that_would_do_nothing_are_refused(
     tmp_path: Path, extra: list[str], pattern: str
 ) -> None:
-    code, _, err = _run("simulate", *extra, "-o", str(tmp_path / "run.h5"))
+    code, _, err = run_cli("simulate", *extra, "-o", str(tmp_path / "run.h5"))
     assert code == 2 and pattern in err, err
     assert not (tmp_path / "run.h5").exists()
 
 
 def test_from_a_generic_run_refuses_another_tool(tmp_path: Path) -> None:
     first = tmp_path / "ur5.h5"
-    assert _run("simulate", "--robot", "ur5", "--duration", "0.5", "-o", str(first))[0] == 0
-    code, _, err = _run("simulate", "--from", str(first), "--tool", "wrist_2_link", "-o", "x.h5")
+    assert run_cli("simulate", "--robot", "ur5", "--duration", "0.5", "-o", str(first))[0] == 0
+    code, _, err = run_cli("simulate", "--from", str(first), "--tool", "wrist_2_link", "-o", "x.h5")
     assert code == 2 and "--tool with --from" in err
 
 
 def test_fixed_base_data_set_varies_the_joints_only(tmp_path: Path) -> None:
     out = tmp_path / "fixed.h5"
-    code, _, err = _run(
+    code, _, err = run_cli(
         "dataset", "--robot", "ur5", "--fixed-base", "-n", "2", "--duration", "0.5",
         "--workers", "1", "--quiet", "-o", str(out),
     )  # fmt: skip
@@ -160,7 +154,7 @@ def test_fixed_base_data_set_varies_the_joints_only(tmp_path: Path) -> None:
         assert reader.attributes["vary"] == ["joints"]
         np.testing.assert_array_equal(reader.run(0)["base_table"], 0.0)
         assert np.all(reader.run(0)["base_wrench"][:, 2] > 0)  # the mount holds the arm up
-    code, _, err = _run(
+    code, _, err = run_cli(
         "dataset", "--robot", "ur5", "--fixed-base", "--vary", "joints,base", "-n", "2",
         "-o", str(tmp_path / "x.h5"),
     )  # fmt: skip
@@ -178,7 +172,7 @@ def test_torques_beyond_the_effort_limit_are_reported(tmp_path: Path) -> None:
     </robot>"""
     )
     out = tmp_path / "weak.h5"
-    code, _, err = _run("simulate", "--urdf", str(urdf), "--duration", "1", "-o", str(out))
+    code, _, err = run_cli("simulate", "--urdf", str(urdf), "--duration", "1", "-o", str(out))
     assert code == 0
     peak, limit = read_generic_run(out).attributes["effort_exceeded"]["shoulder"]
     assert limit == 5 and peak > 10 * 9.81 * 0.5 * np.cos(1.0)  # the weight's lever at |q| <= 0.6
@@ -191,7 +185,7 @@ def test_dataset_of_a_urdf_with_missing_meshes_warns_once(tmp_path: Path) -> Non
     urdf = tmp_path / "ur5.urdf"
     text = find_robot("ur5").urdf.read_text()
     urdf.write_text(text.replace("package://example-robot-data/", "package://gone/"))
-    code, _, err = _run(
+    code, _, err = run_cli(
         "dataset", "--urdf", str(urdf), "-n", "2", "--duration", "0.5", "--workers", "1",
         "--quiet", "-o", str(tmp_path / "set.h5"),
     )  # fmt: skip

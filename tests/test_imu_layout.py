@@ -123,13 +123,24 @@ def test_unknown_parent_frame_is_refused(tmp_path: Path) -> None:
         load_urdf_robot(_ur5(), imu_layout=read_imu_layout(layout))
 
 
-def test_default_layout_is_a_function_of_the_model() -> None:
-    model = pin.buildModelFromXML(_ur5())
-    first = default_imu_layout(model, "world", "tool0")
-    second = default_imu_layout(model, "world", "tool0")
-    assert [m.name for m in first] == [m.name for m in second]
-    for a, b in zip(first, second, strict=True):
-        np.testing.assert_array_equal(a.T_parent_imu, b.T_parent_imu)
+def test_second_imu_sits_where_the_urdf_puts_the_centre_of_mass() -> None:
+    """UR5's upper arm: its <inertial> origin, read from the XML, is 0.28 m off its joint's axis,
+    so imu_upper_arm_link_b sits exactly there, axes along the link."""
+    import xml.etree.ElementTree as ET
+
+    text = _ur5()
+    link = ET.fromstring(text).find("link[@name='upper_arm_link']")
+    assert link is not None
+    origin = link.find("inertial/origin")
+    assert origin is not None
+    com = np.array([float(v) for v in origin.get("xyz", "").split()])
+    model = pin.buildModelFromXML(text)
+    mounts = {m.name: m for m in default_imu_layout(model, "world", "tool0")}
+    b = mounts["imu_upper_arm_link_b"]
+    assert b.parent == "upper_arm_link"
+    np.testing.assert_allclose(b.T_parent_imu[:3, 3], com, atol=1e-12)
+    np.testing.assert_array_equal(b.T_parent_imu[:3, :3], np.eye(3))
+    np.testing.assert_array_equal(mounts["imu_upper_arm_link_a"].T_parent_imu, np.eye(4))
 
 
 def test_a_layout_entry_that_is_not_a_table_is_refused(tmp_path: Path) -> None:

@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import GRAVITY, paper_base_state, vee
 
 from aaria_pin.generic_record import GenericRunRecord
-from aaria_pin.oscillation import base_motion
 from aaria_pin.robots import find_robot
 from aaria_pin.runfile import read_generic_run, write_generic_run
 from aaria_pin.trajectory import sample_times
@@ -35,15 +35,14 @@ def _robot_file(name: str) -> Path:
 
 
 def _free_flyer_state(base_table: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, ...]:
-    """Base pose, body velocity and body acceleration written out here from the base sines."""
-    base = base_motion(base_table, t)
-    q = np.hstack([base.position, [pin.Quaternion(R).coeffs() for R in base.rotation]])
-    Rt = np.transpose(base.rotation, (0, 2, 1))
-    v_lin = np.einsum("tij,tj->ti", Rt, base.velocity)
-    v = np.hstack([v_lin, base.omega])
-    a_lin = np.einsum("tij,tj->ti", Rt, base.acceleration) - np.cross(base.omega, v_lin)
-    a = np.hstack([a_lin, base.omega_dot])
-    return q, v, a
+    """Base pose, body velocity and body acceleration from the paper's sines (conftest), as
+    Pinocchio's free-flyer wants them: ``[p, quat]``, ``[Rᵀṗ, ω]``, ``[Rᵀp̈ - ω × Rᵀṗ, ω̇]``."""
+    position, velocity, acceleration, rotation, omega, omega_dot = paper_base_state(base_table, t)
+    q = np.hstack([position, [pin.Quaternion(R).coeffs() for R in rotation]])
+    Rt = np.transpose(rotation, (0, 2, 1))
+    v_lin = np.einsum("tij,tj->ti", Rt, velocity)
+    a_lin = np.einsum("tij,tj->ti", Rt, acceleration) - np.cross(omega, v_lin)
+    return q, np.hstack([v_lin, omega]), np.hstack([a_lin, omega_dot])
 
 
 @pytest.mark.parametrize("name", ["ur5", "panda"])
@@ -53,7 +52,7 @@ def test_torques_equal_pinocchio_rnea_on_a_moving_base(name: str) -> None:
         read_urdf_file(file), base_table=BASE_TABLE, duration=2.0, rate=50.0, noise=False
     )
     model = pin.buildModelFromUrdf(str(file), pin.JointModelFreeFlyer())
-    model.gravity.linear = np.array([0.0, 0.0, -9.81])
+    model.gravity.linear = GRAVITY.copy()
     data = model.createData()
     q_base, v_base, a_base = _free_flyer_state(BASE_TABLE, record.time)
     assert [model.names[j] for j in range(2, model.njoints)] == list(record.joint_names)
@@ -93,12 +92,8 @@ def test_base_force_is_the_rate_of_momentum_less_gravity(name: str) -> None:
         accel = (com[2] - 2 * com[1] + com[0]) / h**2
         mass = sum(inertia.mass for inertia in model.inertias)
         k = round(time * 10)
-        expected = mass * (accel - np.array([0, 0, -9.81]))
+        expected = mass * (accel - GRAVITY)
         np.testing.assert_allclose(record.base_wrench[k, :3], expected, rtol=1e-5, atol=1e-4)
-
-
-def _vee(S: np.ndarray) -> np.ndarray:
-    return 0.5 * np.array([S[2, 1] - S[1, 2], S[0, 2] - S[2, 0], S[1, 0] - S[0, 1]])
 
 
 def _check_imus_by_finite_differences(
@@ -123,9 +118,9 @@ def _check_imus_by_finite_differences(
         for s in range(len(record.imu_mounts)):
             before, now, after = (poses[i][s] for i in range(3))
             R = now[:3, :3]
-            omega = _vee(R.T @ (after[:3, :3] - before[:3, :3]) / (2 * h))
+            omega = vee(R.T @ (after[:3, :3] - before[:3, :3]) / (2 * h))
             accel = (after[:3, 3] - 2 * now[:3, 3] + before[:3, 3]) / h**2
-            specific_force = R.T @ (accel - np.array([0, 0, -9.81]))
+            specific_force = R.T @ (accel - GRAVITY)
             np.testing.assert_allclose(record.imu[k, s, :3], omega, atol=1e-6)
             np.testing.assert_allclose(record.imu[k, s, 3:], specific_force, atol=1e-5)
 
@@ -185,7 +180,7 @@ def test_continuous_and_skew_joints_on_a_moving_base() -> None:
         "JointModelPrismaticUnaligned",
     ]
     model = pin.buildModelFromXML(_TWISTED_URDF, pin.JointModelFreeFlyer())
-    model.gravity.linear = np.array([0.0, 0.0, -9.81])
+    model.gravity.linear = GRAVITY.copy()
     data = model.createData()
     loaded = load_urdf_robot(_TWISTED_URDF)
     q_base, v_base, a_base = _free_flyer_state(BASE_TABLE, record.time)
