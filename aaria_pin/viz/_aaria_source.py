@@ -12,25 +12,18 @@ import numpy as np
 
 from aaria_pin.dh_robot import build_dh_robot
 from aaria_pin.errors import InputFileError
-from aaria_pin.viz._run_view import (
-    RunView,
-    Signals,
-    dh_view,
-    hdf5_attributes,
-    joint_labels,
-    mat_names,
-)
+from aaria_pin.viz._run_view import RunFile, RunView, Signals, dh_view, joint_labels, run_file
 
 __all__ = ["is_aaria_run", "load_aaria_run"]
 
 
-def is_aaria_run(file: Path) -> bool:
+def is_aaria_run(file: Path | RunFile) -> bool:
     """Whether ``file`` is an Aaria run file (not a generic one, which has a layout)."""
-    if file.suffix.lower() == ".mat":
-        names = mat_names(file)
+    header = run_file(file)
+    if header.suffix == ".mat":
+        names = header.names
         return "senSen" in names and "attr_format" in names and "attr_layout" not in names
-    _, attributes = hdf5_attributes(file)
-    return attributes.get("format") == "aaria_pin run" and "layout" not in attributes
+    return header.attributes.get("format") == "aaria_pin run" and "layout" not in header.attributes
 
 
 def load_aaria_run(file: Path) -> RunView:

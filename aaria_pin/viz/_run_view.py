@@ -6,7 +6,8 @@ public names are re-exported by :mod:`~aaria_pin.viz.sources`.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import os
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -19,12 +20,14 @@ from aaria_pin.trajectory import BaseMotion, JointTrajectory
 from aaria_pin.viz.scene import Scene, scene_from_dh_robot
 
 __all__ = [
+    "RunFile",
     "RunView",
     "Signals",
     "dh_view",
     "hdf5_attributes",
     "joint_labels",
     "mat_names",
+    "run_file",
     "scene_poses",
     "still",
 ]
@@ -175,6 +178,53 @@ def joint_labels(
         for s, k, m in zip(symbols, kinds, modules, strict=True)
     )
     return q_labels, tau_labels
+
+
+@dataclass(frozen=True)
+class RunFile:
+    """A file's top-level names and attributes, read once for every run kind's probe.
+
+    It is path-like (``os.fspath`` gives the file), so a probe written for a path takes it too.
+
+    Attributes:
+        path: the file
+        names: HDF5 top-level datasets and groups, or MATLAB variable names (empty: neither)
+        attributes: HDF5 root attributes as stored (empty for any other file)
+    """
+
+    path: Path
+    names: frozenset[str]
+    attributes: Mapping[str, object]
+
+    def __fspath__(self) -> str:
+        return os.fspath(self.path)
+
+    @property
+    def suffix(self) -> str:
+        """The file's suffix, lower case (``".h5"``)."""
+        return self.path.suffix.lower()
+
+    def text(self, name: str) -> str | None:
+        """A string attribute (decoded from bytes), or None if absent or not a string."""
+        value = self.attributes.get(name)
+        if isinstance(value, bytes):
+            return value.decode("utf-8", errors="replace")
+        return value if isinstance(value, str) else None
+
+
+def run_file(file: str | os.PathLike[str]) -> RunFile:
+    """The names and attributes of a file (one open; a :class:`RunFile` is passed through).
+
+    A ``.mat`` file gives its variable names, any other file its HDF5 names and root
+    attributes; a file that is neither gives none (never raises).
+    """
+    if isinstance(file, RunFile):
+        return file
+    path = Path(file)
+    if path.suffix.lower() == ".mat":
+        return RunFile(path, frozenset(mat_names(path)), {})
+    names, attributes = hdf5_attributes(path)
+    return RunFile(path, frozenset(names), attributes)
 
 
 def hdf5_attributes(file: Path) -> tuple[set[str], dict[str, object]]:

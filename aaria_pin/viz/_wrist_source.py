@@ -11,26 +11,15 @@ import numpy as np
 
 from aaria_pin.errors import InputFileError
 from aaria_pin.trajectory import BaseMotion
-from aaria_pin.viz._run_view import (
-    RunView,
-    Signals,
-    dh_view,
-    hdf5_attributes,
-    joint_labels,
-    mat_names,
-)
+from aaria_pin.viz._run_view import RunFile, RunView, Signals, dh_view, joint_labels, run_file
 
 __all__ = ["is_wrist_run", "load_wrist_run"]
 
 
-def is_wrist_run(file: Path) -> bool:
+def is_wrist_run(file: Path | RunFile) -> bool:
     """Whether ``file`` holds ``time``, ``q``, ``tau`` and ``targets_rad`` (a wrist run)."""
-    if file.suffix.lower() == ".mat":
-        names = mat_names(file)
-    else:
-        keys, attributes = hdf5_attributes(file)
-        names = keys | set(attributes)
-    return {"time", "q", "tau", "targets_rad"} <= names
+    header = run_file(file)
+    return {"time", "q", "tau", "targets_rad"} <= header.names | set(header.attributes)
 
 
 def load_wrist_run(file: Path) -> RunView:

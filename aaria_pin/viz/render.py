@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -17,7 +18,7 @@ from aaria_pin.errors import ParameterError
 from aaria_pin.viz._figure import png_figure
 from aaria_pin.viz.scene import COLOURS, PosedGeometry
 
-__all__ = ["MAX_PIXELS", "face_colours", "render_geometry"]
+__all__ = ["MAX_PIXELS", "draw_geometry", "face_colours", "render_geometry"]
 
 MAX_PIXELS = 4000
 """Largest width or height of a picture [px]."""
@@ -46,6 +47,43 @@ def face_colours(geometry: PosedGeometry, light: Array = _LIGHT) -> Array:
     lit = np.abs(unit @ (light / np.linalg.norm(light)))
     base = np.array([COLOURS.get(role, COLOURS["other"]) for role in geometry.face_roles])
     return np.asarray(base * (0.55 + 0.45 * lit)[:, None])
+
+
+def draw_geometry(
+    axes: Any, geometry: PosedGeometry, bounds: tuple[Array, Array] | None = None
+) -> None:
+    """Draw a posed scene into 3D axes: shaded faces, frame lines over them, equal aspect.
+
+    Args:
+        axes: matplotlib 3D axes (made with ``computed_zorder=False``, so lines stay on top)
+        geometry: the posed scene
+        bounds: lowest and highest corner [m] the axes must show (default: the scene's), in a
+            cube about their centre
+    """
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
+
+    if geometry.faces.shape[0]:
+        solids = Poly3DCollection(
+            list(geometry.faces),
+            facecolors=face_colours(geometry),
+            edgecolors=(0.1, 0.1, 0.1, 0.35),
+            linewidths=0.3,
+        )
+        solids.set_zorder(1)
+        axes.add_collection3d(solids)
+    if geometry.segments.shape[0]:
+        colours = [COLOURS.get(role, COLOURS["other"]) for role in geometry.segment_roles]
+        frames = Line3DCollection(
+            list(geometry.segments), colors=colours, linewidths=geometry.segment_widths
+        )
+        frames.set_zorder(2)
+        axes.add_collection3d(frames)
+    low, high = geometry.bounds() if bounds is None else (np.asarray(b) for b in bounds)
+    centre, half = (low + high) / 2.0, max(float(np.max(high - low)) / 2.0, 0.05) * 1.05
+    axes.set_xlim(centre[0] - half, centre[0] + half)
+    axes.set_ylim(centre[1] - half, centre[1] + half)
+    axes.set_zlim(centre[2] - half, centre[2] + half)
+    axes.set_box_aspect((1.0, 1.0, 1.0))
 
 
 def render_geometry(
@@ -79,31 +117,8 @@ def render_geometry(
         if not 100 <= value <= MAX_PIXELS:
             raise ParameterError(f"{name} {value} px; allowed: 100 to {MAX_PIXELS} px")
     with png_figure(path, width, height) as figure:
-        from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
-
         axes = figure.add_subplot(projection="3d", computed_zorder=False)
-        if geometry.faces.shape[0]:
-            solids = Poly3DCollection(
-                list(geometry.faces),
-                facecolors=face_colours(geometry),
-                edgecolors=(0.1, 0.1, 0.1, 0.35),
-                linewidths=0.3,
-            )
-            solids.set_zorder(1)
-            axes.add_collection3d(solids)
-        if geometry.segments.shape[0]:
-            colours = [COLOURS.get(role, COLOURS["other"]) for role in geometry.segment_roles]
-            frames = Line3DCollection(
-                list(geometry.segments), colors=colours, linewidths=geometry.segment_widths
-            )
-            frames.set_zorder(2)
-            axes.add_collection3d(frames)
-        low, high = geometry.bounds()
-        centre, half = (low + high) / 2.0, max(float(np.max(high - low)) / 2.0, 0.05) * 1.05
-        axes.set_xlim(centre[0] - half, centre[0] + half)
-        axes.set_ylim(centre[1] - half, centre[1] + half)
-        axes.set_zlim(centre[2] - half, centre[2] + half)
-        axes.set_box_aspect((1.0, 1.0, 1.0))
+        draw_geometry(axes, geometry)
         axes.set_xlabel("x [m]")
         axes.set_ylabel("y [m]")
         axes.set_zlabel("z [m]")

@@ -32,7 +32,6 @@ from aaria_pin._se3 import Array
 from aaria_pin.dh_robot import DHRobot, link_name
 from aaria_pin.model import RobotModel
 from aaria_pin.urdf import RobotDescription
-from aaria_pin.viz._joints import joint_type_kind
 
 __all__ = [
     "COLOURS",
@@ -45,6 +44,7 @@ __all__ = [
     "Solid",
     "box_solid",
     "cylinder_solid",
+    "one_axis_joint",
     "posed_geometry",
     "scene_from_description",
     "scene_from_dh_robot",
@@ -284,13 +284,20 @@ def scene_from_dh_robot(robot: DHRobot, name: str | None = None) -> Scene:
     return Scene(base.name, tuple(frames), base.solids, tuple(lines))
 
 
-def _joint_axis(joint: pin.JointModel) -> tuple[str, Array] | None:
-    """Kind and unit axis of a one-axis revolute or prismatic joint (bounded or not), else None."""
+def one_axis_joint(joint: pin.JointModel) -> tuple[str, Array] | None:
+    """Kind and unit axis of a one-axis revolute or prismatic joint (bounded or not), else None.
+
+    The kind is :func:`aaria_pin.kinematics.joint_kind`'s (exact Pinocchio type names: a
+    planar joint is not prismatic); a free-flyer or any other joint gives None.
+    """
+    from aaria_pin.errors import ModelError
     from aaria_pin.kinematics import joint_kind
 
-    if joint_type_kind(joint.shortname()) is None:
+    try:
+        kind, axis = joint_kind(joint)
+    except ModelError:
         return None
-    return joint_kind(joint)
+    return (kind, axis) if kind in ("revolute", "prismatic") else None
 
 
 def scene_from_model(robot: RobotModel, size: float = 0.05) -> Scene:
@@ -316,7 +323,7 @@ def scene_from_model(robot: RobotModel, size: float = 0.05) -> Scene:
     joint_frame = {j: str(model.names[j]) for j in range(first, model.njoints)}
     for j, frame in joint_frame.items():
         frames.append(frame)
-        kind_axis = _joint_axis(model.joints[j])
+        kind_axis = one_axis_joint(model.joints[j])
         if kind_axis is not None:
             kind, axis = kind_axis
             T = np.eye(4)

@@ -42,12 +42,13 @@ from aaria_pin.errors import InputFileError, ModelError, ParameterError
 from aaria_pin.trajectory import BaseMotion
 from aaria_pin.viz._aaria_source import is_aaria_run, load_aaria_run
 from aaria_pin.viz._generic_source import is_generic_run, load_generic_run
-from aaria_pin.viz._run_view import RunView, Signals, scene_poses, still
+from aaria_pin.viz._run_view import RunFile, RunView, Signals, run_file, scene_poses, still
 from aaria_pin.viz._wrist_source import is_wrist_run, load_wrist_run
 from aaria_pin.viz.scene import Scene, scene_from_dh_robot
 
 __all__ = [
     "PresetBuilder",
+    "RunFile",
     "RunView",
     "Signals",
     "load_run_view",
@@ -59,8 +60,11 @@ __all__ = [
     "table_view",
 ]
 
-Probe = Callable[[Path], bool]
+Probe = Callable[[RunFile], bool]
+"""Whether a file is of a kind, from its names and attributes (a :class:`RunFile`, read once
+for every probe; it is path-like, so a probe of a path takes it too)."""
 Loader = Callable[[Path], RunView]
+"""Reads a file the kind's probe recognised (it need not check the kind again)."""
 PresetBuilder = Callable[[], tuple[Scene, Array]]
 """A plug-in preset: the model's scene and the (F, 4, 4) world pose of its frames at rest."""
 
@@ -139,8 +143,9 @@ def register_run_kind(kind: str, probe: Probe, loader: Loader, *, fallback: bool
 
     Args:
         kind: its name
-        probe: True for a file of this kind (it must not raise on other files)
-        loader: reads such a file into a :class:`RunView`
+        probe: True for a file of this kind, given its :class:`RunFile` (it must not raise on
+            other files)
+        loader: reads such a file into a :class:`RunView` (given its path)
         fallback: try it only after every other kind (as the generic URDF kind is)
     """
     _KINDS.pop(kind, None)
@@ -164,8 +169,9 @@ def run_kind(path: str | os.PathLike[str]) -> str:
     if not file.is_file():
         raise InputFileError(f"{file}: no such file")
     kinds = _kinds()
+    header = run_file(file)  # one open for every probe
     for kind, (probe, _) in kinds.items():
-        if probe(file):
+        if probe(header):
             return kind
     raise InputFileError(
         f"{file}: not a run file the viewers know; allowed: {', '.join(kinds)} run files"
