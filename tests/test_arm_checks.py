@@ -9,15 +9,34 @@ from click.testing import CliRunner
 
 from aaria_pin.arm.dims import ArmDimensions, grasp_offset, height_limits
 from aaria_pin.arm.parts import mesh_inertia
-from aaria_pin.arm.payload import payload_inertia, still_base_state, task_torques
+from aaria_pin.arm.payload import payload_inertia, task_torques
 from aaria_pin.arm.preset import arm_parts, build_arm_model
-from aaria_pin.arm.run import link_poses, simulate_pick_place, write_pick_place_run
+from aaria_pin.arm.run import simulate_pick_place, write_pick_place_run
 from aaria_pin.arm.task import Cylinder, plan_pick_place
 from aaria_pin.cli import main
 from aaria_pin.errors import ParameterError
 
 DIMS = ArmDimensions()
 G = 9.81
+
+
+def link_poses(robot, q: np.ndarray, frames: list[str]) -> np.ndarray:
+    """World poses (T, F, 4, 4) of frames at joint values (T, 7), one Pinocchio call each."""
+    model, data = robot.model, robot.model.createData()
+    out = np.empty((len(q), len(frames), 4, 4))
+    for k, qk in enumerate(q):
+        pin.framesForwardKinematics(model, data, qk)
+        for j, name in enumerate(frames):
+            out[k, j] = data.oMf[model.getFrameId(name, pin.FrameType.BODY)].homogeneous
+    return out
+
+
+def still(q: np.ndarray):
+    """A trajectory that rests at joint values (T, 7)."""
+    from aaria_pin.trajectory import JointTrajectory
+
+    zero = np.zeros_like(q)
+    return JointTrajectory(np.zeros(len(q)), q, zero, zero.copy())
 
 
 def _palm_and_fingertips(dims: ArmDimensions) -> tuple[float, float]:
@@ -134,16 +153,18 @@ def test_mount_wrench_is_the_weight_of_arm_and_payload() -> None:
     cylinder = Cylinder(0.0, 0.0, radius=0.04, height=0.1, mass=1.5)
     q = np.array([0.5, 0.7, -1.1, 0.4, 0.9, -0.3, 0.08])  # hand tilted
     rooted = build_arm_model(DIMS, (cylinder.radius, cylinder.height), free_flyer=True)
-    zero = np.zeros((1, 7))
-    state = still_base_state(rooted, q[None], zero, zero)
     payload = payload_inertia(DIMS, cylinder)
-    loaded, free = task_torques(rooted, payload, *state, np.array([True]))
-    np.testing.assert_allclose(loaded[0, :6], _mount_wrench_by_hand(q, cylinder), atol=1e-9)
-    np.testing.assert_allclose(free[0, :6], _mount_wrench_by_hand(q, None), atol=1e-9)
+    torques = task_torques(rooted, payload, still(q[None]), np.array([True]))
+    np.testing.assert_allclose(
+        torques.base_wrench[0], _mount_wrench_by_hand(q, cylinder), atol=1e-9
+    )
+    np.testing.assert_allclose(
+        torques.base_wrench_free[0], _mount_wrench_by_hand(q, None), atol=1e-9
+    )
     # the joint torques are the fixed arm's
     fixed = build_arm_model(DIMS, (cylinder.radius, cylinder.height))
-    tau, _ = task_torques(fixed, payload, q[None], zero, zero, np.array([True]))
-    np.testing.assert_allclose(loaded[0, 6:], tau[0], atol=1e-9)
+    tau = task_torques(fixed, payload, still(q[None]), np.array([True])).tau
+    np.testing.assert_allclose(torques.tau[0], tau[0], atol=1e-9)
 
 
 def test_run_stores_the_mount_wrench(tmp_path) -> None:

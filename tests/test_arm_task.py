@@ -23,12 +23,16 @@ def run():
 
 
 def test_static_payload_share_is_the_hand_computation() -> None:
-    model = build_arm_model(DIMS)
+    from aaria_pin.trajectory import JointTrajectory
+
+    robot = build_arm_model(DIMS)
+    model = robot.model
     cylinder = Cylinder(0.0, 0.0, radius=0.04, height=0.14, mass=0.8)
     payload = payload_inertia(DIMS, cylinder)
     q = np.array([0.5, 0.7, -1.1, 0.4, 0.9, -0.3, 0.08])  # hand tilted: the moment matters
     zero = np.zeros(7)
-    tau, tau_free = task_torques(model, payload, q[None], zero[None], zero[None], np.array([True]))
+    still = JointTrajectory(np.zeros(1), q[None], zero[None], zero[None])
+    tau, tau_free, _, _ = task_torques(robot, payload, still, np.array([True]))
     # by hand: the weight m·g at the payload's centre, as a wrench about the hand frame's origin
     data = model.createData()
     hand = model.getFrameId("hand", pin.FrameType.BODY)
@@ -68,7 +72,7 @@ def test_payload_changes_torques_only_while_held(run) -> None:
 
 
 def test_with_payload_adds_mass_to_the_hand() -> None:
-    model = build_arm_model(DIMS)
+    model = build_arm_model(DIMS).model
     payload = payload_inertia(DIMS, Cylinder(0.0, 0.0, mass=2.0))
     loaded = with_payload(model, payload)
     j = model.getJointId("hand_roll")

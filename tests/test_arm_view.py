@@ -115,7 +115,7 @@ def test_preset_scene_is_the_arm_at_home() -> None:
     assert poses.shape == (len(scene.frames), 4, 4) and scene.frames[0] == "world"
     assert CYLINDER_FRAME not in scene.frames
     dims = ArmDimensions()
-    model = build_arm_model(dims)
+    model = build_arm_model(dims).model
     data = model.createData()
     pin.framesForwardKinematics(model, data, home_pose(dims))
     for k, name in enumerate(scene.frames[1:], start=1):

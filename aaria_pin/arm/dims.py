@@ -24,7 +24,6 @@ from aaria_pin._se3 import Array, translation
 from aaria_pin.errors import ParameterError
 
 __all__ = [
-    "ARM_JOINTS",
     "ARM_PRESETS",
     "FLOOR_CLEARANCE",
     "PALM_FACE",
@@ -34,9 +33,6 @@ __all__ = [
     "grasp_offset",
     "height_limits",
 ]
-
-ARM_JOINTS = ("lift", "shoulder", "elbow", "hand_yaw", "hand_pitch", "hand_roll", "finger")
-"""The actuated joints, in model order."""
 
 PALM_FACE = 0.04
 """Depth of the palm's gripping face below the wrist centre, where the fingers start [m]."""

@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin._se3 import Array
+from aaria_pin.arm.ik import wrap
 from aaria_pin.errors import ParameterError
 from aaria_pin.rotations import angles_from_matrix, as_rotation, elementary, matrix_from_angles
 
@@ -33,7 +34,6 @@ __all__ = [
     "HandAngles",
     "downward_grasp",
     "hand_angles",
-    "hand_mount",
     "hand_rotation",
 ]
 
@@ -53,17 +53,12 @@ class HandAngles(NamedTuple):
     locked: bool
 
 
-def hand_mount(heading: float) -> Array:
-    """The hand's frame in the world with its joints at zero, ``Rz(heading)·Rx(π)`` (3 × 3).
-
-    Args:
-        heading: the forearm's heading α + β [rad]
-    """
-    return np.asarray(elementary(2, heading) @ elementary(0, np.pi))
-
-
 def downward_grasp(yaw: float) -> Array:
-    """A hand pointing straight down whose x axis (the finger's travel) is at ``yaw`` [rad]."""
+    """A hand pointing straight down whose x axis (the finger's travel) is at ``yaw`` [rad].
+
+    ``Rz(yaw)·Rx(π)`` (3 × 3); at the forearm's heading α + β it is also the hand's frame in
+    the world with its joints at zero.
+    """
     return np.asarray(elementary(2, yaw) @ elementary(0, np.pi))
 
 
@@ -74,11 +69,7 @@ def hand_rotation(angles: ArrayLike, heading: float) -> Array:
         angles: (φ, θ, ψ) [rad]
         heading: the forearm's heading α + β [rad]
     """
-    return hand_mount(heading) @ matrix_from_angles(angles, HAND_SEQUENCE)
-
-
-def _near(angle: float, reference: float) -> float:
-    return float(reference + (angle - reference + np.pi) % (2.0 * np.pi) - np.pi)
+    return downward_grasp(heading) @ matrix_from_angles(angles, HAND_SEQUENCE)
 
 
 def hand_angles(
@@ -102,7 +93,7 @@ def hand_angles(
     R, _ = as_rotation(rotation)
     if R.shape != (3, 3):
         raise ParameterError(f"hand rotation has shape {R.shape}; allowed: (3, 3)")
-    relative = hand_mount(heading).T @ R
+    relative = downward_grasp(heading).T @ R
     extracted = angles_from_matrix(relative, HAND_SEQUENCE)
     phi, theta, psi = (float(v) for v in extracted.angles)
     locked = bool(extracted.locked)
@@ -115,5 +106,6 @@ def hand_angles(
             total = phi + psi if theta < np.pi / 2 else phi - psi
             psi = float(prev[2])
             phi = total - psi if theta < np.pi / 2 else total + psi
-        phi, psi = _near(phi, float(prev[0])), _near(psi, float(prev[2]))
+        phi = float(prev[0] + wrap(phi - prev[0]))
+        psi = float(prev[2] + wrap(psi - prev[2]))
     return HandAngles(np.array([phi, theta, psi]), locked)

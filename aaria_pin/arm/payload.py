@@ -4,20 +4,22 @@ While the cylinder is held, its mass properties are added to the hand's body (th
 ``hand_roll`` joint's) in Pinocchio: ``model.inertias[hand] += pin.Inertia(m, c, I_c)``, with
 ``c`` its centre of mass in the hand frame (the grasp point: it is held at half height, on the
 grasp axis) and ``I_c`` the solid cylinder's inertia about its centre (axis along the hand's
-approach axis z, so the tensor is the same in hand axes). Torques come from RNEA
-(:func:`aaria_pin.dynamics.batched_rnea`) over whole intervals: the whole path on the bare
+approach axis z, so the tensor is the same in hand axes). Torques come from
+:func:`aaria_pin.dynamics.inverse_dynamics` over whole intervals: the whole path on the bare
 model, the held interval again on the loaded one.
 
-**Mount wrench.** Built on a free-flyer root held still at the world origin (configuration
-``[0 0 0, 0 0 0 1, q]``, zero base velocity and acceleration), the same RNEA gives the joint
-torques of the fixed arm and, in its first six entries, the wrench that the pillar's mount
-applies to the arm (:func:`still_base_state`): ``[fx fy fz mx my mz]`` in world axes (the
-base is not turned) about the pillar's origin on the floor [N, N·m].
+**Mount wrench.** On a moving-base model (a free-flyer root, :func:`aaria_pin.model.build_model`
+with ``moving_base=True``) whose base rests at the world origin
+(:meth:`aaria_pin.trajectory.BaseMotion.resting`), the same inverse dynamics gives the joint
+torques of the fixed arm and the wrench that the pillar's mount applies to the arm:
+``[fx fy fz mx my mz]`` in world axes (the base is not turned) about the pillar's origin on the
+floor [N, N·m]. On a fixed-base model the wrench is zero.
 """
 
 from __future__ import annotations
 
-from typing import Any
+from dataclasses import replace
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -25,13 +27,32 @@ from numpy.typing import ArrayLike
 from aaria_pin._se3 import Array
 from aaria_pin.arm.dims import ArmDimensions, grasp_offset
 from aaria_pin.arm.task import Cylinder
-from aaria_pin.dynamics import batched_rnea
 from aaria_pin.errors import ParameterError
+from aaria_pin.model import RobotModel
+from aaria_pin.trajectory import JointTrajectory
 
-__all__ = ["HAND_JOINT", "payload_inertia", "still_base_state", "task_torques", "with_payload"]
+__all__ = ["HAND_JOINT", "TaskTorques", "payload_inertia", "task_torques", "with_payload"]
 
 HAND_JOINT = "hand_roll"
 """The joint whose body carries the gripped cylinder."""
+
+_FIELDS = ("time", "q", "qd", "qdd")  # of a JointTrajectory
+
+
+class TaskTorques(NamedTuple):
+    """Joint torques and mount wrenches along a path (T rows each).
+
+    Attributes:
+        tau: joint torques with the payload where held (T, n) [N·m or N]
+        tau_free: the same without the payload anywhere (T, n)
+        base_wrench: the mount's wrench with the payload where held (T, 6) [N, N·m]
+        base_wrench_free: the same without the payload (T, 6)
+    """
+
+    tau: Array
+    tau_free: Array
+    base_wrench: Array
+    base_wrench_free: Array
 
 
 def payload_inertia(dims: ArmDimensions, cylinder: Cylinder) -> Any:
@@ -58,61 +79,43 @@ def with_payload(model: Any, payload: Any, joint: str = HAND_JOINT) -> Any:
 
 
 def task_torques(
-    model: Any, payload: Any, q: Array, qd: Array, qdd: Array, held: ArrayLike, threads: int = 1
-) -> tuple[Array, Array]:
-    """Joint torques along a path, with the payload on the hand where ``held``.
+    robot: RobotModel,
+    payload: Any,
+    trajectory: JointTrajectory,
+    held: ArrayLike,
+    threads: int = 1,
+) -> TaskTorques:
+    """Joint torques and the mount's wrench along a path, with the payload on the hand where held.
 
     Args:
-        model: the bare arm's Pinocchio model
+        robot: the bare arm, its base resting at the world origin (on a moving base the mount's
+            wrench is computed, else it is zero)
         payload: the held object's ``pinocchio.Inertia`` in the hand joint's frame
-        q: joint values (T, nq)
-        qd: joint velocities (T, nv)
-        qdd: joint accelerations (T, nv)
+        trajectory: the joint path (T samples)
         held: (T,) True where the object is in the hand
         threads: RNEA worker threads
 
     Returns:
-        ``tau`` with the payload where held, and ``tau_free`` without it anywhere (T, nv)
-        [N·m or N].
-    """
-    held = np.asarray(held, dtype=bool)
-    if held.shape != (np.shape(q)[0],):
-        raise ParameterError(f"held mask of shape {held.shape}; allowed: ({np.shape(q)[0]},)")
-    tau_free = batched_rnea(model, q, qd, qdd, threads)
-    tau = tau_free.copy()
-    if np.any(held):
-        loaded = with_payload(model, payload)
-        tau[held] = batched_rnea(loaded, q[held], qd[held], qdd[held], threads)
-    return tau, tau_free
-
-
-def still_base_state(model: Any, q: Array, qd: Array, qdd: Array) -> tuple[Array, Array, Array]:
-    """The state of a free-flyer model whose root is held still at the world origin.
-
-    Args:
-        model: the arm's Pinocchio model on a free-flyer root (nq = 7 + n, nv = 6 + n)
-        q: joint values (T, n)
-        qd: joint velocities (T, n)
-        qdd: joint accelerations (T, n)
-
-    Returns:
-        Configurations (T, 7 + n), velocities and accelerations (T, 6 + n).
+        The torques and wrenches.
 
     Raises:
-        ParameterError: a model that is not of that shape.
+        ParameterError: a held mask that is not one flag per sample.
     """
-    q = np.asarray(q, dtype=float)
-    n = q.shape[1]
-    if model.nq != 7 + n or model.nv != 6 + n:
-        raise ParameterError(
-            f"model of nq = {model.nq}, nv = {model.nv}; allowed: a free-flyer root and"
-            f" {n} joints (nq = {7 + n}, nv = {6 + n})"
+    from aaria_pin.dynamics import inverse_dynamics
+    from aaria_pin.trajectory import BaseMotion
+
+    held = np.asarray(held, dtype=bool)
+    n = np.shape(trajectory.q)[0]
+    if held.shape != (n,):
+        raise ParameterError(f"held mask of shape {held.shape}; allowed: ({n},)")
+    tau_free, wrench_free = inverse_dynamics(robot, BaseMotion.resting(n), trajectory, threads)
+    tau, wrench = tau_free.copy(), wrench_free.copy()
+    if np.any(held):
+        loaded = replace(robot, model=with_payload(robot.model, payload))
+        part = JointTrajectory(
+            *(np.ascontiguousarray(getattr(trajectory, name)[held]) for name in _FIELDS)
         )
-    rest = np.zeros((q.shape[0], 7))
-    rest[:, 6] = 1.0  # identity quaternion (x, y, z, w)
-    still = np.zeros((q.shape[0], 6))
-    return (
-        np.hstack([rest, q]),
-        np.hstack([still, np.asarray(qd, dtype=float)]),
-        np.hstack([still, np.asarray(qdd, dtype=float)]),
-    )
+        tau[held], wrench[held] = inverse_dynamics(
+            loaded, BaseMotion.resting(int(held.sum())), part, threads
+        )
+    return TaskTorques(tau, tau_free, wrench, wrench_free)

@@ -1,9 +1,10 @@
 """Pictures of a pick-and-place run: a PNG contact sheet of its poses, a GIF animation.
 
-Each link's mesh (:func:`aaria_pin.arm.preset.arm_parts`) is drawn at its pose in the world
-(Pinocchio's frame placements), with the cylinder where it stands, travels with the hand, or
-was put down. matplotlib's Agg backend (:func:`aaria_pin._plotting.pyplot`) draws them; the
-animation is written by matplotlib's ``PillowWriter``.
+The arm's scene (:func:`aaria_pin.arm.view_source.arm_scene`: each link's mesh, the cylinder,
+the world and grasp frames) is posed at the run's samples (the run's model, the cylinder where
+it stands, travels with the hand, or was put down) and drawn by the viewers' renderer
+(:func:`aaria_pin.viz.render.draw_geometry`) with matplotlib's Agg backend
+(:func:`aaria_pin._plotting.pyplot`); the animation is written by matplotlib's ``PillowWriter``.
 """
 
 from __future__ import annotations
@@ -13,22 +14,29 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from aaria_pin._se3 import Array
-from aaria_pin.arm.parts import cylinder_mesh
-from aaria_pin.arm.preset import arm_parts, build_arm_model
-from aaria_pin.arm.run import PickPlaceRun, cylinder_track, link_poses
+from aaria_pin.arm.run import PickPlaceRun, cylinder_track
 from aaria_pin.arm.task import PHASES
 from aaria_pin.errors import ParameterError
 
-__all__ = ["cylinder_poses", "sheet_samples", "write_animation", "write_contact_sheet"]
+__all__ = [
+    "ANIMATION_FPS",
+    "cylinder_poses",
+    "sheet_samples",
+    "write_animation",
+    "write_contact_sheet",
+]
+
+ANIMATION_FPS = (1, 50)
+"""Lowest and highest animation frame rate [frames per second of run time]."""
 
 
 def cylinder_poses(run: PickPlaceRun) -> Array:
     """The cylinder's centre pose in the world at every sample (T, 4, 4) [m]."""
     c = run.cylinder
-    held = (float(run.path.boundaries[2, 1]), float(run.path.boundaries[6, 0]))
-    return cylinder_track(run.path.time, held, (c.x, c.y), run.place, c.height, run.tool_pose)
+    return cylinder_track(run.path.held, (c.x, c.y), run.place, c.height, run.tool_pose)
 
 
 def sheet_samples(run: PickPlaceRun) -> list[tuple[int, str]]:
@@ -41,39 +49,36 @@ def sheet_samples(run: PickPlaceRun) -> list[tuple[int, str]]:
 
 
 class _Drawer:
-    def __init__(self, run: PickPlaceRun) -> None:
-        self.run = run
-        self.parts = arm_parts(run.dims)
-        model = build_arm_model(run.dims)
-        self.names = list(self.parts)
-        self.poses = link_poses(model, run.path.q, self.names)
-        self.cylinder = cylinder_mesh(run.cylinder.radius, run.cylinder.height, sections=24)
-        self.cylinder_poses = cylinder_poses(run)
+    """The run's scene, posed at chosen samples, drawn into 3D axes."""
 
-    def draw(self, ax: Any, k: int, title: str) -> None:
-        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+    def __init__(self, run: PickPlaceRun, samples: ArrayLike) -> None:
+        from aaria_pin.arm.view_source import arm_scene
+
+        self.run = run
+        c = run.cylinder
+        self.scene = arm_scene(run.dims, (c.radius, c.height), run.parts)
+        self.samples = np.asarray(samples, dtype=int)
+        poses = np.empty((self.samples.size, len(self.scene.frames), 4, 4))
+        poses[:, 0] = np.eye(4)
+        poses[:, 1:-1] = run.link_poses(list(self.scene.frames[1:-1]), self.samples)
+        poses[:, -1] = cylinder_poses(run)[self.samples]
+        self.poses = poses
+        reach, top = run.dims.upper_arm + run.dims.forearm, run.dims.pillar_height + 0.05
+        self.bounds = (np.array([-reach, -reach, 0.0]), np.array([reach, reach, top]))
+
+    def draw(self, ax: Any, row: int, title: str) -> None:
+        from aaria_pin.viz.render import draw_geometry
+        from aaria_pin.viz.scene import posed_geometry
 
         ax.cla()
-        items = [
-            (part.mesh, self.poses[k, j], part.rgba) for j, part in enumerate(self.parts.values())
-        ]
-        items.append((self.cylinder, self.cylinder_poses[k], (0.85, 0.15, 0.15, 1.0)))
-        for mesh, T, rgba in items:
-            vertices = mesh.vertices @ T[:3, :3].T + T[:3, 3]
-            ax.add_collection3d(
-                Poly3DCollection(
-                    vertices[mesh.faces], facecolors=[rgba], linewidths=0.0, shade=True
-                )
-            )
+        draw_geometry(ax, posed_geometry(self.scene, self.poses[row]), self.bounds)
+        ax.set_box_aspect((1.0, 1.0, 1.0), zoom=1.6)  # no axes drawn: the arm fills the panel
         c = self.run.cylinder
         ax.scatter(*self.run.place, 0.0, marker="x", color="k")
         ax.scatter(c.x, c.y, 0.0, marker="o", color="k", s=8)
-        reach = self.run.dims.upper_arm + self.run.dims.forearm
-        top = self.run.dims.pillar_height + 0.05
-        ax.set(xlim=(-reach, reach), ylim=(-reach, reach), zlim=(0.0, top))
-        ax.set_box_aspect((2 * reach, 2 * reach, top), zoom=1.4)
         ax.view_init(elev=25, azim=-60)
         ax.set_axis_off()
+        k = self.samples[row]
         ax.set_title(f"{title}  t = {self.run.path.time[k]:.2f} s", fontsize=8)
 
 
@@ -83,13 +88,14 @@ def write_contact_sheet(path: str | os.PathLike[str], run: PickPlaceRun, dpi: in
     from aaria_pin.io import atomic_output
 
     plt = pyplot()
-    drawer = _Drawer(run)
+    marks = sheet_samples(run)
+    drawer = _Drawer(run, np.array([k for k, _ in marks]))
     fig = plt.figure(figsize=(12, 6.5))
     final = Path(path)
     try:
-        for panel, (k, label) in enumerate(sheet_samples(run)):
-            ax = fig.add_subplot(2, 4, panel + 1, projection="3d")
-            drawer.draw(ax, k, label)
+        for panel, (_, label) in enumerate(marks):
+            ax = fig.add_subplot(2, 4, panel + 1, projection="3d", computed_zorder=False)
+            drawer.draw(ax, panel, label)
         fig.tight_layout()
         with atomic_output(final) as temporary:
             fig.savefig(temporary, dpi=dpi, format="png")
@@ -104,25 +110,29 @@ def write_animation(
     """Write a GIF of the task, ``fps`` frames per second of run time.
 
     Raises:
-        ParameterError: fps outside 1–50.
+        ParameterError: fps outside :data:`ANIMATION_FPS`.
     """
     from aaria_pin._plotting import pyplot
     from aaria_pin.io import atomic_output
 
-    if not 1 <= fps <= 50:
-        raise ParameterError(f"animation fps {fps!r}; allowed: 1 to 50")
+    low, high = ANIMATION_FPS
+    if not low <= fps <= high:
+        raise ParameterError(f"animation fps {fps!r}; allowed: {low} to {high}")
     plt = pyplot()
     from matplotlib.animation import FuncAnimation, PillowWriter
 
-    drawer = _Drawer(run)
     time = run.path.time
     frames = np.unique(np.searchsorted(time, np.arange(0.0, time[-1], 1.0 / fps)))
+    drawer = _Drawer(run, frames)
     fig = plt.figure(figsize=(5, 5))
     final = Path(path)
     try:
-        ax = fig.add_subplot(projection="3d")
+        ax = fig.add_subplot(projection="3d", computed_zorder=False)
         animation = FuncAnimation(
-            fig, lambda k: drawer.draw(ax, int(k), "pick and place"), frames=frames, blit=False
+            fig,
+            lambda row: drawer.draw(ax, int(row), "pick and place"),
+            frames=range(frames.size),
+            blit=False,
         )
         with atomic_output(final) as temporary:
             animation.save(str(temporary), writer=PillowWriter(fps=fps), dpi=dpi)

@@ -33,14 +33,14 @@ The files are made at run time, not shipped: they follow the dimensions, and a m
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from aaria_pin._se3 import rot_x, translation
 from aaria_pin.arm.dims import (
-    ARM_JOINTS,
     ARM_PRESETS,
     PALM_FACE,
     ArmDimensions,
@@ -57,6 +57,9 @@ from aaria_pin.arm.parts import (
     ring_mesh,
     stadium_mesh,
 )
+
+if TYPE_CHECKING:
+    from aaria_pin.model import RobotModel
 
 __all__ = [
     "ARM_JOINTS",
@@ -235,8 +238,15 @@ def arm_joints(
     )
 
 
+ARM_JOINTS = tuple(j.name for j in arm_joints(ArmDimensions()) if j.kind != "fixed")
+"""The actuated joints, in model order."""
+
+
 def arm_urdf(
-    dims: ArmDimensions, mesh_folder: str = "meshes", grasp: tuple[float, float] = DEFAULT_GRASP
+    dims: ArmDimensions,
+    mesh_folder: str = "meshes",
+    grasp: tuple[float, float] = DEFAULT_GRASP,
+    parts: Mapping[str, MeshPart] | None = None,
 ) -> str:
     """URDF text of the arm; each link's mesh is ``<mesh_folder>/<link>.stl``.
 
@@ -244,8 +254,9 @@ def arm_urdf(
         dims: the arm
         mesh_folder: the meshes' folder, relative to the URDF
         grasp: radius and height of the gripped cylinder that places frame ``grasp`` [m]
+        parts: the arm's parts, :func:`arm_parts` of ``dims`` (made if not given)
     """
-    parts = arm_parts(dims)
+    parts = arm_parts(dims) if parts is None else parts
     links = [
         MeshLink(name, f"{mesh_folder}/{name}.stl", part.inertia(), part.rgba)
         for name, part in parts.items()
@@ -263,6 +274,7 @@ def write_arm_urdf(
     folder: str | os.PathLike[str],
     dims: ArmDimensions,
     grasp: tuple[float, float] = DEFAULT_GRASP,
+    parts: Mapping[str, MeshPart] | None = None,
 ) -> Path:
     """Write ``folder/pick_place_arm.urdf`` and ``folder/meshes/<link>.stl``.
 
@@ -270,6 +282,7 @@ def write_arm_urdf(
         folder: the output folder (made if missing)
         dims: the arm
         grasp: radius and height of the gripped cylinder that places frame ``grasp`` [m]
+        parts: the arm's parts, :func:`arm_parts` of ``dims`` (made if not given)
 
     Returns:
         The URDF's path.
@@ -282,27 +295,40 @@ def write_arm_urdf(
         (root / "meshes").mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise OutputFileError(f"{root}: cannot make the folder ({exc.strerror})") from None
-    for name, part in arm_parts(dims).items():
+    parts = arm_parts(dims) if parts is None else parts
+    for name, part in parts.items():
         export_stl(part.mesh, root / "meshes" / f"{name}.stl")
     urdf = root / "pick_place_arm.urdf"
-    write_text_atomic(urdf, arm_urdf(dims, grasp=grasp))
+    write_text_atomic(urdf, arm_urdf(dims, grasp=grasp, parts=parts))
     return urdf
 
 
 def build_arm_model(
-    dims: ArmDimensions, grasp: tuple[float, float] = DEFAULT_GRASP, *, free_flyer: bool = False
-) -> Any:
-    """The Pinocchio model of the arm (no mesh file needed).
+    dims: ArmDimensions,
+    grasp: tuple[float, float] = DEFAULT_GRASP,
+    *,
+    free_flyer: bool = False,
+    urdf: str | None = None,
+) -> RobotModel:
+    """The arm as a robot model (no mesh file needed): base frame ``pillar``, tool ``grasp``.
 
     Args:
         dims: the arm
         grasp: radius and height of the gripped cylinder that places frame ``grasp`` [m]
         free_flyer: root the pillar on a free-flyer joint (held still, its generalized force is
             the wrench of the pillar's mount), instead of fixing it to the world
-    """
-    import pinocchio as pin
+        urdf: the arm's URDF text, :func:`arm_urdf` of ``dims`` and ``grasp`` (made if not
+            given)
 
-    urdf = arm_urdf(dims, grasp=grasp)
-    if free_flyer:
-        return pin.buildModelFromXML(urdf, pin.JointModelFreeFlyer())
-    return pin.buildModelFromXML(urdf)
+    Raises:
+        ModelError: a URDF that cannot be built.
+    """
+    from aaria_pin.model import build_model
+
+    return build_model(
+        arm_urdf(dims, grasp=grasp) if urdf is None else urdf,
+        moving_base=free_flyer,
+        base_frame="pillar",
+        tool_frame="grasp",
+        sensor_frames=(),
+    )

@@ -14,26 +14,29 @@ settings, phases and held interval are file attributes.
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from aaria_pin import __version__
 from aaria_pin._se3 import Array
-from aaria_pin.arm.dims import ARM_JOINTS, ArmDimensions, get_arm_preset, grasp_offset
-from aaria_pin.arm.payload import HAND_JOINT, payload_inertia, still_base_state, task_torques
-from aaria_pin.arm.preset import arm_joints, arm_urdf, build_arm_model
+from aaria_pin.arm.dims import ArmDimensions, get_arm_preset
+from aaria_pin.arm.parts import MeshPart
+from aaria_pin.arm.payload import HAND_JOINT, payload_inertia, task_torques
+from aaria_pin.arm.preset import ARM_JOINTS, arm_joints, arm_parts, arm_urdf, build_arm_model
 from aaria_pin.arm.task import PHASES, Cylinder, JointPath, plan_pick_place
 from aaria_pin.generic_record import GenericRunRecord
-from aaria_pin.model import GRAVITY
+from aaria_pin.model import GRAVITY, RobotModel
+from aaria_pin.trajectory import JointTrajectory
 
 __all__ = [
     "PickPlaceRun",
     "cylinder_track",
     "effort_excess",
-    "link_poses",
     "pick_place_record",
     "simulate_pick_place",
     "write_pick_place_run",
@@ -65,6 +68,9 @@ class PickPlaceRun:
         dims: the arm
         preset: the arm preset's name
         branch: the IK branch rule used
+        robot: the arm's model on a moving base resting at the world origin (its URDF text,
+            ``robot.urdf``, places frame ``grasp`` for the cylinder)
+        parts: the arm's part meshes (:func:`aaria_pin.arm.preset.arm_parts`)
     """
 
     path: JointPath
@@ -77,20 +83,21 @@ class PickPlaceRun:
     dims: ArmDimensions
     preset: str
     branch: str
+    robot: RobotModel
+    parts: Mapping[str, MeshPart]
 
+    def link_poses(self, frames: list[str], samples: ArrayLike | None = None) -> Array:
+        """World poses (S, F, 4, 4) [m] of model frames at samples (default: every one)."""
+        from aaria_pin.kinematics import frame_poses
+        from aaria_pin.trajectory import BaseMotion
 
-def link_poses(model: Any, q: Array, frames: list[str]) -> Array:
-    """Poses of named frames in the world for every sample (T, F, 4, 4) [m]."""
-    import pinocchio as pin
-
-    data = model.createData()
-    ids = [model.getFrameId(name, pin.FrameType.BODY) for name in frames]
-    out = np.empty((len(q), len(ids), 4, 4))
-    for k, qk in enumerate(np.asarray(q, dtype=float)):
-        pin.framesForwardKinematics(model, data, qk)
-        for j, frame in enumerate(ids):
-            out[k, j] = data.oMf[frame].homogeneous
-    return out
+        p = self.path
+        index = slice(None) if samples is None else np.asarray(samples, dtype=int)
+        trajectory = JointTrajectory(
+            *(np.ascontiguousarray(a[index]) for a in (p.time, p.q, p.qd, p.qdd))
+        )
+        n = trajectory.time.size
+        return frame_poses(self.robot, BaseMotion.resting(n), trajectory, frames)
 
 
 def simulate_pick_place(
@@ -118,27 +125,32 @@ def simulate_pick_place(
     Raises:
         ParameterError: as :func:`aaria_pin.arm.task.plan_pick_place`, or an unknown preset.
     """
+    from aaria_pin.kinematics import frame_poses
+    from aaria_pin.trajectory import BaseMotion
+
     dims = get_arm_preset(preset)
     path = plan_pick_place(dims, cylinder, place, rate=rate, branch=branch)
+    parts = arm_parts(dims)
     grasp = (cylinder.radius, cylinder.height)
-    rooted = build_arm_model(dims, grasp, free_flyer=True)
-    state = still_base_state(rooted, path.q, path.qd, path.qdd)
-    generalized, free = task_torques(
-        rooted, payload_inertia(dims, cylinder), *state, path.held, threads
-    )
-    hand = link_poses(build_arm_model(dims, grasp), path.q, ["hand"])[:, 0]
-    tool_pose = hand @ grasp_offset(dims, *grasp)
+    urdf = arm_urdf(dims, grasp=grasp, parts=parts)
+    robot = build_arm_model(dims, grasp, free_flyer=True, urdf=urdf)
+    trajectory = JointTrajectory(path.time, path.q, path.qd, path.qdd)
+    torques = task_torques(robot, payload_inertia(dims, cylinder), trajectory, path.held, threads)
+    resting = BaseMotion.resting(path.time.size)
+    tool_pose = frame_poses(robot, resting, trajectory, [robot.tool_frame])[:, 0]
     return PickPlaceRun(
         path,
-        np.ascontiguousarray(generalized[:, 6:]),
-        np.ascontiguousarray(free[:, 6:]),
-        np.ascontiguousarray(generalized[:, :6]),
+        torques.tau,
+        torques.tau_free,
+        torques.base_wrench,
         tool_pose,
         cylinder,
         (float(place[0]), float(place[1])),
         dims,
         preset,
         branch,
+        robot,
+        parts,
     )
 
 
@@ -164,7 +176,7 @@ def pick_place_record(run: PickPlaceRun) -> GenericRunRecord:
         "phases": list(PHASES),
         "phase_start": path.boundaries[:, 0].tolist(),
         "phase_end": path.boundaries[:, 1].tolist(),
-        "held_interval": [float(path.boundaries[2, 1]), float(path.boundaries[6, 0])],
+        "held_interval": list(path.held_interval),
         "waypoints": path.waypoints.tolist(),
         "peak_payload_share": np.abs(run.tau - run.tau_free).max(axis=0).tolist(),
         "gravity": GRAVITY.tolist(),
@@ -182,14 +194,13 @@ def pick_place_record(run: PickPlaceRun) -> GenericRunRecord:
         base_wrench=np.ascontiguousarray(run.base_wrench),
         tool_pose=run.tool_pose,
         imu_mounts=(),
-        urdf=arm_urdf(run.dims, grasp=(c.radius, c.height)),
+        urdf=run.robot.urdf or "",
         attributes=attributes,
     )
 
 
 def cylinder_track(
-    time: Array,
-    held_interval: tuple[float, float],
+    held: ArrayLike,
     pick: tuple[float, float],
     place: tuple[float, float],
     height: float,
@@ -198,18 +209,18 @@ def cylinder_track(
     """The cylinder's centre pose in the world at every sample (T, 4, 4) [m].
 
     Args:
-        time: sample times (T,) [s]
-        held_interval: start and end of the hold [s] (held: start <= t < end)
-        pick: where it stands first (x, y) [m]
-        place: where it is put down (x, y) [m]
+        held: (T,) True where it is in the hand (one interval)
+        pick: where it stands before the hold (x, y) [m]
+        place: where it is put down, and stands after the hold (x, y) [m]
         height: its height [m]
         tool_pose: the grasp point's pose (T, 4, 4) [m]: the cylinder's centre while held
     """
-    time = np.asarray(time, dtype=float)
-    poses = np.broadcast_to(np.eye(4), (time.size, 4, 4)).copy()
+    held = np.asarray(held, dtype=bool)
+    poses = np.broadcast_to(np.eye(4), (held.size, 4, 4)).copy()
     poses[:, :3, 3] = (pick[0], pick[1], height / 2)
-    poses[time >= held_interval[1], :3, 3] = (place[0], place[1], height / 2)
-    held = (time >= held_interval[0]) & (time < held_interval[1])
+    if np.any(held):
+        after = np.arange(held.size) > np.flatnonzero(held)[-1]
+        poses[after, :3, 3] = (place[0], place[1], height / 2)
     poses[held] = np.asarray(tool_pose)[held]  # its mid-plane is symmetric: z up or down alike
     return poses
 

@@ -40,6 +40,7 @@ from aaria_pin.arm.ik import ANNULUS_TOLERANCE, plan_planar_move
 from aaria_pin.arm.preset import arm_joints
 from aaria_pin.errors import ParameterError
 from aaria_pin.inertia import Inertia, cylinder_inertia
+from aaria_pin.trajectory import sample_times
 
 __all__ = [
     "MIN_PHASE",
@@ -129,6 +130,19 @@ class JointPath:
     held: NDArray[np.bool_]
     boundaries: Array
     waypoints: Array
+
+    @property
+    def held_interval(self) -> tuple[float, float]:
+        """Start and end of the hold [s] (held: start <= t < end).
+
+        The end of ``grasp`` and the start of ``release``.
+        """
+        return _held_interval(self.boundaries)
+
+
+def _held_interval(boundaries: Array) -> tuple[float, float]:
+    grasp, release = PHASES.index("grasp"), PHASES.index("release")
+    return float(boundaries[grasp, 1]), float(boundaries[release, 0])
 
 
 def home_pose(dims: ArmDimensions) -> Array:
@@ -254,8 +268,6 @@ def plan_pick_place(
             reachable annulus (the message names it) or on the pillar, a height the lift cannot
             reach, a bad rate, start pose or branch.
     """
-    if not (np.isfinite(rate) and 0 < rate <= 100_000):
-        raise ParameterError(f"rate {rate!r} Hz; allowed: 0 < rate <= 100000 Hz")
     if not (np.isfinite(settle) and settle >= 0):
         raise ParameterError(f"settle {settle!r} s; allowed: >= 0")
     target = Cylinder(float(place[0]), float(place[1]), cylinder.radius, cylinder.height, 0.0)
@@ -292,8 +304,7 @@ def plan_pick_place(
     durations = [_duration(b - a, velocity, acceleration) for a, b in itertools.pairwise(waypoints)]
     starts = settle + np.concatenate([[0.0], np.cumsum(durations)[:-1]])
     boundaries = np.column_stack([starts, starts + durations])
-    total = float(boundaries[-1, 1] + settle)
-    time = np.arange(int(np.floor(total * rate + 1e-9)) + 1) / rate
+    time = sample_times(float(boundaries[-1, 1] + settle), rate)
     phase = np.searchsorted(boundaries[:, 0], time, side="right") - 1
     phase = np.where(time >= boundaries[-1, 1], len(PHASES), phase)  # after the end
     q = np.empty((time.size, 7))
@@ -310,5 +321,6 @@ def plan_pick_place(
         qd[mask] = ds[:, None] * delta / span
         qdd[mask] = dds[:, None] * delta / span**2
     phase = np.where(phase >= len(PHASES), -1, phase)
-    held = (time >= boundaries[2, 1]) & (time < boundaries[6, 0])
+    hold_start, hold_end = _held_interval(boundaries)
+    held = (time >= hold_start) & (time < hold_end)
     return JointPath(time, q, qd, qdd, phase, held, boundaries, waypoints)

@@ -7,11 +7,12 @@ module is the ``"pick-place"`` kind: :func:`is_pick_place_run` recognises the fi
 attributes ``robot = "pick_place_arm"`` and ``task = "pick-place"``) and
 :func:`load_pick_place_view` builds a :class:`~aaria_pin.viz.sources.RunView` whose scene holds
 every link's mesh (:func:`aaria_pin.arm.preset.arm_parts`, the same trimesh parts as the URDF's
-STL files, decimated above :data:`MAX_FACES` triangles) attached to its link frame, and the
-cylinder attached to a frame ``cylinder`` that follows the grasp frame while it is held and
-stands on its pick spot before, on its place spot after
-(:func:`aaria_pin.arm.run.cylinder_track`). Frame poses come from Pinocchio on the URDF the file
-holds. :data:`PRESETS` gives ``aaria render --preset pick-place-arm``: the arm at its home pose.
+STL files) attached to its link frame, and the cylinder attached to a frame ``cylinder`` that
+follows the grasp frame while it is held and stands on its pick spot before, on its place spot
+after (:func:`aaria_pin.arm.run.cylinder_track`). The rest (the record, the model built from the
+URDF the file holds, the signals and the frame poses) is the generic kind's
+(:func:`aaria_pin.viz._generic_source.read_generic_view`). :data:`PRESETS` gives
+``aaria render --preset pick-place-arm``: the arm at its home pose.
 
 **Plug-in.** The viz package imports this module (its ``_PLUGINS``) the first time it looks up
 a run kind or a preset, so ``import aaria_pin`` never loads it; on import it registers the
@@ -21,6 +22,7 @@ kind, which is tried before the generic fallback.
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -28,17 +30,18 @@ import numpy as np
 
 from aaria_pin._se3 import Array
 from aaria_pin.arm.dims import ArmDimensions, get_arm_preset
-from aaria_pin.arm.parts import cylinder_mesh
+from aaria_pin.arm.parts import MeshPart, cylinder_mesh
 from aaria_pin.arm.preset import arm_parts, build_arm_model
-from aaria_pin.arm.run import cylinder_track, link_poses
+from aaria_pin.arm.run import cylinder_track
 from aaria_pin.arm.task import home_pose
 from aaria_pin.errors import AariaError, InputFileError
+from aaria_pin.viz._generic_source import is_generic_run, read_generic_view
+from aaria_pin.viz._run_view import run_file, scene_poses, still
 from aaria_pin.viz.scene import WORLD, Scene, Solid, triad
-from aaria_pin.viz.sources import RunView, Signals, register_run_kind
+from aaria_pin.viz.sources import RunView, register_run_kind
 
 __all__ = [
     "CYLINDER_FRAME",
-    "MAX_FACES",
     "PART_ROLES",
     "PICK_PLACE_KIND",
     "PRESETS",
@@ -66,56 +69,47 @@ PART_ROLES = {
 }
 """Drawing role (a key of :data:`aaria_pin.viz.scene.COLOURS`) of each link's mesh."""
 
-_CYLINDER_ROLE = "dh_frame"  # drawn red, as in the contact sheet
-MAX_FACES = 2000
-"""Most triangles of a part's solid: a heavier mesh is decimated (the preset's have a few
-hundred)."""
+_CYLINDER_ROLE = "dh_frame"  # drawn red
 
 
-def is_pick_place_run(path: Path) -> bool:
-    """Whether ``path`` is a pick-place run file (never raises)."""
-    from aaria_pin.runfile import is_generic_run_file
+def is_pick_place_run(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` is a pick-place run file (never raises).
 
-    file = Path(path)
-    try:
-        if not is_generic_run_file(file):
-            return False
-        import h5py
-
-        with h5py.File(file, "r") as handle:
-            robot, task = handle.attrs.get("robot"), handle.attrs.get("task")
-    except (OSError, ValueError):
-        return False
-    return _text(robot) == "pick_place_arm" and _text(task) == "pick-place"
-
-
-def _text(value: Any) -> str | None:
-    if isinstance(value, bytes):
-        return value.decode("utf-8", errors="replace")
-    return value if isinstance(value, str) else None
+    Args:
+        path: the file, or its :class:`~aaria_pin.viz.sources.RunFile` (read once by the viewers)
+    """
+    header = run_file(path)
+    return (
+        is_generic_run(header)
+        and header.text("robot") == "pick_place_arm"
+        and header.text("task") == "pick-place"
+    )
 
 
 def _solid(frame: str, mesh: Any, role: str) -> Solid:
-    if len(mesh.faces) > MAX_FACES:
-        mesh = mesh.simplify_quadric_decimation(face_count=MAX_FACES)
     faces = np.asarray(mesh.faces, dtype=int)
     quads = np.column_stack([faces, faces[:, 2]])  # a triangle repeats its last vertex
     return Solid(frame, np.asarray(mesh.vertices, dtype=float), quads, role)
 
 
-def arm_scene(dims: ArmDimensions, cylinder: tuple[float, float] | None = None) -> Scene:
+def arm_scene(
+    dims: ArmDimensions,
+    cylinder: tuple[float, float] | None = None,
+    parts: Mapping[str, MeshPart] | None = None,
+) -> Scene:
     """The arm's scene: its part meshes on their links, frames world and ``grasp``.
 
     Args:
         dims: the arm
         cylinder: radius and height of a cylinder to draw on frame :data:`CYLINDER_FRAME`
             (the last frame) [m], or None
+        parts: the arm's parts, :func:`arm_parts` of ``dims`` (made if not given)
 
     Returns:
         The scene; its frames are the world, the links in :func:`arm_parts` order, ``grasp``,
         then the cylinder's frame if any.
     """
-    parts = arm_parts(dims)
+    parts = arm_parts(dims) if parts is None else parts
     solids = [_solid(name, p.mesh, PART_ROLES.get(name, "other")) for name, p in parts.items()]
     frames = [WORLD, *parts, "grasp"]
     if cylinder is not None:
@@ -136,10 +130,12 @@ def preset_scene(name: str = "pick-place-arm") -> tuple[Scene, Array]:
     Raises:
         ParameterError: an unknown preset.
     """
+    from aaria_pin.trajectory import BaseMotion
+
     dims = get_arm_preset(name)
     scene = arm_scene(dims)
-    poses = link_poses(build_arm_model(dims), home_pose(dims)[None], list(scene.frames[1:]))[0]
-    return scene, np.concatenate([np.eye(4)[None], poses])
+    robot = build_arm_model(dims)
+    return scene, scene_poses(robot, scene, BaseMotion.resting(1), still(home_pose(dims)[None]))[0]
 
 
 PRESETS = {"pick-place-arm": preset_scene}
@@ -151,23 +147,25 @@ def load_pick_place_view(path: str | os.PathLike[str]) -> RunView:
 
     Returns:
         A run view of kind :data:`PICK_PLACE_KIND`: the arm's part meshes on their links, the
-        cylinder, the world and grasp frames; signals q, tau (labelled by joint, with units)
-        and the mount's wrench.
+        cylinder, the world and grasp frames; signals as the generic kind's
+        (:func:`aaria_pin.viz._generic_source.read_generic_view`: q, tau labelled by joint,
+        with units, and the mount's wrench).
 
     Raises:
         InputFileError: not a pick-place run file, or attributes that cannot be used.
     """
-    import pinocchio as pin
-
-    from aaria_pin.runfile import read_generic_run
-
     file = Path(path)
     if not is_pick_place_run(file):
         raise InputFileError(
             f"{file}: not a pick-place run file; allowed: a run file of aaria arm pick-place"
         )
-    record = read_generic_run(file)
-    attributes = record.attributes
+    return _load(file)
+
+
+def _load(file: Path) -> RunView:
+    """Read a file known to be a pick-place run file (the registered loader: no re-probe)."""
+    view = read_generic_view(file)
+    attributes = view.record.attributes
     try:
         dims = get_arm_preset(str(attributes["source"]))
         c = attributes["cylinder"]
@@ -175,34 +173,23 @@ def load_pick_place_view(path: str | os.PathLike[str]) -> RunView:
         pick = (float(c["x"]), float(c["y"]))
         place = (float(attributes["place"][0]), float(attributes["place"][1]))
         start, end = (float(v) for v in attributes["held_interval"])
-        model = pin.buildModelFromXML(record.urdf)
-    except (KeyError, TypeError, ValueError, IndexError, RuntimeError, AariaError) as exc:
+    except (KeyError, TypeError, ValueError, IndexError, AariaError) as exc:
         raise InputFileError(f"{file}: its pick-place attributes cannot be used ({exc})") from None
     scene = arm_scene(dims, (radius, height))
-    time = np.asarray(record.time, dtype=float)
-    q = np.asarray(record.q, dtype=float)
-    cylinder = cylinder_track(time, (start, end), pick, place, height, record.tool_pose)
-    prismatic = {"lift", "finger"}
-    names = tuple(record.joint_names)
-    signals = Signals(
-        time,
-        q,
-        tuple(f"{n} [{'m' if n in prismatic else 'rad'}]" for n in names),
-        np.asarray(record.tau, dtype=float),
-        tuple(f"{n} [{'N' if n in prismatic else 'N·m'}]" for n in names),
-        np.asarray(record.base_wrench, dtype=float),
-    )
-    linked = list(scene.frames[1:-1])  # the links and the grasp frame
+    time = view.signals.time
+    held = (time >= start) & (time < end)
+    cylinder = cylinder_track(held, pick, place, height, view.record.tool_pose)
+    linked = view.poser(scene.frames[1:-1])  # the links and the grasp frame
 
     def frame_poses(samples: Array) -> Array:
         index = np.asarray(samples, dtype=int)
         out = np.empty((index.size, len(scene.frames), 4, 4))
         out[:, 0] = np.eye(4)
-        out[:, 1:-1] = link_poses(model, q[index], linked)
+        out[:, 1:-1] = linked(index)
         out[:, -1] = cylinder[index]
         return out
 
-    return RunView(file.name, PICK_PLACE_KIND, scene, signals, frame_poses)
+    return RunView(file.name, PICK_PLACE_KIND, scene, view.signals, frame_poses)
 
 
-register_run_kind(PICK_PLACE_KIND, is_pick_place_run, load_pick_place_view)
+register_run_kind(PICK_PLACE_KIND, is_pick_place_run, _load)

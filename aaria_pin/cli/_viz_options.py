@@ -1,4 +1,4 @@
-"""The ``-o/--output`` option of ``aaria render``, ``plot`` and ``view``: a file of one type."""
+"""The output-file options of the commands that write pictures and files: one type each."""
 
 from __future__ import annotations
 
@@ -8,37 +8,64 @@ from typing import Any, TypeVar
 
 import click
 
-__all__ = ["output_option"]
+__all__ = ["check_output", "output_option"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
 
-def output_option(what: str, suffixes: tuple[str, ...]) -> Callable[[F], F]:
-    """Add a required ``-o/--output FILE`` whose suffix must be one of ``suffixes``.
+def check_output(path: Path, what: str, suffixes: tuple[str, ...]) -> None:
+    """Refuse an output of another type, or in a folder that does not exist.
 
-    A wrong suffix is an :class:`~aaria_pin.errors.OutputFileError` (one line, exit 2), raised
-    while the options are read, before anything is computed or written.
+    Args:
+        path: the file to write
+        what: what the file is, for the error (``"PNG"``, ``"run file"``)
+        suffixes: allowed suffixes, lower case with the dot
+
+    Raises:
+        OutputFileError: naming the path and what is allowed (one line).
+    """
+    from aaria_pin.errors import OutputFileError
+
+    if path.suffix.lower() not in suffixes:
+        raise OutputFileError(
+            f"{path}: suffix {path.suffix!r} is not one of a {what}; allowed: {', '.join(suffixes)}"
+        )
+    folder = path.parent
+    if not folder.is_dir():
+        raise OutputFileError(f"{path}: no folder {folder}; allowed: a file in an existing folder")
+
+
+def output_option(
+    what: str,
+    suffixes: tuple[str, ...],
+    *flags: str,
+    required: bool = True,
+    help: str | None = None,
+) -> Callable[[F], F]:
+    """Add an output file option (``-o/--output FILE`` unless ``flags`` are given), checked.
+
+    A wrong suffix or a missing folder (:func:`check_output`), or a folder given as the file, is
+    an error of one line (exit 2), raised while the options are read, before anything is
+    computed or written.
 
     Args:
         what: what the file is, for the help and the error (``"PNG"``, ``"HTML page"``)
         suffixes: allowed suffixes, lower case with the dot, the first one named in the error
+        flags: the option's names (default ``-o``, ``--output``)
+        required: whether the option must be given (else it defaults to None)
+        help: the option's help (default: what it is and its suffixes)
     """
 
-    def check(_ctx: click.Context, _param: click.Parameter, value: Path) -> Path:
-        from aaria_pin.errors import OutputFileError
-
-        if value.suffix.lower() not in suffixes:
-            raise OutputFileError(
-                f"{value}: suffix {value.suffix!r} is not one of a {what};"
-                f" allowed: {', '.join(suffixes)}"
-            )
+    def check(_ctx: click.Context, _param: click.Parameter, value: Path | None) -> Path | None:
+        if value is not None:
+            check_output(value, what, suffixes)
         return value
 
     return click.option(
-        "-o",
-        "--output",
+        *(flags or ("-o", "--output")),
         type=click.Path(path_type=Path, dir_okay=False),
-        required=True,
+        required=required,
+        default=None,
         callback=check,
-        help=f"{what} file to write ({', '.join(suffixes)}).",
+        help=help or f"{what} file to write ({', '.join(suffixes)}).",
     )

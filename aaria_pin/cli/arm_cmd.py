@@ -6,24 +6,18 @@ from pathlib import Path
 
 import click
 
-_FPS = (1, 50)
+from aaria_pin.cli._viz_options import output_option
 
 
-def _check_output(path: Path, suffixes: tuple[str, ...], what: str) -> None:
-    """Refuse an output of another type or in a folder that does not exist.
+def _check_fps(_ctx: click.Context, _param: click.Parameter, fps: int) -> int:
+    """Refuse a frame rate outside :data:`aaria_pin.arm.pictures.ANIMATION_FPS` (one line)."""
+    from aaria_pin.arm.pictures import ANIMATION_FPS
+    from aaria_pin.errors import ParameterError
 
-    Raises:
-        OutputFileError: naming the path and what is allowed.
-    """
-    from aaria_pin.errors import OutputFileError
-
-    if path.suffix.lower() not in suffixes:
-        raise OutputFileError(f"{path}: unknown {what} type; allowed: {', '.join(suffixes)}")
-    folder = path.parent
-    if not folder.is_dir():
-        raise OutputFileError(f"{path}: no folder {folder}; allowed: a file in an existing folder")
-    if path.is_dir():
-        raise OutputFileError(f"{path}: is a folder; allowed: a {what} file name")
+    low, high = ANIMATION_FPS
+    if not low <= fps <= high:
+        raise ParameterError(f"--fps {fps}; allowed: {low} to {high} frames per second")
+    return fps
 
 
 @click.group()
@@ -57,8 +51,9 @@ def urdf(folder: Path, preset: str, radius: float, height: float) -> None:
 
     dims = get_arm_preset(preset)
     Cylinder(0.0, 0.0, radius, height)  # checks the numbers
-    path = write_arm_urdf(folder, dims, (radius, height))
-    click.echo(f"wrote {path} and {len(arm_parts(dims))} meshes in {folder / 'meshes'}")
+    parts = arm_parts(dims)
+    path = write_arm_urdf(folder, dims, (radius, height), parts)
+    click.echo(f"wrote {path} and {len(parts)} meshes in {folder / 'meshes'}")
 
 
 @arm.command("pick-place")
@@ -92,24 +87,24 @@ def urdf(folder: Path, preset: str, radius: float, height: float) -> None:
 )
 @click.option("--rate", type=float, default=100.0, show_default=True, help="Sample rate [Hz].")
 @click.option("--preset", default="pick-place-arm", show_default=True, help="Arm preset.")
-@click.option(
-    "-o", "--output", required=True, type=click.Path(path_type=Path), help="Run file (.h5)."
-)
-@click.option(
+@output_option("run file", (".h5", ".hdf5"), help="Run file (.h5).")
+@output_option(
+    "contact sheet",
+    (".png",),
     "--sheet",
-    type=click.Path(path_type=Path),
-    default=None,
+    required=False,
     help="PNG contact sheet of the poses (start and end of every phase).",
 )
-@click.option(
-    "--animation", type=click.Path(path_type=Path), default=None, help="GIF animation of the task."
+@output_option(
+    "animation", (".gif",), "--animation", required=False, help="GIF animation of the task."
 )
 @click.option(
     "--fps",
     type=int,
     default=10,
     show_default=True,
-    help=f"Animation frame rate ({_FPS[0]} to {_FPS[1]}).",
+    callback=_check_fps,
+    help="Animation frame rate [frames per second of run time].",
 )
 def pick_place(
     cylinder_xy: tuple[float, float],
@@ -128,21 +123,11 @@ def pick_place(
     """Pick a cylinder from the floor and put it elsewhere: path, torques, run file."""
     import numpy as np
 
-    from aaria_pin.arm.dims import ARM_JOINTS
+    from aaria_pin.arm.preset import ARM_JOINTS
     from aaria_pin.arm.run import effort_excess, simulate_pick_place, write_pick_place_run
     from aaria_pin.arm.task import PHASES, Cylinder
-    from aaria_pin.errors import ParameterError
 
-    # every input checked before anything is computed or written
-    _check_output(output, (".h5", ".hdf5"), "run file")
-    for picture, suffix, what in (
-        (sheet, ".png", "contact sheet"),
-        (animation, ".gif", "animation"),
-    ):
-        if picture is not None:
-            _check_output(picture, (suffix,), what)
-    if not _FPS[0] <= fps <= _FPS[1]:
-        raise ParameterError(f"--fps {fps}; allowed: {_FPS[0]} to {_FPS[1]} frames per second")
+    # the files and --fps are checked while the options are read, before anything is computed
     cylinder = Cylinder(cylinder_xy[0], cylinder_xy[1], radius, height, mass)
     run = simulate_pick_place(cylinder, place_xy, preset=preset, rate=rate, branch=branch)
     write_pick_place_run(output, run)
