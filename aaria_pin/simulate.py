@@ -19,10 +19,7 @@ from aaria_pin._se3 import Array
 from aaria_pin._seeds import check_seed, seed_attributes, stored_seed
 from aaria_pin.dh_robot import (
     BodyDimensions,
-    DHRobot,
-    ImuSlot,
     build_dh_robot,
-    mount_imu_slots,
 )
 from aaria_pin.dynamics import inverse_dynamics
 from aaria_pin.errors import InputFileError
@@ -42,7 +39,6 @@ from aaria_pin.trajectory import DEFAULT_DURATION, DEFAULT_RATE, sample_times
 __all__ = [
     "DEFAULT_DURATION",
     "DEFAULT_RATE",
-    "mounted_slots",
     "sampling_attributes",
     "simulate_from_run_file",
     "simulate_run",
@@ -84,11 +80,6 @@ def sampling_attributes(
         "gravity": GRAVITY.tolist(),
         "units": UNITS,
     }
-
-
-def mounted_slots(robot: DHRobot, imu_mount: ArrayLike) -> tuple[ImuSlot, ...]:
-    """The robot's IMU slots moved to the given mounting poses (see :func:`mount_imu_slots`)."""
-    return mount_imu_slots(robot.imu_slots, imu_mount)
 
 
 def simulate_run(

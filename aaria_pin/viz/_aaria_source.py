@@ -36,7 +36,6 @@ def load_aaria_run(file: Path) -> RunView:
     from aaria_pin.oscillation import base_motion
     from aaria_pin.record import imu_slot_order
     from aaria_pin.runfile import read_run
-    from aaria_pin.simulate import mounted_slots
 
     record = read_run(file)
     dims = None
@@ -45,10 +44,7 @@ def load_aaria_run(file: Path) -> RunView:
             dims = BodyDimensions(**record.attributes["body_dimensions"])
         except TypeError as exc:
             raise InputFileError(f"{file}: body_dimensions cannot be used ({exc})") from None
-    robot = build_dh_robot(record.senSenDH, "aaria", dims)
-    robot = build_dh_robot(
-        record.senSenDH, "aaria", dims, imu_slots=mounted_slots(robot, record.imu_mount)
-    )
+    robot = build_dh_robot(record.senSenDH, "aaria", dims, imu_mount=record.imu_mount)
     time = np.asarray(record.senSen[:, 0], dtype=float)
     columns = [module - 1 for module in robot.chain.modules]
     kinds = tuple(joint.kind for joint in robot.chain.joints)  # the DH link types
