@@ -5,6 +5,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from click.testing import CliRunner
+from conftest import Rx, Rz, Tz
 
 from aaria_pin.cli import main
 from aaria_pin.errors import ParameterError
@@ -51,6 +52,27 @@ def test_static_torque_by_hand() -> None:
     still = run.time > 2.5
     np.testing.assert_allclose(run.tau[still, 0], 0.0, atol=1e-12)  # a vertical axis: no load
     assert np.all(np.abs(run.tau[still, 1]) > 0.05)
+    # By hand: the report's Table 1 (standard DH, alpha = -90°, 90°, 0°, d3 = 132 mm) and its
+    # Appendix B parts 3 and 4 (mass [kg], centre of mass [mm] in the link's post-joint frame,
+    # Rz(theta_i)·Tz(d_i)); tau_j = -z_j · sum over the links j moves of (c_i - o_j) × m_i·g.
+    q, alpha, d = [0.0, np.pi / 2, 0.0], [-np.pi / 2, np.pi / 2, 0.0], [0.0, 0.0, 0.132]
+    parts = {2: (0.29058, [82.77, 20.0, 0.0]), 3: (0.16480, [-0.00039, 28.38, -0.00035])}
+    joint_frames, post_joint, T = [], {}, np.eye(4)
+    for i in range(3):
+        joint_frames.append(T.copy())  # joint i+1 turns about this frame's z axis
+        T = T @ Rz(q[i]) @ Tz(d[i])
+        post_joint[i + 1] = T.copy()
+        T = T @ Rx(alpha[i])
+    expected = []
+    for j in (1, 2, 3):
+        origin, axis = joint_frames[j - 1][:3, 3], joint_frames[j - 1][:3, 2]
+        moment = np.zeros(3)
+        for i, (mass, com_mm) in parts.items():
+            if i >= j:
+                com = (post_joint[i] @ np.r_[np.array(com_mm) * 1e-3, 1.0])[:3]
+                moment += np.cross(com - origin, mass * np.array([0.0, 0.0, -9.81]))
+        expected.append(-axis @ moment)
+    np.testing.assert_allclose(run.tau[still], np.tile(expected, (still.sum(), 1)), atol=1e-12)
 
 
 def test_cli_writes_the_run(tmp_path) -> None:
