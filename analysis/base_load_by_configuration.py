@@ -20,7 +20,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from aaria_pin.dataset import DatasetSpec, simulate_dataset_run
+from aaria_pin.apps.dataset.engine import DatasetSpec, simulate_dataset_run
 
 
 def main() -> None:

@@ -19,9 +19,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from aaria_pin.dh_robot import BodyDimensions
-from aaria_pin.presets import get_preset
-from aaria_pin.simulate import simulate_run
+from aaria_pin.aaria.dh_robot import BodyDimensions
+from aaria_pin.aaria.presets import get_preset
+from aaria_pin.aaria.simulate import simulate_run
 
 DENSITIES = {"ABS plastic": 1040.0, "aluminium": 2700.0, "steel": 7850.0}
 

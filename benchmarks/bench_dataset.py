@@ -15,7 +15,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from aaria_pin.dataset import DatasetSpec, generate_dataset
+from aaria_pin.apps.dataset.engine import DatasetSpec, generate_dataset
 
 
 def throughput(runs: int, samples: int, workers: int, folder: Path) -> float:

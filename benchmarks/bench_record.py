@@ -20,13 +20,13 @@ if hasattr(os, "sched_setaffinity"):
 
 import numpy as np
 
-from aaria_pin.dh_robot import build_dh_robot
-from aaria_pin.dynamics import batched_rnea
-from aaria_pin.kinematics import full_state, reference_frame_poses, reference_imu_signals
-from aaria_pin.oscillation import base_motion, joint_trajectory
-from aaria_pin.presets import get_preset
-from aaria_pin.simulate import simulate_run
-from aaria_pin.trajectory import sample_times
+from aaria_pin.aaria.dh_robot import build_dh_robot
+from aaria_pin.aaria.oscillation import base_motion, joint_trajectory
+from aaria_pin.aaria.presets import get_preset
+from aaria_pin.aaria.simulate import simulate_run
+from aaria_pin.core.dynamics import batched_rnea
+from aaria_pin.core.kinematics import full_state, reference_frame_poses, reference_imu_signals
+from aaria_pin.core.trajectory import sample_times
 
 
 def seconds(func: Callable[[], object]) -> float:

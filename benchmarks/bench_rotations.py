@@ -16,8 +16,8 @@ if hasattr(os, "sched_setaffinity"):
 
 import numpy as np
 
-from aaria_pin.rotations import angles_from_matrix, matrix_from_angles
-from aaria_pin.wrist import wrist_ik_batch
+from aaria_pin.apps.wrist.kinematics import wrist_ik_batch
+from aaria_pin.core.rotations import angles_from_matrix, matrix_from_angles
 
 
 def rate(func, n: int, repeats: int) -> float:  # type: ignore[no-untyped-def]

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any, TypeVar, cast
 import click
 
 if TYPE_CHECKING:
-    from aaria_pin.dh import Convention
+    from aaria_pin.aaria.dh import Convention
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -44,8 +44,8 @@ def load_table_source(
     Raises:
         click.UsageError: neither or both given.
     """
-    from aaria_pin.io import read_table
-    from aaria_pin.presets import get_preset
+    from aaria_pin.aaria.presets import get_preset
+    from aaria_pin.files.io import read_table
 
     if (preset is None) == (dh_file is None):
         raise click.UsageError("give exactly one of --preset NAME or --dh FILE")
@@ -92,8 +92,8 @@ def load_robot_source(robot: str | None, urdf_file: Path | None) -> tuple[str, P
     Raises:
         click.UsageError: both given.
     """
-    from aaria_pin.robots import find_robot
-    from aaria_pin.urdf_robot import read_urdf_file
+    from aaria_pin.core.catalogue import find_robot
+    from aaria_pin.core.urdf_robot import read_urdf_file
 
     if robot is not None and urdf_file is not None:
         raise click.UsageError("give one of --robot NAME or --urdf FILE, not both")

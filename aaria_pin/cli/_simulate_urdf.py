@@ -48,10 +48,10 @@ def simulate_urdf_command(params: dict[str, Any]) -> None:
     """
     import warnings
 
-    from aaria_pin.imu_layout import read_imu_layout
-    from aaria_pin.io import read_table
-    from aaria_pin.runfile import write_generic_run
-    from aaria_pin.urdf_run import simulate_urdf_from_run_file, simulate_urdf_run
+    from aaria_pin.core.imu_layout import read_imu_layout
+    from aaria_pin.core.urdf_run import simulate_urdf_from_run_file, simulate_urdf_run
+    from aaria_pin.files.io import read_table
+    from aaria_pin.files.runfile import write_generic_run
 
     _refuse_options_without_effect(params)
     overrides = sampling_overrides(params)

@@ -10,9 +10,9 @@ from aaria_pin.cli._viz_options import output_option
 
 
 def _check_fps(_ctx: click.Context, _param: click.Parameter, fps: int) -> int:
-    """Refuse a frame rate outside :data:`aaria_pin.arm.pictures.ANIMATION_FPS` (one line)."""
-    from aaria_pin.arm.pictures import ANIMATION_FPS
+    """Refuse a frame rate outside :data:`aaria_pin.viz.arm_pictures.ANIMATION_FPS` (one line)."""
     from aaria_pin.errors import ParameterError
+    from aaria_pin.viz.arm_pictures import ANIMATION_FPS
 
     low, high = ANIMATION_FPS
     if not low <= fps <= high:
@@ -46,8 +46,8 @@ def urdf(folder: Path, preset: str, radius: float, height: float) -> None:
 
     Its frame ``grasp`` is the centre of a gripped cylinder of --radius and --height.
     """
-    from aaria_pin.arm.preset import arm_parts, get_arm_preset, write_arm_urdf
-    from aaria_pin.arm.task import Cylinder
+    from aaria_pin.apps.arm.preset import arm_parts, get_arm_preset, write_arm_urdf
+    from aaria_pin.apps.arm.task import Cylinder
 
     dims = get_arm_preset(preset)
     Cylinder(0.0, 0.0, radius, height)  # checks the numbers
@@ -123,9 +123,9 @@ def pick_place(
     """Pick a cylinder from the floor and put it elsewhere: path, torques, run file."""
     import numpy as np
 
-    from aaria_pin.arm.preset import ARM_JOINTS
-    from aaria_pin.arm.run import effort_excess, simulate_pick_place, write_pick_place_run
-    from aaria_pin.arm.task import PHASES, Cylinder
+    from aaria_pin.apps.arm.preset import ARM_JOINTS
+    from aaria_pin.apps.arm.run import effort_excess, simulate_pick_place, write_pick_place_run
+    from aaria_pin.apps.arm.task import PHASES, Cylinder
 
     # the files and --fps are checked while the options are read, before anything is computed
     cylinder = Cylinder(cylinder_xy[0], cylinder_xy[1], radius, height, mass)
@@ -145,10 +145,10 @@ def pick_place(
             err=True,
         )
     if sheet is not None:
-        from aaria_pin.arm.pictures import write_contact_sheet
+        from aaria_pin.viz.arm_pictures import write_contact_sheet
 
         click.echo(f"wrote {write_contact_sheet(sheet, run)}")
     if animation is not None:
-        from aaria_pin.arm.pictures import write_animation
+        from aaria_pin.viz.arm_pictures import write_animation
 
         click.echo(f"wrote {write_animation(animation, run, fps=fps)}")

@@ -8,11 +8,11 @@ from typing import TYPE_CHECKING
 
 import click
 
-from aaria_pin._seeds import MAX_SEED
 from aaria_pin.cli._options import robot_source_options, table_source_options
+from aaria_pin.core.seeds import MAX_SEED
 
 if TYPE_CHECKING:
-    from aaria_pin.dataset_urdf import UrdfSource
+    from aaria_pin.apps.dataset.urdf_source import UrdfSource
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
 
@@ -38,7 +38,7 @@ def _progress_bar(quiet: bool) -> object:
 
 def _print_config(ctx: click.Context, _: click.Parameter, value: bool) -> None:
     if value and not ctx.resilient_parsing:
-        from aaria_pin.randomize import default_config_toml
+        from aaria_pin.aaria.randomize import default_config_toml
 
         click.echo(default_config_toml(), nl=False)
         ctx.exit(0)
@@ -110,11 +110,11 @@ def dataset(
     With --robot NAME or --urdf FILE the arm is that URDF robot: its joint and base motions
     vary, its structure does not.
     """
-    from aaria_pin.dataset import DatasetSpec, generate_dataset
+    from aaria_pin.aaria.presets import get_preset
+    from aaria_pin.aaria.randomize import load_config
+    from aaria_pin.apps.dataset.engine import DatasetSpec, generate_dataset
     from aaria_pin.errors import ParameterError
-    from aaria_pin.io import read_table
-    from aaria_pin.presets import get_preset
-    from aaria_pin.randomize import load_config
+    from aaria_pin.files.io import read_table
 
     if workers is not None and scheduler is not None:
         raise click.UsageError("give --workers or --scheduler, not both")
@@ -203,10 +203,10 @@ def _urdf_source(
         if tool_frame is not None or imu_layout_file is not None or fixed_base:
             raise click.UsageError("--tool, --imu-layout and --fixed-base need --robot or --urdf")
         return None
+    from aaria_pin.apps.dataset.urdf_source import UrdfSource
     from aaria_pin.cli._options import load_robot_source
-    from aaria_pin.dataset_urdf import UrdfSource
-    from aaria_pin.imu_layout import read_imu_layout
-    from aaria_pin.urdf_robot import missing_meshes_message
+    from aaria_pin.core.imu_layout import read_imu_layout
+    from aaria_pin.core.urdf_robot import missing_meshes_message
 
     text, folder, name = load_robot_source(robot, urdf_file)
     layout = None if imu_layout_file is None else read_imu_layout(imu_layout_file)

@@ -14,9 +14,9 @@ import click
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
 def info(file: Path, as_json: bool) -> None:
     """Summarise a run file or a data set: runs, shapes, sizes, seed, config, completeness."""
-    from aaria_pin.dataset_file import is_dataset_file
-    from aaria_pin.dataset_reader import dataset_summary
-    from aaria_pin.runfile import generic_run_summary, is_generic_run_file, run_file_summary
+    from aaria_pin.files.dataset_file import is_dataset_file
+    from aaria_pin.files.dataset_reader import dataset_summary
+    from aaria_pin.files.runfile import generic_run_summary, is_generic_run_file, run_file_summary
 
     is_dataset = is_dataset_file(file)
     if is_dataset:

@@ -16,7 +16,7 @@ import click
 @click.option("--json", "as_json", is_flag=True, help="Print name → URDF file as JSON.")
 def robots(paths: bool, check: bool, as_json: bool) -> None:
     """List the robots of example-robot-data, for --robot NAME of simulate and dataset."""
-    from aaria_pin.robots import robot_catalogue, robots_folder
+    from aaria_pin.core.catalogue import robot_catalogue, robots_folder
 
     catalogue = robot_catalogue()
     if as_json:
@@ -35,8 +35,8 @@ def _status(urdf: Path) -> str:
     """``N joints, M IMUs`` for a robot that loads, else ``refused: <reason>``."""
     import warnings
 
+    from aaria_pin.core.urdf_robot import load_urdf_robot, read_urdf_file
     from aaria_pin.errors import AariaError
-    from aaria_pin.urdf_robot import load_urdf_robot, read_urdf_file
 
     try:
         with warnings.catch_warnings():

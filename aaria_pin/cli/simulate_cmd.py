@@ -7,13 +7,13 @@ from typing import Any
 
 import click
 
-from aaria_pin._seeds import MAX_SEED
 from aaria_pin.cli._options import (
     load_table_source,
     robot_source_options,
     sampling_overrides,
     table_source_options,
 )
+from aaria_pin.core.seeds import MAX_SEED
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
 
@@ -28,7 +28,7 @@ def _read_mounts(path: Path) -> Any:
             return np.load(path, allow_pickle=False)
         except (OSError, ValueError) as exc:
             raise InputFileError(f"{path}: cannot be read as .npy ({exc})") from None
-    from aaria_pin.runfile import read_run
+    from aaria_pin.files.runfile import read_run
 
     return read_run(path).imu_mount
 
@@ -106,13 +106,13 @@ def simulate(
     layout) or any URDF robot (--robot, --urdf, or --from a generic run file; two IMUs per
     moving link plus base and tool, the generic layout).
     """
-    from aaria_pin._malloc import tune_malloc
-    from aaria_pin.dh_robot import BodyDimensions
+    from aaria_pin.aaria.dh_robot import BodyDimensions
+    from aaria_pin.aaria.presets import get_preset
+    from aaria_pin.aaria.simulate import simulate_from_run_file, simulate_run
+    from aaria_pin.core._malloc import tune_malloc
     from aaria_pin.errors import ParameterError
-    from aaria_pin.io import read_table
-    from aaria_pin.presets import get_preset
-    from aaria_pin.runfile import is_generic_run_file, write_run
-    from aaria_pin.simulate import simulate_from_run_file, simulate_run
+    from aaria_pin.files.io import read_table
+    from aaria_pin.files.runfile import is_generic_run_file, write_run
 
     tune_malloc()
     urdf_given = robot is not None or urdf_file is not None
@@ -139,7 +139,7 @@ def simulate(
         raise click.UsageError("--drive torque and --torques FILE go together")
     if torques_file is not None:
         if torques_file.suffix.lower() in (".h5", ".hdf5"):
-            from aaria_pin.runfile import read_run
+            from aaria_pin.files.runfile import read_run
 
             overrides["torques"] = read_run(torques_file).tau
         else:

@@ -35,8 +35,8 @@ def _print_run(report: dict[str, Any]) -> None:
 @click.option("--plot", type=click.Path(dir_okay=False), help="PNG of the split per joint.")
 def torques(file: Path, run_index: int | None, as_json: bool, plot: str | None) -> None:
     """Peak and RMS torques, their gravity / Coriolis / inertial split, power and energy."""
-    from aaria_pin.dataset_file import is_dataset_file
-    from aaria_pin.torque_analysis import dataset_torque_report, record_torque_report
+    from aaria_pin.apps.torques import dataset_torque_report, record_torque_report
+    from aaria_pin.files.dataset_file import is_dataset_file
 
     is_dataset = is_dataset_file(file)
     if is_dataset and run_index is None:
@@ -60,18 +60,18 @@ def torques(file: Path, run_index: int | None, as_json: bool, plot: str | None) 
         )
         return
     if is_dataset:
-        from aaria_pin.dataset_record import dataset_run_record
+        from aaria_pin.aaria.dataset_record import dataset_run_record
 
         record = dataset_run_record(str(file), run_index or 0)
     else:
         if run_index is not None:
             raise click.UsageError("--run is for a data set; this is a run file")
-        from aaria_pin.runfile import read_run
+        from aaria_pin.files.runfile import read_run
 
         record = read_run(file)
     report = record_torque_report(record)
     if plot:
-        from aaria_pin.torque_analysis import plot_torque_report
+        from aaria_pin.apps.torques import plot_torque_report
 
         plot_torque_report(report, plot, f"joint torques of {file.name}")
     if as_json:

@@ -29,9 +29,9 @@ def urdf(
     preset: str | None, dh_file: Path | None, convention: str, density: float, output: Path
 ) -> None:
     """Write the URDF of a DH table (fixed base, tool tip and IMU frames included)."""
-    from aaria_pin.dh_robot import BodyDimensions, build_dh_robot
-    from aaria_pin.io import write_text_atomic
-    from aaria_pin.presets import get_preset
+    from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
+    from aaria_pin.aaria.presets import get_preset
+    from aaria_pin.files.io import write_text_atomic
 
     table, table_convention, name = load_table_source(preset, dh_file, convention)
     robot = build_dh_robot(

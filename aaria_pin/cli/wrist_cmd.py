@@ -7,7 +7,7 @@ from typing import Any
 
 import click
 
-from aaria_pin._seeds import MAX_SEED
+from aaria_pin.core.seeds import MAX_SEED
 
 _NUMBER = click.FLOAT
 _ORDERS = (
@@ -54,8 +54,8 @@ def _emit(result: dict[str, Any], as_json: bool, radians: bool) -> None:
 def _report(rotation: Any, order: str, radians: bool, limits: bool) -> dict[str, Any]:
     import numpy as np
 
-    from aaria_pin.rotations import angles_from_matrix
-    from aaria_pin.wrist import REPORT_LIMITS, wrist_fk, wrist_ik
+    from aaria_pin.apps.wrist.kinematics import REPORT_LIMITS, wrist_fk, wrist_ik
+    from aaria_pin.core.rotations import angles_from_matrix
 
     ik = wrist_ik(rotation, REPORT_LIMITS if limits else None)
     reference = ik.solutions[0] if len(ik.solutions) else wrist_ik(rotation).solutions[0]
@@ -94,7 +94,7 @@ def fk(joints: tuple[float, float, float], order: str, radians: bool, as_json: b
     """Tool pose and angles of joint angles J1 J2 J3 (negative values work as they are)."""
     import numpy as np
 
-    from aaria_pin.wrist import wrist_fk
+    from aaria_pin.apps.wrist.kinematics import wrist_fk
 
     q = np.array(joints) if radians else np.radians(joints)
     _emit(_report(wrist_fk(q)[:3, :3], order, radians, limits=False), as_json, radians)
@@ -124,7 +124,7 @@ def ik(
     """Every joint solution for a tool rotation given as angles or as a matrix."""
     import numpy as np
 
-    from aaria_pin.rotations import matrix_from_angles
+    from aaria_pin.core.rotations import matrix_from_angles
 
     if (angles is None) == (matrix is None):
         raise click.UsageError("give exactly one of --angles X Y Z or --matrix R11 … R33")
@@ -176,7 +176,7 @@ def simulate(
     """Move the wrist to TARGETS (J1 J2 J3) after 2 s and write joint torques along the way."""
     import numpy as np
 
-    from aaria_pin.wrist_run import simulate_wrist, write_wrist_run
+    from aaria_pin.apps.wrist.run import simulate_wrist, write_wrist_run
 
     goal = np.array(targets) if radians else np.radians(targets)
     run = simulate_wrist(
@@ -224,7 +224,7 @@ def workspace(
     """Sample the reachable tool points: radius and covered solid angle."""
     import numpy as np
 
-    from aaria_pin.wrist import plot_workspace, wrist_workspace
+    from aaria_pin.apps.wrist.kinematics import plot_workspace, wrist_workspace
 
     limits = np.radians([list(theta1), list(theta2), [-180.0, 180.0]])
     space = wrist_workspace(samples, limits, seed=seed)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from aaria_pin.dh_robot import build_dh_robot
+from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.errors import InputFileError
 from aaria_pin.viz._run_view import RunFile, RunView, Signals, dh_view, joint_labels, run_file
 
@@ -32,10 +32,10 @@ def load_aaria_run(file: Path) -> RunView:
     Raises:
         InputFileError: an unreadable file, or body dimensions that cannot be used.
     """
-    from aaria_pin.dh_robot import BodyDimensions
-    from aaria_pin.oscillation import base_motion
-    from aaria_pin.record import imu_slot_order
-    from aaria_pin.runfile import read_run
+    from aaria_pin.aaria.dh_robot import BodyDimensions
+    from aaria_pin.aaria.oscillation import base_motion
+    from aaria_pin.aaria.sensen import imu_slot_order
+    from aaria_pin.files.runfile import read_run
 
     record = read_run(file)
     dims = None

@@ -8,8 +8,8 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-from aaria_pin._plotting import pyplot
-from aaria_pin.io import atomic_output
+from aaria_pin.files.io import atomic_output
+from aaria_pin.viz._plotting import pyplot
 
 __all__ = ["DPI", "png_figure"]
 

@@ -3,11 +3,11 @@
 The model is rebuilt from the URDF text the file holds and drawn as a stick figure by
 :func:`~aaria_pin.viz.scene.scene_from_model` (URDF meshes are not drawn). The kind of each
 joint (for units and panels) is its Pinocchio joint type
-(:func:`aaria_pin.kinematics.joint_kind`), matched by exact name.
+(:func:`aaria_pin.core.kinematics.joint_kind`), matched by exact name.
 
 :func:`read_generic_view` does everything but the scene (the record, the model, the labelled
 signals, the frame poses), so an application's kind of generic run file draws its own scene on
-the same model (the pick-and-place arm's, :mod:`aaria_pin.arm.view_source`).
+the same model (the pick-and-place arm's, :mod:`aaria_pin.viz._arm_source`).
 """
 
 from __future__ import annotations
@@ -20,11 +20,11 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from aaria_pin._se3 import Array
+from aaria_pin.core.model import RobotModel
+from aaria_pin.core.record import GenericRunRecord
+from aaria_pin.core.se3 import Array
+from aaria_pin.core.trajectory import BaseMotion
 from aaria_pin.errors import InputFileError, ModelError
-from aaria_pin.generic_record import GenericRunRecord
-from aaria_pin.model import RobotModel
-from aaria_pin.trajectory import BaseMotion
 from aaria_pin.viz._run_view import RunFile, RunView, Signals, run_file, scene_poses, still
 from aaria_pin.viz.scene import scene_from_model
 
@@ -35,7 +35,7 @@ _HDF5_SUFFIXES = (".h5", ".hdf5")
 
 def is_generic_run(file: Path | RunFile) -> bool:
     """Whether ``file`` is an HDF5 file marked as a generic (URDF robot) run file."""
-    from aaria_pin.runfile import GENERIC_FORMAT
+    from aaria_pin.files.runfile import GENERIC_FORMAT
 
     header = run_file(file)
     return header.suffix in _HDF5_SUFFIXES and header.text("format") == GENERIC_FORMAT
@@ -57,7 +57,7 @@ class GenericView:
 
     def poser(self, frames: Sequence[str]) -> Callable[[Array], Array]:
         """Given sample indices (S,), the world poses (S, F, 4, 4) of model frames [m]."""
-        from aaria_pin.kinematics import frame_poses
+        from aaria_pin.core.kinematics import frame_poses
 
         q = self.signals.q
         base_pose = np.asarray(self.record.base_pose, dtype=float)
@@ -80,8 +80,8 @@ def read_generic_view(path: str | os.PathLike[str]) -> GenericView:
         InputFileError: an unreadable file, a URDF that cannot be built, an unknown base or
             tool frame, or a stored joint that is neither revolute nor prismatic.
     """
-    from aaria_pin.imu_layout import add_imu_frames
-    from aaria_pin.runfile import read_generic_run
+    from aaria_pin.core.imu_layout import add_imu_frames
+    from aaria_pin.files.runfile import read_generic_run
 
     file = Path(path)
     record = read_generic_run(file)
@@ -144,7 +144,7 @@ def load_generic_run(path: str | os.PathLike[str]) -> RunView:
 
 def _joint_kinds(file: Path, model: pin.Model, names: tuple[str, ...]) -> tuple[str, ...]:
     """``"revolute"``/``"prismatic"`` of each stored joint, from its URDF joint type."""
-    from aaria_pin.kinematics import joint_kind
+    from aaria_pin.core.kinematics import joint_kind
 
     kinds = []
     for name in names:

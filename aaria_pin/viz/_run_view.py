@@ -13,10 +13,10 @@ from pathlib import Path
 
 import numpy as np
 
-from aaria_pin._se3 import Array
-from aaria_pin.dh_robot import DHRobot
-from aaria_pin.model import RobotModel
-from aaria_pin.trajectory import BaseMotion, JointTrajectory
+from aaria_pin.aaria.dh_robot import DHRobot
+from aaria_pin.core.model import RobotModel
+from aaria_pin.core.se3 import Array
+from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 from aaria_pin.viz.scene import Scene, scene_from_dh_robot
 
 __all__ = [
@@ -107,7 +107,7 @@ def scene_poses(
         base: the base motion, one sample per trajectory sample
         trajectory: joint values (T, n) [rad or m]
     """
-    from aaria_pin.kinematics import frame_poses
+    from aaria_pin.core.kinematics import frame_poses
 
     model_poses = frame_poses(robot, base, trajectory, scene.model_frames)
     world = np.broadcast_to(np.eye(4), (model_poses.shape[0], 1, 4, 4))

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
+from aaria_pin.core.trajectory import BaseMotion
 from aaria_pin.errors import InputFileError
-from aaria_pin.trajectory import BaseMotion
 from aaria_pin.viz._run_view import RunFile, RunView, Signals, dh_view, joint_labels, run_file
 
 __all__ = ["is_wrist_run", "load_wrist_run"]
@@ -28,7 +28,7 @@ def load_wrist_run(file: Path) -> RunView:
     Raises:
         InputFileError: ``q`` or ``tau`` not of shape T × 3.
     """
-    from aaria_pin.wrist_run import report_wrist
+    from aaria_pin.apps.wrist.run import report_wrist
 
     if file.suffix.lower() == ".mat":
         from scipy.io import loadmat

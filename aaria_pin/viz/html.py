@@ -22,9 +22,9 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin._se3 import Array
+from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
-from aaria_pin.io import write_text_atomic
+from aaria_pin.files.io import write_text_atomic
 from aaria_pin.viz.scene import COLOURS, WORLD, Scene, posed_geometry
 
 __all__ = ["DEFAULT_MAX_SAMPLES", "shown_samples", "viewer_html", "write_viewer"]

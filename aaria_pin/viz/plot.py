@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from aaria_pin._se3 import Array
+from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 from aaria_pin.viz._figure import png_figure
 from aaria_pin.viz.sources import Signals

@@ -28,10 +28,10 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from aaria_pin._se3 import Array
-from aaria_pin.dh_robot import DHRobot, link_name
-from aaria_pin.model import RobotModel
-from aaria_pin.urdf import RobotDescription
+from aaria_pin.aaria.dh_robot import DHRobot, link_name
+from aaria_pin.core.model import RobotModel
+from aaria_pin.core.se3 import Array
+from aaria_pin.core.urdf import RobotDescription
 
 __all__ = [
     "COLOURS",
@@ -74,7 +74,7 @@ PART_ROLES = {
     "link": "link",
     "tool": "link",
 }
-"""Drawing role of each body part role of :class:`~aaria_pin.inertia.Part`."""
+"""Drawing role of each body part role of :class:`~aaria_pin.core.inertia.Part`."""
 
 _CYLINDER_SIDES = 16
 
@@ -287,11 +287,11 @@ def scene_from_dh_robot(robot: DHRobot, name: str | None = None) -> Scene:
 def one_axis_joint(joint: pin.JointModel) -> tuple[str, Array] | None:
     """Kind and unit axis of a one-axis revolute or prismatic joint (bounded or not), else None.
 
-    The kind is :func:`aaria_pin.kinematics.joint_kind`'s (exact Pinocchio type names: a
+    The kind is :func:`aaria_pin.core.kinematics.joint_kind`'s (exact Pinocchio type names: a
     planar joint is not prismatic); a free-flyer or any other joint gives None.
     """
+    from aaria_pin.core.kinematics import joint_kind
     from aaria_pin.errors import ModelError
-    from aaria_pin.kinematics import joint_kind
 
     try:
         kind, axis = joint_kind(joint)

@@ -14,7 +14,7 @@ as a stick figure, :mod:`~aaria_pin.viz._generic_source`). Other kinds plug in w
 application's own kind of generic run file (the pick-and-place arm's) is recognised first.
 
 **Plug-ins.** Applications register their kinds and presets without ``import aaria_pin``
-importing them: the modules named in ``_PLUGINS`` (``aaria_pin.arm.view_source``) are imported,
+importing them: the modules named in ``_PLUGINS`` (``aaria_pin.viz._arm_source``) are imported,
 where they exist, the first time a run kind or a preset is looked up. A plug-in module
 
 - calls :func:`register_run_kind` at import for each kind of run file it knows, and
@@ -35,11 +35,11 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from aaria_pin._se3 import Array
-from aaria_pin.dh import Convention
-from aaria_pin.dh_robot import build_dh_robot
+from aaria_pin.aaria.dh import Convention
+from aaria_pin.aaria.dh_robot import build_dh_robot
+from aaria_pin.core.se3 import Array
+from aaria_pin.core.trajectory import BaseMotion
 from aaria_pin.errors import InputFileError, ModelError, ParameterError
-from aaria_pin.trajectory import BaseMotion
 from aaria_pin.viz._aaria_source import is_aaria_run, load_aaria_run
 from aaria_pin.viz._generic_source import is_generic_run, load_generic_run
 from aaria_pin.viz._run_view import RunFile, RunView, Signals, run_file, scene_poses, still
@@ -68,10 +68,10 @@ Loader = Callable[[Path], RunView]
 PresetBuilder = Callable[[], tuple[Scene, Array]]
 """A plug-in preset: the model's scene and the (F, 4, 4) world pose of its frames at rest."""
 
-_PLUGINS: tuple[str, ...] = ("aaria_pin.arm.view_source",)
+_PLUGINS: tuple[str, ...] = ("aaria_pin.viz._arm_source",)
 """Modules imported (where they exist) on the first look-up of a run kind or a preset."""
 
-_ANNOUNCED_PRESETS = {"pick-place-arm": "aaria_pin.arm.view_source"}
+_ANNOUNCED_PRESETS = {"pick-place-arm": "aaria_pin.viz._arm_source"}
 """Model presets a plug-in is to provide: named in the error while it does not."""
 
 _KINDS: dict[str, tuple[Probe, Loader]] = {}
@@ -191,7 +191,7 @@ def load_run_view(path: str | os.PathLike[str]) -> RunView:
 
 def preset_names() -> tuple[str, ...]:
     """Presets :func:`preset_view` draws: the DH table presets, then the plug-ins' presets."""
-    from aaria_pin.presets import preset_names as table_presets
+    from aaria_pin.aaria.presets import preset_names as table_presets
 
     _load_plugins()
     tables = table_presets()
@@ -201,14 +201,14 @@ def preset_names() -> tuple[str, ...]:
 def preset_view(name: str) -> tuple[Scene, Array]:
     """The scene of a preset at rest and the (F, 4, 4) world pose of each of its frames.
 
-    A DH table preset (:mod:`aaria_pin.presets`) has every joint at zero and the base at the
+    A DH table preset (:mod:`aaria_pin.aaria.presets`) has every joint at zero and the base at the
     origin; a plug-in preset is drawn as its builder gives it.
 
     Raises:
         ParameterError: an unknown preset (the message lists the allowed ones).
         ModelError: a plug-in builder that returns poses not matching its scene.
     """
-    from aaria_pin.presets import PRESETS
+    from aaria_pin.aaria.presets import PRESETS
 
     if name in PRESETS:
         preset = PRESETS[name]

@@ -1,0 +1,1 @@
+"""Applications on the core and the Aaria layer: data sets, wrist, pick-place arm, torques."""

@@ -1,0 +1,248 @@
+"""The pick-and-place run: path, torques with the payload, tool pose, and its run file.
+
+:func:`simulate_pick_place` plans the task (:mod:`aaria_pin.apps.arm.task`), computes the joint
+torques
+by RNEA with the cylinder on the hand while it is held and without it
+(:mod:`aaria_pin.apps.arm.payload`), the wrench of the pillar's mount, and the grasp point's pose.
+:func:`pick_place_record` turns the run into the generic run record of URDF robots
+(:class:`aaria_pin.core.record.GenericRunRecord`: ``signals`` = time and joint values, no IMU;
+``q``, ``qd``, ``qdd``, ``tau``; ``base_wrench`` = the mount's; ``tool_pose`` = the grasp point;
+the URDF text, whose frame ``grasp`` is placed for the run's cylinder, so it equals ``tool_pose``),
+written by :func:`aaria_pin.files.runfile.write_generic_run`, so ``aaria info`` reads it. The task's
+settings, phases and held interval are file attributes.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from aaria_pin import __version__
+from aaria_pin.apps.arm.dims import ArmDimensions, get_arm_preset
+from aaria_pin.apps.arm.parts import MeshPart
+from aaria_pin.apps.arm.payload import HAND_JOINT, payload_inertia, task_torques
+from aaria_pin.apps.arm.preset import ARM_JOINTS, arm_joints, arm_parts, arm_urdf, build_arm_model
+from aaria_pin.apps.arm.task import PHASES, Cylinder, JointPath, plan_pick_place
+from aaria_pin.core.model import GRAVITY, RobotModel
+from aaria_pin.core.record import GenericRunRecord
+from aaria_pin.core.se3 import Array
+from aaria_pin.core.trajectory import JointTrajectory
+
+__all__ = [
+    "PickPlaceRun",
+    "cylinder_track",
+    "effort_excess",
+    "pick_place_record",
+    "simulate_pick_place",
+    "write_pick_place_run",
+]
+
+_UNITS = {
+    "q": "m (lift, finger), rad (shoulder, elbow, hand)",
+    "tau": "N (lift, finger), N*m (shoulder, elbow, hand)",
+    "tool_pose": "m",
+    "base_wrench": "N (fx, fy, fz), N*m (mx, my, mz)",
+    "time": "s",
+}
+
+
+@dataclass(frozen=True)
+class PickPlaceRun:
+    """A pick-and-place run.
+
+    Attributes:
+        path: the joint path, its phases and held mask
+        tau: joint torques [N·m] and forces [N] with the cylinder on the hand where held (T, 7)
+        tau_free: the same without the cylinder (T, 7)
+        base_wrench: the wrench the pillar's mount applies to the arm, cylinder included where
+            held, ``[fx fy fz mx my mz]`` in world axes about the pillar's origin on the floor
+            (T, 6) [N, N·m]
+        tool_pose: the grasp point's pose in the world (T, 4, 4) [m]
+        cylinder: the cylinder (where it stood)
+        place: where it was put down (x, y) [m]
+        dims: the arm
+        preset: the arm preset's name
+        branch: the IK branch rule used
+        robot: the arm's model on a moving base resting at the world origin (its URDF text,
+            ``robot.urdf``, places frame ``grasp`` for the cylinder)
+        parts: the arm's part meshes (:func:`aaria_pin.apps.arm.preset.arm_parts`)
+    """
+
+    path: JointPath
+    tau: Array
+    tau_free: Array
+    base_wrench: Array
+    tool_pose: Array
+    cylinder: Cylinder
+    place: tuple[float, float]
+    dims: ArmDimensions
+    preset: str
+    branch: str
+    robot: RobotModel
+    parts: Mapping[str, MeshPart]
+
+    def link_poses(self, frames: list[str], samples: ArrayLike | None = None) -> Array:
+        """World poses (S, F, 4, 4) [m] of model frames at samples (default: every one)."""
+        from aaria_pin.core.kinematics import frame_poses
+        from aaria_pin.core.trajectory import BaseMotion
+
+        p = self.path
+        index = slice(None) if samples is None else np.asarray(samples, dtype=int)
+        trajectory = JointTrajectory(
+            *(np.ascontiguousarray(a[index]) for a in (p.time, p.q, p.qd, p.qdd))
+        )
+        n = trajectory.time.size
+        return frame_poses(self.robot, BaseMotion.resting(n), trajectory, frames)
+
+
+def simulate_pick_place(
+    cylinder: Cylinder,
+    place: tuple[float, float],
+    *,
+    preset: str = "pick-place-arm",
+    rate: float = 100.0,
+    branch: str = "nearest",
+    threads: int = 1,
+) -> PickPlaceRun:
+    """Plan the task and compute its torques and tool pose.
+
+    Args:
+        cylinder: the cylinder and where it stands
+        place: where to put it (x, y) [m]
+        preset: the arm preset
+        rate: sample rate [Hz]
+        branch: IK branch: ``"nearest"``, ``"left"`` or ``"right"``
+        threads: RNEA worker threads
+
+    Returns:
+        The run.
+
+    Raises:
+        ParameterError: as :func:`aaria_pin.apps.arm.task.plan_pick_place`, or an unknown preset.
+    """
+    from aaria_pin.core.kinematics import frame_poses
+    from aaria_pin.core.trajectory import BaseMotion
+
+    dims = get_arm_preset(preset)
+    path = plan_pick_place(dims, cylinder, place, rate=rate, branch=branch)
+    parts = arm_parts(dims)
+    grasp = (cylinder.radius, cylinder.height)
+    urdf = arm_urdf(dims, grasp=grasp, parts=parts)
+    robot = build_arm_model(dims, grasp, free_flyer=True, urdf=urdf)
+    trajectory = JointTrajectory(path.time, path.q, path.qd, path.qdd)
+    torques = task_torques(robot, payload_inertia(dims, cylinder), trajectory, path.held, threads)
+    resting = BaseMotion.resting(path.time.size)
+    tool_pose = frame_poses(robot, resting, trajectory, [robot.tool_frame])[:, 0]
+    return PickPlaceRun(
+        path,
+        torques.tau,
+        torques.tau_free,
+        torques.base_wrench,
+        tool_pose,
+        cylinder,
+        (float(place[0]), float(place[1])),
+        dims,
+        preset,
+        branch,
+        robot,
+        parts,
+    )
+
+
+def pick_place_record(run: PickPlaceRun) -> GenericRunRecord:
+    """The run as a generic run record (module docstring)."""
+    path = run.path
+    n = path.time.size
+    c = run.cylinder
+    attributes: dict[str, Any] = {
+        "robot": "pick_place_arm",
+        "source": run.preset,
+        "task": "pick-place",
+        "moving_base": False,
+        "base_frame": "pillar",
+        "tool_frame": "grasp",
+        "base_wrench_frame": "world axes, about the pillar's origin on the floor",
+        "payload_joint": HAND_JOINT,
+        "rate": float(1.0 / (path.time[1] - path.time[0])) if n > 1 else 0.0,
+        "duration": float(path.time[-1]),
+        "cylinder": {"x": c.x, "y": c.y, "radius": c.radius, "height": c.height, "mass": c.mass},
+        "place": list(run.place),
+        "branch": run.branch,
+        "phases": list(PHASES),
+        "phase_start": path.boundaries[:, 0].tolist(),
+        "phase_end": path.boundaries[:, 1].tolist(),
+        "held_interval": list(path.held_interval),
+        "waypoints": path.waypoints.tolist(),
+        "peak_payload_share": np.abs(run.tau - run.tau_free).max(axis=0).tolist(),
+        "gravity": GRAVITY.tolist(),
+        "units": _UNITS,
+        "version": __version__,
+    }
+    return GenericRunRecord(
+        signals=np.column_stack([path.time, path.q]),
+        joint_names=ARM_JOINTS,
+        q=np.ascontiguousarray(path.q),
+        qd=np.ascontiguousarray(path.qd),
+        qdd=np.ascontiguousarray(path.qdd),
+        tau=np.ascontiguousarray(run.tau),
+        base_pose=np.broadcast_to(np.eye(4), (n, 4, 4)).copy(),
+        base_wrench=np.ascontiguousarray(run.base_wrench),
+        tool_pose=run.tool_pose,
+        imu_mounts=(),
+        urdf=run.robot.urdf or "",
+        attributes=attributes,
+    )
+
+
+def cylinder_track(
+    held: ArrayLike,
+    pick: tuple[float, float],
+    place: tuple[float, float],
+    height: float,
+    tool_pose: Array,
+) -> Array:
+    """The cylinder's centre pose in the world at every sample (T, 4, 4) [m].
+
+    Args:
+        held: (T,) True where it is in the hand (one interval)
+        pick: where it stands before the hold (x, y) [m]
+        place: where it is put down, and stands after the hold (x, y) [m]
+        height: its height [m]
+        tool_pose: the grasp point's pose (T, 4, 4) [m]: the cylinder's centre while held
+    """
+    held = np.asarray(held, dtype=bool)
+    poses = np.broadcast_to(np.eye(4), (held.size, 4, 4)).copy()
+    poses[:, :3, 3] = (pick[0], pick[1], height / 2)
+    if np.any(held):
+        after = np.arange(held.size) > np.flatnonzero(held)[-1]
+        poses[after, :3, 3] = (place[0], place[1], height / 2)
+    poses[held] = np.asarray(tool_pose)[held]  # its mid-plane is symmetric: z up or down alike
+    return poses
+
+
+def effort_excess(run: PickPlaceRun) -> list[tuple[str, float, float]]:
+    """Joints whose peak torque exceeds the URDF's effort limit.
+
+    Returns:
+        ``(joint, peak |tau|, limit)`` for each such joint, in model order [N·m or N].
+    """
+    limits = {j.name: j.effort for j in arm_joints(run.dims) if j.kind != "fixed"}
+    peaks = np.abs(run.tau).max(axis=0)
+    return [
+        (name, float(peak), float(limits[name]))
+        for name, peak in zip(ARM_JOINTS, peaks, strict=True)
+        if peak > limits[name]
+    ]
+
+
+def write_pick_place_run(path: str | os.PathLike[str], run: PickPlaceRun) -> Path:
+    """Write the run as a generic run file (``.h5``), atomically."""
+    from aaria_pin.files.runfile import write_generic_run
+
+    return write_generic_run(path, pick_place_record(run))

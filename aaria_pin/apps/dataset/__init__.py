@@ -1,0 +1,1 @@
+"""Data sets: many runs simulated in parallel into one HDF5 file."""

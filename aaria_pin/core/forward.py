@@ -1,0 +1,127 @@
+"""Torque-driven motion: forward dynamics with the base prescribed, integrated at a fixed step.
+
+With the base following its prescribed motion, the joints obey
+``M_jj(q)·qdd = tau - b(q, v, a_base)``, where ``b`` is the RNEA force with the joints'
+accelerations set to zero (gravity, Coriolis and the base's own acceleration) and ``M_jj`` the
+joints' block of the mass matrix (CRBA). The state is integrated with the classical fourth-order
+Runge–Kutta scheme, ``substeps`` steps per sample; torques and the base state are held linear
+between samples.
+
+Pinocchio's ABA is not used here: it would let the base react to the joints' motion, while the
+base here is prescribed. Solving the joints' block of the CRBA mass matrix against the RNEA bias
+is the same dynamics with the base's motion imposed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+from numpy.typing import ArrayLike
+
+from aaria_pin.core.kinematics import full_state
+from aaria_pin.core.model import RobotModel
+from aaria_pin.core.se3 import Array
+from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
+from aaria_pin.errors import ParameterError
+
+__all__ = ["DEFAULT_SUBSTEPS", "check_torques", "forward_simulate"]
+
+DEFAULT_SUBSTEPS = 4
+"""Runge–Kutta steps per sample."""
+
+
+def check_torques(torques: ArrayLike, samples: int, joints: int, what: str = "torques") -> Array:
+    """A torque table as a (T, n) float array, or a clear error.
+
+    Raises:
+        ParameterError: wrong shape (naming the samples and joints expected) or NaN / inf.
+    """
+    try:
+        tau = np.asarray(torques, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(
+            f"{what} are not numbers; allowed: a ({samples}, {joints}) table"
+        ) from None
+    if tau.shape != (samples, joints):
+        raise ParameterError(
+            f"{what} have shape {tau.shape}; allowed: ({samples} samples, {joints} joints)"
+        )
+    bad = np.argwhere(~np.isfinite(tau))
+    if bad.size:
+        row, col = bad[0]
+        raise ParameterError(
+            f"{what}: sample {row}, joint {col + 1} is {tau[row, col]}; allowed: a finite number"
+        )
+    return tau
+
+
+def forward_simulate(
+    robot: RobotModel,
+    base: BaseMotion,
+    torques: ArrayLike,
+    time: Array,
+    q0: ArrayLike,
+    v0: ArrayLike,
+    substeps: int = DEFAULT_SUBSTEPS,
+) -> JointTrajectory:
+    """Integrate the joints' motion under given torques, the base prescribed.
+
+    Args:
+        robot: the model (with ``moving_base`` the base follows ``base``)
+        base: the base motion at the sample times
+        torques: (T, n) joint torques [N·m] or forces [N], model order, at the sample times
+        time: (T,) sample times, evenly spaced [s]
+        q0: initial joint values [rad or m]
+        v0: initial joint velocities [rad/s or m/s]
+        substeps: Runge–Kutta steps per sample
+
+    Returns:
+        Joint values, velocities and accelerations at the sample times.
+    """
+    n = robot.n_joints
+    T = time.size
+    tau = check_torques(torques, T, n)
+    model = robot.model
+    data = model.createData()
+    zeros = np.zeros((T, n))
+    q_base, v_base, a_base = full_state(robot, base, JointTrajectory(time, zeros, zeros, zeros))
+    nb_q, nb_v = robot.base_nq, robot.base_nv
+
+    def acceleration(k: float, q: Array, v: Array) -> Array:
+        """Joint accelerations at fractional sample index k."""
+        i = min(int(k), T - 2)
+        w = k - i
+        qf = np.concatenate([(1 - w) * q_base[i, :nb_q] + w * q_base[i + 1, :nb_q], q])
+        if nb_q:
+            qf[3:7] /= np.linalg.norm(qf[3:7])
+        vf = np.concatenate([(1 - w) * v_base[i, :nb_v] + w * v_base[i + 1, :nb_v], v])
+        af = np.concatenate([(1 - w) * a_base[i, :nb_v] + w * a_base[i + 1, :nb_v], np.zeros(n)])
+        bias = pin.rnea(model, data, qf, vf, af)[nb_v:]
+        mass = pin.crba(model, data, qf)
+        block = np.triu(mass)[nb_v:, nb_v:]
+        block = block + np.triu(block, 1).T
+        torque = (1 - w) * tau[i] + w * tau[i + 1]
+        return np.linalg.solve(block, torque - bias)
+
+    q = np.empty((T, n))
+    v = np.empty((T, n))
+    a = np.empty((T, n))
+    q[0], v[0] = np.asarray(q0, dtype=float), np.asarray(v0, dtype=float)
+    dt = float(time[1] - time[0]) if T > 1 else 0.0
+    h = dt / substeps
+    x, y = q[0].copy(), v[0].copy()
+    for i in range(T - 1):
+        for s in range(substeps):
+            k = i + s / substeps
+            dk = 1.0 / substeps
+            k1v, k1a = y, acceleration(k, x, y)
+            if s == 0:
+                a[i] = k1a  # the acceleration at sample i itself
+            k2v, k2a = y + h / 2 * k1a, acceleration(k + dk / 2, x + h / 2 * k1v, y + h / 2 * k1a)
+            k3v, k3a = y + h / 2 * k2a, acceleration(k + dk / 2, x + h / 2 * k2v, y + h / 2 * k2a)
+            k4v, k4a = y + h * k3a, acceleration(k + dk, x + h * k3v, y + h * k3a)
+            x = x + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+            y = y + h / 6 * (k1a + 2 * k2a + 2 * k3a + k4a)
+        q[i + 1], v[i + 1] = x, y
+    a[T - 1] = acceleration(float(T - 1), q[T - 1], v[T - 1])
+    return JointTrajectory(time, q, v, a)

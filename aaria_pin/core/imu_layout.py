@@ -1,0 +1,204 @@
+"""Where the IMUs of a URDF robot sit: the default layout, layout files, model frames.
+
+Default layout (:func:`default_imu_layout`), in this order:
+
+- ``imu_base`` on the base (root) link, at its origin, axes aligned with it;
+- ``imu_tool`` on the tool frame, at its origin, axes aligned with it;
+- for every moving link, in model order (the child link of each actuated joint, with
+  everything fixed to it), two IMUs with the link's axes: ``imu_<link>_a`` at the link's origin
+  and ``imu_<link>_b`` at the body's centre of mass. When that centre lies closer than
+  ``min_offset`` (default 5 cm) to the joint's axis line (for a revolute joint the line the
+  link turns about, for a prismatic joint the line through the origin it slides along),
+  ``_b`` moves away from the line, perpendicular to it, until it is ``min_offset`` from it: so
+  the two IMUs of a link never share an axis and together see its angular acceleration.
+
+A layout file (TOML) replaces the default, one ``[[imu]]`` table per IMU in record order::
+
+    [[imu]]
+    name = "imu_wrist"           # unique, not already a frame of the robot
+    parent = "wrist_3_link"      # a link, joint or frame of the URDF
+    xyz = [0.0, 0.0, 0.05]       # position in the parent frame [m] (default zeros)
+    rpy = [0.0, 0.0, 1.5708]     # orientation, URDF fixed-axis roll-pitch-yaw [rad] (default zeros)
+"""
+
+from __future__ import annotations
+
+import os
+import tomllib
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from aaria_pin.core.model import frame_index
+from aaria_pin.core.record import ImuMount
+from aaria_pin.core.se3 import Array
+from aaria_pin.errors import InputFileError, ModelError
+
+__all__ = [
+    "DEFAULT_MIN_OFFSET",
+    "add_imu_frames",
+    "default_imu_layout",
+    "moving_links",
+    "read_imu_layout",
+]
+
+DEFAULT_MIN_OFFSET = 0.05
+"""Smallest distance of a link's second IMU from the joint axis [m]."""
+
+
+def _rpy_matrix(rpy: Sequence[float]) -> Array:
+    roll, pitch, yaw = rpy
+    return np.asarray(pin.rpy.rpyToMatrix(roll, pitch, yaw))
+
+
+def _pose(xyz: Sequence[float], rpy: Sequence[float] = (0.0, 0.0, 0.0)) -> Array:
+    T = np.eye(4)
+    T[:3, :3] = _rpy_matrix(rpy)
+    T[:3, 3] = xyz
+    return T
+
+
+def moving_links(model: pin.Model) -> list[tuple[int, int, str]]:
+    """(joint index, frame index, link name) of each actuated joint's child link, model order.
+
+    The child link is the body frame the URDF parser attaches to the joint first.
+    """
+    links = []
+    for joint_id in range(1, model.njoints):
+        if model.joints[joint_id].shortname() == "JointModelFreeFlyer":
+            continue
+        frame_id = next(
+            index
+            for index, frame in enumerate(model.frames)
+            if frame.type == pin.FrameType.BODY and frame.parentJoint == joint_id
+        )
+        links.append((joint_id, frame_id, model.frames[frame_id].name))
+    return links
+
+
+def _joint_axis(joint: pin.JointModel) -> Array:
+    from aaria_pin.core.kinematics import joint_kind
+
+    return joint_kind(joint)[1]
+
+
+def _offset_from_axis(com: Array, axis: Array, min_offset: float) -> Array:
+    """``com`` moved perpendicular to the line through the origin along ``axis``, if needed."""
+    axis = axis / np.linalg.norm(axis)
+    radial = com - axis * (axis @ com)
+    distance = float(np.linalg.norm(radial))
+    if distance >= min_offset:
+        return com
+    if distance > 1e-9:
+        direction = radial / distance
+    else:  # on the axis: any perpendicular, chosen from the axis least aligned with it
+        helper = np.eye(3)[int(np.argmin(np.abs(axis)))]
+        direction = np.cross(axis, helper)
+        direction /= np.linalg.norm(direction)
+    return com - radial + direction * min_offset  # the point on the axis, moved out
+
+
+def default_imu_layout(
+    model: pin.Model,
+    base_frame: str,
+    tool_frame: str,
+    min_offset: float = DEFAULT_MIN_OFFSET,
+) -> tuple[ImuMount, ...]:
+    """The default IMU layout of a model (see the module docstring).
+
+    Args:
+        model: the Pinocchio model built from the URDF
+        base_frame: the base (root) link
+        tool_frame: the tool frame
+        min_offset: smallest distance of a link's second IMU from its joint's axis [m]
+
+    Returns:
+        The IMU mounts, in record order.
+    """
+    mounts = [
+        ImuMount("imu_base", base_frame, np.eye(4)),
+        ImuMount("imu_tool", tool_frame, np.eye(4)),
+    ]
+    for joint_id, frame_id, link in moving_links(model):
+        frame = model.frames[frame_id]
+        T_joint_link = frame.placement.homogeneous
+        com_joint = np.asarray(model.inertias[joint_id].lever, dtype=float)
+        com_joint = _offset_from_axis(com_joint, _joint_axis(model.joints[joint_id]), min_offset)
+        com_link = T_joint_link[:3, :3].T @ (com_joint - T_joint_link[:3, 3])
+        mounts.append(ImuMount(f"imu_{link}_a", link, np.eye(4)))
+        mounts.append(ImuMount(f"imu_{link}_b", link, _pose(com_link)))
+    return tuple(mounts)
+
+
+def _vector(entry: dict[str, Any], key: str, where: str) -> list[float]:
+    value = entry.get(key, [0.0, 0.0, 0.0])
+    if (
+        not isinstance(value, list)
+        or len(value) != 3
+        or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+        or not np.all(np.isfinite(value))
+    ):
+        raise InputFileError(f"{where}: {key} = {value!r}; allowed: three finite numbers")
+    return [float(v) for v in value]
+
+
+def read_imu_layout(path: str | os.PathLike[str]) -> tuple[ImuMount, ...]:
+    """Read an IMU layout file (TOML, see the module docstring).
+
+    Raises:
+        InputFileError: missing or malformed file, an entry without a name or parent, a bad
+            vector, a duplicate name, or no IMU at all.
+    """
+    file = Path(path)
+    try:
+        data = tomllib.loads(file.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise InputFileError(f"{file}: cannot be read ({exc.strerror})") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise InputFileError(f"{file}: not a TOML file ({exc})") from None
+    entries = data.get("imu")
+    if not isinstance(entries, list) or not entries:
+        raise InputFileError(f"{file}: no [[imu]] tables; allowed: one [[imu]] table per IMU")
+    mounts: list[ImuMount] = []
+    for number, entry in enumerate(entries, start=1):
+        where = f"{file}: [[imu]] number {number}"
+        if not isinstance(entry, dict):
+            raise InputFileError(f"{where}: {entry!r} is not a table; allowed: [[imu]] tables")
+        unknown = set(entry) - {"name", "parent", "xyz", "rpy"}
+        if unknown:
+            raise InputFileError(
+                f"{where}: unknown key {sorted(unknown)[0]!r}; allowed: name, parent, xyz, rpy"
+            )
+        for key in ("name", "parent"):
+            if not isinstance(entry.get(key), str) or not entry[key]:
+                raise InputFileError(f"{where}: no {key}; allowed: a non-empty string")
+        if any(mount.name == entry["name"] for mount in mounts):
+            raise InputFileError(f"{where}: name {entry['name']!r} is used twice")
+        pose = _pose(_vector(entry, "xyz", where), _vector(entry, "rpy", where))
+        mounts.append(ImuMount(entry["name"], entry["parent"], pose))
+    return tuple(mounts)
+
+
+def add_imu_frames(model: pin.Model, mounts: Sequence[ImuMount]) -> None:
+    """Add one operational frame per IMU to a model, named after the IMU.
+
+    Raises:
+        ModelError: a parent frame that is not in the model, or an IMU name that already is.
+    """
+    for mount in mounts:
+        if not model.existFrame(mount.parent):
+            raise ModelError(
+                f"IMU {mount.name!r}: parent frame {mount.parent!r} is not in model "
+                f"{model.name!r}; allowed: a link, joint or frame of the URDF"
+            )
+        if model.existFrame(mount.name):
+            raise ModelError(f"IMU name {mount.name!r} is already a frame of the robot")
+        parent_id = frame_index(model, mount.parent)
+        parent = model.frames[parent_id]
+        placement = parent.placement * pin.SE3(mount.T_parent_imu)
+        model.addFrame(
+            pin.Frame(mount.name, parent.parentJoint, parent_id, placement, pin.FrameType.OP_FRAME)
+        )

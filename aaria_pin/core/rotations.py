@@ -1,0 +1,234 @@
+"""Rotation matrices and Euler / Tait–Bryan angles, every order, vectorized, exact at gimbal lock.
+
+Sequences are named as scipy names them: lowercase is about **fixed** axes (extrinsic),
+``"xyz"`` meaning ``R = Rz(z)·Ry(y)·Rx(x)`` (rotate about x, then the fixed y, then the fixed z;
+the spherical-wrist report's "X-Y-Z"); uppercase is about **moving** axes (intrinsic),
+``"XYZ"`` meaning ``R = Rx(x)·Ry(y)·Rz(z)``. The twelve Tait–Bryan sequences (three different
+axes) and the proper Euler sequences (first axis = last, e.g. ``"ZYZ"``, the pick-and-place
+report's convention) are supported. Angles are given in sequence order: for ``"xyz"``,
+``(x, y, z)``.
+
+Extraction uses ``atan2`` only: the first and third angles cover (-π, π], the middle one
+[-π/2, π/2] (Tait–Bryan) or [0, π] (proper Euler). At gimbal lock (middle angle ±π/2, or 0 / π)
+only the sum or difference of the outer angles is defined: the angle of the rightmost factor of
+the product is set to 0 (the third angle about moving axes, the first about fixed axes) and the
+other outer angle carries the whole rotation, so the matrix of the returned angles still equals
+the input.
+A ``locked`` flag marks rotations whose middle angle is within ``lock_tolerance`` of a lock.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from aaria_pin.core.se3 import Array
+from aaria_pin.errors import ParameterError
+
+__all__ = [
+    "LOCK_TOLERANCE",
+    "ORTHONORMAL_TOLERANCE",
+    "TAIT_BRYAN",
+    "Angles",
+    "angles_from_matrix",
+    "as_rotation",
+    "elementary",
+    "matrix_from_angles",
+]
+
+TAIT_BRYAN = tuple(
+    order for base in ("xyz", "xzy", "yxz", "yzx", "zxy", "zyx") for order in (base, base.upper())
+)
+"""The twelve Tait–Bryan sequences: fixed (lowercase) and moving (uppercase) axes."""
+
+LOCK_TOLERANCE = 1e-6
+"""How close [rad] the middle angle may come to a gimbal lock before ``locked`` is set."""
+
+ORTHONORMAL_TOLERANCE = 1e-6
+"""Largest ``|RᵀR - I|`` entry accepted for a rotation matrix."""
+
+_AXIS = {"x": 0, "y": 1, "z": 2}
+_EXACT_LOCK = 1e-12
+
+
+class Angles(NamedTuple):
+    """Angles extracted from rotations.
+
+    Attributes:
+        angles: (..., 3) angles in sequence order [rad]
+        locked: (...) True where the middle angle is within ``lock_tolerance`` of gimbal lock
+    """
+
+    angles: Array
+    locked: Array
+
+
+def _parse(seq: str) -> tuple[tuple[int, int, int], bool]:
+    if (
+        not isinstance(seq, str)
+        or len(seq) != 3
+        or not (seq.islower() or seq.isupper())
+        or any(c not in _AXIS for c in seq.lower())
+        or seq[0].lower() == seq[1].lower()
+        or seq[1].lower() == seq[2].lower()
+    ):
+        raise ParameterError(
+            f"rotation sequence {seq!r} is not allowed; allowed: three of x, y, z with no axis"
+            " twice in a row, all lowercase (fixed axes) or all uppercase (moving axes), e.g."
+            " 'xyz', 'ZYX', 'ZYZ'"
+        )
+    axes = tuple(_AXIS[c] for c in seq.lower())
+    return (axes[0], axes[1], axes[2]), seq.isupper()
+
+
+def elementary(axis: int, angle: ArrayLike) -> Array:
+    """Rotation matrices about one coordinate axis, shape (..., 3, 3).
+
+    Args:
+        axis: 0, 1 or 2 for x, y, z
+        angle: angles [rad], any shape
+    """
+    a = np.asarray(angle, dtype=float)
+    c, s = np.cos(a), np.sin(a)
+    R = np.zeros((*a.shape, 3, 3))
+    i, j = (axis + 1) % 3, (axis + 2) % 3
+    R[..., axis, axis] = 1.0
+    R[..., i, i], R[..., i, j], R[..., j, i], R[..., j, j] = c, -s, s, c
+    return R
+
+
+def _finite_angles(angles: ArrayLike) -> Array:
+    try:
+        arr = np.asarray(angles, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(
+            "angles are not numbers; allowed: an array of shape (..., 3)"
+        ) from None
+    if arr.ndim == 0 or arr.shape[-1] != 3:
+        raise ParameterError(f"angles have shape {arr.shape}; allowed: (..., 3)")
+    if not np.all(np.isfinite(arr)):
+        raise ParameterError("angles hold NaN or inf; allowed: finite numbers")
+    return arr
+
+
+def matrix_from_angles(angles: ArrayLike, seq: str) -> Array:
+    """Rotation matrices from angles in a sequence.
+
+    Args:
+        angles: (..., 3) angles in sequence order [rad]
+        seq: e.g. ``"xyz"`` (fixed axes) or ``"ZYZ"`` (moving axes)
+
+    Returns:
+        (..., 3, 3) rotation matrices.
+    """
+    arr = _finite_angles(angles)
+    axes, intrinsic = _parse(seq)
+    factors = [elementary(axis, arr[..., n]) for n, axis in enumerate(axes)]
+    if intrinsic:
+        return factors[0] @ factors[1] @ factors[2]
+    return factors[2] @ factors[1] @ factors[0]
+
+
+def as_rotation(
+    matrix: ArrayLike, tolerance: float = ORTHONORMAL_TOLERANCE, project: bool = False
+) -> tuple[Array, Array]:
+    """Check (or project) matrices as rotations.
+
+    Args:
+        matrix: (..., 3, 3) matrices
+        tolerance: largest ``|RᵀR - I|`` entry accepted
+        project: replace each matrix by the nearest rotation (SVD) instead of refusing it
+
+    Returns:
+        The rotations and a (...) flag that is True where a matrix was projected.
+
+    Raises:
+        ParameterError: wrong shape, NaN or inf, or (without ``project``) a matrix that is not
+            orthonormal within ``tolerance`` or has determinant -1.
+    """
+    try:
+        R = np.array(matrix, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError("matrix is not numeric; allowed: (..., 3, 3) real numbers") from None
+    if R.ndim < 2 or R.shape[-2:] != (3, 3):
+        raise ParameterError(f"matrix has shape {R.shape}; allowed: (..., 3, 3)")
+    if not np.all(np.isfinite(R)):
+        raise ParameterError("matrix holds NaN or inf; allowed: finite numbers")
+    gram = np.einsum("...ki,...kj->...ij", R, R)
+    error = np.abs(gram - np.eye(3)).max(axis=(-1, -2))
+    det = np.einsum("...i,...i->...", R[..., 0, :], np.cross(R[..., 1, :], R[..., 2, :]))
+    bad = (error > tolerance) | (det < 0)
+    if not project:
+        if np.any(bad):
+            index = np.argwhere(np.atleast_1d(bad))[0]
+            worst = float(np.atleast_1d(error)[tuple(index)])
+            d = float(np.atleast_1d(det)[tuple(index)])
+            where = f" {index.tolist()}" if R.ndim > 2 else ""
+            raise ParameterError(
+                f"matrix{where} is not a rotation"
+                f" (|RᵀR - I| = {worst:.3g}, det = {d:.6g}); allowed: orthonormal within"
+                f" {tolerance:g} with det +1, or project it"
+            )
+        return R, np.zeros(R.shape[:-2], dtype=bool)
+    U, _, Vt = np.linalg.svd(R)
+    D = np.ones(R.shape[:-1])
+    D[..., 2] = np.sign(np.linalg.det(U @ Vt))
+    projected = (U * D[..., None, :]) @ Vt
+    return np.where(bad[..., None, None], projected, R), bad
+
+
+def _angle_about(axis: int, M: Array) -> Array:
+    """The angle of rotations about one coordinate axis (exact where M is such a rotation)."""
+    i, j = (axis + 1) % 3, (axis + 2) % 3
+    return np.arctan2(M[..., j, i], M[..., i, i])
+
+
+def angles_from_matrix(
+    matrix: ArrayLike, seq: str, lock_tolerance: float = LOCK_TOLERANCE
+) -> Angles:
+    """Angles of rotation matrices in a sequence, exact in every range and at gimbal lock.
+
+    Args:
+        matrix: (..., 3, 3) rotation matrices (checked with :func:`as_rotation`)
+        seq: e.g. ``"xyz"`` (fixed axes), ``"ZYX"`` or ``"ZYZ"`` (moving axes)
+        lock_tolerance: the ``locked`` flag is set within this distance of a lock [rad]
+
+    Returns:
+        The angles in sequence order [rad] and the gimbal-lock flag.
+    """
+    R, _ = as_rotation(matrix)
+    (i, j, k), intrinsic = _parse(seq)
+    if not intrinsic:  # fixed axes (a, b, c) = moving axes reversed (c, b, a)
+        result = _moving_axes_angles(R, (k, j, i), lock_tolerance)
+        return Angles(result.angles[..., ::-1].copy(), result.locked)
+    return _moving_axes_angles(R, (i, j, k), lock_tolerance)
+
+
+def _moving_axes_angles(R: Array, axes: tuple[int, int, int], lock_tolerance: float) -> Angles:
+    """Angles of ``R = Ri(a)·Rj(b)·Rk(c)`` (k = i for a proper Euler sequence)."""
+    i, j, k = axes
+    proper = i == k
+    if proper:
+        k = 3 - i - j
+    parity = 1.0 if (i, j, k) in ((0, 1, 2), (1, 2, 0), (2, 0, 1)) else -1.0
+    if proper:  # R = Ri(a) Rj(b) Ri(c)
+        sin_b = np.hypot(R[..., i, j], R[..., i, k])
+        b = np.arctan2(sin_b, R[..., i, i])
+        a = np.arctan2(R[..., j, i], -parity * R[..., k, i])
+        c = np.arctan2(R[..., i, j], parity * R[..., i, k])
+        lock_distance = sin_b
+    else:  # R = Ri(a) Rj(b) Rk(c)
+        cos_b = np.hypot(R[..., i, i], R[..., i, j])
+        b = np.arctan2(parity * R[..., i, k], cos_b)
+        a = np.arctan2(-parity * R[..., j, k], R[..., k, k])
+        c = np.arctan2(-parity * R[..., i, j], R[..., i, i])
+        lock_distance = cos_b
+    exact = lock_distance < _EXACT_LOCK
+    if np.any(exact):  # canonical: c = 0, a carries the rotation left after Rj(b)
+        M = R @ np.swapaxes(elementary(j, b), -1, -2)
+        c = np.where(exact, 0.0, c)
+        a = np.where(exact, _angle_about(i, M), a)
+    angles = np.stack([a, b, c], axis=-1)
+    return Angles(angles, np.asarray(lock_distance < np.sin(lock_tolerance)))

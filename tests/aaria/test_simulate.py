@@ -1,0 +1,168 @@
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from aaria_pin.aaria.presets import get_preset
+from aaria_pin.aaria.sensen import SENSEN_COLUMNS, imu_slot_order
+from aaria_pin.aaria.simulate import simulate_run
+
+FIG3 = get_preset("aaria-fig3").table
+
+
+def test_sensen_layout_column_by_column() -> None:
+    record = simulate_run(FIG3, duration=1.0, rate=20, noise=False)
+    assert record.senSen.shape == (21, 91)
+    assert len(SENSEN_COLUMNS) == 91
+    assert SENSEN_COLUMNS[:8] == ("time", "q1", "q2", "q3", "q4", "q5", "q6", "imu_base_wx")
+    assert SENSEN_COLUMNS[13:19] == tuple(
+        f"imu_tool_{s}" for s in ("wx", "wy", "wz", "fx", "fy", "fz")
+    )
+    assert SENSEN_COLUMNS[-1] == "imu_link6_b_fz"
+    np.testing.assert_allclose(record.senSen[:, 0], np.arange(21) / 20)
+    np.testing.assert_array_equal(record.senSen[:, 1:7], record.q)
+    slots = imu_slot_order()
+    for slot in ("imu_link2_a", "imu_link2_b"):  # module 2 is empty in Figure 3
+        start = SENSEN_COLUMNS.index(f"{slot}_wx")
+        assert not record.senSen[:, start : start + 6].any()
+        assert not record.imu_mount[slots.index(slot)].any()
+    for array in (record.q, record.qd, record.qdd, record.tau):
+        assert array.shape == (21, 6)
+        assert not array[:, 1].any()
+    assert record.base_wrench.shape == (21, 6)
+    assert record.tool_pose.shape == (21, 4, 4)
+    assert record.imu_mount.shape == (14, 4, 4)
+    np.testing.assert_array_equal(record.senSenDH, FIG3)
+    assert record.senSenJ.shape == (8, 5) and record.senSenB.shape == (2, 4)
+
+
+def test_same_seed_same_arrays_other_seed_others() -> None:
+    a = simulate_run(FIG3, duration=1.0, rate=50, seed=3)
+    b = simulate_run(FIG3, duration=1.0, rate=50, seed=3)
+    c = simulate_run(FIG3, duration=1.0, rate=50, seed=4)
+    exact = simulate_run(FIG3, duration=1.0, rate=50, noise=False)
+    np.testing.assert_array_equal(a.senSen, b.senSen)
+    assert not np.array_equal(a.senSen[:, 7:], c.senSen[:, 7:])
+    np.testing.assert_array_equal(a.senSen[:, :7], exact.senSen[:, :7])
+    noise = a.senSen[:, 7:] - exact.senSen[:, 7:]
+    assert 0 < np.abs(noise).max() < 0.5
+    np.testing.assert_array_equal(a.tau, exact.tau)
+
+
+def test_attributes_record_the_settings() -> None:
+    record = simulate_run(FIG3, duration=0.5, rate=10, seed=9, noise=False)
+    attrs = record.attributes
+    assert attrs["rate"] == 10 and attrs["duration"] == 0.5 and attrs["seed"] == 9
+    assert attrs["noise"] is False
+    assert attrs["gravity"] == [0.0, 0.0, -9.81]
+    assert "gyro_noise_density_rad_s_sqrtHz" in attrs["noise_parameters"]
+    assert attrs["version"]
+
+
+def test_standard_table_is_refused_for_a_run() -> None:
+    from aaria_pin.errors import TableError
+
+    with pytest.raises(TableError, match="8 × 5"):
+        simulate_run(get_preset("spherical-wrist").table)
+
+
+def test_preset_oscillation_tables_follow_the_documented_rule() -> None:
+    from aaria_pin.aaria.dh import chain_from_table
+    from aaria_pin.aaria.oscillation import default_base_table, default_joint_table
+
+    for name in ("aaria-fig2", "aaria-fig3"):
+        preset = get_preset(name)
+        chain = chain_from_table(preset.table)
+        np.testing.assert_allclose(preset.joint_table, default_joint_table(chain), atol=1e-12)
+        np.testing.assert_array_equal(preset.base_table, default_base_table())
+
+
+def test_custom_imu_mounts_move_the_sensors_and_are_remade_from_file(tmp_path) -> None:
+    from aaria_pin.aaria.dh_robot import BodyDimensions
+    from aaria_pin.aaria.simulate import simulate_from_run_file
+    from aaria_pin.files.runfile import write_run
+
+    default = simulate_run(FIG3, duration=0.5, rate=20, noise=False)
+    mounts = default.imu_mount.copy()
+    slot = imu_slot_order().index("imu_link5_a")
+    mounts[slot, :3, :3] = [[0, -1, 0], [1, 0, 0], [0, 0, 1]]  # turned 90° about z
+    custom = simulate_run(
+        FIG3,
+        duration=0.5,
+        rate=20,
+        noise=True,
+        seed=2,
+        imu_mount=mounts,
+        dims=BodyDimensions(density=7850.0),
+    )
+    np.testing.assert_array_equal(custom.imu_mount, mounts)
+    column = SENSEN_COLUMNS.index("imu_link5_a_wx")
+    exact = simulate_run(FIG3, duration=0.5, rate=20, noise=False, imu_mount=mounts)
+    np.testing.assert_allclose(exact.senSen[:, column], default.senSen[:, column + 1], atol=1e-12)
+    np.testing.assert_allclose(exact.senSen[:, column + 1], -default.senSen[:, column], atol=1e-12)
+    write_run(tmp_path / "run.h5", custom)
+    remade = simulate_from_run_file(tmp_path / "run.h5")
+    for name, array in custom.arrays().items():
+        np.testing.assert_array_equal(getattr(remade, name), array, err_msg=name)
+
+
+@pytest.mark.parametrize("change", ["shape", "scale", "nan"])
+def test_bad_imu_mounts(change: str) -> None:
+    from aaria_pin.errors import ParameterError
+
+    mounts = np.tile(np.eye(4), (14, 1, 1))
+    if change == "shape":
+        mounts = mounts[:13]
+    elif change == "scale":
+        mounts[3, 0, 0] = 2.0
+    else:
+        mounts[4, 0, 3] = np.nan
+    with pytest.raises(ParameterError, match="imu_mount"):
+        simulate_run(FIG3, duration=0.2, rate=10, imu_mount=mounts)
+
+
+def test_joint_columns_follow_the_sine_formula() -> None:
+    record = simulate_run(FIG3, duration=1.0, rate=20, noise=False)
+    preset = get_preset("aaria-fig3")
+    t = np.arange(21) / 20
+    for module in (1, 3, 4, 5, 6):
+        A, Ap, bias, w, phase = preset.joint_table[module - 1]
+        amplitude = A if preset.table[module - 1, 4] == 1 else Ap
+        expected = amplitude * np.sin(w * t + phase) + bias
+        np.testing.assert_allclose(record.senSen[:, module], expected, atol=1e-15)
+        np.testing.assert_allclose(
+            record.qd[:, module - 1], amplitude * w * np.cos(w * t + phase), atol=1e-15
+        )
+
+
+def test_default_imu_mounts_by_hand() -> None:
+    from aaria_pin.aaria.dh_robot import BodyDimensions
+
+    record = simulate_run(FIG3, duration=0.1, rate=10, noise=False)
+    h = BodyDimensions().link_height
+    slots = imu_slot_order()
+    np.testing.assert_array_equal(record.imu_mount[slots.index("imu_base")], np.eye(4))
+    np.testing.assert_array_equal(record.imu_mount[slots.index("imu_tool")], np.eye(4))
+    for module in (1, 3, 4, 5, 6):
+        a = FIG3[module - 1, 1]
+        mount_a = record.imu_mount[slots.index(f"imu_link{module}_a")]
+        mount_b = record.imu_mount[slots.index(f"imu_link{module}_b")]
+        np.testing.assert_allclose(mount_a[:3, 3], [a / 2, 0, h / 2])
+        np.testing.assert_allclose(mount_b[:3, 3], [0.9 * a, 0, -h / 2])
+        np.testing.assert_array_equal(mount_a[:3, :3], np.eye(3))
+
+
+def test_bad_seeds_are_refused() -> None:
+    from aaria_pin.errors import ParameterError
+
+    for seed in (-1, 2**63, 1.5):
+        with pytest.raises(ParameterError, match="seed"):
+            simulate_run(FIG3, duration=0.1, rate=10, seed=seed)  # type: ignore[arg-type]
+
+
+def test_absurd_density_is_refused() -> None:
+    from aaria_pin.aaria.dh_robot import BodyDimensions
+    from aaria_pin.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="density of every body is 1e\\+308"):
+        BodyDimensions(density=1e308)

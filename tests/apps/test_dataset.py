@@ -1,0 +1,254 @@
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from aaria_pin.aaria.presets import get_preset
+from aaria_pin.apps.dataset.engine import DatasetSpec, generate_dataset, simulate_dataset_run
+from aaria_pin.cli import main
+from aaria_pin.errors import ParameterError
+from aaria_pin.files.dataset_file import RUN_ARRAYS
+from aaria_pin.files.dataset_reader import DatasetReader
+
+SHORT = {"duration": 0.5, "rate": 100.0}
+
+
+def _arrays(path: Path) -> dict[str, np.ndarray]:
+    with h5py.File(path, "r") as handle:
+        return {name: handle[name][()] for name in (*RUN_ARRAYS, "complete", "failed")}
+
+
+def _assert_same(a: Path, b: Path) -> None:
+    left, right = _arrays(a), _arrays(b)
+    for name in left:
+        np.testing.assert_array_equal(left[name], right[name], err_msg=name)
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    path = tmp_path_factory.mktemp("ref") / "ref.h5"
+    generate_dataset(path, DatasetSpec(n_runs=24, seed=7, **SHORT), workers=1)
+    return path
+
+
+def test_workers_do_not_change_the_arrays(reference: Path, tmp_path: Path) -> None:
+    generate_dataset(tmp_path / "two.h5", DatasetSpec(n_runs=24, seed=7, **SHORT), workers=2)
+    _assert_same(reference, tmp_path / "two.h5")
+    assert _arrays(reference)["complete"].all()
+
+
+def test_run_k_is_a_pure_function_of_seed_and_k(reference: Path) -> None:
+    spec = DatasetSpec(n_runs=24, seed=7, **SHORT)
+    with DatasetReader(reference) as reader:
+        for k in (0, 13, 23):
+            direct = simulate_dataset_run(spec, k)
+            for name, array in reader.run(k).items():
+                np.testing.assert_array_equal(array, direct[name])
+    other = simulate_dataset_run(DatasetSpec(n_runs=24, seed=8, **SHORT), 0)
+    assert not np.array_equal(simulate_dataset_run(spec, 0)["senSenDH"], other["senSenDH"])
+
+
+@pytest.mark.slow
+def test_dask_cluster_gives_the_same_arrays(reference: Path, tmp_path: Path) -> None:
+    from dask.distributed import LocalCluster
+
+    with LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        generate_dataset(
+            tmp_path / "dask.h5",
+            DatasetSpec(n_runs=24, seed=7, **SHORT),
+            scheduler=cluster.scheduler_address,
+        )
+    _assert_same(reference, tmp_path / "dask.h5")
+
+
+def test_fixed_arm_many_trajectories(tmp_path: Path) -> None:
+    preset = get_preset("aaria-fig3")
+    spec = DatasetSpec(n_runs=5, seed=1, vary=("joints", "base"), dh_table=preset.table, **SHORT)
+    generate_dataset(tmp_path / "mode2.h5", spec, workers=1)
+    with DatasetReader(tmp_path / "mode2.h5") as reader:
+        for k in range(5):
+            run = reader.run(k)
+            np.testing.assert_array_equal(run["senSenDH"], preset.table)
+            assert not run["senSen"][:, 2].any()  # module 2 is empty
+        assert not np.array_equal(reader.run(0)["senSenJ"], reader.run(1)["senSenJ"])
+
+
+def test_reader_windows(reference: Path) -> None:
+    with DatasetReader(reference) as reader:
+        assert len(reader) == 24 and reader.samples == 51
+        windows = list(reader.windows(20, stride=10, names=("senSen", "tau")))
+        assert len(windows) == 24 * 4  # starts 0, 10, 20, 30
+        run, start, window = windows[5]
+        assert (run, start) == (1, 10)
+        np.testing.assert_array_equal(window["senSen"], reader.run(1)["senSen"][10:30])
+        assert window["tau"].shape == (20, 6)
+        with pytest.raises(ParameterError, match="run 24"):
+            reader.run(24)
+
+
+def test_half_written_and_corrupted_runs_are_redone(reference: Path, tmp_path: Path) -> None:
+    path = tmp_path / "damaged.h5"
+    path.write_bytes(reference.read_bytes())
+    with h5py.File(path, "r+") as handle:
+        handle["complete"][3] = 0  # half-written: never marked complete
+        handle["senSen"][3] = 0.0
+        info = handle["senSen"].id.get_chunk_info_by_coord((9, 0, 0))
+    with open(path, "r+b") as raw:  # a damaged chunk: its checksum no longer matches
+        raw.seek(info.byte_offset + info.size // 2)
+        raw.write(b"\xff" * 16)
+    with pytest.raises(OSError):
+        _arrays(path)
+    report = generate_dataset(path, DatasetSpec(n_runs=24, seed=7, **SHORT), workers=1, resume=True)
+    assert report.written == 2
+    _assert_same(reference, path)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGINT])
+def test_killed_job_resumes_to_the_uninterrupted_result(tmp_path: Path, sig: int) -> None:
+    args = [
+        "-n",
+        "600",
+        "--seed",
+        "3",
+        "--duration",
+        "2",
+        "--rate",
+        "100",
+        "--workers",
+        "2",
+        "--quiet",
+    ]
+    uninterrupted = tmp_path / "full.h5"
+    assert CliRunner().invoke(main, ["dataset", *args, "-o", str(uninterrupted)]).exit_code == 0
+    killed = tmp_path / "killed.h5"
+    process = subprocess.Popen(
+        [sys.executable, "-m", "aaria_pin.cli", "dataset", *args, "-o", str(killed)],
+        start_new_session=True,
+    )
+    deadline = time.monotonic() + 120
+    while not killed.exists() and time.monotonic() < deadline:  # the file is laid out
+        time.sleep(0.02)
+    time.sleep(0.8)  # some runs are written, most are not
+    os.killpg(process.pid, sig)
+    process.wait()
+    result = CliRunner().invoke(main, ["dataset", *args, "-o", str(killed), "--resume"])
+    assert result.exit_code == 0, result.output
+    redone = int(result.stdout.split("(")[1].split()[0])
+    assert 0 < redone < 600, result.stdout  # the kill landed mid-way
+    _assert_same(uninterrupted, killed)
+
+
+def test_failing_runs_are_reported_and_the_others_go_on(tmp_path: Path) -> None:
+    joints = np.zeros((8, 5))
+    joints[:6] = [0.5, 0.2, 0.0, 1.0, 0.0]  # 0.2 m off a rail of d <= 0.3 m: prismatic runs fail
+    path = tmp_path / "failing.h5"
+    np.savetxt(tmp_path / "j.csv", joints, delimiter=",")
+    result = CliRunner().invoke(
+        main,
+        [
+            "dataset",
+            "-n",
+            "12",
+            "--seed",
+            "2",
+            "--duration",
+            "0.5",
+            "--vary",
+            "structure,base",
+            "--joints",
+            str(tmp_path / "j.csv"),
+            "--workers",
+            "1",
+            "-o",
+            str(path),
+        ],
+    )
+    assert result.exit_code == 1
+    with DatasetReader(path) as reader:
+        failed = sorted(reader.attributes["failures"])
+        assert failed and len(failed) < 12
+        assert reader.complete.sum() == 12 - len(failed)
+    assert "failed runs:" in result.stderr and "prismatic module" in result.stderr
+
+
+def test_resume_with_other_settings_is_refused(reference: Path, tmp_path: Path) -> None:
+    path = tmp_path / "copy.h5"
+    path.write_bytes(reference.read_bytes())
+    with pytest.raises(ParameterError, match="other settings \\(seed\\)"):
+        generate_dataset(path, DatasetSpec(n_runs=24, seed=8, **SHORT), resume=True)
+
+
+@pytest.mark.parametrize(
+    ("args", "pattern"),
+    [
+        (["-n", "-3"], "N is -3"),
+        (["-n", "0"], "N is 0"),
+        (["-n", "2", "--config", "CONFIG_UNKNOWN"], "unknown key 'speed'"),
+        (["-n", "2", "--config", "CONFIG_EMPTY"], "allowed: a range"),
+        (["-n", "2", "--config", "MISSING"], "cannot be read"),
+        (["-n", "2", "--vary", "structure,colour"], "--vary 'colour'"),
+        (["-n", "2", "--vary", "joints"], "a DH table is needed"),
+        (["-n", "2", "--dtype", "float16"], "'float16' is not one of"),
+    ],
+)
+def test_bad_input_exit_2_and_no_file(tmp_path: Path, args: list[str], pattern: str) -> None:
+    (tmp_path / "unknown.toml").write_text("speed = [1, 2]\n")
+    (tmp_path / "empty.toml").write_text("d = [0.3, 0.1]\n")
+    names = {
+        "CONFIG_UNKNOWN": "unknown.toml",
+        "CONFIG_EMPTY": "empty.toml",
+        "MISSING": "missing.toml",
+    }
+    args = [str(tmp_path / names[a]) if a in names else a for a in args]
+    result = CliRunner().invoke(main, ["dataset", *args, "-o", str(tmp_path / "ds.h5")])
+    assert result.exit_code == 2, result.output
+    assert pattern in result.stderr and result.stderr.count("\n") == 1
+    assert not (tmp_path / "ds.h5").exists()
+
+
+def test_existing_output_is_not_touched(reference: Path, tmp_path: Path) -> None:
+    path = tmp_path / "existing.h5"
+    path.write_bytes(reference.read_bytes())
+    before = (path.stat().st_mtime_ns, path.read_bytes())
+    result = CliRunner().invoke(main, ["dataset", "-n", "2", "-o", str(path)])
+    assert result.exit_code == 2 and "--resume" in result.stderr
+    assert (path.stat().st_mtime_ns, path.read_bytes()) == before
+
+
+def test_info_summarises_a_dataset(reference: Path) -> None:
+    result = CliRunner().invoke(main, ["info", str(reference)])
+    assert result.exit_code == 0
+    assert "data set of 24 runs × 51 samples (float32), 24 complete" in result.stdout
+    assert "seed 7" in result.stdout
+
+
+@pytest.mark.slow
+def test_peak_memory_does_not_grow_with_the_number_of_runs(tmp_path: Path) -> None:
+    code = (
+        "import resource, sys; "
+        "from aaria_pin.apps.dataset.engine import DatasetSpec, generate_dataset; "
+        "generate_dataset(sys.argv[1], DatasetSpec(n_runs=int(sys.argv[2]), duration=0.2), "
+        "workers=1); print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)"
+    )
+    peaks = {}
+    for n in (200, 2000):
+        out = subprocess.run(
+            [sys.executable, "-c", code, str(tmp_path / f"m{n}.h5"), str(n)],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        peaks[n] = int(out.stdout.strip()) / 1024  # MB (ru_maxrss is in kB on Linux)
+    assert peaks[2000] - peaks[200] < 20, peaks

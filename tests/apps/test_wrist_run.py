@@ -1,0 +1,109 @@
+from __future__ import annotations
+
+import h5py
+import numpy as np
+import pinocchio as pin
+import pytest
+from click.testing import CliRunner
+from conftest import Rx, Rz, Tz
+
+from aaria_pin.aaria.presets import APPENDIX_B_PARTS
+from aaria_pin.apps.wrist.kinematics import wrist_fk
+from aaria_pin.apps.wrist.run import report_wrist, simulate_wrist
+from aaria_pin.cli import main
+from aaria_pin.errors import ParameterError
+
+
+def test_model_carries_the_appendix_b_parts() -> None:
+    model = report_wrist().model().model
+    masses = [inertia.mass for inertia in model.inertias[1:]]
+    np.testing.assert_allclose(masses, [APPENDIX_B_PARTS[f"link{i}"][2] for i in (1, 2, 3)])
+    np.testing.assert_allclose(model.inertias[2].lever, [0.08277, 0.02, 0.0])
+
+
+def test_motion_reaches_the_targets_and_the_tool_pose_is_equation_9() -> None:
+    targets = np.radians([60.0, 45.0, -30.0])
+    run = simulate_wrist(targets)
+    np.testing.assert_allclose(run.q[-1], targets, atol=1e-12)
+    assert np.all(run.q[run.time <= 2.0] == 0.0)
+    for k in range(0, run.time.size, 50):
+        np.testing.assert_allclose(run.tool_pose[k], wrist_fk(run.q[k]), atol=1e-12)
+
+
+def test_torques_balance_the_energy() -> None:
+    run = simulate_wrist(np.radians([80.0, 60.0, -45.0]), rate=1000.0)
+    model = report_wrist().model().model
+    data = model.createData()
+    energy = np.array(
+        [
+            pin.computeKineticEnergy(model, data, q, v) + pin.computePotentialEnergy(model, data, q)
+            for q, v in zip(run.q, run.qd, strict=True)
+        ]
+    )
+    dt = run.time[1] - run.time[0]
+    power = np.einsum("ti,ti->t", run.tau, run.qd)
+    work = np.concatenate([[0.0], np.cumsum((power[1:] + power[:-1]) / 2) * dt])
+    assert np.ptp(energy) > 0.1  # the check is not trivial
+    np.testing.assert_allclose(energy - energy[0], work, atol=1e-5)
+
+
+def test_static_torque_by_hand() -> None:
+    run = simulate_wrist([0.0, np.pi / 2, 0.0], speed=10.0, acceleration=100.0, duration=3.0)
+    still = run.time > 2.5
+    np.testing.assert_allclose(run.tau[still, 0], 0.0, atol=1e-12)  # a vertical axis: no load
+    assert np.all(np.abs(run.tau[still, 1]) > 0.05)
+    # By hand: the report's Table 1 (standard DH, alpha = -90°, 90°, 0°, d3 = 132 mm) and its
+    # Appendix B parts 3 and 4 (mass [kg], centre of mass [mm] in the link's post-joint frame,
+    # Rz(theta_i)·Tz(d_i)); tau_j = -z_j · sum over the links j moves of (c_i - o_j) × m_i·g.
+    q, alpha, d = [0.0, np.pi / 2, 0.0], [-np.pi / 2, np.pi / 2, 0.0], [0.0, 0.0, 0.132]
+    parts = {2: (0.29058, [82.77, 20.0, 0.0]), 3: (0.16480, [-0.00039, 28.38, -0.00035])}
+    joint_frames, post_joint, T = [], {}, np.eye(4)
+    for i in range(3):
+        joint_frames.append(T.copy())  # joint i+1 turns about this frame's z axis
+        T = T @ Rz(q[i]) @ Tz(d[i])
+        post_joint[i + 1] = T.copy()
+        T = T @ Rx(alpha[i])
+    expected = []
+    for j in (1, 2, 3):
+        origin, axis = joint_frames[j - 1][:3, 3], joint_frames[j - 1][:3, 2]
+        moment = np.zeros(3)
+        for i, (mass, com_mm) in parts.items():
+            if i >= j:
+                com = (post_joint[i] @ np.r_[np.array(com_mm) * 1e-3, 1.0])[:3]
+                moment += np.cross(com - origin, mass * np.array([0.0, 0.0, -9.81]))
+        expected.append(-axis @ moment)
+    np.testing.assert_allclose(run.tau[still], np.tile(expected, (still.sum(), 1)), atol=1e-12)
+
+
+def test_cli_writes_the_run(tmp_path) -> None:
+    out = tmp_path / "wrist.h5"
+    result = CliRunner().invoke(main, ["wrist", "simulate", "60", "-45", "10", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    with h5py.File(out) as handle:
+        assert handle["tau"].shape[1] == 3 and handle["tool_pose"].shape[1:] == (4, 4)
+        np.testing.assert_allclose(handle["q"][-1], np.radians([60, -45, 10]), atol=1e-12)
+    bad = CliRunner().invoke(
+        main, ["wrist", "simulate", "1", "2", "3", "--speed", "-3", "-o", str(tmp_path / "x.h5")]
+    )
+    assert bad.exit_code == 2 and "speed" in bad.stderr
+    assert not (tmp_path / "x.h5").exists()
+
+
+def test_bad_targets() -> None:
+    with pytest.raises(ParameterError, match="targets"):
+        simulate_wrist([1.0, np.nan, 0.0])
+
+
+def test_the_preset_urdf_carries_the_parts_too(tmp_path) -> None:
+    import xml.etree.ElementTree as ET
+
+    out = tmp_path / "wrist.urdf"
+    result = CliRunner().invoke(main, ["urdf", "--preset", "spherical-wrist", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    masses = {
+        link.get("name"): float(link.find("inertial/mass").get("value"))
+        for link in ET.parse(out).getroot().iter("link")
+        if link.find("inertial") is not None
+    }
+    assert masses["link2"] == pytest.approx(0.29058)
+    assert masses["base"] == pytest.approx(0.05987)

@@ -1,0 +1,156 @@
+"""IMU layouts of URDF robots: the default two-per-link layout, layout files, model frames."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from aaria_pin.core.catalogue import find_robot
+from aaria_pin.core.imu_layout import (
+    DEFAULT_MIN_OFFSET,
+    _offset_from_axis,
+    default_imu_layout,
+    moving_links,
+    read_imu_layout,
+)
+from aaria_pin.core.urdf_robot import load_urdf_robot, read_urdf_file
+from aaria_pin.core.urdf_run import simulate_urdf_run
+from aaria_pin.errors import InputFileError, ModelError
+
+
+def _ur5() -> str:
+    return read_urdf_file(find_robot("ur5").urdf)
+
+
+def test_default_layout_has_base_tool_and_two_per_moving_link() -> None:
+    loaded = load_urdf_robot(_ur5())
+    names = [mount.name for mount in loaded.imu_mounts]
+    links = [link for _, _, link in moving_links(loaded.robot.model)]
+    assert links == [
+        "shoulder_link", "upper_arm_link", "forearm_link", "wrist_1_link", "wrist_2_link",
+        "wrist_3_link",
+    ]  # fmt: skip
+    assert names[:2] == ["imu_base", "imu_tool"]
+    assert names[2:] == [f"imu_{link}_{s}" for link in links for s in ("a", "b")]
+    assert loaded.robot.sensor_frames == tuple(names)
+
+
+def test_second_imu_sits_at_the_centre_of_mass_or_off_the_axis() -> None:
+    loaded = load_urdf_robot(_ur5())
+    model = loaded.robot.model
+    for joint_id, _, link in moving_links(model):
+        b = next(m for m in loaded.imu_mounts if m.name == f"imu_{link}_b")
+        T_joint_link = model.frames[model.getFrameId(link)].placement.homogeneous
+        position_joint = (T_joint_link @ b.T_parent_imu)[:3, 3]
+        axis = np.eye(3)["XYZ".index(model.joints[joint_id].shortname()[-1])]  # UR5: RY, RZ
+        radial = position_joint - axis * (axis @ position_joint)
+        assert np.linalg.norm(radial) >= DEFAULT_MIN_OFFSET - 1e-12
+        com = np.asarray(model.inertias[joint_id].lever)
+        com_radial = np.linalg.norm(com - axis * (axis @ com))
+        if com_radial >= DEFAULT_MIN_OFFSET:
+            np.testing.assert_allclose(position_joint, com, atol=1e-12)
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.lists(st.floats(-1, 1), min_size=3, max_size=3),
+    st.lists(st.floats(-1, 1), min_size=3, max_size=3).filter(lambda v: np.linalg.norm(v) > 0.1),
+)
+def test_offset_moves_only_perpendicular_and_exactly_to_the_minimum(
+    com: list[float], axis: list[float]
+) -> None:
+    c, a = np.array(com), np.array(axis) / np.linalg.norm(axis)
+    moved = _offset_from_axis(c, np.array(axis), 0.05)
+    distance = np.linalg.norm(moved - a * (a @ moved))
+    assert distance >= 0.05 - 1e-12
+    np.testing.assert_allclose(a @ moved, a @ c, atol=1e-12)  # no motion along the axis
+    if np.linalg.norm(c - a * (a @ c)) >= 0.05:
+        np.testing.assert_array_equal(moved, c)
+    else:
+        assert abs(distance - 0.05) < 1e-9
+
+
+def test_com_on_the_axis_gets_a_perpendicular_offset() -> None:
+    moved = _offset_from_axis(np.array([0, 0, 0.3]), np.array([0, 0, 1.0]), 0.05)
+    assert moved[2] == pytest.approx(0.3) and np.hypot(moved[0], moved[1]) == pytest.approx(0.05)
+
+
+def test_layout_file_replaces_the_default(tmp_path: Path) -> None:
+    layout = tmp_path / "imus.toml"
+    layout.write_text(
+        '[[imu]]\nname = "imu_wrist"\nparent = "wrist_3_link"\nxyz = [0.0, 0.0, 0.05]\n'
+        "rpy = [0.0, 0.0, 1.5707963267948966]\n\n"
+        '[[imu]]\nname = "imu_elbow"\nparent = "elbow_joint"\n'
+    )
+    mounts = read_imu_layout(layout)
+    assert [m.name for m in mounts] == ["imu_wrist", "imu_elbow"]
+    np.testing.assert_allclose(mounts[0].T_parent_imu[:3, 3], [0, 0, 0.05])
+    np.testing.assert_allclose(mounts[0].T_parent_imu[:3, :3], pin.rpy.rpyToMatrix(0, 0, np.pi / 2))
+    record = simulate_urdf_run(_ur5(), imu_layout=mounts, duration=0.5, noise=False)
+    assert record.columns[-12:-6] == tuple(
+        f"imu_wrist_{s}" for s in ("wx", "wy", "wz", "fx", "fy", "fz")
+    )
+    assert record.imu.shape == (51, 2, 6)
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("", "no \\[\\[imu\\]\\] tables"),
+        ("[[imu]]\nparent = 'a'\n", "no name"),
+        ("[[imu]]\nname = 'x'\nparent = 'a'\nxyz = [1, 2]\n", "xyz = \\[1, 2\\]"),
+        ("[[imu]]\nname = 'x'\nparent = 'a'\ncolour = 'red'\n", "unknown key 'colour'"),
+        ("[[imu]]\nname = 'x'\nparent = 'a'\n[[imu]]\nname = 'x'\nparent = 'b'\n", "used twice"),
+        ("[[imu\n", "not a TOML file"),
+    ],
+)
+def test_bad_layout_files_are_refused(tmp_path: Path, text: str, message: str) -> None:
+    layout = tmp_path / "imus.toml"
+    layout.write_text(text)
+    with pytest.raises(InputFileError, match=message):
+        read_imu_layout(layout)
+
+
+def test_unknown_parent_frame_is_refused(tmp_path: Path) -> None:
+    layout = tmp_path / "imus.toml"
+    layout.write_text("[[imu]]\nname = 'x'\nparent = 'hand_of_god'\n")
+    with pytest.raises(ModelError, match="parent frame 'hand_of_god' is not in model"):
+        load_urdf_robot(_ur5(), imu_layout=read_imu_layout(layout))
+
+
+def test_second_imu_sits_where_the_urdf_puts_the_centre_of_mass() -> None:
+    """UR5's upper arm: its <inertial> origin, read from the XML, is 0.28 m off its joint's axis,
+    so imu_upper_arm_link_b sits exactly there, axes along the link."""
+    import xml.etree.ElementTree as ET
+
+    text = _ur5()
+    link = ET.fromstring(text).find("link[@name='upper_arm_link']")
+    assert link is not None
+    origin = link.find("inertial/origin")
+    assert origin is not None
+    com = np.array([float(v) for v in origin.get("xyz", "").split()])
+    model = pin.buildModelFromXML(text)
+    mounts = {m.name: m for m in default_imu_layout(model, "world", "tool0")}
+    b = mounts["imu_upper_arm_link_b"]
+    assert b.parent == "upper_arm_link"
+    np.testing.assert_allclose(b.T_parent_imu[:3, 3], com, atol=1e-12)
+    np.testing.assert_array_equal(b.T_parent_imu[:3, :3], np.eye(3))
+    np.testing.assert_array_equal(mounts["imu_upper_arm_link_a"].T_parent_imu, np.eye(4))
+
+
+def test_a_layout_entry_that_is_not_a_table_is_refused(tmp_path: Path) -> None:
+    layout = tmp_path / "imus.toml"
+    layout.write_text("imu = [1, 2]\n")
+    with pytest.raises(InputFileError, match="1 is not a table"):
+        read_imu_layout(layout)
+
+
+def test_a_centre_of_mass_a_hair_off_the_axis_still_ends_at_the_minimum() -> None:
+    """Found by hypothesis: 1e-10 m off the axis, the offset must not cancel that hair."""
+    moved = _offset_from_axis(np.array([0.0, 1e-10, 0.0]), np.array([0.0, 0.0, -1.0]), 0.05)
+    assert np.hypot(moved[0], moved[1]) == pytest.approx(0.05, abs=1e-15)

@@ -1,0 +1,74 @@
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from aaria_pin.core.trajectory import gimbal_xyz_motion, sample_times, sine_motion
+from aaria_pin.errors import ParameterError
+
+
+def test_sample_grid_is_simulink_like() -> None:
+    t = sample_times(1.0, 100)
+    assert t.size == 101 and t[0] == 0.0 and t[-1] == pytest.approx(1.0)
+    np.testing.assert_allclose(np.diff(t), 0.01)
+
+
+@pytest.mark.parametrize(
+    ("duration", "rate", "pattern"),
+    [
+        (0.0, 100, "duration 0.0"),
+        (-1, 100, "duration -1"),
+        (np.nan, 100, "duration nan"),
+        (1e9, 100, "duration"),
+        (1.0, 0.0, "rate 0.0"),
+        (1.0, -5, "rate -5"),
+        (86_400, 100_000, "samples"),
+        (0.001, 10, "1 sample"),
+    ],
+)
+def test_bad_grids(duration: float, rate: float, pattern: str) -> None:
+    with pytest.raises(ParameterError, match=pattern):
+        sample_times(duration, rate)
+
+
+def test_sine_derivatives_are_exact() -> None:
+    t = np.linspace(0, 3, 7)
+    h = 1e-5
+    q, qd, qdd = sine_motion([0.4, 0.1], [0.2, 0.0], [1.3, 2.0], [0.5, 0.0], t)
+    qp, _, _ = sine_motion([0.4, 0.1], [0.2, 0.0], [1.3, 2.0], [0.5, 0.0], t + h)
+    qm, _, _ = sine_motion([0.4, 0.1], [0.2, 0.0], [1.3, 2.0], [0.5, 0.0], t - h)
+    np.testing.assert_allclose(qd, (qp - qm) / (2 * h), atol=1e-8)
+    np.testing.assert_allclose(qdd, (qp - 2 * q + qm) / h**2, atol=1e-4)
+
+
+@settings(max_examples=50, deadline=None)
+@given(
+    angles=st.tuples(*[st.floats(-3.2, 3.2)] * 3) | st.just((0.3, np.pi / 2, -1.0)),
+    rates=st.tuples(*[st.floats(-2, 2)] * 3),
+    accels=st.tuples(*[st.floats(-2, 2)] * 3),
+)
+def test_gimbal_angular_velocity_and_acceleration_by_differences(angles, rates, accels) -> None:
+    h = 1e-5
+    a0, r0, c0 = (np.array(x, dtype=float) for x in (angles, rates, accels))
+
+    def at(s: float):
+        return gimbal_xyz_motion(
+            (a0 + r0 * s + 0.5 * c0 * s * s)[None], (r0 + c0 * s)[None], c0[None]
+        )
+
+    (R, w, wd), (Rp, wp, _), (Rm, wm, _) = at(0.0), at(h), at(-h)
+    S = R[0].T @ (Rp[0] - Rm[0]) / (2 * h)
+    np.testing.assert_allclose(w[0], [S[2, 1], S[0, 2], S[1, 0]], atol=1e-6)
+    np.testing.assert_allclose(wd[0], (wp[0] - wm[0]) / (2 * h), atol=1e-5)
+    cx, sx = np.cos(a0[0]), np.sin(a0[0])
+    np.testing.assert_allclose(
+        R[0][:, 0],
+        [
+            np.cos(a0[1]) * np.cos(a0[2]),
+            cx * np.sin(a0[2]) + sx * np.sin(a0[1]) * np.cos(a0[2]),
+            sx * np.sin(a0[2]) - cx * np.sin(a0[1]) * np.cos(a0[2]),
+        ],
+        atol=1e-12,
+    )

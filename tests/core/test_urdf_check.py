@@ -1,0 +1,172 @@
+"""URDF checks: bad documents are refused with a message naming the element; meshes resolve."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from aaria_pin.core.catalogue import find_robot, robot_catalogue
+from aaria_pin.core.urdf_check import check_urdf, resolve_mesh
+from aaria_pin.core.urdf_robot import load_urdf_robot, read_urdf_file
+from aaria_pin.errors import MeshWarning, UrdfError
+
+INERTIA = '<inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/>'
+
+
+def two_links(
+    mass: str = "1.0",
+    inertia: str = INERTIA,
+    joint: str = '<parent link="base"/><child link="arm"/>',
+    mesh: str = "",
+) -> str:
+    visual = f'<visual><geometry><mesh filename="{mesh}"/></geometry></visual>' if mesh else ""
+    return f"""<robot name="two">
+  <link name="base"/>
+  <link name="arm">{visual}<inertial><mass value="{mass}"/>{inertia}</inertial></link>
+  <joint name="shoulder" type="revolute">{joint}<axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="10" velocity="2"/></joint>
+</robot>"""
+
+
+def test_a_good_urdf_passes() -> None:
+    summary = check_urdf(two_links())
+    assert summary.root_link == "base"
+    assert [(j.name, j.kind, j.lower, j.upper) for j in summary.joints] == [
+        ("shoulder", "revolute", -1.0, 1.0)
+    ]
+
+
+@pytest.mark.parametrize(
+    ("text", "named"),
+    [
+        (two_links().replace("</robot>", ""), "not well-formed XML: line"),
+        ("<robot><link name='a'/>", "not well-formed XML"),
+        (two_links(joint='<child link="arm"/>'), "joint 'shoulder': no <parent"),
+        (two_links(joint='<parent link="base"/>'), "joint 'shoulder': no <child"),
+        (
+            two_links(joint='<parent link="nowhere"/><child link="arm"/>'),
+            "joint 'shoulder': parent link 'nowhere' is not a link",
+        ),
+        (two_links(mass="-2"), "link 'arm': mass -2 kg; allowed: >= 0"),
+        (
+            two_links(inertia='<inertia ixx="0.1" iyy="0.1" izz="-0.1" ixy="0" ixz="0" iyz="0"/>'),
+            "link 'arm': inertia",
+        ),
+        (
+            two_links(inertia='<inertia ixx="1" iyy="1" izz="1" ixy="2" ixz="0" iyz="0"/>'),
+            "link 'arm': inertia",
+        ),
+        (two_links(mass="abc"), "link 'arm' <mass>: value='abc' is not a number"),
+        (two_links().replace('type="revolute"', 'type="planar"'), "type 'planar'"),
+        (two_links().replace('lower="-1"', 'lower="3"'), "joint 'shoulder': limit lower 3"),
+        ("<model/>", "root element is <model>"),
+    ],
+)
+def test_bad_urdfs_name_the_element(text: str, named: str) -> None:
+    with pytest.raises(UrdfError, match=named.replace("(", r"\(").replace("[", r"\[")) as info:
+        check_urdf(text)
+    assert "\n" not in str(info.value)
+
+
+def test_a_link_with_two_parents_and_a_cycle_are_refused() -> None:
+    text = two_links().replace(
+        "</robot>",
+        '<link name="c"/><joint name="extra" type="fixed"><parent link="c"/>'
+        '<child link="arm"/></joint></robot>',
+    )
+    with pytest.raises(UrdfError, match="link 'arm' already has parent joint 'shoulder'"):
+        check_urdf(text)
+    cycle = """<robot name="r"><link name="a"/><link name="b"/><link name="c"/>
+      <joint name="j1" type="fixed"><parent link="b"/><child link="c"/></joint>
+      <joint name="j2" type="fixed"><parent link="c"/><child link="b"/></joint></robot>"""
+    with pytest.raises(UrdfError, match="not connected to root link 'a'"):
+        check_urdf(cycle)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(-1, 1), min_size=6, max_size=6))
+def test_inertia_check_agrees_with_the_eigenvalues(values: list[float]) -> None:
+    ixx, ixy, ixz, iyy, iyz, izz = values
+    inertia = (
+        f'<inertia ixx="{ixx!r}" iyy="{iyy!r}" izz="{izz!r}" ixy="{ixy!r}" ixz="{ixz!r}" '
+        f'iyz="{iyz!r}"/>'
+    )
+    moments = np.linalg.eigvalsh(np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]))
+    if moments[0] < -max(1e-5 * abs(moments).max(), 1e-11):
+        with pytest.raises(UrdfError, match="not positive definite"):
+            check_urdf(two_links(inertia=inertia))
+    elif moments[0] >= 0:
+        check_urdf(two_links(inertia=inertia))
+
+
+def test_missing_meshes_warn_and_the_robot_still_loads(tmp_path: Path) -> None:
+    (tmp_path / "meshes").mkdir()
+    (tmp_path / "meshes" / "arm.stl").write_text("solid arm\nendsolid arm\n")
+    present = check_urdf(two_links(mesh="meshes/arm.stl"), tmp_path)
+    assert present.missing_meshes == ()
+    text = two_links(mesh="package://nowhere_description/meshes/arm.stl")
+    with pytest.warns(MeshWarning, match="package://nowhere_description/meshes/arm.stl"):
+        robot = load_urdf_robot(text, urdf_dir=tmp_path)
+    assert robot.robot.n_joints == 1
+
+
+def test_example_robot_data_meshes_resolve_from_the_package() -> None:
+    file = find_robot("ur5").urdf
+    summary = check_urdf(read_urdf_file(file), file.parent)
+    assert summary.meshes and summary.missing_meshes == ()
+    resolved = resolve_mesh(summary.meshes[0], None)
+    assert resolved is not None and resolved.is_file()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no mesh warning for a complete package
+        load_urdf_robot(read_urdf_file(file), urdf_dir=file.parent)
+
+
+def test_catalogue_names_and_close_matches() -> None:
+    catalogue = robot_catalogue()
+    assert {"ur5", "ur10", "panda", "kinova"} <= set(catalogue)
+    assert catalogue["ur5"].urdf.name == "ur5_robot.urdf"
+    assert find_robot("ur/ur5_robot").name == "ur5"
+    assert all(entry.urdf.is_file() for entry in catalogue.values())
+    with pytest.raises(Exception, match="close names: ur5"):
+        find_robot("ur6")
+
+
+@pytest.mark.parametrize(
+    ("mimic", "pattern"),
+    [
+        ('<mimic joint="shoulder"/>', "which is itself, a mimic joint or fixed"),
+        ('<mimic joint="elbow"/>', "which is itself, a mimic joint or fixed"),
+    ],
+)
+def test_self_and_chained_mimics_are_refused(mimic: str, pattern: str) -> None:
+    """Pinocchio refuses mimic chains too: a leader must move on its own."""
+    text = f"""<robot name="m"><link name="a"/><link name="b"/><link name="c"/>
+      <joint name="shoulder" type="revolute"><parent link="a"/><child link="b"/>{mimic}
+        <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+      <joint name="elbow" type="revolute"><parent link="b"/><child link="c"/>
+        <mimic joint="shoulder"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    </robot>"""
+    with pytest.raises(UrdfError, match=pattern):
+        check_urdf(text)
+
+
+def test_a_prismatic_mimic_of_a_revolute_joint_is_refused() -> None:
+    text = two_links().replace(
+        "</robot>",
+        '<link name="f"/><joint name="finger" type="prismatic"><parent link="arm"/>'
+        '<child link="f"/><mimic joint="shoulder"/>'
+        '<limit lower="0" upper="0.1" effort="1" velocity="1"/></joint></robot>',
+    )
+    with pytest.raises(UrdfError, match=r"joint 'finger' \(prismatic\) mimics 'shoulder'"):
+        check_urdf(text)
+
+
+def test_a_robot_without_actuated_joints_is_refused() -> None:
+    text = two_links().replace('type="revolute"', 'type="fixed"')
+    with pytest.raises(UrdfError, match="robot 'two' has no actuated joint"):
+        load_urdf_robot(text)

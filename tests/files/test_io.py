@@ -1,0 +1,75 @@
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.io import savemat
+
+from aaria_pin.aaria.presets import get_preset
+from aaria_pin.errors import InputFileError, OutputFileError
+from aaria_pin.files.io import atomic_output, read_table, write_text_atomic
+
+TABLE = get_preset("aaria-fig2").table
+
+
+def test_read_csv_npy_and_mat(tmp_path: Path) -> None:
+    np.savetxt(tmp_path / "t.csv", TABLE, delimiter=",", header="alpha,a,theta,d,type")
+    np.save(tmp_path / "t.npy", TABLE)
+    savemat(tmp_path / "t.mat", {"senSenDH": TABLE})
+    for name in ("t.csv", "t.npy", "t.mat"):
+        np.testing.assert_array_equal(read_table(tmp_path / name), TABLE)
+
+
+@pytest.mark.parametrize(
+    ("name", "content", "pattern"),
+    [
+        ("missing.csv", None, "no such file"),
+        ("t.xlsx", b"x", "unknown table file type '.xlsx'"),
+        ("t.csv", b"1,2,abc\n", "cannot be read as a numeric table"),
+        ("t.npy", b"not numpy", "cannot be read"),
+        ("t.mat", b"garbage", "cannot be read"),
+    ],
+)
+def test_unreadable_tables(tmp_path: Path, name: str, content: bytes | None, pattern: str) -> None:
+    path = tmp_path / name
+    if content is not None:
+        path.write_bytes(content)
+    with pytest.raises(InputFileError, match=pattern):
+        read_table(path)
+
+
+def test_mat_without_the_named_array(tmp_path: Path) -> None:
+    savemat(tmp_path / "t.mat", {"other": TABLE})
+    with pytest.raises(InputFileError, match=r"no array 'senSenDH'.*other"):
+        read_table(tmp_path / "t.mat")
+
+
+def test_atomic_output_leaves_nothing_on_failure(tmp_path: Path) -> None:
+    target = tmp_path / "out.txt"
+    with pytest.raises(RuntimeError), atomic_output(target) as temporary:
+        temporary.write_text("half")
+        raise RuntimeError("boom")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_atomic_output_replaces_only_when_complete(tmp_path: Path) -> None:
+    target = tmp_path / "out.txt"
+    target.write_text("old")
+    write_text_atomic(target, "new")
+    assert target.read_text() == "new"
+    assert [p.name for p in tmp_path.iterdir()] == ["out.txt"]
+
+
+def test_atomic_output_into_a_missing_folder(tmp_path: Path) -> None:
+    with pytest.raises(OutputFileError, match="does not exist"):
+        write_text_atomic(tmp_path / "nope" / "out.txt", "x")
+
+
+def test_empty_and_complex_tables_are_refused(tmp_path: Path) -> None:
+    (tmp_path / "empty.csv").write_text("# nothing here\n")
+    with pytest.raises(InputFileError, match="is empty"):
+        read_table(tmp_path / "empty.csv")
+    np.save(tmp_path / "complex.npy", TABLE + 1j)
+    with pytest.raises(InputFileError, match="complex"):
+        read_table(tmp_path / "complex.npy")
