@@ -1,5 +1,8 @@
 """The Aaria oscillation tables: joint (``senSenJ``) and base (``senSenB``) sine motions.
 
+The base table and the column names are the core's (:mod:`aaria_pin.core.oscillation`), used by
+every robot; the 8 × 5 joint table by module is the Aaria layer's.
+
 Joint table, 8 × 5 ``[amplitude (rad), prismatic amplitude (m), bias, frequency (rad/s),
 phase (rad)]``: module i follows ``q_i(t) = A·sin(w·t + phase) + bias`` with A the amplitude of a
 revolute module or the prismatic amplitude of a prismatic one; rows 7 and 8 are unused. Every
@@ -18,9 +21,16 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.aaria.dh import KinematicChain
+from aaria_pin.core.oscillation import (
+    BASE_COLUMNS,
+    JOINT_COLUMNS,
+    base_motion,
+    default_base_table,
+    validate_base_table,
+)
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.tables import finite_table
-from aaria_pin.core.trajectory import BaseMotion, JointTrajectory, gimbal_xyz_motion, sine_motion
+from aaria_pin.core.trajectory import JointTrajectory, sine_motion
 from aaria_pin.errors import TableError
 
 __all__ = [
@@ -34,8 +44,6 @@ __all__ = [
     "validate_joint_table",
 ]
 
-JOINT_COLUMNS = ("amplitude", "prismatic amplitude", "bias", "frequency", "phase")
-BASE_COLUMNS = ("amplitude", "bias", "frequency", "phase")
 _RANGE_TOLERANCE = 1e-12
 
 
@@ -74,23 +82,6 @@ def validate_joint_table(table: ArrayLike, chain: KinematicChain) -> Array:
     return arr
 
 
-def validate_base_table(table: ArrayLike) -> Array:
-    """Check a base oscillation table (2 × 4 or 6 × 4) and return it as given.
-
-    Raises:
-        TableError: wrong shape, a non-finite value or a negative frequency.
-    """
-    what = "base oscillation table"
-    arr = finite_table(table, BASE_COLUMNS, what, rows=(2, 6))
-    negative = np.flatnonzero(arr[:, 2] < 0)
-    if negative.size:
-        row = negative[0]
-        raise TableError(
-            f"{what}: row {row + 1}, column 3 (frequency) is {arr[row, 2]:g} rad/s; allowed: >= 0"
-        )
-    return arr
-
-
 def joint_trajectory(table: ArrayLike, chain: KinematicChain, time: Array) -> JointTrajectory:
     """Joint motions of a chain's modules from a joint oscillation table.
 
@@ -110,25 +101,6 @@ def joint_trajectory(table: ArrayLike, chain: KinematicChain, time: Array) -> Jo
     return JointTrajectory(time, q, qd, qdd)
 
 
-def base_motion(table: ArrayLike, time: Array) -> BaseMotion:
-    """The base's motion from a base oscillation table.
-
-    Args:
-        table: 2 × 4 or 6 × 4 base oscillation table
-        time: sample times [s]
-
-    Returns:
-        Position, velocity, acceleration, rotation and body angular velocity and acceleration.
-    """
-    arr = validate_base_table(table)
-    per_axis = np.repeat(arr, 3, axis=0) if arr.shape[0] == 2 else arr
-    amplitude, bias, frequency, phase = per_axis.T
-    x, xd, xdd = sine_motion(amplitude, bias, frequency, phase, time)
-    rotation, omega, omega_dot = gimbal_xyz_motion(x[:, 3:], xd[:, 3:], xdd[:, 3:])
-    position, velocity, acceleration = (np.ascontiguousarray(v[:, :3]) for v in (x, xd, xdd))
-    return BaseMotion(position, velocity, acceleration, rotation, omega, omega_dot)
-
-
 def default_joint_table(chain: KinematicChain) -> Array:
     """A joint oscillation table that moves every module well within its range.
 
@@ -144,8 +116,3 @@ def default_joint_table(chain: KinematicChain) -> Array:
         prismatic_amplitude = 0.0 if revolute else 0.4 * (joint.upper - joint.lower)
         table[i - 1] = [amplitude, prismatic_amplitude, 0.0, 0.8 + 0.3 * i, 0.5 * i]
     return table
-
-
-def default_base_table() -> Array:
-    """A gently moving base: ±5 cm at 1.0 rad/s along each axis, ±0.05 rad at 0.7 rad/s."""
-    return np.array([[0.05, 0.0, 1.0, 0.0], [0.05, 0.0, 0.7, 0.3]])

@@ -20,12 +20,14 @@ import numpy as np
 
 from aaria_pin.aaria.dh import Convention
 from aaria_pin.aaria.oscillation import default_base_table
-from aaria_pin.apps.wrist.kinematics import WRIST_D3
 from aaria_pin.core.inertia import Inertia
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
 __all__ = ["APPENDIX_B_PARTS", "PRESETS", "Preset", "get_preset", "preset_names"]
+
+WRIST_D3 = 0.132
+"""The wrist report's d3: wrist centre to tool point [m] (Table 1)."""
 
 _HALF_PI = np.pi / 2
 

@@ -1,17 +1,38 @@
-"""The run record of any URDF robot: a ``signals`` table with named columns, and its inputs.
+"""The run record: what one simulation run of any robot records, in one layout for every robot.
 
-The Aaria ``senSen`` layout (:mod:`aaria_pin.aaria.sensen`) has fixed columns for six modules and 14
-IMU slots. A robot loaded from a URDF has its own joints and IMUs, so its record names them:
+Every run (a DH arm, a URDF robot, the wrist, the pick-place arm) is a :class:`RunRecord` with the
+same arrays, and a run file or a data set stores them under the same names:
 
-``signals`` (T × C): column ``time`` [s]; one column ``q:<joint>`` per actuated joint in model
-order [rad or m]; then six columns per IMU in layout order, ``<imu>_wx``, ``<imu>_wy``,
-``<imu>_wz`` (angular velocity [rad/s]) and ``<imu>_fx``, ``<imu>_fy``, ``<imu>_fz`` (specific
-force [m/s²]), both in the IMU's own axes. :func:`signal_columns` gives the names.
+=============== ============= ================================================================
+name            shape         what
+=============== ============= ================================================================
+``time``        T             sample times [s]
+``q``           T × n         joint values [rad or m], one column per joint of ``joint_names``
+``qd``          T × n         joint velocities [rad/s or m/s]
+``qdd``         T × n         joint accelerations [rad/s² or m/s²]
+``tau``         T × n         joint torques [N·m] or forces [N]
+``base_pose``   T × 4 × 4     ``T_world_base`` [m] (the identity on a fixed base)
+``base_wrench`` T × 6         wrench the base mount applies, ``[fx fy fz mx my mz]`` in
+                              world-aligned axes about the base origin [N, N·m]
+``tool_pose``   T × 4 × 4     ``T_world_tool`` [m]
+``imu``         T × S × 6     per IMU ``[wx wy wz fx fy fz]``: angular velocity [rad/s] and
+                              specific force [m/s²], both in the IMU's own axes
+``imu_mount``   S × 4 × 4     each IMU's pose in its parent frame [m]
+=============== ============= ================================================================
+
+Beside the arrays a record holds the joint and IMU names, the URDF text of its model, the input
+``tables`` that re-make it (e.g. the Aaria ``senSenDH``, ``senSenJ``, ``senSenB``, or a URDF
+robot's ``joint_table`` and ``base_table``), column ``views`` (tables whose columns are columns of
+the arrays, such as the paper's 91-column ``senSen``: stored as HDF5 virtual datasets, so each
+number is stored once) and the run's ``attributes`` (rate, duration, seed, noise, ...).
+
+An IMU whose ``parent`` is ``""`` is a slot left empty (an Aaria module of link type 0): its pose
+and its signals are zero.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -20,10 +41,35 @@ import numpy as np
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
-__all__ = ["IMU_SIGNALS", "GenericRunRecord", "ImuMount", "signal_columns"]
+__all__ = [
+    "IMU_SIGNALS",
+    "SERIES",
+    "ColumnSource",
+    "ColumnView",
+    "ImuMount",
+    "RunRecord",
+    "signal_columns",
+]
 
 IMU_SIGNALS = ("wx", "wy", "wz", "fx", "fy", "fz")
-"""The six signals of an IMU, in column order (the Aaria ``senSen`` layout uses them too)."""
+"""The six signals of an IMU, in ``imu``'s last axis (and in every column layout)."""
+
+SERIES = ("time", "q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pose", "imu")
+"""The time series of a record (leading axis T), in file order."""
+
+UNITS = {
+    "time": "s",
+    "q": "rad or m",
+    "qd": "rad/s or m/s",
+    "qdd": "rad/s^2 or m/s^2",
+    "tau": "N*m or N",
+    "base_pose": "m (4x4 homogeneous transform, world frame)",
+    "base_wrench": "N, N*m ([fx fy fz mx my mz], world-aligned axes, about the base origin)",
+    "tool_pose": "m (4x4 homogeneous transform, world frame)",
+    "imu": "rad/s, m/s^2 ([wx wy wz fx fy fz] in the IMU's own axes)",
+    "imu_mount": "m (4x4 homogeneous transform in the parent frame)",
+}
+"""The ``units`` attribute of each stored array."""
 
 
 @dataclass(frozen=True)
@@ -32,7 +78,8 @@ class ImuMount:
 
     Attributes:
         name: the IMU's name (also its frame's name in the model)
-        parent: the frame it is mounted on (a link, joint or fixed frame of the URDF)
+        parent: the frame it is mounted on (a link, joint or fixed frame of the URDF); ``""``
+            for an empty slot (no IMU: zero pose, zero signals)
         T_parent_imu: its pose in the parent frame, 4 × 4 [m]
     """
 
@@ -41,8 +88,58 @@ class ImuMount:
     T_parent_imu: Array
 
 
+@dataclass(frozen=True)
+class ColumnSource:
+    """One column of a view: a column of one of the record's time series.
+
+    Attributes:
+        array: the series' name (one of :data:`SERIES`)
+        index: the index into the series' axes after time (``()`` for ``time``, ``(j,)`` for
+            joint j of ``q``, ``(s, k)`` for signal k of IMU s)
+    """
+
+    array: str
+    index: tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class ColumnView:
+    """A T × C table whose columns are columns of the record's series (stored once, viewed).
+
+    Attributes:
+        columns: the C column names
+        sources: where each column comes from, one per column
+        units: the view's ``units`` attribute
+    """
+
+    columns: tuple[str, ...]
+    sources: tuple[ColumnSource, ...]
+    units: str = ""
+
+    def __post_init__(self) -> None:
+        if len(self.columns) != len(self.sources):
+            raise ParameterError(
+                f"view has {len(self.columns)} columns and {len(self.sources)} sources; "
+                "allowed: one source per column"
+            )
+
+    def materialise(self, series: Mapping[str, Array]) -> Array:
+        """The view as a T × C array (a copy) from the series it refers to.
+
+        Args:
+            series: the record's series by name (the leading axis is time, or runs × time)
+        """
+        lead = np.shape(series["time"])
+        first = np.asarray(series[self.sources[0].array])
+        out = np.empty((*lead, len(self.sources)), dtype=first.dtype)
+        for c, source in enumerate(self.sources):
+            array = np.asarray(series[source.array])
+            out[..., c] = array[(..., *source.index)] if source.index else array
+        return out
+
+
 def signal_columns(joint_names: Sequence[str], imu_names: Sequence[str]) -> tuple[str, ...]:
-    """Column names of ``signals``: time, one per joint, six per IMU (module docstring)."""
+    """Names of the flat signal table: ``time``, ``q:<joint>`` per joint, ``<imu>_<signal>``."""
     return (
         "time",
         *(f"q:{joint}" for joint in joint_names),
@@ -51,29 +148,30 @@ def signal_columns(joint_names: Sequence[str], imu_names: Sequence[str]) -> tupl
 
 
 @dataclass
-class GenericRunRecord:
-    """Everything one run of a URDF robot records.
+class RunRecord:
+    """Everything one run of any robot records (module docstring: names, shapes, units).
 
     Attributes:
-        signals: T × C time, joint values and IMU signals (module docstring)
-        joint_names: the actuated joints, in model order (n names)
+        time: sample times, T [s]
+        joint_names: the n joints of ``q`` … ``tau``, in column order
         q: joint values, T × n [rad or m]
         qd: joint velocities, T × n [rad/s or m/s]
         qdd: joint accelerations, T × n [rad/s² or m/s²]
         tau: joint torques [N·m] or forces [N], T × n
-        base_pose: ``T_world_base``, T × 4 × 4 [m] (the identity on a fixed base)
+        base_pose: ``T_world_base``, T × 4 × 4 [m]
         base_wrench: wrench the base mount applies, ``[fx fy fz mx my mz]`` in world-aligned
-            axes about the base origin, T × 6 [N, N·m] (zeros on a fixed base)
+            axes about the base origin, T × 6 [N, N·m]
         tool_pose: ``T_world_tool``, T × 4 × 4 [m]
-        imu_mounts: the IMU layout, in column order
-        urdf: the URDF text the model was built from
-        joint_table: n × 5 joint oscillation table, or None for a motion given otherwise
-        base_table: 2 × 4 or 6 × 4 base oscillation table, or None (fixed base, or a base
-            motion given otherwise)
-        attributes: rate, duration, seed, noise settings, base and tool frames, units, version
+        imu: IMU signals, T × S × 6 ``[wx wy wz fx fy fz]`` in each IMU's own axes
+            [rad/s, m/s²]
+        imu_mounts: the S IMUs, in ``imu`` order
+        urdf: the URDF text of the model the run was computed on
+        tables: the input tables that re-make the run, by name
+        views: column views of the series, by name (e.g. ``senSen``)
+        attributes: rate, duration, seed, noise settings, gravity, robot, tool frame, version
     """
 
-    signals: Array
+    time: Array
     joint_names: tuple[str, ...]
     q: Array
     qd: Array
@@ -82,53 +180,109 @@ class GenericRunRecord:
     base_pose: Array
     base_wrench: Array
     tool_pose: Array
+    imu: Array
     imu_mounts: tuple[ImuMount, ...]
-    urdf: str
-    joint_table: Array | None = None
-    base_table: Array | None = None
+    urdf: str = ""
+    tables: dict[str, Array] = field(default_factory=dict)
+    views: dict[str, ColumnView] = field(default_factory=dict)
     attributes: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        n_samples, n_joints = np.shape(self.q)[0], len(self.joint_names)
+        self.joint_names = tuple(self.joint_names)
+        self.imu_mounts = tuple(self.imu_mounts)
+        samples, joints, imus = np.shape(self.time)[0], len(self.joint_names), len(self.imu_mounts)
         expected = {
-            "signals": (n_samples, len(self.columns)),
-            "q": (n_samples, n_joints),
-            "qd": (n_samples, n_joints),
-            "qdd": (n_samples, n_joints),
-            "tau": (n_samples, n_joints),
-            "base_pose": (n_samples, 4, 4),
-            "base_wrench": (n_samples, 6),
-            "tool_pose": (n_samples, 4, 4),
+            "time": (samples,),
+            "q": (samples, joints),
+            "qd": (samples, joints),
+            "qdd": (samples, joints),
+            "tau": (samples, joints),
+            "base_pose": (samples, 4, 4),
+            "base_wrench": (samples, 6),
+            "tool_pose": (samples, 4, 4),
+            "imu": (samples, imus, len(IMU_SIGNALS)),
         }
         for name, shape in expected.items():
             if np.shape(getattr(self, name)) != shape:
                 raise ParameterError(
                     f"run record {name} has shape {np.shape(getattr(self, name))}; allowed: {shape}"
                 )
+        for name, view in self.views.items():
+            for source in view.sources:
+                if source.array not in expected:
+                    raise ParameterError(
+                        f"view {name} column source is {source.array!r}; allowed: "
+                        + ", ".join(SERIES)
+                    )
+
+    @property
+    def n_samples(self) -> int:
+        """T, the number of samples."""
+        return int(np.shape(self.time)[0])
+
+    @property
+    def imu_names(self) -> tuple[str, ...]:
+        """The IMU names, in ``imu`` order."""
+        return tuple(mount.name for mount in self.imu_mounts)
+
+    @property
+    def imu_mount(self) -> Array:
+        """Each IMU's pose in its parent frame, S × 4 × 4 [m] (zeros for an empty slot)."""
+        if not self.imu_mounts:
+            return np.zeros((0, 4, 4))
+        return np.stack([np.asarray(mount.T_parent_imu, dtype=float) for mount in self.imu_mounts])
 
     @property
     def columns(self) -> tuple[str, ...]:
-        """Names of the ``signals`` columns."""
-        return signal_columns(self.joint_names, [mount.name for mount in self.imu_mounts])
+        """Names of the flat signal table :meth:`signals`."""
+        return signal_columns(self.joint_names, self.imu_names)
 
-    @property
-    def time(self) -> Array:
-        """Sample times [s]."""
-        return self.signals[:, 0]
+    def series(self) -> dict[str, Array]:
+        """The time series by name, in file order (:data:`SERIES`)."""
+        return {name: getattr(self, name) for name in SERIES}
 
-    @property
-    def imu(self) -> Array:
-        """IMU signals, T × S × 6 ``[wx wy wz fx fy fz]`` (a view of ``signals``)."""
-        start = 1 + len(self.joint_names)
-        return self.signals[:, start:].reshape(self.signals.shape[0], len(self.imu_mounts), 6)
+    def arrays(self) -> dict[str, Array]:
+        """Every stored array by name, in file order: the series, ``imu_mount``, the tables."""
+        return {**self.series(), "imu_mount": self.imu_mount, **self.tables}
 
     def imu_signals(self, name: str) -> Array:
-        """The T × 6 signals of one IMU by name.
+        """The T × 6 signals ``[wx wy wz fx fy fz]`` of one IMU by name.
 
         Raises:
             ParameterError: no IMU of that name.
         """
-        names = [mount.name for mount in self.imu_mounts]
+        names = self.imu_names
         if name not in names:
             raise ParameterError(f"IMU {name!r} is not in this run; allowed: {', '.join(names)}")
         return self.imu[:, names.index(name)]
+
+    def joint(self, name: str) -> int:
+        """The column of a joint by name.
+
+        Raises:
+            ParameterError: no joint of that name.
+        """
+        if name not in self.joint_names:
+            raise ParameterError(
+                f"joint {name!r} is not in this run; allowed: {', '.join(self.joint_names)}"
+            )
+        return self.joint_names.index(name)
+
+    def signals(self) -> Array:
+        """The flat T × C table of :attr:`columns`: time, joint values, IMU signals (a copy)."""
+        samples = self.n_samples
+        return np.concatenate(
+            [self.time[:, None], self.q, np.reshape(self.imu, (samples, -1))], axis=1
+        )
+
+    def view(self, name: str) -> Array:
+        """A column view by name as a T × C array (e.g. ``record.view("senSen")``).
+
+        Raises:
+            ParameterError: no view of that name.
+        """
+        if name not in self.views:
+            raise ParameterError(
+                f"view {name!r} is not in this run; allowed: {', '.join(self.views) or 'none'}"
+            )
+        return self.views[name].materialise(self.series())

@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from aaria_pin.aaria.oscillation import JOINT_COLUMNS
 from aaria_pin.core.model import RobotModel, build_model
+from aaria_pin.core.oscillation import JOINT_COLUMNS
 from aaria_pin.core.record import ImuMount
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.tables import finite_table

@@ -17,11 +17,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin import __version__
-from aaria_pin.aaria.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.aaria.simulate import DEFAULT_DURATION, DEFAULT_RATE, sampling_attributes
 from aaria_pin.core.dynamics import inverse_dynamics
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, add_imu_noise
 from aaria_pin.core.kinematics import trajectory_signals
+from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.core.record import GenericRunRecord, ImuMount
 from aaria_pin.core.seeds import check_seed, stored_seed
 from aaria_pin.core.trajectory import BaseMotion, sample_times

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from aaria_pin.aaria.presets import WRIST_D3
 from aaria_pin.core.rotations import angles_from_matrix, as_rotation
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
@@ -36,8 +37,6 @@ __all__ = [
     "wrist_workspace",
 ]
 
-WRIST_D3 = 0.132
-"""Distance from the wrist centre to the tool point, the report's d3 [m]."""
 
 REPORT_LIMITS = np.radians([[0.0, 360.0], [0.0, 180.0], [-180.0, 180.0]])
 """The report's joint ranges (joint 1: 0–360°, joint 2: 0–180°; joint 3 free) [rad]."""

@@ -1,0 +1,70 @@
+"""Sine motions from oscillation tables, for any robot: joint table columns and the base table.
+
+Base table, 2 × 4 ``[amplitude, bias, frequency (rad/s), phase]``: row 1 moves the base along
+world x, y and z (the same sine on each, m), row 2 turns it through gimbal angles (the same sine
+on each, rad) with ``R_base = Rx(ax)·Ry(ay)·Rz(az)``. A 6 × 4 table gives one row per axis
+(x, y, z, ax, ay, az). A joint table has one row per joint, ``[amplitude (rad), prismatic
+amplitude (m), bias, frequency (rad/s), phase (rad)]`` (:data:`JOINT_COLUMNS`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from aaria_pin.core.se3 import Array
+from aaria_pin.core.tables import finite_table
+from aaria_pin.core.trajectory import BaseMotion, gimbal_xyz_motion, sine_motion
+from aaria_pin.errors import TableError
+
+__all__ = [
+    "BASE_COLUMNS",
+    "JOINT_COLUMNS",
+    "base_motion",
+    "default_base_table",
+    "validate_base_table",
+]
+
+JOINT_COLUMNS = ("amplitude", "prismatic amplitude", "bias", "frequency", "phase")
+BASE_COLUMNS = ("amplitude", "bias", "frequency", "phase")
+
+
+def validate_base_table(table: ArrayLike) -> Array:
+    """Check a base oscillation table (2 × 4 or 6 × 4) and return it as given.
+
+    Raises:
+        TableError: wrong shape, a non-finite value or a negative frequency.
+    """
+    what = "base oscillation table"
+    arr = finite_table(table, BASE_COLUMNS, what, rows=(2, 6))
+    negative = np.flatnonzero(arr[:, 2] < 0)
+    if negative.size:
+        row = negative[0]
+        raise TableError(
+            f"{what}: row {row + 1}, column 3 (frequency) is {arr[row, 2]:g} rad/s; allowed: >= 0"
+        )
+    return arr
+
+
+def base_motion(table: ArrayLike, time: Array) -> BaseMotion:
+    """The base's motion from a base oscillation table.
+
+    Args:
+        table: 2 × 4 or 6 × 4 base oscillation table
+        time: sample times [s]
+
+    Returns:
+        Position, velocity, acceleration, rotation and body angular velocity and acceleration.
+    """
+    arr = validate_base_table(table)
+    per_axis = np.repeat(arr, 3, axis=0) if arr.shape[0] == 2 else arr
+    amplitude, bias, frequency, phase = per_axis.T
+    x, xd, xdd = sine_motion(amplitude, bias, frequency, phase, time)
+    rotation, omega, omega_dot = gimbal_xyz_motion(x[:, 3:], xd[:, 3:], xdd[:, 3:])
+    position, velocity, acceleration = (np.ascontiguousarray(v[:, :3]) for v in (x, xd, xdd))
+    return BaseMotion(position, velocity, acceleration, rotation, omega, omega_dot)
+
+
+def default_base_table() -> Array:
+    """A gently moving base: ±5 cm at 1.0 rad/s along each axis, ±0.05 rad at 0.7 rad/s."""
+    return np.array([[0.05, 0.0, 1.0, 0.0], [0.05, 0.0, 0.7, 0.3]])
