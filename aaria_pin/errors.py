@@ -1,11 +1,22 @@
-"""The exception family of aaria_pin.
+"""The exception family of aaria_pin: errors that carry their data.
 
-Every error the toolkit raises on bad input derives from :class:`AariaError`. Messages are
-one line and name the offending value and what is allowed, so the CLI can print them as they
-are (exit status 2) and a Python caller can catch the whole family at once.
+Every error the toolkit raises on bad input derives from :class:`AariaError`. Its message is one
+line, "X is Y; allowed: Z", so the CLI prints it as it is (exit status 2), and the pieces are
+fields a Python caller can read without parsing text:
+
+- ``parameter``: the library parameter at fault (``"duration"``, ``"joint_table"``), named as in
+  the function's signature; the CLI names its flag instead (:meth:`AariaError.for_flag`);
+- ``value``: the value given;
+- ``allowed``: what is allowed, as text;
+- ``element``: where in the value (``"row 3, column 2"``, a joint or link name, a file path).
+
+An :class:`OutputFileError` and an :class:`InputFileError` are also :class:`OSError`, so code that
+handles file errors catches them.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 __all__ = [
     "AariaError",
@@ -19,8 +30,68 @@ __all__ = [
 ]
 
 
+def _shown(value: Any) -> str:
+    """A value as the message shows it: numbers with %g, text quoted, the rest by repr."""
+    if isinstance(value, bool):
+        return str(value)
+    if isinstance(value, int | float):
+        return f"{value:g}"
+    if isinstance(value, str):
+        return repr(value)
+    return repr(value)
+
+
 class AariaError(ValueError):
-    """Base class of every input error raised by aaria_pin."""
+    """Base class of every input error raised by aaria_pin.
+
+    Args:
+        message: the whole one-line message; left out, it is composed from the fields as
+            ``"<element> of <parameter> is <value>; allowed: <allowed>"``
+        parameter: the parameter at fault, as the library names it
+        value: the value given
+        allowed: what is allowed, as text
+        element: where in the value (a row and column, a joint, a file)
+
+    Attributes:
+        parameter: as given (None when the error is not about one parameter)
+        value: as given
+        allowed: as given
+        element: as given
+    """
+
+    def __init__(
+        self,
+        message: str | None = None,
+        *,
+        parameter: str | None = None,
+        value: Any = None,
+        allowed: str | None = None,
+        element: str | None = None,
+    ) -> None:
+        self.parameter = parameter
+        self.value = value
+        self.allowed = allowed
+        self.element = element
+        super().__init__(message if message is not None else self._compose(parameter))
+
+    def _compose(self, name: str | None) -> str:
+        subject = " of ".join(part for part in (self.element, name) if part) or "input"
+        text = f"{subject} is {_shown(self.value)}"
+        return f"{text}; allowed: {self.allowed}" if self.allowed is not None else text
+
+    def for_flag(self, flags: dict[str, str]) -> str:
+        """The message with the parameter named by its command-line flag.
+
+        Args:
+            flags: parameter name → flag (``{"duration": "--duration"}``)
+
+        Returns:
+            The composed message naming the flag when the error has a ``parameter`` that
+            ``flags`` maps and a ``value`` and ``allowed`` to compose from; else the message.
+        """
+        if self.parameter in flags and self.allowed is not None:
+            return self._compose(flags[self.parameter])
+        return str(self)
 
 
 class TableError(AariaError):
@@ -31,12 +102,12 @@ class ParameterError(AariaError):
     """A scalar parameter (density, cross-section, rate, duration, ...) is out of range."""
 
 
-class InputFileError(AariaError):
+class InputFileError(AariaError, OSError):
     """An input file is missing, unreadable or does not hold what was asked for."""
 
 
-class OutputFileError(AariaError):
-    """An output file cannot be written."""
+class OutputFileError(AariaError, OSError):
+    """An output file cannot be written (an :class:`OSError` too)."""
 
 
 class ModelError(AariaError):

@@ -18,11 +18,36 @@ class _Group(click.Group):
         try:
             return super().invoke(ctx)
         except AariaError as exc:
-            message = str(exc)
+            message = exc.for_flag(_flags(self))
         except click.UsageError as exc:  # bad options of a command: one line too
             message = exc.format_message()
         click.echo(f"aaria: error: {' '.join(message.split())}", err=True)
         ctx.exit(EXIT_BAD_INPUT)
+
+
+_PARAMETER_FLAGS = {
+    "joint_table": "--joints",
+    "base_table": "--base",
+    "table": "--dh",
+    "dh_table": "--dh",
+    "torques": "--torques",
+    "path": "-o/--output",
+}
+"""Library parameters whose flag is named otherwise (the rest map by their option's name)."""
+
+
+def _flags(group: click.Group) -> dict[str, str]:
+    """Library parameter name → the flag that sets it, over every command of the group."""
+    flags: dict[str, str] = {}
+    stack: list[click.Command] = list(group.commands.values())
+    while stack:
+        command = stack.pop()
+        if isinstance(command, click.Group):
+            stack.extend(command.commands.values())
+        for param in command.params:
+            if isinstance(param, click.Option) and param.name:
+                flags.setdefault(param.name, max(param.opts, key=len))
+    return {**flags, **_PARAMETER_FLAGS}
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})

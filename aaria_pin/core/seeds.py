@@ -24,7 +24,9 @@ def check_seed(seed: int | np.random.SeedSequence) -> None:
     if not (isinstance(seed, (int, np.integer)) and 0 <= seed <= MAX_SEED) and not isinstance(
         seed, np.random.SeedSequence
     ):
-        raise ParameterError(f"seed {seed!r}; allowed: an integer from 0 to {MAX_SEED}")
+        raise ParameterError(
+            parameter="seed", value=seed, allowed=f"an integer from 0 to {MAX_SEED}"
+        )
 
 
 def seed_attributes(seed: int | np.random.SeedSequence) -> dict[str, Any]:

@@ -34,12 +34,20 @@ def finite_table(
         expected = (
             " or ".join(f"{r} × {width}" for r in rows) if rows else f"rows × {width} columns"
         )
-        raise TableError(f"{what}: shape {arr.shape} is not allowed; expected {expected}")
+        raise TableError(
+            f"{what}: shape {arr.shape} is not allowed; expected {expected}",
+            value=arr.shape,
+            allowed=str(expected),
+            element="shape",
+        )
     bad = np.argwhere(~np.isfinite(arr))
     if bad.size:
         row, col = bad[0]
         raise TableError(
             f"{what}: row {row + 1}, column {col + 1} ({columns[col]}) is {arr[row, col]};"
-            " allowed: a finite number"
+            " allowed: a finite number",
+            value=float(arr[row, col]),
+            allowed="a finite number",
+            element=f"row {row + 1}, column {col + 1} ({columns[col]})",
         )
     return arr

@@ -60,17 +60,27 @@ def sample_times(duration: float, rate: float) -> Array:
     """
     if not (np.isfinite(duration) and 0 < duration <= MAX_DURATION):
         raise ParameterError(
-            f"duration {duration!r} s; allowed: 0 < duration <= {MAX_DURATION:g} s"
+            parameter="duration",
+            value=duration,
+            allowed=f"0 < duration <= {MAX_DURATION:g} s",
         )
     if not (np.isfinite(rate) and 0 < rate <= MAX_RATE):
-        raise ParameterError(f"rate {rate!r} Hz; allowed: 0 < rate <= {MAX_RATE:g} Hz")
+        raise ParameterError(parameter="rate", value=rate, allowed=f"0 < rate <= {MAX_RATE:g} Hz")
     n = math.floor(duration * rate + 1e-9) + 1
     if n > MAX_SAMPLES:
         raise ParameterError(
-            f"duration × rate gives {n} samples; allowed: at most {MAX_SAMPLES} per run"
+            f"duration × rate gives {n} samples; allowed: at most {MAX_SAMPLES} per run",
+            parameter="duration",
+            value=duration,
+            allowed=f"at most {MAX_SAMPLES} samples per run (duration × rate)",
         )
     if n < 2:
-        raise ParameterError(f"duration {duration} s at {rate} Hz gives 1 sample; allowed: >= 2")
+        raise ParameterError(
+            f"duration {duration} s at {rate} Hz gives 1 sample; allowed: >= 2",
+            parameter="duration",
+            value=duration,
+            allowed=f">= {2 / rate:g} s at {rate:g} Hz (two samples)",
+        )
     return np.arange(n) / rate
 
 

@@ -18,19 +18,31 @@ def test_sample_grid_is_simulink_like() -> None:
 @pytest.mark.parametrize(
     ("duration", "rate", "pattern"),
     [
-        (0.0, 100, "duration 0.0"),
-        (-1, 100, "duration -1"),
-        (np.nan, 100, "duration nan"),
-        (1e9, 100, "duration"),
-        (1.0, 0.0, "rate 0.0"),
-        (1.0, -5, "rate -5"),
+        (0.0, 100, "duration is 0; allowed"),
+        (-1, 100, "duration is -1; allowed"),
+        (np.nan, 100, "duration is nan; allowed"),
+        (1e9, 100, "duration is 1e"),
+        (1.0, 0.0, "rate is 0; allowed"),
+        (1.0, -5, "rate is -5; allowed"),
         (86_400, 100_000, "samples"),
         (0.001, 10, "1 sample"),
     ],
 )
 def test_bad_grids(duration: float, rate: float, pattern: str) -> None:
-    with pytest.raises(ParameterError, match=pattern):
+    with pytest.raises(ParameterError, match=pattern) as caught:
         sample_times(duration, rate)
+    assert caught.value.parameter in {"duration", "rate"}
+    assert caught.value.allowed
+    assert caught.value.value in (duration, rate) or np.isnan(caught.value.value)
+
+
+def test_error_fields_name_the_flag_in_the_cli() -> None:
+    with pytest.raises(ParameterError) as caught:
+        sample_times(1.0, -5.0)
+    error = caught.value
+    assert (error.parameter, error.value) == ("rate", -5.0)
+    assert error.for_flag({"rate": "--rate"}).startswith("--rate is -5; allowed: 0 < rate")
+    assert isinstance(error, ValueError)
 
 
 def test_sine_derivatives_are_exact() -> None:
