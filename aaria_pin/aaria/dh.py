@@ -143,7 +143,12 @@ class KinematicChain:
         """
         q_arr = np.asarray(q, dtype=float).reshape(-1)
         if q_arr.shape != (len(self.joints),):
-            raise TableError(f"q has {q_arr.size} values; the chain has {len(self.joints)} joints")
+            raise TableError(
+                f"q has {q_arr.size} values; the chain has {len(self.joints)} joints",
+                parameter="q",
+                value=q_arr.size,
+                allowed=f"{len(self.joints)} values",
+            )
         T = self.T_base_entry.copy()
         for joint, qi in zip(self.joints, q_arr, strict=True):
             motion = rot_z(qi) if joint.kind == "revolute" else translation(z=qi)
@@ -157,7 +162,10 @@ def _check_link_type(arr: Array, row: int, allowed: Sequence[LinkType], what: st
     if value not in codes:
         names = ", ".join(f"{int(t)} ({t.name.lower()})" for t in allowed)
         raise TableError(
-            f"{what}: row {row + 1}, column 5 (link type) is {value:g}; allowed: {names}"
+            f"{what}: row {row + 1}, column 5 (link type) is {value:g}; allowed: {names}",
+            value=float(value),
+            allowed=names,
+            element=f"row {row + 1}, column 5 (link type)",
         )
     return LinkType(int(value))
 
@@ -166,7 +174,11 @@ def _check_non_negative(arr: Array, row: int, col: int, what: str) -> None:
     if not 0 <= arr[row, col] <= MAX_LENGTH:
         raise TableError(
             f"{what}: row {row + 1}, column {col + 1} ({AARIA_COLUMNS[col]}) is"
-            f" {arr[row, col]:g} {_COLUMN_UNITS[col]}; allowed: a length from 0 to {MAX_LENGTH:g} m"
+            f" {arr[row, col]:g} {_COLUMN_UNITS[col]}; allowed: a length from 0 to"
+            f" {MAX_LENGTH:g} m",
+            value=float(arr[row, col]),
+            allowed=f"a length from 0 to {MAX_LENGTH:g} m",
+            element=f"row {row + 1}, column {col + 1} ({AARIA_COLUMNS[col]})",
         )
 
 
@@ -193,7 +205,12 @@ def validate_aaria_table(table: ArrayLike) -> Array:
             _check_non_negative(arr, row, 3, what)
     _check_non_negative(arr, 6, 1, what)
     if all(t is LinkType.EMPTY for t in types):
-        raise TableError(f"{what}: every module (rows 1-6) is empty; allowed: at least one 1 or 2")
+        raise TableError(
+            f"{what}: every module (rows 1-6) is empty; allowed: at least one 1 or 2",
+            value="all link types 0",
+            allowed="at least one 1 or 2",
+            element="rows 1-6, column 5 (link type)",
+        )
     return arr
 
 
@@ -213,7 +230,12 @@ def validate_dh_table(table: ArrayLike, convention: Convention = "standard") -> 
     what = f"{convention} DH table"
     arr = finite_table(table, AARIA_COLUMNS, what)
     if not 1 <= arr.shape[0] <= _MAX_ROWS:
-        raise TableError(f"{what}: {arr.shape[0]} rows is not allowed; expected 1 to {_MAX_ROWS}")
+        raise TableError(
+            f"{what}: {arr.shape[0]} rows is not allowed; expected 1 to {_MAX_ROWS}",
+            value=arr.shape[0],
+            allowed=f"1 to {_MAX_ROWS} rows",
+            element="rows",
+        )
     for row in range(arr.shape[0]):
         _check_link_type(arr, row, (LinkType.REVOLUTE, LinkType.PRISMATIC), what)
         _check_non_negative(arr, row, 1, what)
@@ -341,4 +363,4 @@ def chain_from_table(table: ArrayLike, convention: Convention = "aaria") -> Kine
         return chain_from_standard(table)
     if convention == "modified":
         return chain_from_modified(table)
-    raise TableError(f"convention {convention!r} is not allowed; allowed: {', '.join(CONVENTIONS)}")
+    raise TableError(parameter="convention", value=convention, allowed=", ".join(CONVENTIONS))

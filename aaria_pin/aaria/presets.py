@@ -178,5 +178,8 @@ def get_preset(name: str) -> Preset:
         return PRESETS[name]
     except KeyError:
         raise ParameterError(
-            f"preset {name!r} is not known; allowed: {', '.join(preset_names())}"
+            f"preset {name!r} is not known; allowed: {', '.join(preset_names())}",
+            parameter="preset",
+            value=name,
+            allowed=", ".join(preset_names()),
         ) from None

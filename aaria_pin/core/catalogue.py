@@ -95,8 +95,18 @@ def find_robot(name: str) -> RobotEntry:
 
     same = [e.name for e in catalogue.values() if _short(e.urdf.stem) == name]
     if same:
-        raise ParameterError(f"robot name {name!r} is ambiguous; allowed: {', '.join(same)}")
+        raise ParameterError(
+            f"robot name {name!r} is ambiguous; allowed: {', '.join(same)}",
+            parameter="robot",
+            value=name,
+            allowed=", ".join(same),
+        )
 
     close = difflib.get_close_matches(name, list(catalogue), n=5, cutoff=0.5)
     hint = f"close names: {', '.join(close)}" if close else "see 'aaria robots'"
-    raise ParameterError(f"robot {name!r} is not in example-robot-data; {hint}")
+    raise ParameterError(
+        f"robot {name!r} is not in example-robot-data; {hint}",
+        parameter="robot",
+        value=name,
+        allowed=hint,
+    )

@@ -46,7 +46,12 @@ def _check(name: str, value: float, allow_zero: bool = False) -> None:
     ok = value >= 0.0 if allow_zero else value > 0.0
     if not (np.isfinite(value) and ok):
         bound = ">= 0" if allow_zero else "> 0"
-        raise ParameterError(f"{name} is {value!r}; allowed: a finite number {bound}")
+        raise ParameterError(
+            f"{name} is {value!r}; allowed: a finite number {bound}",
+            parameter=name,
+            value=value,
+            allowed=f"a finite number {bound}",
+        )
 
 
 @dataclass(frozen=True)
@@ -138,7 +143,12 @@ ADIS16485 = ImuNoiseModel(
 
 def _check_rate(rate: float) -> None:
     if not (np.isfinite(rate) and rate > 0.0):
-        raise ParameterError(f"sample rate is {rate!r} Hz; allowed: a finite rate > 0")
+        raise ParameterError(
+            f"sample rate is {rate!r} Hz; allowed: a finite rate > 0",
+            parameter="rate",
+            value=rate,
+            allowed="a finite rate > 0 Hz",
+        )
 
 
 def _per_axis(model: ImuNoiseModel, name: str) -> Array:

@@ -20,9 +20,9 @@ __all__ = ["ramp_profile", "trapezoid_profile"]
 
 def _check(speed: float, acceleration: float | None = None) -> None:
     if not (np.isfinite(speed) and speed > 0):
-        raise ParameterError(f"speed {speed!r}; allowed: > 0")
+        raise ParameterError(parameter="speed", value=speed, allowed="> 0")
     if acceleration is not None and not (np.isfinite(acceleration) and acceleration > 0):
-        raise ParameterError(f"acceleration {acceleration!r}; allowed: > 0")
+        raise ParameterError(parameter="acceleration", value=acceleration, allowed="> 0")
 
 
 def ramp_profile(
