@@ -1,8 +1,12 @@
 """One Aaria simulation run: a DH arm, sine joint and base motions, 14 IMUs, torques.
 
-:func:`simulate_run` validates the inputs, builds the arm on a moving base, computes every
-signal over the whole time grid at once (IMU kinematics as arrays, torques by Pinocchio's
-batched RNEA), adds ADIS16485-like noise if asked, and returns the :class:`RunRecord`.
+:func:`simulate_run` validates the inputs, builds the arm on a moving base and runs the shared
+pipeline (:func:`~aaria_pin.core.run.simulate_series`: IMU kinematics as arrays over the whole
+time grid, ADIS16485-like noise if asked, torques by Pinocchio's batched RNEA). It returns the one
+:class:`~aaria_pin.core.record.RunRecord` in the paper's module order: joints ``joint1`` …
+``joint6`` (zero columns for an empty module), the 14 IMU slots in ``senSen`` order (an empty
+module's slots have parent ``""``), the tables ``senSenDH``, ``senSenJ``, ``senSenB`` and the view
+``senSen`` (:func:`~aaria_pin.aaria.sensen.sensen_view`).
 """
 
 from __future__ import annotations
@@ -15,10 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin import __version__
-from aaria_pin.aaria.dh_robot import (
-    BodyDimensions,
-    build_dh_robot,
-)
+from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
 from aaria_pin.aaria.oscillation import (
     base_motion,
     default_base_table,
@@ -26,34 +27,29 @@ from aaria_pin.aaria.oscillation import (
     joint_trajectory,
     validate_base_table,
 )
-from aaria_pin.aaria.sensen import N_MODULES, RunRecord, new_sensen
-from aaria_pin.core.dynamics import inverse_dynamics
-from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, add_imu_noise, noise_attributes
-from aaria_pin.core.kinematics import trajectory_signals
-from aaria_pin.core.model import GRAVITY
+from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, sensen_view
+from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
+from aaria_pin.core.record import ImuMount, RunRecord
+from aaria_pin.core.run import UNITS, sampling_attributes, simulate_series
 from aaria_pin.core.se3 import Array
-from aaria_pin.core.seeds import check_seed, seed_attributes, stored_seed
+from aaria_pin.core.seeds import check_seed, stored_seed
 from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE, sample_times
 from aaria_pin.errors import InputFileError
 
 __all__ = [
     "DEFAULT_DURATION",
     "DEFAULT_RATE",
+    "DH_ROBOT",
+    "UNITS",
+    "dh_imu_mounts",
     "sampling_attributes",
+    "simulate_from_record",
     "simulate_from_run_file",
     "simulate_run",
 ]
 
-
-UNITS = {
-    "time": "s",
-    "q": "rad (revolute) or m (prismatic)",
-    "angular_velocity": "rad/s",
-    "specific_force": "m/s^2",
-    "tau": "N*m (revolute) or N (prismatic)",
-    "base_wrench": "N (force), N*m (moment about the base origin), world-aligned axes",
-    "length": "m",
-}
+DH_ROBOT = "aaria-arm"
+"""The ``robot`` attribute of a run whose DH table is not named (not a preset)."""
 
 
 def _module_columns(columns: list[int], values: Array) -> Array:
@@ -63,23 +59,14 @@ def _module_columns(columns: list[int], values: Array) -> Array:
     return out
 
 
-def sampling_attributes(
-    rate: float,
-    duration: float,
-    seed: int | np.random.SeedSequence,
-    noise: bool,
-    noise_model: ImuNoiseModel,
-) -> dict[str, Any]:
-    """The attributes every run file records: rate, duration, seed, noise, gravity, units."""
-    return {
-        "rate": float(rate),
-        "duration": float(duration),
-        **seed_attributes(seed),
-        "noise": bool(noise),
-        "noise_parameters": noise_attributes(noise_model),
-        "gravity": GRAVITY.tolist(),
-        "units": UNITS,
-    }
+def dh_imu_mounts(robot: DHRobot) -> tuple[ImuMount, ...]:
+    """A DH robot's IMU slots as the record's mounts (parent ``""``, zero pose: an empty slot)."""
+    return tuple(
+        ImuMount(slot.name, slot.parent, np.asarray(slot.T_parent_imu, dtype=float))
+        if slot.parent
+        else ImuMount(slot.name, "", np.zeros((4, 4)))
+        for slot in robot.imu_slots
+    )
 
 
 def simulate_run(
@@ -96,6 +83,7 @@ def simulate_run(
     imu_mount: ArrayLike | None = None,
     torques: ArrayLike | None = None,
     threads: int = 1,
+    robot_name: str = DH_ROBOT,
 ) -> RunRecord:
     """Simulate one run of an Aaria arm on a moving base.
 
@@ -115,12 +103,13 @@ def simulate_run(
         torques: (T, 6) joint torques [N·m] or forces [N] by module (columns of empty modules
             are ignored): the joints then move under them by forward dynamics
             (:func:`~aaria_pin.core.forward.forward_simulate`), starting from the joint table's
-            values
-            and velocities at t = 0, instead of following the joint table
+            values and velocities at t = 0, instead of following the joint table (stored as the
+            table ``torque_table``)
         threads: worker threads of the batched RNEA
+        robot_name: the ``robot`` attribute (a preset's name, or the table's)
 
     Returns:
-        The run record.
+        The run record (kind ``"dh"``).
     """
     check_seed(seed)
     robot = build_dh_robot(dh_table, "aaria", dims, imu_mount=imu_mount)
@@ -133,55 +122,107 @@ def simulate_run(
     base = base_motion(senSenB, time)
     model = robot.model(moving_base=True)
     columns = [module - 1 for module in robot.chain.modules]  # module order → senSen columns
+    tables = {"senSenDH": robot.chain.table.copy(), "senSenJ": senSenJ, "senSenB": senSenB}
     if torques is not None:
         from aaria_pin.core.forward import check_torques, forward_simulate
 
         by_module = check_torques(torques, time.size, N_MODULES, "torque table")
+        tables["torque_table"] = by_module
         trajectory = forward_simulate(
             model, base, by_module[:, columns], time, trajectory.q[0], trajectory.qd[0]
         )
 
-    senSen, q, imu = new_sensen(time)
-    q[:, columns] = trajectory.q
     present = [k for k, slot in enumerate(robot.imu_slots) if slot.parent is not None]
-    exact, tool_pose = trajectory_signals(
+    series = simulate_series(
         model,
         base,
         trajectory,
-        [robot.imu_slots[k].name for k in present],
-        [model.tool_frame],
-        imu_out=None if noise else imu,  # noise-free: straight into senSen
-        imu_slots=None if noise else present,
+        imu_frames=[robot.imu_slots[k].name for k in present],
+        imu_slots=present,
+        n_slots=len(robot.imu_slots),
+        rate=rate,
+        seed=seed,
+        noise=noise,
+        noise_model=noise_model,
+        threads=threads,
     )
-    if noise:
-        imu[:, present] = add_imu_noise(exact, rate, np.random.default_rng(seed), noise_model)
-    tau, base_wrench = inverse_dynamics(model, base, trajectory, threads)
-
     attributes: dict[str, Any] = {
+        "kind": "dh",
+        "robot": robot_name,
         **sampling_attributes(rate, duration, seed, noise, noise_model),
         "body_dimensions": {
             **asdict(robot.dims),
             "density_overrides": dict(robot.dims.density_overrides),
         },
         "drive": "motion" if torques is None else "torque",
+        "base_frame": model.base_frame,
+        "tool_frame": model.tool_frame,
         "version": __version__,
     }
     return RunRecord(
-        senSen=senSen,
-        senSenDH=robot.chain.table.copy(),
-        senSenJ=senSenJ,
-        senSenB=senSenB,
-        q=np.ascontiguousarray(q),
+        time=time,
+        joint_names=JOINT_NAMES,
+        q=_module_columns(columns, trajectory.q),
         qd=_module_columns(columns, trajectory.qd),
         qdd=_module_columns(columns, trajectory.qdd),
-        tau=_module_columns(columns, tau),
-        base_wrench=base_wrench,
-        tool_pose=tool_pose[:, 0],
-        imu_mount=np.array(
-            [slot.T_parent_imu if slot.parent else np.zeros((4, 4)) for slot in robot.imu_slots]
-        ),
+        tau=_module_columns(columns, series.tau),
+        base_pose=series.base_pose,
+        base_wrench=series.base_wrench,
+        tool_pose=series.tool_pose,
+        imu=series.imu,
+        imu_mounts=dh_imu_mounts(robot),
+        urdf=robot.urdf,
+        tables=tables,
+        views={"senSen": sensen_view()},
         attributes=attributes,
     )
+
+
+def simulate_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
+    """Re-make a DH run from the inputs its record holds.
+
+    The tables (``senSenDH``, ``senSenJ``, ``senSenB``, and ``torque_table`` for a run driven by
+    torques), the IMU mounts, the body dimensions,
+    the robot's name and the rate, duration, seed and noise setting come from the record;
+    keyword arguments of :func:`simulate_run` given here replace them.
+
+    Args:
+        stored: a DH run's record (e.g. read from its run file)
+        **overrides: keyword arguments of :func:`simulate_run`
+
+    Returns:
+        The run record; with no overrides it equals the stored one.
+
+    Raises:
+        InputFileError: the record lacks a table, or its body dimensions cannot be used.
+    """
+    attributes = stored.attributes
+    missing = [name for name in ("senSenDH", "senSenJ", "senSenB") if name not in stored.tables]
+    if missing:
+        raise InputFileError(
+            f"run has no {missing[0]} table; allowed: a DH run (senSenDH, senSenJ, senSenB)",
+            parameter="stored",
+            allowed="a DH run",
+        )
+    settings: dict[str, Any] = {
+        "joint_table": stored.tables["senSenJ"],
+        "base_table": stored.tables["senSenB"],
+        "duration": float(attributes.get("duration", DEFAULT_DURATION)),
+        "rate": float(attributes.get("rate", DEFAULT_RATE)),
+        "seed": stored_seed(attributes),
+        "noise": bool(attributes.get("noise", True)),
+        "imu_mount": stored.imu_mount,
+        "robot_name": str(attributes.get("robot") or DH_ROBOT),
+    }
+    if "torque_table" in stored.tables:
+        settings["torques"] = stored.tables["torque_table"]
+    if "body_dimensions" in attributes:
+        try:
+            settings["dims"] = BodyDimensions(**attributes["body_dimensions"])
+        except TypeError as exc:
+            raise InputFileError(f"body_dimensions cannot be used ({exc})") from None
+    settings.update(overrides)
+    return simulate_run(stored.tables["senSenDH"], **settings)
 
 
 def simulate_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> RunRecord:
@@ -197,25 +238,13 @@ def simulate_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> Ru
 
     Returns:
         The run record; with no overrides it equals the stored one.
+
+    Raises:
+        InputFileError: not a DH run file, or its body dimensions cannot be used.
     """
     from aaria_pin.files.runfile import read_run
 
-    stored = read_run(path)
-    attributes = stored.attributes
-    seed = stored_seed(attributes)
-    settings: dict[str, Any] = {
-        "joint_table": stored.senSenJ,
-        "base_table": stored.senSenB,
-        "duration": float(attributes.get("duration", DEFAULT_DURATION)),
-        "rate": float(attributes.get("rate", DEFAULT_RATE)),
-        "seed": seed,
-        "noise": bool(attributes.get("noise", True)),
-        "imu_mount": stored.imu_mount,
-    }
-    if "body_dimensions" in attributes:
-        try:
-            settings["dims"] = BodyDimensions(**attributes["body_dimensions"])
-        except TypeError as exc:
-            raise InputFileError(f"{path}: body_dimensions cannot be used ({exc})") from None
-    settings.update(overrides)
-    return simulate_run(stored.senSenDH, **settings)
+    try:
+        return simulate_from_record(read_run(path), **overrides)
+    except InputFileError as exc:
+        raise InputFileError(f"{path}: {exc}", element=str(path)) from None

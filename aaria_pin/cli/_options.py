@@ -1,4 +1,4 @@
-"""Options shared by several commands: where a DH table comes from."""
+"""Options shared by several commands: where a DH table or a robot comes from, sampling, torques."""
 
 from __future__ import annotations
 
@@ -108,3 +108,33 @@ def sampling_overrides(params: dict[str, Any]) -> dict[str, Any]:
     """``duration``, ``rate``, ``seed`` and ``noise`` of a command's options, where given."""
     keys = ("duration", "rate", "seed", "noise")
     return {key: params[key] for key in keys if params.get(key) is not None}
+
+
+def torque_overrides(params: dict[str, Any]) -> dict[str, Any]:
+    """``torques`` from ``--drive torque --torques FILE``, and the time grid of a torque run.
+
+    ``--torques`` is an HDF5 run file (its ``tau``; the run's rate and duration then become
+    the defaults of ``--rate`` and ``--duration``) or a T × n table (CSV, .npy, or a .mat
+    holding ``tau``, such as a ``.mat`` run file).
+
+    Raises:
+        click.UsageError: ``--drive torque`` without ``--torques`` or the other way round.
+    """
+    path: Path | None = params.get("torques_file")
+    if (params.get("drive") == "torque") != (path is not None):
+        raise click.UsageError("--drive torque and --torques FILE go together")
+    if path is None:
+        return {}
+    from aaria_pin.files.io import read_table
+
+    if path.suffix.lower() in (".h5", ".hdf5"):
+        from aaria_pin.files.runfile import read_run
+
+        run = read_run(path)
+        grid = {
+            key: float(run.attributes[key])
+            for key in ("duration", "rate")
+            if params.get(key) is None and key in run.attributes
+        }
+        return {"torques": run.tau, **grid}
+    return {"torques": read_table(path, "tau")}

@@ -1,4 +1,4 @@
-"""``aaria simulate --robot/--urdf`` (or ``--from`` a generic run file): a URDF robot's run."""
+"""``aaria simulate --robot/--urdf`` (or ``--from`` a URDF robot's run file): a URDF robot's run."""
 
 from __future__ import annotations
 
@@ -6,14 +6,14 @@ from typing import Any
 
 import click
 
-from aaria_pin.cli._options import load_robot_source, sampling_overrides
+from aaria_pin.cli._options import load_robot_source, sampling_overrides, torque_overrides
+from aaria_pin.core.record import RunRecord
 
 _DH_ONLY = {
     "preset": "--preset",
     "dh_file": "--dh",
     "mount_file": "--imu-mount",
     "density": "--density",
-    "torques_file": "--torques",
 }
 
 
@@ -22,13 +22,6 @@ def _refuse_options_without_effect(params: dict[str, Any]) -> None:
     for key, flag in _DH_ONLY.items():
         if params[key] is not None:
             raise click.UsageError(f"{flag} is for DH arms; not allowed with a URDF robot")
-    if params["drive"] == "torque":
-        raise click.UsageError("--drive torque is for DH arms; not allowed with a URDF robot")
-    if params["compress"] != "none":
-        raise click.UsageError("--compress is for DH arms; a URDF robot's run is uncompressed")
-    output = params["output"]
-    if output.suffix.lower() not in (".h5", ".hdf5"):
-        raise click.UsageError(f"{output}: a URDF robot's run is written as HDF5 (.h5, .hdf5)")
     if params["fixed_base"] and params["base_file"] is not None:
         raise click.UsageError("--base moves the base; not allowed with --fixed-base")
     if params["from_run"] is not None and params["tool_frame"] is not None:
@@ -40,18 +33,19 @@ def _refuse_options_without_effect(params: dict[str, Any]) -> None:
         raise click.UsageError("--from takes the URDF from the run file; drop --robot/--urdf")
 
 
-def simulate_urdf_command(params: dict[str, Any]) -> None:
+def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = None) -> None:
     """Run ``aaria simulate`` for a URDF robot from the command's option values.
 
     Args:
         params: the option values of ``aaria simulate`` by parameter name
+        stored: the record of ``--from`` (read by the caller), if given
     """
     import warnings
 
     from aaria_pin.core.imu_layout import read_imu_layout
-    from aaria_pin.core.urdf_run import simulate_urdf_from_run_file, simulate_urdf_run
+    from aaria_pin.core.urdf_run import simulate_urdf_from_record, simulate_urdf_run
     from aaria_pin.files.io import read_table
-    from aaria_pin.files.runfile import write_generic_run
+    from aaria_pin.files.runfile import write_run
 
     _refuse_options_without_effect(params)
     overrides = sampling_overrides(params)
@@ -63,12 +57,15 @@ def simulate_urdf_command(params: dict[str, Any]) -> None:
         overrides["joint_table"] = read_table(params["joints_file"], "joint_table")
     if params["base_file"] is not None:
         overrides["base_table"] = read_table(params["base_file"], "senSenB")
+    overrides.update(torque_overrides(params))
+    output = params["output"]
+    compress = params["compress"]
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        if params["from_run"] is not None:
+        if stored is not None:
             if params["fixed_base"]:
                 overrides["moving_base"] = False
-            record = simulate_urdf_from_run_file(params["from_run"], **overrides)
+            record = simulate_urdf_from_record(stored, **overrides)
         else:
             text, folder, source = load_robot_source(params["robot"], params["urdf_file"])
             record = simulate_urdf_run(
@@ -86,11 +83,10 @@ def simulate_urdf_command(params: dict[str, Any]) -> None:
             f"limit {limit:.4g} (N*m or N)",
             err=True,
         )
-    output = params["output"]
-    write_generic_run(output, record)
+    write_run(output, record, compression=None if compress == "none" else compress)
     click.echo(
         f"wrote {output}: {record.attributes['robot']}, {len(record.joint_names)} joints, "
-        f"{len(record.imu_mounts)} IMUs, {record.signals.shape[0]} samples at "
+        f"{len(record.imu_mounts)} IMUs, {record.n_samples} samples at "
         f"{record.attributes['rate']:g} Hz, noise {'on' if record.attributes['noise'] else 'off'}, "
         f"peak |tau| {abs(record.tau).max():.4g}"
     )

@@ -69,3 +69,17 @@ def output_option(
         callback=check,
         help=help or f"{what} file to write ({', '.join(suffixes)}).",
     )
+
+
+def check_run_option(path: Path, run_index: int | None) -> None:
+    """Refuse ``--run`` for a file that is not a data set (a missing file is told later).
+
+    Raises:
+        click.UsageError: ``--run`` given with a run file.
+    """
+    if run_index is None or not path.is_file():
+        return
+    from aaria_pin.files.dataset_file import is_dataset_file
+
+    if not is_dataset_file(path):
+        raise click.UsageError("--run is for a data set; this is a run file")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -12,7 +12,7 @@ from aaria_pin.cli._options import robot_source_options, table_source_options
 from aaria_pin.core.seeds import MAX_SEED
 
 if TYPE_CHECKING:
-    from aaria_pin.apps.dataset.urdf_source import UrdfSource
+    from aaria_pin.apps.dataset.urdf import UrdfSource
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
 
@@ -112,7 +112,12 @@ def dataset(
     """
     from aaria_pin.aaria.presets import get_preset
     from aaria_pin.aaria.randomize import load_config
-    from aaria_pin.apps.dataset.engine import DatasetSpec, generate_dataset
+    from aaria_pin.apps.dataset.engine import (
+        DatasetSpec,
+        DhDatasetSpec,
+        UrdfDatasetSpec,
+        generate_dataset,
+    )
     from aaria_pin.errors import ParameterError
     from aaria_pin.files.io import read_table
 
@@ -142,6 +147,7 @@ def dataset(
                 f"--vary {clash[0]} and a fixed {clash[0]} table were both given; allowed: one"
             )
     dh_table = joint_table = base_table = None
+    name = ""
     if preset is not None or dh_file is not None:
         if preset is not None and dh_file is not None:
             raise click.UsageError("give at most one of --preset NAME or --dh FILE")
@@ -150,6 +156,7 @@ def dataset(
             if chosen.convention != "aaria":
                 raise ParameterError(f"preset {preset!r} is not an Aaria table; allowed: aaria-*")
             dh_table, joint_table, base_table = chosen.table, chosen.joint_table, chosen.base_table
+            name = preset
         else:
             assert dh_file is not None
             dh_table = read_table(dh_file, "senSenDH")
@@ -157,19 +164,22 @@ def dataset(
         joint_table = read_table(joints_file, "senSenJ" if source is None else "joint_table")
     if base_file is not None:
         base_table = read_table(base_file, "senSenB")
-    spec = DatasetSpec(
-        n_runs=n_runs,
-        seed=seed,
-        duration=duration,
-        rate=rate,
-        noise=noise,
-        dtype=dtype,
-        config=load_config(config_file),
-        vary=parts,
-        dh_table=dh_table,
-        joint_table=joint_table,
-        base_table=base_table,
-        urdf=source,
+    settings: dict[str, Any] = {
+        "n_runs": n_runs,
+        "seed": seed,
+        "duration": duration,
+        "rate": rate,
+        "noise": noise,
+        "dtype": dtype,
+        "config": load_config(config_file),
+        "vary": parts,
+        "joint_table": joint_table,
+        "base_table": base_table,
+    }
+    spec: DatasetSpec = (
+        DhDatasetSpec(**settings, dh_table=dh_table, name=name)
+        if source is None
+        else UrdfDatasetSpec(**settings, robot=source)
     )
     report = generate_dataset(
         output,
@@ -203,7 +213,7 @@ def _urdf_source(
         if tool_frame is not None or imu_layout_file is not None or fixed_base:
             raise click.UsageError("--tool, --imu-layout and --fixed-base need --robot or --urdf")
         return None
-    from aaria_pin.apps.dataset.urdf_source import UrdfSource
+    from aaria_pin.apps.dataset.urdf import UrdfSource
     from aaria_pin.cli._options import load_robot_source
     from aaria_pin.core.imu_layout import read_imu_layout
     from aaria_pin.core.urdf_robot import missing_meshes_message

@@ -1,8 +1,9 @@
-"""``aaria info``: a summary of a run file or a data set."""
+"""``aaria info``: a summary of a run file (any robot, any version) or a data set."""
 
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -13,51 +14,96 @@ import click
 @click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
 def info(file: Path, as_json: bool) -> None:
-    """Summarise a run file or a data set: runs, shapes, sizes, seed, config, completeness."""
+    """Summarise a run file or a data set: kind, robot, samples, rate, joints, IMUs, arrays."""
     from aaria_pin.files.dataset_file import is_dataset_file
     from aaria_pin.files.dataset_reader import dataset_summary
-    from aaria_pin.files.runfile import generic_run_summary, is_generic_run_file, run_file_summary
+    from aaria_pin.files.runfile import run_file_summary
 
     is_dataset = is_dataset_file(file)
-    if is_dataset:
-        summary: dict[str, Any] = dataset_summary(file)
-    elif is_generic_run_file(file):
-        summary = generic_run_summary(file)
-    else:
-        summary = run_file_summary(file)
+    summary: dict[str, Any] = dataset_summary(file) if is_dataset else run_file_summary(file)
     if as_json:
         click.echo(json.dumps(summary, indent=2, default=str))
-        return
-    if is_dataset:
+    elif is_dataset:
+        _echo_dataset(file, summary)
+    else:
+        _echo_run(file, summary)
+
+
+def _shape(shape: Sequence[int]) -> str:
+    """A shape as ``11 × 91``."""
+    return " × ".join(map(str, shape)) if len(shape) else "scalar"
+
+
+def _names(names: Sequence[str]) -> str:
+    """A name list for one line: the count and the names."""
+    return f"{len(names)}: {', '.join(names)}" if names else "none"
+
+
+def _echo_arrays(arrays: Mapping[str, Sequence[int]], views: Mapping[str, Sequence[int]]) -> None:
+    """The arrays and views with their shapes, one a line."""
+    width = max((len(name) for name in (*arrays, *views)), default=0) + 2
+    for name, shape in arrays.items():
+        click.echo(f"  {name:<{width}} {_shape(shape)}")
+    for name, shape in views.items():
+        click.echo(f"  {name:<{width}} {_shape(shape)} (view)")
+
+
+def _echo_run(file: Path, summary: Mapping[str, Any]) -> None:
+    """A run file's summary (keys of :func:`aaria_pin.files.runfile.run_file_summary`)."""
+    rate = summary["rate"]
+    click.echo(
+        f"{file}: {summary['kind'] or 'unknown'} run of {summary['robot'] or 'an unnamed robot'}, "
+        f"{summary['samples']} samples" + (f" at {rate:g} Hz" if rate else "")
+    )
+    click.echo(
+        f"file: {summary['format']}, {summary['layout']} layout, "
+        f"format version {summary['format_version']}"
+    )
+    click.echo(f"joints ({_names(summary['joints'])})")
+    click.echo(f"IMUs ({_names(summary['imus'])})")
+    click.echo("arrays:")
+    _echo_arrays(summary["arrays"], summary["views"])
+    click.echo("attributes:")
+    for key, value in summary["attributes"].items():
+        click.echo(f"  {key}: {json.dumps(value, default=str)}")
+
+
+def _echo_dataset(file: Path, summary: Mapping[str, Any]) -> None:
+    """A data set's summary (keys of :func:`aaria_pin.files.dataset_reader.dataset_summary`)."""
+    get = summary.get
+    robot = get("robot")
+    robot_name = robot.get("name") if isinstance(robot, Mapping) else robot
+    kind = get("kind")
+    click.echo(
+        f"{file}: data set of {get('runs')} "
+        + (f"{kind} " if kind else "")
+        + f"runs × {get('samples')} samples ({get('dtype')}), {get('complete')} complete, "
+        f"failed {get('failed') or 'none'}"
+    )
+    if "format_version" in summary:
+        click.echo(f"file: HDF5, format version {get('format_version')}")
+    click.echo(
+        f"seed {get('seed')}, vary {','.join(get('vary') or [])}, rate {get('rate')} Hz, "
+        f"duration {get('duration')} s, noise {get('noise')}"
+    )
+    if isinstance(robot, Mapping):
         click.echo(
-            f"{file}: data set of {summary['runs']} runs × {summary['samples']} samples "
-            f"({summary['dtype']}), {summary['complete']} complete, "
-            f"failed {summary['failed'] or 'none'}"
+            f"robot {robot_name} ({robot.get('source')}), "
+            f"{len(robot.get('joint_names', []))} joints, {len(robot.get('imu_names', []))} IMUs, "
+            f"tool {robot.get('tool_frame')}, "
+            f"{'moving' if robot.get('moving_base') else 'fixed'} base"
         )
-        click.echo(
-            f"seed {summary['seed']}, vary {','.join(summary['vary'] or [])}, "
-            f"rate {summary['rate']} Hz, duration {summary['duration']} s, noise {summary['noise']}"
-        )
-        if "robot" in summary:
-            robot = summary["robot"]
-            click.echo(
-                f"robot {robot['name']} ({robot['source']}), {len(robot['joint_names'])} joints, "
-                f"{len(robot['imu_names'])} IMUs, tool {robot['tool_frame']}, "
-                f"{'moving' if robot['moving_base'] else 'fixed'} base"
-            )
+    elif robot_name:
+        click.echo(f"robot {robot_name}")
+    for key, label in (("joints", "joints"), ("imus", "IMUs")):
+        names = get(key)
+        if isinstance(names, list):
+            click.echo(f"{label} ({_names(names)})")
+    if "file_bytes" in summary and "data_bytes" in summary:
         click.echo(
             f"size on disk {summary['file_bytes'] / 1e6:.1f} MB "
             f"(arrays {summary['data_bytes'] / 1e6:.1f} MB uncompressed)"
         )
-        for name, shape in summary["arrays"].items():
-            click.echo(f"  {name:<12} {' × '.join(map(str, shape))}")
-        click.echo(f"config: {json.dumps(summary['config'])}")
-    else:
-        click.echo(f"{file}: run file ({summary['format']}), {summary['samples']} samples")
-        if "joints" in summary:
-            click.echo(f"  joints: {', '.join(summary['joints'])}")
-            click.echo(f"  IMUs: {', '.join(summary['imus']) or 'none'}")
-        for name, shape in summary["arrays"].items():
-            click.echo(f"  {name:<12} {' × '.join(map(str, shape))}")
-        for key, value in summary["attributes"].items():
-            click.echo(f"  {key}: {value}")
+    click.echo("arrays:")
+    _echo_arrays(get("arrays") or {}, get("views") or {})
+    click.echo(f"config: {json.dumps(get('config'), default=str)}")

@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from aaria_pin.cli._options import load_table_source, table_source_options
-from aaria_pin.cli._viz_options import output_option
+from aaria_pin.cli._viz_options import check_run_option, output_option
 
 
 @click.command()
@@ -16,7 +16,10 @@ from aaria_pin.cli._viz_options import output_option
     "--from",
     "run_file",
     type=click.Path(path_type=Path, dir_okay=False),
-    help="Run file (aaria simulate, aaria wrist simulate, generic runs): the arm at --time.",
+    help="Run file of any robot, or a data set (--run): the arm at --time.",
+)
+@click.option(
+    "--run", "run_index", type=click.IntRange(0), help="One run of a data set (default 0)."
 )
 @click.option("--time", "at_time", type=float, help="Time in the run [s] (default: its start).")
 @click.option("--width", type=int, default=1000, show_default=True, help="Width [px].")
@@ -29,6 +32,7 @@ def render(
     dh_file: Path | None,
     convention: str,
     run_file: Path | None,
+    run_index: int | None,
     at_time: float | None,
     width: int,
     height: int,
@@ -51,8 +55,11 @@ def render(
         raise click.UsageError("give exactly one of --preset NAME, --dh FILE or --from RUN_FILE")
     if run_file is None and at_time is not None:
         raise click.UsageError("--time needs --from RUN_FILE")
+    if run_file is None and run_index is not None:
+        raise click.UsageError("--run needs --from DATASET")
     if run_file is not None:
-        view = load_run_view(run_file)
+        check_run_option(run_file, run_index)
+        view = load_run_view(run_file, run_index)
         k = sample_at(view.time, view.time[0] if at_time is None else at_time)
         scene, poses = view.scene, view.frame_poses(np.array([k]))[0]
         title = f"{view.title}, t = {view.time[k]:.3f} s"

@@ -1,4 +1,4 @@
-"""``aaria simulate``: one run of an Aaria arm to an HDF5 or .mat run file."""
+"""``aaria simulate``: one run of a DH arm or a URDF robot to an HDF5 or .mat run file."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ from aaria_pin.cli._options import (
     robot_source_options,
     sampling_overrides,
     table_source_options,
+    torque_overrides,
 )
 from aaria_pin.core.seeds import MAX_SEED
 
@@ -48,8 +49,8 @@ def _read_mounts(path: Path) -> Any:
     "--from",
     "from_run",
     type=_FILE,
-    help="Re-make the run stored in this run file; the options given beside it replace "
-    "the stored ones.",
+    help="Re-make the run stored in this run file (any kind); the options given beside it "
+    "replace the stored ones.",
 )
 @click.option("--duration", type=float, help="Run length [s] (default 10).")
 @click.option("--rate", type=float, help="Sample rate [Hz] (default 100).")
@@ -66,7 +67,8 @@ def _read_mounts(path: Path) -> Any:
     "--torques",
     "torques_file",
     type=click.Path(path_type=Path, dir_okay=False),
-    help="T x 6 joint torques by module (CSV, .npy, .mat 'tau', or a run file) for --drive torque.",
+    help="Joint torques for --drive torque: a run file (its tau), or a T x n table (CSV, .npy, "
+    ".mat 'tau'); a DH arm's by module (T x 6).",
 )
 @click.option("--noise/--no-noise", default=None, help="IMU noise on (default) or off.")
 @click.option(
@@ -102,31 +104,42 @@ def simulate(
 ) -> None:
     """Simulate an arm on a moving base: joint values, IMUs, torques, base wrench.
 
-    The arm is a DH arm (--preset, --dh, or --from an Aaria run file; 14 IMU slots, the senSen
-    layout) or any URDF robot (--robot, --urdf, or --from a generic run file; two IMUs per
-    moving link plus base and tool, the generic layout).
+    The arm is a DH arm (--preset, --dh; 14 IMU slots, the senSen layout) or any URDF robot
+    (--robot, --urdf; two IMUs per moving link plus base and tool), or the run stored in a run
+    file (--from, any kind). Every run is written in the one run layout (.h5 or .mat).
     """
     from aaria_pin.aaria.dh_robot import BodyDimensions
     from aaria_pin.aaria.presets import get_preset
-    from aaria_pin.aaria.simulate import simulate_from_run_file, simulate_run
+    from aaria_pin.aaria.simulate import simulate_from_record, simulate_run
     from aaria_pin.core._malloc import tune_malloc
     from aaria_pin.errors import ParameterError
     from aaria_pin.files.io import read_table
-    from aaria_pin.files.runfile import is_generic_run_file, write_run
+    from aaria_pin.files.runfile import write_run
 
     tune_malloc()
-    urdf_given = robot is not None or urdf_file is not None
-    if urdf_given or (from_run is not None and is_generic_run_file(from_run)):
+    params = click.get_current_context().params
+    compression = None if compress == "none" else compress
+    stored, kind = None, None
+    if from_run is not None:
+        from aaria_pin.apps.remake import run_kind
+        from aaria_pin.files.runfile import read_run
+
+        stored = read_run(from_run)
+        kind = run_kind(stored)
+    if robot is not None or urdf_file is not None or kind == "urdf":
         from aaria_pin.cli._simulate_urdf import simulate_urdf_command
 
-        simulate_urdf_command(click.get_current_context().params)
+        simulate_urdf_command(params, stored)
+        return
+    if kind in ("wrist", "pick-place"):
+        _remake_as_stored(params, stored, kind)
         return
     for flag, value in (("--tool", tool_frame), ("--imu-layout", imu_layout_file)):
         if value is not None:
             raise click.UsageError(f"{flag} is for URDF robots (--robot or --urdf)")
     if fixed_base:
         raise click.UsageError("--fixed-base is for URDF robots (--robot or --urdf)")
-    overrides = sampling_overrides(click.get_current_context().params)
+    overrides = sampling_overrides(params)
     if joints_file is not None:
         overrides["joint_table"] = read_table(joints_file, "senSenJ")
     if base_file is not None:
@@ -135,21 +148,13 @@ def simulate(
         overrides["imu_mount"] = _read_mounts(mount_file)
     if density is not None:
         overrides["dims"] = BodyDimensions(density=density)
-    if (drive == "torque") != (torques_file is not None):
-        raise click.UsageError("--drive torque and --torques FILE go together")
-    if torques_file is not None:
-        if torques_file.suffix.lower() in (".h5", ".hdf5"):
-            from aaria_pin.files.runfile import read_run
-
-            overrides["torques"] = read_run(torques_file).tau
-        else:
-            overrides["torques"] = read_table(torques_file, "tau")
-    if from_run is not None:
+    overrides.update(torque_overrides(params))
+    if stored is not None:
         if preset or dh_file:
             raise click.UsageError(
                 "--from takes the DH table from the run file; drop --preset/--dh"
             )
-        record = simulate_from_run_file(from_run, **overrides)
+        record = simulate_from_record(stored, **overrides)
     else:
         table, table_convention, name = load_table_source(preset, dh_file, convention)
         if table_convention != "aaria":
@@ -160,10 +165,41 @@ def simulate(
             chosen = get_preset(preset)
             overrides.setdefault("joint_table", chosen.joint_table)
             overrides.setdefault("base_table", chosen.base_table)
-        record = simulate_run(table, **overrides)
-    write_run(output, record, compression=None if compress == "none" else compress)
+        record = simulate_run(table, robot_name=name, **overrides)
+    write_run(output, record, compression=compression)
     click.echo(
-        f"wrote {output}: {record.senSen.shape[0]} samples at {record.attributes['rate']:g} Hz, "
+        f"wrote {output}: {record.n_samples} samples at {record.attributes['rate']:g} Hz, "
         f"noise {'on' if record.attributes['noise'] else 'off'}, "
         f"peak |tau| {abs(record.tau).max():.4g}"
+    )
+
+
+_DEFAULTS = {"convention": "aaria", "drive": "motion", "fixed_base": False}
+"""Options that have a value when not given (the rest are None)."""
+
+
+def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str) -> None:
+    """``aaria simulate --from`` a wrist or pick-and-place run: re-make it as it was.
+
+    Raises:
+        click.UsageError: any option beside ``--from``, ``-o`` and ``--compress`` (they are DH
+            or URDF options).
+    """
+    from aaria_pin.apps.remake import remake_record
+    from aaria_pin.files.runfile import write_run
+
+    for option in simulate.params:
+        key = option.name
+        if key in ("from_run", "output", "compress") or key is None:
+            continue
+        if params[key] != _DEFAULTS.get(key):
+            flag = max(option.opts, key=len)
+            raise click.UsageError(f"{flag} does not apply to a {kind} run (--from)")
+    record = remake_record(stored)
+    output = params["output"]
+    compress = params["compress"]
+    write_run(output, record, compression=None if compress == "none" else compress)
+    click.echo(
+        f"wrote {output}: {record.attributes['robot']} ({kind}), {record.n_samples} samples at "
+        f"{record.attributes['rate']:g} Hz, peak |tau| {abs(record.tau).max():.4g}"
     )

@@ -1,4 +1,4 @@
-"""``aaria torques``: torque-level analysis of a run file or a data set."""
+"""``aaria torques``: torque-level analysis of any run file or data set, whatever the robot."""
 
 from __future__ import annotations
 
@@ -10,14 +10,16 @@ import click
 
 
 def _print_run(report: dict[str, Any]) -> None:
+    width = max([5, *(len(joint["joint"]) for joint in report["joints"])])
     click.echo(
-        f"{'module':<7} {'type':<10} {'peak |tau|':>12} {'rms':>10} {'gravity':>8} "
-        f"{'coriolis':>9} {'inertial':>9} {'energy net':>11} {'energy abs':>11}"
+        f"{'module':<7} {'joint':<{width}} {'type':<10} {'peak |tau|':>12} {'rms':>10} "
+        f"{'gravity':>8} {'coriolis':>9} {'inertial':>9} {'energy net':>11} {'energy abs':>11}"
     )
     for joint in report["joints"]:
         shares = joint["shares"]
         click.echo(
-            f"{joint['module']:<7} {joint['type']:<10} {joint['peak_abs']:>8.4g} {joint['unit']:<3}"
+            f"{joint['module']:<7} {joint['joint']:<{width}} {joint['type']:<10}"
+            f" {joint['peak_abs']:>8.4g} {joint['unit']:<3}"
             f" {joint['rms']:>10.4g} {shares['gravity']:>8.1%} {shares['coriolis']:>9.1%}"
             f" {shares['inertial']:>9.1%} {joint['energy_net_J']:>9.4g} J"
             f" {joint['energy_abs_J']:>9.4g} J"
@@ -28,41 +30,52 @@ def _print_run(report: dict[str, Any]) -> None:
     )
 
 
+def _print_dataset(report: dict[str, Any]) -> None:
+    names = report.get("joints", {})
+    for module, kinds in report["by_module"].items():
+        label = f"module {module}" + (f" ({names[module]})" if module in names else "")
+        for kind, stats in kinds.items():
+            click.echo(
+                f"{label} {kind:<10} runs {stats['runs']:>6}  peak |tau| "
+                f"median {stats['median']:.4g}  p95 {stats['p95']:.4g}  "
+                f"max {stats['max']:.4g}"
+            )
+    click.echo(
+        "largest peaks: "
+        + "; ".join(
+            f"run {x['run']} module {x['module']} ({x['type']}) {x['peak_abs']:.4g}"
+            for x in report["largest"]
+        )
+    )
+
+
 @click.command()
 @click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
 @click.option("--run", "run_index", type=click.IntRange(0), help="One run of a data set.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option("--plot", type=click.Path(dir_okay=False), help="PNG of the split per joint.")
 def torques(file: Path, run_index: int | None, as_json: bool, plot: str | None) -> None:
-    """Peak and RMS torques, their gravity / Coriolis / inertial split, power and energy."""
+    """Peak and RMS torques, their gravity / Coriolis / inertial split, power and energy.
+
+    FILE is a run file of any robot (a DH arm, a URDF robot, the wrist, the pick-place arm;
+    any version) or a data set: a summary of its runs' peaks, or one run with --run.
+    """
     from aaria_pin.apps.torques import dataset_torque_report, record_torque_report
     from aaria_pin.files.dataset_file import is_dataset_file
 
     is_dataset = is_dataset_file(file)
     if is_dataset and run_index is None:
-        report = dataset_torque_report(str(file))
+        summary = dataset_torque_report(file)
         if as_json:
-            click.echo(json.dumps(report))
-            return
-        for module, kinds in report["by_module"].items():
-            for kind, stats in kinds.items():
-                click.echo(
-                    f"module {module} {kind:<10} runs {stats['runs']:>6}  peak |tau| "
-                    f"median {stats['median']:.4g}  p95 {stats['p95']:.4g}  "
-                    f"max {stats['max']:.4g}"
-                )
-        click.echo(
-            "largest peaks: "
-            + "; ".join(
-                f"run {x['run']} module {x['module']} ({x['type']}) {x['peak_abs']:.4g}"
-                for x in report["largest"]
-            )
-        )
+            click.echo(json.dumps(summary))
+        else:
+            _print_dataset(summary)
         return
     if is_dataset:
-        from aaria_pin.aaria.dataset_record import dataset_run_record
+        from aaria_pin.files.dataset_reader import DatasetReader
 
-        record = dataset_run_record(str(file), run_index or 0)
+        with DatasetReader(file) as reader:
+            record = reader.record(run_index or 0)
     else:
         if run_index is not None:
             raise click.UsageError("--run is for a data set; this is a run file")
@@ -71,7 +84,7 @@ def torques(file: Path, run_index: int | None, as_json: bool, plot: str | None) 
         record = read_run(file)
     report = record_torque_report(record)
     if plot:
-        from aaria_pin.apps.torques import plot_torque_report
+        from aaria_pin.viz.report_plots import plot_torque_report
 
         plot_torque_report(report, plot, f"joint torques of {file.name}")
     if as_json:

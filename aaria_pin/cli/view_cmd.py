@@ -6,11 +6,14 @@ from pathlib import Path
 
 import click
 
-from aaria_pin.cli._viz_options import output_option
+from aaria_pin.cli._viz_options import check_run_option, output_option
 
 
 @click.command()
 @click.argument("run_file", type=click.Path(path_type=Path, dir_okay=False))
+@click.option(
+    "--run", "run_index", type=click.IntRange(0), help="One run of a data set (default 0)."
+)
 @click.option(
     "--max-samples",
     type=click.IntRange(2),
@@ -19,12 +22,16 @@ from aaria_pin.cli._viz_options import output_option
     help="Most samples in the page (the run is decimated evenly).",
 )
 @output_option("HTML page", (".html", ".htm"))
-def view(run_file: Path, max_samples: int, output: Path) -> None:
-    """Write an HTML page with an interactive 3D view that plays the run (works offline)."""
+def view(run_file: Path, run_index: int | None, max_samples: int, output: Path) -> None:
+    """Write an HTML page with an interactive 3D view that plays the run (works offline).
+
+    RUN_FILE is a run file of any robot (any version) or a data set (--run picks the run).
+    """
     from aaria_pin.viz.html import shown_samples, write_viewer
     from aaria_pin.viz.sources import load_run_view
 
-    run = load_run_view(run_file)
+    check_run_option(run_file, run_index)
+    run = load_run_view(run_file, run_index)
     samples = shown_samples(run.time.size, max_samples)
     write_viewer(output, run.scene, run.time[samples], run.frame_poses(samples), run.title)
     size = output.stat().st_size

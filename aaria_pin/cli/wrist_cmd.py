@@ -224,11 +224,13 @@ def workspace(
     """Sample the reachable tool points: radius and covered solid angle."""
     import numpy as np
 
-    from aaria_pin.apps.wrist.kinematics import plot_workspace, wrist_workspace
+    from aaria_pin.apps.wrist.kinematics import wrist_workspace
 
     limits = np.radians([list(theta1), list(theta2), [-180.0, 180.0]])
     space = wrist_workspace(samples, limits, seed=seed)
     if plot:
+        from aaria_pin.viz.report_plots import plot_workspace
+
         plot_workspace(space, plot)
     summary = {
         "radius_m": list(space.radius),

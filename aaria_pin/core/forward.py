@@ -18,7 +18,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike
 
-from aaria_pin.core.kinematics import full_state
+from aaria_pin.core.kinematics import full_state, joint_configuration
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
@@ -33,24 +33,41 @@ DEFAULT_SUBSTEPS = 4
 def check_torques(torques: ArrayLike, samples: int, joints: int, what: str = "torques") -> Array:
     """A torque table as a (T, n) float array, or a clear error.
 
+    Args:
+        torques: the table, one row per sample, one column per joint [N·m or N]
+        samples: T, the samples expected
+        joints: n, the joints expected
+        what: how the message names the table
+
     Raises:
-        ParameterError: wrong shape (naming the samples and joints expected) or NaN / inf.
+        ParameterError: wrong shape (naming the samples and joints expected) or NaN / inf
+            (its ``parameter`` is ``"torques"``).
     """
+    allowed = f"({samples} samples, {joints} joints)"
     try:
         tau = np.asarray(torques, dtype=float)
     except (TypeError, ValueError):
         raise ParameterError(
-            f"{what} are not numbers; allowed: a ({samples}, {joints}) table"
+            f"{what} are not numbers; allowed: a ({samples}, {joints}) table",
+            parameter="torques",
+            allowed=f"a ({samples}, {joints}) table",
         ) from None
     if tau.shape != (samples, joints):
         raise ParameterError(
-            f"{what} have shape {tau.shape}; allowed: ({samples} samples, {joints} joints)"
+            f"{what} have shape {tau.shape}; allowed: {allowed}",
+            parameter="torques",
+            value=tau.shape,
+            allowed=allowed,
         )
     bad = np.argwhere(~np.isfinite(tau))
     if bad.size:
         row, col = bad[0]
         raise ParameterError(
-            f"{what}: sample {row}, joint {col + 1} is {tau[row, col]}; allowed: a finite number"
+            f"{what}: sample {row}, joint {col + 1} is {tau[row, col]}; allowed: a finite number",
+            parameter="torques",
+            value=float(tau[row, col]),
+            allowed="a finite number",
+            element=f"sample {row}, joint {col + 1}",
         )
     return tau
 
@@ -86,12 +103,23 @@ def forward_simulate(
     zeros = np.zeros((T, n))
     q_base, v_base, a_base = full_state(robot, base, JointTrajectory(time, zeros, zeros, zeros))
     nb_q, nb_v = robot.base_nq, robot.base_nv
+    if model.nq - nb_q == n:
+
+        def configuration(q: Array) -> Array:
+            return q
+
+    else:  # continuous joints: cos θ, sin θ
+
+        def configuration(q: Array) -> Array:
+            return joint_configuration(robot, q[None, :])[0]
 
     def acceleration(k: float, q: Array, v: Array) -> Array:
         """Joint accelerations at fractional sample index k."""
         i = min(int(k), T - 2)
         w = k - i
-        qf = np.concatenate([(1 - w) * q_base[i, :nb_q] + w * q_base[i + 1, :nb_q], q])
+        qf = np.concatenate(
+            [(1 - w) * q_base[i, :nb_q] + w * q_base[i + 1, :nb_q], configuration(q)]
+        )
         if nb_q:
             qf[3:7] /= np.linalg.norm(qf[3:7])
         vf = np.concatenate([(1 - w) * v_base[i, :nb_v] + w * v_base[i + 1, :nb_v], v])

@@ -32,6 +32,7 @@ __all__ = [
     "frame_poses",
     "full_state",
     "imu_signals",
+    "joint_configuration",
     "joint_kind",
     "reference_frame_poses",
     "reference_imu_signals",
@@ -262,7 +263,7 @@ def full_state(
     ``[Rᵀp̈ - ω × Rᵀṗ, ω̇]``.
     """
     if not robot.moving_base:
-        return _configuration(robot, trajectory.q), trajectory.qd, trajectory.qdd
+        return joint_configuration(robot, trajectory.q), trajectory.qd, trajectory.qdd
     from aaria_pin.core._kinematics_kernel import free_flyer_state
 
     n, n_joints = trajectory.q.shape
@@ -284,7 +285,7 @@ def full_state(
         a,
     )
     if robot.model.nq != 7 + n_joints:
-        q = np.hstack([q[:, :7], _configuration(robot, trajectory.q)])
+        q = np.hstack([q[:, :7], joint_configuration(robot, trajectory.q)])
     else:
         q[:, 7:] = trajectory.q
     v[:, 6:] = trajectory.qd
@@ -292,7 +293,7 @@ def full_state(
     return q, v, a
 
 
-def _configuration(robot: RobotModel, joint_values: Array) -> Array:
+def joint_configuration(robot: RobotModel, joint_values: Array) -> Array:
     """Pinocchio configurations of the actuated joints from one value per joint, (T, nq - base).
 
     A continuous (unbounded revolute) joint has two configuration entries, ``cos θ, sin θ``;

@@ -10,8 +10,9 @@ applies, in base axes about the base origin.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -110,6 +111,92 @@ def _finish(
     return robot
 
 
+_CARTESIAN = (
+    (np.array([1.0, 0.0, 0.0]), "X"),
+    (np.array([0.0, 1.0, 0.0]), "Y"),
+    (np.array([0.0, 0.0, 1.0]), "Z"),
+)
+_UNALIGNED = {
+    "revolute": "JointModelRevoluteUnaligned",
+    "continuous": "JointModelRevoluteUnboundedUnaligned",
+    "prismatic": "JointModelPrismaticUnaligned",
+}
+_ALIGNED = {"revolute": "JointModelR", "continuous": "JointModelRUB", "prismatic": "JointModelP"}
+
+
+def _joint_model(joint: JointDescription) -> pin.JointModel:
+    """The Pinocchio joint Pinocchio's URDF parser makes of a joint's kind and axis.
+
+    An axis equal to x, y or z (Eigen's ``isApprox``, relative 1e-12) gives the joint about
+    that axis (``JointModelRZ``, ``JointModelPX``, ``JointModelRUBY``, ...), any other the
+    unaligned joint about the normalized axis.
+    """
+    axis = np.asarray(joint.axis, dtype=float)
+    for unit, letter in _CARTESIAN:
+        if np.linalg.norm(axis - unit) <= 1e-12 * min(np.linalg.norm(axis), 1.0):
+            return getattr(pin, _ALIGNED[joint.kind] + letter)()
+    if joint.kind == "continuous":
+        return _unbounded_unaligned(axis)
+    return getattr(pin, _UNALIGNED[joint.kind])(axis / np.linalg.norm(axis))
+
+
+def _unbounded_unaligned(axis: np.ndarray) -> pin.JointModel:
+    """An unbounded revolute joint about an unaligned axis.
+
+    Pinocchio's Python binding cannot set this joint's axis, so the joint is taken from the
+    model its URDF parser builds of a one-joint robot (the axis written exactly, normalized by
+    the parser as for any URDF).
+    """
+    xyz = " ".join(repr(float(v)) for v in axis)
+    urdf = (
+        '<robot name="axis"><link name="a"/><link name="b"/>'
+        '<joint name="j" type="continuous"><parent link="a"/><child link="b"/>'
+        f'<axis xyz="{xyz}"/></joint></robot>'
+    )
+    return pin.buildModelFromXML(urdf).joints[1]
+
+
+def _limits(joint: JointDescription) -> tuple[np.ndarray, np.ndarray]:
+    """Configuration limits as the parser sets them (a continuous joint's cos/sin: ±1.01)."""
+    if joint.kind == "continuous":
+        return np.full(2, -1.01), np.full(2, 1.01)
+    return np.array([joint.lower]), np.array([joint.upper])
+
+
+def _append_fixed_links(
+    model: pin.Model,
+    joint_id: int,
+    link: str,
+    children: Mapping[str, Sequence[JointDescription]],
+    inertias: Mapping[str, pin.Inertia | None],
+) -> None:
+    """Add to a joint's inertia those of the links fixed to its link, in the first version's order.
+
+    Adding a frame to a Pinocchio model adds the frame's inertia to its joint
+    (``addFrame(frame, append_inertia=True)``), a zero one too, which rescales the joint's
+    centre of mass by ``m·(1/m)``: not always exactly 1. The first version of
+    :func:`model_from_description` added each fixed link's joint frame and body frame (zero
+    inertia) and then the link's inertia, link by link in this order (a link's fixed joints last
+    to first, then depth first); the same operations in the same order keep the models of DH
+    arms bit for bit. The frames themselves are added in the URDF parser's order, without
+    inertia.
+    """
+    zero = pin.Inertia.Zero()
+    stack = [(link, pin.SE3.Identity())]
+    while stack:
+        parent, placement = stack.pop()
+        for joint in reversed(children.get(parent, ())):
+            if joint.kind != "fixed":
+                continue
+            offset = placement * pin.SE3(joint.T_parent_child)
+            for _frame in ("fixed joint frame", "body frame"):
+                model.inertias[joint_id] += offset.act(zero)
+            child_inertia = inertias[joint.child]
+            if child_inertia is not None:
+                model.appendBodyToJoint(joint_id, child_inertia, offset)
+            stack.append((joint.child, offset))
+
+
 def model_from_description(
     description: RobotDescription,
     *,
@@ -121,10 +208,13 @@ def model_from_description(
     """Build the Pinocchio model of a robot description directly, without URDF text.
 
     The model equals the one Pinocchio's URDF parser builds from
-    ``emit_urdf(description)``: the same joints (revolute and prismatic about z), placements,
-    limits and inertias (fixed links merged into their moving parent), and a frame for every link
-    and fixed joint, with the same names. It skips writing and parsing XML, which matters when
-    thousands of random arms are built.
+    ``emit_urdf(description)``: the same joints in the same order (revolute, continuous and
+    prismatic about any axis, the Cartesian ones as ``JointModelRX`` ... ``JointModelPZ``),
+    placements, limits and inertias (fixed links merged into their moving parent), and the same
+    frames in the same order (one per joint, link and fixed joint, with their parents,
+    placements and the parser's frame inertias). It skips writing and parsing XML, which
+    matters when thousands of random arms are built. Visual and collision shapes do not enter
+    the model.
 
     Args:
         description: links and joints; the first link is the root
@@ -135,67 +225,82 @@ def model_from_description(
 
     Returns:
         The robot model.
+
+    Raises:
+        ModelError: a named frame is missing.
     """
     model = pin.Model()
     model.name = description.name
     children: dict[str, list[JointDescription]] = {}
     for joint in description.joints:
         children.setdefault(joint.parent, []).append(joint)
-    links = {link.name: link for link in description.links}
+    inertias: dict[str, pin.Inertia | None] = {}
+    for link in description.links:
+        mass_properties = link.inertia()
+        inertias[link.name] = (
+            None
+            if mass_properties is None
+            else pin.Inertia(mass_properties.mass, mass_properties.com, mass_properties.inertia_com)
+        )
 
-    def inertia(link: str) -> pin.Inertia | None:
-        mass_properties = links[link].inertia()
-        if mass_properties is None:
-            return None
-        return pin.Inertia(mass_properties.mass, mass_properties.com, mass_properties.inertia_com)
+    def add_frame(name: str, joint: int, parent: int, placement: pin.SE3, kind: Any) -> int:
+        return int(model.addFrame(pin.Frame(name, joint, parent, placement, kind), False))
 
     root = description.links[0].name
-    joint_id, frame_id = 0, 0
+    root_inertia = inertias[root]
+    body = pin.FrameType.BODY
     if moving_base:
         joint_id = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "root_joint")
-        frame_id = model.addJointFrame(joint_id, 0)
-    stack = [
-        (
-            root,
-            joint_id,
-            pin.SE3.Identity(),
-            model.addBodyFrame(root, joint_id, pin.SE3.Identity(), frame_id),
-        )
-    ]
-    if (root_inertia := inertia(root)) is not None:
+        joint_frame = add_frame("root_joint", joint_id, 0, pin.SE3.Identity(), pin.FrameType.JOINT)
+        root_frame = add_frame(root, joint_id, joint_frame, pin.SE3.Identity(), body)
+    else:
+        joint_id = 0
+        frame = pin.Frame(root, 0, 0, pin.SE3.Identity(), body)
+        if root_inertia is not None:
+            frame.inertia = root_inertia  # the parser keeps a fixed root's inertia on its frame
+        root_frame = int(model.addFrame(frame, False))
+    if root_inertia is not None:
         model.appendBodyToJoint(joint_id, root_inertia, pin.SE3.Identity())
+    _append_fixed_links(model, joint_id, root, children, inertias)
+
+    # Depth first, a link's joints by name: urdfdom lists a link's children by joint name and
+    # Pinocchio's parser visits them in that order.
+    def below(link: str, joint_id: int, placement: pin.SE3, frame: int) -> list[Any]:
+        out = sorted(children.get(link, []), key=lambda joint: joint.name, reverse=True)
+        return [(joint, joint_id, placement, frame) for joint in out]  # last popped first
+
+    stack = below(root, joint_id, pin.SE3.Identity(), root_frame)
     while stack:
-        link, joint_id, placement, link_frame = stack.pop()
-        for joint in reversed(children.get(link, [])):
-            offset = placement * pin.SE3(joint.T_parent_child)
-            child_inertia = inertia(joint.child)
-            if joint.kind == "fixed":
-                fixed = model.addFrame(
-                    pin.Frame(joint.name, joint_id, link_frame, offset, pin.FrameType.FIXED_JOINT)
-                )
-                child_frame = model.addBodyFrame(joint.child, joint_id, offset, fixed)
-                if child_inertia is not None:
-                    model.appendBodyToJoint(joint_id, child_inertia, offset)
-                stack.append((joint.child, joint_id, offset, child_frame))
-                continue
-            joint_model = pin.JointModelRZ() if joint.kind == "revolute" else pin.JointModelPZ()
-            new_joint = model.addJoint(
-                joint_id,
-                joint_model,
-                offset,
-                joint.name,
-                np.array([joint.effort]),
-                np.array([joint.velocity]),
-                np.array([joint.lower]),
-                np.array([joint.upper]),
-            )
-            joint_frame = model.addJointFrame(new_joint, link_frame)
-            child_frame = model.addBodyFrame(
-                joint.child, new_joint, pin.SE3.Identity(), joint_frame
-            )
+        joint, joint_id, placement, link_frame = stack.pop()
+        offset = placement * pin.SE3(joint.T_parent_child)
+        child_inertia = inertias[joint.child]
+        if joint.kind == "fixed":
+            frame = pin.Frame(joint.name, joint_id, link_frame, offset, pin.FrameType.FIXED_JOINT)
             if child_inertia is not None:
-                model.appendBodyToJoint(new_joint, child_inertia, pin.SE3.Identity())
-            stack.append((joint.child, new_joint, pin.SE3.Identity(), child_frame))
+                frame.inertia = child_inertia  # as the parser: the fixed link's inertia
+            fixed = int(model.addFrame(frame, False))
+            child_frame = add_frame(joint.child, joint_id, fixed, offset, body)
+            stack += below(joint.child, joint_id, offset, child_frame)
+            continue
+        lower, upper = _limits(joint)
+        new_joint = model.addJoint(
+            joint_id,
+            _joint_model(joint),
+            offset,
+            joint.name,
+            np.array([joint.effort]),
+            np.array([joint.velocity]),
+            lower,
+            upper,
+        )
+        joint_frame = add_frame(
+            joint.name, new_joint, link_frame, pin.SE3.Identity(), pin.FrameType.JOINT
+        )
+        child_frame = add_frame(joint.child, new_joint, joint_frame, pin.SE3.Identity(), body)
+        if child_inertia is not None:
+            model.appendBodyToJoint(new_joint, child_inertia, pin.SE3.Identity())
+        _append_fixed_links(model, new_joint, joint.child, children, inertias)
+        stack += below(joint.child, new_joint, pin.SE3.Identity(), child_frame)
     return _finish(model, None, moving_base, base_frame, tool_frame, sensor_frames)
 
 

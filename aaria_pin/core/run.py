@@ -148,5 +148,9 @@ def simulate_series(
     else:
         base_pose = np.broadcast_to(np.eye(4), (samples, 4, 4)).copy()
     return RunSeries(
-        imu, tool_pose[:, 0], np.ascontiguousarray(tau), base_wrench, np.ascontiguousarray(base_pose)
+        imu,
+        tool_pose[:, 0],
+        np.ascontiguousarray(tau),
+        base_wrench,
+        np.ascontiguousarray(base_pose),
     )

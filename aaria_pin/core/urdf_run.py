@@ -1,15 +1,17 @@
 """One simulation run of any URDF robot: sine joint motions, a fixed or moving base, IMUs, torques.
 
-The same pipeline as the Aaria run (:mod:`aaria_pin.aaria.simulate`): IMU kinematics over the whole
-time grid in one compiled pass, torques and the base wrench by Pinocchio's batched RNEA,
-ADIS16485-like noise if asked. The result is a :class:`~aaria_pin.core.record.GenericRunRecord`
-that stores its URDF, joint and base tables and IMU layout, so the run can be re-made from its
-file alone (:func:`simulate_urdf_from_run_file`).
+The same pipeline as every run (:func:`~aaria_pin.core.run.simulate_series`): IMU kinematics over
+the whole time grid in one compiled pass, torques and the base wrench by Pinocchio's batched
+RNEA, ADIS16485-like noise if asked. The joints follow their joint table, or move under given
+torques by forward dynamics (:func:`~aaria_pin.core.forward.forward_simulate`). The result is the
+one :class:`~aaria_pin.core.record.RunRecord` (kind ``"urdf"``) that stores its URDF, its
+``joint_table`` and ``base_table`` and its IMU layout, so the run can be re-made from its record
+alone (:func:`simulate_urdf_from_record`; from a run file,
+:func:`aaria_pin.apps.remake.remake_run`).
 """
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 from typing import Any
 
@@ -17,14 +19,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin import __version__
-from aaria_pin.aaria.simulate import DEFAULT_DURATION, DEFAULT_RATE, sampling_attributes
-from aaria_pin.core.dynamics import inverse_dynamics
-from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, add_imu_noise
-from aaria_pin.core.kinematics import trajectory_signals
+from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
-from aaria_pin.core.record import GenericRunRecord, ImuMount
+from aaria_pin.core.record import ImuMount, RunRecord
+from aaria_pin.core.run import sampling_attributes, simulate_series
 from aaria_pin.core.seeds import check_seed, stored_seed
-from aaria_pin.core.trajectory import BaseMotion, sample_times
+from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE, BaseMotion, sample_times
 from aaria_pin.core.urdf_robot import (
     UrdfRobot,
     default_urdf_joint_table,
@@ -33,7 +33,7 @@ from aaria_pin.core.urdf_robot import (
     urdf_joint_trajectory,
 )
 
-__all__ = ["simulate_loaded_robot", "simulate_urdf_from_run_file", "simulate_urdf_run"]
+__all__ = ["simulate_loaded_robot", "simulate_urdf_from_record", "simulate_urdf_run"]
 
 
 def simulate_urdf_run(
@@ -52,7 +52,8 @@ def simulate_urdf_run(
     noise: bool = True,
     noise_model: ImuNoiseModel = ADIS16485,
     threads: int = 1,
-) -> GenericRunRecord:
+    torques: ArrayLike | None = None,
+) -> RunRecord:
     """Simulate one run of a URDF robot.
 
     Args:
@@ -73,9 +74,13 @@ def simulate_urdf_run(
         noise: add IMU noise (``False`` gives the exact signals)
         noise_model: IMU noise parameters
         threads: worker threads of the batched RNEA
+        torques: (T, n) joint torques [N·m] or forces [N], model order: the joints then move
+            under them by forward dynamics, starting from the joint table's values and
+            velocities at t = 0, instead of following the joint table (stored as the table
+            ``torque_table``)
 
     Returns:
-        The run record.
+        The run record (kind ``"urdf"``).
     """
     check_seed(seed)
     loaded = load_urdf_robot(
@@ -97,6 +102,7 @@ def simulate_urdf_run(
         noise=noise,
         noise_model=noise_model,
         threads=threads,
+        torques=torques,
     )
     record.attributes["urdf_dir"] = "" if urdf_dir is None else str(urdf_dir)
     return record
@@ -115,7 +121,8 @@ def simulate_loaded_robot(
     noise: bool = True,
     noise_model: ImuNoiseModel = ADIS16485,
     threads: int = 1,
-) -> GenericRunRecord:
+    torques: ArrayLike | None = None,
+) -> RunRecord:
     """The same as :func:`simulate_urdf_run` for a robot already loaded (a data set's runs).
 
     Args:
@@ -132,9 +139,10 @@ def simulate_loaded_robot(
         noise: add IMU noise
         noise_model: IMU noise parameters
         threads: worker threads of the batched RNEA
+        torques: as in :func:`simulate_urdf_run`
 
     Returns:
-        The run record.
+        The run record (kind ``"urdf"``).
     """
     check_seed(seed)
     robot = loaded.robot
@@ -151,28 +159,26 @@ def simulate_loaded_robot(
     else:
         base = BaseMotion.resting(time.size)
 
-    n, n_joints, n_imus = time.size, robot.n_joints, len(loaded.imu_mounts)
-    signals = np.empty((n, 1 + n_joints + 6 * n_imus))
-    signals[:, 0] = time
-    signals[:, 1 : 1 + n_joints] = trajectory.q
-    imu_block = signals[:, 1 + n_joints :].reshape(n, n_imus, 6)
-    exact, tool_pose = trajectory_signals(
+    tau_in = None
+    if torques is not None:
+        from aaria_pin.core.forward import check_torques, forward_simulate
+
+        tau_in = check_torques(torques, time.size, robot.n_joints)
+        trajectory = forward_simulate(robot, base, tau_in, time, trajectory.q[0], trajectory.qd[0])
+    series = simulate_series(
         robot,
         base,
         trajectory,
-        robot.sensor_frames,
-        [robot.tool_frame],
-        imu_out=None if noise else imu_block,
+        imu_frames=robot.sensor_frames,
+        rate=rate,
+        seed=seed,
+        noise=noise,
+        noise_model=noise_model,
+        threads=threads,
     )
-    if noise:
-        imu_block[:] = add_imu_noise(exact, rate, np.random.default_rng(seed), noise_model)
-    tau, base_wrench = inverse_dynamics(robot, base, trajectory, threads)
-    base_pose = np.broadcast_to(np.eye(4), (n, 4, 4)).copy()
-    if moving_base:
-        base_pose[:, :3, :3] = base.rotation
-        base_pose[:, :3, 3] = base.position
-
+    tau = series.tau
     attributes: dict[str, Any] = {
+        "kind": "urdf",
         "robot": loaded.summary.name,
         "source": source if source is not None else "",
         "moving_base": bool(moving_base),
@@ -182,48 +188,50 @@ def simulate_loaded_robot(
             name: list(values) for name, values in effort_excess(loaded, tau).items()
         },
         **sampling_attributes(rate, duration, seed, noise, noise_model),
+        "drive": "motion" if torques is None else "torque",
         "version": __version__,
     }
-    return GenericRunRecord(
-        signals=signals,
+    tables = {"joint_table": table}
+    if base_arr is not None:
+        tables["base_table"] = base_arr
+    if tau_in is not None:
+        tables["torque_table"] = tau_in
+    return RunRecord(
+        time=time,
         joint_names=robot.joint_names,
         q=np.ascontiguousarray(trajectory.q),
         qd=np.ascontiguousarray(trajectory.qd),
         qdd=np.ascontiguousarray(trajectory.qdd),
-        tau=np.ascontiguousarray(tau),
-        base_pose=base_pose,
-        base_wrench=base_wrench,
-        tool_pose=tool_pose[:, 0],
+        tau=tau,
+        base_pose=series.base_pose,
+        base_wrench=series.base_wrench,
+        tool_pose=series.tool_pose,
+        imu=series.imu,
         imu_mounts=loaded.imu_mounts,
         urdf=loaded.urdf,
-        joint_table=table,
-        base_table=base_arr,
+        tables=tables,
         attributes=attributes,
     )
 
 
-def simulate_urdf_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> GenericRunRecord:
-    """Re-make the run stored in a generic run file from its inputs alone.
+def simulate_urdf_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
+    """Re-make a URDF robot's run from the inputs its record holds.
 
     The URDF, joint and base tables, IMU layout, tool frame, base mode, rate, duration, seed
-    and noise setting come from the file (and the URDF's folder, for its meshes, if it is still
-    there); keyword arguments of :func:`simulate_urdf_run` given
-    here replace them.
+    and noise setting come from the record (and the URDF's folder, for its meshes, if it is
+    still there); keyword arguments of :func:`simulate_urdf_run` given here replace them.
 
     Args:
-        path: an HDF5 generic run file
+        stored: a URDF robot's run record (e.g. read from its run file)
         **overrides: keyword arguments of :func:`simulate_urdf_run`
 
     Returns:
         The run record; with no overrides it equals the stored one.
     """
-    from aaria_pin.files.runfile import read_generic_run
-
-    stored = read_generic_run(path)
     attributes = stored.attributes
     settings: dict[str, Any] = {
-        "joint_table": stored.joint_table,
-        "base_table": stored.base_table,
+        "joint_table": stored.tables.get("joint_table"),
+        "base_table": stored.tables.get("base_table"),
         "source": attributes.get("source") or None,
         "urdf_dir": Path(attributes["urdf_dir"]) if attributes.get("urdf_dir") else None,
         "moving_base": bool(attributes.get("moving_base", True)),
@@ -234,5 +242,7 @@ def simulate_urdf_from_run_file(path: str | os.PathLike[str], **overrides: Any) 
         "seed": stored_seed(attributes),
         "noise": bool(attributes.get("noise", True)),
     }
+    if "torque_table" in stored.tables:
+        settings["torques"] = stored.tables["torque_table"]
     settings.update(overrides)
     return simulate_urdf_run(stored.urdf, **settings)

@@ -1,17 +1,17 @@
-"""Pick-place run files and the pick-place arm for the viewers: the arm's own part meshes.
+"""Pick-place runs and the pick-place arm for the viewers: the arm's own part meshes.
 
-``aaria render``, ``aaria plot`` and ``aaria view`` read run files through run kinds
-(:func:`aaria_pin.viz.sources.register_run_kind`). A pick-place run file is a generic run file
-(:mod:`aaria_pin.apps.arm.run`), which the ``"generic"`` kind would draw as a stick figure; this
-module is the ``"pick-place"`` kind: :func:`is_pick_place_run` recognises the file (its
-attributes ``robot = "pick_place_arm"`` and ``task = "pick-place"``) and
-:func:`load_pick_place_view` builds a :class:`~aaria_pin.viz.sources.RunView` whose scene holds
-every link's mesh (:func:`aaria_pin.apps.arm.preset.arm_parts`, the same trimesh parts as the URDF's
-STL files) attached to its link frame, and the cylinder attached to a frame ``cylinder`` that
-follows the grasp frame while it is held and stands on its pick spot before, on its place spot
-after (:func:`aaria_pin.apps.arm.run.cylinder_track`). The rest (the record, the model built from
-the
-URDF the file holds, the signals and the frame poses) is the generic kind's
+``aaria render``, ``aaria plot`` and ``aaria view`` read runs through run kinds
+(:func:`aaria_pin.viz.sources.register_run_kind`). A pick-place run is a run of a URDF robot,
+which the ``"generic"`` kind would draw as a stick figure; this module is the ``"pick-place"``
+kind: :func:`is_pick_place_run` recognises the run (its record's ``kind`` is ``"pick-place"``,
+or, in a file of 0.1.0, its ``robot`` is ``"pick_place_arm"``; a ``task`` attribute, where
+there is one, is ``"pick-place"``) and :func:`load_pick_place_view` builds a
+:class:`~aaria_pin.viz.sources.RunView` whose scene holds every link's mesh
+(:func:`aaria_pin.apps.arm.preset.arm_parts`, the same trimesh parts as the URDF's STL files)
+attached to its link frame, and the cylinder attached to a frame ``cylinder`` that follows the
+grasp frame while it is held and stands on its pick spot before, on its place spot after
+(:func:`aaria_pin.apps.arm.run.cylinder_track`). The rest (the record, the model built from its
+URDF, the signals and the frame poses) is the generic kind's
 (:func:`aaria_pin.viz._generic_source.read_generic_view`). :data:`PRESETS` gives
 ``aaria render --preset pick-place-arm``: the arm at its home pose.
 
@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -36,8 +35,8 @@ from aaria_pin.apps.arm.run import cylinder_track
 from aaria_pin.apps.arm.task import home_pose
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import AariaError, InputFileError
-from aaria_pin.viz._generic_source import is_generic_run, read_generic_view
-from aaria_pin.viz._run_view import run_file, scene_poses, still
+from aaria_pin.viz._generic_source import read_generic_view
+from aaria_pin.viz._run_view import run_file, run_title, scene_poses, still
 from aaria_pin.viz.scene import WORLD, Scene, Solid, triad
 from aaria_pin.viz.sources import RunView, register_run_kind
 
@@ -45,6 +44,7 @@ __all__ = [
     "CYLINDER_FRAME",
     "PART_ROLES",
     "PICK_PLACE_KIND",
+    "PICK_PLACE_ROBOTS",
     "PRESETS",
     "arm_scene",
     "is_pick_place_run",
@@ -73,18 +73,26 @@ PART_ROLES = {
 _CYLINDER_ROLE = "dh_frame"  # drawn red
 
 
+PICK_PLACE_ROBOTS = ("pick-place-arm", "pick_place_arm")
+"""The ``robot`` attribute of a pick-place run (this version's, 0.1.0's)."""
+
+
 def is_pick_place_run(path: str | os.PathLike[str]) -> bool:
-    """Whether ``path`` is a pick-place run file (never raises).
+    """Whether ``path`` holds a pick-place run (never raises on a file that is not a run).
 
     Args:
         path: the file, or its :class:`~aaria_pin.viz.sources.RunFile` (read once by the viewers)
     """
-    header = run_file(path)
+    try:
+        record = run_file(path).record
+    except InputFileError:
+        return False
+    if record is None:
+        return False
+    attributes = record.attributes
     return (
-        is_generic_run(header)
-        and header.text("robot") == "pick_place_arm"
-        and header.text("task") == "pick-place"
-    )
+        attributes.get("kind") == PICK_PLACE_KIND or attributes.get("robot") in PICK_PLACE_ROBOTS
+    ) and attributes.get("task", "pick-place") == "pick-place"
 
 
 def _solid(frame: str, mesh: Any, role: str) -> Solid:
@@ -155,15 +163,15 @@ def load_pick_place_view(path: str | os.PathLike[str]) -> RunView:
     Raises:
         InputFileError: not a pick-place run file, or attributes that cannot be used.
     """
-    file = Path(path)
-    if not is_pick_place_run(file):
+    if not is_pick_place_run(path):
         raise InputFileError(
-            f"{file}: not a pick-place run file; allowed: a run file of aaria arm pick-place"
+            f"{os.fspath(path)}: not a pick-place run file; allowed: a run file of aaria arm"
+            " pick-place"
         )
-    return _load(file)
+    return _load(path)
 
 
-def _load(file: Path) -> RunView:
+def _load(file: str | os.PathLike[str]) -> RunView:
     """Read a file known to be a pick-place run file (the registered loader: no re-probe)."""
     view = read_generic_view(file)
     attributes = view.record.attributes
@@ -190,7 +198,7 @@ def _load(file: Path) -> RunView:
         out[:, -1] = cylinder[index]
         return out
 
-    return RunView(file.name, PICK_PLACE_KIND, scene, view.signals, frame_poses)
+    return RunView(run_title(file), PICK_PLACE_KIND, scene, view.signals, frame_poses)
 
 
 register_run_kind(PICK_PLACE_KIND, is_pick_place_run, _load)

@@ -15,6 +15,7 @@ import numpy as np
 
 from aaria_pin.aaria.dh_robot import DHRobot
 from aaria_pin.core.model import RobotModel
+from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 from aaria_pin.viz.scene import Scene, scene_from_dh_robot
@@ -23,11 +24,17 @@ __all__ = [
     "RunFile",
     "RunView",
     "Signals",
+    "base_subset",
+    "dataset_run",
     "dh_view",
     "hdf5_attributes",
     "joint_labels",
     "mat_names",
+    "record_run",
+    "record_signals",
     "run_file",
+    "run_record",
+    "run_title",
     "scene_poses",
     "still",
 ]
@@ -121,7 +128,8 @@ def still(q: Array) -> JointTrajectory:
     return JointTrajectory(np.zeros(values.shape[0]), values, zeros, zeros.copy())
 
 
-def _subset(base: BaseMotion, samples: Array) -> BaseMotion:
+def base_subset(base: BaseMotion, samples: Array) -> BaseMotion:
+    """The base motion at the given sample indices (S,)."""
     return BaseMotion(
         *(
             np.ascontiguousarray(getattr(base, name)[samples])
@@ -134,30 +142,75 @@ def dh_view(
     title: str,
     kind: str,
     robot: DHRobot,
-    moving_base: bool,
-    base: BaseMotion,
+    base: BaseMotion | None,
     q: Array,
     signals: Signals,
 ) -> RunView:
-    """The view of a run of a DH arm.
+    """The view of a run of a DH arm, drawn as the paper draws it.
 
     Args:
         title: what to call it
         kind: its run kind
         robot: the arm
-        moving_base: whether the run's base moves
-        base: the base motion over the run
+        base: the base motion over the run (None: fixed at the world origin)
         q: joint values (T, n) [rad or m], one column per joint of ``robot``
         signals: the stored signals
     """
-    model = robot.model(moving_base=moving_base)
+    model = robot.model(moving_base=base is not None)
     scene = scene_from_dh_robot(robot, title)
+    motion = BaseMotion.resting(q.shape[0]) if base is None else base
 
     def frame_poses(samples: Array) -> Array:
         index = np.asarray(samples, dtype=int)
-        return scene_poses(model, scene, _subset(base, index), still(q[index]))
+        return scene_poses(model, scene, base_subset(motion, index), still(q[index]))
 
     return RunView(title, kind, scene, signals, frame_poses)
+
+
+def record_signals(record: RunRecord, robot: RobotModel, by_module: bool = False) -> Signals:
+    """A record's signals for the model's joints (matched by name), labelled with units.
+
+    Args:
+        record: the run's record
+        robot: the model it is drawn on (its joints name columns of the record; an Aaria
+            run's empty module has none and is left out)
+        by_module: label joints by their 1-based column (``"q3 [m]"``, ``"f3 [N]"``, the
+            paper's modules), else by name (``"shoulder [rad]"``, ``"shoulder [N·m]"``)
+
+    Returns:
+        The signals; the base wrench where the base moves (a base table) or the record's is not
+        zero; every mounted IMU (an empty slot is left out).
+
+    Raises:
+        InputFileError: a joint of the model with no column, or neither revolute nor prismatic.
+    """
+    from aaria_pin.apps.torques import BASE_TABLES, record_columns, record_joint_kinds
+
+    kinds = record_joint_kinds(robot)
+    columns = record_columns(record, robot)
+    if by_module:
+        symbols = ["tau" if kind == "revolute" else "f" for kind in kinds]
+        q_labels, tau_labels = joint_labels(symbols, kinds, [c + 1 for c in columns])
+    else:
+        pairs = tuple(zip(robot.joint_names, kinds, strict=True))
+        q_labels = tuple(f"{n} [{'m' if k == 'prismatic' else 'rad'}]" for n, k in pairs)
+        tau_labels = tuple(f"{n} [{'N' if k == 'prismatic' else 'N·m'}]" for n, k in pairs)
+    wrench = np.asarray(record.base_wrench, dtype=float)
+    moving = any(name in record.tables for name in BASE_TABLES)
+    return Signals(
+        np.asarray(record.time, dtype=float),
+        np.asarray(record.q, dtype=float)[:, columns],
+        q_labels,
+        np.asarray(record.tau, dtype=float)[:, columns],
+        tau_labels,
+        wrench if moving or bool(np.any(wrench)) else None,
+        {
+            mount.name: np.asarray(record.imu_signals(mount.name), dtype=float)
+            for mount in record.imu_mounts
+            if mount.parent
+        },
+        kinds,
+    )
 
 
 def joint_labels(
@@ -182,19 +235,24 @@ def joint_labels(
 
 @dataclass(frozen=True)
 class RunFile:
-    """A file's top-level names and attributes, read once for every run kind's probe.
+    """A run to draw: a run file's top-level names and attributes, and its record, read once.
 
-    It is path-like (``os.fspath`` gives the file), so a probe written for a path takes it too.
+    Every run kind's probe is given one (it is path-like: ``os.fspath`` gives the file, so a
+    probe or a loader written for a path takes it too). The record is read on first use
+    (:attr:`record`) and kept, so the probes and the loader read the file once.
 
     Attributes:
-        path: the file
+        path: the file (a run file, or the data set holding the run)
         names: HDF5 top-level datasets and groups, or MATLAB variable names (empty: neither)
         attributes: HDF5 root attributes as stored (empty for any other file)
+        run: the run's index in a data set (None: ``path`` is a run file)
     """
 
     path: Path
     names: frozenset[str]
     attributes: Mapping[str, object]
+    run: int | None = None
+    _records: list[RunRecord | None] = field(default_factory=list, compare=False, repr=False)
 
     def __fspath__(self) -> str:
         return os.fspath(self.path)
@@ -204,6 +262,22 @@ class RunFile:
         """The file's suffix, lower case (``".h5"``)."""
         return self.path.suffix.lower()
 
+    @property
+    def title(self) -> str:
+        """What to call the run: the file's name, and the run's index in a data set."""
+        return self.path.name if self.run is None else f"{self.path.name} run {self.run}"
+
+    @property
+    def record(self) -> RunRecord | None:
+        """The run's record (read on first use), or None if the file is not a run file.
+
+        Raises:
+            InputFileError: a run file or data set that cannot be read.
+        """
+        if not self._records:
+            self._records.append(_read_record(self.path, self.run))
+        return self._records[0]
+
     def text(self, name: str) -> str | None:
         """A string attribute (decoded from bytes), or None if absent or not a string."""
         value = self.attributes.get(name)
@@ -212,11 +286,26 @@ class RunFile:
         return value if isinstance(value, str) else None
 
 
+def _read_record(path: Path, run: int | None) -> RunRecord | None:
+    """A run file's record (None if it is not one), or run ``run`` of a data set."""
+    if run is not None:
+        from aaria_pin.files.dataset_reader import DatasetReader
+
+        with DatasetReader(path) as reader:
+            return reader.record(run)
+    from aaria_pin.files.runfile import is_run_file, read_run
+
+    if not path.is_file() or not is_run_file(path):
+        return None
+    return read_run(path)
+
+
 def run_file(file: str | os.PathLike[str]) -> RunFile:
     """The names and attributes of a file (one open; a :class:`RunFile` is passed through).
 
     A ``.mat`` file gives its variable names, any other file its HDF5 names and root
-    attributes; a file that is neither gives none (never raises).
+    attributes; a file that is neither gives none (never raises). Its record is read later,
+    on first use.
     """
     if isinstance(file, RunFile):
         return file
@@ -225,6 +314,37 @@ def run_file(file: str | os.PathLike[str]) -> RunFile:
         return RunFile(path, frozenset(mat_names(path)), {})
     names, attributes = hdf5_attributes(path)
     return RunFile(path, frozenset(names), attributes)
+
+
+def dataset_run(path: str | os.PathLike[str], run: int) -> RunFile:
+    """Run ``run`` of a data set, as a :class:`RunFile` whose record is that run's."""
+    file = Path(path)
+    names, attributes = hdf5_attributes(file)
+    return RunFile(file, frozenset(names), attributes, run)
+
+
+def record_run(record: RunRecord, title: str = "run") -> RunFile:
+    """A record already in memory, as a :class:`RunFile` (its path is ``title``; no file)."""
+    return RunFile(Path(title), frozenset(), {}, None, [record])
+
+
+def run_record(file: str | os.PathLike[str]) -> RunRecord:
+    """The record of a run: a :class:`RunFile`'s (read once), or a run file's.
+
+    Raises:
+        InputFileError: not a run file, or one that cannot be read.
+    """
+    from aaria_pin.errors import InputFileError
+
+    record = file.record if isinstance(file, RunFile) else _read_record(Path(file), None)
+    if record is None:
+        raise InputFileError(f"{os.fspath(file)}: not a run file; allowed: a run file of aaria_pin")
+    return record
+
+
+def run_title(file: str | os.PathLike[str]) -> str:
+    """What to call a run (:attr:`RunFile.title`, or the file's name)."""
+    return file.title if isinstance(file, RunFile) else Path(file).name
 
 
 def hdf5_attributes(file: Path) -> tuple[set[str], dict[str, object]]:

@@ -1,23 +1,30 @@
-"""What the pictures show, from a preset, a DH table or a run file: a scene, frame poses, signals.
+"""What the pictures show, from a preset, a DH table or a run: a scene, frame poses, signals.
 
 A DH table (a preset or a file) gives one pose: every joint at zero, the base at the world
-origin. A run file gives the run: the arm rebuilt from the file, its frame poses over time
-computed by Pinocchio from the stored joint values and base motion, and the stored signals.
+origin. A run (a run file of any robot and any version, or one run of a data set) gives the
+run: its one record (:class:`~aaria_pin.core.record.RunRecord`, read by
+:func:`aaria_pin.files.runfile.read_run` or by
+:meth:`aaria_pin.files.dataset_reader.DatasetReader.record`), the model rebuilt from it, its
+frame poses over time computed by Pinocchio from the stored joint values and base motion, and
+its signals.
 
-**Run kinds.** :func:`run_kind` recognises a file and :func:`load_run_view` reads it with the
-loader registered for its kind: ``"aaria"`` (``aaria simulate`` / data-set run files,
-:mod:`~aaria_pin.viz._aaria_source`), ``"wrist"`` (``aaria wrist simulate``,
-:mod:`~aaria_pin.viz._wrist_source`) and ``"generic"`` (the run file of any URDF robot, drawn
-as a stick figure, :mod:`~aaria_pin.viz._generic_source`). Other kinds plug in with
-:func:`register_run_kind`: a probe that recognises the file and a loader that returns a
+**Run kinds.** Every kind reads the same record; they differ only in the picture.
+:func:`run_kind` tells a run's kind and :func:`load_run_view` reads it with the loader
+registered for it: ``"aaria"`` (an Aaria DH run, drawn as the paper draws it, its arm rebuilt
+from its ``senSenDH`` table) and ``"wrist"`` (the report's spherical wrist), both in
+:mod:`~aaria_pin.viz._dh_source`, and ``"generic"`` (any run, its model rebuilt from its URDF
+and drawn as a stick figure, :mod:`~aaria_pin.viz._generic_source`). Other kinds plug in with
+:func:`register_run_kind`: a probe that recognises the run and a loader that returns a
 :class:`RunView`. The generic kind is a fallback: it is tried after every other kind, so an
-application's own kind of generic run file (the pick-and-place arm's) is recognised first.
+application's own kind (the pick-and-place arm's) is recognised first. A probe and a loader
+are given a :class:`RunFile`: path-like (the file), with the file's top-level names and
+attributes and the run's record (read once, on first use, for every probe and the loader).
 
 **Plug-ins.** Applications register their kinds and presets without ``import aaria_pin``
 importing them: the modules named in ``_PLUGINS`` (``aaria_pin.viz._arm_source``) are imported,
 where they exist, the first time a run kind or a preset is looked up. A plug-in module
 
-- calls :func:`register_run_kind` at import for each kind of run file it knows, and
+- calls :func:`register_run_kind` at import for each kind of run it knows, and
 - may define ``PRESETS: Mapping[str, Callable[[], tuple[Scene, Array]]]``: preset name → a
   builder taking no argument that returns the scene of the model (``scene.name`` is the
   picture's title) and the world pose of each of its frames at rest, ``(F, 4, 4)`` in the
@@ -37,13 +44,22 @@ from numpy.typing import ArrayLike
 
 from aaria_pin.aaria.dh import Convention
 from aaria_pin.aaria.dh_robot import build_dh_robot
+from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion
 from aaria_pin.errors import InputFileError, ModelError, ParameterError
-from aaria_pin.viz._aaria_source import is_aaria_run, load_aaria_run
+from aaria_pin.viz._dh_source import is_aaria_run, is_wrist_run, load_aaria_run, load_wrist_run
 from aaria_pin.viz._generic_source import is_generic_run, load_generic_run
-from aaria_pin.viz._run_view import RunFile, RunView, Signals, run_file, scene_poses, still
-from aaria_pin.viz._wrist_source import is_wrist_run, load_wrist_run
+from aaria_pin.viz._run_view import (
+    RunFile,
+    RunView,
+    Signals,
+    dataset_run,
+    record_run,
+    run_file,
+    scene_poses,
+    still,
+)
 from aaria_pin.viz.scene import Scene, scene_from_dh_robot
 
 __all__ = [
@@ -54,6 +70,7 @@ __all__ = [
     "load_run_view",
     "preset_names",
     "preset_view",
+    "record_view",
     "register_run_kind",
     "run_kind",
     "sample_at",
@@ -61,10 +78,12 @@ __all__ = [
 ]
 
 Probe = Callable[[RunFile], bool]
-"""Whether a file is of a kind, from its names and attributes (a :class:`RunFile`, read once
-for every probe; it is path-like, so a probe of a path takes it too)."""
-Loader = Callable[[Path], RunView]
-"""Reads a file the kind's probe recognised (it need not check the kind again)."""
+"""Whether a run is of a kind, from its record or the file's names and attributes (a
+:class:`RunFile`, read once for every probe; it is path-like, so a probe of a path takes it
+too). It must not raise on a file that is not a run."""
+Loader = Callable[[RunFile], RunView]
+"""Reads a run the kind's probe recognised (it need not check the kind again), given its
+:class:`RunFile` (path-like: a loader of a path takes it too, for a run file)."""
 PresetBuilder = Callable[[], tuple[Scene, Array]]
 """A plug-in preset: the model's scene and the (F, 4, 4) world pose of its frames at rest."""
 
@@ -159,6 +178,22 @@ def _kinds() -> dict[str, tuple[Probe, Loader]]:
     return {**_KINDS, **_FALLBACK_KINDS}
 
 
+def _known_kind(header: RunFile) -> str:
+    """The kind whose probe first claims a run.
+
+    Raises:
+        InputFileError: none does.
+    """
+    kinds = _kinds()
+    for kind, (probe, _) in kinds.items():
+        if probe(header):
+            return kind
+    raise InputFileError(
+        f"{header.path}: not a run file the viewers know; allowed: {', '.join(kinds)} run files"
+        " (.h5 or .mat)"
+    )
+
+
 def run_kind(path: str | os.PathLike[str]) -> str:
     """The kind of a run file (a key given to :func:`register_run_kind`).
 
@@ -168,25 +203,42 @@ def run_kind(path: str | os.PathLike[str]) -> str:
     file = Path(path)
     if not file.is_file():
         raise InputFileError(f"{file}: no such file")
-    kinds = _kinds()
-    header = run_file(file)  # one open for every probe
-    for kind, (probe, _) in kinds.items():
-        if probe(header):
-            return kind
-    raise InputFileError(
-        f"{file}: not a run file the viewers know; allowed: {', '.join(kinds)} run files"
-        " (.h5 or .mat)"
-    )
+    return _known_kind(run_file(file))  # one open for every probe
 
 
-def load_run_view(path: str | os.PathLike[str]) -> RunView:
-    """Read a run file of any known kind for drawing.
+def load_run_view(path: str | os.PathLike[str], run: int | None = None) -> RunView:
+    """Read a run file of any known kind, or one run of a data set, for drawing.
+
+    Args:
+        path: a run file (any robot, any version), or a data set
+        run: the run of a data set to draw (default: its first); only for a data set
 
     Raises:
         InputFileError: as :func:`run_kind`, or an unreadable file.
+        ParameterError: ``run`` given for a run file, or not a run of the data set.
     """
+    from aaria_pin.files.dataset_file import is_dataset_file
+
     file = Path(path)
-    return _kinds()[run_kind(file)][1](file)
+    if not file.is_file():
+        raise InputFileError(f"{file}: no such file")
+    if is_dataset_file(file):
+        header = dataset_run(file, 0 if run is None else run)
+    elif run is not None:
+        raise ParameterError(f"run {run} is for a data set; allowed: None for a run file")
+    else:
+        header = run_file(file)
+    return _kinds()[_known_kind(header)][1](header)
+
+
+def record_view(record: RunRecord, title: str = "run") -> RunView:
+    """A record in memory ready to be drawn, by the kind that claims it.
+
+    Raises:
+        InputFileError: no kind claims it, or its model cannot be rebuilt.
+    """
+    header = record_run(record, title)
+    return _kinds()[_known_kind(header)][1](header)
 
 
 def preset_names() -> tuple[str, ...]:

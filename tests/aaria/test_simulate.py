@@ -12,19 +12,19 @@ FIG3 = get_preset("aaria-fig3").table
 
 def test_sensen_layout_column_by_column() -> None:
     record = simulate_run(FIG3, duration=1.0, rate=20, noise=False)
-    assert record.senSen.shape == (21, 91)
+    assert record.view("senSen").shape == (21, 91)
     assert len(SENSEN_COLUMNS) == 91
     assert SENSEN_COLUMNS[:8] == ("time", "q1", "q2", "q3", "q4", "q5", "q6", "imu_base_wx")
     assert SENSEN_COLUMNS[13:19] == tuple(
         f"imu_tool_{s}" for s in ("wx", "wy", "wz", "fx", "fy", "fz")
     )
     assert SENSEN_COLUMNS[-1] == "imu_link6_b_fz"
-    np.testing.assert_allclose(record.senSen[:, 0], np.arange(21) / 20)
-    np.testing.assert_array_equal(record.senSen[:, 1:7], record.q)
+    np.testing.assert_allclose(record.view("senSen")[:, 0], np.arange(21) / 20)
+    np.testing.assert_array_equal(record.view("senSen")[:, 1:7], record.q)
     slots = imu_slot_order()
     for slot in ("imu_link2_a", "imu_link2_b"):  # module 2 is empty in Figure 3
         start = SENSEN_COLUMNS.index(f"{slot}_wx")
-        assert not record.senSen[:, start : start + 6].any()
+        assert not record.view("senSen")[:, start : start + 6].any()
         assert not record.imu_mount[slots.index(slot)].any()
     for array in (record.q, record.qd, record.qdd, record.tau):
         assert array.shape == (21, 6)
@@ -32,8 +32,8 @@ def test_sensen_layout_column_by_column() -> None:
     assert record.base_wrench.shape == (21, 6)
     assert record.tool_pose.shape == (21, 4, 4)
     assert record.imu_mount.shape == (14, 4, 4)
-    np.testing.assert_array_equal(record.senSenDH, FIG3)
-    assert record.senSenJ.shape == (8, 5) and record.senSenB.shape == (2, 4)
+    np.testing.assert_array_equal(record.tables["senSenDH"], FIG3)
+    assert record.tables["senSenJ"].shape == (8, 5) and record.tables["senSenB"].shape == (2, 4)
 
 
 def test_same_seed_same_arrays_other_seed_others() -> None:
@@ -41,10 +41,10 @@ def test_same_seed_same_arrays_other_seed_others() -> None:
     b = simulate_run(FIG3, duration=1.0, rate=50, seed=3)
     c = simulate_run(FIG3, duration=1.0, rate=50, seed=4)
     exact = simulate_run(FIG3, duration=1.0, rate=50, noise=False)
-    np.testing.assert_array_equal(a.senSen, b.senSen)
-    assert not np.array_equal(a.senSen[:, 7:], c.senSen[:, 7:])
-    np.testing.assert_array_equal(a.senSen[:, :7], exact.senSen[:, :7])
-    noise = a.senSen[:, 7:] - exact.senSen[:, 7:]
+    np.testing.assert_array_equal(a.view("senSen"), b.view("senSen"))
+    assert not np.array_equal(a.view("senSen")[:, 7:], c.view("senSen")[:, 7:])
+    np.testing.assert_array_equal(a.view("senSen")[:, :7], exact.view("senSen")[:, :7])
+    noise = a.view("senSen")[:, 7:] - exact.view("senSen")[:, 7:]
     assert 0 < np.abs(noise).max() < 0.5
     np.testing.assert_array_equal(a.tau, exact.tau)
 
@@ -98,12 +98,16 @@ def test_custom_imu_mounts_move_the_sensors_and_are_remade_from_file(tmp_path) -
     np.testing.assert_array_equal(custom.imu_mount, mounts)
     column = SENSEN_COLUMNS.index("imu_link5_a_wx")
     exact = simulate_run(FIG3, duration=0.5, rate=20, noise=False, imu_mount=mounts)
-    np.testing.assert_allclose(exact.senSen[:, column], default.senSen[:, column + 1], atol=1e-12)
-    np.testing.assert_allclose(exact.senSen[:, column + 1], -default.senSen[:, column], atol=1e-12)
+    np.testing.assert_allclose(
+        exact.view("senSen")[:, column], default.view("senSen")[:, column + 1], atol=1e-12
+    )
+    np.testing.assert_allclose(
+        exact.view("senSen")[:, column + 1], -default.view("senSen")[:, column], atol=1e-12
+    )
     write_run(tmp_path / "run.h5", custom)
     remade = simulate_from_run_file(tmp_path / "run.h5")
     for name, array in custom.arrays().items():
-        np.testing.assert_array_equal(getattr(remade, name), array, err_msg=name)
+        np.testing.assert_array_equal(remade.arrays()[name], array, err_msg=name)
 
 
 @pytest.mark.parametrize("change", ["shape", "scale", "nan"])
@@ -129,7 +133,7 @@ def test_joint_columns_follow_the_sine_formula() -> None:
         A, Ap, bias, w, phase = preset.joint_table[module - 1]
         amplitude = A if preset.table[module - 1, 4] == 1 else Ap
         expected = amplitude * np.sin(w * t + phase) + bias
-        np.testing.assert_allclose(record.senSen[:, module], expected, atol=1e-15)
+        np.testing.assert_allclose(record.view("senSen")[:, module], expected, atol=1e-15)
         np.testing.assert_allclose(
             record.qd[:, module - 1], amplitude * w * np.cos(w * t + phase), atol=1e-15
         )
@@ -166,3 +170,30 @@ def test_absurd_density_is_refused() -> None:
 
     with pytest.raises(ParameterError, match="density of every body is 1e\\+308"):
         BodyDimensions(density=1e308)
+
+
+def test_record_layout_the_sensen_view_over_q_and_imu_and_the_base_pose() -> None:
+    from conftest import paper_base_state
+
+    preset = get_preset("aaria-fig3")
+    record = simulate_run(
+        FIG3, preset.joint_table, preset.base_table, duration=0.5, rate=20, seed=1
+    )
+    assert record.joint_names == tuple(f"joint{i}" for i in range(1, 7))
+    assert record.imu_names == imu_slot_order()
+    assert record.attributes["kind"] == "dh"
+    empty = [m.name for m in record.imu_mounts if m.parent == ""]
+    assert empty == ["imu_link2_a", "imu_link2_b"]  # module 2 is empty in Figure 3
+    sensen = record.view("senSen")
+    assert sensen.shape == (11, 91)
+    for k, slot in enumerate(imu_slot_order()):  # senSen's IMU columns are the imu array
+        start = SENSEN_COLUMNS.index(f"{slot}_wx")
+        np.testing.assert_array_equal(sensen[:, start : start + 6], record.imu[:, k])
+        np.testing.assert_array_equal(sensen[:, start : start + 6], record.imu_signals(slot))
+    slots = imu_slot_order()
+    assert not record.imu[:, [slots.index("imu_link2_a"), slots.index("imu_link2_b")]].any()
+    position, _, _, rotation, _, _ = paper_base_state(preset.base_table, record.time)
+    np.testing.assert_allclose(record.base_pose[:, :3, 3], position, atol=1e-12)
+    np.testing.assert_allclose(record.base_pose[:, :3, :3], rotation, atol=1e-12)
+    np.testing.assert_array_equal(record.base_pose[:, 3], np.tile([0, 0, 0, 1.0], (11, 1)))
+    assert record.urdf.startswith("<?xml") or "<robot" in record.urdf[:200]

@@ -74,10 +74,10 @@ def test_cylinders_the_hand_cannot_hold_are_refused(height: float) -> None:
 
 
 def test_stored_urdf_grasp_frame_is_the_stored_tool_pose(tmp_path) -> None:
-    from aaria_pin.files.runfile import read_generic_run
+    from aaria_pin.files.runfile import read_run
 
     run = simulate_pick_place(Cylinder(0.45, 0.25, radius=0.045, height=0.1), (-0.3, 0.35))
-    record = read_generic_run(write_pick_place_run(tmp_path / "run.h5", run))
+    record = read_run(write_pick_place_run(tmp_path / "run.h5", run))
     model = pin.buildModelFromXML(record.urdf)
     data = model.createData()
     frame = model.getFrameId(record.attributes["tool_frame"])
@@ -168,7 +168,7 @@ def test_mount_wrench_is_the_weight_of_arm_and_payload() -> None:
 
 
 def test_run_stores_the_mount_wrench(tmp_path) -> None:
-    from aaria_pin.files.runfile import read_generic_run
+    from aaria_pin.files.runfile import read_run
 
     cylinder = Cylinder(0.5, 0.2, mass=1.2)
     run = simulate_pick_place(cylinder, (-0.3, 0.4))
@@ -180,7 +180,7 @@ def test_run_stores_the_mount_wrench(tmp_path) -> None:
         assert np.all(run.path.qd[k, 1:] == 0) and np.all(run.path.qdd[k, 1:] == 0)
         expected = _mount_wrench_by_hand(run.path.q[k], cylinder, run.path.qdd[k, 0])
         np.testing.assert_allclose(run.base_wrench[k], expected, rtol=1e-12, atol=1e-9)
-    record = read_generic_run(write_pick_place_run(tmp_path / "run.h5", run))
+    record = read_run(write_pick_place_run(tmp_path / "run.h5", run))
     np.testing.assert_array_equal(record.base_wrench, run.base_wrench)
 
 

@@ -82,10 +82,10 @@ def test_with_payload_adds_mass_to_the_hand() -> None:
 
 
 def test_run_file_round_trip(run, tmp_path) -> None:
-    from aaria_pin.files.runfile import read_generic_run
+    from aaria_pin.files.runfile import read_run
 
     path = write_pick_place_run(tmp_path / "run.h5", run)
-    record = read_generic_run(path)
+    record = read_run(path)
     np.testing.assert_array_equal(record.tau, run.tau)
     np.testing.assert_array_equal(record.tool_pose, run.tool_pose)
     assert record.attributes["phases"] == list(PHASES)
@@ -154,3 +154,25 @@ def test_cli_pick_place_writes_run_and_pictures(tmp_path) -> None:
     result = CliRunner().invoke(main, ["arm", "urdf", "-o", str(tmp_path / "arm")])
     assert result.exit_code == 0
     assert (tmp_path / "arm" / "meshes" / "upper_arm.stl").is_file()
+
+
+def test_the_run_record_in_both_formats_and_its_remake(run, tmp_path) -> None:
+    from aaria_pin.apps.arm.run import pick_place_record
+    from aaria_pin.apps.remake import remake_run
+    from aaria_pin.files.runfile import read_run
+
+    record = pick_place_record(run)
+    assert record.attributes["kind"] == "pick-place"
+    assert record.attributes["robot"] == "pick-place-arm"
+    samples = run.path.time.size
+    assert record.imu.shape == (samples, 0, 6) and record.imu_mounts == ()
+    np.testing.assert_array_equal(record.base_pose, np.broadcast_to(np.eye(4), (samples, 4, 4)))
+    assert record.attributes["rate"] == 100.0
+    for suffix in (".h5", ".mat"):
+        path = write_pick_place_run(tmp_path / f"run{suffix}", run)
+        stored = read_run(path)
+        np.testing.assert_array_equal(stored.tau, run.tau)
+        assert stored.joint_names == record.joint_names
+        remade = remake_run(path)
+        for name in ("q", "tau", "base_wrench", "tool_pose"):
+            np.testing.assert_array_equal(getattr(remade, name), getattr(record, name))

@@ -13,18 +13,20 @@ import pytest
 from click.testing import CliRunner
 
 from aaria_pin.aaria.presets import get_preset
-from aaria_pin.apps.dataset.engine import DatasetSpec, generate_dataset, simulate_dataset_run
+from aaria_pin.apps.dataset.dh import DhDatasetSpec
+from aaria_pin.apps.dataset.engine import generate_dataset, simulate_dataset_run
 from aaria_pin.cli import main
 from aaria_pin.errors import ParameterError
-from aaria_pin.files.dataset_file import RUN_ARRAYS
 from aaria_pin.files.dataset_reader import DatasetReader
 
 SHORT = {"duration": 0.5, "rate": 100.0}
 
 
 def _arrays(path: Path) -> dict[str, np.ndarray]:
+    with DatasetReader(path) as reader:
+        names = reader.names  # the stored arrays and the views (senSen, signals)
     with h5py.File(path, "r") as handle:
-        return {name: handle[name][()] for name in (*RUN_ARRAYS, "complete", "failed")}
+        return {name: handle[name][()] for name in (*names, "complete", "failed")}
 
 
 def _assert_same(a: Path, b: Path) -> None:
@@ -36,24 +38,24 @@ def _assert_same(a: Path, b: Path) -> None:
 @pytest.fixture(scope="module")
 def reference(tmp_path_factory: pytest.TempPathFactory) -> Path:
     path = tmp_path_factory.mktemp("ref") / "ref.h5"
-    generate_dataset(path, DatasetSpec(n_runs=24, seed=7, **SHORT), workers=1)
+    generate_dataset(path, DhDatasetSpec(n_runs=24, seed=7, **SHORT), workers=1)
     return path
 
 
 def test_workers_do_not_change_the_arrays(reference: Path, tmp_path: Path) -> None:
-    generate_dataset(tmp_path / "two.h5", DatasetSpec(n_runs=24, seed=7, **SHORT), workers=2)
+    generate_dataset(tmp_path / "two.h5", DhDatasetSpec(n_runs=24, seed=7, **SHORT), workers=2)
     _assert_same(reference, tmp_path / "two.h5")
     assert _arrays(reference)["complete"].all()
 
 
 def test_run_k_is_a_pure_function_of_seed_and_k(reference: Path) -> None:
-    spec = DatasetSpec(n_runs=24, seed=7, **SHORT)
+    spec = DhDatasetSpec(n_runs=24, seed=7, **SHORT)
     with DatasetReader(reference) as reader:
         for k in (0, 13, 23):
             direct = simulate_dataset_run(spec, k)
             for name, array in reader.run(k).items():
                 np.testing.assert_array_equal(array, direct[name])
-    other = simulate_dataset_run(DatasetSpec(n_runs=24, seed=8, **SHORT), 0)
+    other = simulate_dataset_run(DhDatasetSpec(n_runs=24, seed=8, **SHORT), 0)
     assert not np.array_equal(simulate_dataset_run(spec, 0)["senSenDH"], other["senSenDH"])
 
 
@@ -66,7 +68,7 @@ def test_dask_cluster_gives_the_same_arrays(reference: Path, tmp_path: Path) -> 
     ) as cluster:
         generate_dataset(
             tmp_path / "dask.h5",
-            DatasetSpec(n_runs=24, seed=7, **SHORT),
+            DhDatasetSpec(n_runs=24, seed=7, **SHORT),
             scheduler=cluster.scheduler_address,
         )
     _assert_same(reference, tmp_path / "dask.h5")
@@ -74,11 +76,11 @@ def test_dask_cluster_gives_the_same_arrays(reference: Path, tmp_path: Path) -> 
 
 def test_fixed_arm_many_trajectories(tmp_path: Path) -> None:
     preset = get_preset("aaria-fig3")
-    spec = DatasetSpec(n_runs=5, seed=1, vary=("joints", "base"), dh_table=preset.table, **SHORT)
+    spec = DhDatasetSpec(n_runs=5, seed=1, vary=("joints", "base"), dh_table=preset.table, **SHORT)
     generate_dataset(tmp_path / "mode2.h5", spec, workers=1)
     with DatasetReader(tmp_path / "mode2.h5") as reader:
         for k in range(5):
-            run = reader.run(k)
+            run = reader.run(k, ("senSenDH", "senSen"))
             np.testing.assert_array_equal(run["senSenDH"], preset.table)
             assert not run["senSen"][:, 2].any()  # module 2 is empty
         assert not np.array_equal(reader.run(0)["senSenJ"], reader.run(1)["senSenJ"])
@@ -102,14 +104,16 @@ def test_half_written_and_corrupted_runs_are_redone(reference: Path, tmp_path: P
     path.write_bytes(reference.read_bytes())
     with h5py.File(path, "r+") as handle:
         handle["complete"][3] = 0  # half-written: never marked complete
-        handle["senSen"][3] = 0.0
-        info = handle["senSen"].id.get_chunk_info_by_coord((9, 0, 0))
+        handle["imu"][3] = 0.0
+        info = handle["imu"].id.get_chunk_info_by_coord((9, 0, 0, 0))
     with open(path, "r+b") as raw:  # a damaged chunk: its checksum no longer matches
         raw.seek(info.byte_offset + info.size // 2)
         raw.write(b"\xff" * 16)
     with pytest.raises(OSError):
         _arrays(path)
-    report = generate_dataset(path, DatasetSpec(n_runs=24, seed=7, **SHORT), workers=1, resume=True)
+    report = generate_dataset(
+        path, DhDatasetSpec(n_runs=24, seed=7, **SHORT), workers=1, resume=True
+    )
     assert report.written == 2
     _assert_same(reference, path)
 
@@ -187,7 +191,7 @@ def test_resume_with_other_settings_is_refused(reference: Path, tmp_path: Path) 
     path = tmp_path / "copy.h5"
     path.write_bytes(reference.read_bytes())
     with pytest.raises(ParameterError, match="other settings \\(seed\\)"):
-        generate_dataset(path, DatasetSpec(n_runs=24, seed=8, **SHORT), resume=True)
+        generate_dataset(path, DhDatasetSpec(n_runs=24, seed=8, **SHORT), resume=True)
 
 
 @pytest.mark.parametrize(
@@ -239,7 +243,7 @@ def test_peak_memory_does_not_grow_with_the_number_of_runs(tmp_path: Path) -> No
     code = (
         "import resource, sys; "
         "from aaria_pin.apps.dataset.engine import DatasetSpec, generate_dataset; "
-        "generate_dataset(sys.argv[1], DatasetSpec(n_runs=int(sys.argv[2]), duration=0.2), "
+        "generate_dataset(sys.argv[1], DhDatasetSpec(n_runs=int(sys.argv[2]), duration=0.2), "
         "workers=1); print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)"
     )
     peaks = {}

@@ -10,8 +10,8 @@ import pytest
 from click.testing import CliRunner
 
 from aaria_pin.aaria.randomize import RandomConfig, random_urdf_joint_table
-from aaria_pin.apps.dataset.engine import DatasetSpec, generate_dataset
-from aaria_pin.apps.dataset.urdf_source import UrdfSource, urdf_run_inputs
+from aaria_pin.apps.dataset.engine import generate_dataset
+from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
 from aaria_pin.cli import main
 from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.urdf_robot import load_urdf_robot, read_urdf_file, urdf_joint_trajectory
@@ -28,7 +28,7 @@ def _panda() -> UrdfSource:
 @pytest.fixture(scope="module")
 def panda_set(tmp_path_factory: pytest.TempPathFactory) -> Path:
     path = tmp_path_factory.mktemp("urdf") / "panda.h5"
-    spec = DatasetSpec(n_runs=4, seed=5, duration=1.0, vary=("joints", "base"), urdf=_panda())
+    spec = UrdfDatasetSpec(n_runs=4, seed=5, duration=1.0, vary=("joints", "base"), robot=_panda())
     generate_dataset(path, spec, workers=2)
     return path
 
@@ -48,7 +48,7 @@ def test_layout_names_and_shapes(panda_set: Path) -> None:
         )
         assert handle["urdf"].asstr()[()] == _panda().urdf
     with DatasetReader(panda_set) as reader:
-        assert reader.names[0] == "signals"
+        assert next(iter(reader.layout.views)) == "signals"
         assert reader.attributes["robot"]["tool_frame"] == "panda_hand_tcp"
         windows = list(reader.windows(50, names=("signals", "tau")))
         assert len(windows) == 4 * 2 and windows[0][2]["signals"].shape == (50, 130)
@@ -56,21 +56,21 @@ def test_layout_names_and_shapes(panda_set: Path) -> None:
 
 def test_a_run_equals_the_single_run_of_its_inputs(panda_set: Path) -> None:
     source = _panda()
-    spec = DatasetSpec(n_runs=4, seed=5, duration=1.0, vary=("joints", "base"), urdf=source)
-    loaded = source.load()
-    joint_table, base_table, noise_seed = urdf_run_inputs(spec, 2, loaded)
+    spec = UrdfDatasetSpec(n_runs=4, seed=5, duration=1.0, vary=("joints", "base"), robot=source)
+    inputs = spec.inputs(2)
+    joint_table, base_table = inputs.tables["joint_table"], inputs.tables["base_table"]
     single = simulate_urdf_run(
-        source.urdf, joint_table, base_table, duration=1.0, seed=noise_seed, noise=True
+        source.urdf, joint_table, base_table, duration=1.0, seed=inputs.noise_seed, noise=True
     )
     with DatasetReader(panda_set) as reader:
-        run = reader.run(2)
+        run = reader.run(2, ("joint_table", "signals", "tau"))
     np.testing.assert_array_equal(run["joint_table"], joint_table)
-    np.testing.assert_array_equal(run["signals"], single.signals.astype(np.float32))
+    np.testing.assert_array_equal(run["signals"], single.signals().astype(np.float32))
     np.testing.assert_array_equal(run["tau"], single.tau.astype(np.float32))
 
 
 def test_one_worker_gives_the_same_file_arrays(panda_set: Path, tmp_path: Path) -> None:
-    spec = DatasetSpec(n_runs=4, seed=5, duration=1.0, vary=("joints", "base"), urdf=_panda())
+    spec = UrdfDatasetSpec(n_runs=4, seed=5, duration=1.0, vary=("joints", "base"), robot=_panda())
     generate_dataset(tmp_path / "one.h5", spec, workers=1)
     with DatasetReader(panda_set) as two, DatasetReader(tmp_path / "one.h5") as one:
         for k in range(4):
@@ -85,15 +85,17 @@ def test_resume_redoes_missing_runs_and_refuses_another_robot(
     copy.write_bytes(panda_set.read_bytes())
     with h5py.File(copy, "r+") as handle:
         handle["complete"][1] = 0
-    spec = DatasetSpec(n_runs=4, seed=5, duration=1.0, vary=("joints", "base"), urdf=_panda())
+    spec = UrdfDatasetSpec(n_runs=4, seed=5, duration=1.0, vary=("joints", "base"), robot=_panda())
     report = generate_dataset(copy, spec, workers=1, resume=True)
     assert report.written == 1 and report.complete == 4
     with DatasetReader(panda_set) as a, DatasetReader(copy) as b:
-        np.testing.assert_array_equal(a.run(1)["signals"], b.run(1)["signals"])
+        np.testing.assert_array_equal(
+            a.run(1, ("signals",))["signals"], b.run(1, ("signals",))["signals"]
+        )
     entry = find_robot("ur5")
-    other = DatasetSpec(
+    other = UrdfDatasetSpec(
         n_runs=4, seed=5, duration=1.0, vary=("joints", "base"),
-        urdf=UrdfSource(read_urdf_file(entry.urdf), "ur5"),
+        robot=UrdfSource(read_urdf_file(entry.urdf), "ur5"),
     )  # fmt: skip
     with pytest.raises(ParameterError, match="robot"):
         generate_dataset(copy, other, workers=1, resume=True)
@@ -101,7 +103,7 @@ def test_resume_redoes_missing_runs_and_refuses_another_robot(
 
 def test_structure_of_a_urdf_robot_cannot_vary() -> None:
     with pytest.raises(ParameterError, match="structure is fixed"):
-        DatasetSpec(n_runs=2, urdf=_panda())
+        UrdfDatasetSpec(n_runs=2, robot=_panda())
 
 
 def test_random_joint_tables_respect_position_and_velocity_limits() -> None:
@@ -147,9 +149,9 @@ def test_resume_refuses_other_imu_poses(panda_set: Path, tmp_path: Path) -> None
         for k, m in enumerate(default)
     )
     source = _panda()
-    other = DatasetSpec(
+    other = UrdfDatasetSpec(
         n_runs=4, seed=5, duration=1.0, vary=("joints", "base"),
-        urdf=UrdfSource(source.urdf, "panda", source.urdf_dir, imu_layout=moved),
+        robot=UrdfSource(source.urdf, "panda", source.urdf_dir, imu_layout=moved),
     )  # fmt: skip
     with pytest.raises(ParameterError, match="robot"):
         generate_dataset(copy, other, workers=1, resume=True)
@@ -161,4 +163,4 @@ def test_a_fixed_joint_table_is_checked_before_any_run() -> None:
     table = np.zeros((9, 5))
     table[3, 2] = 1.0  # panda_joint4 spans [-3.07, -0.07] rad
     with pytest.raises(TableError, match="panda_joint4"):
-        DatasetSpec(n_runs=2, vary=("base",), joint_table=table, urdf=_panda())
+        UrdfDatasetSpec(n_runs=2, vary=("base",), joint_table=table, robot=_panda())

@@ -107,3 +107,40 @@ def test_the_preset_urdf_carries_the_parts_too(tmp_path) -> None:
     }
     assert masses["link2"] == pytest.approx(0.29058)
     assert masses["base"] == pytest.approx(0.05987)
+
+
+def test_the_run_record_fixed_mount_imus_and_remake(tmp_path) -> None:
+    import xml.etree.ElementTree as ET
+
+    from aaria_pin.apps.remake import remake_run
+    from aaria_pin.apps.wrist.run import wrist_record, write_wrist_run
+    from aaria_pin.files.runfile import read_run
+
+    run = simulate_wrist(np.radians([60.0, 45.0, -30.0]), duration=4.0, rate=50.0)
+    record = wrist_record(run)
+    assert record.attributes["kind"] == "wrist" and record.attributes["robot"] == "spherical-wrist"
+    assert record.joint_names == ("joint1", "joint2", "joint3")
+    np.testing.assert_array_equal(record.base_pose, np.broadcast_to(np.eye(4), (201, 4, 4)))
+    np.testing.assert_array_equal(record.tables["targets"], np.radians([60.0, 45.0, -30.0]))
+    # At rest before the start, the mount carries the weight of every link of the URDF.
+    mass = sum(
+        float(link.find("inertial/mass").get("value"))
+        for link in ET.fromstring(record.urdf).iter("link")
+        if link.find("inertial") is not None
+    )
+    still = record.time < 2.0
+    np.testing.assert_allclose(
+        record.base_wrench[still, :3], np.tile([0, 0, mass * 9.81], (still.sum(), 1)), atol=1e-9
+    )
+    np.testing.assert_allclose(record.base_wrench[still, 5], 0.0, atol=1e-12)
+    assert record.imu_names[:2] == ("imu_base", "imu_tool") and len(record.imu_names) == 8
+    np.testing.assert_allclose(  # a still base: no rotation, gravity's reaction straight up
+        record.imu_signals("imu_base"), np.tile([0, 0, 0, 0, 0, 9.81], (201, 1)), atol=1e-12
+    )
+    for suffix in (".h5", ".mat"):
+        path = write_wrist_run(tmp_path / f"wrist{suffix}", run)
+        stored = read_run(path)
+        np.testing.assert_array_equal(stored.tau, run.tau)
+        remade = remake_run(path)
+        for name in ("q", "tau", "base_wrench", "tool_pose", "imu"):
+            np.testing.assert_array_equal(getattr(remade, name), getattr(record, name))

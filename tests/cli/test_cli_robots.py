@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from conftest import run_cli
 
-from aaria_pin.files.runfile import read_generic_run
+from aaria_pin.files.runfile import read_run
 
 
 def test_robots_lists_the_catalogue() -> None:
@@ -35,11 +35,11 @@ def test_simulate_a_robot_then_remake_it_from_its_file(tmp_path: Path) -> None:
     assert code == 0 and "panda, 9 joints, 20 IMUs, 101 samples" in out
     again = tmp_path / "again.h5"
     assert run_cli("simulate", "--from", str(first), "-o", str(again))[0] == 0
-    a, b = read_generic_run(first), read_generic_run(again)
-    np.testing.assert_array_equal(a.signals, b.signals)
+    a, b = read_run(first), read_run(again)
+    np.testing.assert_array_equal(a.signals(), b.signals())
     np.testing.assert_array_equal(a.tau, b.tau)
     code, out, _ = run_cli("info", str(first))
-    assert code == 0 and "joints: panda_joint1" in out
+    assert code == 0 and "joints (9: panda_joint1," in out
 
 
 def test_simulate_a_urdf_file_with_layout_tables_and_fixed_base(tmp_path: Path) -> None:
@@ -62,7 +62,7 @@ def test_simulate_a_urdf_file_with_layout_tables_and_fixed_base(tmp_path: Path) 
     )  # fmt: skip
     assert code == 0, stderr
     assert stderr.startswith("aaria: warning: ") and "mesh file(s)" in stderr
-    record = read_generic_run(out)
+    record = read_run(out)
     assert [m.name for m in record.imu_mounts] == ["imu_wrist"]
     assert (
         record.attributes["tool_frame"] == "wrist_3_link" and not record.attributes["moving_base"]
@@ -104,7 +104,7 @@ def test_bad_urdf_one_line_exit_2_no_file(tmp_path: Path, urdf_text: str, patter
         (["--robot", "ur5", "--urdf", "x.urdf"], "not both"),
         (["--preset", "aaria-fig2", "--fixed-base"], "--fixed-base is for URDF robots"),
         (["--robot", "ur5", "--tool", "nowhere"], "frame 'nowhere'"),
-        (["--robot", "ur5", "-o", "run.mat"], "written as HDF5"),
+        (["--robot", "ur5", "--density", "2000"], "--density is for DH arms"),
     ],
 )
 def test_simulate_robot_bad_options(tmp_path: Path, extra: list[str], pattern: str) -> None:
@@ -121,7 +121,7 @@ def test_simulate_robot_bad_options(tmp_path: Path, extra: list[str], pattern: s
 @pytest.mark.parametrize(
     ("extra", "pattern"),
     [
-        (["--robot", "ur5", "--drive", "torque"], "--drive torque is for DH arms"),
+        (["--robot", "ur5", "--drive", "torque"], "--drive torque and --torques FILE go together"),
         (["--robot", "ur5", "--fixed-base", "--base", "base.csv"], "not allowed with --fixed-base"),
         (["--robot", "ur3"], "robot name 'ur3' is ambiguous; allowed: ur/ur3, ur/ur3_robot"),
     ],
@@ -174,7 +174,7 @@ def test_torques_beyond_the_effort_limit_are_reported(tmp_path: Path) -> None:
     out = tmp_path / "weak.h5"
     code, _, err = run_cli("simulate", "--urdf", str(urdf), "--duration", "1", "-o", str(out))
     assert code == 0
-    peak, limit = read_generic_run(out).attributes["effort_exceeded"]["shoulder"]
+    peak, limit = read_run(out).attributes["effort_exceeded"]["shoulder"]
     assert limit == 5 and peak > 10 * 9.81 * 0.5 * np.cos(1.0)  # the weight's lever at |q| <= 0.6
     assert "joint 'shoulder' reaches |tau|" in err and "effort limit 5" in err
 
@@ -191,3 +191,23 @@ def test_dataset_of_a_urdf_with_missing_meshes_warns_once(tmp_path: Path) -> Non
     )  # fmt: skip
     assert code == 0, err
     assert err.count("aaria: warning: 14 mesh file(s) of 'ur5' not found") == 1
+
+
+def test_simulate_a_robot_to_mat_holds_the_same_arrays_as_h5(tmp_path: Path) -> None:
+    from scipy.io import loadmat
+
+    args = ["simulate", "--robot", "ur5", "--duration", "0.5", "--rate", "50", "--no-noise"]
+    for name in ("run.h5", "run.mat"):
+        code, out, err = run_cli(*args, "-o", str(tmp_path / name))
+        assert code == 0, err
+        assert "ur5, 6 joints, 14 IMUs, 26 samples" in out
+    h5 = read_run(tmp_path / "run.h5")
+    mat = loadmat(tmp_path / "run.mat")
+    for name in ("time", "q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pose", "imu"):
+        stored = np.asarray(mat[name]).reshape(np.shape(getattr(h5, name)))
+        np.testing.assert_array_equal(stored, getattr(h5, name), err_msg=name)
+    assert mat["imu"].shape == (26, 14, 6)
+    from_mat = read_run(tmp_path / "run.mat")
+    assert from_mat.joint_names == h5.joint_names and from_mat.imu_names == h5.imu_names
+    np.testing.assert_array_equal(from_mat.imu, h5.imu)
+    np.testing.assert_array_equal(from_mat.tables["joint_table"], h5.tables["joint_table"])

@@ -135,7 +135,7 @@ def test_render_draws_a_plugin_preset_and_lists_it(
         (["render", "--preset", "aaria-fig2", "-o", "{out}.jpg"], "allowed: .png"),
         (["render", "--preset", "aaria-fig2", "--width", "5", "-o", "{out}.png"], "100 to"),
         (["plot", "{run}", "--imu", "imu_link2_a", "-o", "{out}.png"], "not in the run"),
-        (["plot", "{wrist}", "--imu", "imu_tool", "-o", "{out}.png"], "no IMUs"),
+        (["plot", "{old_wrist}", "--imu", "imu_tool", "-o", "{out}.png"], "no IMUs"),
         (["plot", "{table}", "-o", "{out}.png"], "unknown|not a run file"),
         (["view", "{missing}", "-o", "{out}.html"], "no such file"),
         (["view", "{run}", "-o", "{out}.txt"], "allowed: .html"),
@@ -150,6 +150,7 @@ def test_bad_input_one_line_exit_2_nothing_written(
 
     values = {k: str(v) for k, v in files.items()}
     values |= {"out": str(tmp_path / "out"), "missing": str(tmp_path / "missing.h5")}
+    values["old_wrist"] = str(Path(__file__).parents[1] / "fixtures" / "v0_1_0" / "wrist_run.h5")
     result = run(*(a.format(**values) for a in args))
     assert result.exit_code == 2, result.output
     assert re.search(pattern, result.output), result.output

@@ -102,14 +102,16 @@ def test_power_of_torques_and_base_wrench_equals_rate_of_energy(name: str) -> No
         energy = [
             _energy(
                 inertias,
-                *(_body_poses(table, record.senSenJ, senB, s + e) for e in (-h, 0.0, h)),
+                *(_body_poses(table, record.tables["senSenJ"], senB, s + e) for e in (-h, 0.0, h)),
                 h,
             )
             for s in (t - dt, t + dt)
         ]
         rate_of_energy = (energy[1] - energy[0]) / (2 * dt)
-        base = _body_poses(table, record.senSenJ, senB, t)[0]
-        base_m, base_p = (_body_poses(table, record.senSenJ, senB, t + e)[0] for e in (-h, h))
+        base = _body_poses(table, record.tables["senSenJ"], senB, t)[0]
+        base_m, base_p = (
+            _body_poses(table, record.tables["senSenJ"], senB, t + e)[0] for e in (-h, h)
+        )
         p_dot = (base_p[:3, 3] - base_m[:3, 3]) / (2 * h)
         S = (base_p[:3, :3] - base_m[:3, :3]) @ base[:3, :3].T / (2 * h)
         omega_world = np.array([S[2, 1], S[0, 2], S[1, 0]])
@@ -133,7 +135,7 @@ def test_base_wrench_by_newton_euler_on_every_body(name: str) -> None:
     h, dt = 1e-5, 1e-3
 
     def poses(t: float) -> list[np.ndarray]:
-        return _body_poses(table, record.senSenJ, senB, t)
+        return _body_poses(table, record.tables["senSenJ"], senB, t)
 
     def com(t: float) -> list[np.ndarray]:
         return [

@@ -83,11 +83,13 @@ def test_imu_signals_against_finite_differences_of_paper_matrices(name: str) -> 
     for k in (1, 4, 9):
         t = record.time[k]
         before, now, after = (
-            _world_poses(table, record.senSenJ, record.senSenB, record.imu_mount, t + s)
+            _world_poses(
+                table, record.tables["senSenJ"], record.tables["senSenB"], record.imu_mount, t + s
+            )
             for s in (-h, 0.0, h)
         )
         for slot in range(14):
-            columns = record.senSen[k, 7 + 6 * slot : 13 + 6 * slot]
+            columns = record.view("senSen")[k, 7 + 6 * slot : 13 + 6 * slot]
             if now[slot] is None:
                 assert not columns.any()
                 continue
@@ -115,7 +117,7 @@ def test_resting_imus_read_gravity_in_their_axes() -> None:
     record = simulate_run(table, senJ, senB, duration=0.5, rate=10, noise=False)
     poses = _world_poses(table, senJ, senB, record.imu_mount, 0.0)
     for slot, pose in enumerate(poses):
-        columns = record.senSen[:, 7 + 6 * slot : 13 + 6 * slot]
+        columns = record.view("senSen")[:, 7 + 6 * slot : 13 + 6 * slot]
         np.testing.assert_allclose(columns[:, :3], 0.0, atol=1e-12)
         np.testing.assert_allclose(
             columns[:, 3:], np.tile(pose[:3, :3].T @ [0, 0, 9.81], (6, 1)), atol=1e-12

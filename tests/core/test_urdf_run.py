@@ -11,7 +11,7 @@ import pytest
 from conftest import GRAVITY, paper_base_state, vee
 
 from aaria_pin.core.catalogue import find_robot
-from aaria_pin.core.record import GenericRunRecord
+from aaria_pin.core.record import RunRecord
 from aaria_pin.core.trajectory import sample_times
 from aaria_pin.core.urdf_robot import (
     UrdfRobot,
@@ -20,8 +20,9 @@ from aaria_pin.core.urdf_robot import (
     read_urdf_file,
     urdf_joint_trajectory,
 )
-from aaria_pin.core.urdf_run import simulate_urdf_from_run_file, simulate_urdf_run
-from aaria_pin.files.runfile import read_generic_run, write_generic_run
+from aaria_pin.apps.remake import simulate_urdf_from_run_file
+from aaria_pin.core.urdf_run import simulate_urdf_run
+from aaria_pin.files.runfile import read_run, write_run
 
 BASE_TABLE = np.array(
     [[0.1, 0.0, 1.3, 0.2], [0.2, 0.1, 0.9, 0.0], [0.05, 0.3, 1.7, 1.0],
@@ -97,7 +98,7 @@ def test_base_force_is_the_rate_of_momentum_less_gravity(name: str) -> None:
 
 
 def _check_imus_by_finite_differences(
-    model: pin.Model, record: GenericRunRecord, table: np.ndarray, loaded: UrdfRobot
+    model: pin.Model, record: RunRecord, table: np.ndarray, loaded: UrdfRobot
 ) -> None:
     """ω = vee(Rᵀ·dR/dt), f = Rᵀ·(d²p/dt² - g), from IMU placements at t ± h (free-flyer model)."""
     data, h = model.createData(), 1e-4
@@ -207,16 +208,17 @@ def test_run_file_round_trip_and_remake(tmp_path: Path) -> None:
     record = simulate_urdf_run(
         read_urdf_file(_robot_file("ur5")), duration=1.0, rate=20.0, seed=7, source="ur5"
     )
-    path = write_generic_run(tmp_path / "ur5.h5", record)
-    stored = read_generic_run(path)
-    for name in ("signals", "q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pose"):
+    path = write_run(tmp_path / "ur5.h5", record)
+    stored = read_run(path)
+    np.testing.assert_array_equal(stored.signals(), record.signals())
+    for name in ("q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pose"):
         np.testing.assert_array_equal(getattr(stored, name), getattr(record, name))
     assert stored.columns == record.columns
     assert stored.columns[:2] == ("time", "q:shoulder_pan_joint")
     assert stored.urdf == record.urdf
     assert [m.name for m in stored.imu_mounts] == [m.name for m in record.imu_mounts]
     remade = simulate_urdf_from_run_file(path)
-    np.testing.assert_array_equal(remade.signals, record.signals)
+    np.testing.assert_array_equal(remade.signals(), record.signals())
     np.testing.assert_array_equal(remade.tau, record.tau)
 
 
@@ -224,7 +226,7 @@ def test_fixed_base_run_has_identity_base_and_gravity_only_base_imu() -> None:
     record = simulate_urdf_run(
         read_urdf_file(_robot_file("ur5")), moving_base=False, duration=1.0, noise=False
     )
-    assert record.base_table is None
+    assert "base_table" not in record.tables
     np.testing.assert_array_equal(record.base_pose, np.broadcast_to(np.eye(4), (101, 4, 4)))
     np.testing.assert_allclose(record.imu_signals("imu_base"), [[0, 0, 0, 0, 0, 9.81]] * 101)
 

@@ -29,13 +29,13 @@ def run_file(tmp_path_factory):
 
 
 def test_probe_recognises_only_pick_place_runs(run_file, tmp_path) -> None:
-    from aaria_pin.files.runfile import write_generic_run
+    from aaria_pin.files.runfile import write_run
 
     run, path = run_file
     assert is_pick_place_run(path)
     record = pick_place_record(run)
     other = replace(record, attributes={**record.attributes, "task": "something else"})
-    assert not is_pick_place_run(write_generic_run(tmp_path / "other.h5", other))
+    assert not is_pick_place_run(write_run(tmp_path / "other.h5", other))
     (tmp_path / "text.h5").write_text("not HDF5")
     assert not is_pick_place_run(tmp_path / "text.h5")
     assert not is_pick_place_run(tmp_path / "missing.h5")

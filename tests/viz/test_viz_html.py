@@ -19,7 +19,7 @@ from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.urdf_robot import read_urdf_file
 from aaria_pin.core.urdf_run import simulate_urdf_run
 from aaria_pin.errors import ParameterError
-from aaria_pin.files.runfile import write_generic_run, write_run
+from aaria_pin.files.runfile import write_run
 from aaria_pin.viz.html import shown_samples, viewer_html, write_viewer
 from aaria_pin.viz.sources import load_run_view
 
@@ -39,7 +39,7 @@ def pages(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     for name, run_file in (
         ("aaria", write_run(folder / "fig2.h5", record)),
         ("wrist", write_wrist_run(folder / "wrist.h5", wrist)),
-        ("generic", write_generic_run(folder / "ur5.h5", generic)),
+        ("generic", write_run(folder / "ur5.h5", generic)),
     ):
         view = load_run_view(run_file)
         assert view.kind == name

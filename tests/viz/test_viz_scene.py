@@ -102,7 +102,7 @@ def test_run_poses_follow_the_stored_tool_pose_and_base(runs: dict[str, Path], k
     assert np.ptp(base_origin, axis=0).max() > 1e-3
     assert np.allclose(poses[:, 0], np.eye(4))
     # signals: empty module 2 left out, units in the labels, 12 IMUs
-    types = record.senSenDH[:6, 4]
+    types = record.tables["senSenDH"][:6, 4]
     expected_q = tuple(
         f"q{m + 1} [{'rad' if t == 1 else 'm'}]" for m, t in enumerate(types) if t != 0
     )
@@ -112,7 +112,7 @@ def test_run_poses_follow_the_stored_tool_pose_and_base(runs: dict[str, Path], k
     assert view.signals.q_labels == expected_q and len(expected_q) == 5
     assert view.signals.tau_labels == expected_tau
     assert len(view.signals.imus) == 12 and "imu_link2_a" not in view.signals.imus
-    assert np.allclose(view.signals.imus["imu_tool"], record.senSen[:, 13:19])
+    assert np.allclose(view.signals.imus["imu_tool"], record.view("senSen")[:, 13:19])
 
 
 @pytest.mark.parametrize("key", ["wrist", "wrist_mat"])
@@ -125,7 +125,24 @@ def test_wrist_runs_are_recognised_and_posed(runs: dict[str, Path], key: str) ->
     with h5py.File(runs["wrist"]) as handle:
         stored = handle["tool_pose"][:]
     assert np.allclose(poses[:, view.scene.frames.index("tool_tip")], stored, atol=1e-12)
-    assert view.signals.base_wrench is None and view.signals.imus == {}
+    # the signals the record holds: the fixed mount's wrench, the wrist's IMUs
+    from aaria_pin.files.runfile import read_run
+
+    record = read_run(runs[key])
+    assert np.any(record.base_wrench)
+    np.testing.assert_array_equal(view.signals.base_wrench, record.base_wrench)
+    assert list(view.signals.imus) == list(record.imu_names)
+    for name, values in view.signals.imus.items():
+        np.testing.assert_array_equal(values, record.imu_signals(name))
+
+
+def test_a_wrist_run_of_0_1_0_has_no_wrench_and_no_imus() -> None:
+    """0.1.0 wrist files stored neither: the viewers show none."""
+    fixtures = Path(__file__).parents[1] / "fixtures" / "v0_1_0"
+    for name in ("wrist_run.h5", "wrist_run.mat"):
+        view = load_run_view(fixtures / name)
+        assert view.kind == "wrist"
+        assert view.signals.base_wrench is None and view.signals.imus == {}
 
 
 def test_unknown_files_and_times_are_refused(tmp_path: Path, runs: dict[str, Path]) -> None:
@@ -162,7 +179,7 @@ def test_generic_runs_of_a_urdf_robot_and_the_pick_place_arm(tmp_path: Path) -> 
     from click.testing import CliRunner
 
     from aaria_pin.cli import main
-    from aaria_pin.files.runfile import read_generic_run
+    from aaria_pin.files.runfile import read_run
 
     ur5, arm = tmp_path / "ur5.h5", tmp_path / "arm.h5"
     for args in (
@@ -175,7 +192,7 @@ def test_generic_runs_of_a_urdf_robot_and_the_pick_place_arm(tmp_path: Path) -> 
     assert run_kind(arm) == "pick-place"  # the arm's plug-in kind
     for path in (ur5, arm):
         view = load_generic_run(path)  # the generic kind reads both
-        record = read_generic_run(path)
+        record = read_run(path)
         samples = np.arange(0, view.time.size, 7)
         poses = view.frame_poses(samples)
         tool = poses[:, view.scene.frames.index(record.attributes["tool_frame"])]
@@ -188,9 +205,7 @@ def test_generic_runs_of_a_urdf_robot_and_the_pick_place_arm(tmp_path: Path) -> 
     arm_view = load_generic_run(arm)
     prismatic = {
         name
-        for name, kind in zip(
-            read_generic_run(arm).joint_names, arm_view.signals.kinds, strict=True
-        )
+        for name, kind in zip(read_run(arm).joint_names, arm_view.signals.kinds, strict=True)
         if kind == "prismatic"
     }
     assert prismatic == {"lift", "finger"}
@@ -234,10 +249,10 @@ URDF = """<robot name="two">
 def test_a_continuous_joint_is_revolute_and_a_prismatic_one_gets_forces(tmp_path: Path) -> None:
     """A URDF continuous joint (Pinocchio's RUBZ) is revolute: N·m; the prismatic one: N."""
     from aaria_pin.core.urdf_run import simulate_urdf_run
-    from aaria_pin.files.runfile import write_generic_run
+    from aaria_pin.files.runfile import write_run
 
     record = simulate_urdf_run(URDF, duration=0.5, rate=20.0, noise=False)
-    view = load_run_view(write_generic_run(tmp_path / "two.h5", record))
+    view = load_run_view(write_run(tmp_path / "two.h5", record))
     assert view.kind == "generic"
     assert view.signals.kinds == ("revolute", "prismatic")
     assert view.signals.q_labels == ("spin [rad]", "slide [m]")

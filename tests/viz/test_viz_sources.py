@@ -14,7 +14,7 @@ from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.urdf_robot import read_urdf_file
 from aaria_pin.core.urdf_run import simulate_urdf_run
 from aaria_pin.errors import InputFileError, ModelError, ParameterError
-from aaria_pin.files.runfile import write_generic_run
+from aaria_pin.files.runfile import write_run
 from aaria_pin.viz import sources
 
 PLUGIN = "aaria_test_view_plugin"
@@ -23,7 +23,7 @@ PLUGIN_SOURCE = '''
 """A dummy plug-in: claims every generic run file, and offers a preset."""
 
 from aaria_pin.aaria.presets import get_preset
-from aaria_pin.files.runfile import is_generic_run_file
+from aaria_pin.files.runfile import is_run_file
 from aaria_pin.viz.sources import register_run_kind, table_view
 from aaria_pin.viz._generic_source import load_generic_run
 
@@ -36,7 +36,7 @@ def load(path):
     return type(view)("dummy: " + view.title, "dummy", view.scene, view.signals, view.frame_poses)
 
 
-register_run_kind("dummy", is_generic_run_file, load)
+register_run_kind("dummy", is_run_file, load)
 
 
 def build():
@@ -80,7 +80,7 @@ def ur5_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     record = simulate_urdf_run(
         read_urdf_file(entry.urdf), urdf_dir=entry.urdf.parent, duration=0.5, rate=20.0
     )
-    return write_generic_run(tmp_path_factory.mktemp("ur5") / "ur5.h5", record)
+    return write_run(tmp_path_factory.mktemp("ur5") / "ur5.h5", record)
 
 
 def test_a_plugin_is_imported_on_first_look_up_and_tried_before_generic(

@@ -46,7 +46,6 @@ from aaria_pin.apps.arm.dims import (
     get_arm_preset,
     grasp_offset,
 )
-from aaria_pin.apps.arm.emit import MeshJoint, MeshLink, emit_mesh_urdf
 from aaria_pin.apps.arm.parts import (
     MeshPart,
     box_mesh,
@@ -57,6 +56,15 @@ from aaria_pin.apps.arm.parts import (
     stadium_mesh,
 )
 from aaria_pin.core.se3 import rot_x, translation
+from aaria_pin.core.urdf import (
+    JointDescription,
+    LinkDescription,
+    Material,
+    Mesh,
+    RobotDescription,
+    Shape,
+    emit_urdf,
+)
 
 if TYPE_CHECKING:
     from aaria_pin.core.model import RobotModel
@@ -67,6 +75,7 @@ __all__ = [
     "DEFAULT_GRASP",
     "PALM_FACE",
     "ArmDimensions",
+    "arm_description",
     "arm_joints",
     "arm_parts",
     "arm_urdf",
@@ -144,7 +153,7 @@ def arm_parts(dims: ArmDimensions) -> dict[str, MeshPart]:
 
 def arm_joints(
     dims: ArmDimensions, grasp: tuple[float, float] = DEFAULT_GRASP
-) -> tuple[MeshJoint, ...]:
+) -> tuple[JointDescription, ...]:
     """The joints: placements at q = 0, axes and limits (velocities chosen here).
 
     Args:
@@ -155,7 +164,7 @@ def arm_joints(
     turn = 2.0 * np.pi
     y_axis = (0.0, 1.0, 0.0)
     return (
-        MeshJoint(
+        JointDescription(
             "lift",
             "prismatic",
             "pillar",
@@ -166,7 +175,7 @@ def arm_joints(
             effort=500.0,
             velocity=0.2,
         ),
-        MeshJoint(
+        JointDescription(
             "shoulder",
             "revolute",
             "carriage",
@@ -177,7 +186,7 @@ def arm_joints(
             effort=100.0,
             velocity=1.5,
         ),
-        MeshJoint(
+        JointDescription(
             "elbow",
             "revolute",
             "upper_arm",
@@ -188,7 +197,7 @@ def arm_joints(
             effort=50.0,
             velocity=1.5,
         ),
-        MeshJoint(
+        JointDescription(
             "hand_yaw",
             "revolute",
             "forearm",
@@ -199,7 +208,7 @@ def arm_joints(
             effort=10.0,
             velocity=2.0,
         ),
-        MeshJoint(
+        JointDescription(
             "hand_pitch",
             "revolute",
             "hand_yaw_link",
@@ -211,7 +220,7 @@ def arm_joints(
             effort=10.0,
             velocity=2.0,
         ),
-        MeshJoint(
+        JointDescription(
             "hand_roll",
             "revolute",
             "hand_pitch_link",
@@ -222,7 +231,7 @@ def arm_joints(
             effort=10.0,
             velocity=2.0,
         ),
-        MeshJoint(
+        JointDescription(
             "finger",
             "prismatic",
             "hand",
@@ -234,7 +243,7 @@ def arm_joints(
             effort=50.0,
             velocity=0.05,
         ),
-        MeshJoint("grasp_mount", "fixed", "hand", "grasp", grasp_offset(dims, *grasp)),
+        JointDescription("grasp_mount", "fixed", "hand", "grasp", grasp_offset(dims, *grasp)),
     )
 
 
@@ -242,13 +251,17 @@ ARM_JOINTS = tuple(j.name for j in arm_joints(ArmDimensions()) if j.kind != "fix
 """The actuated joints, in model order."""
 
 
-def arm_urdf(
+def arm_description(
     dims: ArmDimensions,
     mesh_folder: str = "meshes",
     grasp: tuple[float, float] = DEFAULT_GRASP,
     parts: Mapping[str, MeshPart] | None = None,
-) -> str:
-    """URDF text of the arm; each link's mesh is ``<mesh_folder>/<link>.stl``.
+) -> RobotDescription:
+    """The arm as a robot description: mesh links with their mass properties, and the joints.
+
+    Each link's visual and collision shape is its mesh ``<mesh_folder>/<link>.stl`` (in the link
+    frame, coloured ``<link>_colour``); its mass properties are the mesh's and its density's.
+    The frame ``grasp`` is a massless link.
 
     Args:
         dims: the arm
@@ -258,16 +271,44 @@ def arm_urdf(
     """
     parts = arm_parts(dims) if parts is None else parts
     links = [
-        MeshLink(name, f"{mesh_folder}/{name}.stl", part.inertia(), part.rgba)
+        LinkDescription(
+            name,
+            mass_properties=part.inertia(),
+            shapes=(
+                Shape(
+                    Mesh(f"{mesh_folder}/{name}.stl"),
+                    material=Material(f"{name}_colour", part.rgba),
+                    name=f"{name}_mesh",
+                ),
+            ),
+        )
         for name, part in parts.items()
     ]
-    links.append(MeshLink("grasp"))
-    return emit_mesh_urdf(
+    links.append(LinkDescription("grasp"))
+    return RobotDescription(
         "pick_place_arm",
-        links,
+        tuple(links),
         arm_joints(dims, grasp),
         comment="pick-place-arm of aaria_pin (robotic-arm report); meshes by trimesh",
+        materials=(),
     )
+
+
+def arm_urdf(
+    dims: ArmDimensions,
+    mesh_folder: str = "meshes",
+    grasp: tuple[float, float] = DEFAULT_GRASP,
+    parts: Mapping[str, MeshPart] | None = None,
+) -> str:
+    """URDF text of the arm (:func:`arm_description` written by the core emitter).
+
+    Args:
+        dims: the arm
+        mesh_folder: the meshes' folder, relative to the URDF
+        grasp: radius and height of the gripped cylinder that places frame ``grasp`` [m]
+        parts: the arm's parts, :func:`arm_parts` of ``dims`` (made if not given)
+    """
+    return emit_urdf(arm_description(dims, mesh_folder, grasp, parts))
 
 
 def write_arm_urdf(

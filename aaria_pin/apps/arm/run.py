@@ -4,12 +4,13 @@
 torques
 by RNEA with the cylinder on the hand while it is held and without it
 (:mod:`aaria_pin.apps.arm.payload`), the wrench of the pillar's mount, and the grasp point's pose.
-:func:`pick_place_record` turns the run into the generic run record of URDF robots
-(:class:`aaria_pin.core.record.GenericRunRecord`: ``signals`` = time and joint values, no IMU;
-``q``, ``qd``, ``qdd``, ``tau``; ``base_wrench`` = the mount's; ``tool_pose`` = the grasp point;
-the URDF text, whose frame ``grasp`` is placed for the run's cylinder, so it equals ``tool_pose``),
-written by :func:`aaria_pin.files.runfile.write_generic_run`, so ``aaria info`` reads it. The task's
-settings, phases and held interval are file attributes.
+:func:`pick_place_record` turns the run into the one run record
+(:class:`aaria_pin.core.record.RunRecord`, kind ``"pick-place"``: ``q``, ``qd``, ``qdd``,
+``tau``; a fixed base; ``base_wrench`` = the mount's; ``tool_pose`` = the grasp point; no IMU;
+the URDF text, whose frame ``grasp`` is placed for the run's cylinder, so it equals
+``tool_pose``), written by :func:`aaria_pin.files.runfile.write_run` as any run file (``.h5`` or
+``.mat``). The task's settings (the cylinder, the place, the preset, the rate, the IK branch:
+what re-makes it), phases and held interval are attributes.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ from aaria_pin.apps.arm.payload import HAND_JOINT, payload_inertia, task_torques
 from aaria_pin.apps.arm.preset import ARM_JOINTS, arm_joints, arm_parts, arm_urdf, build_arm_model
 from aaria_pin.apps.arm.task import PHASES, Cylinder, JointPath, plan_pick_place
 from aaria_pin.core.model import GRAVITY, RobotModel
-from aaria_pin.core.record import GenericRunRecord
+from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import JointTrajectory
 
@@ -40,6 +41,7 @@ __all__ = [
     "effort_excess",
     "pick_place_record",
     "simulate_pick_place",
+    "simulate_pick_place_from_record",
     "write_pick_place_run",
 ]
 
@@ -72,6 +74,7 @@ class PickPlaceRun:
         robot: the arm's model on a moving base resting at the world origin (its URDF text,
             ``robot.urdf``, places frame ``grasp`` for the cylinder)
         parts: the arm's part meshes (:func:`aaria_pin.apps.arm.preset.arm_parts`)
+        rate: the sample rate asked for [Hz]
     """
 
     path: JointPath
@@ -86,6 +89,7 @@ class PickPlaceRun:
     branch: str
     robot: RobotModel
     parts: Mapping[str, MeshPart]
+    rate: float = 0.0
 
     def link_poses(self, frames: list[str], samples: ArrayLike | None = None) -> Array:
         """World poses (S, F, 4, 4) [m] of model frames at samples (default: every one)."""
@@ -152,24 +156,31 @@ def simulate_pick_place(
         branch,
         robot,
         parts,
+        float(rate),
     )
 
 
-def pick_place_record(run: PickPlaceRun) -> GenericRunRecord:
-    """The run as a generic run record (module docstring)."""
+PICK_PLACE_ROBOT = "pick-place-arm"
+"""The ``robot`` attribute of a pick-and-place run."""
+
+
+def pick_place_record(run: PickPlaceRun) -> RunRecord:
+    """The run as the one run record (module docstring), kind ``"pick-place"``."""
     path = run.path
     n = path.time.size
     c = run.cylinder
     attributes: dict[str, Any] = {
-        "robot": "pick_place_arm",
+        "kind": "pick-place",
+        "robot": PICK_PLACE_ROBOT,
         "source": run.preset,
+        "preset": run.preset,
         "task": "pick-place",
         "moving_base": False,
         "base_frame": "pillar",
         "tool_frame": "grasp",
         "base_wrench_frame": "world axes, about the pillar's origin on the floor",
         "payload_joint": HAND_JOINT,
-        "rate": float(1.0 / (path.time[1] - path.time[0])) if n > 1 else 0.0,
+        "rate": run.rate or (float(1.0 / (path.time[1] - path.time[0])) if n > 1 else 0.0),
         "duration": float(path.time[-1]),
         "cylinder": {"x": c.x, "y": c.y, "radius": c.radius, "height": c.height, "mass": c.mass},
         "place": list(run.place),
@@ -184,8 +195,8 @@ def pick_place_record(run: PickPlaceRun) -> GenericRunRecord:
         "units": _UNITS,
         "version": __version__,
     }
-    return GenericRunRecord(
-        signals=np.column_stack([path.time, path.q]),
+    return RunRecord(
+        time=path.time,
         joint_names=ARM_JOINTS,
         q=np.ascontiguousarray(path.q),
         qd=np.ascontiguousarray(path.qd),
@@ -194,10 +205,45 @@ def pick_place_record(run: PickPlaceRun) -> GenericRunRecord:
         base_pose=np.broadcast_to(np.eye(4), (n, 4, 4)).copy(),
         base_wrench=np.ascontiguousarray(run.base_wrench),
         tool_pose=run.tool_pose,
+        imu=np.zeros((n, 0, 6)),
         imu_mounts=(),
         urdf=run.robot.urdf or "",
         attributes=attributes,
     )
+
+
+def simulate_pick_place_from_record(stored: RunRecord, **overrides: Any) -> PickPlaceRun:
+    """Re-make a pick-and-place run from the settings its record holds.
+
+    The cylinder, the place, the arm preset, the rate and the IK branch come from the record's
+    attributes; keyword arguments of :func:`simulate_pick_place` given here replace them
+    (``cylinder`` and ``place`` too).
+
+    Args:
+        stored: a pick-and-place run's record (e.g. read from its run file)
+        **overrides: arguments of :func:`simulate_pick_place`
+
+    Returns:
+        The run; with no overrides it equals the stored one.
+    """
+    attributes = stored.attributes
+    c = attributes["cylinder"]
+    settings: dict[str, Any] = {
+        "cylinder": Cylinder(
+            float(c["x"]),
+            float(c["y"]),
+            radius=float(c["radius"]),
+            height=float(c["height"]),
+            mass=float(c["mass"]),
+        ),
+        "place": tuple(float(v) for v in attributes["place"]),
+        "preset": str(attributes.get("preset") or attributes.get("source") or "pick-place-arm"),
+        "rate": float(attributes["rate"]),
+        "branch": str(attributes.get("branch", "nearest")),
+    }
+    settings.update(overrides)
+    cylinder, place = settings.pop("cylinder"), settings.pop("place")
+    return simulate_pick_place(cylinder, place, **settings)
 
 
 def cylinder_track(
@@ -242,7 +288,11 @@ def effort_excess(run: PickPlaceRun) -> list[tuple[str, float, float]]:
 
 
 def write_pick_place_run(path: str | os.PathLike[str], run: PickPlaceRun) -> Path:
-    """Write the run as a generic run file (``.h5``), atomically."""
-    from aaria_pin.files.runfile import write_generic_run
+    """Write the run as a run file (``.h5``, ``.hdf5`` or ``.mat``), atomically.
 
-    return write_generic_run(path, pick_place_record(run))
+    Raises:
+        OutputFileError: as :func:`aaria_pin.files.runfile.write_run`.
+    """
+    from aaria_pin.files.runfile import write_run
+
+    return write_run(path, pick_place_record(run))

@@ -30,7 +30,6 @@ __all__ = [
     "WRIST_D3",
     "Workspace",
     "WristSolutions",
-    "plot_workspace",
     "wrist_fk",
     "wrist_ik",
     "wrist_ik_batch",
@@ -207,28 +206,3 @@ def wrist_workspace(
     if bounds[1, 0] >= 0 and bounds[1, 1] <= np.pi:
         exact = float(span1 * (np.cos(bounds[1, 0]) - np.cos(bounds[1, 1])))
     return Workspace(points, (float(radii.min()), float(radii.max())), solid_angle, exact)
-
-
-def plot_workspace(
-    workspace: Workspace, path: str, title: str = "spherical wrist workspace"
-) -> None:
-    """A 3D scatter of the workspace's tool points, written as a PNG (needs matplotlib)."""
-    from aaria_pin.viz._plotting import pyplot
-
-    plt = pyplot()
-    from aaria_pin.files.io import atomic_output
-
-    shown = workspace.points[:: max(1, len(workspace.points) // 20_000)]
-    figure = plt.figure(figsize=(6, 6), dpi=100)
-    axes = figure.add_subplot(projection="3d")
-    axes.scatter(*shown.T, s=0.5, c=shown[:, 2], cmap="viridis")
-    axes.set_xlabel("x [m]")
-    axes.set_ylabel("y [m]")
-    axes.set_zlabel("z [m]")
-    axes.set_box_aspect((1, 1, 1))
-    axes.set_title(
-        f"{title}\nradius {workspace.radius[1] * 1000:.1f} mm, {workspace.solid_angle:.3f} sr"
-    )
-    with atomic_output(path) as temporary:
-        figure.savefig(temporary, format="png")
-    plt.close(figure)

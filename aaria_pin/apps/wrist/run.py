@@ -6,6 +6,12 @@ each part's CAD frame taken as its link's frame (the report gives no other place
 mass in mm and principal moments of inertia in kg·mm² as listed. Every joint waits ``start``
 seconds, then moves to its target (the report's ramp at constant speed, or a trapezoid with an
 acceleration limit, for torques), then holds.
+
+The run is computed by the pipeline every robot shares (:func:`~aaria_pin.core.run.simulate_series`)
+on a fixed mount (a free-flyer held at rest, so the base wrench is the mount's load), with the
+DH robot's IMUs (base, tool, two per link; noise-free), and becomes the one
+:class:`~aaria_pin.core.record.RunRecord` (:func:`wrist_record`, kind ``"wrist"``), written by
+:func:`write_wrist_run` as any run file.
 """
 
 from __future__ import annotations
@@ -13,25 +19,40 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from aaria_pin import __version__
 from aaria_pin.aaria.dh_robot import DHRobot, build_dh_robot
 from aaria_pin.aaria.presets import get_preset
+from aaria_pin.aaria.simulate import dh_imu_mounts
+from aaria_pin.core.imu_noise import ADIS16485
 from aaria_pin.core.profiles import ramp_profile, trapezoid_profile
+from aaria_pin.core.record import ImuMount, RunRecord
+from aaria_pin.core.run import sampling_attributes, simulate_series
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory, sample_times
-from aaria_pin.errors import OutputFileError, ParameterError
-from aaria_pin.files.io import atomic_output
+from aaria_pin.errors import ParameterError
 
-__all__ = ["WristRun", "report_wrist", "simulate_wrist", "write_wrist_run"]
+__all__ = [
+    "WRIST_ROBOT",
+    "WristRun",
+    "report_wrist",
+    "simulate_wrist",
+    "simulate_wrist_from_record",
+    "wrist_record",
+    "write_wrist_run",
+]
+
+WRIST_ROBOT = "spherical-wrist"
+"""The wrist's preset name (the ``robot`` attribute of its runs)."""
 
 
 def report_wrist() -> DHRobot:
     """The ``spherical-wrist`` preset: Table 1 with the report's Appendix B parts."""
-    preset = get_preset("spherical-wrist")
+    preset = get_preset(WRIST_ROBOT)
     return build_dh_robot(
         preset.table,
         preset.convention,
@@ -44,9 +65,26 @@ def report_wrist() -> DHRobot:
 class WristRun:
     """A wrist run and its settings.
 
-    Attributes are the time [s], q, qd, qdd [rad, rad/s, rad/s²] and tau [N·m] (T × 3), the tool
-    pose (T × 4 × 4, base frame), the targets [rad], speed [rad/s], acceleration [rad/s²] and the
-    profile's name.
+    Attributes:
+        time: sample times, T [s]
+        q: joint values, T × 3 [rad]
+        qd: joint velocities, T × 3 [rad/s]
+        qdd: joint accelerations, T × 3 [rad/s²]
+        tau: joint torques, T × 3 [N·m]
+        tool_pose: the tool's pose, T × 4 × 4 (base frame = world) [m]
+        targets: the joint targets, 3 [rad]
+        speed: joint speed [rad/s]
+        acceleration: acceleration limit of the trapezoid [rad/s²]
+        profile: the profile's name, ``"trapezoid"`` or ``"ramp"``
+        start: when the joints start moving [s]
+        rate: sample rate [Hz]
+        duration: run length [s]
+        base_wrench: the wrench the fixed mount applies, T × 6 ``[fx fy fz mx my mz]`` in world
+            axes about the base origin [N, N·m]
+        imu: noise-free IMU signals ``[wx wy wz fx fy fz]``, T × S × 6 [rad/s, m/s²]
+        imu_mounts: the IMUs (the DH robot's slots: base, tool, two per link)
+        urdf: the URDF text of the wrist
+        tool_frame: the tool frame's name
     """
 
     time: Array
@@ -59,6 +97,14 @@ class WristRun:
     speed: float
     acceleration: float
     profile: str
+    start: float
+    rate: float
+    duration: float
+    base_wrench: Array
+    imu: Array
+    imu_mounts: tuple[ImuMount, ...]
+    urdf: str
+    tool_frame: str
 
 
 def simulate_wrist(
@@ -85,17 +131,27 @@ def simulate_wrist(
 
     Returns:
         The run.
-    """
-    from aaria_pin.core.dynamics import inverse_dynamics
-    from aaria_pin.core.kinematics import frame_poses
 
+    Raises:
+        ParameterError: targets that are not three finite angles, a speed or acceleration
+            that is not positive, or an unknown profile.
+    """
     goal = np.asarray(targets, dtype=float)
     if goal.shape != (3,) or not np.all(np.isfinite(goal)):
-        raise ParameterError(f"targets of shape {goal.shape}; allowed: three finite angles")
+        raise ParameterError(
+            f"targets of shape {goal.shape}; allowed: three finite angles",
+            parameter="targets",
+            value=goal.tolist(),
+            allowed="three finite angles",
+        )
     if not (np.isfinite(speed) and speed > 0 and np.isfinite(acceleration) and acceleration > 0):
         raise ParameterError(
-            f"speed {speed!r} rad/s, acceleration {acceleration!r} rad/s^2; allowed: both > 0"
+            f"speed {speed!r} rad/s, acceleration {acceleration!r} rad/s^2; allowed: both > 0",
+            parameter="speed" if not (np.isfinite(speed) and speed > 0) else "acceleration",
+            allowed="> 0",
         )
+    if profile not in ("trapezoid", "ramp"):
+        raise ParameterError(parameter="profile", value=profile, allowed="trapezoid, ramp")
     if duration is None:
         duration = start + float(np.max(np.abs(goal))) / speed + speed / acceleration + 1.0
     time = sample_times(duration, rate)
@@ -106,38 +162,115 @@ def simulate_wrist(
         for g in goal
     ]
     q, qd, qdd = (np.column_stack([c[n] for c in columns]) for n in range(3))
-    robot = report_wrist().model()
+    wrist = report_wrist()
+    robot = wrist.model(moving_base=True)  # a free-flyer held at rest: the mount's load
     trajectory = JointTrajectory(time, q, qd, qdd)
-    base = BaseMotion.resting(time.size)
-    tau, _ = inverse_dynamics(robot, base, trajectory)
-    pose = frame_poses(robot, base, trajectory, [robot.tool_frame])[:, 0]
-    return WristRun(time, q, qd, qdd, tau, pose, goal, float(speed), float(acceleration), profile)
+    present = [k for k, slot in enumerate(wrist.imu_slots) if slot.parent is not None]
+    series = simulate_series(
+        robot,
+        BaseMotion.resting(time.size),
+        trajectory,
+        imu_frames=[wrist.imu_slots[k].name for k in present],
+        imu_slots=present,
+        n_slots=len(wrist.imu_slots),
+        rate=rate,
+        noise=False,
+    )
+    return WristRun(
+        time,
+        q,
+        qd,
+        qdd,
+        series.tau,
+        series.tool_pose,
+        goal,
+        float(speed),
+        float(acceleration),
+        profile,
+        float(start),
+        float(rate),
+        float(duration),
+        series.base_wrench,
+        series.imu,
+        dh_imu_mounts(wrist),
+        wrist.urdf,
+        robot.tool_frame,
+    )
 
 
-def write_wrist_run(path: str | os.PathLike[str], run: WristRun) -> Path:
-    """Write a wrist run to ``.h5`` (h5py) or ``.mat`` (scipy), atomically."""
-    final = Path(path)
-    arrays = {name: getattr(run, name) for name in ("time", "q", "qd", "qdd", "tau", "tool_pose")}
-    attributes = {
-        "targets_rad": run.targets,
+def wrist_record(run: WristRun) -> RunRecord:
+    """The wrist run as the one run record (kind ``"wrist"``, fixed base, the targets a table).
+
+    The settings that re-make it (:func:`simulate_wrist_from_record`) are the table ``targets``
+    [rad] and the attributes ``speed_rad_s``, ``acceleration_rad_s2``, ``profile``, ``start_s``,
+    ``rate`` and ``duration``.
+    """
+    samples = run.time.size
+    attributes: dict[str, Any] = {
+        "kind": "wrist",
+        "robot": WRIST_ROBOT,
+        **sampling_attributes(run.rate, run.duration, 0, False, ADIS16485),
+        "moving_base": False,
+        "base_frame": "base",
+        "tool_frame": run.tool_frame,
         "speed_rad_s": run.speed,
         "acceleration_rad_s2": run.acceleration,
         "profile": run.profile,
+        "start_s": run.start,
+        "version": __version__,
     }
-    suffix = final.suffix.lower()
-    if suffix not in (".h5", ".hdf5", ".mat"):
-        raise OutputFileError(f"{final}: unknown type {suffix!r}; allowed: .h5, .hdf5, .mat")
-    with atomic_output(final) as temporary:
-        if suffix == ".mat":
-            from scipy.io import savemat
+    return RunRecord(
+        time=run.time,
+        joint_names=("joint1", "joint2", "joint3"),
+        q=run.q,
+        qd=run.qd,
+        qdd=run.qdd,
+        tau=run.tau,
+        base_pose=np.broadcast_to(np.eye(4), (samples, 4, 4)).copy(),
+        base_wrench=run.base_wrench,
+        tool_pose=run.tool_pose,
+        imu=run.imu,
+        imu_mounts=run.imu_mounts,
+        urdf=run.urdf,
+        tables={"targets": np.asarray(run.targets, dtype=float).copy()},
+        attributes=attributes,
+    )
 
-            savemat(temporary, {**arrays, **attributes}, do_compression=True)
-        else:
-            import h5py
 
-            with h5py.File(temporary, "w") as handle:
-                for name, array in arrays.items():
-                    handle.create_dataset(name, data=array)
-                for key, value in attributes.items():
-                    handle.attrs[key] = value
-    return final
+def simulate_wrist_from_record(stored: RunRecord, **overrides: Any) -> WristRun:
+    """Re-make a wrist run from the settings its record holds (see :func:`wrist_record`).
+
+    Args:
+        stored: a wrist run's record (e.g. read from its run file)
+        **overrides: keyword arguments of :func:`simulate_wrist` that replace the stored ones
+
+    Returns:
+        The run; with no overrides it equals the stored one.
+    """
+    attributes = stored.attributes
+    targets = stored.tables.get("targets", attributes.get("targets_rad"))
+    settings: dict[str, Any] = {
+        "speed": float(attributes.get("speed_rad_s", np.radians(40.0))),
+        "acceleration": float(attributes.get("acceleration_rad_s2", np.radians(80.0))),
+        "profile": str(attributes.get("profile", "trapezoid")),
+        "start": float(attributes.get("start_s", 2.0)),
+        "duration": float(attributes["duration"])
+        if "duration" in attributes
+        else float(stored.time[-1]),
+        "rate": float(attributes["rate"])
+        if "rate" in attributes
+        else float(1.0 / (stored.time[1] - stored.time[0])),
+    }
+    settings.update(overrides)
+    return simulate_wrist(np.asarray(targets, dtype=float).reshape(-1), **settings)
+
+
+def write_wrist_run(path: str | os.PathLike[str], run: WristRun) -> Path:
+    """Write a wrist run as a run file (``.h5``, ``.hdf5`` or ``.mat``), atomically.
+
+    Raises:
+        OutputFileError: as :func:`aaria_pin.files.runfile.write_run`.
+    """
+    from aaria_pin.files.runfile import write_run
+
+    return write_run(path, wrist_record(run))

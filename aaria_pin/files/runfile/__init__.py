@@ -1,27 +1,41 @@
-"""Writing and reading the run file of one simulation run (a :class:`RunRecord`).
+"""The run file: the one file of one :class:`~aaria_pin.core.record.RunRecord`, for every robot.
 
-Two formats, chosen by the file suffix:
+Two formats, chosen by the file suffix, holding the same names and shapes (T samples, n joints,
+S IMUs; the record's module docstring gives units and frames):
 
 ``.h5`` / ``.hdf5`` (HDF5, through h5py)
-    One float64 dataset per array at the file root, named and shaped as in the record:
-    ``senSen`` T × 91, ``senSenDH`` 8 × 5, ``senSenJ`` 8 × 5, ``senSenB`` 2 × 4 or 6 × 4, ``q``,
-    ``qd``, ``qdd``, ``tau``, ``base_wrench`` T × 6, ``tool_pose`` T × 4 × 4, ``imu_mount``
-    14 × 4 × 4. Every dataset has a ``units`` attribute (a string); ``senSen`` also has
-    ``columns``, its 91 column names as an array of variable-length UTF-8 strings (read by h5py
-    and by MATLAB's ``h5readatt``). By default every dataset is stored contiguous and
-    uncompressed: writing is then bound by the disk, not the CPU (a 200,000-sample run writes
-    in about 0.4 s uncompressed and 4.8 s with gzip). With ``compression="gzip"`` (level 1 after
-    the shuffle filter; the one filter every HDF5 build has, MATLAB included, about 30 % smaller)
-    or ``"lzf"`` (h5py-only, faster than gzip) the time series (the datasets with T rows) are
+    Float64 datasets at the root: ``time`` (T), ``q``, ``qd``, ``qdd``, ``tau`` (T × n),
+    ``base_pose`` (T × 4 × 4), ``base_wrench`` (T × 6), ``tool_pose`` (T × 4 × 4), ``imu``
+    (T × S × 6), ``imu_mount`` (S × 4 × 4), then each input table under its name (e.g.
+    ``senSenDH``, ``senSenJ``, ``senSenB``, ``joint_table``, ``base_table``; a table of fewer
+    than two axes is stored, and reads back, as a 1 × k row, as in MATLAB); each has a ``units``
+    attribute (a string). Each column view (e.g. the Aaria ``senSen``, T × 91) is an HDF5
+    **virtual dataset** over those series in the same file (source file ``"."``, so it stays
+    valid when the file is renamed or copied; h5py and MATLAB's ``h5read`` read it as a plain
+    T × C array), with ``units`` and ``columns``, its column names as variable-length UTF-8
+    strings. ``joint_names`` (n), ``imu_names`` and ``imu_parents`` (S, ``""`` for an empty
+    slot) are UTF-8 string datasets and ``urdf`` a UTF-8 string dataset (``""`` if none).
+    By default every dataset is contiguous and uncompressed (writing is then bound by the disk:
+    a 200,000-sample run writes in about 0.4 s uncompressed, 4.8 s with gzip). With
+    ``compression="gzip"`` (level 1 after the shuffle filter, the one filter every HDF5 build
+    has, MATLAB included; about 30 % smaller) or ``"lzf"`` (h5py only, faster) the series are
     chunked along time, up to 4096 rows and at most 1 MiB per chunk.
-    The root group carries ``format = "aaria_pin run"``, ``format_version = 1`` and one
-    attribute per item of ``RunRecord.attributes`` (insertion order is kept).
+    The root group carries ``format = "aaria_pin run"``, ``format_version = 2`` and one
+    attribute per item of ``RunRecord.attributes`` (insertion order kept; ``kind``, ``robot``,
+    ``rate``, ... are ordinary attributes).
 
 ``.mat`` (MATLAB v5 through ``scipy.io.savemat``, compressed)
-    The same arrays under the same names (``tool_pose`` and ``imu_mount`` are 3-D arrays in
-    MATLAB), ``senSen_columns`` a 1 × 91 cell array of the column names, and every attribute
-    as a variable ``attr_<name>``, including ``attr_format`` and ``attr_format_version``. A v5
-    file holds at most 2 GiB per array; write HDF5 for longer runs.
+    The same arrays under the same names (3-D arrays stay 3-D, ``time`` is 1 × T), each view
+    materialised as a real T × C array with its column names as the 1 × C cell array
+    ``<view>_columns`` (``senSen_columns``), ``joint_names``, ``imu_names``, ``imu_parents`` as
+    1 × n / 1 × S cell arrays, ``urdf`` a char array, and every attribute as a variable
+    ``attr_<name>``, including ``attr_format`` and ``attr_format_version``. A v5 file holds at
+    most 2 GiB per array; write HDF5 for longer runs.
+
+Views are read back from their column names (both formats): ``time`` → ``time``; ``q<j>``
+(1-based) or ``q:<joint>`` → a column of ``q`` (also ``qd``, ``qdd``, ``tau``);
+``<imu>_<signal>`` → one signal of one IMU. :func:`write_run` refuses a view whose column names
+do not read back as its columns. Any other numeric array of the file reads back as a table.
 
 Attribute encoding (both formats): a str, bool, int (64-bit) or float is stored as a plain
 scalar attribute (an HDF5 bool is an enum that MATLAB reads as ``'TRUE'``/``'FALSE'``); a list,
@@ -33,15 +47,21 @@ as a JSON string under its name plus the suffix ``_json``, e.g. ``noise_paramete
 when read back (so tuples come back as lists and dict keys as strings). The names ``format``
 and ``format_version`` are reserved; in a ``.mat`` file ``attr_<name>`` must be a MATLAB
 variable name (letters, digits and ``_``, at most 63 characters).
+
+:func:`read_run` also reads every run file aaria_pin 0.1.0 wrote (:mod:`._legacy`: Aaria DH
+``.h5``/``.mat``, URDF robot and pick-place ``.h5``, wrist ``.h5``/``.mat``).
 """
 
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
-from aaria_pin.aaria.sensen import RunRecord
-from aaria_pin.core.record import GenericRunRecord
+import numpy as np
+
+from aaria_pin.core.record import RunRecord
 from aaria_pin.errors import InputFileError, OutputFileError
 from aaria_pin.files.io import atomic_output
 from aaria_pin.files.runfile._attributes import (
@@ -51,16 +71,36 @@ from aaria_pin.files.runfile._attributes import (
     _encode_attributes,
     _reason,
 )
-from aaria_pin.files.runfile._generic import (
-    GENERIC_FORMAT,
-    is_generic_hdf5,
-    read_generic_hdf5,
-    summarise_generic_hdf5,
-    write_generic_hdf5,
+from aaria_pin.files.runfile._hdf5 import (
+    _hdf5_errors,
+    _read_hdf5_v2,
+    _summarise_hdf5_v2,
+    _write_hdf5,
 )
-from aaria_pin.files.runfile._hdf5 import _read_hdf5, _summarise_hdf5, _write_hdf5
-from aaria_pin.files.runfile._mat import _check_mat_contents, _read_mat, _summarise_mat, _write_mat
-from aaria_pin.files.runfile._shapes import _checked_arrays, _fit_shapes
+from aaria_pin.files.runfile._layout import (
+    COLUMNS_SUFFIX,
+    NAME_DATASETS,
+    checked_arrays,
+    column_source,
+    view_from_columns,
+)
+from aaria_pin.files.runfile._legacy import (
+    GENERIC_FORMAT,
+    LAYOUT_V2,
+    hdf5_layout,
+    mat_layout,
+    read_legacy_hdf5,
+    read_legacy_mat,
+)
+from aaria_pin.files.runfile._mat import (
+    MAT_ATTRIBUTE_PREFIX,
+    _mat_contents,
+    _read_mat_v2,
+    _summarise_mat_v2,
+    _write_mat,
+    load_mat,
+    mat_variables,
+)
 
 __all__ = [
     "COMPRESSIONS",
@@ -69,12 +109,11 @@ __all__ = [
     "RUN_FORMAT",
     "RUN_FORMAT_VERSION",
     "RUN_SUFFIXES",
-    "generic_run_summary",
-    "is_generic_run_file",
-    "read_generic_run",
+    "column_source",
+    "is_run_file",
     "read_run",
     "run_file_summary",
-    "write_generic_run",
+    "view_from_columns",
     "write_run",
 ]
 
@@ -83,8 +122,6 @@ COMPRESSIONS = (None, "gzip", "lzf")
 
 RUN_SUFFIXES = (".h5", ".hdf5", ".mat")
 """File suffixes of run files (case-insensitive)."""
-
-_HDF5_SUFFIXES = (".h5", ".hdf5")
 
 
 def write_run(
@@ -106,8 +143,8 @@ def write_run(
         The path written.
 
     Raises:
-        OutputFileError: unknown suffix, missing folder, an array of the wrong shape, an
-            attribute that cannot be stored, or a write failure.
+        OutputFileError: unknown suffix, missing folder, an array of the wrong shape, a table or
+            view that cannot be stored, an attribute that cannot be stored, or a write failure.
     """
     final = Path(path)
     suffix = final.suffix.lower()
@@ -119,23 +156,22 @@ def write_run(
         raise OutputFileError(
             f"{final}: unknown run file type {suffix!r}; allowed: {', '.join(RUN_SUFFIXES)}"
         )
-    arrays = _checked_arrays(final, record)
+    arrays = checked_arrays(final, record)
     attributes = _encode_attributes(final, record.attributes)
-    if suffix == ".mat":
-        _check_mat_contents(final, arrays, attributes)
+    contents = _mat_contents(final, record, arrays, attributes) if suffix == ".mat" else None
     with atomic_output(final) as temporary:
         try:
-            if suffix == ".mat":
-                _write_mat(temporary, arrays, attributes)
+            if contents is not None:
+                _write_mat(temporary, contents)
             else:
-                _write_hdf5(temporary, arrays, attributes, compression)
+                _write_hdf5(temporary, record, arrays, attributes, compression)
         except OSError as exc:
             raise OutputFileError(f"{final}: cannot be written ({_reason(exc)})") from None
     return final
 
 
 def read_run(path: str | os.PathLike[str]) -> RunRecord:
-    """Read a run file written by :func:`write_run` (HDF5 or MATLAB v5 ``.mat``).
+    """Read any run file: written by :func:`write_run`, or by aaria_pin 0.1.0 (every kind).
 
     Shapes are restored from the known layout, so a ``.mat`` file re-saved by MATLAB (or a
     one-sample run) gives back the record's shapes.
@@ -152,109 +188,133 @@ def read_run(path: str | os.PathLike[str]) -> RunRecord:
     """
     file = _existing_run_file(path)
     if file.suffix.lower() == ".mat":
-        arrays, attributes = _read_mat(file)
-    else:
-        arrays, attributes = _read_hdf5(file)
-    return RunRecord(**arrays, attributes=attributes)
+        contents = load_mat(file)
+        layout = mat_layout(file, contents, contents)
+        if layout == LAYOUT_V2:
+            return _read_mat_v2(file, contents)
+        return read_legacy_mat(file, contents, layout)
+    import h5py
+
+    with _hdf5_errors(file), h5py.File(file, "r") as handle:
+        layout = hdf5_layout(file, handle)
+        if layout == LAYOUT_V2:
+            return _read_hdf5_v2(file, handle)
+        return read_legacy_hdf5(file, handle, layout)
 
 
-def run_file_summary(path: str | os.PathLike[str]) -> dict[str, object]:
-    """Describe a run file without reading its arrays (for ``aaria info``).
+def run_file_summary(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """Describe a run file (for ``aaria info``); a version 2 file's arrays are not read.
 
     Args:
-        path: the run file
+        path: the run file (any kind :func:`read_run` reads)
 
     Returns:
-        ``path`` (str), ``format`` (``"HDF5"`` or ``"MATLAB v5"``), ``format_version`` (int),
-        ``samples`` (T), ``arrays`` (name → shape tuple, as :func:`read_run` gives them) and
-        ``attributes`` (decoded as by :func:`read_run`).
+        ``path`` (str), ``format`` (``"HDF5"`` or ``"MATLAB v5"``), ``format_version`` (int; 1
+        for every 0.1.0 file), ``layout`` (``"aaria_pin run"`` or the 0.1.0 layout, e.g.
+        ``"0.1.0 wrist run"``), ``kind``, ``robot``, ``samples`` (T), ``rate`` [Hz] (the
+        attribute, else from the first two sample times; None for one sample), ``joints`` and
+        ``imus`` (names), ``arrays`` (name → shape, as :func:`read_run` gives them: the series,
+        ``imu_mount`` and the tables), ``views`` (name → shape) and ``attributes`` (decoded as
+        by :func:`read_run`).
 
     Raises:
         InputFileError: as :func:`read_run`.
     """
     file = _existing_run_file(path)
+    time_head: Any
     if file.suffix.lower() == ".mat":
         kind = "MATLAB v5"
-        shapes, attributes, version = _summarise_mat(file)
+        variables = mat_variables(file)
+        small = [
+            name
+            for name in variables
+            if name.startswith(MAT_ATTRIBUTE_PREFIX)
+            or name in NAME_DATASETS
+            or name.endswith(COLUMNS_SUFFIX)
+        ]
+        contents = load_mat(file, small) if small else {}
+        layout = mat_layout(file, contents, variables)
+        if layout == LAYOUT_V2:
+            parts = _summarise_mat_v2(file, variables, contents)
+            time_head = (
+                load_mat(file, ["time"])["time"] if "rate" not in parts["attributes"] else None
+            )
+        else:
+            parts = _record_parts(read_legacy_mat(file, load_mat(file), layout))
+            time_head = parts.pop("time")
     else:
+        import h5py
+
         kind = "HDF5"
-        shapes, attributes, version = _summarise_hdf5(file)
-    fitted = _fit_shapes(file, shapes)
+        with _hdf5_errors(file), h5py.File(file, "r") as handle:
+            layout = hdf5_layout(file, handle)
+            if layout == LAYOUT_V2:
+                parts = _summarise_hdf5_v2(file, handle)
+                time_head = handle["time"][:2] if handle["time"].ndim == 1 else None
+            else:
+                parts = _record_parts(read_legacy_hdf5(file, handle, layout))
+                time_head = parts.pop("time")
+    attributes = parts["attributes"]
     return {
         "path": str(file),
         "format": kind,
-        "format_version": version,
-        "samples": fitted["senSen"][0],
-        "arrays": fitted,
-        "attributes": attributes,
+        "format_version": RUN_FORMAT_VERSION if layout == LAYOUT_V2 else 1,
+        "layout": layout,
+        "kind": attributes.get("kind"),
+        "robot": attributes.get("robot"),
+        "samples": parts["arrays"]["time"][0],
+        "rate": _rate(attributes, time_head),
+        **parts,
     }
 
 
-def write_generic_run(path: str | os.PathLike[str], record: GenericRunRecord) -> Path:
-    """Write the run of a URDF robot to an HDF5 file (layout: :mod:`._generic`).
+def is_run_file(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` is an existing run file :func:`read_run` reads (any version or kind).
 
-    Written beside its destination and renamed when complete.
-
-    Args:
-        path: the run file, ``.h5`` or ``.hdf5``
-        record: the run to write
-
-    Returns:
-        The path written.
-
-    Raises:
-        OutputFileError: another suffix, a missing folder, an attribute that cannot be stored,
-            or a write failure.
+    Only the file's marks and names are looked at, not its arrays; a data set is not a run file.
     """
-    final = Path(path)
-    if final.suffix.lower() not in _HDF5_SUFFIXES:
-        raise OutputFileError(
-            f"{final}: a URDF robot's run is written as HDF5; allowed suffixes: "
-            f"{', '.join(_HDF5_SUFFIXES)}"
-        )
-    with atomic_output(final) as temporary:
-        write_generic_hdf5(temporary, final, record)
-    return final
+    try:
+        file = _existing_run_file(path)
+        if file.suffix.lower() == ".mat":
+            variables = mat_variables(file)
+            attribute_names = [n for n in variables if n.startswith(MAT_ATTRIBUTE_PREFIX)]
+            mat_layout(file, load_mat(file, attribute_names) if attribute_names else {}, variables)
+            return True
+        import h5py
+
+        with _hdf5_errors(file), h5py.File(file, "r") as handle:
+            hdf5_layout(file, handle)
+        return True
+    except InputFileError:
+        return False
 
 
-def read_generic_run(path: str | os.PathLike[str]) -> GenericRunRecord:
-    """Read a generic run file written by :func:`write_generic_run`.
-
-    Raises:
-        InputFileError: missing, not HDF5, not a generic run file, or damaged.
-    """
-    file = _existing_run_file(path)
-    if file.suffix.lower() not in _HDF5_SUFFIXES:
-        raise InputFileError(f"{file}: a generic run file is HDF5 (.h5, .hdf5)")
-    return read_generic_hdf5(file)
+# --- helpers -------------------------------------------------------------------------------------
 
 
-def generic_run_summary(path: str | os.PathLike[str]) -> dict[str, object]:
-    """Describe a generic run file (for ``aaria info``), as :func:`run_file_summary` does.
-
-    Besides the keys of :func:`run_file_summary` it gives ``columns`` (of ``signals``),
-    ``joints`` and ``imus`` (names).
-    """
-    file = _existing_run_file(path)
-    if file.suffix.lower() not in _HDF5_SUFFIXES:
-        raise InputFileError(f"{file}: a generic run file is HDF5 (.h5, .hdf5)")
-    summary = summarise_generic_hdf5(file)
+def _record_parts(record: RunRecord) -> dict[str, Any]:
+    """The summary parts of a record read in full (a 0.1.0 file), plus its first sample times."""
     return {
-        "path": str(file),
-        "format": "HDF5, generic layout",
-        "format_version": 1,
-        "samples": summary["arrays"]["signals"][0],
-        **summary,
+        "joints": list(record.joint_names),
+        "imus": list(record.imu_names),
+        "arrays": {name: tuple(np.shape(array)) for name, array in record.arrays().items()},
+        "views": {
+            name: (record.n_samples, len(view.columns)) for name, view in record.views.items()
+        },
+        "attributes": record.attributes,
+        "time": record.time[:2],
     }
 
 
-def is_generic_run_file(path: str | os.PathLike[str]) -> bool:
-    """Whether ``path`` is an existing HDF5 file marked as a generic (URDF robot) run file."""
-    file = Path(path)
-    return file.suffix.lower() in _HDF5_SUFFIXES and file.is_file() and is_generic_hdf5(file)
-
-
-# --- files ---------------------------------------------------------------------------------------
+def _rate(attributes: Mapping[str, Any], time_head: Any) -> float | None:
+    """The sample rate [Hz]: the ``rate`` attribute, else from the first two sample times."""
+    rate = attributes.get("rate")
+    if isinstance(rate, (int, float)) and not isinstance(rate, bool):
+        return float(rate)
+    head = np.ravel(np.asarray(time_head, dtype=float)) if time_head is not None else np.empty(0)
+    if head.size < 2 or not head[1] > head[0]:
+        return None
+    return float(round(1.0 / (head[1] - head[0]), 9))
 
 
 def _existing_run_file(path: str | os.PathLike[str]) -> Path:

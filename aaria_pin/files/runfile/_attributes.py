@@ -18,8 +18,8 @@ from aaria_pin.errors import InputFileError, OutputFileError
 RUN_FORMAT = "aaria_pin run"
 """Value of the ``format`` attribute that marks a run file."""
 
-RUN_FORMAT_VERSION = 1
-"""Layout version written, and the newest one read."""
+RUN_FORMAT_VERSION = 2
+"""Layout version written, and the newest one read (1: the 0.1.0 Aaria layout)."""
 
 JSON_SUFFIX = "_json"
 """Suffix of the name of an attribute stored as a JSON string."""

@@ -14,41 +14,37 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.aaria.sensen import SENSEN_COLUMNS, RunRecord
+from aaria_pin.core.record import SERIES, ColumnView, RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError
 from aaria_pin.files.runfile._attributes import (
     _RESERVED_ATTRIBUTES,
     RUN_FORMAT,
     RUN_FORMAT_VERSION,
-    _check_format,
     _decode_attribute,
     _reason,
 )
-from aaria_pin.files.runfile._shapes import _ROW_SHAPES, _fit_shapes
+from aaria_pin.files.runfile._layout import (
+    FIXED_NAMES,
+    NAME_DATASETS,
+    VIEW_UNITS,
+    check_names,
+    fitted,
+    layout_shapes,
+    read_view,
+    record_from_arrays,
+    units_of,
+)
 
 _CHUNK_ROWS = 4096
 _CHUNK_BYTES = 2**20
-
-_UNITS = {
-    "senSen": "see columns: s, rad or m, rad/s, m/s^2",
-    "senSenDH": "columns: alpha rad, a m, theta rad, d m, "
-    "link type (0 empty, 1 revolute, 2 prismatic)",
-    "senSenJ": "columns: amplitude rad, prismatic amplitude m, bias rad or m, frequency rad/s, "
-    "phase rad",
-    "senSenB": "columns: amplitude m or rad, bias m or rad, frequency rad/s, phase rad",
-    "q": "rad or m",
-    "qd": "rad/s or m/s",
-    "qdd": "rad/s^2 or m/s^2",
-    "tau": "N*m or N",
-    "base_wrench": "N, N*m",
-    "tool_pose": "m",
-    "imu_mount": "m",
-}
+_SAME_FILE = "."
+"""The source file of a virtual dataset in the same file (valid after a rename or a copy)."""
 
 
 def _write_hdf5(
     file: Path,
+    record: RunRecord,
     arrays: Mapping[str, Array],
     attributes: list[tuple[str, Any]],
     compression: str | None = None,
@@ -56,14 +52,20 @@ def _write_hdf5(
     """Write the HDF5 layout (see the module docstring)."""
     import h5py
 
+    strings = h5py.string_dtype("utf-8")
+    names = {
+        "joint_names": list(record.joint_names),
+        "imu_names": list(record.imu_names),
+        "imu_parents": [mount.parent for mount in record.imu_mounts],
+    }
     with h5py.File(file, "w", track_order=True) as handle:
         handle.attrs["format"] = RUN_FORMAT
         handle.attrs["format_version"] = RUN_FORMAT_VERSION
         for key, value in attributes:
             handle.attrs[key] = value
         for name, data in arrays.items():
-            if compression is not None and name in _ROW_SHAPES and data.shape[0] > 0:
-                row_bytes = data[0].nbytes
+            if compression is not None and name in SERIES and data.size > 0:
+                row_bytes = max(1, data[0].nbytes)
                 rows = max(1, min(data.shape[0], _CHUNK_ROWS, _CHUNK_BYTES // row_bytes))
                 dataset = handle.create_dataset(
                     name,
@@ -75,10 +77,54 @@ def _write_hdf5(
                 )
             else:
                 dataset = handle.create_dataset(name, data=data)
-            dataset.attrs["units"] = _UNITS[name]
-        handle["senSen"].attrs.create(
-            "columns", list(SENSEN_COLUMNS), dtype=h5py.string_dtype("utf-8")
-        )
+            dataset.attrs["units"] = units_of(name)
+        for name, view in record.views.items():
+            dataset = handle.create_virtual_dataset(
+                name, _virtual_layout(h5py, view, arrays), fillvalue=0.0
+            )
+            dataset.attrs["units"] = view.units or VIEW_UNITS
+            dataset.attrs.create("columns", list(view.columns), dtype=strings)
+        for name, values in names.items():
+            handle.create_dataset(name, data=np.array(values, dtype=object), dtype=strings)
+        handle.create_dataset("urdf", data=record.urdf, dtype=strings)
+
+
+def _virtual_layout(h5py: Any, view: ColumnView, arrays: Mapping[str, Array]) -> Any:
+    """A view as an HDF5 virtual layout over the series of the same file.
+
+    Neighbouring columns taken from neighbouring entries of one series (``q1``…``q6``, the six
+    signals of an IMU) map as one block, so a 91-column ``senSen`` is 16 mappings.
+    """
+    samples = arrays["time"].shape[0]
+    layout = h5py.VirtualLayout(shape=(samples, len(view.columns)), dtype=np.float64)
+    if samples == 0:
+        return layout
+    blocks: list[list[Any]] = []  # [first column, array, index prefix, first k, last k + 1]
+    for column, source in enumerate(view.sources):
+        last = blocks[-1] if blocks else None
+        if (
+            last is not None
+            and source.index
+            and last[1] == source.array
+            and last[2] == source.index[:-1]
+            and last[0] + last[4] - last[3] == column
+            and last[4] == source.index[-1]
+        ):
+            last[4] += 1
+        elif source.index:
+            blocks.append([column, source.array, source.index[:-1], source.index[-1], 0])
+            blocks[-1][4] = source.index[-1] + 1
+        else:
+            blocks.append([column, source.array, (), None, None])
+    for column, array, prefix, first, stop in blocks:
+        vsource = h5py.VirtualSource(_SAME_FILE, array, shape=arrays[array].shape, dtype=np.float64)
+        if first is None:
+            layout[:, column] = vsource[:]
+        else:
+            layout[:, column : column + stop - first] = vsource[
+                (slice(None), *prefix, slice(first, stop))
+            ]
+    return layout
 
 
 @contextlib.contextmanager
@@ -94,45 +140,10 @@ def _hdf5_errors(file: Path) -> Iterator[None]:
         ) from None
 
 
-def _read_hdf5(file: Path) -> tuple[dict[str, Array], dict[str, Any]]:
-    """Arrays (fitted to the record shapes) and decoded attributes of an HDF5 run file."""
-    import h5py
-
-    with _hdf5_errors(file), h5py.File(file, "r") as handle:
-        _check_format(file, handle.attrs.get("format"), handle.attrs.get("format_version"))
-        datasets = _hdf5_datasets(file, handle, h5py.Dataset)
-        shapes = _fit_shapes(file, {name: item.shape for name, item in datasets.items()})
-        arrays = {
-            name: np.asarray(item[()], dtype=np.float64).reshape(shapes[name])
-            for name, item in datasets.items()
-        }
-        attributes = _hdf5_attributes(file, handle.attrs)
-    return arrays, attributes
-
-
-def _summarise_hdf5(file: Path) -> tuple[dict[str, tuple[int, ...]], dict[str, Any], int]:
-    """Stored shapes, decoded attributes and format version of an HDF5 run file."""
-    import h5py
-
-    with _hdf5_errors(file), h5py.File(file, "r") as handle:
-        version = _check_format(
-            file, handle.attrs.get("format"), handle.attrs.get("format_version")
-        )
-        datasets = _hdf5_datasets(file, handle, h5py.Dataset)
-        shapes = {name: tuple(item.shape) for name, item in datasets.items()}
-        attributes = _hdf5_attributes(file, handle.attrs)
-    return shapes, attributes, version
-
-
-def _hdf5_datasets(file: Path, handle: Any, dataset_type: type) -> dict[str, Any]:
-    """The record's datasets of an open HDF5 file; InputFileError if one is missing."""
-    datasets: dict[str, Any] = {}
-    for name in RunRecord.ARRAY_NAMES:
-        item = handle.get(name)
-        if not isinstance(item, dataset_type):
-            raise InputFileError(f"{file}: not an aaria_pin run file (no dataset {name!r})")
-        datasets[name] = item
-    return datasets
+def _strings(item: Any) -> list[str]:
+    """A string dataset or attribute value as a list of str."""
+    values = np.atleast_1d(item[()] if hasattr(item, "shape") and hasattr(item, "dtype") else item)
+    return [v.decode("utf-8") if isinstance(v, bytes) else str(v) for v in values]
 
 
 def _hdf5_attributes(file: Path, attrs: Any) -> dict[str, Any]:
@@ -143,3 +154,79 @@ def _hdf5_attributes(file: Path, attrs: Any) -> dict[str, Any]:
             key, value = _decode_attribute(file, name, attrs[name])
             attributes[key] = value
     return attributes
+
+
+def _v2_parts(
+    file: Path, handle: Any
+) -> tuple[dict[str, Any], dict[str, list[str]], dict[str, Any]]:
+    """The datasets of a version 2 file: the fixed arrays, the names and the others by name."""
+    import h5py
+
+    datasets: dict[str, Any] = {}
+    for name in FIXED_NAMES:
+        item = handle.get(name)
+        if not isinstance(item, h5py.Dataset):
+            raise InputFileError(f"{file}: not an aaria_pin run file (no dataset {name!r})")
+        datasets[name] = item
+    names = {name: _strings(datasets[name]) for name in NAME_DATASETS}
+    others = {
+        name: item
+        for name, item in handle.items()
+        if name not in FIXED_NAMES and isinstance(item, h5py.Dataset)
+    }
+    return datasets, names, others
+
+
+def _read_hdf5_v2(file: Path, handle: Any) -> RunRecord:
+    """The record of an open version 2 HDF5 run file."""
+    datasets, names, others = _v2_parts(file, handle)
+    samples = int(np.prod(datasets["time"].shape))
+    expected = layout_shapes(samples, len(names["joint_names"]), len(names["imu_names"]))
+    check_names(file, names, expected["imu_mount"][0])
+    arrays = {
+        name: fitted(file, name, datasets[name][()], shape) for name, shape in expected.items()
+    }
+    tables: dict[str, Array] = {}
+    views: dict[str, ColumnView] = {}
+    for name, item in others.items():
+        if "columns" in item.attrs:
+            view = read_view(
+                file,
+                name,
+                _strings(item.attrs["columns"]),
+                (names["joint_names"], names["imu_names"]),
+            )
+            units = item.attrs.get("units", VIEW_UNITS)
+            views[name] = ColumnView(
+                view.columns, view.sources, units.decode() if isinstance(units, bytes) else units
+            )
+        elif item.dtype.kind in "biuf":
+            tables[name] = np.asarray(item[()], dtype=np.float64)
+    return record_from_arrays(
+        file,
+        arrays,
+        names,
+        urdf=datasets["urdf"].asstr()[()],
+        tables=tables,
+        views=views,
+        attributes=_hdf5_attributes(file, handle.attrs),
+    )
+
+
+def _summarise_hdf5_v2(file: Path, handle: Any) -> dict[str, Any]:
+    """Names, shapes and attributes of an open version 2 HDF5 run file, arrays unread."""
+    datasets, names, others = _v2_parts(file, handle)
+    arrays = {name: tuple(datasets[name].shape) for name in (*SERIES, "imu_mount")}
+    views: dict[str, tuple[int, ...]] = {}
+    for name, item in others.items():
+        if "columns" in item.attrs:
+            views[name] = tuple(item.shape)
+        elif item.dtype.kind in "biuf":
+            arrays[name] = tuple(item.shape)
+    return {
+        "joints": names["joint_names"],
+        "imus": names["imu_names"],
+        "arrays": arrays,
+        "views": views,
+        "attributes": _hdf5_attributes(file, handle.attrs),
+    }

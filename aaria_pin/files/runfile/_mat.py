@@ -9,90 +9,124 @@ from __future__ import annotations
 
 import contextlib
 import re
-from collections.abc import Iterator, Mapping
+from collections.abc import Container, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from aaria_pin.aaria.sensen import SENSEN_COLUMNS, RunRecord
+from aaria_pin.core.record import SERIES, ColumnView, RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, OutputFileError
 from aaria_pin.files.runfile._attributes import (
     _RESERVED_ATTRIBUTES,
     RUN_FORMAT,
     RUN_FORMAT_VERSION,
-    _check_format,
     _decode_attribute,
     _reason,
 )
-from aaria_pin.files.runfile._shapes import _fit_shapes
+from aaria_pin.files.runfile._layout import (
+    COLUMNS_SUFFIX,
+    FIXED_NAMES,
+    NAME_DATASETS,
+    check_names,
+    fitted,
+    layout_shapes,
+    read_view,
+    record_from_arrays,
+)
 
-_MAT_ATTRIBUTE_PREFIX = "attr_"
-_MAT_COLUMNS_NAME = "senSen_columns"
+MAT_ATTRIBUTE_PREFIX = "attr_"
 _MAT_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,62}")
 _MAT_MAX_ARRAY_BYTES = 2**31 - 1
 
 
-def _check_mat_contents(
-    final: Path, arrays: Mapping[str, Array], attributes: list[tuple[str, Any]]
-) -> None:
-    """Raise OutputFileError for what a MATLAB v5 file cannot hold."""
+def _mat_contents(
+    final: Path,
+    record: RunRecord,
+    arrays: Mapping[str, Array],
+    attributes: list[tuple[str, Any]],
+) -> dict[str, Any]:
+    """The variables of the ``.mat`` layout; OutputFileError for what v5 cannot hold."""
     for key, _ in attributes:
-        if not _MAT_NAME.fullmatch(_MAT_ATTRIBUTE_PREFIX + key):
+        if not _MAT_NAME.fullmatch(MAT_ATTRIBUTE_PREFIX + key):
             raise OutputFileError(
                 f"{final}: attribute {key!r} cannot be a MATLAB variable "
-                f"{_MAT_ATTRIBUTE_PREFIX}{key}; allowed: letters, digits and _, at most "
-                f"{63 - len(_MAT_ATTRIBUTE_PREFIX)} characters"
+                f"{MAT_ATTRIBUTE_PREFIX}{key}; allowed: letters, digits and _, at most "
+                f"{63 - len(MAT_ATTRIBUTE_PREFIX)} characters"
             )
-    for name, data in arrays.items():
-        if data.nbytes > _MAT_MAX_ARRAY_BYTES:
+    contents: dict[str, Any] = dict(arrays)
+    for name, view in record.views.items():
+        contents[name] = view.materialise(arrays)
+        contents[name + COLUMNS_SUFFIX] = _cell(view.columns)
+    contents["joint_names"] = _cell(record.joint_names)
+    contents["imu_names"] = _cell(record.imu_names)
+    contents["imu_parents"] = _cell(mount.parent for mount in record.imu_mounts)
+    contents["urdf"] = record.urdf
+    for name, data in contents.items():
+        if isinstance(data, np.ndarray) and data.nbytes > _MAT_MAX_ARRAY_BYTES:
             raise OutputFileError(
                 f"{final}: array {name!r} is {data.nbytes / 2**30:.1f} GiB; a .mat (v5) file "
                 "holds at most 2 GiB per array, write .h5 instead"
             )
+    contents[MAT_ATTRIBUTE_PREFIX + "format"] = RUN_FORMAT
+    contents[MAT_ATTRIBUTE_PREFIX + "format_version"] = np.int64(RUN_FORMAT_VERSION)
+    for key, value in attributes:
+        contents[MAT_ATTRIBUTE_PREFIX + key] = value
+    return contents
 
 
-def _write_mat(file: Path, arrays: Mapping[str, Array], attributes: list[tuple[str, Any]]) -> None:
-    """Write the MATLAB v5 layout (see the module docstring)."""
+def _cell(values: Any) -> Array:
+    """Strings as a MATLAB 1 × n cell array."""
+    items = list(values)
+    cell = np.empty(len(items), dtype=object)
+    cell[:] = items
+    return cell
+
+
+def _write_mat(file: Path, contents: Mapping[str, Any]) -> None:
+    """Write the ``.mat`` variables (see the module docstring)."""
     from scipy.io import savemat
 
-    contents: dict[str, Any] = dict(arrays)
-    contents[_MAT_COLUMNS_NAME] = np.array(SENSEN_COLUMNS, dtype=object)
-    contents[_MAT_ATTRIBUTE_PREFIX + "format"] = RUN_FORMAT
-    contents[_MAT_ATTRIBUTE_PREFIX + "format_version"] = np.int64(RUN_FORMAT_VERSION)
-    for key, value in attributes:
-        contents[_MAT_ATTRIBUTE_PREFIX + key] = value
-    savemat(file, contents, appendmat=False, format="5", do_compression=True, oned_as="row")
+    savemat(file, dict(contents), appendmat=False, format="5", do_compression=True, oned_as="row")
 
 
 @contextlib.contextmanager
-def _mat_errors(file: Path, read_error: type[Exception]) -> Iterator[None]:
+def _mat_errors(file: Path) -> Iterator[None]:
     """Turn scipy's errors on reading ``file`` into one-line :class:`InputFileError`."""
+    from scipy.io.matlab import MatReadError
+
     try:
         yield
     except NotImplementedError:
         raise InputFileError(
             f"{file}: is a MATLAB v7.3 file; allowed: MATLAB v5 .mat run files or .h5"
         ) from None
-    except (read_error, OSError, ValueError, TypeError, EOFError) as exc:
+    except (MatReadError, OSError, ValueError, TypeError, EOFError) as exc:
         raise InputFileError(
             f"{file}: cannot be read as a .mat run file ({_reason(exc)})"
         ) from None
 
 
-def _load_mat(file: Path, names: list[str] | None = None) -> dict[str, Any]:
+def load_mat(file: Path, names: list[str] | None = None) -> dict[str, Any]:
     """Variables of a MATLAB v5 file, unsqueezed, in MATLAB's own classes."""
     from scipy.io import loadmat
-    from scipy.io.matlab import MatReadError
 
-    with _mat_errors(file, MatReadError):
+    with _mat_errors(file):
         return loadmat(
             file, appendmat=False, squeeze_me=False, mat_dtype=True, variable_names=names
         )
 
 
-def _mat_value(value: Any) -> Any:
+def mat_variables(file: Path) -> dict[str, tuple[int, ...]]:
+    """The names and shapes of a MATLAB v5 file's variables, without reading them."""
+    from scipy.io import whosmat
+
+    with _mat_errors(file):
+        return {name: tuple(shape) for name, shape, _ in whosmat(file, appendmat=False)}
+
+
+def mat_value(value: Any) -> Any:
     """A ``.mat`` attribute variable as a plain Python value (scalar, str or list)."""
     data = np.asarray(value)
     if data.dtype.kind == "U":
@@ -104,54 +138,100 @@ def _mat_value(value: Any) -> Any:
     return data.tolist()
 
 
-def _mat_attributes(file: Path, contents: Mapping[str, Any]) -> tuple[dict[str, Any], int]:
-    """Decoded record attributes and format version of loaded ``.mat`` variables."""
-    prefix = _MAT_ATTRIBUTE_PREFIX
+def mat_strings(value: Any) -> list[str]:
+    """A cell array (or char matrix) of strings as a list of str, in column order."""
+    data = np.asarray(value)
+    if data.dtype.kind == "U":
+        return [str(item) for item in data.ravel()] if data.ndim > 1 else [mat_value(data)]
+    return [str(mat_value(item)) for item in data.ravel(order="F")]
+
+
+def mat_format(contents: Mapping[str, Any]) -> tuple[Any, Any]:
+    """The stored ``format`` and ``format_version`` of loaded ``.mat`` variables (None: absent)."""
+    prefix = MAT_ATTRIBUTE_PREFIX
     fmt, version = (
-        _mat_value(contents[prefix + name]) if prefix + name in contents else None
+        mat_value(contents[prefix + name]) if prefix + name in contents else None
         for name in _RESERVED_ATTRIBUTES
     )
-    version = _check_format(file, fmt, version)
+    return fmt, version
+
+
+def mat_attributes(file: Path, contents: Mapping[str, Any]) -> dict[str, Any]:
+    """Decoded record attributes of loaded ``.mat`` variables (``attr_<name>``)."""
+    prefix = MAT_ATTRIBUTE_PREFIX
     attributes: dict[str, Any] = {}
     for name, value in contents.items():
         if not name.startswith(prefix) or name[len(prefix) :] in _RESERVED_ATTRIBUTES:
             continue
-        key, decoded = _decode_attribute(file, name[len(prefix) :], _mat_value(value))
+        key, decoded = _decode_attribute(file, name[len(prefix) :], mat_value(value))
         attributes[key] = decoded
-    return attributes, version
+    return attributes
 
 
-def _read_mat(file: Path) -> tuple[dict[str, Array], dict[str, Any]]:
-    """Arrays (fitted to the record shapes) and decoded attributes of a ``.mat`` run file."""
-    contents = _load_mat(file)
-    attributes, _ = _mat_attributes(file, contents)
-    stored: dict[str, Array] = {}
-    for name in RunRecord.ARRAY_NAMES:
-        if name not in contents:
+def _mat_names(
+    file: Path, contents: Mapping[str, Any], present: Container[str]
+) -> dict[str, list[str]]:
+    """The string lists of a version 2 ``.mat`` file; InputFileError if a variable is missing."""
+    for name in FIXED_NAMES:
+        if name not in present:
             raise InputFileError(f"{file}: not an aaria_pin run file (no array {name!r})")
-        try:
-            stored[name] = np.asarray(contents[name], dtype=np.float64)
-        except (TypeError, ValueError):
-            raise InputFileError(
-                f"{file}: array {name!r} is not numeric; expected float values"
-            ) from None
-    shapes = _fit_shapes(file, {name: data.shape for name, data in stored.items()})
-    arrays = {name: data.reshape(shapes[name]) for name, data in stored.items()}
-    return arrays, attributes
+    return {name: mat_strings(contents[name]) for name in NAME_DATASETS}
 
 
-def _summarise_mat(file: Path) -> tuple[dict[str, tuple[int, ...]], dict[str, Any], int]:
-    """Stored shapes, decoded attributes and format version of a ``.mat`` run file."""
-    from scipy.io import whosmat
-    from scipy.io.matlab import MatReadError
+def _read_mat_v2(file: Path, contents: Mapping[str, Any]) -> RunRecord:
+    """The record of loaded version 2 ``.mat`` variables."""
+    names = _mat_names(file, contents, contents)
+    samples = int(np.size(contents["time"]))
+    expected = layout_shapes(samples, len(names["joint_names"]), len(names["imu_names"]))
+    check_names(file, names, expected["imu_mount"][0])
+    arrays = {name: fitted(file, name, contents[name], shape) for name, shape in expected.items()}
+    record_names = (names["joint_names"], names["imu_names"])
+    views: dict[str, ColumnView] = {}
+    tables: dict[str, Array] = {}
+    for name, value in contents.items():
+        if name.startswith("__") or name in FIXED_NAMES or name.startswith(MAT_ATTRIBUTE_PREFIX):
+            continue
+        if name + COLUMNS_SUFFIX in contents:
+            views[name] = read_view(
+                file, name, mat_strings(contents[name + COLUMNS_SUFFIX]), record_names
+            )
+        elif not (name.endswith(COLUMNS_SUFFIX) and name[: -len(COLUMNS_SUFFIX)] in contents):
+            data = np.asarray(value)
+            if data.dtype.kind in "biuf":
+                tables[name] = np.asarray(data, dtype=np.float64)
+    return record_from_arrays(
+        file,
+        arrays,
+        names,
+        urdf=str(mat_value(contents["urdf"])),
+        tables=tables,
+        views=views,
+        attributes=mat_attributes(file, contents),
+    )
 
-    with _mat_errors(file, MatReadError):
-        variables = whosmat(file, appendmat=False)
-    attribute_names = [name for name, _, _ in variables if name.startswith(_MAT_ATTRIBUTE_PREFIX)]
-    contents = _load_mat(file, attribute_names) if attribute_names else {}
-    attributes, version = _mat_attributes(file, contents)
-    shapes = {name: tuple(shape) for name, shape, _ in variables}
-    for name in RunRecord.ARRAY_NAMES:
-        if name not in shapes:
-            raise InputFileError(f"{file}: not an aaria_pin run file (no array {name!r})")
-    return shapes, attributes, version
+
+def _summarise_mat_v2(
+    file: Path, variables: Mapping[str, tuple[int, ...]], contents: Mapping[str, Any]
+) -> dict[str, Any]:
+    """Names, shapes and attributes of a version 2 ``.mat`` file (small variables loaded)."""
+    names = _mat_names(file, contents, variables)
+    samples = int(np.prod(variables["time"]))
+    expected = layout_shapes(samples, len(names["joint_names"]), len(names["imu_names"]))
+    arrays: dict[str, tuple[int, ...]] = dict(expected)
+    views: dict[str, tuple[int, ...]] = {}
+    for name, shape in variables.items():
+        if name in FIXED_NAMES or name.startswith(MAT_ATTRIBUTE_PREFIX):
+            continue
+        if name + COLUMNS_SUFFIX in variables:
+            views[name] = (samples, int(np.prod(variables[name + COLUMNS_SUFFIX])))
+        elif not (name.endswith(COLUMNS_SUFFIX) and name[: -len(COLUMNS_SUFFIX)] in variables):
+            arrays[name] = shape
+    return {
+        "joints": names["joint_names"],
+        "imus": names["imu_names"],
+        "arrays": {
+            name: arrays[name] for name in (*SERIES, "imu_mount", *arrays) if name in arrays
+        },
+        "views": views,
+        "attributes": mat_attributes(file, contents),
+    }

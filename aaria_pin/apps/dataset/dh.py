@@ -1,0 +1,136 @@
+"""Data sets of Aaria DH arms: random structures (MODE 1) or one arm (MODE 2).
+
+Run k draws its 8 × 5 DH table (:func:`~aaria_pin.aaria.randomize.random_dh_table`), its joint
+table and its base table from its own streams, unless the spec fixes them, and is simulated by
+:func:`aaria_pin.aaria.simulate.simulate_run`. Its record keeps the paper's module order (joints
+``joint1`` … ``joint6``, 14 IMU slots; an empty module's columns are zero), so every run has
+the same layout: the tables ``senSenDH``, ``senSenJ`` (8 × 5) and ``senSenB`` (6 × 4: a 2 × 4
+table is stored expanded, one row per axis), and the view ``senSen`` (T × 91).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+from typing import Any
+
+import numpy as np
+
+from aaria_pin.aaria.randomize import random_dh_table, random_joint_table, run_streams
+from aaria_pin.apps.dataset.spec import DatasetSpec, RunInputs
+from aaria_pin.core.record import RunRecord
+from aaria_pin.core.se3 import Array
+from aaria_pin.errors import ParameterError
+from aaria_pin.files.dataset_file import DatasetLayout
+
+__all__ = ["DhDatasetSpec", "dh_layout"]
+
+
+@dataclass(frozen=True)
+class DhDatasetSpec(DatasetSpec):
+    """A data set of Aaria DH arms (settings: :class:`~.spec.DatasetSpec`).
+
+    Attributes:
+        dh_table: the fixed 8 × 5 table when the structure does not vary
+        name: the ``robot`` attribute of the runs (a preset's name; default
+            :data:`~aaria_pin.aaria.simulate.DH_ROBOT`)
+    """
+
+    dh_table: Array | None = None
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if "structure" not in self.vary and self.dh_table is None:
+            raise ParameterError(
+                "the structure does not vary, so a DH table is needed; allowed: --preset or --dh"
+            )
+
+    @property
+    def kind(self) -> str:
+        """``"dh"``."""
+        return "dh"
+
+    def robot_name(self) -> str:
+        """The preset's name, or :data:`~aaria_pin.aaria.simulate.DH_ROBOT`."""
+        from aaria_pin.aaria.simulate import DH_ROBOT
+
+        return self.name or DH_ROBOT
+
+    def robot_attributes(self) -> dict[str, Any]:
+        """Nothing beyond the name: the DH table is among the fixed tables."""
+        return {}
+
+    def fixed_table_names(self) -> tuple[str, ...]:
+        """``dh_table``, ``joint_table``, ``base_table``."""
+        return ("dh_table", "joint_table", "base_table")
+
+    def layout(self) -> DatasetLayout:
+        """Six joints, 14 IMU slots, the Aaria tables, ``senSen``; the arm's URDF if fixed."""
+        urdf = ""
+        if "structure" not in self.vary and self.dh_table is not None:
+            urdf = _arm_urdf(np.asarray(self.dh_table, dtype=float).tobytes())
+        return dh_layout(urdf)
+
+    def inputs(self, run: int) -> RunInputs:
+        """``senSenDH``, ``senSenJ``, ``senSenB`` (6 × 4) and the noise seed of run ``run``."""
+        from aaria_pin.aaria.dh import chain_from_aaria
+        from aaria_pin.aaria.oscillation import default_joint_table
+
+        structure, joints, _, _ = run_streams(self.seed, run)
+        if "structure" in self.vary:
+            dh = random_dh_table(self.config, structure)
+        else:
+            assert self.dh_table is not None
+            dh = np.asarray(self.dh_table, dtype=float)
+        if "joints" in self.vary:
+            joint_table = random_joint_table(self.config, dh, joints)
+        elif self.joint_table is not None:
+            joint_table = np.asarray(self.joint_table, dtype=float)
+        else:
+            joint_table = default_joint_table(chain_from_aaria(dh))
+        base_table, noise_seed = self.base_and_noise(run)
+        return RunInputs(
+            {"senSenDH": dh, "senSenJ": joint_table, "senSenB": base_table}, noise_seed
+        )
+
+    def simulate(self, inputs: RunInputs) -> RunRecord:
+        """:func:`~aaria_pin.aaria.simulate.simulate_run` of the inputs."""
+        from aaria_pin.aaria.simulate import simulate_run
+
+        return simulate_run(
+            inputs.tables["senSenDH"],
+            inputs.tables["senSenJ"],
+            inputs.tables["senSenB"],
+            duration=self.duration,
+            rate=self.rate,
+            seed=inputs.noise_seed,
+            noise=self.noise,
+            robot_name=self.robot_name(),
+        )
+
+
+def dh_layout(urdf: str = "") -> DatasetLayout:
+    """The per-run layout of an Aaria data set (``urdf``: the arm's, when it is fixed)."""
+    from aaria_pin.aaria.dh_robot import BASE_FRAME, TOOL_FRAME, link_name
+    from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, imu_slot_order, sensen_view
+
+    parents = [BASE_FRAME, TOOL_FRAME]
+    for module in range(1, N_MODULES + 1):
+        parents += [link_name(module)] * 2
+    return DatasetLayout(
+        JOINT_NAMES,
+        imu_slot_order(),
+        tuple(parents),
+        {"senSenDH": (8, 5), "senSenJ": (8, 5), "senSenB": (6, 4)},
+        {"senSen": sensen_view()},
+        urdf,
+    )
+
+
+@cache
+def _arm_urdf(table: bytes) -> str:
+    """The URDF of the fixed arm of a data set (kept per process: every run asks for it)."""
+    from aaria_pin.aaria.dh_robot import build_dh_robot
+
+    return build_dh_robot(np.frombuffer(table).reshape(8, 5)).urdf

@@ -1,0 +1,223 @@
+"""What a data set holds: the settings every data set shares, and the per-run spec contract.
+
+A :class:`DatasetSpec` is a picklable description of a data set (it travels to local worker
+processes and to Dask workers). Its robot-specific subclasses (:class:`~.dh.DhDatasetSpec`
+for Aaria DH arms, :class:`~.urdf.UrdfDatasetSpec` for URDF robots) know the data set's fixed
+per-run layout (:meth:`DatasetSpec.layout`) and make run k (:meth:`DatasetSpec.make_run`) from
+its inputs (:meth:`DatasetSpec.inputs`); the engine (:mod:`.engine`) only calls these, whatever
+the robot.
+
+Run k of a data set with seed S is a pure function of (S, k) and the spec: its inputs come from
+:func:`aaria_pin.aaria.randomize.run_streams` and its noise from the fourth stream, so the file is
+the same, array for array, whatever the number of workers, the scheduler or the order in which
+runs finish.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from aaria_pin import __version__
+from aaria_pin.aaria.randomize import PARTS, RandomConfig, random_base_table, run_streams
+from aaria_pin.core.record import RunRecord
+from aaria_pin.core.se3 import Array
+from aaria_pin.core.seeds import check_seed
+from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE
+from aaria_pin.errors import ParameterError
+from aaria_pin.files.dataset_file import DatasetLayout, run_arrays
+
+__all__ = ["MAX_RUNS", "NOISE_STREAM", "DatasetSpec", "RunInputs"]
+
+MAX_RUNS = 100_000_000
+"""Most runs in one data set."""
+NOISE_STREAM = len(PARTS)
+"""The noise of run k is ``SeedSequence(seed, spawn_key=(k, NOISE_STREAM))``."""
+
+
+@dataclass(frozen=True)
+class RunInputs:
+    """What makes one run: its input tables and its noise seed.
+
+    Attributes:
+        tables: the input tables by name, as the run records them
+        noise_seed: the run's noise stream
+    """
+
+    tables: dict[str, Array]
+    noise_seed: np.random.SeedSequence
+
+    def describe(self) -> str:
+        """The tables as text, for a failed run's message."""
+        return " ".join(f"{name}={table.tolist()}" for name, table in self.tables.items())
+
+
+@dataclass(frozen=True)
+class DatasetSpec(ABC):
+    """The settings every data set shares; a subclass adds its robot.
+
+    Attributes:
+        n_runs: number of runs N
+        seed: seed of the whole data set
+        duration: run length [s]
+        rate: sample rate [Hz]
+        noise: add IMU noise
+        dtype: ``"float32"`` or ``"float64"`` for the stored series
+        config: ranges and probabilities of the random parts
+        vary: the random parts, a subset of ``("structure", "joints", "base")``
+        joint_table: the fixed joint oscillation table when the joints do not vary (default:
+            the robot's default table)
+        base_table: the fixed base oscillation table when the base does not vary (default:
+            :func:`~aaria_pin.core.oscillation.default_base_table`)
+    """
+
+    n_runs: int
+    seed: int = 0
+    duration: float = DEFAULT_DURATION
+    rate: float = DEFAULT_RATE
+    noise: bool = True
+    dtype: str = "float32"
+    config: RandomConfig = field(default_factory=RandomConfig)
+    vary: tuple[str, ...] = PARTS
+    joint_table: Array | None = None
+    base_table: Array | None = None
+
+    def __post_init__(self) -> None:
+        from aaria_pin.core.trajectory import sample_times
+
+        if not (isinstance(self.n_runs, (int, np.integer)) and 1 <= self.n_runs <= MAX_RUNS):
+            raise ParameterError(f"N is {self.n_runs!r}; allowed: 1 to {MAX_RUNS}")
+        check_seed(self.seed)
+        if self.dtype not in ("float32", "float64"):
+            raise ParameterError(f"dtype {self.dtype!r}; allowed: float32, float64")
+        unknown = [part for part in self.vary if part not in PARTS]
+        if unknown:
+            raise ParameterError(f"--vary {unknown[0]!r}; allowed: {', '.join(PARTS)}")
+        sample_times(self.duration, self.rate)  # checks duration and rate
+
+    # --- what a robot adds ----------------------------------------------------------------------
+
+    @property
+    @abstractmethod
+    def kind(self) -> str:
+        """The record kind of the runs (``"dh"``, ``"urdf"``)."""
+
+    @abstractmethod
+    def robot_name(self) -> str:
+        """The ``robot`` attribute of the runs (a preset or robot name)."""
+
+    @abstractmethod
+    def robot_attributes(self) -> dict[str, Any]:
+        """What the file records of the robot beyond its name (compared on resume)."""
+
+    @abstractmethod
+    def layout(self) -> DatasetLayout:
+        """The fixed per-run layout: joints, IMUs, tables, views, URDF."""
+
+    @abstractmethod
+    def inputs(self, run: int) -> RunInputs:
+        """The inputs of run ``run``, a pure function of the seed and ``run``."""
+
+    @abstractmethod
+    def simulate(self, inputs: RunInputs) -> RunRecord:
+        """The run made from its inputs."""
+
+    # --- the same for every robot ---------------------------------------------------------------
+
+    def make_run(self, run: int) -> RunRecord:
+        """Run ``run`` as a record, a pure function of the spec and ``run``."""
+        return self.simulate(self.inputs(run))
+
+    def arrays(self, run: int) -> dict[str, Array]:
+        """The stored arrays of run ``run`` by name, in the data set's dtypes."""
+        return run_arrays(self.layout(), self.make_run(run), self.dtype)
+
+    def describe_inputs(self, run: int) -> str:
+        """The inputs of a run, for its error message."""
+        try:
+            return self.inputs(run).describe()
+        except Exception:
+            return "inputs could not be drawn"
+
+    @property
+    def samples(self) -> int:
+        """Samples per run T."""
+        from aaria_pin.core.trajectory import sample_times
+
+        return int(sample_times(self.duration, self.rate).size)
+
+    def base_and_noise(self, run: int) -> tuple[Array, np.random.SeedSequence]:
+        """Base table (6 × 4) and noise seed of run ``run`` (every robot draws them alike)."""
+        from aaria_pin.core.oscillation import default_base_table
+
+        if "base" in self.vary:
+            base_table = random_base_table(self.config, run_streams(self.seed, run)[2])
+        else:
+            base_table = np.asarray(
+                self.base_table if self.base_table is not None else default_base_table(),
+                dtype=float,
+            )
+        if base_table.shape == (2, 4):
+            base_table = np.repeat(base_table, 3, axis=0)
+        return base_table, np.random.SeedSequence(self.seed, spawn_key=(run, NOISE_STREAM))
+
+    def attributes(self) -> dict[str, Any]:
+        """File attributes describing the spec (what :meth:`mismatches` compares on resume)."""
+        from aaria_pin.core.imu_noise import ADIS16485
+        from aaria_pin.core.run import sampling_attributes
+
+        fixed = {
+            name: getattr(self, name).tolist()
+            for name in self.fixed_table_names()
+            if getattr(self, name) is not None
+        }
+        return {
+            "kind": self.kind,
+            "robot": self.robot_name(),
+            **({"robot_info": info} if (info := self.robot_attributes()) else {}),
+            **sampling_attributes(self.rate, self.duration, self.seed, self.noise, ADIS16485),
+            "noise_stream": NOISE_STREAM,
+            "vary": list(self.vary),
+            "config": self.config.as_dict(),
+            "fixed_tables": fixed,
+            "version": __version__,
+        }
+
+    def fixed_table_names(self) -> tuple[str, ...]:
+        """The spec's fields that hold fixed tables (recorded in ``fixed_tables``)."""
+        return ("joint_table", "base_table")
+
+    def mismatches(self, stored: dict[str, Any]) -> list[str]:
+        """Names of the settings that differ from a stored data set's attributes."""
+        mine = {**self.attributes(), "N": self.n_runs, "samples": self.samples, "dtype": self.dtype}
+        keys = (
+            "version",
+            "noise_parameters",
+            "N",
+            "samples",
+            "dtype",
+            "seed",
+            "rate",
+            "duration",
+            "noise",
+            "vary",
+            "config",
+            "fixed_tables",
+            "kind",
+            "robot",
+            "robot_info",
+        )
+        return [key for key in keys if _plain(stored.get(key)) != _plain(mine.get(key))]
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    return value

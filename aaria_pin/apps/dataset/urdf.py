@@ -1,0 +1,197 @@
+"""Data sets of a URDF robot: one robot, random joint and base motions.
+
+A data set of a URDF robot keeps the robot fixed (its structure cannot vary) and draws each
+run's joint oscillation table (:func:`~aaria_pin.aaria.randomize.random_urdf_joint_table`) and base
+table from the same streams as an Aaria data set; run k is simulated by
+:func:`aaria_pin.core.urdf_run.simulate_loaded_robot`. Its layout: the robot's actuated joints
+in model order, its IMU layout, the tables ``joint_table`` (n × 5) and, on a moving base,
+``base_table`` (6 × 4), and the robot's URDF text. The file's ``robot_info`` attribute records
+the robot (source, name, base and tool frames, moving base, joint names, IMU names, parents and
+poses, the URDF's SHA-256), compared on resume.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from aaria_pin.apps.dataset.spec import DatasetSpec, RunInputs
+from aaria_pin.core.record import ImuMount, RunRecord
+from aaria_pin.errors import ParameterError
+from aaria_pin.files.dataset_file import DatasetLayout
+
+if TYPE_CHECKING:
+    from aaria_pin.core.urdf_robot import UrdfRobot
+
+__all__ = ["UrdfDatasetSpec", "UrdfSource"]
+
+
+_LOADED: dict[tuple[Any, ...], UrdfRobot] = {}
+"""The robot last loaded in this process, by its source's settings."""
+
+
+@dataclass(frozen=True, eq=False)
+class UrdfSource:
+    """The robot of a data set: its URDF and how it is simulated.
+
+    Attributes:
+        urdf: the URDF text
+        source: where it came from (a robot name or a file), for the record
+        urdf_dir: its folder, for relative mesh paths (None: text only)
+        moving_base: carry the root link on the base motion
+        tool_frame: the tool frame (None: the default choice)
+        imu_layout: the IMUs (None: the default layout)
+    """
+
+    urdf: str
+    source: str = ""
+    urdf_dir: str | None = None
+    moving_base: bool = True
+    tool_frame: str | None = None
+    imu_layout: tuple[ImuMount, ...] | None = None
+
+    def _key(self) -> tuple[Any, ...]:
+        layout = None
+        if self.imu_layout is not None:
+            layout = tuple((m.name, m.parent, m.T_parent_imu.tobytes()) for m in self.imu_layout)
+        return (self.urdf, self.urdf_dir, self.moving_base, self.tool_frame, layout)
+
+    def load(self) -> UrdfRobot:
+        """The checked robot, with its IMU frames (kept per process: runs share it)."""
+        import warnings
+        from pathlib import Path
+
+        from aaria_pin.core.urdf_robot import load_urdf_robot
+
+        key = self._key()
+        if key not in _LOADED:
+            with warnings.catch_warnings():  # missing meshes were reported when the job started
+                warnings.simplefilter("ignore")
+                loaded = load_urdf_robot(
+                    self.urdf,
+                    urdf_dir=None if self.urdf_dir is None else Path(self.urdf_dir),
+                    moving_base=True,  # held at rest for a fixed base (see urdf_run)
+                    tool_frame=self.tool_frame,
+                    imu_layout=self.imu_layout,
+                )
+            _LOADED.clear()  # one robot per data set: keep the last only
+            _LOADED[key] = loaded
+        return _LOADED[key]
+
+    def attributes(self) -> dict[str, Any]:
+        """What a data set file records of the robot (compared on resume)."""
+        loaded = self.load()
+        return {
+            "source": self.source,
+            "name": loaded.summary.name,
+            "urdf_sha256": hashlib.sha256(self.urdf.encode("utf-8")).hexdigest(),
+            "moving_base": self.moving_base,
+            "base_frame": loaded.robot.base_frame,
+            "tool_frame": loaded.robot.tool_frame,
+            "joint_names": list(loaded.robot.joint_names),
+            "imu_names": [mount.name for mount in loaded.imu_mounts],
+            "imu_parents": [mount.parent for mount in loaded.imu_mounts],
+            "imu_poses": [mount.T_parent_imu.tolist() for mount in loaded.imu_mounts],
+        }
+
+
+@dataclass(frozen=True)
+class UrdfDatasetSpec(DatasetSpec):
+    """A data set of one URDF robot (settings: :class:`~.spec.DatasetSpec`).
+
+    Its fixed ``joint_table``, if any, has one row per actuated joint, in model order.
+
+    Attributes:
+        robot: the robot (required)
+    """
+
+    robot: UrdfSource | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.robot is None:
+            raise ParameterError("a URDF data set needs its robot; allowed: --robot or --urdf")
+        if "structure" in self.vary:
+            raise ParameterError(
+                "a URDF robot's structure is fixed; allowed: --vary joints,base and no DH table"
+            )
+        if self.joint_table is not None and "joints" not in self.vary:
+            from aaria_pin.core.urdf_robot import validate_urdf_joint_table
+
+            validate_urdf_joint_table(self.joint_table, self.robot.load())
+        if not self.robot.moving_base and "base" in self.vary:
+            raise ParameterError(
+                "the robot's base is fixed, so the base cannot vary; allowed: --vary joints"
+            )
+
+    @property
+    def source(self) -> UrdfSource:
+        """The robot (checked present)."""
+        assert self.robot is not None
+        return self.robot
+
+    @property
+    def kind(self) -> str:
+        """``"urdf"``."""
+        return "urdf"
+
+    def robot_name(self) -> str:
+        """The robot's name in its URDF."""
+        return str(self.source.load().summary.name)
+
+    def robot_attributes(self) -> dict[str, Any]:
+        """See :meth:`UrdfSource.attributes`."""
+        return self.source.attributes()
+
+    def layout(self) -> DatasetLayout:
+        """The robot's joints and IMUs, ``joint_table`` (and ``base_table``), its URDF."""
+        loaded = self.source.load()
+        tables = {"joint_table": (loaded.robot.n_joints, 5)}
+        if self.source.moving_base:
+            tables["base_table"] = (6, 4)
+        return DatasetLayout(
+            loaded.robot.joint_names,
+            tuple(mount.name for mount in loaded.imu_mounts),
+            tuple(mount.parent for mount in loaded.imu_mounts),
+            tables,
+            {},
+            loaded.urdf,
+        )
+
+    def inputs(self, run: int) -> RunInputs:
+        """``joint_table``, ``base_table`` (6 × 4; none on a fixed base) and the noise seed."""
+        from aaria_pin.aaria.randomize import random_urdf_joint_table, run_streams
+        from aaria_pin.core.urdf_robot import default_urdf_joint_table
+
+        loaded = self.source.load()
+        _, joints, _, _ = run_streams(self.seed, run)
+        if "joints" in self.vary:
+            joint_table = random_urdf_joint_table(self.config, loaded.joints, joints)
+        elif self.joint_table is not None:
+            joint_table = np.asarray(self.joint_table, dtype=float)
+        else:
+            joint_table = default_urdf_joint_table(loaded)
+        base_table, noise_seed = self.base_and_noise(run)
+        tables = {"joint_table": joint_table}
+        if self.source.moving_base:
+            tables["base_table"] = base_table
+        return RunInputs(tables, noise_seed)
+
+    def simulate(self, inputs: RunInputs) -> RunRecord:
+        """:func:`~aaria_pin.core.urdf_run.simulate_loaded_robot` of the inputs."""
+        from aaria_pin.core.urdf_run import simulate_loaded_robot
+
+        return simulate_loaded_robot(
+            self.source.load(),
+            inputs.tables["joint_table"],
+            inputs.tables.get("base_table"),
+            moving_base=self.source.moving_base,
+            source=self.source.source,
+            duration=self.duration,
+            rate=self.rate,
+            seed=inputs.noise_seed,
+            noise=self.noise,
+        )

@@ -1,0 +1,64 @@
+"""Data set files: many runs of one layout in one HDF5 file (``"aaria_pin dataset"``, version 2).
+
+Each number is stored once. Per run, the series of its :class:`~aaria_pin.core.record.RunRecord`
+with a leading run axis: ``time`` (N × T), ``q``, ``qd``, ``qdd``, ``tau`` (N × T × n),
+``base_pose`` and ``tool_pose`` (N × T × 4 × 4), ``base_wrench`` (N × T × 6), ``imu``
+(N × T × S × 6); ``imu_mount`` (N × S × 4 × 4) and the input tables (e.g. ``senSenDH``,
+``senSenJ`` N × 8 × 5, ``senSenB`` N × 6 × 4; or ``joint_table``, ``base_table``). The series
+take the data set's dtype, the inputs stay float64. ``time`` is stored per run, like every
+series: a view column must map onto stored numbers one to one (an HDF5 virtual dataset cannot
+repeat a source element), so one shared ``time`` would need a mapping per run in the file's
+metadata, and a run's time row costs about 0.4 % of the run once compressed.
+
+Once per file: the string datasets ``joint_names``, ``imu_names``, ``imu_parents`` and
+``urdf``, and the column views as HDF5 virtual datasets over the series in the same file (source
+file ``"."``, so the file stays valid when renamed or moved; h5py and MATLAB's ``h5read`` read
+them, HDF5 1.10 or newer): every data set has ``signals`` (N × T × C: time, joint values, IMU
+signals), an Aaria data set also ``senSen`` (N × T × 91). Each view has a ``columns``
+attribute; ``layout_json`` records the tables and the views' sources.
+
+Bookkeeping: ``complete`` (N, uint8: 1 once a run is written and flushed), ``failed`` (N, uint8),
+``checksum`` (N × arrays, uint32: the CRC-32 of each run's stored chunks, checked on resume).
+Chunks hold one run (see :mod:`.layout`), compressed with gzip level 1 after the shuffle filter.
+File attributes: ``format``, ``format_version``, ``N``, ``samples``, ``dtype``, ``kind``,
+``robot``, the run settings (rate, duration, noise, noise parameters, gravity, units, version,
+``seed``, ``noise_stream``), the data set's (``vary``, ``config_json``, ``fixed_tables_json``,
+``robot_info_json``) and ``failures_json`` (failed runs and their errors).
+
+Version 1 files (aaria_pin 0.1) still read (:mod:`.legacy`); they cannot be resumed.
+"""
+
+from aaria_pin.files.dataset.layout import (
+    DATASET_FORMAT,
+    DATASET_FORMAT_VERSION,
+    DatasetLayout,
+    EncodedRun,
+    encode_run,
+    run_arrays,
+    signals_view,
+)
+from aaria_pin.files.dataset.reader import DatasetReader, dataset_summary
+from aaria_pin.files.dataset.store import (
+    DatasetFile,
+    check_dataset_path,
+    decode_attributes,
+    is_dataset_file,
+    read_dataset_attributes,
+)
+
+__all__ = [
+    "DATASET_FORMAT",
+    "DATASET_FORMAT_VERSION",
+    "DatasetFile",
+    "DatasetLayout",
+    "DatasetReader",
+    "EncodedRun",
+    "check_dataset_path",
+    "dataset_summary",
+    "decode_attributes",
+    "encode_run",
+    "is_dataset_file",
+    "read_dataset_attributes",
+    "run_arrays",
+    "signals_view",
+]

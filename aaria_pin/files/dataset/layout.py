@@ -1,0 +1,339 @@
+"""The fixed per-run layout of a data set (format version 2) and the encoding of one run.
+
+Every run of a data set has the same layout: the same joints, IMUs, input tables and column
+views, so the file holds each per-run array once with a leading run axis (N × …) and the names,
+the URDF text and the views once per file. A :class:`DatasetLayout` is that fixed part; the data
+set's spec makes it, the writer lays the file out from it and the reader reads it back.
+
+Chunks: one run per chunk, so a run is written (HDF5's direct chunk write) and read on its own.
+A pose series (``base_pose``, ``tool_pose``: T × 4 × 4 per run) is split into one chunk per
+matrix entry (chunk 1 × T × 1 × 1): each entry is then a smooth or constant series, which the
+shuffle filter and deflate pack about 18 % tighter than the 16 entries interleaved.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import zlib
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from aaria_pin.core.record import (
+    IMU_SIGNALS,
+    SERIES,
+    ColumnSource,
+    ColumnView,
+    RunRecord,
+    signal_columns,
+)
+from aaria_pin.core.se3 import Array
+from aaria_pin.errors import ParameterError
+
+__all__ = [
+    "DATASET_FORMAT",
+    "DATASET_FORMAT_VERSION",
+    "NAME_LISTS",
+    "SIGNALS_VIEW",
+    "STATUS_DATASETS",
+    "DatasetLayout",
+    "EncodedRun",
+    "encode_run",
+    "signals_view",
+]
+
+DATASET_FORMAT = "aaria_pin dataset"
+DATASET_FORMAT_VERSION = 2
+NAME_LISTS = ("joint_names", "imu_names", "imu_parents")
+"""The string lists a data set stores once per file."""
+STATUS_DATASETS = ("checksum", "complete", "failed")
+"""The bookkeeping datasets: CRC-32 of each run's arrays, its complete and failed flags."""
+SIGNALS_VIEW = "signals"
+"""The flat view every data set has: ``time``, ``q:<joint>`` …, ``<imu>_<signal>`` …"""
+
+EncodedRun = dict[str, tuple[list[bytes], int]]
+"""A run ready to store: per array, its chunks' bytes (in chunk order) and their CRC-32."""
+
+
+def signals_view(joint_names: tuple[str, ...], imu_names: tuple[str, ...]) -> ColumnView:
+    """The flat signal table (:attr:`RunRecord.columns`) as a view of ``time``, ``q``, ``imu``."""
+    sources = (
+        ColumnSource("time", ()),
+        *(ColumnSource("q", (j,)) for j in range(len(joint_names))),
+        *(
+            ColumnSource("imu", (s, k))
+            for s in range(len(imu_names))
+            for k in range(len(IMU_SIGNALS))
+        ),
+    )
+    return ColumnView(signal_columns(joint_names, imu_names), sources, "see columns")
+
+
+@dataclass(frozen=True)
+class DatasetLayout:
+    """What every run of a data set has in common: names, input tables, views, URDF.
+
+    Attributes:
+        joint_names: the n joints of ``q`` … ``tau``
+        imu_names: the S IMUs of ``imu``
+        imu_parents: each IMU's parent frame (a run whose IMU has a zero mount has none there:
+            an empty slot of an Aaria arm)
+        tables: shape of each input table of one run, by name, in file order
+        views: column views of the series (HDF5 virtual datasets in the file); the flat
+            ``signals`` view is added to every layout
+        urdf: the URDF text shared by every run (``""`` when each run has its own robot, as in
+            a data set of random DH arms, whose runs are re-made from their tables)
+    """
+
+    joint_names: tuple[str, ...]
+    imu_names: tuple[str, ...]
+    imu_parents: tuple[str, ...]
+    tables: Mapping[str, tuple[int, ...]] = field(default_factory=dict)
+    views: Mapping[str, ColumnView] = field(default_factory=dict)
+    urdf: str = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "joint_names", tuple(self.joint_names))
+        object.__setattr__(self, "imu_names", tuple(self.imu_names))
+        object.__setattr__(self, "imu_parents", tuple(self.imu_parents))
+        object.__setattr__(self, "tables", {k: tuple(v) for k, v in self.tables.items()})
+        views = dict(self.views)
+        views.setdefault(SIGNALS_VIEW, signals_view(self.joint_names, self.imu_names))
+        object.__setattr__(self, "views", views)
+        if len(self.imu_parents) != len(self.imu_names):
+            raise ParameterError(
+                f"layout has {len(self.imu_names)} IMU names and {len(self.imu_parents)} "
+                "parents; allowed: one parent per IMU"
+            )
+        clash = [name for name in (*self.tables, *self.views) if name in self.reserved_names()]
+        if clash or set(self.tables) & set(self.views):
+            bad = clash[0] if clash else sorted(set(self.tables) & set(self.views))[0]
+            raise ParameterError(
+                f"layout name {bad!r} is taken; allowed: a name not among the series, "
+                "imu_mount, the name lists, urdf and the bookkeeping datasets"
+            )
+
+    @staticmethod
+    def reserved_names() -> tuple[str, ...]:
+        """Dataset names a table or view cannot take."""
+        return (*SERIES, "imu_mount", *NAME_LISTS, "urdf", *STATUS_DATASETS)
+
+    def shapes(self, samples: int) -> dict[str, tuple[int, ...]]:
+        """Shape of each stored array of one run of T = ``samples``, in file order."""
+        n, s = len(self.joint_names), len(self.imu_names)
+        return {
+            "time": (samples,),
+            "q": (samples, n),
+            "qd": (samples, n),
+            "qdd": (samples, n),
+            "tau": (samples, n),
+            "base_pose": (samples, 4, 4),
+            "base_wrench": (samples, 6),
+            "tool_pose": (samples, 4, 4),
+            "imu": (samples, s, len(IMU_SIGNALS)),
+            "imu_mount": (s, 4, 4),
+            **self.tables,
+        }
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Names of the stored per-run arrays, in file order."""
+        return tuple(self.shapes(0))
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        """The arrays stored as float64 whatever the data set's dtype: mounts and tables."""
+        return ("imu_mount", *self.tables)
+
+    @staticmethod
+    def chunk(name: str, shape: tuple[int, ...]) -> tuple[int, ...]:
+        """A run's chunk of an array (no run axis): all of it, or one entry of a pose series.
+
+        See the module docstring.
+        """
+        if name in SERIES and len(shape) == 3:
+            return (shape[0], 1, 1)
+        return shape
+
+    def check(self, record: RunRecord) -> None:
+        """Refuse a run that does not fit the layout (other joints, IMUs or tables).
+
+        Raises:
+            ParameterError: naming what differs.
+        """
+        mine = {
+            "joint names": self.joint_names,
+            "IMU names": self.imu_names,
+            "tables": tuple(self.tables),
+        }
+        theirs = {
+            "joint names": record.joint_names,
+            "IMU names": record.imu_names,
+            "tables": tuple(record.tables),
+        }
+        for what, expected in mine.items():
+            if theirs[what] != expected:
+                raise ParameterError(
+                    f"run {what} are {list(theirs[what])}; allowed: the data set's {list(expected)}"
+                )
+        for name, shape in self.tables.items():
+            if np.shape(record.tables[name]) != shape:
+                raise ParameterError(
+                    f"run table {name} has shape {np.shape(record.tables[name])}; allowed: {shape}"
+                )
+
+    def to_json(self) -> str:
+        """The file's ``layout_json`` attribute: the tables and the views (names apart)."""
+        return json.dumps(
+            {
+                "tables": {name: list(shape) for name, shape in self.tables.items()},
+                "views": {
+                    name: {
+                        "columns": list(view.columns),
+                        "sources": [[s.array, list(s.index)] for s in view.sources],
+                        "units": view.units,
+                    }
+                    for name, view in self.views.items()
+                },
+            }
+        )
+
+    @classmethod
+    def from_json(
+        cls, text: str, names: Mapping[str, tuple[str, ...]], urdf: str = ""
+    ) -> DatasetLayout:
+        """A layout from a file's ``layout_json`` and its name lists (:data:`NAME_LISTS`)."""
+        data = json.loads(text)
+        views = {
+            name: ColumnView(
+                tuple(view["columns"]),
+                tuple(ColumnSource(array, tuple(index)) for array, index in view["sources"]),
+                view.get("units", ""),
+            )
+            for name, view in data["views"].items()
+        }
+        return cls(
+            names["joint_names"],
+            names["imu_names"],
+            names["imu_parents"],
+            {name: tuple(shape) for name, shape in data["tables"].items()},
+            views,
+            urdf,
+        )
+
+
+def chunk_origins(shape: tuple[int, ...], chunk: tuple[int, ...]) -> Iterator[tuple[int, ...]]:
+    """The first index of each chunk of an array of ``shape`` (one run's), in storage order."""
+    return itertools.product(*(range(0, dim, size) for dim, size in zip(shape, chunk, strict=True)))
+
+
+def view_mappings(view: ColumnView) -> list[tuple[int, int, ColumnSource]]:
+    """A view's columns grouped into blocks that each map to one slice of one series.
+
+    Returns:
+        ``(first column, column count, source of the first column)`` per block: consecutive
+        columns of one series whose last index runs on by one make one block (``senSen`` is
+        16 blocks: time, q, one per IMU slot).
+    """
+    blocks: list[tuple[int, int, ColumnSource]] = []
+    for column, source in enumerate(view.sources):
+        if blocks:
+            first, count, start = blocks[-1]
+            if (
+                source.index
+                and start.array == source.array
+                and start.index[:-1] == source.index[:-1]
+                and source.index[-1] == start.index[-1] + count
+            ):
+                blocks[-1] = (first, count + 1, start)
+                continue
+        blocks.append((column, 1, source))
+    return blocks
+
+
+def _compressor() -> Any:
+    try:
+        from isal.isal_zlib import compress
+    except ImportError:  # pragma: no cover - isal is a dependency; zlib makes the same format
+        from zlib import compress
+    return compress
+
+
+def encode_run(layout: DatasetLayout, record: RunRecord, dtype: str) -> EncodedRun:
+    """Each stored array of a run as the bytes of its HDF5 chunks, and their CRC-32.
+
+    A chunk is what HDF5's filters make of it: the shuffle filter (byte ``j`` of every element
+    together), then deflate at level 1, so h5py, MATLAB and any HDF5 reader decode it. Deflate
+    runs through ISA-L (``isal``: a standard zlib stream, about 8 times faster than zlib at the
+    same size), or zlib where ``isal`` is missing. Inputs (mounts, tables) stay float64, series
+    take ``dtype``.
+
+    Raises:
+        ParameterError: the run does not fit the layout.
+    """
+    layout.check(record)
+    compress = _compressor()
+    arrays = {**record.series(), "imu_mount": record.imu_mount, **record.tables}
+    encoded: EncodedRun = {}
+    for name, shape in layout.shapes(record.n_samples).items():
+        array = np.asarray(arrays[name], dtype="float64" if name in layout.inputs else dtype)
+        chunk = layout.chunk(name, shape)
+        chunks, checksum = [], 0
+        for origin in chunk_origins(shape, chunk):
+            block = array[tuple(slice(o, o + c) for o, c in zip(origin, chunk, strict=True))]
+            raw = np.ascontiguousarray(block)
+            shuffled = raw.view(np.uint8).reshape(-1, raw.itemsize).T.tobytes()
+            data = compress(shuffled, 1)
+            checksum = zlib.crc32(data, checksum)
+            chunks.append(data)
+        encoded[name] = (chunks, checksum)
+    return encoded
+
+
+def run_arrays(layout: DatasetLayout, record: RunRecord, dtype: str) -> dict[str, Array]:
+    """The stored arrays of a run by name, in file order and in their stored dtypes."""
+    arrays = {**record.series(), "imu_mount": record.imu_mount, **record.tables}
+    return {
+        name: np.asarray(arrays[name], dtype="float64" if name in layout.inputs else dtype)
+        for name in layout.names
+    }
+
+
+_DATASET_ONLY = (
+    "format",
+    "format_version",
+    "N",
+    "samples",
+    "dtype",
+    "vary",
+    "config",
+    "fixed_tables",
+    "failures",
+    "layout",
+    "robot_info",
+    "noise_stream",
+)
+"""File attributes that describe the data set, not one of its runs."""
+
+
+def record_attributes(
+    file_attributes: Mapping[str, Any], run: int, noise_stream: int
+) -> dict[str, Any]:
+    """The attributes of run ``run``'s record: the data set's, its noise seed, its index.
+
+    The record gets what a single run records: ``kind``, ``robot`` (a name), rate, duration,
+    noise settings, gravity, units, version, the robot's frames; ``seed`` with
+    ``noise_spawn_key`` ``[run, noise_stream]`` (the run's noise stream, so
+    :func:`~aaria_pin.core.seeds.stored_seed` gives it back) and ``run``.
+    """
+    attributes = {k: v for k, v in file_attributes.items() if k not in _DATASET_ONLY}
+    info = file_attributes.get("robot_info") or {}
+    for key in ("source", "moving_base", "base_frame", "tool_frame"):
+        if key in info:
+            attributes.setdefault(key, info[key])
+    attributes["noise_spawn_key"] = [int(run), int(noise_stream)]
+    attributes["run"] = int(run)
+    return attributes

@@ -1,0 +1,427 @@
+"""Writing a data set file: lay it out, store runs as they come, resume it after a crash.
+
+The main process is the only writer. Each run arrives encoded (:func:`~.layout.encode_run`: the
+workers compress it) and is stored chunk by chunk as it is (HDF5's direct chunk write); its
+CRC-32 goes into ``checksum`` and its flag into ``complete`` at the next flush, so a run damaged
+by a crash is found and redone on resume.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import zlib
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from aaria_pin.core.record import UNITS
+from aaria_pin.errors import InputFileError, OutputFileError
+from aaria_pin.files.dataset.layout import (
+    DATASET_FORMAT,
+    DATASET_FORMAT_VERSION,
+    NAME_LISTS,
+    DatasetLayout,
+    EncodedRun,
+    chunk_origins,
+    view_mappings,
+)
+from aaria_pin.files.io import atomic_output
+
+__all__ = [
+    "DatasetFile",
+    "check_dataset_path",
+    "decode_attributes",
+    "is_dataset_file",
+    "read_dataset_attributes",
+    "read_layout",
+]
+
+
+def decode_attributes(attrs: Mapping[str, Any]) -> dict[str, Any]:
+    """HDF5 attributes as plain values: JSON ones decoded (keys without ``_json``)."""
+    out: dict[str, Any] = {}
+    for key, value in attrs.items():
+        if key.endswith("_json"):
+            out[key[: -len("_json")]] = json.loads(value)
+        else:
+            out[key] = value.item() if isinstance(value, np.generic) else value
+    return out
+
+
+def _json_safe(value: Any) -> Any:
+    if isinstance(value, (str, bool, int, float)):
+        return value
+    return json.dumps(value)
+
+
+def read_layout(handle: Any) -> DatasetLayout:
+    """The layout of an open version 2 data set file."""
+    names = {name: tuple(handle[name].asstr()[()]) for name in NAME_LISTS}
+    urdf = handle["urdf"].asstr()[()] if "urdf" in handle else ""
+    return DatasetLayout.from_json(handle.attrs["layout_json"], names, urdf)
+
+
+class DatasetFile:
+    """An open data set file, for writing runs into it or resuming it.
+
+    Use :meth:`create` or :meth:`open_for_resume`; close with :meth:`close` (or a ``with``
+    block).
+    """
+
+    def __init__(self, handle: Any, path: Path) -> None:
+        self._handle = handle
+        self.path = path
+        self.layout = read_layout(handle)
+        self._datasets = {name: handle[name] for name in self.layout.names}
+        self._pending: dict[int, list[int]] = {}  # run -> checksums, written at the next flush
+
+    @classmethod
+    def create(
+        cls,
+        path: str | os.PathLike[str],
+        n_runs: int,
+        samples: int,
+        dtype: str,
+        attributes: Mapping[str, Any],
+        layout: DatasetLayout,
+    ) -> DatasetFile:
+        """Create a new data set file (an existing file at ``path`` is replaced).
+
+        The file is made under a temporary name and renamed when its layout is complete, so a
+        crash during creation leaves no half-made file at ``path``.
+
+        Args:
+            path: the ``.h5`` file
+            n_runs: number of runs N
+            samples: samples per run T
+            dtype: ``"float32"`` or ``"float64"`` (the series; inputs are float64)
+            attributes: file attributes (numbers and strings as they are, others as JSON)
+            layout: what every run holds
+
+        Raises:
+            OutputFileError: the file cannot be created.
+        """
+        file = Path(path)
+        with atomic_output(file) as temporary:
+            handle = _new_file(temporary, n_runs, samples, dtype, attributes, layout)
+            handle.close()
+        return cls._open(file)
+
+    @classmethod
+    def _open(cls, file: Path) -> DatasetFile:
+        import h5py
+
+        try:
+            handle = h5py.File(file, "r+")
+        except OSError as exc:
+            raise InputFileError(f"{file}: cannot be opened ({exc})") from None
+        return cls(handle, file)
+
+    @classmethod
+    def open_for_resume(cls, path: str | os.PathLike[str]) -> DatasetFile:
+        """Reopen a data set to continue it: a fresh copy of its intact runs replaces it.
+
+        Every run flagged complete whose stored chunks match their CRC-32 is copied, chunk bytes
+        as they are, into a new file that then replaces the old one; damaged, unflagged and
+        half-written runs are left out, to be redone. A crash can leave HDF5's chunk index
+        pointing past the end of the file; the copy starts from clean metadata.
+
+        Raises:
+            InputFileError: missing, unreadable, of format version 1, or not a complete data
+                set layout.
+        """
+        file = Path(path)
+        old = _open_dataset_read_only(file)
+        try:
+            attrs = dict(old.attrs)
+            n_runs, samples = int(attrs.pop("N")), int(attrs.pop("samples"))
+            dtype = str(attrs.pop("dtype"))
+            for key in ("format", "format_version", "layout_json"):
+                attrs.pop(key, None)
+            layout = read_layout(old)
+            with atomic_output(file) as temporary:
+                new = _new_file(temporary, n_runs, samples, dtype, {}, layout, raw_attributes=attrs)
+                _copy_intact_runs(old, new, layout)
+                new.close()
+        finally:
+            old.close()
+        return cls._open(file)
+
+    @property
+    def attributes(self) -> dict[str, Any]:
+        """File attributes, JSON ones decoded (keys without the ``_json`` suffix)."""
+        return decode_attributes(self._handle.attrs)
+
+    @property
+    def n_runs(self) -> int:
+        """Number of runs N."""
+        return int(self._handle.attrs["N"])
+
+    def complete_runs(self) -> np.ndarray:
+        """Boolean mask of the runs that are complete."""
+        return np.asarray(self._handle["complete"][()], dtype=bool)
+
+    def write_run(self, run: int, encoded: EncodedRun) -> None:
+        """Store run ``run``'s encoded chunks (see :func:`~.layout.encode_run`).
+
+        It is marked complete by the next :meth:`flush`; a crash before then loses the run, and
+        a crash during it leaves a run whose checksum fails, which a resumed job redoes.
+        """
+        checksums = []
+        for name in self.layout.names:
+            chunks, checksum = encoded[name]
+            dataset = self._datasets[name]
+            shape = dataset.shape[1:]
+            origins = chunk_origins(shape, dataset.chunks[1:])
+            for origin, data in zip(origins, chunks, strict=True):
+                dataset.id.write_direct_chunk((run, *origin), data)
+            checksums.append(checksum)
+        self._pending[run] = checksums
+
+    def flush(self) -> None:
+        """Mark the runs written since the last flush complete, and push it all to disk.
+
+        The chunks are flushed before the flags, so a flag never points at data still in memory.
+        """
+        if self._pending:
+            self._handle.flush()
+            runs = sorted(self._pending)
+            self._handle["checksum"][runs] = np.array([self._pending[k] for k in runs])
+            self._handle["complete"][runs] = 1
+            self._handle["failed"][runs] = 0
+            self._pending.clear()
+        self._handle.flush()
+
+    def mark_failed(self, run: int, message: str) -> None:
+        """Record that run ``run`` failed, with its error message."""
+        failures = json.loads(self._handle.attrs["failures_json"])
+        failures[str(run)] = message
+        self._handle.attrs["failures_json"] = json.dumps(failures)
+        self._handle["failed"][run] = 1
+        self._handle.flush()
+
+    def clear_failures(self) -> None:
+        """Forget earlier failures (before a resumed job retries them)."""
+        self._handle.attrs["failures_json"] = "{}"
+        self._handle["failed"][...] = 0
+
+    def failures(self) -> dict[int, str]:
+        """Failed runs and their error messages."""
+        return {int(k): v for k, v in json.loads(self._handle.attrs["failures_json"]).items()}
+
+    def close(self) -> None:
+        """Flush and close the file."""
+        self.flush()
+        self._handle.close()
+
+    def __enter__(self) -> DatasetFile:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def _new_file(
+    path: Path,
+    n_runs: int,
+    samples: int,
+    dtype: str,
+    attributes: Mapping[str, Any],
+    layout: DatasetLayout,
+    raw_attributes: Mapping[str, Any] | None = None,
+) -> Any:
+    """Write the empty layout of a data set into ``path`` and return the open h5py file."""
+    import h5py
+
+    try:
+        handle = h5py.File(path, "w", track_order=True)
+    except OSError as exc:
+        raise OutputFileError(f"{path}: cannot be created ({exc})") from None
+    handle.attrs["format"] = DATASET_FORMAT
+    handle.attrs["format_version"] = DATASET_FORMAT_VERSION
+    handle.attrs["N"] = n_runs
+    handle.attrs["samples"] = samples
+    handle.attrs["dtype"] = dtype
+    for key, value in attributes.items():
+        safe = _json_safe(value)
+        handle.attrs[key if safe is value else f"{key}_json"] = safe
+    for key, value in (raw_attributes or {}).items():
+        handle.attrs[key] = value
+    handle.attrs.setdefault("failures_json", "{}")
+    handle.attrs["layout_json"] = layout.to_json()
+    strings = h5py.string_dtype("utf-8")
+    shapes = layout.shapes(samples)
+    for name, shape in shapes.items():
+        dataset = handle.create_dataset(
+            name,
+            shape=(n_runs, *shape),
+            dtype="float64" if name in layout.inputs else dtype,
+            chunks=(1, *layout.chunk(name, shape)),
+            compression="gzip",
+            compression_opts=1,
+            shuffle=True,
+        )
+        if name in UNITS:
+            dataset.attrs["units"] = UNITS[name]
+    for name, view in layout.views.items():
+        _create_view(handle, name, view, n_runs, samples, dtype, shapes)
+    for name in ("joint_names", "imu_names", "imu_parents"):
+        handle.create_dataset(name, data=list(getattr(layout, name)), dtype=strings)
+    handle.create_dataset("urdf", data=layout.urdf, dtype=strings)
+    handle.create_dataset("checksum", shape=(n_runs, len(shapes)), dtype="u4")
+    handle.create_dataset("complete", shape=(n_runs,), dtype="u1", fillvalue=0)
+    handle.create_dataset("failed", shape=(n_runs,), dtype="u1", fillvalue=0)
+    handle.flush()
+    return handle
+
+
+def _create_view(
+    handle: Any,
+    name: str,
+    view: Any,
+    n_runs: int,
+    samples: int,
+    dtype: str,
+    shapes: Mapping[str, tuple[int, ...]],
+) -> None:
+    """A view as an HDF5 virtual dataset (N × T × C) over the series in this same file.
+
+    The sources name the file ``"."`` (this file, whatever its name or folder), so the view
+    stays valid when the file is renamed or moved; HDF5 1.10 or newer reads it (h5py,
+    MATLAB's ``h5read``).
+    """
+    import h5py
+
+    layout = h5py.VirtualLayout(shape=(n_runs, samples, len(view.columns)), dtype=dtype)
+    sources = {}
+    for first, count, source in view_mappings(view):
+        if source.array not in sources:
+            shape = (n_runs, *shapes[source.array])
+            sources[source.array] = h5py.VirtualSource(".", source.array, shape=shape, dtype=dtype)
+        vsource = sources[source.array]
+        if not source.index:
+            layout[:, :, first] = vsource[:, :]
+        else:
+            *fixed, last = source.index
+            block = (slice(None), slice(None), *fixed, slice(last, last + count))
+            layout[:, :, first : first + count] = vsource[block]
+    dataset = handle.create_virtual_dataset(name, layout, fillvalue=0)
+    dataset.attrs.create("columns", list(view.columns), dtype=h5py.string_dtype("utf-8"))
+    dataset.attrs["units"] = view.units
+
+
+def _open_dataset_read_only(file: Path) -> Any:
+    """Open a data set to resume it, refusing anything but a complete version 2 layout."""
+    import h5py
+
+    if not file.is_file():
+        raise InputFileError(f"{file}: no such file to resume")
+    try:
+        handle = h5py.File(file, "r")
+    except OSError as exc:
+        raise InputFileError(
+            f"{file}: cannot be opened ({exc}); allowed: --overwrite to start again"
+        ) from None
+    if handle.attrs.get("format") != DATASET_FORMAT:
+        handle.close()
+        raise InputFileError(f"{file}: not a complete aaria_pin data set; cannot resume it")
+    version = int(handle.attrs.get("format_version", 1))
+    if version != DATASET_FORMAT_VERSION:
+        handle.close()
+        raise InputFileError(
+            f"{file}: is a format version {version} data set (aaria_pin 0.1), which cannot be "
+            "resumed; allowed: make it again, or write the rest to a new output file",
+            value=version,
+            allowed=f"format version {DATASET_FORMAT_VERSION}",
+            element=str(file),
+        )
+    complete = "layout_json" in handle.attrs and all(
+        name in handle for name in (*NAME_LISTS, "checksum", "complete")
+    )
+    missing = not complete or any(name not in handle for name in read_layout(handle).names)
+    if missing:
+        handle.close()
+        raise InputFileError(f"{file}: not a complete aaria_pin data set; cannot resume it")
+    return handle
+
+
+def is_dataset_file(path: str | os.PathLike[str]) -> bool:
+    """Whether a file is an aaria_pin data set of any format version (HDF5, its ``format``).
+
+    Raises:
+        InputFileError: an ``.h5`` file that HDF5 cannot read.
+    """
+    import h5py
+
+    file = Path(path)
+    if file.suffix.lower() not in (".h5", ".hdf5") or not file.is_file():
+        return False
+    try:
+        with h5py.File(file, "r") as handle:
+            return bool(handle.attrs.get("format") == DATASET_FORMAT)
+    except OSError as exc:
+        raise InputFileError(f"{file}: cannot be read as HDF5 ({exc})") from None
+
+
+def read_dataset_attributes(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """A resumable data set's attributes (decoded), opening it read-only.
+
+    Raises:
+        InputFileError: as :meth:`DatasetFile.open_for_resume`.
+    """
+    handle = _open_dataset_read_only(Path(path))
+    try:
+        return decode_attributes(handle.attrs)
+    finally:
+        handle.close()
+
+
+def _copy_intact_runs(old: Any, new: Any, layout: DatasetLayout) -> None:
+    """Copy the chunk bytes of every complete run whose CRC-32 matches into ``new``."""
+    complete = np.asarray(old["complete"][()], dtype=bool)
+    checksums = old["checksum"][()]
+    intact = []
+    for run in np.flatnonzero(complete):
+        chunks = []
+        try:
+            for index, name in enumerate(layout.names):
+                dataset = old[name]
+                checksum = 0
+                for origin in chunk_origins(dataset.shape[1:], dataset.chunks[1:]):
+                    where = (int(run), *origin)
+                    _, data = dataset.id.read_direct_chunk(where)
+                    checksum = zlib.crc32(data, checksum)
+                    chunks.append((name, where, data))
+                if checksum != checksums[run, index]:
+                    raise ValueError("checksum")
+        except (OSError, ValueError, KeyError):
+            continue
+        for name, where, data in chunks:
+            new[name].id.write_direct_chunk(where, data)
+        intact.append(int(run))
+    if intact:
+        new["checksum"][intact] = checksums[intact]
+        new["complete"][intact] = 1
+    new.flush()
+
+
+def check_dataset_path(path: Path, resume: bool, overwrite: bool) -> None:
+    """Refuse an output that exists without ``resume``/``overwrite``, or a missing folder.
+
+    Raises:
+        OutputFileError: as above, naming the flag to use.
+    """
+    if resume and overwrite:
+        raise OutputFileError("--resume and --overwrite exclude each other; allowed: one of them")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise OutputFileError(f"{path}: folder {folder} does not exist")
+    if path.suffix.lower() not in (".h5", ".hdf5"):
+        raise OutputFileError(f"{path}: unknown data set type {path.suffix!r}; allowed: .h5, .hdf5")
+    if path.exists() and not (resume or overwrite):
+        raise OutputFileError(f"{path}: exists; allowed: --resume to continue it, --overwrite")
+    if resume and not path.is_file():
+        raise InputFileError(f"{path}: no such file to resume")

@@ -1,0 +1,279 @@
+"""The run file layout shared by the HDF5 and ``.mat`` formats: names, shapes, views.
+
+"The module docstring" in the docstrings below is that of :mod:`aaria_pin.files.runfile`, which
+describes the layout.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from aaria_pin.core.record import (
+    IMU_SIGNALS,
+    SERIES,
+    UNITS,
+    ColumnSource,
+    ColumnView,
+    ImuMount,
+    RunRecord,
+)
+from aaria_pin.core.se3 import Array
+from aaria_pin.errors import InputFileError, OutputFileError, ParameterError
+
+NAME_DATASETS = ("joint_names", "imu_names", "imu_parents")
+"""The string lists of a run file (string datasets in HDF5, cell arrays in ``.mat``)."""
+
+FIXED_NAMES = (*SERIES, "imu_mount", *NAME_DATASETS, "urdf")
+"""Every name a run file always holds."""
+
+COLUMNS_SUFFIX = "_columns"
+"""A view's column names in a ``.mat`` file: ``<view>_columns``."""
+
+TABLE_UNITS = {
+    "senSenDH": "columns: alpha rad, a m, theta rad, d m, "
+    "link type (0 empty, 1 revolute, 2 prismatic)",
+    "senSenJ": "columns: amplitude rad, prismatic amplitude m, bias rad or m, frequency rad/s, "
+    "phase rad",
+    "senSenB": "columns: amplitude m or rad, bias m or rad, frequency rad/s, phase rad",
+    "joint_table": "columns: amplitude rad, prismatic amplitude m, bias rad or m, "
+    "frequency rad/s, phase rad",
+    "base_table": "columns: amplitude m or rad, bias m or rad, frequency rad/s, phase rad",
+}
+"""The ``units`` attribute of the known input tables (other tables get ``""``)."""
+
+VIEW_UNITS = "see columns: s, rad or m, rad/s, m/s^2"
+"""The ``units`` of a view read back without one."""
+
+_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,62}")
+_JOINT_SERIES = ("q", "qd", "qdd", "tau")
+_NUMBERED = re.compile(r"(q|qd|qdd|tau)([1-9][0-9]*)")
+_COLUMN_RULE = "time, q<j>, q:<joint> (also qd, qdd, tau), <imu>_<signal>"
+
+
+def units_of(name: str) -> str:
+    """The ``units`` attribute of a stored array by name."""
+    return UNITS.get(name, TABLE_UNITS.get(name, ""))
+
+
+def layout_shapes(samples: int, joints: int, imus: int) -> dict[str, tuple[int, ...]]:
+    """The shape of each series and of ``imu_mount`` for T samples, n joints and S IMUs."""
+    return {
+        "time": (samples,),
+        "q": (samples, joints),
+        "qd": (samples, joints),
+        "qdd": (samples, joints),
+        "tau": (samples, joints),
+        "base_pose": (samples, 4, 4),
+        "base_wrench": (samples, 6),
+        "tool_pose": (samples, 4, 4),
+        "imu": (samples, imus, len(IMU_SIGNALS)),
+        "imu_mount": (imus, 4, 4),
+    }
+
+
+def describe_shape(shape: tuple[int, ...]) -> str:
+    """A shape for a message or a summary, e.g. ``(37, 6)``."""
+    return f"({', '.join(str(dim) for dim in shape)})"
+
+
+def fit_shape(shape: tuple[int, ...], expected: tuple[int, ...]) -> tuple[int, ...] | None:
+    """The expected shape that ``shape`` fills, allowing only axes of length 1 to differ.
+
+    Args:
+        shape: shape as stored (a ``.mat`` reader may add or drop axes of length 1)
+        expected: expected shape, at most one -1 (any length)
+
+    Returns:
+        The full expected shape, or None if ``shape`` does not fit it.
+    """
+    size = math.prod(shape)
+    known = math.prod(dim for dim in expected if dim != -1)
+    if -1 in expected:
+        if known == 0 or size % known:
+            return None
+        full = tuple(size // known if dim == -1 else dim for dim in expected)
+    else:
+        full = expected
+        if size != known:
+            return None
+    if tuple(shape) == full or size == 0:
+        return full
+    squeezed = tuple(dim for dim in shape if dim != 1)
+    return full if squeezed == tuple(dim for dim in full if dim != 1) else None
+
+
+def fitted(file: Path, name: str, data: Array, expected: tuple[int, ...]) -> Array:
+    """A stored array as float64 in its expected shape; InputFileError if it does not fit."""
+    try:
+        array = np.asarray(data, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputFileError(
+            f"{file}: array {name!r} is not numeric; expected float values"
+        ) from None
+    full = fit_shape(array.shape, expected)
+    if full is None:
+        wanted = describe_shape(expected).replace("-1", "T")
+        raise InputFileError(
+            f"{file}: array {name!r} has shape {describe_shape(array.shape)}; expected {wanted}"
+        )
+    return array.reshape(full)
+
+
+# --- views ---------------------------------------------------------------------------------------
+
+
+def column_source(
+    column: str, joint_names: Sequence[str], imu_names: Sequence[str]
+) -> ColumnSource | None:
+    """Where a view column comes from, read from its name (None: the name is not readable).
+
+    ``time`` → ``time``; ``q<j>`` (1-based) or ``q:<joint>`` → a column of ``q`` (likewise
+    ``qd``, ``qdd``, ``tau``); ``<imu>_<signal>`` → a signal of one IMU of ``imu``.
+    """
+    if column == "time":
+        return ColumnSource("time", ())
+    series, colon, joint = column.partition(":")
+    if colon and series in _JOINT_SERIES and joint in joint_names:
+        return ColumnSource(series, (list(joint_names).index(joint),))
+    numbered = _NUMBERED.fullmatch(column)
+    if numbered and int(numbered[2]) <= len(joint_names):
+        return ColumnSource(numbered[1], (int(numbered[2]) - 1,))
+    imu, underscore, signal = column.rpartition("_")
+    if underscore and signal in IMU_SIGNALS and imu in imu_names:
+        return ColumnSource("imu", (list(imu_names).index(imu), IMU_SIGNALS.index(signal)))
+    return None
+
+
+def view_from_columns(
+    columns: Sequence[str],
+    joint_names: Sequence[str],
+    imu_names: Sequence[str],
+    units: str = VIEW_UNITS,
+) -> ColumnView:
+    """A column view rebuilt from its column names (rule: :func:`column_source`).
+
+    Raises:
+        ParameterError: a column name that names no column of the record.
+    """
+    sources = []
+    for column in columns:
+        source = column_source(column, joint_names, imu_names)
+        if source is None:
+            raise ParameterError(
+                f"view column {column!r} names no column of the run; allowed: {_COLUMN_RULE}"
+            )
+        sources.append(source)
+    return ColumnView(tuple(columns), tuple(sources), units)
+
+
+def read_view(
+    file: Path, name: str, columns: Sequence[str], record_names: tuple[Sequence[str], ...]
+) -> ColumnView:
+    """A stored view rebuilt from its column names; InputFileError if one is not readable."""
+    joint_names, imu_names = record_names
+    try:
+        return view_from_columns(list(columns), joint_names, imu_names)
+    except ParameterError as exc:
+        raise InputFileError(f"{file}: view {name!r}: {exc}") from None
+
+
+# --- writing -------------------------------------------------------------------------------------
+
+
+def checked_arrays(final: Path, record: RunRecord) -> dict[str, Array]:
+    """The record's stored arrays as contiguous float64, names and views checked.
+
+    Returns:
+        The series, ``imu_mount`` and the tables by name, in file order; a table of fewer than
+        two axes as a 1 × k row (MATLAB has no 1-D arrays, so both formats store it so).
+
+    Raises:
+        OutputFileError: an array of the wrong shape or not numeric, a table or view name that
+            is not allowed, or a view whose column names do not read back as its columns.
+    """
+    taken = set(FIXED_NAMES)
+    for kind, names in (("table", list(record.tables)), ("view", list(record.views))):
+        for name in names:
+            if not isinstance(name, str) or not _NAME.fullmatch(name) or name in taken:
+                raise OutputFileError(
+                    f"{final}: {kind} name {name!r} is not allowed; allowed: letters, digits "
+                    "and _ (a letter first, at most 63 characters), none of "
+                    + ", ".join(sorted(taken))
+                )
+            taken.add(name)
+            if kind == "view":
+                taken.add(name + COLUMNS_SUFFIX)
+    samples = int(np.shape(record.time)[0]) if np.ndim(record.time) == 1 else -1
+    expected = layout_shapes(samples, len(record.joint_names), len(record.imu_mounts))
+    arrays: dict[str, Array] = {}
+    stored = {**record.series(), "imu_mount": record.imu_mount, **record.tables}
+    for name, value in stored.items():
+        try:
+            data = np.ascontiguousarray(value, dtype=np.float64)
+            arrays[name] = data if name in expected else np.atleast_2d(data)
+        except (TypeError, ValueError):
+            raise OutputFileError(
+                f"{final}: array {name!r} is not numeric; expected float values"
+            ) from None
+        if name in expected and arrays[name].shape != expected[name]:
+            raise OutputFileError(
+                f"{final}: array {name!r} has shape {describe_shape(arrays[name].shape)}; "
+                f"expected {describe_shape(expected[name])}"
+            )
+    for name, view in record.views.items():
+        for column, source in zip(view.columns, view.sources, strict=True):
+            read = column_source(column, record.joint_names, record.imu_names)
+            if read != source:
+                raise OutputFileError(
+                    f"{final}: view {name!r} column {column!r} is {source.array}"
+                    f"{list(source.index)} but its name reads back as "
+                    f"{'nothing' if read is None else f'{read.array}{list(read.index)}'}; "
+                    f"allowed names: {_COLUMN_RULE}"
+                )
+    return arrays
+
+
+def record_from_arrays(
+    file: Path,
+    arrays: Mapping[str, Array],
+    names: Mapping[str, Sequence[str]],
+    *,
+    urdf: str,
+    tables: dict[str, Array],
+    views: dict[str, ColumnView],
+    attributes: dict[str, Any],
+) -> RunRecord:
+    """A run record from read arrays and names; InputFileError if they do not agree."""
+    mounts = tuple(
+        ImuMount(name, parent, pose)
+        for name, parent, pose in zip(
+            names["imu_names"], names["imu_parents"], arrays["imu_mount"], strict=True
+        )
+    )
+    try:
+        return RunRecord(
+            **{name: arrays[name] for name in SERIES},
+            joint_names=tuple(names["joint_names"]),
+            imu_mounts=mounts,
+            urdf=urdf,
+            tables=tables,
+            views=views,
+            attributes=attributes,
+        )
+    except ParameterError as exc:
+        raise InputFileError(f"{file}: {exc}") from None
+
+
+def check_names(file: Path, names: Mapping[str, Sequence[str]], imus: int) -> None:
+    """Refuse IMU names and parents whose counts differ from ``imu_mount``'s."""
+    for key in ("imu_names", "imu_parents"):
+        if len(names[key]) != imus:
+            raise InputFileError(
+                f"{file}: {key} holds {len(names[key])} names; expected {imus}, one per imu_mount"
+            )
