@@ -20,7 +20,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from aaria_pin.apps.dataset.engine import DatasetSpec, simulate_dataset_run
+from aaria_pin.apps.dataset.dh import DhDatasetSpec
 
 
 def main() -> None:
@@ -31,15 +31,15 @@ def main() -> None:
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     runs = 20 if args.quick else args.runs
-    spec = DatasetSpec(
+    spec = DhDatasetSpec(
         n_runs=runs, seed=1, duration=2.0 if args.quick else 10.0, noise=False, dtype="float64"
     )
     rows = []
     for k in range(runs):
-        arrays = simulate_dataset_run(spec, k)
-        table = arrays["senSenDH"]
+        record = spec.make_run(k)
+        table = record.tables["senSenDH"]
         used = table[:6, 4] > 0
-        wrench = arrays["base_wrench"]
+        wrench = record.base_wrench
         rows.append(
             {
                 "run": k,

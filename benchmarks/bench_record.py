@@ -100,7 +100,7 @@ def main() -> None:
     print(f"{'what':<48} {'median s':>9} {'x floor':>8}")
     labels = {
         "floor": "floor: rneaInParallel, 1 thread (tau only)",
-        "record": "record, noise off (senSen, tau, wrench, pose)",
+        "record": "record, noise off (imu, tau, wrench, poses)",
         "noisy": "record, noise on",
         "loop": f"per-sample Pinocchio loop (timed on {reference_samples})",
     }

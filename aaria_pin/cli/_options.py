@@ -131,7 +131,7 @@ def torque_overrides(params: dict[str, Any]) -> dict[str, Any]:
         from aaria_pin.files.runfile import read_run
 
         run = read_run(path)
-        grid = {
+        grid: dict[str, Any] = {
             key: float(run.attributes[key])
             for key in ("duration", "rate")
             if params.get(key) is None and key in run.attributes

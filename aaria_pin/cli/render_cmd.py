@@ -42,7 +42,7 @@ def render(
 ) -> None:
     """Draw an arm in 3D: a preset or table with every joint at zero, or a run at a time.
 
-    --preset also takes the model presets of plug-ins (pick-place-arm, from aaria_pin.apps.arm):
+    --preset also takes the model presets of plug-ins (pick-place-arm, the arm's viewer plug-in):
     the model at rest.
     """
     import numpy as np

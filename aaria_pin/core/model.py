@@ -1,7 +1,8 @@
 """Pinocchio models with named sensor frames, on a fixed or a moving base.
 
 This is the general core: it knows nothing of DH tables. Any URDF whose sensor mounts are
-frames (links on fixed joints, as the DH emitter writes them) becomes a :class:`RobotModel`.
+frames (links on fixed joints, as :mod:`aaria_pin.core.urdf` writes them) becomes a
+:class:`RobotModel`.
 With ``moving_base=True`` a free-flyer root joint (``root_joint``) carries the base: its
 configuration is ``[x, y, z, qx, qy, qz, qw]`` in the world and its velocity the base's spatial
 velocity in base axes, so the first 6 entries of an RNEA result are the wrench the base mount
@@ -133,7 +134,7 @@ def _joint_model(joint: JointDescription) -> pin.JointModel:
     """
     axis = np.asarray(joint.axis, dtype=float)
     for unit, letter in _CARTESIAN:
-        if np.linalg.norm(axis - unit) <= 1e-12 * min(np.linalg.norm(axis), 1.0):
+        if np.linalg.norm(axis - unit) <= 1e-12 * min(float(np.linalg.norm(axis)), 1.0):
             return getattr(pin, _ALIGNED[joint.kind] + letter)()
     if joint.kind == "continuous":
         return _unbounded_unaligned(axis)

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -165,7 +165,7 @@ class Shape:
     collision: bool = True
 
 
-def part_shape(part: Part, name: str) -> Shape:
+def _part_shape(part: Part, name: str) -> Shape:
     """The visual and collision shape of a solid part, coloured by its role."""
     geometry: Geometry
     if part.shape == "box":
@@ -207,21 +207,15 @@ class LinkDescription:
     def all_shapes(self) -> tuple[Shape, ...]:
         """The parts' shapes (named ``<link>_<role>_<index>``), then :attr:`shapes`."""
         solids = tuple(
-            part_shape(part, f"{self.name}_{part.role}_{index}")
+            _part_shape(part, f"{self.name}_{part.role}_{index}")
             for index, part in enumerate(self.parts)
         )
         start = len(solids)
         extra = tuple(
-            shape if shape.name else _renamed(shape, f"{self.name}_shape_{start + index}")
+            shape if shape.name else replace(shape, name=f"{self.name}_shape_{start + index}")
             for index, shape in enumerate(self.shapes)
         )
         return solids + extra
-
-
-def _renamed(shape: Shape, name: str) -> Shape:
-    return Shape(
-        shape.geometry, shape.T_link_shape, shape.material, name, shape.visual, shape.collision
-    )
 
 
 @dataclass(frozen=True)
@@ -457,7 +451,7 @@ def _check_joints(description: RobotDescription) -> None:
             raise ModelError(
                 f"joint {joint.name!r} axis is {joint.axis}; allowed: a unit vector of 3 numbers"
             )
-        limits = (joint.effort, joint.velocity)
+        limits: tuple[float, ...] = (joint.effort, joint.velocity)
         if joint.kind != "continuous":
             limits += (joint.lower, joint.upper)
         if not np.all(np.isfinite(limits)):

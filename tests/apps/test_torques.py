@@ -11,7 +11,8 @@ from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.aaria.oscillation import base_motion, joint_trajectory
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
-from aaria_pin.apps.dataset.engine import DatasetSpec, generate_dataset
+from aaria_pin.apps.dataset.dh import DhDatasetSpec
+from aaria_pin.apps.dataset.engine import generate_dataset
 from aaria_pin.apps.torques import record_torque_report, torque_split
 from aaria_pin.cli import main
 from aaria_pin.core.trajectory import sample_times
@@ -80,7 +81,7 @@ def test_cli_on_a_run_file_and_a_dataset(tmp_path: Path) -> None:
         [j["peak_abs"] for j in report["joints"]],
         np.abs(record.tau[:, [0, 2, 3, 4, 5]]).max(axis=0),
     )
-    generate_dataset(tmp_path / "ds.h5", DatasetSpec(n_runs=6, seed=2, duration=0.5), workers=1)
+    generate_dataset(tmp_path / "ds.h5", DhDatasetSpec(n_runs=6, seed=2, duration=0.5), workers=1)
     result = CliRunner().invoke(main, ["torques", str(tmp_path / "ds.h5"), "--json"])
     summary = json.loads(result.stdout)
     assert (

@@ -272,3 +272,22 @@ def test_simulate_unwritable_output(tmp_path: Path) -> None:
         "simulate", "--preset", "aaria-fig2", "--duration", "0.1", "-o", str(tmp_path / "run.txt")
     )
     assert code == 2 and ".txt" in err
+
+
+def test_simulate_from_a_wrist_run_remakes_it(tmp_path: Path) -> None:
+    from aaria_pin.files.runfile import read_run
+
+    first = tmp_path / "wrist.h5"
+    code, _, err = run_cli(
+        "wrist", "simulate", "30", "20", "10", "--duration", "3", "-o", str(first)
+    )
+    assert code == 0, err
+    again = tmp_path / "again.mat"
+    code, out, err = run_cli("simulate", "--from", str(first), "-o", str(again))
+    assert code == 0, err
+    assert "spherical-wrist (wrist), 301 samples" in out
+    a, b = read_run(first), read_run(again)
+    for name in ("q", "tau", "base_wrench", "tool_pose", "imu"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+    code, _, err = run_cli("simulate", "--from", str(first), "--rate", "10", "-o", str(again))
+    assert code == 2 and "--rate does not apply to a wrist run" in err

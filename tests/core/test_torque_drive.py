@@ -11,6 +11,7 @@ import pytest
 from conftest import run_cli
 
 from aaria_pin.core.catalogue import find_robot
+from aaria_pin.core.record import RunRecord
 from aaria_pin.core.urdf_robot import read_urdf_file
 from aaria_pin.core.urdf_run import simulate_urdf_run
 from aaria_pin.errors import ParameterError
@@ -21,12 +22,12 @@ SETTINGS = {"duration": 1.0, "rate": 500.0, "noise": False}
 
 
 @pytest.fixture(scope="module")
-def ur5_run():  # type: ignore[no-untyped-def]
+def ur5_run() -> RunRecord:
     """ur5 from its default tables on the default moving base."""
     return simulate_urdf_run(read_urdf_file(find_robot("ur5").urdf), source="ur5", **SETTINGS)
 
 
-def test_feeding_back_the_torques_reproduces_the_motion(ur5_run) -> None:  # type: ignore[no-untyped-def]
+def test_feeding_back_the_torques_reproduces_the_motion(ur5_run: RunRecord) -> None:
     t = ur5_run.time
     table = ur5_run.tables["joint_table"]
     amplitude, bias, w, phase = table[:, 0], table[:, 2], table[:, 3], table[:, 4]
@@ -43,7 +44,7 @@ def test_feeding_back_the_torques_reproduces_the_motion(ur5_run) -> None:  # typ
     np.testing.assert_allclose(driven.tau, ur5_run.tau, atol=1e-6)  # RNEA of the result
 
 
-def test_cli_drive_torque_from_a_run_file(ur5_run, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+def test_cli_drive_torque_from_a_run_file(ur5_run: RunRecord, tmp_path: Path) -> None:
     code, _, err = run_cli(
         "simulate", "--robot", "ur5", "--duration", "1", "--rate", "500", "--no-noise",
         "-o", str(tmp_path / "run.h5"),
@@ -66,7 +67,7 @@ def test_cli_drive_torque_from_a_run_file(ur5_run, tmp_path: Path) -> None:  # t
     np.testing.assert_array_equal(read_run(again).q, driven.q)
 
 
-def test_mismatched_joint_counts_are_refused(ur5_run, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+def test_mismatched_joint_counts_are_refused(ur5_run: RunRecord, tmp_path: Path) -> None:
     with pytest.raises(ParameterError, match=r"allowed: \(501 samples, 9 joints\)"):
         simulate_urdf_run(read_urdf_file(find_robot("panda").urdf), torques=ur5_run.tau, **SETTINGS)
     write_run(tmp_path / "ur5.h5", ur5_run)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import io
 import xml.etree.ElementTree as ET
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -13,6 +14,8 @@ import pytest
 import yourdfpy
 from conftest import Rx, Rz, Tx, Tz
 
+from aaria_pin.aaria.dh_robot import build_dh_robot
+from aaria_pin.aaria.presets import get_preset
 from aaria_pin.apps.arm.preset import ArmDimensions, arm_description, arm_urdf
 from aaria_pin.core.inertia import Inertia, Part
 from aaria_pin.core.model import build_model, model_from_description
@@ -31,7 +34,9 @@ from aaria_pin.core.urdf import (
 )
 from aaria_pin.errors import ModelError
 
-FIXTURE = Path(__file__).resolve().parents[1] / "fixtures" / "arm_urdf_v0_1_0" / "pick_place_arm.urdf"
+FIXTURE = (
+    Path(__file__).resolve().parents[1] / "fixtures" / "arm_urdf_v0_1_0" / "pick_place_arm.urdf"
+)
 
 TILTED = np.array([0.0, 0.6, 0.8])
 SLANT = np.array([1.0, -2.0, 2.0]) / 3.0
@@ -140,16 +145,28 @@ def _assert_same_dynamics(a: pin.Model, b: pin.Model, seed: int) -> None:
         q = pin.randomConfiguration(b)
         v, acc = rng.normal(size=b.nv), rng.normal(size=b.nv)
         np.testing.assert_allclose(
-            pin.rnea(a, a.createData(), q, v, acc), pin.rnea(b, b.createData(), q, v, acc), atol=1e-9
+            pin.rnea(a, a.createData(), q, v, acc),
+            pin.rnea(b, b.createData(), q, v, acc),
+            atol=1e-9,
         )
 
 
+def _description(which: str) -> tuple[RobotDescription, str]:
+    """A robot description and its tool frame."""
+    if which == "every_feature":
+        return _every_feature(), "tip"
+    if which == "arm":
+        return arm_description(ArmDimensions()), "grasp"
+    preset = get_preset(which)
+    return build_dh_robot(preset.table, preset.convention).description, "tool_tip"
+
+
 @pytest.mark.parametrize("moving_base", [False, True])
-@pytest.mark.parametrize("which", ["every_feature", "arm"])
+@pytest.mark.parametrize("which", ["every_feature", "arm", "aaria-fig2", "spherical-wrist"])
 def test_direct_model_equals_the_parsed_urdf(which: str, moving_base: bool) -> None:
-    description = _every_feature() if which == "every_feature" else arm_description(ArmDimensions())
+    """Joints, inertias and frames in the same order with the same values, as parsed."""
+    description, tip = _description(which)
     root = description.links[0].name
-    tip = description.links[-1].name if which == "every_feature" else "grasp"
     direct = model_from_description(
         description, moving_base=moving_base, base_frame=root, tool_frame=tip, sensor_frames=()
     ).model
@@ -232,22 +249,16 @@ def test_shapes_and_materials_are_written_as_given() -> None:
     np.testing.assert_array_equal(np.array(slant.split(), dtype=float), SLANT)
 
 
-def _description_with(**changes: object) -> RobotDescription:
-    base = {"name": "j", "kind": "revolute", "parent": "root", "child": "arm"}
-    base |= changes
-    joint = JointDescription(
-        str(base["name"]),
-        base["kind"],  # type: ignore[arg-type]
-        str(base["parent"]),
-        str(base["child"]),
-        np.eye(4),
-        lower=float(base.get("lower", -1.0)),  # type: ignore[arg-type]
-        upper=float(base.get("upper", 1.0)),  # type: ignore[arg-type]
-        axis=base.get("axis", (0.0, 0.0, 1.0)),  # type: ignore[arg-type]
-    )
-    arm = LinkDescription("arm", shapes=tuple(base.get("shapes", ())))  # type: ignore[arg-type]
+def _description_with(changes: dict[str, Any]) -> RobotDescription:
+    """A two-link robot whose joint (or the arm link's shapes) takes the changes."""
+    shapes = tuple(changes.pop("shapes", ()))
+    fields: dict[str, Any] = {"name": "j", "kind": "revolute", "parent": "root", "child": "arm"}
+    fields |= {"T_parent_child": np.eye(4), "lower": -1.0, "upper": 1.0} | changes
+    arm = LinkDescription("arm", shapes=shapes)
     materials = (Material("red", (0.9, 0.0, 0.0, 1.0)),)
-    return RobotDescription("bad", (LinkDescription("root"), arm), (joint,), materials=materials)
+    return RobotDescription(
+        "bad", (LinkDescription("root"), arm), (JointDescription(**fields),), materials=materials
+    )
 
 
 @pytest.mark.parametrize(
@@ -270,40 +281,50 @@ def _description_with(**changes: object) -> RobotDescription:
         ),
     ],
 )
-def test_bad_descriptions_are_refused(changes: dict[str, object], pattern: str) -> None:
-    description = _description_with(**changes)
+def test_bad_descriptions_are_refused(changes: dict[str, Any], pattern: str) -> None:
+    description = _description_with(dict(changes))
     with pytest.raises(ModelError, match=pattern):
         emit_urdf(description)
+
+
+def _arm_model(urdf: str, moving_base: bool) -> pin.Model:
+    return build_model(
+        urdf, moving_base=moving_base, base_frame="pillar", tool_frame="grasp", sensor_frames=()
+    ).model
+
+
+def _shapes(urdf: str) -> dict[tuple[str, str], tuple[str, np.ndarray, tuple[float, ...]]]:
+    """(link, visual or collision) → mesh file, xyz and rpy, colour (from any URDF's layout)."""
+    root = ET.fromstring(urdf)
+    colours = {
+        material.get("name"): colour.get("rgba")
+        for material in root.iter("material")
+        if (colour := material.find("color")) is not None
+    }
+    found = {}
+    for link in root.findall("link"):
+        for element in (*link.findall("visual"), *link.findall("collision")):
+            origin = element.find("origin")
+            pose = np.array([*origin.get("xyz").split(), *origin.get("rpy").split()], dtype=float)
+            material = element.find("material")
+            rgba = "" if material is None else colours[material.get("name")]
+            colour = tuple(float(v) for v in rgba.split())
+            mesh = element.find("geometry/mesh").get("filename")
+            found[(link.get("name"), element.tag)] = (mesh, pose, colour)
+    return found
 
 
 def test_the_arm_urdf_describes_the_0_1_0_arm() -> None:
     old_text = FIXTURE.read_text(encoding="utf-8")
     new_text = arm_urdf(ArmDimensions())
     for moving_base in (False, True):
-        old = build_model(old_text, moving_base=moving_base, base_frame="pillar",
-                          tool_frame="grasp", sensor_frames=()).model  # fmt: skip
-        new = build_model(new_text, moving_base=moving_base, base_frame="pillar",
-                          tool_frame="grasp", sensor_frames=()).model  # fmt: skip
+        old, new = _arm_model(old_text, moving_base), _arm_model(new_text, moving_base)
         _assert_same_models(old, new)
         _assert_same_dynamics(old, new, 7)
-    # the meshes and their placements, link by link
-    old_root, new_root = ET.fromstring(old_text), ET.fromstring(new_text)
-
-    def visuals(root: ET.Element) -> dict[str, list[tuple[str, ...]]]:
-        return {
-            link.get("name", ""): [
-                (
-                    element.tag,
-                    element.find("geometry/mesh").get("filename", ""),
-                    *np.array(
-                        [*element.find("origin").get("xyz").split(),
-                         *element.find("origin").get("rpy").split()], dtype=float
-                    ).astype(str),
-                )
-                for element in (*link.findall("visual"), *link.findall("collision"))
-            ]
-            for link in root.findall("link")
-        }  # fmt: skip
-
-    assert visuals(new_root) == visuals(old_root)
-    assert len([m for m in new_root.iter("mesh")]) == 16
+    old_shapes, new_shapes = _shapes(old_text), _shapes(new_text)
+    assert sorted(new_shapes) == sorted(old_shapes)
+    assert len(new_shapes) == 16  # a visual and a collision mesh on each of the 8 solid links
+    for key, (mesh, pose, colour) in old_shapes.items():
+        assert new_shapes[key][0] == mesh == f"meshes/{key[0]}.stl"
+        np.testing.assert_array_equal(new_shapes[key][1], pose)
+        assert new_shapes[key][2] == colour

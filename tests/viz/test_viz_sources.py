@@ -148,3 +148,29 @@ def test_unknown_files_name_the_plugin_kinds_too(plugin: str, tmp_path: Path) ->
     other.write_text("x")
     with pytest.raises(InputFileError, match="allowed: aaria, wrist, dummy, generic run files"):
         sources.run_kind(other)
+
+
+def test_a_record_in_memory_and_a_data_set_run_are_drawn_as_their_files(
+    tmp_path: Path, ur5_run: Path
+) -> None:
+    """record_view draws a record without a file; a data set's run is drawn through the reader."""
+    from aaria_pin.files.runfile import read_run
+
+    record = read_run(ur5_run)
+    from_file = sources.load_run_view(ur5_run)
+    in_memory = sources.record_view(record, "ur5 in memory")
+    assert in_memory.kind == from_file.kind == "generic" and in_memory.title == "ur5 in memory"
+    samples = np.arange(from_file.time.size)
+    np.testing.assert_array_equal(in_memory.frame_poses(samples), from_file.frame_poses(samples))
+    tool = from_file.frame_poses(samples)[:, from_file.scene.frames.index("tool0")]
+    np.testing.assert_allclose(tool, record.tool_pose, atol=1e-9)
+    with pytest.raises(ParameterError, match="for a data set"):
+        sources.load_run_view(ur5_run, run=1)
+    dataset = Path(__file__).parents[1] / "fixtures" / "v0_1_0" / "ur5_dataset.h5"
+    view = sources.load_run_view(dataset, run=1)
+    assert view.kind == "generic" and view.title == "ur5_dataset.h5 run 1"
+    import h5py
+
+    with h5py.File(dataset, "r") as handle:
+        stored_q = handle["q"][1]
+    np.testing.assert_array_equal(view.signals.q, stored_q.astype(float))

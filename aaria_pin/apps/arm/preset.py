@@ -300,14 +300,7 @@ def arm_urdf(
     grasp: tuple[float, float] = DEFAULT_GRASP,
     parts: Mapping[str, MeshPart] | None = None,
 ) -> str:
-    """URDF text of the arm (:func:`arm_description` written by the core emitter).
-
-    Args:
-        dims: the arm
-        mesh_folder: the meshes' folder, relative to the URDF
-        grasp: radius and height of the gripped cylinder that places frame ``grasp`` [m]
-        parts: the arm's parts, :func:`arm_parts` of ``dims`` (made if not given)
-    """
+    """URDF text of the arm: :func:`arm_description` (same arguments) by the core emitter."""
     return emit_urdf(arm_description(dims, mesh_folder, grasp, parts))
 
 

@@ -249,18 +249,24 @@ def simulate_wrist_from_record(stored: RunRecord, **overrides: Any) -> WristRun:
     """
     attributes = stored.attributes
     targets = stored.tables.get("targets", attributes.get("targets_rad"))
-    settings: dict[str, Any] = {
-        "speed": float(attributes.get("speed_rad_s", np.radians(40.0))),
-        "acceleration": float(attributes.get("acceleration_rad_s2", np.radians(80.0))),
-        "profile": str(attributes.get("profile", "trapezoid")),
-        "start": float(attributes.get("start_s", 2.0)),
-        "duration": float(attributes["duration"])
-        if "duration" in attributes
-        else float(stored.time[-1]),
-        "rate": float(attributes["rate"])
-        if "rate" in attributes
-        else float(1.0 / (stored.time[1] - stored.time[0])),
+    names = {
+        "speed_rad_s": "speed",
+        "acceleration_rad_s2": "acceleration",
+        "start_s": "start",
+        "duration": "duration",
+        "rate": "rate",
     }
+    settings: dict[str, Any] = {
+        parameter: float(attributes[name])
+        for name, parameter in names.items()
+        if name in attributes
+    }
+    if "profile" in attributes:
+        settings["profile"] = str(attributes["profile"])
+    if "duration" not in settings:  # a 0.1.0 wrist file: its samples give the grid
+        settings["duration"] = float(stored.time[-1])
+    if "rate" not in settings:
+        settings["rate"] = float(1.0 / (stored.time[1] - stored.time[0]))
     settings.update(overrides)
     return simulate_wrist(np.asarray(targets, dtype=float).reshape(-1), **settings)
 
