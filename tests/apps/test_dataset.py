@@ -245,7 +245,7 @@ def test_info_summarises_a_dataset(reference: Path) -> None:
 def test_peak_memory_does_not_grow_with_the_number_of_runs(tmp_path: Path) -> None:
     code = (
         "import resource, sys; "
-        "from aaria_pin.apps.dataset.engine import DatasetSpec, generate_dataset; "
+        "from aaria_pin.apps.dataset.engine import DhDatasetSpec, generate_dataset; "
         "generate_dataset(sys.argv[1], DhDatasetSpec(n_runs=int(sys.argv[2]), duration=0.2), "
         "workers=1); print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)"
     )

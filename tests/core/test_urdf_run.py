@@ -10,6 +10,7 @@ import pinocchio as pin
 import pytest
 from conftest import GRAVITY, paper_base_state, vee
 
+from aaria_pin.apps.remake import simulate_urdf_from_run_file
 from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.trajectory import sample_times
@@ -20,7 +21,6 @@ from aaria_pin.core.urdf_robot import (
     read_urdf_file,
     urdf_joint_trajectory,
 )
-from aaria_pin.apps.remake import simulate_urdf_from_run_file
 from aaria_pin.core.urdf_run import simulate_urdf_run
 from aaria_pin.files.runfile import read_run, write_run
 
