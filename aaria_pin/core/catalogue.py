@@ -104,9 +104,10 @@ def find_robot(name: str) -> RobotEntry:
 
     close = difflib.get_close_matches(name, list(catalogue), n=5, cutoff=0.5)
     hint = f"close names: {', '.join(close)}" if close else "see 'aaria robots'"
+    listed = "a robot of 'aaria robots'" + (f" ({hint})" if close else "")
     raise ParameterError(
         f"robot {name!r} is not in example-robot-data; {hint}",
         parameter="robot",
         value=name,
-        allowed=hint,
+        allowed=listed,
     )

@@ -134,7 +134,8 @@ class ColumnView:
         out = np.empty((*lead, len(self.sources)), dtype=first.dtype)
         for c, source in enumerate(self.sources):
             array = np.asarray(series[source.array])
-            out[..., c] = array[(..., *source.index)] if source.index else array
+            index: tuple[Any, ...] = (Ellipsis, *source.index)
+            out[..., c] = array[index] if source.index else array
         return out
 
 

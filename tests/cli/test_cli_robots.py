@@ -123,7 +123,7 @@ def test_simulate_robot_bad_options(tmp_path: Path, extra: list[str], pattern: s
     [
         (["--robot", "ur5", "--drive", "torque"], "--drive torque and --torques FILE go together"),
         (["--robot", "ur5", "--fixed-base", "--base", "base.csv"], "not allowed with --fixed-base"),
-        (["--robot", "ur3"], "robot name 'ur3' is ambiguous; allowed: ur/ur3, ur/ur3_robot"),
+        (["--robot", "ur3"], "--robot is 'ur3'; allowed: ur/ur3, ur/ur3_robot"),
     ],
 )
 def test_options_that_would_do_nothing_are_refused(
