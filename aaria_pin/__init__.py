@@ -1,50 +1,122 @@
-"""aaria_pin: kinematics, dynamics and simulated sensor datasets of serial manipulators.
+"""aaria_pin: kinematics, dynamics and simulated sensor data of serial manipulators, on Pinocchio.
 
-The public API is re-exported here and imported on first use, so ``import aaria_pin`` (and the
-``aaria`` command line) stays fast: Pinocchio is loaded only when a model is built.
+The front door. Build a robot from a preset, a DH table or a URDF; simulate it into the one
+:class:`RunRecord`; write and read run files and data sets::
+
+    import aaria_pin as ap
+
+    record = ap.simulate_run(ap.get_preset("aaria-fig2").table, duration=2.0)
+    ap.write_run("run.h5", record)
+    again = ap.read_run("run.h5")
+    again.imu_signals("imu_tool")        # T × 6: wx wy wz [rad/s], fx fy fz [m/s²]
+
+Every name below is imported on first use, so ``import aaria_pin`` (and the ``aaria`` command
+line) stays fast: Pinocchio, h5py and scipy load only when a model, a file or a simulation needs
+them. Type checkers see the real objects through the ``TYPE_CHECKING`` imports.
 """
 
 from __future__ import annotations
 
 from importlib import import_module
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-__version__ = "0.1.0"
+from aaria_pin._version import __version__
+from aaria_pin.errors import (
+    AariaError,
+    InputFileError,
+    MeshWarning,
+    ModelError,
+    OutputFileError,
+    ParameterError,
+    TableError,
+    UrdfError,
+)
 
-_EXPORTS = {
-    "AariaError": "aaria_pin.errors",
+if TYPE_CHECKING:
+    from aaria_pin.aaria.dh import KinematicChain, chain_from_table
+    from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
+    from aaria_pin.aaria.presets import Preset, get_preset
+    from aaria_pin.aaria.simulate import simulate_run
+    from aaria_pin.core.catalogue import find_robot
+    from aaria_pin.core.model import RobotModel, build_model
+    from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
+    from aaria_pin.core.urdf import RobotDescription, emit_urdf
+    from aaria_pin.core.urdf_robot import UrdfRobot, load_urdf_robot
+    from aaria_pin.core.urdf_run import simulate_urdf_run
+    from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.io import read_table
+    from aaria_pin.files.runfile import read_run, write_run
+
+_LAZY = {
+    # robots
+    "KinematicChain": "aaria_pin.aaria.dh",
+    "chain_from_table": "aaria_pin.aaria.dh",
     "BodyDimensions": "aaria_pin.aaria.dh_robot",
     "DHRobot": "aaria_pin.aaria.dh_robot",
-    "GenericRunRecord": "aaria_pin.core.record",
-    "ImuMount": "aaria_pin.core.record",
-    "ImuSlot": "aaria_pin.aaria.dh_robot",
-    "InputFileError": "aaria_pin.errors",
-    "KinematicChain": "aaria_pin.aaria.dh",
-    "ModelError": "aaria_pin.errors",
-    "OutputFileError": "aaria_pin.errors",
-    "ParameterError": "aaria_pin.errors",
-    "Part": "aaria_pin.core.inertia",
-    "RobotModel": "aaria_pin.core.model",
-    "TableError": "aaria_pin.errors",
-    "UrdfError": "aaria_pin.errors",
     "build_dh_robot": "aaria_pin.aaria.dh_robot",
-    "build_model": "aaria_pin.core.model",
-    "chain_from_table": "aaria_pin.aaria.dh",
-    "composite_inertia": "aaria_pin.core.inertia",
-    "emit_urdf": "aaria_pin.core.urdf",
-    "find_robot": "aaria_pin.core.catalogue",
+    "Preset": "aaria_pin.aaria.presets",
     "get_preset": "aaria_pin.aaria.presets",
+    "find_robot": "aaria_pin.core.catalogue",
+    "UrdfRobot": "aaria_pin.core.urdf_robot",
     "load_urdf_robot": "aaria_pin.core.urdf_robot",
-    "read_table": "aaria_pin.files.io",
+    "RobotModel": "aaria_pin.core.model",
+    "build_model": "aaria_pin.core.model",
+    "RobotDescription": "aaria_pin.core.urdf",
+    "emit_urdf": "aaria_pin.core.urdf",
+    # runs
+    "simulate_run": "aaria_pin.aaria.simulate",
     "simulate_urdf_run": "aaria_pin.core.urdf_run",
+    "RunRecord": "aaria_pin.core.record",
+    "ImuMount": "aaria_pin.core.record",
+    "ColumnView": "aaria_pin.core.record",
+    # files
+    "read_run": "aaria_pin.files.runfile",
+    "write_run": "aaria_pin.files.runfile",
+    "DatasetReader": "aaria_pin.files.dataset_reader",
+    "read_table": "aaria_pin.files.io",
 }
 
-__all__ = sorted(["__version__", *_EXPORTS])
+__all__ = [
+    "AariaError",
+    "BodyDimensions",
+    "ColumnView",
+    "DHRobot",
+    "DatasetReader",
+    "ImuMount",
+    "InputFileError",
+    "KinematicChain",
+    "MeshWarning",
+    "ModelError",
+    "OutputFileError",
+    "ParameterError",
+    "Preset",
+    "RobotDescription",
+    "RobotModel",
+    "RunRecord",
+    "TableError",
+    "UrdfError",
+    "UrdfRobot",
+    "__version__",
+    "build_dh_robot",
+    "build_model",
+    "chain_from_table",
+    "emit_urdf",
+    "find_robot",
+    "get_preset",
+    "load_urdf_robot",
+    "read_run",
+    "read_table",
+    "simulate_run",
+    "simulate_urdf_run",
+    "write_run",
+]
 
 
 def __getattr__(name: str) -> Any:
-    if name in _EXPORTS:
-        return getattr(import_module(_EXPORTS[name]), name)
+    if name in _LAZY:
+        value = getattr(import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
     raise AttributeError(f"module 'aaria_pin' has no attribute {name!r}")
 
 

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from aaria_pin import __version__
+from aaria_pin._version import __version__
 from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
 from aaria_pin.aaria.oscillation import (
     base_motion,

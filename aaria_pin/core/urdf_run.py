@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from aaria_pin import __version__
+from aaria_pin._version import __version__
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.core.record import ImuMount, RunRecord

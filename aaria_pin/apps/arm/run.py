@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from aaria_pin import __version__
+from aaria_pin._version import __version__
 from aaria_pin.apps.arm.dims import ArmDimensions, get_arm_preset
 from aaria_pin.apps.arm.parts import MeshPart
 from aaria_pin.apps.arm.payload import HAND_JOINT, payload_inertia, task_torques

@@ -24,7 +24,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from aaria_pin import __version__
+from aaria_pin._version import __version__
 from aaria_pin.aaria.dh_robot import DHRobot, build_dh_robot
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import dh_imu_mounts

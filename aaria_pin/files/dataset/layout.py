@@ -150,11 +150,14 @@ class DatasetLayout:
 
     @staticmethod
     def chunk(name: str, shape: tuple[int, ...]) -> tuple[int, ...]:
-        """A run's chunk of an array (no run axis): all of it, or one entry of a pose series.
+        """A run's chunk of an array (no run axis): see the module docstring.
 
-        See the module docstring.
+        ``imu`` (T × S × 6): one chunk per IMU; a pose series (T × 4 × 4): one per matrix
+        entry; any other array: the whole run's.
         """
-        if name in SERIES and len(shape) == 3:
+        if name == "imu":
+            return shape  # TRIAL
+        if name in SERIES and shape[1:] == (4, 4):
             return (shape[0], 1, 1)
         return shape
 
