@@ -1,4 +1,4 @@
-"""Throughput of ``aaria dataset`` with default settings (noise on, compressed file).
+"""Throughput of ``aaria dataset`` with default settings (random DH arms, noise on, gzip).
 
     python benchmarks/bench_dataset.py            # 200 runs of 1,000 samples, 1 and 2 workers
     python benchmarks/bench_dataset.py --smoke    # CI: 10 runs of 100 samples, no timing asserted
@@ -15,15 +15,18 @@ import tempfile
 import time
 from pathlib import Path
 
-from aaria_pin.apps.dataset.engine import DatasetSpec, generate_dataset
+from aaria_pin.apps.dataset.dh import DhDatasetSpec
+from aaria_pin.apps.dataset.engine import generate_dataset
 
 
-def throughput(runs: int, samples: int, workers: int, folder: Path) -> float:
+def throughput(runs: int, samples: int, workers: int, folder: Path) -> tuple[float, float]:
+    """Samples per second of one job, and the file's bytes per run."""
     rate = 100.0
-    spec = DatasetSpec(n_runs=runs, seed=1, duration=(samples - 1) / rate, rate=rate)
+    spec = DhDatasetSpec(n_runs=runs, seed=1, duration=(samples - 1) / rate, rate=rate)
+    path = folder / f"ds{workers}.h5"
     start = time.perf_counter()
-    generate_dataset(folder / f"ds{workers}.h5", spec, workers=workers, overwrite=True)
-    return runs * samples / (time.perf_counter() - start)
+    generate_dataset(path, spec, workers=workers, overwrite=True)
+    return runs * samples / (time.perf_counter() - start), path.stat().st_size / runs
 
 
 def main() -> None:
@@ -36,11 +39,14 @@ def main() -> None:
         folder = Path(tmp)
         throughput(4, samples, 1, folder)  # warm the compiled kernels' cache
         measured: dict[int, list[float]] = {1: [], 2: []}
+        size = 0.0
         for _ in range(repeats):  # interleaved, so both see the same machine
             for workers in measured:
-                measured[workers].append(throughput(runs, samples, workers, folder))
+                rate, size = throughput(runs, samples, workers, folder)
+                measured[workers].append(rate)
         rates = {workers: statistics.median(values) for workers, values in measured.items()}
     print(f"aaria dataset, {runs} runs × {samples} samples, noise on, gzip, median of {repeats}")
+    print(f"file size per run: {size:,.0f} bytes (format version 2)")
     print(f"{'workers':<10} {'samples/s':>12}")
     for workers, value in rates.items():
         print(f"{workers:<10} {value:>12,.0f}")

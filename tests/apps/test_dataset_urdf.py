@@ -49,7 +49,7 @@ def test_layout_names_and_shapes(panda_set: Path) -> None:
         assert handle["urdf"].asstr()[()] == _panda().urdf
     with DatasetReader(panda_set) as reader:
         assert next(iter(reader.layout.views)) == "signals"
-        assert reader.attributes["robot"]["tool_frame"] == "panda_hand_tcp"
+        assert reader.attributes["robot_info"]["tool_frame"] == "panda_hand_tcp"
         windows = list(reader.windows(50, names=("signals", "tau")))
         assert len(windows) == 4 * 2 and windows[0][2]["signals"].shape == (50, 130)
 

@@ -79,6 +79,25 @@ def test_sensen_read_by_h5py_is_the_record_view_and_its_imu_columns_are_imu(
     np.testing.assert_array_equal(sensen[:, 0], time)
     np.testing.assert_array_equal(sensen[:, 1:7], q)
     assert np.abs(imu).max() > 0.1  # real signals, not the fill value
+    made = DhDatasetSpec(n_runs=RUNS, seed=2, duration=0.2).make_run(run)
+    assert [m.parent for m in record.imu_mounts] == [m.parent for m in made.imu_mounts]
+    np.testing.assert_array_equal(record.imu_mount, made.imu_mount)
+
+
+def test_base_pose_is_stored_as_the_base_table_moves_it(sets: dict[str, Path]) -> None:
+    """``base_pose`` (new in version 2) against sines and Rx·Ry·Rz computed here."""
+    from scipy.spatial.transform import Rotation
+
+    with DatasetReader(sets["dh"]) as reader:
+        record = reader.record(1)
+    amplitude, bias, frequency, phase = record.tables["senSenB"].T
+    x = bias + amplitude * np.sin(np.outer(record.time, frequency) + phase)
+    np.testing.assert_allclose(record.base_pose[:, :3, 3], x[:, :3], atol=1e-7)
+    rotation = Rotation.from_euler("XYZ", x[:, 3:]).as_matrix()
+    np.testing.assert_allclose(record.base_pose[:, :3, :3], rotation, atol=1e-7)
+    np.testing.assert_array_equal(
+        record.base_pose[:, 3], np.tile([0.0, 0.0, 0.0, 1.0], (SAMPLES, 1))
+    )
 
 
 def test_views_stay_valid_when_the_file_is_moved(sets: dict[str, Path], tmp_path: Path) -> None:

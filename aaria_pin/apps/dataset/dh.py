@@ -110,8 +110,12 @@ class DhDatasetSpec(DatasetSpec):
         )
 
 
+@cache
 def dh_layout(urdf: str = "") -> DatasetLayout:
-    """The per-run layout of an Aaria data set (``urdf``: the arm's, when it is fixed)."""
+    """The per-run layout of an Aaria data set (``urdf``: the arm's, when it is fixed).
+
+    Kept per process: every run's encoding asks for it.
+    """
     from aaria_pin.aaria.dh_robot import BASE_FRAME, TOOL_FRAME, link_name
     from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, imu_slot_order, sensen_view
 

@@ -31,6 +31,8 @@ __all__ = ["UrdfDatasetSpec", "UrdfSource"]
 
 _LOADED: dict[tuple[Any, ...], UrdfRobot] = {}
 """The robot last loaded in this process, by its source's settings."""
+_LAYOUTS: dict[tuple[Any, ...], DatasetLayout] = {}
+"""The layout of that robot's data set."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -147,7 +149,17 @@ class UrdfDatasetSpec(DatasetSpec):
         return self.source.attributes()
 
     def layout(self) -> DatasetLayout:
-        """The robot's joints and IMUs, ``joint_table`` (and ``base_table``), its URDF."""
+        """The robot's joints and IMUs, ``joint_table`` (and ``base_table``), its URDF.
+
+        Kept per process with the loaded robot: every run's encoding asks for it.
+        """
+        key = (*self.source._key(), "layout")
+        if key not in _LAYOUTS:
+            _LAYOUTS.clear()
+            _LAYOUTS[key] = self._make_layout()
+        return _LAYOUTS[key]
+
+    def _make_layout(self) -> DatasetLayout:
         loaded = self.source.load()
         tables = {"joint_table": (loaded.robot.n_joints, 5)}
         if self.source.moving_base:
