@@ -107,6 +107,7 @@ class DhDatasetSpec(DatasetSpec):
             seed=inputs.noise_seed,
             noise=self.noise,
             robot_name=self.robot_name(),
+            keep_urdf=False,
         )
 
 

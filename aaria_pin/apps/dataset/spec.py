@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin import __version__
+from aaria_pin._version import __version__
 from aaria_pin.aaria.randomize import PARTS, RandomConfig, random_base_table, run_streams
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
