@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import aaria_pin
 
@@ -41,3 +42,16 @@ def test_readme_python_example_round_trip(tmp_path: Path) -> None:
     sensen = again.view("senSen")
     np.testing.assert_array_equal(sensen[:, 7:].reshape(-1, 14, 6), again.imu)
     assert not np.any(again.imu_signals("imu_link2_a"))
+
+
+def test_readme_python_section_runs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text()
+    code = readme.split("\n## Python\n", 1)[1].split("```python\n", 1)[1].split("```", 1)[0]
+    monkeypatch.chdir(tmp_path)
+    namespace: dict[str, object] = {}
+    exec(compile(code, "README.md", "exec"), namespace)
+    again = namespace["again"]
+    assert isinstance(again, aaria_pin.RunRecord)
+    assert again.joint_names[0] == "panda_joint1"
+    fig2 = aaria_pin.read_run(tmp_path / "fig2.mat")
+    assert fig2.view("senSen").shape == (201, 91)
