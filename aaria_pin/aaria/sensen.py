@@ -14,7 +14,7 @@ An Aaria run's :class:`~aaria_pin.core.record.RunRecord` keeps the paper's modul
 from __future__ import annotations
 
 from aaria_pin.aaria.dh_robot import imu_slot_names
-from aaria_pin.core.record import IMU_SIGNALS, ColumnSource, ColumnView
+from aaria_pin.core.record import IMU_SIGNALS, VIEW_UNITS, ColumnView, signals_view
 
 __all__ = [
     "IMU_SIGNALS",
@@ -47,19 +47,13 @@ SENSEN_COLUMNS: tuple[str, ...] = (
 
 N_SENSEN_COLUMNS = len(SENSEN_COLUMNS)
 
-SENSEN_UNITS = "see columns: s, rad or m, rad/s, m/s^2"
+SENSEN_UNITS = VIEW_UNITS
 """The ``units`` attribute of ``senSen``."""
 
 
 def sensen_view() -> ColumnView:
-    """``senSen`` as a view of a record's ``time``, ``q`` (6 modules) and ``imu`` (14 slots)."""
-    sources = (
-        ColumnSource("time", ()),
-        *(ColumnSource("q", (module,)) for module in range(N_MODULES)),
-        *(
-            ColumnSource("imu", (slot, signal))
-            for slot in range(len(imu_slot_order()))
-            for signal in range(len(IMU_SIGNALS))
-        ),
-    )
-    return ColumnView(SENSEN_COLUMNS, sources, SENSEN_UNITS)
+    """``senSen`` as a view of a record's ``time``, ``q`` (6 modules) and ``imu`` (14 slots).
+
+    It is the record's flat signal view under the paper's column names.
+    """
+    return signals_view(JOINT_NAMES, imu_slot_order(), SENSEN_COLUMNS, SENSEN_UNITS)

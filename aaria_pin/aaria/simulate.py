@@ -30,9 +30,9 @@ from aaria_pin.aaria.oscillation import (
 from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, sensen_view
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.record import ImuMount, RunRecord
-from aaria_pin.core.run import UNITS, sampling_attributes, simulate_series
+from aaria_pin.core.run import UNITS, sampling_attributes, simulate_series, stored_sampling
 from aaria_pin.core.se3 import Array
-from aaria_pin.core.seeds import check_seed, stored_seed
+from aaria_pin.core.seeds import check_seed
 from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE, sample_times
 from aaria_pin.errors import InputFileError
 
@@ -211,10 +211,7 @@ def simulate_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
     settings: dict[str, Any] = {
         "joint_table": stored.tables["senSenJ"],
         "base_table": stored.tables["senSenB"],
-        "duration": float(attributes.get("duration", DEFAULT_DURATION)),
-        "rate": float(attributes.get("rate", DEFAULT_RATE)),
-        "seed": stored_seed(attributes),
-        "noise": bool(attributes.get("noise", True)),
+        **stored_sampling(attributes),
         "imu_mount": stored.imu_mount,
         "robot_name": str(attributes.get("robot") or DH_ROBOT),
     }

@@ -3,12 +3,10 @@
 Any :class:`~aaria_pin.core.record.RunRecord` (a DH arm, a URDF robot, the wrist, the
 pick-place arm; from a run file of any version or from a data set) is analysed the same way:
 
-- the model is rebuilt from the record (:func:`record_model`): from its URDF text when it has
-  one (every record of version 2), else (a 0.1.0 DH run, no URDF) from its ``senSenDH`` table;
-- the base moves as the record's base table says (``senSenB`` or ``base_table``), else it rests
-  where ``base_pose`` puts it (:func:`record_base`);
-- the joints are matched by name (``record.joint_names``), so an empty Aaria module (a zero
-  column) is left out;
+- the model, the base motion and the joints come from the record
+  (:mod:`aaria_pin.apps.record_model`): the model from its URDF text (or a 0.1.0 run's DH
+  table), the base from its base table (else at rest where ``base_pose`` puts it), the joints
+  matched by name, so an empty Aaria module (a zero column) is left out;
 - a pick-place run's samples where the hand holds the cylinder are split on the model with the
   cylinder on the hand, as they were computed (:mod:`aaria_pin.apps.arm.payload`).
 
@@ -22,164 +20,30 @@ sample.
 from __future__ import annotations
 
 import os
-import xml.etree.ElementTree as ET
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from aaria_pin.apps.record_model import (
+    record_base,
+    record_columns,
+    record_joint_kinds,
+    record_model,
+)
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
-from aaria_pin.errors import InputFileError, ModelError, ParameterError
+from aaria_pin.errors import InputFileError, ParameterError
 
 if TYPE_CHECKING:  # Pinocchio loads only where a model is used
     from aaria_pin.core.model import RobotModel
 
-__all__ = [
-    "BASE_TABLES",
-    "dataset_torque_report",
-    "record_base",
-    "record_columns",
-    "record_joint_kinds",
-    "record_model",
-    "record_torque_report",
-    "torque_split",
-]
+__all__ = ["dataset_torque_report", "record_torque_report", "run_torque_report", "torque_split"]
 
 _TERMS = ("gravity", "coriolis", "inertial")
 
-BASE_TABLES = ("senSenB", "base_table")
-"""Names of a record's base oscillation table (Aaria, URDF robot), in the order looked up."""
-
 _DH_TYPES = {1: "revolute", 2: "prismatic"}
 """Link type (column 5 of an Aaria table) → joint kind; 0 is an empty module."""
-
-
-def _urdf_links(urdf: str) -> list[str]:
-    """The link names of a URDF document, in document order (empty if it does not parse)."""
-    try:
-        root = ET.fromstring(urdf)
-    except ET.ParseError:
-        return []
-    return [str(link.get("name")) for link in root.iter("link") if link.get("name")]
-
-
-def _frame(wanted: object, default: str, links: list[str], first: bool) -> str:
-    """A frame the record names, else the default if it is a link, else the first/last link."""
-    if isinstance(wanted, str) and wanted:
-        return wanted
-    if default in links or not links:
-        return default
-    return links[0] if first else links[-1]
-
-
-def record_model(record: RunRecord, moving_base: bool = True) -> RobotModel:
-    """The model a record was computed on.
-
-    From ``record.urdf`` when it is not empty (:func:`aaria_pin.core.model.build_model`; base and
-    tool frames from the attributes ``base_frame`` and ``tool_frame``, else ``base`` and
-    ``tool_tip`` where the URDF has them, else its first and last link); else, for an Aaria DH
-    record of 0.1.0 (no URDF), from its ``senSenDH`` table and ``body_dimensions`` attribute
-    (:func:`aaria_pin.aaria.dh_robot.build_dh_robot`), and for a wrist record of 0.1.0, the
-    report's wrist (:func:`aaria_pin.apps.wrist.run.report_wrist`). Sensor frames are those IMU
-    frames of the record's mounted IMUs that the model has.
-
-    Args:
-        record: the run record
-        moving_base: give the model a free-flyer root joint carrying the base
-
-    Returns:
-        The model.
-
-    Raises:
-        InputFileError: a record with neither a URDF nor a ``senSenDH`` table, a URDF that
-            cannot be built, or body dimensions that cannot be used.
-    """
-    from aaria_pin.core.model import build_model
-
-    mounted = [mount.name for mount in record.imu_mounts if mount.parent]
-    if record.urdf:
-        attributes = record.attributes
-        links = _urdf_links(record.urdf)
-        base = _frame(attributes.get("base_frame"), "base", links, first=True)
-        tool = _frame(attributes.get("tool_frame"), "tool_tip", links, first=False)
-        sensors = [name for name in mounted if name in links]
-        try:
-            return build_model(
-                record.urdf,
-                moving_base=moving_base,
-                base_frame=base,
-                tool_frame=tool,
-                sensor_frames=sensors,
-            )
-        except ModelError as exc:
-            raise InputFileError(f"the run's URDF cannot be used: {exc}") from None
-    if record.attributes.get("kind") == "wrist" and "senSenDH" not in record.tables:
-        from aaria_pin.apps.wrist.run import report_wrist  # a wrist run of 0.1.0: no URDF
-
-        return report_wrist().model(moving_base=moving_base)
-    if "senSenDH" not in record.tables:
-        raise InputFileError(
-            "the run has no URDF and no senSenDH table; allowed: a run that stores its model"
-        )
-    from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
-
-    dims_attr = record.attributes.get("body_dimensions")
-    try:
-        dims = BodyDimensions(**dims_attr) if isinstance(dims_attr, dict) else None
-    except (TypeError, ValueError, ParameterError) as exc:
-        raise InputFileError(f"the run's body_dimensions cannot be used ({exc})") from None
-    robot = build_dh_robot(record.tables["senSenDH"], "aaria", dims)
-    return robot.model(moving_base=moving_base)
-
-
-def record_base(record: RunRecord) -> BaseMotion | None:
-    """The base's motion over a run: from its base table, else at rest; None on the origin.
-
-    Returns:
-        The motion from the record's ``senSenB`` or ``base_table``
-        (:func:`aaria_pin.core.oscillation.base_motion`); else, a base at rest where
-        ``base_pose`` puts it (zero velocity and acceleration); None when it rests at the world
-        origin, world-aligned, all run long (a fixed base: wrist, pick-place arm).
-    """
-    from aaria_pin.core.oscillation import base_motion
-
-    time = np.asarray(record.time, dtype=float)
-    for name in BASE_TABLES:
-        if name in record.tables:
-            return base_motion(record.tables[name], time)
-    pose = np.asarray(record.base_pose, dtype=float)
-    if np.allclose(pose, np.eye(4), rtol=0.0, atol=1e-12):
-        return None
-    zeros = np.zeros((time.size, 3))
-    rotation = np.ascontiguousarray(pose[:, :3, :3])
-    position = np.ascontiguousarray(pose[:, :3, 3])
-    return BaseMotion(position, zeros, zeros.copy(), rotation, zeros.copy(), zeros.copy())
-
-
-def record_joint_kinds(robot: RobotModel) -> tuple[str, ...]:
-    """``"revolute"`` or ``"prismatic"`` of each actuated joint of a model, in model order.
-
-    Raises:
-        InputFileError: a joint that is neither (a planar or spherical URDF joint).
-    """
-    from aaria_pin.core.kinematics import joint_kind
-
-    first = 2 if robot.moving_base else 1
-    kinds = []
-    for index, name in enumerate(robot.joint_names, start=first):
-        joint = robot.model.joints[index]
-        try:
-            kind, _ = joint_kind(joint)
-        except ModelError:
-            kind = ""
-        if kind not in ("revolute", "prismatic"):
-            raise InputFileError(
-                f"joint {name!r} is a {joint.shortname()}; allowed: revolute and prismatic joints"
-            )
-        kinds.append(kind)
-    return tuple(kinds)
-
 
 _TRAJECTORY = ("time", "q", "qd", "qdd")
 _BASE = ("position", "velocity", "acceleration", "rotation", "omega", "omega_dot")
@@ -202,19 +66,12 @@ def _held_payload(record: RunRecord, robot: RobotModel) -> tuple[RobotModel, np.
 
     from aaria_pin.apps.arm.dims import get_arm_preset
     from aaria_pin.apps.arm.payload import HAND_JOINT, payload_inertia, with_payload
-    from aaria_pin.apps.arm.task import Cylinder
+    from aaria_pin.apps.arm.run import stored_cylinder, stored_preset
     from aaria_pin.errors import AariaError
 
     try:
-        c = attributes["cylinder"]
-        cylinder = Cylinder(
-            float(c["x"]),
-            float(c["y"]),
-            radius=float(c["radius"]),
-            height=float(c["height"]),
-            mass=float(c["mass"]),
-        )
-        dims = get_arm_preset(str(attributes.get("source") or "pick-place-arm"))
+        cylinder = stored_cylinder(attributes)
+        dims = get_arm_preset(stored_preset(attributes))
         start, end = (float(v) for v in attributes["held_interval"])
         joint = str(attributes.get("payload_joint") or HAND_JOINT)
         loaded = with_payload(robot.model, payload_inertia(dims, cylinder), joint)
@@ -222,17 +79,6 @@ def _held_payload(record: RunRecord, robot: RobotModel) -> tuple[RobotModel, np.
         raise InputFileError(f"the run's pick-place attributes cannot be used ({exc})") from None
     time = np.asarray(record.time, dtype=float)
     return replace(robot, model=loaded), (time >= start) & (time < end)
-
-
-def record_columns(record: RunRecord, robot: RobotModel) -> list[int]:
-    """The record's column of each of the model's joints, matched by name."""
-    missing = [name for name in robot.joint_names if name not in record.joint_names]
-    if missing:
-        raise InputFileError(
-            f"joint {missing[0]!r} of the run's model has no column in the run; allowed: "
-            + ", ".join(record.joint_names)
-        )
-    return [record.joint(name) for name in robot.joint_names]
 
 
 def torque_split(
@@ -282,7 +128,8 @@ def record_torque_report(record: RunRecord) -> dict[str, Any]:
         ``|g + C·v + M·a - tau|``), ``samples``.
 
     Raises:
-        InputFileError: a record whose model cannot be rebuilt (see :func:`record_model`).
+        InputFileError: a record whose model cannot be rebuilt
+            (:func:`~aaria_pin.apps.record_model.record_model`).
     """
     base = record_base(record)
     robot = record_model(record, moving_base=base is not None)
@@ -415,3 +262,39 @@ def dataset_torque_report(path: str | os.PathLike[str], top: int = 5) -> dict[st
             for peak, run, module, joint, kind in largest[:top]
         ],
     }
+
+
+def run_torque_report(
+    path: str | os.PathLike[str], run: int | None = None
+) -> tuple[dict[str, Any], bool]:
+    """The torque report of a file: a run file's, a data set's summary, or one data set run's.
+
+    Args:
+        path: a run file (any robot, any version) or a data set
+        run: the run of a data set to analyse (None: the summary of every run); only for a
+            data set
+
+    Returns:
+        The report and whether it is one run's (:func:`record_torque_report`) rather than a
+        data set's summary (:func:`dataset_torque_report`).
+
+    Raises:
+        ParameterError: ``run`` given for a run file.
+        InputFileError: an unreadable file, or a run whose model cannot be rebuilt.
+    """
+    from aaria_pin.files.dataset_file import is_dataset_file
+
+    if is_dataset_file(path):
+        if run is None:
+            return dataset_torque_report(path), False
+        from aaria_pin.files.dataset_reader import DatasetReader
+
+        with DatasetReader(path) as reader:
+            record = reader.record(run)
+    elif run is not None:
+        raise ParameterError(parameter="run", value=run, allowed="None for a run file")
+    else:
+        from aaria_pin.files.runfile import read_run
+
+        record = read_run(path)
+    return record_torque_report(record), True

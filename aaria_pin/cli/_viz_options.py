@@ -1,4 +1,4 @@
-"""The output-file options of the commands that write pictures and files: one type each."""
+"""Options shared by the commands that read runs and write files: ``--run``, the output file."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from typing import Any, TypeVar
 
 import click
 
-__all__ = ["check_output", "output_option"]
+__all__ = ["check_output", "check_run_option", "output_option"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 

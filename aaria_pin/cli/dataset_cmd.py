@@ -146,6 +146,8 @@ def dataset(
             raise ParameterError(
                 f"--vary {clash[0]} and a fixed {clash[0]} table were both given; allowed: one"
             )
+    if source is None and "structure" not in parts and not fixed["structure"]:
+        raise click.UsageError("a structure that does not vary needs --preset or --dh")
     dh_table = joint_table = base_table = None
     name = ""
     if preset is not None or dh_file is not None:

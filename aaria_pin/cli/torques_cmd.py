@@ -8,6 +8,8 @@ from typing import Any
 
 import click
 
+from aaria_pin.cli._viz_options import check_run_option
+
 
 def _print_run(report: dict[str, Any]) -> None:
     width = max([5, *(len(joint["joint"]) for joint in report["joints"])])
@@ -60,29 +62,16 @@ def torques(file: Path, run_index: int | None, as_json: bool, plot: str | None) 
     FILE is a run file of any robot (a DH arm, a URDF robot, the wrist, the pick-place arm;
     any version) or a data set: a summary of its runs' peaks, or one run with --run.
     """
-    from aaria_pin.apps.torques import dataset_torque_report, record_torque_report
-    from aaria_pin.files.dataset_file import is_dataset_file
+    from aaria_pin.apps.torques import run_torque_report
 
-    is_dataset = is_dataset_file(file)
-    if is_dataset and run_index is None:
-        summary = dataset_torque_report(file)
+    check_run_option(file, run_index)
+    report, one_run = run_torque_report(file, run_index)
+    if not one_run:
         if as_json:
-            click.echo(json.dumps(summary))
+            click.echo(json.dumps(report))
         else:
-            _print_dataset(summary)
+            _print_dataset(report)
         return
-    if is_dataset:
-        from aaria_pin.files.dataset_reader import DatasetReader
-
-        with DatasetReader(file) as reader:
-            record = reader.record(run_index or 0)
-    else:
-        if run_index is not None:
-            raise click.UsageError("--run is for a data set; this is a run file")
-        from aaria_pin.files.runfile import read_run
-
-        record = read_run(file)
-    report = record_torque_report(record)
     if plot:
         from aaria_pin.viz.report_plots import plot_torque_report
 

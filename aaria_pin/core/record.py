@@ -44,11 +44,15 @@ from aaria_pin.errors import ParameterError
 __all__ = [
     "IMU_SIGNALS",
     "SERIES",
+    "VIEW_UNITS",
     "ColumnSource",
     "ColumnView",
     "ImuMount",
     "RunRecord",
+    "mounts_from_poses",
+    "record_shapes",
     "signal_columns",
+    "signals_view",
 ]
 
 IMU_SIGNALS = ("wx", "wy", "wz", "fx", "fy", "fz")
@@ -71,6 +75,9 @@ UNITS = {
 }
 """The ``units`` attribute of each stored array."""
 
+VIEW_UNITS = "see columns: s, rad or m, rad/s, m/s^2"
+"""The ``units`` of a view of time, joint values and IMU signals (e.g. ``senSen``)."""
+
 
 @dataclass(frozen=True)
 class ImuMount:
@@ -86,6 +93,25 @@ class ImuMount:
     name: str
     parent: str
     T_parent_imu: Array
+
+
+def mounts_from_poses(
+    names: Sequence[str], parents: Sequence[str], poses: Array
+) -> tuple[ImuMount, ...]:
+    """IMU mounts from stored names, parents and poses; an all-zero pose is an empty slot.
+
+    A file that stores the parents once for many runs (a data set of random Aaria arms) or not
+    at all (0.1.0) marks a slot empty in one run by its zero pose: its parent is then ``""``.
+
+    Args:
+        names: the S IMU names
+        parents: each IMU's parent frame
+        poses: each IMU's pose in its parent frame, S × 4 × 4 [m]
+    """
+    return tuple(
+        ImuMount(name, parent if np.any(pose) else "", pose)
+        for name, parent, pose in zip(names, parents, poses, strict=True)
+    )
 
 
 @dataclass(frozen=True)
@@ -139,6 +165,28 @@ class ColumnView:
         return out
 
 
+def record_shapes(samples: int, joints: int, imus: int) -> dict[str, tuple[int, ...]]:
+    """The shape of each series (:data:`SERIES`) and of ``imu_mount``, in file order.
+
+    Args:
+        samples: T, the number of samples
+        joints: n, the number of joints
+        imus: S, the number of IMUs (slots)
+    """
+    return {
+        "time": (samples,),
+        "q": (samples, joints),
+        "qd": (samples, joints),
+        "qdd": (samples, joints),
+        "tau": (samples, joints),
+        "base_pose": (samples, 4, 4),
+        "base_wrench": (samples, 6),
+        "tool_pose": (samples, 4, 4),
+        "imu": (samples, imus, len(IMU_SIGNALS)),
+        "imu_mount": (imus, 4, 4),
+    }
+
+
 def signal_columns(joint_names: Sequence[str], imu_names: Sequence[str]) -> tuple[str, ...]:
     """Names of the flat signal table: ``time``, ``q:<joint>`` per joint, ``<imu>_<signal>``."""
     return (
@@ -146,6 +194,34 @@ def signal_columns(joint_names: Sequence[str], imu_names: Sequence[str]) -> tupl
         *(f"q:{joint}" for joint in joint_names),
         *(f"{imu}_{signal}" for imu in imu_names for signal in IMU_SIGNALS),
     )
+
+
+def signals_view(
+    joint_names: Sequence[str],
+    imu_names: Sequence[str],
+    columns: Sequence[str] | None = None,
+    units: str = "see columns",
+) -> ColumnView:
+    """The flat signal table (:attr:`RunRecord.columns`) as a view of ``time``, ``q``, ``imu``.
+
+    Args:
+        joint_names: the n joints of ``q``
+        imu_names: the S IMUs of ``imu``
+        columns: other names for the same 1 + n + 6 S columns (default :func:`signal_columns`;
+            the Aaria ``senSen`` names them ``time``, ``q1`` …, ``<slot>_<signal>``)
+        units: the view's ``units`` attribute
+    """
+    sources = (
+        ColumnSource("time", ()),
+        *(ColumnSource("q", (j,)) for j in range(len(joint_names))),
+        *(
+            ColumnSource("imu", (s, k))
+            for s in range(len(imu_names))
+            for k in range(len(IMU_SIGNALS))
+        ),
+    )
+    names = signal_columns(joint_names, imu_names) if columns is None else tuple(columns)
+    return ColumnView(names, sources, units)
 
 
 @dataclass
@@ -192,25 +268,16 @@ class RunRecord:
         self.joint_names = tuple(self.joint_names)
         self.imu_mounts = tuple(self.imu_mounts)
         samples, joints, imus = np.shape(self.time)[0], len(self.joint_names), len(self.imu_mounts)
-        expected = {
-            "time": (samples,),
-            "q": (samples, joints),
-            "qd": (samples, joints),
-            "qdd": (samples, joints),
-            "tau": (samples, joints),
-            "base_pose": (samples, 4, 4),
-            "base_wrench": (samples, 6),
-            "tool_pose": (samples, 4, 4),
-            "imu": (samples, imus, len(IMU_SIGNALS)),
-        }
-        for name, shape in expected.items():
-            if np.shape(getattr(self, name)) != shape:
+        shapes = record_shapes(samples, joints, imus)
+        for name in SERIES:
+            if np.shape(getattr(self, name)) != shapes[name]:
                 raise ParameterError(
-                    f"run record {name} has shape {np.shape(getattr(self, name))}; allowed: {shape}"
+                    f"run record {name} has shape {np.shape(getattr(self, name))}; "
+                    f"allowed: {shapes[name]}"
                 )
         for name, view in self.views.items():
             for source in view.sources:
-                if source.array not in expected:
+                if source.array not in SERIES:
                     raise ParameterError(
                         f"view {name} column source is {source.array!r}; allowed: "
                         + ", ".join(SERIES)

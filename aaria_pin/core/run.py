@@ -19,7 +19,7 @@ import numpy as np
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, noise_attributes
 from aaria_pin.core.model import GRAVITY, RobotModel
 from aaria_pin.core.se3 import Array
-from aaria_pin.core.seeds import seed_attributes
+from aaria_pin.core.seeds import seed_attributes, stored_seed
 from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE, BaseMotion, JointTrajectory
 
 __all__ = [
@@ -29,6 +29,7 @@ __all__ = [
     "RunSeries",
     "sampling_attributes",
     "simulate_series",
+    "stored_sampling",
 ]
 
 UNITS = {
@@ -67,6 +68,20 @@ def sampling_attributes(
         "noise_parameters": noise_attributes(noise_model),
         "gravity": GRAVITY.tolist(),
         "units": UNITS,
+    }
+
+
+def stored_sampling(attributes: dict[str, Any]) -> dict[str, Any]:
+    """The ``duration`` [s], ``rate`` [Hz], ``seed`` and ``noise`` a record's attributes hold.
+
+    The inverse of :func:`sampling_attributes`, as keyword arguments of a producer, for
+    re-making a run from its record (defaults where an attribute is missing).
+    """
+    return {
+        "duration": float(attributes.get("duration", DEFAULT_DURATION)),
+        "rate": float(attributes.get("rate", DEFAULT_RATE)),
+        "seed": stored_seed(attributes),
+        "noise": bool(attributes.get("noise", True)),
     }
 
 

@@ -22,8 +22,8 @@ from aaria_pin._version import __version__
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.core.record import ImuMount, RunRecord
-from aaria_pin.core.run import sampling_attributes, simulate_series
-from aaria_pin.core.seeds import check_seed, stored_seed
+from aaria_pin.core.run import sampling_attributes, simulate_series, stored_sampling
+from aaria_pin.core.seeds import check_seed
 from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE, BaseMotion, sample_times
 from aaria_pin.core.urdf_robot import (
     UrdfRobot,
@@ -237,10 +237,7 @@ def simulate_urdf_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
         "moving_base": bool(attributes.get("moving_base", True)),
         "tool_frame": attributes.get("tool_frame"),
         "imu_layout": stored.imu_mounts,
-        "duration": float(attributes.get("duration", DEFAULT_DURATION)),
-        "rate": float(attributes.get("rate", DEFAULT_RATE)),
-        "seed": stored_seed(attributes),
-        "noise": bool(attributes.get("noise", True)),
+        **stored_sampling(attributes),
     }
     if "torque_table" in stored.tables:
         settings["torques"] = stored.tables["torque_table"]

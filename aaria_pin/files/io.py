@@ -12,7 +12,7 @@ import contextlib
 import os
 import tempfile
 import warnings
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -20,9 +20,31 @@ import numpy as np
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, OutputFileError
 
-__all__ = ["atomic_output", "read_table", "write_text_atomic"]
+__all__ = ["atomic_output", "existing_input", "read_table", "write_text_atomic"]
 
 _TABLE_SUFFIXES = (".csv", ".txt", ".npy", ".mat")
+
+
+def existing_input(path: str | os.PathLike[str], suffixes: Sequence[str], kind: str) -> Path:
+    """The path of an existing input file whose suffix is one of ``suffixes``.
+
+    Args:
+        path: the file
+        suffixes: the allowed suffixes, lower case with the dot (``(".h5", ".mat")``)
+        kind: what the file holds, for the message (``"table"``, ``"run"``)
+
+    Raises:
+        InputFileError: another suffix (checked first), or no such file.
+    """
+    file = Path(path)
+    suffix = file.suffix.lower()
+    if suffix not in suffixes:
+        raise InputFileError(
+            f"{file}: unknown {kind} file type {suffix!r}; allowed: {', '.join(suffixes)}"
+        )
+    if not file.is_file():
+        raise InputFileError(f"{file}: no such file")
+    return file
 
 
 def read_table(path: str | os.PathLike[str], mat_name: str = "senSenDH") -> Array:
@@ -38,14 +60,8 @@ def read_table(path: str | os.PathLike[str], mat_name: str = "senSenDH") -> Arra
     Raises:
         InputFileError: the file is missing, unreadable, of an unknown kind, or not numeric.
     """
-    file = Path(path)
+    file = existing_input(path, _TABLE_SUFFIXES, "table")
     suffix = file.suffix.lower()
-    if suffix not in _TABLE_SUFFIXES:
-        raise InputFileError(
-            f"{file}: unknown table file type {suffix!r}; allowed: {', '.join(_TABLE_SUFFIXES)}"
-        )
-    if not file.is_file():
-        raise InputFileError(f"{file}: no such file")
     try:
         if suffix == ".npy":
             data = np.load(file, allow_pickle=False)

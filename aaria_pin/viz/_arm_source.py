@@ -2,7 +2,7 @@
 
 ``aaria render``, ``aaria plot`` and ``aaria view`` read runs through run kinds
 (:func:`aaria_pin.viz.sources.register_run_kind`). A pick-place run is a run of a URDF robot,
-which the ``"generic"`` kind would draw as a stick figure; this module is the ``"pick-place"``
+which the ``"model"`` kind would draw as a stick figure; this module is the ``"pick-place"``
 kind: :func:`is_pick_place_run` recognises the run (its record's ``kind`` is ``"pick-place"``,
 or, in a file of 0.1.0, its ``robot`` is ``"pick_place_arm"``; a ``task`` attribute, where
 there is one, is ``"pick-place"``) and :func:`load_pick_place_view` builds a
@@ -11,13 +11,13 @@ there is one, is ``"pick-place"``) and :func:`load_pick_place_view` builds a
 attached to its link frame, and the cylinder attached to a frame ``cylinder`` that follows the
 grasp frame while it is held and stands on its pick spot before, on its place spot after
 (:func:`aaria_pin.apps.arm.run.cylinder_track`). The rest (the record, the model built from its
-URDF, the signals and the frame poses) is the generic kind's
-(:func:`aaria_pin.viz._generic_source.read_generic_view`). :data:`PRESETS` gives
+URDF, the signals and the frame poses) is the ``"model"`` kind's
+(:func:`aaria_pin.viz._model_source.read_model_view`). :data:`PRESETS` gives
 ``aaria render --preset pick-place-arm``: the arm at its home pose.
 
 **Plug-in.** The viz package imports this module (its ``_PLUGINS``) the first time it looks up
 a run kind or a preset, so ``import aaria_pin`` never loads it; on import it registers the
-kind, which is tried before the generic fallback.
+kind, which is tried before the ``"model"`` fallback.
 """
 
 from __future__ import annotations
@@ -31,11 +31,11 @@ import numpy as np
 from aaria_pin.apps.arm.dims import ArmDimensions, get_arm_preset
 from aaria_pin.apps.arm.parts import MeshPart, cylinder_mesh
 from aaria_pin.apps.arm.preset import arm_parts, build_arm_model
-from aaria_pin.apps.arm.run import cylinder_track
+from aaria_pin.apps.arm.run import cylinder_track, stored_cylinder, stored_preset
 from aaria_pin.apps.arm.task import home_pose
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import AariaError, InputFileError
-from aaria_pin.viz._generic_source import read_generic_view
+from aaria_pin.viz._model_source import read_model_view
 from aaria_pin.viz._run_view import run_file, run_title, scene_poses, still
 from aaria_pin.viz.scene import WORLD, Scene, Solid, triad
 from aaria_pin.viz.sources import RunView, register_run_kind
@@ -156,8 +156,8 @@ def load_pick_place_view(path: str | os.PathLike[str]) -> RunView:
 
     Returns:
         A run view of kind :data:`PICK_PLACE_KIND`: the arm's part meshes on their links, the
-        cylinder, the world and grasp frames; signals as the generic kind's
-        (:func:`aaria_pin.viz._generic_source.read_generic_view`: q, tau labelled by joint,
+        cylinder, the world and grasp frames; signals as the ``"model"`` kind's
+        (:func:`aaria_pin.viz._model_source.read_model_view`: q, tau labelled by joint,
         with units, and the mount's wrench).
 
     Raises:
@@ -173,13 +173,13 @@ def load_pick_place_view(path: str | os.PathLike[str]) -> RunView:
 
 def _load(file: str | os.PathLike[str]) -> RunView:
     """Read a file known to be a pick-place run file (the registered loader: no re-probe)."""
-    view = read_generic_view(file)
+    view = read_model_view(file)
     attributes = view.record.attributes
     try:
-        dims = get_arm_preset(str(attributes["source"]))
-        c = attributes["cylinder"]
-        radius, height = float(c["radius"]), float(c["height"])
-        pick = (float(c["x"]), float(c["y"]))
+        dims = get_arm_preset(stored_preset(attributes))
+        c = stored_cylinder(attributes)
+        radius, height = c.radius, c.height
+        pick = (c.x, c.y)
         place = (float(attributes["place"][0]), float(attributes["place"][1]))
         start, end = (float(v) for v in attributes["held_interval"])
     except (KeyError, TypeError, ValueError, IndexError, AariaError) as exc:

@@ -5,7 +5,7 @@ any version, or a run of a data set) and differ only in where the arm comes from
 rebuilds it from its ``senSenDH`` table, its ``body_dimensions`` attribute and its IMU mounts
 (:func:`aaria_pin.aaria.dh_robot.build_dh_robot`); a wrist run is the report's spherical wrist
 (:func:`aaria_pin.apps.wrist.run.report_wrist`). The arm is posed by Pinocchio from the stored
-joint values and the base motion (:func:`aaria_pin.apps.torques.record_base`); the signals are
+joint values and the base motion (:func:`aaria_pin.apps.record_model.record_base`); the signals are
 the record's (:func:`~aaria_pin.viz._run_view.record_signals`, labelled by module).
 """
 
@@ -53,7 +53,7 @@ def is_wrist_run(file: str | os.PathLike[str] | RunFile) -> bool:
 
 
 def _view(file: str | os.PathLike[str], kind: str, robot: DHRobot, record: RunRecord) -> RunView:
-    from aaria_pin.apps.torques import record_base
+    from aaria_pin.apps.record_model import record_base
 
     base = record_base(record)
     signals = record_signals(record, robot.model(moving_base=False), by_module=True)

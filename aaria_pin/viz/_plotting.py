@@ -16,6 +16,6 @@ def pyplot() -> Any:
         import matplotlib.pyplot as plt
     except ImportError:
         raise ParameterError(
-            "--plot needs matplotlib; allowed: pip install 'aaria-pin[plot]'"
+            "plots need matplotlib, which is not installed; allowed: pip install 'aaria-pin[plot]'"
         ) from None
     return plt

@@ -7,7 +7,7 @@ public names are re-exported by :mod:`~aaria_pin.viz.sources`.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -27,9 +27,7 @@ __all__ = [
     "base_subset",
     "dataset_run",
     "dh_view",
-    "hdf5_attributes",
     "joint_labels",
-    "mat_names",
     "record_run",
     "record_signals",
     "run_file",
@@ -184,7 +182,7 @@ def record_signals(record: RunRecord, robot: RobotModel, by_module: bool = False
     Raises:
         InputFileError: a joint of the model with no column, or neither revolute nor prismatic.
     """
-    from aaria_pin.apps.torques import BASE_TABLES, record_columns, record_joint_kinds
+    from aaria_pin.apps.record_model import BASE_TABLES, record_columns, record_joint_kinds
 
     kinds = record_joint_kinds(robot)
     columns = record_columns(record, robot)
@@ -235,7 +233,7 @@ def joint_labels(
 
 @dataclass(frozen=True)
 class RunFile:
-    """A run to draw: a run file's top-level names and attributes, and its record, read once.
+    """A run to draw: its file, and its record, read once.
 
     Every run kind's probe is given one (it is path-like: ``os.fspath`` gives the file, so a
     probe or a loader written for a path takes it too). The record is read on first use
@@ -243,24 +241,15 @@ class RunFile:
 
     Attributes:
         path: the file (a run file, or the data set holding the run)
-        names: HDF5 top-level datasets and groups, or MATLAB variable names (empty: neither)
-        attributes: HDF5 root attributes as stored (empty for any other file)
         run: the run's index in a data set (None: ``path`` is a run file)
     """
 
     path: Path
-    names: frozenset[str]
-    attributes: Mapping[str, object]
     run: int | None = None
     _records: list[RunRecord | None] = field(default_factory=list, compare=False, repr=False)
 
     def __fspath__(self) -> str:
         return os.fspath(self.path)
-
-    @property
-    def suffix(self) -> str:
-        """The file's suffix, lower case (``".h5"``)."""
-        return self.path.suffix.lower()
 
     @property
     def title(self) -> str:
@@ -278,13 +267,6 @@ class RunFile:
             self._records.append(_read_record(self.path, self.run))
         return self._records[0]
 
-    def text(self, name: str) -> str | None:
-        """A string attribute (decoded from bytes), or None if absent or not a string."""
-        value = self.attributes.get(name)
-        if isinstance(value, bytes):
-            return value.decode("utf-8", errors="replace")
-        return value if isinstance(value, str) else None
-
 
 def _read_record(path: Path, run: int | None) -> RunRecord | None:
     """A run file's record (None if it is not one), or run ``run`` of a data set."""
@@ -301,31 +283,21 @@ def _read_record(path: Path, run: int | None) -> RunRecord | None:
 
 
 def run_file(file: str | os.PathLike[str]) -> RunFile:
-    """The names and attributes of a file (one open; a :class:`RunFile` is passed through).
+    """A run file as a :class:`RunFile` (one is passed through); never raises.
 
-    A ``.mat`` file gives its variable names, any other file its HDF5 names and root
-    attributes; a file that is neither gives none (never raises). Its record is read later,
-    on first use.
+    Its record is read later, on first use.
     """
-    if isinstance(file, RunFile):
-        return file
-    path = Path(file)
-    if path.suffix.lower() == ".mat":
-        return RunFile(path, frozenset(mat_names(path)), {})
-    names, attributes = hdf5_attributes(path)
-    return RunFile(path, frozenset(names), attributes)
+    return file if isinstance(file, RunFile) else RunFile(Path(file))
 
 
 def dataset_run(path: str | os.PathLike[str], run: int) -> RunFile:
     """Run ``run`` of a data set, as a :class:`RunFile` whose record is that run's."""
-    file = Path(path)
-    names, attributes = hdf5_attributes(file)
-    return RunFile(file, frozenset(names), attributes, run)
+    return RunFile(Path(path), run)
 
 
 def record_run(record: RunRecord, title: str = "run") -> RunFile:
     """A record already in memory, as a :class:`RunFile` (its path is ``title``; no file)."""
-    return RunFile(Path(title), frozenset(), {}, None, [record])
+    return RunFile(Path(title), None, [record])
 
 
 def run_record(file: str | os.PathLike[str]) -> RunRecord:
@@ -345,24 +317,3 @@ def run_record(file: str | os.PathLike[str]) -> RunRecord:
 def run_title(file: str | os.PathLike[str]) -> str:
     """What to call a run (:attr:`RunFile.title`, or the file's name)."""
     return file.title if isinstance(file, RunFile) else Path(file).name
-
-
-def hdf5_attributes(file: Path) -> tuple[set[str], dict[str, object]]:
-    """Top-level names and attributes of an HDF5 file; empty for any other file."""
-    import h5py
-
-    try:
-        with h5py.File(file, "r") as handle:
-            return set(handle.keys()), {key: handle.attrs[key] for key in handle.attrs}
-    except OSError:
-        return set(), {}
-
-
-def mat_names(file: Path) -> set[str]:
-    """Variable names of a MATLAB file; empty for any other file."""
-    from scipy.io import whosmat
-
-    try:
-        return {name for name, _, _ in whosmat(file)}
-    except (OSError, ValueError, NotImplementedError):
-        return set()

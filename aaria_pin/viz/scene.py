@@ -6,7 +6,7 @@ the Pinocchio model) and the things drawn on them, each in its frame's coordinat
 - :class:`Solid` — a mesh of flat faces (boxes, cylinders), e.g. a link's box;
 - :class:`Lines` — line segments, e.g. the three axes of a coordinate frame (a triad);
 - :class:`Bone` — a segment from one frame's origin to another's (for robots described without
-  solids, such as a generic URDF: links drawn as segments between joint origins).
+  solids, such as a URDF robot without meshes: links drawn as segments between joint origins).
 
 :func:`posed_geometry` places everything with one pose per frame and returns plain arrays
 (world faces, lines and their roles), which the PNG renderer and the HTML viewer draw alike.
@@ -303,10 +303,10 @@ def one_axis_joint(joint: pin.JointModel) -> tuple[str, Array] | None:
 def scene_from_model(robot: RobotModel, size: float = 0.05) -> Scene:
     """A stick figure of any Pinocchio model: bones between joint origins, green joints.
 
-    For robots described without solids (a generic URDF): each joint is a green cylinder along
-    its axis (revolute) or a thin green rod (prismatic), bones join each joint's origin to its
-    parent joint's origin (a first joint to the base frame) and the tool frame to its joint,
-    and the world, tool and sensor frames are drawn as in :func:`scene_from_dh_robot`.
+    For robots described without solids (a URDF robot without meshes): each joint is a green
+    cylinder along its axis (revolute) or a thin green rod (prismatic), bones join each joint's
+    origin to its parent joint's origin (a first joint to the base frame) and the tool frame to
+    its joint, and the world, tool and sensor frames are drawn as in :func:`scene_from_dh_robot`.
 
     Args:
         robot: the model

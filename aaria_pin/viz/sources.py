@@ -12,13 +12,13 @@ its signals.
 :func:`run_kind` tells a run's kind and :func:`load_run_view` reads it with the loader
 registered for it: ``"aaria"`` (an Aaria DH run, drawn as the paper draws it, its arm rebuilt
 from its ``senSenDH`` table) and ``"wrist"`` (the report's spherical wrist), both in
-:mod:`~aaria_pin.viz._dh_source`, and ``"generic"`` (any run, its model rebuilt from its URDF
-and drawn as a stick figure, :mod:`~aaria_pin.viz._generic_source`). Other kinds plug in with
+:mod:`~aaria_pin.viz._dh_source`, and ``"model"`` (any run, its model rebuilt from its URDF
+and drawn as a stick figure, :mod:`~aaria_pin.viz._model_source`). Other kinds plug in with
 :func:`register_run_kind`: a probe that recognises the run and a loader that returns a
-:class:`RunView`. The generic kind is a fallback: it is tried after every other kind, so an
+:class:`RunView`. The ``"model"`` kind is a fallback: it is tried after every other kind, so an
 application's own kind (the pick-and-place arm's) is recognised first. A probe and a loader
-are given a :class:`RunFile`: path-like (the file), with the file's top-level names and
-attributes and the run's record (read once, on first use, for every probe and the loader).
+are given a :class:`RunFile`: path-like (the file), with the run's record (read once, on first
+use, for every probe and the loader).
 
 **Plug-ins.** Applications register their kinds and presets without ``import aaria_pin``
 importing them: the modules named in ``_PLUGINS`` (``aaria_pin.viz._arm_source``) are imported,
@@ -49,7 +49,7 @@ from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion
 from aaria_pin.errors import InputFileError, ModelError, ParameterError
 from aaria_pin.viz._dh_source import is_aaria_run, is_wrist_run, load_aaria_run, load_wrist_run
-from aaria_pin.viz._generic_source import is_generic_run, load_generic_run
+from aaria_pin.viz._model_source import MODEL_KIND, is_any_run, load_model_run
 from aaria_pin.viz._run_view import (
     RunFile,
     RunView,
@@ -78,9 +78,9 @@ __all__ = [
 ]
 
 Probe = Callable[[RunFile], bool]
-"""Whether a run is of a kind, from its record or the file's names and attributes (a
-:class:`RunFile`, read once for every probe; it is path-like, so a probe of a path takes it
-too). It must not raise on a file that is not a run."""
+"""Whether a run is of a kind, from its record (a :class:`RunFile`, read once for every probe;
+it is path-like, so a probe of a path takes it too). It must not raise on a file that is not a
+run."""
 Loader = Callable[[RunFile], RunView]
 """Reads a run the kind's probe recognised (it need not check the kind again), given its
 :class:`RunFile` (path-like: a loader of a path takes it too, for a run file)."""
@@ -165,7 +165,7 @@ def register_run_kind(kind: str, probe: Probe, loader: Loader, *, fallback: bool
         probe: True for a file of this kind, given its :class:`RunFile` (it must not raise on
             other files)
         loader: reads such a file into a :class:`RunView` (given its path)
-        fallback: try it only after every other kind (as the generic URDF kind is)
+        fallback: try it only after every other kind (as the ``"model"`` kind is)
     """
     _KINDS.pop(kind, None)
     _FALLBACK_KINDS.pop(kind, None)
@@ -203,7 +203,7 @@ def run_kind(path: str | os.PathLike[str]) -> str:
     file = Path(path)
     if not file.is_file():
         raise InputFileError(f"{file}: no such file")
-    return _known_kind(run_file(file))  # one open for every probe
+    return _known_kind(run_file(file))  # one read for every probe
 
 
 def load_run_view(path: str | os.PathLike[str], run: int | None = None) -> RunView:
@@ -225,7 +225,9 @@ def load_run_view(path: str | os.PathLike[str], run: int | None = None) -> RunVi
     if is_dataset_file(file):
         header = dataset_run(file, 0 if run is None else run)
     elif run is not None:
-        raise ParameterError(f"run {run} is for a data set; allowed: None for a run file")
+        raise ParameterError(
+            parameter="run", value=run, allowed="None for a run file (it picks a data set's run)"
+        )
     else:
         header = run_file(file)
     return _kinds()[_known_kind(header)][1](header)
@@ -286,4 +288,4 @@ def preset_view(name: str) -> tuple[Scene, Array]:
 
 register_run_kind("aaria", is_aaria_run, load_aaria_run)
 register_run_kind("wrist", is_wrist_run, load_wrist_run)
-register_run_kind("generic", is_generic_run, load_generic_run, fallback=True)
+register_run_kind(MODEL_KIND, is_any_run, load_model_run, fallback=True)

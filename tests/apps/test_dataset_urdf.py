@@ -1,4 +1,4 @@
-"""Data sets of URDF robots: the generic layout, determinism, runs equal to single runs."""
+"""Data sets of URDF robots: their layout, determinism, runs equal to single runs."""
 
 from __future__ import annotations
 

@@ -134,7 +134,7 @@ def test_options_that_would_do_nothing_are_refused(
     assert not (tmp_path / "run.h5").exists()
 
 
-def test_from_a_generic_run_refuses_another_tool(tmp_path: Path) -> None:
+def test_from_a_urdf_run_refuses_another_tool(tmp_path: Path) -> None:
     first = tmp_path / "ur5.h5"
     assert run_cli("simulate", "--robot", "ur5", "--duration", "0.5", "-o", str(first))[0] == 0
     code, _, err = run_cli("simulate", "--from", str(first), "--tool", "wrist_2_link", "-o", "x.h5")

@@ -70,7 +70,7 @@ def test_plot_and_view_of_both_run_kinds(tmp_path: Path, files: dict[str, Path])
     assert result.exit_code == 0 and "8 panels" in result.output  # fig3: both joint kinds
 
 
-def test_plot_of_a_generic_run_keeps_torques_apart_from_forces(tmp_path: Path) -> None:
+def test_plot_of_a_urdf_run_keeps_torques_apart_from_forces(tmp_path: Path) -> None:
     run_file = tmp_path / "ur5.h5"
     args = ["simulate", "--robot", "ur5", "--duration", "1", "--rate", "20", "-o", str(run_file)]
     assert run(*args).exit_code == 0

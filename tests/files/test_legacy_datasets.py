@@ -82,6 +82,7 @@ def test_dh_dataset_records_equal_the_raw_contents(run: int) -> None:
         expected = "" if empty[module] else f"link{module + 1}"
         assert parents[2 + 2 * module : 4 + 2 * module] == [expected, expected]
     assert record.attributes["kind"] == "dh" and record.attributes["run"] == run
+    assert record.attributes["robot"] == "aaria-arm"
     seed = stored_seed(record.attributes)
     assert isinstance(seed, np.random.SeedSequence)
     assert (seed.entropy, seed.spawn_key) == (5, (run, 3))

@@ -56,6 +56,7 @@ def test_dh_run(name: str) -> None:
     samples = sensen.shape[0]
     assert samples == 11
     assert record.attributes["kind"] == "dh"
+    assert record.attributes["robot"] == "aaria-arm"  # as the runs of a 0.1 data set
     assert record.attributes["version"] == "0.1.0"
     assert record.joint_names == tuple(f"joint{i}" for i in range(1, 7))
     assert list(record.imu_names) == SLOTS
@@ -90,7 +91,7 @@ def test_dh_run(name: str) -> None:
     assert np.ptp(record.base_pose[:, 0, 3]) > 0  # the base moves in these runs
 
 
-def test_generic_ur5_run() -> None:
+def test_urdf_ur5_run() -> None:
     path = FIXTURES / "ur5_run.h5"
     record = read_run(path)
     with h5py.File(path, "r") as handle:

@@ -31,15 +31,19 @@ def pages(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     folder = tmp_path_factory.mktemp("pages")
     record = simulate_run(get_preset("aaria-fig2").table, duration=4.0, rate=50.0)
     wrist = simulate_wrist(np.radians([90.0, 60.0, -45.0]), start=0.2, rate=50.0)
-    ur5 = find_robot("ur5")
-    generic = simulate_urdf_run(
-        read_urdf_file(ur5.urdf), urdf_dir=ur5.urdf.parent, source="ur5", duration=4.0, rate=50.0
+    robot = find_robot("ur5")
+    ur5 = simulate_urdf_run(
+        read_urdf_file(robot.urdf),
+        urdf_dir=robot.urdf.parent,
+        source="ur5",
+        duration=4.0,
+        rate=50.0,
     )
     out = {}
     for name, run_file in (
         ("aaria", write_run(folder / "fig2.h5", record)),
         ("wrist", write_wrist_run(folder / "wrist.h5", wrist)),
-        ("generic", write_run(folder / "ur5.h5", generic)),
+        ("model", write_run(folder / "ur5.h5", ur5)),
     ):
         view = load_run_view(run_file)
         assert view.kind == name
@@ -171,7 +175,7 @@ def test_console_check_catches_a_broken_page(tmp_path: Path) -> None:
 
 @needs_chromium
 @pytest.mark.slow
-@pytest.mark.parametrize("name", ["aaria", "wrist", "generic"])
+@pytest.mark.parametrize("name", ["aaria", "wrist", "model"])
 def test_page_runs_in_chromium_and_the_slider_moves_the_arm(
     tmp_path: Path, pages: dict[str, Path], name: str
 ) -> None:

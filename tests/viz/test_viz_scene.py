@@ -13,7 +13,7 @@ from aaria_pin.aaria.simulate import simulate_run
 from aaria_pin.apps.wrist.run import simulate_wrist, write_wrist_run
 from aaria_pin.errors import InputFileError, ParameterError
 from aaria_pin.files.runfile import write_run
-from aaria_pin.viz._generic_source import load_generic_run
+from aaria_pin.viz._model_source import load_model_run
 from aaria_pin.viz.scene import (
     WORLD,
     box_solid,
@@ -174,8 +174,8 @@ def test_stick_figure_of_any_model_joins_joint_origins() -> None:
 
 
 @pytest.mark.slow
-def test_generic_runs_of_a_urdf_robot_and_the_pick_place_arm(tmp_path: Path) -> None:
-    """Generic run files (any URDF robot, the pick-and-place arm) are posed from their URDF."""
+def test_model_kind_runs_of_a_urdf_robot_and_the_pick_place_arm(tmp_path: Path) -> None:
+    """Runs of a URDF robot and of the pick-and-place arm are posed from their URDF."""
     from click.testing import CliRunner
 
     from aaria_pin.cli import main
@@ -188,10 +188,10 @@ def test_generic_runs_of_a_urdf_robot_and_the_pick_place_arm(tmp_path: Path) -> 
     ):
         result = CliRunner().invoke(main, args)
         assert result.exit_code == 0, result.output
-    assert run_kind(ur5) == "generic"
+    assert run_kind(ur5) == "model"
     assert run_kind(arm) == "pick-place"  # the arm's plug-in kind
     for path in (ur5, arm):
-        view = load_generic_run(path)  # the generic kind reads both
+        view = load_model_run(path)  # the model kind reads both
         record = read_run(path)
         samples = np.arange(0, view.time.size, 7)
         poses = view.frame_poses(samples)
@@ -201,8 +201,8 @@ def test_generic_runs_of_a_urdf_robot_and_the_pick_place_arm(tmp_path: Path) -> 
         assert len(view.signals.imus) == len(record.imu_mounts)
     assert load_run_view(ur5).signals.base_wrench is not None  # moving base by default
     # joint kinds from the URDF joint types: the arm's lift and finger slide
-    assert load_generic_run(ur5).signals.kinds == ("revolute",) * 6
-    arm_view = load_generic_run(arm)
+    assert load_model_run(ur5).signals.kinds == ("revolute",) * 6
+    arm_view = load_model_run(arm)
     prismatic = {
         name
         for name, kind in zip(read_run(arm).joint_names, arm_view.signals.kinds, strict=True)
@@ -253,7 +253,7 @@ def test_a_continuous_joint_is_revolute_and_a_prismatic_one_gets_forces(tmp_path
 
     record = simulate_urdf_run(URDF, duration=0.5, rate=20.0, noise=False)
     view = load_run_view(write_run(tmp_path / "two.h5", record))
-    assert view.kind == "generic"
+    assert view.kind == "model"
     assert view.signals.kinds == ("revolute", "prismatic")
     assert view.signals.q_labels == ("spin [rad]", "slide [m]")
     assert view.signals.tau_labels == ("spin [N·m]", "slide [N]")

@@ -20,19 +20,19 @@ from aaria_pin.viz import sources
 PLUGIN = "aaria_test_view_plugin"
 
 PLUGIN_SOURCE = '''
-"""A dummy plug-in: claims every generic run file, and offers a preset."""
+"""A dummy plug-in: claims every run file the model kind would, and offers a preset."""
 
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.files.runfile import is_run_file
 from aaria_pin.viz.sources import register_run_kind, table_view
-from aaria_pin.viz._generic_source import load_generic_run
+from aaria_pin.viz._model_source import load_model_run
 
 IMPORTS = []
 IMPORTS.append(1)
 
 
 def load(path):
-    view = load_generic_run(path)
+    view = load_model_run(path)
     return type(view)("dummy: " + view.title, "dummy", view.scene, view.signals, view.frame_poses)
 
 
@@ -83,11 +83,11 @@ def ur5_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return write_run(tmp_path_factory.mktemp("ur5") / "ur5.h5", record)
 
 
-def test_a_plugin_is_imported_on_first_look_up_and_tried_before_generic(
+def test_a_plugin_is_imported_on_first_look_up_and_tried_before_the_model_kind(
     plugin: str, ur5_run: Path
 ) -> None:
     assert plugin not in sys.modules  # not on import of the viewers
-    assert sources.run_kind(ur5_run) == "dummy"  # before the generic kind, registered earlier
+    assert sources.run_kind(ur5_run) == "dummy"  # before the model kind, registered earlier
     module = sys.modules[plugin]
     view = sources.load_run_view(ur5_run)
     assert view.kind == "dummy" and view.title == "dummy: ur5.h5"
@@ -96,11 +96,11 @@ def test_a_plugin_is_imported_on_first_look_up_and_tried_before_generic(
     assert module.IMPORTS == [1]  # imported once
 
 
-def test_without_the_plugin_a_generic_run_stays_generic(
+def test_without_the_plugin_a_urdf_run_is_of_the_model_kind(
     monkeypatch: pytest.MonkeyPatch, ur5_run: Path
 ) -> None:
     isolate(monkeypatch, ("aaria_pin_no_such_plugin", "aaria_pin.no_such_module"))
-    assert sources.run_kind(ur5_run) == "generic"
+    assert sources.run_kind(ur5_run) == "model"
     assert sources.preset_names() == ("aaria-fig2", "aaria-fig3", "spherical-wrist")
 
 
@@ -146,7 +146,7 @@ def test_an_announced_model_preset_is_a_clear_error_until_its_plugin_gives_it(
 def test_unknown_files_name_the_plugin_kinds_too(plugin: str, tmp_path: Path) -> None:
     other = tmp_path / "other.txt"
     other.write_text("x")
-    with pytest.raises(InputFileError, match="allowed: aaria, wrist, dummy, generic run files"):
+    with pytest.raises(InputFileError, match="allowed: aaria, wrist, dummy, model run files"):
         sources.run_kind(other)
 
 
@@ -159,16 +159,17 @@ def test_a_record_in_memory_and_a_data_set_run_are_drawn_as_their_files(
     record = read_run(ur5_run)
     from_file = sources.load_run_view(ur5_run)
     in_memory = sources.record_view(record, "ur5 in memory")
-    assert in_memory.kind == from_file.kind == "generic" and in_memory.title == "ur5 in memory"
+    assert in_memory.kind == from_file.kind == "model" and in_memory.title == "ur5 in memory"
     samples = np.arange(from_file.time.size)
     np.testing.assert_array_equal(in_memory.frame_poses(samples), from_file.frame_poses(samples))
     tool = from_file.frame_poses(samples)[:, from_file.scene.frames.index("tool0")]
     np.testing.assert_allclose(tool, record.tool_pose, atol=1e-9)
-    with pytest.raises(ParameterError, match="for a data set"):
+    with pytest.raises(ParameterError, match="run is 1; allowed: None for a run file") as bad:
         sources.load_run_view(ur5_run, run=1)
+    assert bad.value.parameter == "run"
     dataset = Path(__file__).parents[1] / "fixtures" / "v0_1_0" / "ur5_dataset.h5"
     view = sources.load_run_view(dataset, run=1)
-    assert view.kind == "generic" and view.title == "ur5_dataset.h5 run 1"
+    assert view.kind == "model" and view.title == "ur5_dataset.h5 run 1"
     import h5py
 
     with h5py.File(dataset, "r") as handle:

@@ -42,6 +42,8 @@ __all__ = [
     "pick_place_record",
     "simulate_pick_place",
     "simulate_pick_place_from_record",
+    "stored_cylinder",
+    "stored_preset",
     "write_pick_place_run",
 ]
 
@@ -212,6 +214,32 @@ def pick_place_record(run: PickPlaceRun) -> RunRecord:
     )
 
 
+def stored_cylinder(attributes: Mapping[str, Any]) -> Cylinder:
+    """The cylinder a pick-and-place record's ``cylinder`` attribute describes.
+
+    Raises:
+        KeyError, TypeError, ValueError: an attribute that is missing or not numbers.
+        ParameterError: a cylinder that is not physical (as :class:`Cylinder`).
+    """
+    c = attributes["cylinder"]
+    return Cylinder(
+        float(c["x"]),
+        float(c["y"]),
+        radius=float(c["radius"]),
+        height=float(c["height"]),
+        mass=float(c["mass"]),
+    )
+
+
+def stored_preset(attributes: Mapping[str, Any]) -> str:
+    """The arm preset a pick-and-place record names.
+
+    Its ``preset`` attribute, else its ``source``, else ``"pick-place-arm"`` (a 0.1.0 file may
+    name none).
+    """
+    return str(attributes.get("preset") or attributes.get("source") or PICK_PLACE_ROBOT)
+
+
 def simulate_pick_place_from_record(stored: RunRecord, **overrides: Any) -> PickPlaceRun:
     """Re-make a pick-and-place run from the settings its record holds.
 
@@ -227,17 +255,10 @@ def simulate_pick_place_from_record(stored: RunRecord, **overrides: Any) -> Pick
         The run; with no overrides it equals the stored one.
     """
     attributes = stored.attributes
-    c = attributes["cylinder"]
     settings: dict[str, Any] = {
-        "cylinder": Cylinder(
-            float(c["x"]),
-            float(c["y"]),
-            radius=float(c["radius"]),
-            height=float(c["height"]),
-            mass=float(c["mass"]),
-        ),
+        "cylinder": stored_cylinder(attributes),
         "place": tuple(float(v) for v in attributes["place"]),
-        "preset": str(attributes.get("preset") or attributes.get("source") or "pick-place-arm"),
+        "preset": stored_preset(attributes),
         "rate": float(attributes["rate"]),
         "branch": str(attributes.get("branch", "nearest")),
     }

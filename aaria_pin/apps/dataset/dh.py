@@ -43,7 +43,9 @@ class DhDatasetSpec(DatasetSpec):
         super().__post_init__()
         if "structure" not in self.vary and self.dh_table is None:
             raise ParameterError(
-                "the structure does not vary, so a DH table is needed; allowed: --preset or --dh"
+                parameter="dh_table",
+                value=None,
+                allowed="a DH table (a preset's or a file's) when the structure does not vary",
             )
 
     @property

@@ -168,12 +168,18 @@ class _DaskRunner:
             from dask.distributed import Client
         except ImportError:
             raise ParameterError(
-                "--scheduler needs Dask; allowed: pip install 'aaria-pin[distributed]'"
+                parameter="scheduler",
+                value=address,
+                allowed="an address, with Dask installed (pip install 'aaria-pin[distributed]')",
             ) from None
         try:
             self._client = Client(address, timeout=30)
         except (OSError, TimeoutError, ValueError) as exc:
-            raise ParameterError(f"scheduler {address!r} cannot be reached ({exc})") from None
+            raise ParameterError(
+                parameter="scheduler",
+                value=address,
+                allowed=f"the address of a running Dask scheduler (this one: {exc})",
+            ) from None
 
     def results(self, spec: DatasetSpec, runs: Sequence[int]) -> Iterator[Result]:
         """Results in completion order, at most four runs per worker thread in flight."""
@@ -242,7 +248,7 @@ def generate_dataset(
             else (os.cpu_count() or 1)
         )
     if workers < 1:
-        raise ParameterError(f"--workers {workers}; allowed: >= 1")
+        raise ParameterError(parameter="workers", value=workers, allowed=">= 1")
     if resume:  # compare settings read-only first: a mismatch changes nothing
         different = spec.mismatches(read_dataset_attributes(file))
         if different:

@@ -89,13 +89,15 @@ class DatasetSpec(ABC):
         from aaria_pin.core.trajectory import sample_times
 
         if not (isinstance(self.n_runs, (int, np.integer)) and 1 <= self.n_runs <= MAX_RUNS):
-            raise ParameterError(f"N is {self.n_runs!r}; allowed: 1 to {MAX_RUNS}")
+            raise ParameterError(parameter="n_runs", value=self.n_runs, allowed=f"1 to {MAX_RUNS}")
         check_seed(self.seed)
         if self.dtype not in ("float32", "float64"):
-            raise ParameterError(f"dtype {self.dtype!r}; allowed: float32, float64")
+            raise ParameterError(parameter="dtype", value=self.dtype, allowed="float32, float64")
         unknown = [part for part in self.vary if part not in PARTS]
         if unknown:
-            raise ParameterError(f"--vary {unknown[0]!r}; allowed: {', '.join(PARTS)}")
+            raise ParameterError(
+                parameter="vary", value=unknown[0], element="a part", allowed=", ".join(PARTS)
+            )
         sample_times(self.duration, self.rate)  # checks duration and rate
 
     # --- what a robot adds ----------------------------------------------------------------------

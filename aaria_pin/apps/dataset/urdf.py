@@ -115,10 +115,13 @@ class UrdfDatasetSpec(DatasetSpec):
     def __post_init__(self) -> None:
         super().__post_init__()
         if self.robot is None:
-            raise ParameterError("a URDF data set needs its robot; allowed: --robot or --urdf")
+            raise ParameterError(parameter="robot", value=None, allowed="a URDF robot")
         if "structure" in self.vary:
             raise ParameterError(
-                "a URDF robot's structure is fixed; allowed: --vary joints,base and no DH table"
+                parameter="vary",
+                value="structure",
+                element="a part",
+                allowed="joints, base (a URDF robot's structure is fixed)",
             )
         if self.joint_table is not None and "joints" not in self.vary:
             from aaria_pin.core.urdf_robot import validate_urdf_joint_table
@@ -126,7 +129,10 @@ class UrdfDatasetSpec(DatasetSpec):
             validate_urdf_joint_table(self.joint_table, self.robot.load())
         if not self.robot.moving_base and "base" in self.vary:
             raise ParameterError(
-                "the robot's base is fixed, so the base cannot vary; allowed: --vary joints"
+                parameter="vary",
+                value="base",
+                element="a part",
+                allowed="joints (the robot's base is fixed)",
             )
 
     @property

@@ -22,8 +22,10 @@ Bookkeeping: ``complete`` (N, uint8: 1 once a run is written and flushed), ``fai
 Chunks hold one run (see :mod:`.layout`), compressed with gzip level 1 after the shuffle filter.
 File attributes: ``format``, ``format_version``, ``N``, ``samples``, ``dtype``, ``kind``,
 ``robot``, the run settings (rate, duration, noise, noise parameters, gravity, units, version,
-``seed``, ``noise_stream``), the data set's (``vary``, ``config_json``, ``fixed_tables_json``,
-``robot_info_json``) and ``failures_json`` (failed runs and their errors).
+``seed``, ``noise_stream``), the data set's (``vary``, ``config``, ``fixed_tables``,
+``robot_info``) and ``failures_json`` (failed runs and their errors), encoded as a run file's
+attributes are (:func:`aaria_pin.files._stored.encode_attributes`: a dict or a list that is not
+of two or more numbers is a JSON string under its name plus ``_json``).
 
 Version 1 files (aaria_pin 0.1) still read (:mod:`.legacy`); they cannot be resumed.
 """

@@ -27,15 +27,16 @@ from typing import Any
 import numpy as np
 
 from aaria_pin.core.record import (
-    IMU_SIGNALS,
     SERIES,
     ColumnSource,
     ColumnView,
     RunRecord,
-    signal_columns,
+    record_shapes,
+    signals_view,
 )
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
+from aaria_pin.files._stored import NAME_LISTS, STORED_NAMES
 
 __all__ = [
     "DATASET_FORMAT",
@@ -51,8 +52,6 @@ __all__ = [
 
 DATASET_FORMAT = "aaria_pin dataset"
 DATASET_FORMAT_VERSION = 2
-NAME_LISTS = ("joint_names", "imu_names", "imu_parents")
-"""The string lists a data set stores once per file."""
 STATUS_DATASETS = ("checksum", "complete", "failed")
 """The bookkeeping datasets: CRC-32 of each run's arrays, its complete and failed flags."""
 SIGNALS_VIEW = "signals"
@@ -60,20 +59,6 @@ SIGNALS_VIEW = "signals"
 
 EncodedRun = dict[str, tuple[list[bytes], int]]
 """A run ready to store: per array, its chunks' bytes (in chunk order) and their CRC-32."""
-
-
-def signals_view(joint_names: tuple[str, ...], imu_names: tuple[str, ...]) -> ColumnView:
-    """The flat signal table (:attr:`RunRecord.columns`) as a view of ``time``, ``q``, ``imu``."""
-    sources = (
-        ColumnSource("time", ()),
-        *(ColumnSource("q", (j,)) for j in range(len(joint_names))),
-        *(
-            ColumnSource("imu", (s, k))
-            for s in range(len(imu_names))
-            for k in range(len(IMU_SIGNALS))
-        ),
-    )
-    return ColumnView(signal_columns(joint_names, imu_names), sources, "see columns")
 
 
 @dataclass(frozen=True)
@@ -123,24 +108,12 @@ class DatasetLayout:
     @staticmethod
     def reserved_names() -> tuple[str, ...]:
         """Dataset names a table or view cannot take."""
-        return (*SERIES, "imu_mount", *NAME_LISTS, "urdf", *STATUS_DATASETS)
+        return (*STORED_NAMES, *STATUS_DATASETS)
 
     def shapes(self, samples: int) -> dict[str, tuple[int, ...]]:
         """Shape of each stored array of one run of T = ``samples``, in file order."""
-        n, s = len(self.joint_names), len(self.imu_names)
-        return {
-            "time": (samples,),
-            "q": (samples, n),
-            "qd": (samples, n),
-            "qdd": (samples, n),
-            "tau": (samples, n),
-            "base_pose": (samples, 4, 4),
-            "base_wrench": (samples, 6),
-            "tool_pose": (samples, 4, 4),
-            "imu": (samples, s, len(IMU_SIGNALS)),
-            "imu_mount": (s, 4, 4),
-            **self.tables,
-        }
+        joints, imus = len(self.joint_names), len(self.imu_names)
+        return {**record_shapes(samples, joints, imus), **self.tables}
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -234,30 +207,6 @@ def chunk_origins(shape: tuple[int, ...], chunk: tuple[int, ...]) -> Iterator[tu
     return itertools.product(*(range(0, dim, size) for dim, size in zip(shape, chunk, strict=True)))
 
 
-def view_mappings(view: ColumnView) -> list[tuple[int, int, ColumnSource]]:
-    """A view's columns grouped into blocks that each map to one slice of one series.
-
-    Returns:
-        ``(first column, column count, source of the first column)`` per block: consecutive
-        columns of one series whose last index runs on by one make one block (``senSen`` is
-        16 blocks: time, q, one per IMU slot).
-    """
-    blocks: list[tuple[int, int, ColumnSource]] = []
-    for column, source in enumerate(view.sources):
-        if blocks:
-            first, count, start = blocks[-1]
-            if (
-                source.index
-                and start.array == source.array
-                and start.index[:-1] == source.index[:-1]
-                and source.index[-1] == start.index[-1] + count
-            ):
-                blocks[-1] = (first, count + 1, start)
-                continue
-        blocks.append((column, 1, source))
-    return blocks
-
-
 def _compressor() -> Any:
     try:
         from isal.isal_zlib import compress
@@ -280,13 +229,11 @@ def encode_run(layout: DatasetLayout, record: RunRecord, dtype: str) -> EncodedR
     """
     layout.check(record)
     compress = _compressor()
-    arrays = {**record.series(), "imu_mount": record.imu_mount, **record.tables}
     encoded: EncodedRun = {}
-    for name, shape in layout.shapes(record.n_samples).items():
-        array = np.asarray(arrays[name], dtype="float64" if name in layout.inputs else dtype)
-        chunk = layout.chunk(name, shape)
+    for name, array in run_arrays(layout, record, dtype).items():
+        chunk = layout.chunk(name, array.shape)
         chunks, checksum = [], 0
-        for origin in chunk_origins(shape, chunk):
+        for origin in chunk_origins(array.shape, chunk):
             block = array[tuple(slice(o, o + c) for o, c in zip(origin, chunk, strict=True))]
             raw = np.ascontiguousarray(block)
             shuffled = raw.view(np.uint8).reshape(-1, raw.itemsize).T.tobytes()
@@ -299,7 +246,7 @@ def encode_run(layout: DatasetLayout, record: RunRecord, dtype: str) -> EncodedR
 
 def run_arrays(layout: DatasetLayout, record: RunRecord, dtype: str) -> dict[str, Array]:
     """The stored arrays of a run by name, in file order and in their stored dtypes."""
-    arrays = {**record.series(), "imu_mount": record.imu_mount, **record.tables}
+    arrays = record.arrays()
     return {
         name: np.asarray(arrays[name], dtype="float64" if name in layout.inputs else dtype)
         for name in layout.names

@@ -16,14 +16,25 @@ base), as the run computed it. The IMU signals are the columns of ``senSen``/``s
 from __future__ import annotations
 
 import json
-import re
 from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.oscillation import base_motion
-from aaria_pin.core.record import IMU_SIGNALS, ColumnSource, ColumnView, ImuMount, RunRecord
-from aaria_pin.files.dataset.layout import record_attributes, signals_view
+from aaria_pin.core.record import (
+    IMU_SIGNALS,
+    VIEW_UNITS,
+    RunRecord,
+    mounts_from_poses,
+    signals_view,
+)
+from aaria_pin.files._v0_1 import (
+    AARIA_JOINTS,
+    AARIA_MODULES,
+    AARIA_ROBOT,
+    aaria_mounts,
+    base_pose_from_table,
+)
+from aaria_pin.files.dataset.layout import record_attributes
 
 __all__ = ["LEGACY_VERSION", "legacy_names", "legacy_record"]
 
@@ -43,13 +54,6 @@ _AARIA_ARRAYS = (
     "imu_mount",
 )
 """The per-run arrays of a version 1 Aaria data set, in file order."""
-_AARIA_MODULES = 6
-_AARIA_JOINTS = tuple(f"joint{m}" for m in range(1, _AARIA_MODULES + 1))
-_AARIA_ROBOT = "aaria-arm"
-"""The ``robot`` of an Aaria run whose table is not a named preset (as a 0.2 run records)."""
-_AARIA_PARENTS = {"imu_base": "base", "imu_tool": "tool_tip"}
-_AARIA_LINK_SLOT = re.compile(r"imu_(link[1-6])_[ab]")
-_SENSEN_UNITS = "see columns: s, rad or m, rad/s, m/s^2"
 _NOISE_STREAM = 3
 """0.1's noise stream of run k: ``SeedSequence(seed, spawn_key=(k, 3))``."""
 
@@ -66,11 +70,6 @@ def _columns(dataset: Any) -> tuple[str, ...]:
     return tuple(c.decode() if isinstance(c, bytes) else str(c) for c in dataset.attrs["columns"])
 
 
-def _aaria_parent(slot: str) -> str:
-    link = _AARIA_LINK_SLOT.fullmatch(slot)
-    return link[1] if link else _AARIA_PARENTS.get(slot, "")
-
-
 def legacy_record(handle: Any, run: int, file_attributes: dict[str, Any]) -> RunRecord:
     """Run ``run`` of an open version 1 data set as a run record (arrays in float64).
 
@@ -85,19 +84,20 @@ def legacy_record(handle: Any, run: int, file_attributes: dict[str, Any]) -> Run
     samples = flat.shape[0]
     time = flat[:, 0]
     attributes = record_attributes(file_attributes, run, _NOISE_STREAM)
+    mounts = np.asarray(handle["imu_mount"][run], float)
     if aaria:
-        joints = _AARIA_JOINTS
-        imus = tuple(name[: -len("_wx")] for name in columns[1 + _AARIA_MODULES :: 6])
-        parents = tuple(_aaria_parent(name) for name in imus)
+        joints = AARIA_JOINTS
+        imus = tuple(name[: -len("_wx")] for name in columns[1 + AARIA_MODULES :: 6])
+        imu_mounts = aaria_mounts(imus, mounts)
         tables = {name: np.asarray(handle[name][run], float) for name in _AARIA_ARRAYS[1:4]}
         base_table: np.ndarray | None = tables["senSenB"]
         urdf = ""
-        attributes.update(kind="dh", robot=_AARIA_ROBOT)
+        attributes.update(kind="dh", robot=AARIA_ROBOT)
     else:
         robot = file_attributes["robot"]
         joints = tuple(robot["joint_names"])
         imus = tuple(robot["imu_names"])
-        parents = tuple(robot["imu_parents"])
+        imu_mounts = mounts_from_poses(imus, robot["imu_parents"], mounts)
         moving = bool(robot.get("moving_base", True))
         tables = {"joint_table": np.asarray(handle["joint_table"][run], float)}
         base_table = np.asarray(handle["base_table"][run], float) if moving else None
@@ -111,26 +111,10 @@ def legacy_record(handle: Any, run: int, file_attributes: dict[str, Any]) -> Run
     n = len(joints)
     q = flat[:, 1 : 1 + n]
     imu = flat[:, 1 + n :].reshape(samples, len(imus), len(IMU_SIGNALS))
-    if base_table is None:
-        base_pose = np.broadcast_to(np.eye(4), (samples, 4, 4)).copy()
-    else:
-        base_pose = base_motion(base_table, time).T_world_base()
-    mounts = np.asarray(handle["imu_mount"][run], float)
-    imu_mounts = tuple(
-        ImuMount(name, parent if mount.any() else "", mount)
-        for name, parent, mount in zip(imus, parents, mounts, strict=True)
-    )
+    base_pose = base_pose_from_table(base_table, time)
     views = {}
     if aaria:  # the Aaria view first, as a version 2 file lists it
-        views["senSen"] = ColumnView(
-            columns,
-            (
-                ColumnSource("time", ()),
-                *(ColumnSource("q", (j,)) for j in range(n)),
-                *(ColumnSource("imu", (s, k)) for s in range(len(imus)) for k in range(6)),
-            ),
-            _SENSEN_UNITS,
-        )
+        views["senSen"] = signals_view(joints, imus, columns, VIEW_UNITS)
     views["signals"] = signals_view(joints, imus)
 
     def series(name: str) -> np.ndarray:

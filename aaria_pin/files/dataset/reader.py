@@ -25,9 +25,10 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.record import ImuMount, RunRecord
+from aaria_pin.core.record import RunRecord, mounts_from_poses
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, ParameterError
+from aaria_pin.files._stored import decode_attributes
 from aaria_pin.files.dataset.layout import (
     DATASET_FORMAT,
     DATASET_FORMAT_VERSION,
@@ -35,7 +36,7 @@ from aaria_pin.files.dataset.layout import (
     record_attributes,
 )
 from aaria_pin.files.dataset.legacy import LEGACY_VERSION, legacy_names, legacy_record
-from aaria_pin.files.dataset.store import decode_attributes, read_layout
+from aaria_pin.files.dataset.store import read_layout
 
 __all__ = ["DatasetReader", "dataset_summary"]
 
@@ -99,7 +100,7 @@ class DatasetReader:
     @property
     def attributes(self) -> dict[str, Any]:
         """File attributes, JSON ones decoded (keys without the ``_json`` suffix)."""
-        return decode_attributes(self._handle.attrs)
+        return decode_attributes(self._handle.attrs, self.path)
 
     @property
     def stored_names(self) -> tuple[str, ...]:
@@ -144,12 +145,7 @@ class DatasetReader:
             return legacy_record(self._handle, index, attributes)
         layout = self.layout
         arrays = {name: np.asarray(self._handle[name][index], dtype=float) for name in layout.names}
-        mounts = tuple(
-            ImuMount(name, parent if mount.any() else "", mount)
-            for name, parent, mount in zip(
-                layout.imu_names, layout.imu_parents, arrays["imu_mount"], strict=True
-            )
-        )
+        mounts = mounts_from_poses(layout.imu_names, layout.imu_parents, arrays["imu_mount"])
         return RunRecord(
             time=arrays["time"],
             joint_names=layout.joint_names,

@@ -17,16 +17,20 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.record import UNITS
 from aaria_pin.errors import InputFileError, OutputFileError
+from aaria_pin.files._stored import (
+    NAME_LISTS,
+    create_virtual_view,
+    decode_attributes,
+    encode_attributes,
+    units_of,
+)
 from aaria_pin.files.dataset.layout import (
     DATASET_FORMAT,
     DATASET_FORMAT_VERSION,
-    NAME_LISTS,
     DatasetLayout,
     EncodedRun,
     chunk_origins,
-    view_mappings,
 )
 from aaria_pin.files.io import atomic_output
 
@@ -40,21 +44,8 @@ __all__ = [
 ]
 
 
-def decode_attributes(attrs: Mapping[str, Any]) -> dict[str, Any]:
-    """HDF5 attributes as plain values: JSON ones decoded (keys without ``_json``)."""
-    out: dict[str, Any] = {}
-    for key, value in attrs.items():
-        if key.endswith("_json"):
-            out[key[: -len("_json")]] = json.loads(value)
-        else:
-            out[key] = value.item() if isinstance(value, np.generic) else value
-    return out
-
-
-def _json_safe(value: Any) -> Any:
-    if isinstance(value, (str, bool, int, float)):
-        return value
-    return json.dumps(value)
+_DATASET_MARKS = ("format", "format_version", "N", "samples", "dtype", "failures", "layout")
+"""Attributes a data set file sets itself (a spec's attributes cannot take these names)."""
 
 
 def read_layout(handle: Any) -> DatasetLayout:
@@ -153,7 +144,7 @@ class DatasetFile:
     @property
     def attributes(self) -> dict[str, Any]:
         """File attributes, JSON ones decoded (keys without the ``_json`` suffix)."""
-        return decode_attributes(self._handle.attrs)
+        return decode_attributes(self._handle.attrs, self.path)
 
     @property
     def n_runs(self) -> int:
@@ -245,9 +236,8 @@ def _new_file(
     handle.attrs["N"] = n_runs
     handle.attrs["samples"] = samples
     handle.attrs["dtype"] = dtype
-    for key, value in attributes.items():
-        safe = _json_safe(value)
-        handle.attrs[key if safe is value else f"{key}_json"] = safe
+    for key, value in encode_attributes(path, attributes, _DATASET_MARKS):
+        handle.attrs[key] = value
     for key, value in (raw_attributes or {}).items():
         handle.attrs[key] = value
     handle.attrs.setdefault("failures_json", "{}")
@@ -264,11 +254,11 @@ def _new_file(
             compression_opts=1,
             shuffle=True,
         )
-        if name in UNITS:
-            dataset.attrs["units"] = UNITS[name]
+        dataset.attrs["units"] = units_of(name)
+    stored = {name: (n_runs, *shape) for name, shape in shapes.items()}
     for name, view in layout.views.items():
-        _create_view(handle, name, view, n_runs, samples, dtype, shapes)
-    for name in ("joint_names", "imu_names", "imu_parents"):
+        create_virtual_view(handle, name, view, stored, dtype, view.units)
+    for name in NAME_LISTS:
         handle.create_dataset(name, data=list(getattr(layout, name)), dtype=strings)
     handle.create_dataset("urdf", data=layout.urdf, dtype=strings)
     handle.create_dataset("checksum", shape=(n_runs, len(shapes)), dtype="u4")
@@ -276,41 +266,6 @@ def _new_file(
     handle.create_dataset("failed", shape=(n_runs,), dtype="u1", fillvalue=0)
     handle.flush()
     return handle
-
-
-def _create_view(
-    handle: Any,
-    name: str,
-    view: Any,
-    n_runs: int,
-    samples: int,
-    dtype: str,
-    shapes: Mapping[str, tuple[int, ...]],
-) -> None:
-    """A view as an HDF5 virtual dataset (N × T × C) over the series in this same file.
-
-    The sources name the file ``"."`` (this file, whatever its name or folder), so the view
-    stays valid when the file is renamed or moved; HDF5 1.10 or newer reads it (h5py,
-    MATLAB's ``h5read``).
-    """
-    import h5py
-
-    layout = h5py.VirtualLayout(shape=(n_runs, samples, len(view.columns)), dtype=dtype)
-    sources = {}
-    for first, count, source in view_mappings(view):
-        if source.array not in sources:
-            shape = (n_runs, *shapes[source.array])
-            sources[source.array] = h5py.VirtualSource(".", source.array, shape=shape, dtype=dtype)
-        vsource = sources[source.array]
-        if not source.index:
-            layout[:, :, first] = vsource[:, :]
-        else:
-            *fixed, last = source.index
-            block = (slice(None), slice(None), *fixed, slice(last, last + count))
-            layout[:, :, first : first + count] = vsource[block]
-    dataset = handle.create_virtual_dataset(name, layout, fillvalue=0)
-    dataset.attrs.create("columns", list(view.columns), dtype=h5py.string_dtype("utf-8"))
-    dataset.attrs["units"] = view.units
 
 
 def _open_dataset_read_only(file: Path) -> Any:
@@ -323,7 +278,9 @@ def _open_dataset_read_only(file: Path) -> Any:
         handle = h5py.File(file, "r")
     except OSError as exc:
         raise InputFileError(
-            f"{file}: cannot be opened ({exc}); allowed: --overwrite to start again"
+            parameter="resume",
+            value=True,
+            allowed=f"False ({file} cannot be opened: {exc}; overwrite it to start again)",
         ) from None
     if handle.attrs.get("format") != DATASET_FORMAT:
         handle.close()
@@ -374,7 +331,7 @@ def read_dataset_attributes(path: str | os.PathLike[str]) -> dict[str, Any]:
     """
     handle = _open_dataset_read_only(Path(path))
     try:
-        return decode_attributes(handle.attrs)
+        return decode_attributes(handle.attrs, path)
     finally:
         handle.close()
 
@@ -412,16 +369,24 @@ def check_dataset_path(path: Path, resume: bool, overwrite: bool) -> None:
     """Refuse an output that exists without ``resume``/``overwrite``, or a missing folder.
 
     Raises:
-        OutputFileError: as above, naming the flag to use.
+        OutputFileError: as above, naming the parameter to set (``resume``, ``overwrite``).
     """
     if resume and overwrite:
-        raise OutputFileError("--resume and --overwrite exclude each other; allowed: one of them")
+        raise OutputFileError(
+            parameter="overwrite",
+            value=True,
+            allowed="False when resuming (resume and overwrite exclude each other)",
+        )
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
         raise OutputFileError(f"{path}: folder {folder} does not exist")
     if path.suffix.lower() not in (".h5", ".hdf5"):
         raise OutputFileError(f"{path}: unknown data set type {path.suffix!r}; allowed: .h5, .hdf5")
     if path.exists() and not (resume or overwrite):
-        raise OutputFileError(f"{path}: exists; allowed: --resume to continue it, --overwrite")
+        raise OutputFileError(
+            parameter="resume",
+            value=False,
+            allowed=f"True to continue {path}, which exists (or overwrite it)",
+        )
     if resume and not path.is_file():
         raise InputFileError(f"{path}: no such file to resume")

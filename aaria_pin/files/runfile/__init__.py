@@ -63,14 +63,9 @@ import numpy as np
 
 from aaria_pin.core.record import RunRecord
 from aaria_pin.errors import InputFileError, OutputFileError
-from aaria_pin.files.io import atomic_output
-from aaria_pin.files.runfile._attributes import (
-    JSON_SUFFIX,
-    RUN_FORMAT,
-    RUN_FORMAT_VERSION,
-    _encode_attributes,
-    _reason,
-)
+from aaria_pin.files._stored import JSON_SUFFIX, NAME_LISTS, encode_attributes, first_line
+from aaria_pin.files.io import atomic_output, existing_input
+from aaria_pin.files.runfile._attributes import RUN_FORMAT, RUN_FORMAT_VERSION
 from aaria_pin.files.runfile._hdf5 import (
     _hdf5_errors,
     _read_hdf5_v2,
@@ -79,14 +74,13 @@ from aaria_pin.files.runfile._hdf5 import (
 )
 from aaria_pin.files.runfile._layout import (
     COLUMNS_SUFFIX,
-    NAME_DATASETS,
     checked_arrays,
     column_source,
     view_from_columns,
 )
 from aaria_pin.files.runfile._legacy import (
-    GENERIC_FORMAT,
     LAYOUT_V2,
+    URDF_V1_FORMAT,
     hdf5_layout,
     mat_layout,
     read_legacy_hdf5,
@@ -104,11 +98,11 @@ from aaria_pin.files.runfile._mat import (
 
 __all__ = [
     "COMPRESSIONS",
-    "GENERIC_FORMAT",
     "JSON_SUFFIX",
     "RUN_FORMAT",
     "RUN_FORMAT_VERSION",
     "RUN_SUFFIXES",
+    "URDF_V1_FORMAT",
     "column_source",
     "is_run_file",
     "read_run",
@@ -157,7 +151,7 @@ def write_run(
             f"{final}: unknown run file type {suffix!r}; allowed: {', '.join(RUN_SUFFIXES)}"
         )
     arrays = checked_arrays(final, record)
-    attributes = _encode_attributes(final, record.attributes)
+    attributes = encode_attributes(final, record.attributes)
     contents = _mat_contents(final, record, arrays, attributes) if suffix == ".mat" else None
     with atomic_output(final) as temporary:
         try:
@@ -166,7 +160,7 @@ def write_run(
             else:
                 _write_hdf5(temporary, record, arrays, attributes, compression)
         except OSError as exc:
-            raise OutputFileError(f"{final}: cannot be written ({_reason(exc)})") from None
+            raise OutputFileError(f"{final}: cannot be written ({first_line(exc)})") from None
     return final
 
 
@@ -186,7 +180,7 @@ def read_run(path: str | os.PathLike[str]) -> RunRecord:
         InputFileError: the file is missing, unreadable, of an unknown kind, not a run file,
             of a newer format version, or holds an array of the wrong shape.
     """
-    file = _existing_run_file(path)
+    file = existing_input(path, RUN_SUFFIXES, "run")
     if file.suffix.lower() == ".mat":
         contents = load_mat(file)
         layout = mat_layout(file, contents, contents)
@@ -220,7 +214,7 @@ def run_file_summary(path: str | os.PathLike[str]) -> dict[str, Any]:
     Raises:
         InputFileError: as :func:`read_run`.
     """
-    file = _existing_run_file(path)
+    file = existing_input(path, RUN_SUFFIXES, "run")
     time_head: Any
     if file.suffix.lower() == ".mat":
         kind = "MATLAB v5"
@@ -229,7 +223,7 @@ def run_file_summary(path: str | os.PathLike[str]) -> dict[str, Any]:
             name
             for name in variables
             if name.startswith(MAT_ATTRIBUTE_PREFIX)
-            or name in NAME_DATASETS
+            or name in NAME_LISTS
             or name.endswith(COLUMNS_SUFFIX)
         ]
         contents = load_mat(file, small) if small else {}
@@ -274,7 +268,7 @@ def is_run_file(path: str | os.PathLike[str]) -> bool:
     Only the file's marks and names are looked at, not its arrays; a data set is not a run file.
     """
     try:
-        file = _existing_run_file(path)
+        file = existing_input(path, RUN_SUFFIXES, "run")
         if file.suffix.lower() == ".mat":
             variables = mat_variables(file)
             attribute_names = [n for n in variables if n.startswith(MAT_ATTRIBUTE_PREFIX)]
@@ -315,16 +309,3 @@ def _rate(attributes: Mapping[str, Any], time_head: Any) -> float | None:
     if head.size < 2 or not head[1] > head[0]:
         return None
     return float(round(1.0 / (head[1] - head[0]), 9))
-
-
-def _existing_run_file(path: str | os.PathLike[str]) -> Path:
-    """The path of an existing run file of a known suffix; InputFileError otherwise."""
-    file = Path(path)
-    suffix = file.suffix.lower()
-    if suffix not in RUN_SUFFIXES:
-        raise InputFileError(
-            f"{file}: unknown run file type {suffix!r}; allowed: {', '.join(RUN_SUFFIXES)}"
-        )
-    if not file.is_file():
-        raise InputFileError(f"{file}: no such file")
-    return file

@@ -14,32 +14,31 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.record import SERIES, ColumnView, RunRecord
+from aaria_pin.core.record import SERIES, VIEW_UNITS, ColumnView, RunRecord, record_shapes
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError
+from aaria_pin.files._stored import (
+    NAME_LISTS,
+    STORED_NAMES,
+    create_virtual_view,
+    decode_attribute,
+    first_line,
+    units_of,
+)
 from aaria_pin.files.runfile._attributes import (
     _RESERVED_ATTRIBUTES,
     RUN_FORMAT,
     RUN_FORMAT_VERSION,
-    _decode_attribute,
-    _reason,
 )
 from aaria_pin.files.runfile._layout import (
-    FIXED_NAMES,
-    NAME_DATASETS,
-    VIEW_UNITS,
     check_names,
     fitted,
-    layout_shapes,
     read_view,
     record_from_arrays,
-    units_of,
 )
 
 _CHUNK_ROWS = 4096
 _CHUNK_BYTES = 2**20
-_SAME_FILE = "."
-"""The source file of a virtual dataset in the same file (valid after a rename or a copy)."""
 
 
 def _write_hdf5(
@@ -78,53 +77,13 @@ def _write_hdf5(
             else:
                 dataset = handle.create_dataset(name, data=data)
             dataset.attrs["units"] = units_of(name)
+        shapes = {name: data.shape for name, data in arrays.items()}
         for name, view in record.views.items():
-            dataset = handle.create_virtual_dataset(
-                name, _virtual_layout(h5py, view, arrays), fillvalue=0.0
-            )
-            dataset.attrs["units"] = view.units or VIEW_UNITS
-            dataset.attrs.create("columns", list(view.columns), dtype=strings)
+            units = view.units or VIEW_UNITS
+            create_virtual_view(handle, name, view, shapes, np.float64, units)
         for name, values in names.items():
             handle.create_dataset(name, data=np.array(values, dtype=object), dtype=strings)
         handle.create_dataset("urdf", data=record.urdf, dtype=strings)
-
-
-def _virtual_layout(h5py: Any, view: ColumnView, arrays: Mapping[str, Array]) -> Any:
-    """A view as an HDF5 virtual layout over the series of the same file.
-
-    Neighbouring columns taken from neighbouring entries of one series (``q1``…``q6``, the six
-    signals of an IMU) map as one block, so a 91-column ``senSen`` is 16 mappings.
-    """
-    samples = arrays["time"].shape[0]
-    layout = h5py.VirtualLayout(shape=(samples, len(view.columns)), dtype=np.float64)
-    if samples == 0:
-        return layout
-    blocks: list[list[Any]] = []  # [first column, array, index prefix, first k, last k + 1]
-    for column, source in enumerate(view.sources):
-        last = blocks[-1] if blocks else None
-        if (
-            last is not None
-            and source.index
-            and last[1] == source.array
-            and last[2] == source.index[:-1]
-            and last[0] + last[4] - last[3] == column
-            and last[4] == source.index[-1]
-        ):
-            last[4] += 1
-        elif source.index:
-            blocks.append([column, source.array, source.index[:-1], source.index[-1], 0])
-            blocks[-1][4] = source.index[-1] + 1
-        else:
-            blocks.append([column, source.array, (), None, None])
-    for column, array, prefix, first, stop in blocks:
-        vsource = h5py.VirtualSource(_SAME_FILE, array, shape=arrays[array].shape, dtype=np.float64)
-        if first is None:
-            layout[:, column] = vsource[:]
-        else:
-            layout[:, column : column + stop - first] = vsource[
-                (slice(None), *prefix, slice(first, stop))
-            ]
-    return layout
 
 
 @contextlib.contextmanager
@@ -136,7 +95,7 @@ def _hdf5_errors(file: Path) -> Iterator[None]:
         raise
     except (OSError, ValueError, TypeError, KeyError) as exc:
         raise InputFileError(
-            f"{file}: cannot be read as an HDF5 run file ({_reason(exc)})"
+            f"{file}: cannot be read as an HDF5 run file ({first_line(exc)})"
         ) from None
 
 
@@ -151,7 +110,7 @@ def _hdf5_attributes(file: Path, attrs: Any) -> dict[str, Any]:
     attributes: dict[str, Any] = {}
     for name in attrs:
         if name not in _RESERVED_ATTRIBUTES:
-            key, value = _decode_attribute(file, name, attrs[name])
+            key, value = decode_attribute(file, name, attrs[name])
             attributes[key] = value
     return attributes
 
@@ -163,16 +122,16 @@ def _v2_parts(
     import h5py
 
     datasets: dict[str, Any] = {}
-    for name in FIXED_NAMES:
+    for name in STORED_NAMES:
         item = handle.get(name)
         if not isinstance(item, h5py.Dataset):
             raise InputFileError(f"{file}: not an aaria_pin run file (no dataset {name!r})")
         datasets[name] = item
-    names = {name: _strings(datasets[name]) for name in NAME_DATASETS}
+    names = {name: _strings(datasets[name]) for name in NAME_LISTS}
     others = {
         name: item
         for name, item in handle.items()
-        if name not in FIXED_NAMES and isinstance(item, h5py.Dataset)
+        if name not in STORED_NAMES and isinstance(item, h5py.Dataset)
     }
     return datasets, names, others
 
@@ -181,7 +140,7 @@ def _read_hdf5_v2(file: Path, handle: Any) -> RunRecord:
     """The record of an open version 2 HDF5 run file."""
     datasets, names, others = _v2_parts(file, handle)
     samples = int(np.prod(datasets["time"].shape))
-    expected = layout_shapes(samples, len(names["joint_names"]), len(names["imu_names"]))
+    expected = record_shapes(samples, len(names["joint_names"]), len(names["imu_names"]))
     check_names(file, names, expected["imu_mount"][0])
     arrays = {
         name: fitted(file, name, datasets[name][()], shape) for name, shape in expected.items()

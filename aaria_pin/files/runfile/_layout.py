@@ -17,64 +17,24 @@ import numpy as np
 from aaria_pin.core.record import (
     IMU_SIGNALS,
     SERIES,
-    UNITS,
+    VIEW_UNITS,
     ColumnSource,
     ColumnView,
     ImuMount,
     RunRecord,
+    record_shapes,
 )
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, OutputFileError, ParameterError
-
-NAME_DATASETS = ("joint_names", "imu_names", "imu_parents")
-"""The string lists of a run file (string datasets in HDF5, cell arrays in ``.mat``)."""
-
-FIXED_NAMES = (*SERIES, "imu_mount", *NAME_DATASETS, "urdf")
-"""Every name a run file always holds."""
+from aaria_pin.files._stored import STORED_NAMES
 
 COLUMNS_SUFFIX = "_columns"
 """A view's column names in a ``.mat`` file: ``<view>_columns``."""
-
-TABLE_UNITS = {
-    "senSenDH": "columns: alpha rad, a m, theta rad, d m, "
-    "link type (0 empty, 1 revolute, 2 prismatic)",
-    "senSenJ": "columns: amplitude rad, prismatic amplitude m, bias rad or m, frequency rad/s, "
-    "phase rad",
-    "senSenB": "columns: amplitude m or rad, bias m or rad, frequency rad/s, phase rad",
-    "joint_table": "columns: amplitude rad, prismatic amplitude m, bias rad or m, "
-    "frequency rad/s, phase rad",
-    "base_table": "columns: amplitude m or rad, bias m or rad, frequency rad/s, phase rad",
-}
-"""The ``units`` attribute of the known input tables (other tables get ``""``)."""
-
-VIEW_UNITS = "see columns: s, rad or m, rad/s, m/s^2"
-"""The ``units`` of a view read back without one."""
 
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,62}")
 _JOINT_SERIES = ("q", "qd", "qdd", "tau")
 _NUMBERED = re.compile(r"(q|qd|qdd|tau)([1-9][0-9]*)")
 _COLUMN_RULE = "time, q<j>, q:<joint> (also qd, qdd, tau), <imu>_<signal>"
-
-
-def units_of(name: str) -> str:
-    """The ``units`` attribute of a stored array by name."""
-    return UNITS.get(name, TABLE_UNITS.get(name, ""))
-
-
-def layout_shapes(samples: int, joints: int, imus: int) -> dict[str, tuple[int, ...]]:
-    """The shape of each series and of ``imu_mount`` for T samples, n joints and S IMUs."""
-    return {
-        "time": (samples,),
-        "q": (samples, joints),
-        "qd": (samples, joints),
-        "qdd": (samples, joints),
-        "tau": (samples, joints),
-        "base_pose": (samples, 4, 4),
-        "base_wrench": (samples, 6),
-        "tool_pose": (samples, 4, 4),
-        "imu": (samples, imus, len(IMU_SIGNALS)),
-        "imu_mount": (imus, 4, 4),
-    }
 
 
 def describe_shape(shape: tuple[int, ...]) -> str:
@@ -197,7 +157,7 @@ def checked_arrays(final: Path, record: RunRecord) -> dict[str, Array]:
         OutputFileError: an array of the wrong shape or not numeric, a table or view name that
             is not allowed, or a view whose column names do not read back as its columns.
     """
-    taken = set(FIXED_NAMES)
+    taken = set(STORED_NAMES)
     for kind, names in (("table", list(record.tables)), ("view", list(record.views))):
         for name in names:
             if not isinstance(name, str) or not _NAME.fullmatch(name) or name in taken:
@@ -210,9 +170,9 @@ def checked_arrays(final: Path, record: RunRecord) -> dict[str, Array]:
             if kind == "view":
                 taken.add(name + COLUMNS_SUFFIX)
     samples = int(np.shape(record.time)[0]) if np.ndim(record.time) == 1 else -1
-    expected = layout_shapes(samples, len(record.joint_names), len(record.imu_mounts))
+    expected = record_shapes(samples, len(record.joint_names), len(record.imu_mounts))
     arrays: dict[str, Array] = {}
-    stored = {**record.series(), "imu_mount": record.imu_mount, **record.tables}
+    stored = record.arrays()
     for name, value in stored.items():
         try:
             data = np.ascontiguousarray(value, dtype=np.float64)

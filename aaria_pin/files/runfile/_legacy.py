@@ -9,8 +9,8 @@ Four 0.1.0 layouts (fixtures in ``tests/fixtures/v0_1_0``):
   ``imu_base``, ``tool_tip`` for ``imu_tool``, ``link{i}`` for ``imu_link{i}_a``/``_b``, and ``""``
   for a slot whose stored mount is all zeros: an empty module), ``imu`` from the ``senSen`` IMU
   columns, ``base_pose`` from the ``senSenB`` sines (the file does not store it), the ``senSen``
-  view, the three tables, no URDF, and attributes ``kind = "dh"``, ``robot = "aaria-dh"`` (0.1.0
-  did not store the preset's name);
+  view, the three tables, no URDF, and attributes ``kind = "dh"``, ``robot = "aaria-arm"``
+  (0.1.0 did not store the preset's name);
 - a URDF robot's run, ``.h5`` (``format = "aaria_pin generic run"``): ``signals`` (time, q, the IMU
   signals), ``q`` … ``tau``, ``base_pose``, ``base_wrench``, ``tool_pose``, ``imu_mount`` with
   ``imu_names``/``imu_parents``, ``urdf``, and ``joint_table``/``base_table`` as tables;
@@ -28,19 +28,33 @@ Four 0.1.0 layouts (fixtures in ``tests/fixtures/v0_1_0``):
 
 from __future__ import annotations
 
-import re
 from collections.abc import Container, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.record import IMU_SIGNALS, ImuMount, RunRecord, signal_columns
+from aaria_pin.core.record import (
+    IMU_SIGNALS,
+    ImuMount,
+    RunRecord,
+    record_shapes,
+    signal_columns,
+)
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import AariaError, InputFileError, ParameterError
-from aaria_pin.files.runfile._attributes import RUN_FORMAT, _check_format, _decode_attribute
+from aaria_pin.files._stored import decode_attribute
+from aaria_pin.files._v0_1 import (
+    AARIA_JOINTS,
+    AARIA_MODULES,
+    AARIA_ROBOT,
+    AARIA_SLOTS,
+    aaria_mounts,
+    base_pose_from_table,
+)
+from aaria_pin.files.runfile._attributes import RUN_FORMAT, _check_format
 from aaria_pin.files.runfile._hdf5 import _hdf5_attributes, _strings
-from aaria_pin.files.runfile._layout import fitted, layout_shapes, read_view
+from aaria_pin.files.runfile._layout import fitted, read_view
 from aaria_pin.files.runfile._mat import (
     mat_attributes,
     mat_format,
@@ -48,12 +62,12 @@ from aaria_pin.files.runfile._mat import (
     mat_value,
 )
 
-GENERIC_FORMAT = "aaria_pin generic run"
-"""The ``format`` of a 0.1.0 URDF robot's (and the pick-place arm's) run file."""
+URDF_V1_FORMAT = "aaria_pin generic run"
+"""The ``format`` of a 0.1.0 URDF robot's (and the pick-place arm's) run file (0.1.0's name)."""
 
 LAYOUT_V2 = "aaria_pin run"
 LAYOUT_DH = "0.1.0 Aaria DH run"
-LAYOUT_GENERIC = "0.1.0 generic run"
+LAYOUT_URDF = "0.1.0 URDF run"
 LAYOUT_WRIST = "0.1.0 wrist run"
 """The layouts :func:`aaria_pin.files.runfile.run_file_summary` names."""
 
@@ -64,11 +78,8 @@ _DH_SHAPES: dict[str, tuple[int, ...]] = {
     "imu_mount": (14, 4, 4),
 }
 _DH_SERIES = ("q", "qd", "qdd", "tau", "base_wrench", "tool_pose")
-_DH_MODULES = 6
-_DH_SLOTS = 2 + 2 * _DH_MODULES
-_DH_COLUMNS = 1 + _DH_MODULES + 6 * _DH_SLOTS
-_SLOT_PARENT = re.compile(r"imu_link([1-9][0-9]*)_[ab]")
-_GENERIC_SERIES = ("signals", "q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pose")
+_DH_COLUMNS = 1 + AARIA_MODULES + len(IMU_SIGNALS) * AARIA_SLOTS
+_URDF_SERIES = ("signals", "q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pose")
 _WRIST_ARRAYS = ("time", "q", "qd", "qdd", "tau", "tool_pose")
 _WRIST_ATTRIBUTES = ("targets_rad", "speed_rad_s", "acceleration_rad_s2", "profile")
 
@@ -86,9 +97,9 @@ def _layout_of(
         if all(name in arrays for name in _WRIST_ARRAYS) and "targets_rad" in attributes:
             return LAYOUT_WRIST
         raise InputFileError(f"{file}: not an aaria_pin run file (no 'format' attribute)")
-    if fmt == GENERIC_FORMAT:
-        _check_format(file, fmt, version, GENERIC_FORMAT, 1)
-        return LAYOUT_GENERIC
+    if fmt == URDF_V1_FORMAT:
+        _check_format(file, fmt, version, URDF_V1_FORMAT, 1)
+        return LAYOUT_URDF
     return LAYOUT_V2 if _check_format(file, fmt, version, RUN_FORMAT) == 2 else LAYOUT_DH
 
 
@@ -116,8 +127,8 @@ def read_legacy_hdf5(file: Path, handle: Any, layout: str) -> RunRecord:
     names = (
         ("senSen", *_DH_SHAPES, *_DH_SERIES)
         if layout == LAYOUT_DH
-        else (*_GENERIC_SERIES, "imu_mount", "urdf")
-        if layout == LAYOUT_GENERIC
+        else (*_URDF_SERIES, "imu_mount", "urdf")
+        if layout == LAYOUT_URDF
         else _WRIST_ARRAYS
     )
     for name in names:
@@ -129,7 +140,7 @@ def read_legacy_hdf5(file: Path, handle: Any, layout: str) -> RunRecord:
         return _dh_record(file, arrays, _strings(handle["senSen"].attrs["columns"]), attributes)
     if layout == LAYOUT_WRIST:
         return _wrist_record(file, {name: handle[name][()] for name in names}, attributes)
-    return _generic_record(file, handle, attributes)
+    return _urdf_record(file, handle, attributes)
 
 
 def read_legacy_mat(file: Path, contents: Mapping[str, Any], layout: str) -> RunRecord:
@@ -138,7 +149,7 @@ def read_legacy_mat(file: Path, contents: Mapping[str, Any], layout: str) -> Run
         attributes: dict[str, Any] = {}
         for name in _WRIST_ATTRIBUTES:
             if name in contents:
-                key, value = _decode_attribute(file, name, mat_value(contents[name]))
+                key, value = decode_attribute(file, name, mat_value(contents[name]))
                 attributes[key] = value
         return _wrist_record(file, contents, attributes)
     for name in ("senSen", "senSen_columns", *_DH_SHAPES, *_DH_SERIES):
@@ -156,16 +167,13 @@ def _dh_record(
     sensen = fitted(file, "senSen", stored["senSen"], (-1, _DH_COLUMNS))
     samples = sensen.shape[0]
     arrays = {name: fitted(file, name, stored[name], shape) for name, shape in _DH_SHAPES.items()}
-    shapes = layout_shapes(samples, _DH_MODULES, _DH_SLOTS)
+    shapes = record_shapes(samples, AARIA_MODULES, AARIA_SLOTS)
     arrays.update({name: fitted(file, name, stored[name], shapes[name]) for name in _DH_SERIES})
-    joint_names = tuple(f"joint{module}" for module in range(1, _DH_MODULES + 1))
+    joint_names = AARIA_JOINTS
     slots = _dh_slot_names(file, columns)
-    mounts = tuple(
-        ImuMount(slot, "" if not np.any(pose) else _dh_slot_parent(slot), pose)
-        for slot, pose in zip(slots, arrays["imu_mount"], strict=True)
-    )
+    mounts = aaria_mounts(slots, arrays["imu_mount"])
     time = np.ascontiguousarray(sensen[:, 0])
-    imu = np.ascontiguousarray(sensen[:, 1 + _DH_MODULES :]).reshape(samples, _DH_SLOTS, 6)
+    imu = np.ascontiguousarray(sensen[:, 1 + AARIA_MODULES :]).reshape(samples, AARIA_SLOTS, 6)
     view = read_view(file, "senSen", columns, (joint_names, slots))
     return _record(
         file,
@@ -177,15 +185,15 @@ def _dh_record(
         imu_mounts=mounts,
         tables={name: arrays[name] for name in ("senSenDH", "senSenJ", "senSenB")},
         views={"senSen": view},
-        attributes={**attributes, "kind": "dh", "robot": attributes.get("robot", "aaria-dh")},
+        attributes={**attributes, "kind": "dh", "robot": attributes.get("robot", AARIA_ROBOT)},
     )
 
 
 def _dh_slot_names(file: Path, columns: Sequence[str]) -> tuple[str, ...]:
     """The 14 slot names of a 0.1.0 ``senSen``'s column names."""
-    expected_head = ["time", *(f"q{module}" for module in range(1, _DH_MODULES + 1))]
+    expected_head = ["time", *(f"q{module}" for module in range(1, AARIA_MODULES + 1))]
     slots = tuple(
-        str(column)[: -len("_wx")] for column in columns[1 + _DH_MODULES :: len(IMU_SIGNALS)]
+        str(column)[: -len("_wx")] for column in columns[1 + AARIA_MODULES :: len(IMU_SIGNALS)]
     )
     expected = [*expected_head, *(f"{s}_{signal}" for s in slots for signal in IMU_SIGNALS)]
     if len(columns) != _DH_COLUMNS or list(columns) != expected:
@@ -196,31 +204,16 @@ def _dh_slot_names(file: Path, columns: Sequence[str]) -> tuple[str, ...]:
     return slots
 
 
-def _dh_slot_parent(slot: str) -> str:
-    """The frame a 0.1.0 IMU slot is mounted on (the 0.1.0 README's slot table)."""
-    link = _SLOT_PARENT.fullmatch(slot)
-    if link:
-        return f"link{link[1]}"
-    return {"imu_base": "base", "imu_tool": "tool_tip"}.get(slot, "")
-
-
 def _dh_base_pose(file: Path, table: Array, time: Array) -> Array:
     """``T_world_base`` over time from a ``senSenB`` table (position and ``Rx·Ry·Rz``)."""
-    from aaria_pin.core.oscillation import base_motion
-
     try:
-        motion = base_motion(table, time)
+        return base_pose_from_table(table, time)
     except AariaError as exc:
         raise InputFileError(f"{file}: senSenB: {exc}") from None
-    pose = np.zeros((time.shape[0], 4, 4))
-    pose[:, :3, :3] = motion.rotation
-    pose[:, :3, 3] = motion.position
-    pose[:, 3, 3] = 1.0
-    return pose
 
 
-def _generic_record(file: Path, handle: Any, attributes: dict[str, Any]) -> RunRecord:
-    """A URDF robot's (or the pick-place arm's) record from an open 0.1.0 generic file."""
+def _urdf_record(file: Path, handle: Any, attributes: dict[str, Any]) -> RunRecord:
+    """A URDF robot's (or the pick-place arm's) record from an open 0.1.0 URDF run file."""
     joint_names = tuple(_strings(handle["q"].attrs.get("joint_names", [])))
     imu_names = _strings(handle["imu_mount"].attrs.get("imu_names", []))
     parents = _strings(handle["imu_mount"].attrs.get("imu_parents", []))
@@ -234,7 +227,7 @@ def _generic_record(file: Path, handle: Any, attributes: dict[str, Any]) -> RunR
             "q:<joint> per joint, <imu>_<signal> per IMU"
         )
     samples = signals.shape[0]
-    shapes = layout_shapes(samples, len(joint_names), len(imu_names))
+    shapes = record_shapes(samples, len(joint_names), len(imu_names))
     arrays = {
         name: fitted(file, name, handle[name][()], shapes[name])
         for name in shapes
@@ -279,13 +272,13 @@ def _wrist_record(file: Path, stored: Mapping[str, Any], attributes: dict[str, A
     samples = time.shape[0]
     q = fitted(file, "q", stored["q"], (samples, -1))
     joints = q.shape[1]
-    shapes = layout_shapes(samples, joints, 0)
+    shapes = record_shapes(samples, joints, 0)
     arrays = {name: fitted(file, name, stored[name], shapes[name]) for name in _WRIST_ARRAYS}
     return _record(
         file,
         **arrays,
         joint_names=tuple(f"joint{j}" for j in range(1, joints + 1)),
-        base_pose=np.broadcast_to(np.eye(4), (samples, 4, 4)).copy(),
+        base_pose=base_pose_from_table(None, time),
         base_wrench=np.zeros((samples, 6)),
         imu=np.zeros((samples, 0, len(IMU_SIGNALS))),
         imu_mounts=(),

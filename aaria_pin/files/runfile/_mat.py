@@ -15,23 +15,19 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.record import SERIES, ColumnView, RunRecord
+from aaria_pin.core.record import SERIES, ColumnView, RunRecord, record_shapes
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, OutputFileError
+from aaria_pin.files._stored import NAME_LISTS, STORED_NAMES, decode_attribute, first_line
 from aaria_pin.files.runfile._attributes import (
     _RESERVED_ATTRIBUTES,
     RUN_FORMAT,
     RUN_FORMAT_VERSION,
-    _decode_attribute,
-    _reason,
 )
 from aaria_pin.files.runfile._layout import (
     COLUMNS_SUFFIX,
-    FIXED_NAMES,
-    NAME_DATASETS,
     check_names,
     fitted,
-    layout_shapes,
     read_view,
     record_from_arrays,
 )
@@ -104,7 +100,7 @@ def _mat_errors(file: Path) -> Iterator[None]:
         ) from None
     except (MatReadError, OSError, ValueError, TypeError, EOFError) as exc:
         raise InputFileError(
-            f"{file}: cannot be read as a .mat run file ({_reason(exc)})"
+            f"{file}: cannot be read as a .mat run file ({first_line(exc)})"
         ) from None
 
 
@@ -163,7 +159,7 @@ def mat_attributes(file: Path, contents: Mapping[str, Any]) -> dict[str, Any]:
     for name, value in contents.items():
         if not name.startswith(prefix) or name[len(prefix) :] in _RESERVED_ATTRIBUTES:
             continue
-        key, decoded = _decode_attribute(file, name[len(prefix) :], mat_value(value))
+        key, decoded = decode_attribute(file, name[len(prefix) :], mat_value(value))
         attributes[key] = decoded
     return attributes
 
@@ -172,24 +168,24 @@ def _mat_names(
     file: Path, contents: Mapping[str, Any], present: Container[str]
 ) -> dict[str, list[str]]:
     """The string lists of a version 2 ``.mat`` file; InputFileError if a variable is missing."""
-    for name in FIXED_NAMES:
+    for name in STORED_NAMES:
         if name not in present:
             raise InputFileError(f"{file}: not an aaria_pin run file (no array {name!r})")
-    return {name: mat_strings(contents[name]) for name in NAME_DATASETS}
+    return {name: mat_strings(contents[name]) for name in NAME_LISTS}
 
 
 def _read_mat_v2(file: Path, contents: Mapping[str, Any]) -> RunRecord:
     """The record of loaded version 2 ``.mat`` variables."""
     names = _mat_names(file, contents, contents)
     samples = int(np.size(contents["time"]))
-    expected = layout_shapes(samples, len(names["joint_names"]), len(names["imu_names"]))
+    expected = record_shapes(samples, len(names["joint_names"]), len(names["imu_names"]))
     check_names(file, names, expected["imu_mount"][0])
     arrays = {name: fitted(file, name, contents[name], shape) for name, shape in expected.items()}
     record_names = (names["joint_names"], names["imu_names"])
     views: dict[str, ColumnView] = {}
     tables: dict[str, Array] = {}
     for name, value in contents.items():
-        if name.startswith("__") or name in FIXED_NAMES or name.startswith(MAT_ATTRIBUTE_PREFIX):
+        if name.startswith("__") or name in STORED_NAMES or name.startswith(MAT_ATTRIBUTE_PREFIX):
             continue
         if name + COLUMNS_SUFFIX in contents:
             views[name] = read_view(
@@ -216,11 +212,11 @@ def _summarise_mat_v2(
     """Names, shapes and attributes of a version 2 ``.mat`` file (small variables loaded)."""
     names = _mat_names(file, contents, variables)
     samples = int(np.prod(variables["time"]))
-    expected = layout_shapes(samples, len(names["joint_names"]), len(names["imu_names"]))
+    expected = record_shapes(samples, len(names["joint_names"]), len(names["imu_names"]))
     arrays: dict[str, tuple[int, ...]] = dict(expected)
     views: dict[str, tuple[int, ...]] = {}
     for name, shape in variables.items():
-        if name in FIXED_NAMES or name.startswith(MAT_ATTRIBUTE_PREFIX):
+        if name in STORED_NAMES or name.startswith(MAT_ATTRIBUTE_PREFIX):
             continue
         if name + COLUMNS_SUFFIX in variables:
             views[name] = (samples, int(np.prod(variables[name + COLUMNS_SUFFIX])))

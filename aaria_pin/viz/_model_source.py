@@ -1,6 +1,6 @@
-"""The ``"generic"`` run kind: any run, drawn as a stick figure of the model it stores.
+"""The ``"model"`` run kind: any run, drawn as a stick figure of the model it stores.
 
-The model is rebuilt from the record (:func:`aaria_pin.apps.torques.record_model`: its URDF
+The model is rebuilt from the record (:func:`aaria_pin.apps.record_model.record_model`: its URDF
 text, or an Aaria run's DH table when it has none), with a frame for each mounted IMU, and drawn
 by :func:`~aaria_pin.viz.scene.scene_from_model` (URDF meshes are not drawn). The kind of each
 joint (for units and panels) is its Pinocchio joint type
@@ -8,7 +8,7 @@ joint (for units and panels) is its Pinocchio joint type
 fallback kind: tried after every other kind, so it draws any run the others do not claim (a
 URDF robot's).
 
-:func:`read_generic_view` does everything but the scene (the record, the model, the labelled
+:func:`read_model_view` does everything but the scene (the record, the model, the labelled
 signals, the frame poses), so an application's kind draws its own scene on the same model (the
 pick-and-place arm's, :mod:`aaria_pin.viz._arm_source`).
 """
@@ -40,16 +40,19 @@ from aaria_pin.viz._run_view import (
 )
 from aaria_pin.viz.scene import scene_from_model
 
-__all__ = ["GenericView", "is_generic_run", "load_generic_run", "read_generic_view"]
+__all__ = ["MODEL_KIND", "ModelView", "is_any_run", "load_model_run", "read_model_view"]
+
+MODEL_KIND = "model"
+"""The kind's name: the run is drawn from the model it stores."""
 
 
-def is_generic_run(file: str | os.PathLike[str] | RunFile) -> bool:
+def is_any_run(file: str | os.PathLike[str] | RunFile) -> bool:
     """Whether ``file`` holds a run of any robot (a run file of any kind and version)."""
     return run_file(file).record is not None
 
 
 @dataclass(frozen=True)
-class GenericView:
+class ModelView:
     """A run read for drawing, all but its scene.
 
     Attributes:
@@ -93,7 +96,7 @@ def _with_imu_frames(robot: RobotModel, record: RunRecord) -> RobotModel:
     return replace(robot, sensor_frames=tuple(mount.name for mount in mounted))
 
 
-def read_generic_view(path: str | os.PathLike[str]) -> GenericView:
+def read_model_view(path: str | os.PathLike[str]) -> ModelView:
     """Read a run's record, model and signals (labelled by joint name).
 
     Args:
@@ -103,7 +106,7 @@ def read_generic_view(path: str | os.PathLike[str]) -> GenericView:
         InputFileError: an unreadable file, a model that cannot be rebuilt, an IMU on a frame
             the model lacks, or a stored joint that is neither revolute nor prismatic.
     """
-    from aaria_pin.apps.torques import record_base, record_model
+    from aaria_pin.apps.record_model import record_base, record_model
 
     record = run_record(path)
     base = record_base(record)
@@ -112,16 +115,16 @@ def read_generic_view(path: str | os.PathLike[str]) -> GenericView:
         signals = record_signals(record, robot)
     except InputFileError as exc:
         raise InputFileError(f"{os.fspath(path)}: {exc}") from None
-    return GenericView(record, robot, signals, base)
+    return ModelView(record, robot, signals, base)
 
 
-def load_generic_run(path: str | os.PathLike[str]) -> RunView:
+def load_model_run(path: str | os.PathLike[str]) -> RunView:
     """Read a run for drawing: the model as a stick figure.
 
     Raises:
-        InputFileError: as :func:`read_generic_view`.
+        InputFileError: as :func:`read_model_view`.
     """
-    view = read_generic_view(path)
+    view = read_model_view(path)
     robot = view.robot
     q = view.signals.q
     origins = scene_poses(robot, scene_from_model(robot), BaseMotion.resting(1), still(q[:1]))
@@ -134,4 +137,4 @@ def load_generic_run(path: str | os.PathLike[str]) -> RunView:
         world = np.broadcast_to(np.eye(4), (model_poses.shape[0], 1, 4, 4))
         return np.concatenate([world, model_poses], axis=1)
 
-    return RunView(run_title(path), "generic", scene, view.signals, frame_poses)
+    return RunView(run_title(path), MODEL_KIND, scene, view.signals, frame_poses)
