@@ -232,10 +232,7 @@ def dataset_torque_report(path: str | os.PathLike[str], top: int = 5) -> dict[st
     largest: list[tuple[float, int, int, str, str]] = []
     cache: dict[str, dict[str, str]] = {}
     with DatasetReader(path) as reader:
-        complete = getattr(reader, "complete", None)
-        for run in range(len(reader)):
-            if complete is not None and not complete[run]:
-                continue
+        for run in map(int, np.flatnonzero(reader.complete)):
             record = reader.record(run)
             tau = np.asarray(record.tau, dtype=float)
             for joint, kind in _stored_joint_kinds(record, cache).items():

@@ -32,6 +32,7 @@ _PARAMETER_FLAGS = {
     "dh_table": "--dh",
     "torques": "--torques",
     "path": "-o/--output",
+    "run": "--run",
 }
 """Library parameters whose flag is named otherwise (the rest map by their option's name)."""
 

@@ -87,7 +87,7 @@ def urdf(folder: Path, preset: str, radius: float, height: float) -> None:
 )
 @click.option("--rate", type=float, default=100.0, show_default=True, help="Sample rate [Hz].")
 @click.option("--preset", default="pick-place-arm", show_default=True, help="Arm preset.")
-@output_option("run file", (".h5", ".hdf5"), help="Run file (.h5).")
+@output_option("run file", (".h5", ".hdf5", ".mat"), help="Run file (.h5 or .mat).")
 @output_option(
     "contact sheet",
     (".png",),
