@@ -29,11 +29,24 @@ from aaria_pin.aaria.oscillation import (
 )
 from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, sensen_view
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
+from aaria_pin.core.model import RobotModel
 from aaria_pin.core.record import ImuMount, RunRecord
-from aaria_pin.core.run import UNITS, sampling_attributes, simulate_series, stored_sampling
+from aaria_pin.core.run import (
+    UNITS,
+    RunSeries,
+    sampling_attributes,
+    simulate_series,
+    stored_sampling,
+)
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.seeds import check_seed
-from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE, sample_times
+from aaria_pin.core.trajectory import (
+    DEFAULT_DURATION,
+    DEFAULT_RATE,
+    BaseMotion,
+    JointTrajectory,
+    sample_times,
+)
 from aaria_pin.errors import InputFileError
 
 __all__ = [
@@ -66,6 +79,38 @@ def dh_imu_mounts(robot: DHRobot) -> tuple[ImuMount, ...]:
         if slot.parent
         else ImuMount(slot.name, "", np.zeros((4, 4)))
         for slot in robot.imu_slots
+    )
+
+
+def dh_series(
+    robot: DHRobot,
+    model: RobotModel,
+    base: BaseMotion,
+    trajectory: JointTrajectory,
+    **settings: Any,
+) -> RunSeries:
+    """The core pipeline's series of a DH arm, its IMUs in slot order (zeros for empty slots).
+
+    Args:
+        robot: the DH arm (its IMU slots; a slot without parent belongs to an empty module)
+        model: its Pinocchio model (fixed or moving base)
+        base: the base motion
+        trajectory: the joint motion
+        **settings: ``rate``, ``seed``, ``noise``, ``noise_model``, ``threads`` of
+            :func:`~aaria_pin.core.run.simulate_series`
+
+    Returns:
+        IMU signals (T × slots × 6), tool pose, torques, base wrench and base pose.
+    """
+    present = [k for k, slot in enumerate(robot.imu_slots) if slot.parent is not None]
+    return simulate_series(
+        model,
+        base,
+        trajectory,
+        imu_frames=[robot.imu_slots[k].name for k in present],
+        imu_slots=present,
+        n_slots=len(robot.imu_slots),
+        **settings,
     )
 
 
@@ -136,14 +181,11 @@ def simulate_run(
             model, base, by_module[:, columns], time, trajectory.q[0], trajectory.qd[0]
         )
 
-    present = [k for k, slot in enumerate(robot.imu_slots) if slot.parent is not None]
-    series = simulate_series(
+    series = dh_series(
+        robot,
         model,
         base,
         trajectory,
-        imu_frames=[robot.imu_slots[k].name for k in present],
-        imu_slots=present,
-        n_slots=len(robot.imu_slots),
         rate=rate,
         seed=seed,
         noise=noise,

@@ -27,11 +27,11 @@ from numpy.typing import ArrayLike
 from aaria_pin._version import __version__
 from aaria_pin.aaria.dh_robot import DHRobot, build_dh_robot
 from aaria_pin.aaria.presets import get_preset
-from aaria_pin.aaria.simulate import dh_imu_mounts
+from aaria_pin.aaria.simulate import dh_imu_mounts, dh_series
 from aaria_pin.core.imu_noise import ADIS16485
 from aaria_pin.core.profiles import ramp_profile, trapezoid_profile
 from aaria_pin.core.record import ImuMount, RunRecord
-from aaria_pin.core.run import sampling_attributes, simulate_series
+from aaria_pin.core.run import sampling_attributes
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory, sample_times
 from aaria_pin.errors import ParameterError
@@ -165,16 +165,8 @@ def simulate_wrist(
     wrist = report_wrist()
     robot = wrist.model(moving_base=True)  # a free-flyer held at rest: the mount's load
     trajectory = JointTrajectory(time, q, qd, qdd)
-    present = [k for k, slot in enumerate(wrist.imu_slots) if slot.parent is not None]
-    series = simulate_series(
-        robot,
-        BaseMotion.resting(time.size),
-        trajectory,
-        imu_frames=[wrist.imu_slots[k].name for k in present],
-        imu_slots=present,
-        n_slots=len(wrist.imu_slots),
-        rate=rate,
-        noise=False,
+    series = dh_series(
+        wrist, robot, BaseMotion.resting(time.size), trajectory, rate=rate, noise=False
     )
     return WristRun(
         time,
