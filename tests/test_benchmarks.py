@@ -13,7 +13,14 @@ ROOT = Path(__file__).resolve().parent.parent
 
 @pytest.mark.slow
 @pytest.mark.parametrize(
-    "script", ["bench_record.py", "bench_cli.py", "bench_dataset.py", "bench_rotations.py"]
+    "script",
+    [
+        "bench_record.py",
+        "bench_cli.py",
+        "bench_dataset.py",
+        "bench_rotations.py",
+        "bench_memory.py",
+    ],
 )
 def test_benchmark_smoke(script: str) -> None:
     result = subprocess.run(

@@ -12,6 +12,7 @@ module's slots have parent ``""``), the tables ``senSenDH``, ``senSenJ``, ``senS
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
 from dataclasses import asdict
 from typing import Any
 
@@ -26,14 +27,19 @@ from aaria_pin.aaria.oscillation import (
     default_joint_table,
     joint_trajectory,
     validate_base_table,
+    validate_joint_table,
 )
 from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, sensen_view
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.record import ImuMount, RunRecord
 from aaria_pin.core.run import (
+    CHUNK_SAMPLES,
     UNITS,
     RunSeries,
+    chunk_bounds,
+    join_chunks,
+    noise_stream,
     sampling_attributes,
     simulate_series,
     stored_sampling,
@@ -57,8 +63,10 @@ __all__ = [
     "dh_imu_mounts",
     "sampling_attributes",
     "simulate_from_record",
+    "simulate_from_record_chunks",
     "simulate_from_run_file",
     "simulate_run",
+    "simulate_run_chunks",
 ]
 
 DH_ROBOT = "aaria-arm"
@@ -160,38 +168,97 @@ def simulate_run(
     Returns:
         The run record (kind ``"dh"``).
     """
+    return join_chunks(
+        simulate_run_chunks(
+            dh_table,
+            joint_table,
+            base_table,
+            duration=duration,
+            rate=rate,
+            seed=seed,
+            noise=noise,
+            noise_model=noise_model,
+            dims=dims,
+            imu_mount=imu_mount,
+            torques=torques,
+            threads=threads,
+            robot_name=robot_name,
+            keep_urdf=keep_urdf,
+            chunk=None,
+        )
+    )
+
+
+def simulate_run_chunks(
+    dh_table: ArrayLike,
+    joint_table: ArrayLike | None = None,
+    base_table: ArrayLike | None = None,
+    *,
+    duration: float = DEFAULT_DURATION,
+    rate: float = DEFAULT_RATE,
+    seed: int | np.random.SeedSequence = 0,
+    noise: bool = True,
+    noise_model: ImuNoiseModel = ADIS16485,
+    dims: BodyDimensions | None = None,
+    imu_mount: ArrayLike | None = None,
+    torques: ArrayLike | None = None,
+    threads: int = 1,
+    robot_name: str = DH_ROBOT,
+    keep_urdf: bool = True,
+    chunk: int | None = CHUNK_SAMPLES,
+) -> Iterator[RunRecord]:
+    """:func:`simulate_run` computed in time chunks: one record per piece of the run, in order.
+
+    The joint and base motions are functions of time, so each piece is computed on its own
+    sample times; the IMU noise of the pieces is that of the whole run
+    (:class:`~aaria_pin.core.imu_noise.ImuNoiseStream`), so the pieces put together
+    (:func:`~aaria_pin.core.run.join_chunks`) are bit for bit :func:`simulate_run`'s record
+    and memory does not grow with the run's length. Each piece carries the run's tables,
+    views and attributes. A run driven by torques is one piece (forward dynamics integrates
+    the whole run).
+
+    Args:
+        dh_table: as in :func:`simulate_run`
+        joint_table: as in :func:`simulate_run`
+        base_table: as in :func:`simulate_run`
+        duration: run length [s]
+        rate: sample rate [Hz]
+        seed: seed of the IMU noise (as in :func:`simulate_run`)
+        noise: add IMU noise
+        noise_model: IMU noise parameters
+        dims: body dimensions and densities
+        imu_mount: as in :func:`simulate_run`
+        torques: as in :func:`simulate_run` (the run is then one piece)
+        threads: worker threads of the batched RNEA
+        robot_name: the ``robot`` attribute
+        keep_urdf: keep the arm's URDF text in the records
+        chunk: samples per piece (default :data:`~aaria_pin.core.run.CHUNK_SAMPLES`); None:
+            one piece
+
+    Yields:
+        The run record of each piece (kind ``"dh"``), ``time`` the piece's sample times.
+    """
     check_seed(seed)
     robot = build_dh_robot(dh_table, "aaria", dims, imu_mount=imu_mount)
     time = sample_times(duration, rate)
     senSenJ = (
         default_joint_table(robot.chain) if joint_table is None else np.array(joint_table, float)
     )
+    validate_joint_table(senSenJ, robot.chain)  # errors before any work
     senSenB = default_base_table() if base_table is None else validate_base_table(base_table)
-    trajectory = joint_trajectory(senSenJ, robot.chain, time)
-    base = base_motion(senSenB, time)
     model = robot.model(moving_base=True)
     columns = [module - 1 for module in robot.chain.modules]  # module order → senSen columns
     tables = {"senSenDH": robot.chain.table.copy(), "senSenJ": senSenJ, "senSenB": senSenB}
+    by_module = None
     if torques is not None:
-        from aaria_pin.core.forward import check_torques, forward_simulate
+        from aaria_pin.core.forward import check_torques
 
         by_module = check_torques(torques, time.size, N_MODULES, "torque table")
         tables["torque_table"] = by_module
-        trajectory = forward_simulate(
-            model, base, by_module[:, columns], time, trajectory.q[0], trajectory.qd[0]
-        )
-
-    series = dh_series(
-        robot,
-        model,
-        base,
-        trajectory,
-        rate=rate,
-        seed=seed,
-        noise=noise,
-        noise_model=noise_model,
-        threads=threads,
-    )
+        chunk = None
+    pieces = chunk_bounds(time.size, chunk)
+    present = sum(slot.parent is not None for slot in robot.imu_slots)
+    stream = noise_stream(time.size, present, rate, seed, noise, noise_model, len(pieces))
     attributes: dict[str, Any] = {
         "kind": "dh",
         "robot": robot_name,
@@ -205,23 +272,49 @@ def simulate_run(
         "tool_frame": model.tool_frame,
         "version": __version__,
     }
-    return RunRecord(
-        time=time,
-        joint_names=JOINT_NAMES,
-        q=_module_columns(columns, trajectory.q),
-        qd=_module_columns(columns, trajectory.qd),
-        qdd=_module_columns(columns, trajectory.qdd),
-        tau=_module_columns(columns, series.tau),
-        base_pose=series.base_pose,
-        base_wrench=series.base_wrench,
-        tool_pose=series.tool_pose,
-        imu=series.imu,
-        imu_mounts=dh_imu_mounts(robot),
-        urdf=robot.urdf if keep_urdf else "",
-        tables=tables,
-        views={"senSen": sensen_view()},
-        attributes=attributes,
-    )
+    mounts = dh_imu_mounts(robot)
+    urdf = robot.urdf if keep_urdf else ""
+    views = {"senSen": sensen_view()}
+    for start, stop in pieces:
+        times = time[start:stop]
+        trajectory = joint_trajectory(senSenJ, robot.chain, times)
+        base = base_motion(senSenB, times)
+        if by_module is not None:
+            from aaria_pin.core.forward import forward_simulate
+
+            trajectory = forward_simulate(
+                model, base, by_module[:, columns], time, trajectory.q[0], trajectory.qd[0]
+            )
+        series = dh_series(
+            robot,
+            model,
+            base,
+            trajectory,
+            rate=rate,
+            seed=seed,
+            noise=noise,
+            noise_model=noise_model,
+            threads=threads,
+            noise_stream=stream,
+            start=start,
+        )
+        yield RunRecord(
+            time=times,
+            joint_names=JOINT_NAMES,
+            q=_module_columns(columns, trajectory.q),
+            qd=_module_columns(columns, trajectory.qd),
+            qdd=_module_columns(columns, trajectory.qdd),
+            tau=_module_columns(columns, series.tau),
+            base_pose=series.base_pose,
+            base_wrench=series.base_wrench,
+            tool_pose=series.tool_pose,
+            imu=series.imu,
+            imu_mounts=mounts,
+            urdf=urdf,
+            tables=tables,
+            views=views,
+            attributes=attributes,
+        )
 
 
 def simulate_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
@@ -242,6 +335,32 @@ def simulate_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
     Raises:
         InputFileError: the record lacks a table, or its body dimensions cannot be used.
     """
+    settings = _stored_settings(stored, overrides)
+    return simulate_run(stored.tables["senSenDH"], **settings)
+
+
+def simulate_from_record_chunks(
+    stored: RunRecord, chunk: int | None = CHUNK_SAMPLES, **overrides: Any
+) -> Iterator[RunRecord]:
+    """:func:`simulate_from_record` in time chunks (:func:`simulate_run_chunks`).
+
+    Args:
+        stored: a DH run's record
+        chunk: samples per piece; None: one piece
+        **overrides: keyword arguments of :func:`simulate_run`
+
+    Yields:
+        The run record of each piece.
+
+    Raises:
+        InputFileError: as :func:`simulate_from_record`.
+    """
+    settings = _stored_settings(stored, overrides)
+    return simulate_run_chunks(stored.tables["senSenDH"], **settings, chunk=chunk)
+
+
+def _stored_settings(stored: RunRecord, overrides: dict[str, Any]) -> dict[str, Any]:
+    """Keyword arguments of :func:`simulate_run` from a DH record, ``overrides`` applied."""
     attributes = stored.attributes
     missing = [name for name in ("senSenDH", "senSenJ", "senSenB") if name not in stored.tables]
     if missing:
@@ -265,7 +384,7 @@ def simulate_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
         except TypeError as exc:
             raise InputFileError(f"body_dimensions cannot be used ({exc})") from None
     settings.update(overrides)
-    return simulate_run(stored.tables["senSenDH"], **settings)
+    return settings
 
 
 def simulate_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> RunRecord:

@@ -14,6 +14,26 @@ EXIT_BAD_INPUT = 2
 class _Group(click.Group):
     """A click group that turns the toolkit's input errors into one line and exit status 2."""
 
+    def main(self, args: Any = None, *rest: Any, **kwargs: Any) -> Any:
+        """Run the command line; as the ``aaria`` process (arguments from ``sys.argv``), end fast.
+
+        When the process ends, Python tears its modules down and runs the garbage collector
+        over every object still alive; after a command that ran a compiled kernel that heap
+        holds numba's registries and took 0.25–0.35 s of a 1.0 s ``aaria simulate`` (measured
+        between the command's end and the process's). ``gc.freeze()`` as the command returns
+        moves those objects out of the collector's sight: the exit then takes about 0.04 s.
+        Outputs are closed by then (``atomic_output``), exit handlers still run and the
+        standard streams are still flushed. A caller that passes ``args`` (tests, scripts
+        calling :func:`main` in their own process) keeps its collector as it was.
+        """
+        try:
+            return super().main(args, *rest, **kwargs)
+        finally:
+            if args is None:
+                import gc
+
+                gc.freeze()
+
     def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
@@ -55,6 +75,9 @@ def _flags(group: click.Group) -> dict[str, str]:
 @click.version_option(package_name="aaria-pin")
 def main() -> None:
     """Aaria on Pinocchio: reconfigurable manipulators, IMU datasets, torques."""
+    from aaria_pin.core._compile import light_start
+
+    light_start()  # numba loads without its BLAS probe: 0.23 s of a 1 s `aaria simulate`
 
 
 def _register() -> None:

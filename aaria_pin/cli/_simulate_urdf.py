@@ -43,9 +43,12 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     import warnings
 
     from aaria_pin.core.imu_layout import read_imu_layout
-    from aaria_pin.core.urdf_run import simulate_urdf_from_record, simulate_urdf_run
+    from aaria_pin.core.urdf_run import (
+        simulate_urdf_from_record_chunks,
+        simulate_urdf_run_chunks,
+    )
     from aaria_pin.files.io import read_table
-    from aaria_pin.files.runfile import write_run
+    from aaria_pin.files.runfile import write_run_pieces
 
     _refuse_options_without_effect(params)
     overrides = sampling_overrides(params)
@@ -60,33 +63,38 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     overrides.update(torque_overrides(params))
     output = params["output"]
     compress = params["compress"]
+
+    def announce(record: RunRecord) -> None:
+        for warning in caught:
+            click.echo(f"aaria: warning: {warning.message}", err=True)
+        for joint, (peak, limit) in record.attributes["effort_exceeded"].items():
+            click.echo(
+                f"aaria: warning: joint {joint!r} reaches |tau| {peak:.4g}, beyond its URDF "
+                f"effort limit {limit:.4g} (N*m or N)",
+                err=True,
+            )
+
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         if stored is not None:
             if params["fixed_base"]:
                 overrides["moving_base"] = False
-            record = simulate_urdf_from_record(stored, **overrides)
+            chunks = simulate_urdf_from_record_chunks(stored, **overrides)
         else:
             text, folder, source = load_robot_source(params["robot"], params["urdf_file"])
-            record = simulate_urdf_run(
+            chunks = simulate_urdf_run_chunks(
                 text,
                 urdf_dir=folder,
                 source=source,
                 moving_base=not params["fixed_base"],
                 **overrides,
             )
-    for warning in caught:
-        click.echo(f"aaria: warning: {warning.message}", err=True)
-    for joint, (peak, limit) in record.attributes["effort_exceeded"].items():
-        click.echo(
-            f"aaria: warning: joint {joint!r} reaches |tau| {peak:.4g}, beyond its URDF effort "
-            f"limit {limit:.4g} (N*m or N)",
-            err=True,
+        record, samples, peak = write_run_pieces(
+            output, chunks, None if compress == "none" else compress, announce
         )
-    write_run(output, record, compression=None if compress == "none" else compress)
     click.echo(
         f"wrote {output}: {record.attributes['robot']}, {len(record.joint_names)} joints, "
-        f"{len(record.imu_mounts)} IMUs, {record.n_samples} samples at "
+        f"{len(record.imu_mounts)} IMUs, {samples} samples at "
         f"{record.attributes['rate']:g} Hz, noise {'on' if record.attributes['noise'] else 'off'}, "
-        f"peak |tau| {abs(record.tau).max():.4g}"
+        f"peak |tau| {peak:.4g}"
     )

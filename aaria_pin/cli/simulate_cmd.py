@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -15,6 +15,9 @@ from aaria_pin.cli._options import (
     torque_overrides,
 )
 from aaria_pin.core.seeds import MAX_SEED
+
+if TYPE_CHECKING:
+    pass
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
 
@@ -110,11 +113,11 @@ def simulate(
     """
     from aaria_pin.aaria.dh_robot import BodyDimensions
     from aaria_pin.aaria.presets import get_preset
-    from aaria_pin.aaria.simulate import simulate_from_record, simulate_run
+    from aaria_pin.aaria.simulate import simulate_from_record_chunks, simulate_run_chunks
     from aaria_pin.core._malloc import tune_malloc
     from aaria_pin.errors import ParameterError
     from aaria_pin.files.io import read_table
-    from aaria_pin.files.runfile import write_run
+    from aaria_pin.files.runfile import write_run_pieces
 
     tune_malloc()
     params = click.get_current_context().params
@@ -154,7 +157,7 @@ def simulate(
             raise click.UsageError(
                 "--from takes the DH table from the run file; drop --preset/--dh"
             )
-        record = simulate_from_record(stored, **overrides)
+        chunks = simulate_from_record_chunks(stored, **overrides)
     else:
         table, table_convention, name = load_table_source(preset, dh_file, convention)
         if table_convention != "aaria":
@@ -165,12 +168,12 @@ def simulate(
             chosen = get_preset(preset)
             overrides.setdefault("joint_table", chosen.joint_table)
             overrides.setdefault("base_table", chosen.base_table)
-        record = simulate_run(table, robot_name=name, **overrides)
-    write_run(output, record, compression=compression)
+        chunks = simulate_run_chunks(table, robot_name=name, **overrides)
+    record, samples, peak = write_run_pieces(output, chunks, compression)
     click.echo(
-        f"wrote {output}: {record.n_samples} samples at {record.attributes['rate']:g} Hz, "
+        f"wrote {output}: {samples} samples at {record.attributes['rate']:g} Hz, "
         f"noise {'on' if record.attributes['noise'] else 'off'}, "
-        f"peak |tau| {abs(record.tau).max():.4g}"
+        f"peak |tau| {peak:.4g}"
     )
 
 

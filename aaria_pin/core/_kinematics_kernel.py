@@ -6,18 +6,20 @@ in each joint's own axes, as Pinocchio does: angular velocity ``w``, angular acc
 and proper acceleration ``f`` (classical acceleration minus gravity) of each joint frame, plus
 its world rotation and position; then it reads the requested frames off their joints.
 
-The kernel is compiled on first use and cached on disk (numba's ``cache=True``).
+The kernels are compiled on first use and cached on disk, once per install; a first compile says
+so on stderr (:func:`aaria_pin.core._compile.kernel`).
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from aaria_pin.core._compile import kernel
 
 REVOLUTE, PRISMATIC, FREEFLYER = 0, 1, 2
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@kernel
 def _rotation(axis: np.ndarray, angle: float, out: np.ndarray) -> None:  # pragma: no cover
     """Rotation matrix about a unit axis (Rodrigues)."""
     c, s = np.cos(angle), np.sin(angle)
@@ -34,7 +36,7 @@ def _rotation(axis: np.ndarray, angle: float, out: np.ndarray) -> None:  # pragm
     out[2, 2] = c + z * z * v
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@kernel
 def trajectory_kinematics(  # type: ignore[no-untyped-def]  # pragma: no cover
     kinds,
     axes,
@@ -198,7 +200,7 @@ def trajectory_kinematics(  # type: ignore[no-untyped-def]  # pragma: no cover
             pose_out[t, index, 3, 3] = 1.0
 
 
-@njit(cache=True, fastmath=True, error_model="numpy")
+@kernel
 def free_flyer_state(  # type: ignore[no-untyped-def]  # pragma: no cover
     base_R, base_p, base_v, base_a, base_w, base_wd, q_out, v_out, a_out
 ):

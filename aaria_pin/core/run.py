@@ -10,23 +10,29 @@ into the one :class:`~aaria_pin.core.record.RunRecord` with :func:`sampling_attr
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, noise_attributes
+from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, ImuNoiseStream, noise_attributes
 from aaria_pin.core.model import GRAVITY, RobotModel
+from aaria_pin.core.record import SERIES, RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.seeds import seed_attributes, stored_seed
 from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE, BaseMotion, JointTrajectory
 
 __all__ = [
+    "CHUNK_SAMPLES",
     "DEFAULT_DURATION",
     "DEFAULT_RATE",
     "UNITS",
     "RunSeries",
+    "chunk_bounds",
+    "join_chunks",
+    "noise_stream",
+    "run_length",
     "sampling_attributes",
     "simulate_series",
     "stored_sampling",
@@ -42,6 +48,102 @@ UNITS = {
     "length": "m",
 }
 """The ``units`` attribute of a run (the units of each quantity)."""
+
+CHUNK_SAMPLES = 20_000
+"""Samples per piece of a long run computed in time chunks (:func:`chunk_bounds`).
+
+While a piece is computed the process holds about 4.6 kB per sample of it (5.7 kB with noise:
+the record, the IMU kinematics, the noise, RNEA's work arrays) on top of about 235 MB of
+imports and model (280 MB with noise when these figures were taken: scipy.signal, since
+dropped). Measured on ``aaria-fig2`` at 100 kHz, 1 M samples (2 cores,
+``benchmarks/bench_memory.py``'s child), peak RSS and wall time by piece length:
+
+========= ================== ==================
+piece     noise off          noise on
+========= ================== ==================
+10,000    283 MB, 4.0 s      344 MB, 10.3 s
+20,000    328 MB, 4.8 s      402 MB, 9.9 s
+50,000    465 MB, 4.9 s      570 MB, 9.3 s
+100,000   681 MB, 5.7 s      979 MB, 9.6 s
+========= ================== ==================
+
+20,000 keeps a run of any length near 400 MB, well inside the 600 MB goal, at a speed within
+the spread of these figures (the per-piece work outside the arrays is a few milliseconds);
+50,000 would brush the goal with noise on. A run of at most this many samples is one piece:
+computed and written whole, as before. With this length a 2 M-sample run peaks at 336 MB
+(noise off) and 364 MB (noise on), 15 to 20 MB above a 200,000-sample run (the time grid).
+"""
+
+
+def chunk_bounds(samples: int, chunk: int | None = CHUNK_SAMPLES) -> list[tuple[int, int]]:
+    """The pieces ``[(start, stop), ...]`` of a run of ``samples`` in chunks of ``chunk``.
+
+    Args:
+        samples: T, the run's number of samples
+        chunk: samples per piece (the last may be shorter); None: one piece
+
+    Raises:
+        ParameterError: ``chunk`` < 1.
+    """
+    from aaria_pin.errors import ParameterError
+
+    if chunk is None or samples <= chunk:
+        return [(0, samples)]
+    if chunk < 1:
+        raise ParameterError(
+            f"chunk is {chunk!r} samples; allowed: >= 1",
+            parameter="chunk",
+            value=chunk,
+            allowed=">= 1",
+        )
+    return [(start, min(start + chunk, samples)) for start in range(0, samples, chunk)]
+
+
+def run_length(record: RunRecord) -> int:
+    """T, the samples of the whole run a record (or a piece of it) belongs to.
+
+    From its ``duration`` [s] and ``rate`` [Hz] attributes (:func:`sampling_attributes`), as
+    :func:`~aaria_pin.core.trajectory.sample_times` counts them; the record's own length if
+    it has none.
+    """
+    from aaria_pin.core.trajectory import sample_times
+
+    attributes = record.attributes
+    if "duration" not in attributes or "rate" not in attributes:
+        return record.n_samples
+    return int(sample_times(float(attributes["duration"]), float(attributes["rate"])).size)
+
+
+def noise_stream(
+    samples: int,
+    n_imu: int,
+    rate: float,
+    seed: int | np.random.SeedSequence,
+    noise: bool,
+    noise_model: ImuNoiseModel,
+    pieces: int,
+) -> ImuNoiseStream | None:
+    """The noise of a run computed in ``pieces`` (None if one piece, no noise or no IMU)."""
+    if pieces <= 1 or not noise or n_imu < 1:
+        return None
+    return ImuNoiseStream(samples, n_imu, rate, np.random.default_rng(seed), noise_model)
+
+
+def join_chunks(chunks: Iterable[RunRecord]) -> RunRecord:
+    """One record of a run from its pieces in time order (the last piece's other fields).
+
+    A single piece is returned as it is; the attributes, tables, views and names come from
+    the last piece, whose attributes cover the whole run.
+    """
+    from dataclasses import replace
+
+    pieces = list(chunks)
+    if len(pieces) == 1:
+        return pieces[0]
+    series: dict[str, Any] = {
+        name: np.concatenate([getattr(p, name) for p in pieces]) for name in SERIES
+    }
+    return replace(pieces[-1], **series)
 
 
 def sampling_attributes(
@@ -118,6 +220,8 @@ def simulate_series(
     noise: bool = True,
     noise_model: ImuNoiseModel = ADIS16485,
     threads: int = 1,
+    noise_stream: ImuNoiseStream | None = None,
+    start: int = 0,
 ) -> RunSeries:
     """IMU signals, tool pose, torques, base wrench and base pose over a whole trajectory.
 
@@ -135,6 +239,10 @@ def simulate_series(
         noise: add IMU noise (``False`` gives the exact signals)
         noise_model: IMU noise parameters
         threads: worker threads of the batched RNEA
+        noise_stream: for a piece of a longer run (:func:`chunk_bounds`), the run's noise
+            (:class:`~aaria_pin.core.imu_noise.ImuNoiseStream`, over the existing IMUs); the
+            piece's measurements are then those of the whole run (``seed`` is not used)
+        start: the index of the piece's first sample in the run (with ``noise_stream``)
 
     Returns:
         The series.
@@ -155,7 +263,9 @@ def simulate_series(
         imu_out=None if noise else imu,  # noise-free: straight into the record's array
         imu_slots=None if noise else slots,
     )
-    if noise and slots:
+    if noise and slots and noise_stream is not None:
+        imu[:, slots] = noise_stream.measure(exact, start)
+    elif noise and slots:
         imu[:, slots] = add_imu_noise(exact, rate, np.random.default_rng(seed), noise_model)
     tau, base_wrench = inverse_dynamics(robot, base, trajectory, threads)
     if robot.moving_base:

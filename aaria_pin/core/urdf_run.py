@@ -12,6 +12,7 @@ alone (:func:`simulate_urdf_from_record`; from a run file,
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -22,7 +23,15 @@ from aaria_pin._version import __version__
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.core.record import ImuMount, RunRecord
-from aaria_pin.core.run import sampling_attributes, simulate_series, stored_sampling
+from aaria_pin.core.run import (
+    CHUNK_SAMPLES,
+    chunk_bounds,
+    join_chunks,
+    noise_stream,
+    sampling_attributes,
+    simulate_series,
+    stored_sampling,
+)
 from aaria_pin.core.seeds import check_seed
 from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE, BaseMotion, sample_times
 from aaria_pin.core.urdf_robot import (
@@ -31,9 +40,16 @@ from aaria_pin.core.urdf_robot import (
     effort_excess,
     load_urdf_robot,
     urdf_joint_trajectory,
+    validate_urdf_joint_table,
 )
 
-__all__ = ["simulate_loaded_robot", "simulate_urdf_from_record", "simulate_urdf_run"]
+__all__ = [
+    "simulate_loaded_robot",
+    "simulate_urdf_from_record",
+    "simulate_urdf_from_record_chunks",
+    "simulate_urdf_run",
+    "simulate_urdf_run_chunks",
+]
 
 
 def simulate_urdf_run(
@@ -108,6 +124,79 @@ def simulate_urdf_run(
     return record
 
 
+def simulate_urdf_run_chunks(
+    urdf: str,
+    joint_table: ArrayLike | None = None,
+    base_table: ArrayLike | None = None,
+    *,
+    urdf_dir: Path | None = None,
+    source: str | None = None,
+    moving_base: bool = True,
+    tool_frame: str | None = None,
+    imu_layout: tuple[ImuMount, ...] | None = None,
+    duration: float = DEFAULT_DURATION,
+    rate: float = DEFAULT_RATE,
+    seed: int | np.random.SeedSequence = 0,
+    noise: bool = True,
+    noise_model: ImuNoiseModel = ADIS16485,
+    threads: int = 1,
+    torques: ArrayLike | None = None,
+    chunk: int | None = CHUNK_SAMPLES,
+) -> Iterator[RunRecord]:
+    """:func:`simulate_urdf_run` computed in time chunks: one record per piece, in order.
+
+    As :func:`aaria_pin.aaria.simulate.simulate_run_chunks`: the pieces put together
+    (:func:`~aaria_pin.core.run.join_chunks`) are bit for bit :func:`simulate_urdf_run`'s
+    record, noise included; each piece's attributes cover the run up to its end (the last
+    piece's ``effort_exceeded`` is the whole run's). A run driven by torques is one piece.
+
+    Args:
+        urdf: the URDF text
+        joint_table: as in :func:`simulate_urdf_run`
+        base_table: as in :func:`simulate_urdf_run`
+        urdf_dir: the URDF's folder, for relative mesh paths
+        source: where the URDF came from, stored as an attribute
+        moving_base: carry the root link on the base motion
+        tool_frame: the tool frame
+        imu_layout: the IMUs
+        duration: run length [s]
+        rate: sample rate [Hz]
+        seed: seed of the IMU noise
+        noise: add IMU noise
+        noise_model: IMU noise parameters
+        threads: worker threads of the batched RNEA
+        torques: as in :func:`simulate_urdf_run` (the run is then one piece)
+        chunk: samples per piece (default :data:`~aaria_pin.core.run.CHUNK_SAMPLES`); None:
+            one piece
+
+    Yields:
+        The run record of each piece (kind ``"urdf"``).
+    """
+    loaded = load_urdf_robot(
+        urdf,
+        urdf_dir=urdf_dir,
+        moving_base=True,
+        tool_frame=tool_frame,
+        imu_layout=imu_layout,
+    )
+    yield from _loaded_pieces(
+        loaded,
+        joint_table,
+        base_table,
+        moving_base=moving_base,
+        source=source,
+        duration=duration,
+        rate=rate,
+        seed=seed,
+        noise=noise,
+        noise_model=noise_model,
+        threads=threads,
+        torques=torques,
+        chunk=chunk,
+        extra={"urdf_dir": "" if urdf_dir is None else str(urdf_dir)},
+    )
+
+
 def simulate_loaded_robot(
     loaded: UrdfRobot,
     joint_table: ArrayLike | None = None,
@@ -144,6 +233,47 @@ def simulate_loaded_robot(
     Returns:
         The run record (kind ``"urdf"``).
     """
+    return join_chunks(
+        _loaded_pieces(
+            loaded,
+            joint_table,
+            base_table,
+            moving_base=moving_base,
+            source=source,
+            duration=duration,
+            rate=rate,
+            seed=seed,
+            noise=noise,
+            noise_model=noise_model,
+            threads=threads,
+            torques=torques,
+            chunk=None,
+        )
+    )
+
+
+def _loaded_pieces(
+    loaded: UrdfRobot,
+    joint_table: ArrayLike | None,
+    base_table: ArrayLike | None,
+    *,
+    moving_base: bool | None,
+    source: str | None,
+    duration: float,
+    rate: float,
+    seed: int | np.random.SeedSequence,
+    noise: bool,
+    noise_model: ImuNoiseModel,
+    threads: int,
+    torques: ArrayLike | None,
+    chunk: int | None,
+    extra: dict[str, Any] | None = None,
+) -> Iterator[RunRecord]:
+    """The pieces of a loaded robot's run (:func:`simulate_urdf_run_chunks`).
+
+    Each piece's attributes cover the run up to its end (``effort_exceeded`` from the peaks
+    so far), so the last piece's are the whole run's; ``extra`` attributes are added last.
+    """
     check_seed(seed)
     robot = loaded.robot
     moving_base = robot.moving_base if moving_base is None else moving_base and robot.moving_base
@@ -151,67 +281,85 @@ def simulate_loaded_robot(
     table = (
         default_urdf_joint_table(loaded) if joint_table is None else np.array(joint_table, float)
     )
-    trajectory = urdf_joint_trajectory(table, loaded, time)
+    validate_urdf_joint_table(table, loaded)  # errors before any work
     base_arr = None
     if moving_base:
         base_arr = default_base_table() if base_table is None else validate_base_table(base_table)
-        base = base_motion(base_arr, time)
-    else:
-        base = BaseMotion.resting(time.size)
-
     tau_in = None
     if torques is not None:
-        from aaria_pin.core.forward import check_torques, forward_simulate
+        from aaria_pin.core.forward import check_torques
 
         tau_in = check_torques(torques, time.size, robot.n_joints)
-        trajectory = forward_simulate(robot, base, tau_in, time, trajectory.q[0], trajectory.qd[0])
-    series = simulate_series(
-        robot,
-        base,
-        trajectory,
-        imu_frames=robot.sensor_frames,
-        rate=rate,
-        seed=seed,
-        noise=noise,
-        noise_model=noise_model,
-        threads=threads,
-    )
-    tau = series.tau
-    attributes: dict[str, Any] = {
-        "kind": "urdf",
-        "robot": loaded.summary.name,
-        "source": source if source is not None else "",
-        "moving_base": bool(moving_base),
-        "base_frame": robot.base_frame,
-        "tool_frame": robot.tool_frame,
-        "effort_exceeded": {
-            name: list(values) for name, values in effort_excess(loaded, tau).items()
-        },
-        **sampling_attributes(rate, duration, seed, noise, noise_model),
-        "drive": "motion" if torques is None else "torque",
-        "version": __version__,
-    }
+        chunk = None
     tables = {"joint_table": table}
     if base_arr is not None:
         tables["base_table"] = base_arr
     if tau_in is not None:
         tables["torque_table"] = tau_in
-    return RunRecord(
-        time=time,
-        joint_names=robot.joint_names,
-        q=np.ascontiguousarray(trajectory.q),
-        qd=np.ascontiguousarray(trajectory.qd),
-        qdd=np.ascontiguousarray(trajectory.qdd),
-        tau=tau,
-        base_pose=series.base_pose,
-        base_wrench=series.base_wrench,
-        tool_pose=series.tool_pose,
-        imu=series.imu,
-        imu_mounts=loaded.imu_mounts,
-        urdf=loaded.urdf,
-        tables=tables,
-        attributes=attributes,
+    pieces = chunk_bounds(time.size, chunk)
+    stream = noise_stream(
+        time.size, len(robot.sensor_frames), rate, seed, noise, noise_model, len(pieces)
     )
+    peaks = np.zeros(robot.n_joints)
+    for start, stop in pieces:
+        times = time[start:stop]
+        trajectory = urdf_joint_trajectory(table, loaded, times)
+        base = (
+            base_motion(base_arr, times) if base_arr is not None else BaseMotion.resting(times.size)
+        )
+        if tau_in is not None:
+            from aaria_pin.core.forward import forward_simulate
+
+            trajectory = forward_simulate(
+                robot, base, tau_in, time, trajectory.q[0], trajectory.qd[0]
+            )
+        series = simulate_series(
+            robot,
+            base,
+            trajectory,
+            imu_frames=robot.sensor_frames,
+            rate=rate,
+            seed=seed,
+            noise=noise,
+            noise_model=noise_model,
+            threads=threads,
+            noise_stream=stream,
+            start=start,
+        )
+        tau = series.tau
+        if len(tau):
+            np.maximum(peaks, np.abs(tau).max(axis=0), out=peaks)
+        attributes: dict[str, Any] = {
+            "kind": "urdf",
+            "robot": loaded.summary.name,
+            "source": source if source is not None else "",
+            "moving_base": bool(moving_base),
+            "base_frame": robot.base_frame,
+            "tool_frame": robot.tool_frame,
+            "effort_exceeded": {
+                name: list(values) for name, values in effort_excess(loaded, peaks[None]).items()
+            },
+            **sampling_attributes(rate, duration, seed, noise, noise_model),
+            "drive": "motion" if torques is None else "torque",
+            "version": __version__,
+            **(extra or {}),
+        }
+        yield RunRecord(
+            time=times,
+            joint_names=robot.joint_names,
+            q=np.ascontiguousarray(trajectory.q),
+            qd=np.ascontiguousarray(trajectory.qd),
+            qdd=np.ascontiguousarray(trajectory.qdd),
+            tau=tau,
+            base_pose=series.base_pose,
+            base_wrench=series.base_wrench,
+            tool_pose=series.tool_pose,
+            imu=series.imu,
+            imu_mounts=loaded.imu_mounts,
+            urdf=loaded.urdf,
+            tables=tables,
+            attributes=attributes,
+        )
 
 
 def simulate_urdf_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
@@ -228,6 +376,27 @@ def simulate_urdf_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
     Returns:
         The run record; with no overrides it equals the stored one.
     """
+    return simulate_urdf_run(stored.urdf, **_stored_settings(stored, overrides))
+
+
+def simulate_urdf_from_record_chunks(
+    stored: RunRecord, chunk: int | None = CHUNK_SAMPLES, **overrides: Any
+) -> Iterator[RunRecord]:
+    """:func:`simulate_urdf_from_record` in time chunks (:func:`simulate_urdf_run_chunks`).
+
+    Args:
+        stored: a URDF robot's run record
+        chunk: samples per piece; None: one piece
+        **overrides: keyword arguments of :func:`simulate_urdf_run`
+
+    Yields:
+        The run record of each piece.
+    """
+    return simulate_urdf_run_chunks(stored.urdf, **_stored_settings(stored, overrides), chunk=chunk)
+
+
+def _stored_settings(stored: RunRecord, overrides: dict[str, Any]) -> dict[str, Any]:
+    """Keyword arguments of :func:`simulate_urdf_run` from a record, ``overrides`` applied."""
     attributes = stored.attributes
     settings: dict[str, Any] = {
         "joint_table": stored.tables.get("joint_table"),
@@ -242,4 +411,4 @@ def simulate_urdf_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
     if "torque_table" in stored.tables:
         settings["torques"] = stored.tables["torque_table"]
     settings.update(overrides)
-    return simulate_urdf_run(stored.urdf, **settings)
+    return settings

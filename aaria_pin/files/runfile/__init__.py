@@ -48,29 +48,37 @@ when read back (so tuples come back as lists and dict keys as strings). The name
 and ``format_version`` are reserved; in a ``.mat`` file ``attr_<name>`` must be a MATLAB
 variable name (letters, digits and ``_``, at most 63 characters).
 
+A long run is written in time pieces (:func:`write_run_chunks`, :class:`RunFileWriter`): the
+HDF5 datasets are preallocated at the run's full length and filled piece by piece, so memory
+does not grow with the run's length; the file is the same as :func:`write_run` makes of the
+whole record (which is the one-piece case of the same writer). A ``.mat`` file is written whole.
+
 :func:`read_run` also reads every run file aaria_pin 0.1.0 wrote (:mod:`._legacy`: Aaria DH
 ``.h5``/``.mat``, URDF robot and pick-place ``.h5``, wrist ``.h5``/``.mat``).
 """
 
 from __future__ import annotations
 
+import contextlib
+import itertools
 import os
-from collections.abc import Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
+from types import TracebackType
 from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.record import RunRecord
+from aaria_pin.core.record import SERIES, RunRecord, record_shapes
 from aaria_pin.errors import InputFileError, OutputFileError
 from aaria_pin.files._stored import JSON_SUFFIX, NAME_LISTS, encode_attributes, first_line
 from aaria_pin.files.io import atomic_output, existing_input
 from aaria_pin.files.runfile._attributes import RUN_FORMAT, RUN_FORMAT_VERSION
 from aaria_pin.files.runfile._hdf5 import (
     _hdf5_errors,
+    _Hdf5Stream,
     _read_hdf5_v2,
     _summarise_hdf5_v2,
-    _write_hdf5,
 )
 from aaria_pin.files.runfile._layout import (
     COLUMNS_SUFFIX,
@@ -103,12 +111,15 @@ __all__ = [
     "RUN_FORMAT_VERSION",
     "RUN_SUFFIXES",
     "URDF_V1_FORMAT",
+    "RunFileWriter",
     "column_source",
     "is_run_file",
     "read_run",
     "run_file_summary",
     "view_from_columns",
     "write_run",
+    "write_run_chunks",
+    "write_run_pieces",
 ]
 
 COMPRESSIONS = (None, "gzip", "lzf")
@@ -118,6 +129,20 @@ RUN_SUFFIXES = (".h5", ".hdf5", ".mat")
 """File suffixes of run files (case-insensitive)."""
 
 
+def _check_output(final: Path, compression: str | None) -> str:
+    """The output's lower-case suffix; OutputFileError for an unknown suffix or filter."""
+    suffix = final.suffix.lower()
+    if compression not in COMPRESSIONS:
+        raise OutputFileError(
+            f"compression {compression!r} is not allowed; allowed: None, 'gzip', 'lzf'"
+        )
+    if suffix not in RUN_SUFFIXES:
+        raise OutputFileError(
+            f"{final}: unknown run file type {suffix!r}; allowed: {', '.join(RUN_SUFFIXES)}"
+        )
+    return suffix
+
+
 def write_run(
     path: str | os.PathLike[str], record: RunRecord, compression: str | None = None
 ) -> Path:
@@ -125,7 +150,7 @@ def write_run(
 
     The file is written beside its destination and renamed when complete, so a failure never
     leaves a partial file (see :func:`aaria_pin.files.io.atomic_output`). The layout is described in
-    the module docstring.
+    the module docstring. An HDF5 file is written by :class:`RunFileWriter` in one piece.
 
     Args:
         path: the run file; its suffix selects the format
@@ -141,27 +166,212 @@ def write_run(
             view that cannot be stored, an attribute that cannot be stored, or a write failure.
     """
     final = Path(path)
-    suffix = final.suffix.lower()
-    if compression not in COMPRESSIONS:
-        raise OutputFileError(
-            f"compression {compression!r} is not allowed; allowed: None, 'gzip', 'lzf'"
-        )
-    if suffix not in RUN_SUFFIXES:
-        raise OutputFileError(
-            f"{final}: unknown run file type {suffix!r}; allowed: {', '.join(RUN_SUFFIXES)}"
-        )
+    if _check_output(final, compression) != ".mat":
+        with RunFileWriter(final, record, compression=compression) as writer:
+            writer.write(0, record)
+        return final
     arrays = checked_arrays(final, record)
     attributes = encode_attributes(final, record.attributes)
-    contents = _mat_contents(final, record, arrays, attributes) if suffix == ".mat" else None
+    contents = _mat_contents(final, record, arrays, attributes)
     with atomic_output(final) as temporary:
         try:
-            if contents is not None:
-                _write_mat(temporary, contents)
-            else:
-                _write_hdf5(temporary, record, arrays, attributes, compression)
+            _write_mat(temporary, contents)
         except OSError as exc:
             raise OutputFileError(f"{final}: cannot be written ({first_line(exc)})") from None
     return final
+
+
+def write_run_chunks(
+    path: str | os.PathLike[str],
+    chunks: Iterable[RunRecord],
+    samples: int,
+    compression: str | None = None,
+) -> Path:
+    """Write a run that comes in time pieces (e.g. ``simulate_run_chunks``) to a run file.
+
+    An HDF5 file is written piece by piece into preallocated datasets (:class:`RunFileWriter`),
+    so memory does not grow with the run's length. A ``.mat`` file (MATLAB v5, which scipy
+    writes only whole) is written from the pieces joined in memory: at most 2 GiB per array,
+    about 3.9 kB per sample while the run is computed; write HDF5 for long runs.
+
+    Args:
+        path: the run file; its suffix selects the format
+        chunks: the run's pieces in time order, each a record of its samples; the attributes
+            of the last piece are stored (they cover the whole run)
+        samples: T, the run's number of samples (the pieces' lengths add up to it)
+        compression: as in :func:`write_run`
+
+    Returns:
+        The path written.
+
+    Raises:
+        OutputFileError: as :func:`write_run`; no piece, pieces of other joints or IMUs than
+            the first, or pieces that do not add up to ``samples`` (nothing is left).
+    """
+    from aaria_pin.core.run import join_chunks
+
+    final = Path(path)
+    suffix = _check_output(final, compression)
+    pieces = iter(chunks)
+    first = next(pieces, None)
+    if first is None:
+        raise OutputFileError(f"{final}: a run of no piece; allowed: one piece or more")
+    if suffix == ".mat":
+        return write_run(final, join_chunks([first, *pieces]), compression)
+    with RunFileWriter(final, first, samples, compression) as writer:
+        start = 0
+        for chunk in itertools.chain([first], pieces):
+            writer.write(start, chunk)
+            start += chunk.n_samples
+    return final
+
+
+class RunFileWriter:
+    """A run file written in time pieces into preallocated HDF5 datasets (a context manager).
+
+    Entering it creates the file beside its destination (:func:`~aaria_pin.files.io.atomic_output`)
+    with the one layout of the module docstring: every series preallocated at the run's full
+    length, ``imu_mount``, the tables, the views (virtual datasets over the full series), the
+    names and the URDF, from the first piece. :meth:`write` stores the series of a piece;
+    leaving the block writes the root attributes (those of the last piece written, which cover
+    the whole run) and renames the file onto its destination. On any failure, or if the pieces
+    do not add up to the run, nothing is left. :func:`write_run` of an HDF5 file is the
+    one-piece case.
+
+    Example::
+
+        with RunFileWriter("run.h5", first, samples) as writer:
+            writer.write(0, first)
+            writer.write(first.n_samples, second)
+
+    Args:
+        path: the ``.h5`` or ``.hdf5`` file
+        first: the first piece (its names, mounts, URDF, tables and views are the run's)
+        samples: T, the run's number of samples (default ``first.n_samples``)
+        compression: as in :func:`write_run`
+
+    Raises:
+        OutputFileError: a ``.mat`` or unknown suffix, ``samples`` < the first piece, or any
+            error of :func:`write_run`.
+    """
+
+    def __init__(
+        self,
+        path: str | os.PathLike[str],
+        first: RunRecord,
+        samples: int | None = None,
+        compression: str | None = None,
+    ) -> None:
+        self.final = Path(path)
+        if _check_output(self.final, compression) == ".mat":
+            raise OutputFileError(
+                f"{self.final}: a MATLAB v5 file is written whole; allowed: .h5, .hdf5 "
+                "(write_run writes .mat)"
+            )
+        self.samples = first.n_samples if samples is None else int(samples)
+        if self.samples < first.n_samples:
+            raise OutputFileError(
+                f"{self.final}: a run of {self.samples} samples; allowed: at least the first "
+                f"piece's {first.n_samples}"
+            )
+        self._first = first
+        self._arrays = checked_arrays(self.final, first)
+        encode_attributes(self.final, first.attributes)  # refuse early, before any file
+        self._compression = compression
+        self._attributes: Mapping[str, Any] = first.attributes
+        self._written = 0
+        self._stack: contextlib.ExitStack | None = None
+        self._stream: _Hdf5Stream | None = None
+
+    def __enter__(self) -> RunFileWriter:
+        stack = contextlib.ExitStack()
+        temporary = stack.enter_context(atomic_output(self.final))
+        try:
+            self._stream = _Hdf5Stream(
+                temporary, self._first, self._arrays, self.samples, self._compression
+            )
+        except BaseException as exc:
+            stack.__exit__(type(exc), exc, exc.__traceback__)
+            if isinstance(exc, OSError):
+                raise OutputFileError(
+                    f"{self.final}: cannot be written ({first_line(exc)})"
+                ) from None
+            raise
+        self._stack = stack
+        self._arrays = {}  # the first piece's copies are not needed again
+        return self
+
+    def write(self, start: int, chunk: RunRecord) -> None:
+        """Store the series of one piece: samples ``start`` … ``start + chunk.n_samples - 1``.
+
+        Args:
+            start: the index of the piece's first sample; pieces come in time order, each
+                starting where the last ended
+            chunk: the piece (the same joints and IMUs as the first)
+
+        Raises:
+            OutputFileError: the writer is not open, a piece out of order or past the run's
+                end, of other joints or IMUs, or a write failure.
+        """
+        if self._stream is None:
+            raise OutputFileError(f"{self.final}: the writer is not open; allowed: inside with")
+        n = chunk.n_samples
+        if start != self._written or start + n > self.samples:
+            raise OutputFileError(
+                f"{self.final}: piece of {n} samples at sample {start}; allowed: the next "
+                f"piece, at sample {self._written}, ending by sample {self.samples}"
+            )
+        expected = record_shapes(n, len(self._first.joint_names), len(self._first.imu_mounts))
+        arrays = {}
+        for name in SERIES:
+            data = np.ascontiguousarray(getattr(chunk, name), dtype=np.float64)
+            if data.shape != expected[name]:
+                raise OutputFileError(
+                    f"{self.final}: piece array {name!r} has shape {data.shape}; "
+                    f"allowed: {expected[name]} (the first piece's joints and IMUs)"
+                )
+            arrays[name] = data
+        try:
+            self._stream.write(start, arrays)
+        except OSError as exc:
+            raise OutputFileError(f"{self.final}: cannot be written ({first_line(exc)})") from None
+        self._written += n
+        self._attributes = chunk.attributes
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        traceback: TracebackType | None,
+    ) -> None:
+        stream, stack = self._stream, self._stack
+        self._stream, self._stack = None, None
+        if stream is None or stack is None:
+            return
+        error: BaseException | None = exc
+        try:
+            attributes = None
+            if exc is None and self._written != self.samples:
+                error = OutputFileError(
+                    f"{self.final}: {self._written} of {self.samples} samples written; "
+                    "allowed: every sample of the run"
+                )
+            elif exc is None:
+                attributes = encode_attributes(self.final, self._attributes)
+            stream.close(attributes)
+        except BaseException as caught:
+            if error is None:
+                error = caught
+                if isinstance(caught, OSError):
+                    error = OutputFileError(
+                        f"{self.final}: cannot be written ({first_line(caught)})"
+                    )
+        if error is None:
+            stack.close()  # renames the file onto its destination
+            return
+        stack.__exit__(type(error), error, error.__traceback__)
+        if error is not exc:
+            raise error
 
 
 def read_run(path: str | os.PathLike[str]) -> RunRecord:
@@ -309,3 +519,51 @@ def _rate(attributes: Mapping[str, Any], time_head: Any) -> float | None:
     if head.size < 2 or not head[1] > head[0]:
         return None
     return float(round(1.0 / (head[1] - head[0]), 9))
+
+
+def write_run_pieces(
+    output: Path,
+    chunks: Iterable[RunRecord],
+    compression: str | None,
+    announce: Callable[[RunRecord], None] | None = None,
+) -> tuple[RunRecord, int, float]:
+    """Compute a run's pieces and write them: whole if one piece, else streamed into HDF5.
+
+    A run of one piece (:data:`~aaria_pin.core.run.CHUNK_SAMPLES` samples or fewer) is written
+    by ``write_run`` as before; a longer one by ``write_run_chunks`` piece by piece, so memory
+    does not grow with its length (a ``.mat`` file is then joined in memory, MATLAB v5 being
+    written whole).
+
+    Args:
+        output: the run file
+        chunks: the run's pieces in time order (e.g. ``simulate_run_chunks``)
+        compression: HDF5 filter (None, ``"gzip"``, ``"lzf"``)
+        announce: called with the last piece (whose attributes cover the run) before a
+            one-piece run is written, or after a streamed run is (for the command's warnings)
+
+    Returns:
+        The last piece, the run's samples and its peak |tau| [N·m or N].
+    """
+    from aaria_pin.core.run import run_length
+
+    pieces = iter(chunks)
+    first = next(pieces)
+    samples = run_length(first)
+    if samples <= first.n_samples:
+        if announce is not None:
+            announce(first)
+        write_run(output, first, compression=compression)
+        return first, first.n_samples, float(np.abs(first.tau).max())
+    peaks: list[float] = []
+    last = [first]
+
+    def counted() -> Iterator[RunRecord]:
+        for piece in itertools.chain([first], pieces):
+            peaks.append(float(np.abs(piece.tau).max()))
+            last[0] = piece
+            yield piece
+
+    write_run_chunks(output, counted(), samples, compression)
+    if announce is not None:
+        announce(last[0])
+    return last[0], samples, max(peaks)

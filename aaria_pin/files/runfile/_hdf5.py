@@ -41,49 +41,83 @@ _CHUNK_ROWS = 4096
 _CHUNK_BYTES = 2**20
 
 
-def _write_hdf5(
-    file: Path,
-    record: RunRecord,
-    arrays: Mapping[str, Array],
-    attributes: list[tuple[str, Any]],
-    compression: str | None = None,
-) -> None:
-    """Write the HDF5 layout (see the module docstring)."""
-    import h5py
+class _Hdf5Stream:
+    """An open HDF5 run file whose series are preallocated and filled piece by piece.
 
-    strings = h5py.string_dtype("utf-8")
-    names = {
-        "joint_names": list(record.joint_names),
-        "imu_names": list(record.imu_names),
-        "imu_parents": [mount.parent for mount in record.imu_mounts],
-    }
-    with h5py.File(file, "w", track_order=True) as handle:
-        handle.attrs["format"] = RUN_FORMAT
-        handle.attrs["format_version"] = RUN_FORMAT_VERSION
-        for key, value in attributes:
-            handle.attrs[key] = value
+    :meth:`open` writes everything but the series' values and the root attributes: the series
+    as datasets of the run's full length, ``imu_mount``, the tables, the views (virtual
+    datasets over the full-length series), the names and the URDF. :meth:`write` fills rows
+    of the series; :meth:`close` writes the root attributes (those of the last piece, which
+    cover the whole run) and closes the file.
+    """
+
+    def __init__(
+        self,
+        file: Path,
+        first: RunRecord,
+        arrays: Mapping[str, Array],
+        samples: int,
+        compression: str | None = None,
+    ) -> None:
+        import h5py
+
+        self.samples = samples
+        self.handle = h5py.File(file, "w", track_order=True)
+        self.handle.attrs["format"] = RUN_FORMAT
+        self.handle.attrs["format_version"] = RUN_FORMAT_VERSION
+        strings = h5py.string_dtype("utf-8")
+        names = {
+            "joint_names": list(first.joint_names),
+            "imu_names": list(first.imu_names),
+            "imu_parents": [mount.parent for mount in first.imu_mounts],
+        }
+        shapes: dict[str, tuple[int, ...]] = {}
+        self.series: dict[str, Any] = {}
         for name, data in arrays.items():
-            if compression is not None and name in SERIES and data.size > 0:
-                row_bytes = max(1, data[0].nbytes)
-                rows = max(1, min(data.shape[0], _CHUNK_ROWS, _CHUNK_BYTES // row_bytes))
-                dataset = handle.create_dataset(
+            if name in SERIES:
+                shape = (samples, *data.shape[1:])
+                row_bytes = max(1, data[0].nbytes if data.shape[0] else 8)
+                chunks = None
+                if compression is not None and 0 not in shape:
+                    rows = max(1, min(samples, _CHUNK_ROWS, _CHUNK_BYTES // row_bytes))
+                    chunks = (rows, *shape[1:])
+                dataset = self.handle.create_dataset(
                     name,
-                    data=data,
-                    chunks=(rows, *data.shape[1:]),
-                    compression=compression,
-                    compression_opts=1 if compression == "gzip" else None,
-                    shuffle=True,
+                    shape=shape,
+                    dtype=np.float64,
+                    chunks=chunks,
+                    compression=compression if chunks else None,
+                    compression_opts=1 if chunks and compression == "gzip" else None,
+                    shuffle=chunks is not None,
                 )
+                self.series[name] = dataset
             else:
-                dataset = handle.create_dataset(name, data=data)
+                shape = data.shape
+                dataset = self.handle.create_dataset(name, data=data)
+            shapes[name] = shape
             dataset.attrs["units"] = units_of(name)
-        shapes = {name: data.shape for name, data in arrays.items()}
-        for name, view in record.views.items():
+        for name, view in first.views.items():
             units = view.units or VIEW_UNITS
-            create_virtual_view(handle, name, view, shapes, np.float64, units)
+            create_virtual_view(self.handle, name, view, shapes, np.float64, units)
         for name, values in names.items():
-            handle.create_dataset(name, data=np.array(values, dtype=object), dtype=strings)
-        handle.create_dataset("urdf", data=record.urdf, dtype=strings)
+            self.handle.create_dataset(name, data=np.array(values, dtype=object), dtype=strings)
+        self.handle.create_dataset("urdf", data=first.urdf, dtype=strings)
+
+    def write(self, start: int, arrays: Mapping[str, Array]) -> None:
+        """Store the series of samples ``start`` … (contiguous float64 arrays by name)."""
+        for name, dataset in self.series.items():
+            data = arrays[name]
+            if data.shape[0]:
+                dataset.write_direct(data, dest_sel=np.s_[start : start + data.shape[0]])
+
+    def close(self, attributes: list[tuple[str, Any]] | None) -> None:
+        """Write the root attributes (unless None: a failed file) and close the file."""
+        try:
+            if attributes is not None:
+                for key, value in attributes:
+                    self.handle.attrs[key] = value
+        finally:
+            self.handle.close()
 
 
 @contextlib.contextmanager
