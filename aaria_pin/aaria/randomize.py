@@ -33,6 +33,7 @@ __all__ = [
     "random_dh_table",
     "random_joint_table",
     "random_urdf_joint_table",
+    "run_stream",
     "run_streams",
 ]
 
@@ -220,10 +221,16 @@ def config_from_mapping(data: Mapping[str, Any], where: str = "config") -> Rando
 
 def run_streams(seed: int, run: int) -> list[np.random.Generator]:
     """The four random streams of run ``run``: structure, joints, base, noise."""
-    return [
-        np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(run, part)))
-        for part in range(len(PARTS) + 1)
-    ]
+    return [run_stream(seed, run, part) for part in range(len(PARTS) + 1)]
+
+
+def run_stream(seed: int, run: int, part: int) -> np.random.Generator:
+    """Stream ``part`` of run ``run`` alone (0 structure, 1 joints, 2 base, 3 noise).
+
+    The same generator as ``run_streams(seed, run)[part]``; a data-set run makes only the
+    streams it draws from (each costs about 15 µs to seed).
+    """
+    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(run, part)))
 
 
 def _uniform(rng: np.random.Generator, bounds: Iterable[float]) -> float:

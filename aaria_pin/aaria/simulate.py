@@ -12,6 +12,8 @@ module's slots have parent ``""``), the tables ``senSenDH``, ``senSenJ``, ``senS
 from __future__ import annotations
 
 import os
+import threading
+from collections import OrderedDict
 from collections.abc import Iterator
 from dataclasses import asdict
 from typing import Any
@@ -56,10 +58,12 @@ from aaria_pin.core.trajectory import (
 from aaria_pin.errors import InputFileError
 
 __all__ = [
+    "ARM_CACHE_SIZE",
     "DEFAULT_DURATION",
     "DEFAULT_RATE",
     "DH_ROBOT",
     "UNITS",
+    "cached_arm",
     "dh_imu_mounts",
     "sampling_attributes",
     "simulate_from_record",
@@ -74,20 +78,95 @@ DH_ROBOT = "aaria-arm"
 
 
 def _module_columns(columns: list[int], values: Array) -> Array:
-    """Scatter per-joint columns into the six module columns (zeros for empty modules)."""
+    """Scatter per-joint columns into the six module columns (zeros for empty modules).
+
+    An arm with every module (``columns`` 0 … 5) keeps ``values`` as they are when they are a
+    C-ordered float array already (the run's fresh arrays): no copy.
+    """
+    if (
+        columns == list(range(N_MODULES))
+        and values.dtype == np.float64
+        and values.shape[1:] == (N_MODULES,)
+        and values.flags.c_contiguous
+    ):
+        return values
     out = np.zeros((values.shape[0], N_MODULES))
     out[:, columns] = values
     return out
 
 
 def dh_imu_mounts(robot: DHRobot) -> tuple[ImuMount, ...]:
-    """A DH robot's IMU slots as the record's mounts (parent ``""``, zero pose: an empty slot)."""
+    """A DH robot's IMU slots as the record's mounts (parent ``""``, zero pose: an empty slot).
+
+    Each pose is a copy: the record owns its arrays (the robot may be a cached one).
+    """
     return tuple(
-        ImuMount(slot.name, slot.parent, np.asarray(slot.T_parent_imu, dtype=float))
+        ImuMount(slot.name, slot.parent, np.array(slot.T_parent_imu, dtype=float))
         if slot.parent
         else ImuMount(slot.name, "", np.zeros((4, 4)))
         for slot in robot.imu_slots
     )
+
+
+ARM_CACHE_SIZE = 8
+"""DH arms kept by :func:`cached_arm` (the latest tables, dimensions and mounts used)."""
+
+_ARMS: OrderedDict[tuple[Any, ...], tuple[DHRobot, RobotModel]] = OrderedDict()
+_ARMS_LOCK = threading.Lock()
+
+
+def cached_arm(
+    dh_table: ArrayLike,
+    dims: BodyDimensions | None = None,
+    imu_mount: ArrayLike | None = None,
+) -> tuple[DHRobot, RobotModel]:
+    """The DH arm of an Aaria table and its moving-base Pinocchio model, built once per table.
+
+    Building the arm (bodies, inertias, IMU slots), its Pinocchio model and, when a record
+    keeps it, its URDF text cost 0.8 + 0.7 + 1.5 ms per run of ``aaria-fig2`` (measured
+    apart; a 10,000-sample record costs about 20 ms): about 3 ms, or 0.3× the floor of
+    ``benchmarks/bench_record.py``; a look-up costs 13 µs. The arm's URDF is written on first
+    use (:attr:`DHRobot.urdf`) and kept with it. The last :data:`ARM_CACHE_SIZE` arms are
+    kept, keyed by the exact values of the table, the mounts and the dimensions, so runs of
+    one table (a preset, a study, the chunks of a long run) build it once; a data set of
+    random tables builds each one (a miss costs the key). The arm and the model are only
+    read by the runs that share them; a record gets copies of the arrays it keeps.
+
+    Args:
+        dh_table: 8 × 5 extended DH table
+        dims: body dimensions and densities (default :class:`BodyDimensions`)
+        imu_mount: 14 × 4 × 4 IMU mounting poses, or None for the default slots
+
+    Returns:
+        The arm and its model on a moving base.
+
+    Raises:
+        TableError, ParameterError: as :func:`~aaria_pin.aaria.dh_robot.build_dh_robot`.
+    """
+    try:
+        table = np.asarray(dh_table, dtype=float)
+        mount = None if imu_mount is None else np.asarray(imu_mount, dtype=float)
+        key: tuple[Any, ...] | None = (
+            table.shape,
+            table.tobytes(),
+            None if mount is None else (mount.shape, mount.tobytes()),
+            repr(dims or BodyDimensions()),
+        )
+    except (TypeError, ValueError):
+        key = None  # not numbers: the builder says what is wrong
+    if key is not None:
+        with _ARMS_LOCK:
+            if key in _ARMS:
+                _ARMS.move_to_end(key)
+                return _ARMS[key]
+    robot = build_dh_robot(dh_table, "aaria", dims, imu_mount=imu_mount)
+    arm = robot, robot.model(moving_base=True)
+    if key is not None:
+        with _ARMS_LOCK:
+            _ARMS[key] = arm
+            while len(_ARMS) > ARM_CACHE_SIZE:
+                _ARMS.popitem(last=False)
+    return arm
 
 
 def dh_series(
@@ -161,9 +240,10 @@ def simulate_run(
             table ``torque_table``)
         threads: worker threads of the batched RNEA
         robot_name: the ``robot`` attribute (a preset's name, or the table's)
-        keep_urdf: keep the arm's URDF text in the record. Writing it costs 1.9 ms of a 12 ms
-            1,000-sample run (measured by the data-set benchmark), so the data-set engine, which
-            stores the URDF once per file or not at all, passes False
+        keep_urdf: keep the arm's URDF text in the record. It is written once per arm
+            (:func:`cached_arm`: 1.5 ms for ``aaria-fig2``); the data-set engine, whose random
+            tables each make a new arm and whose file stores the URDF once or not at all,
+            passes False so it is never written
 
     Returns:
         The run record (kind ``"dh"``).
@@ -239,14 +319,13 @@ def simulate_run_chunks(
         The run record of each piece (kind ``"dh"``), ``time`` the piece's sample times.
     """
     check_seed(seed)
-    robot = build_dh_robot(dh_table, "aaria", dims, imu_mount=imu_mount)
+    robot, model = cached_arm(dh_table, dims, imu_mount)
     time = sample_times(duration, rate)
     senSenJ = (
         default_joint_table(robot.chain) if joint_table is None else np.array(joint_table, float)
     )
     validate_joint_table(senSenJ, robot.chain)  # errors before any work
     senSenB = default_base_table() if base_table is None else validate_base_table(base_table)
-    model = robot.model(moving_base=True)
     columns = [module - 1 for module in robot.chain.modules]  # module order → senSen columns
     tables = {"senSenDH": robot.chain.table.copy(), "senSenJ": senSenJ, "senSenB": senSenB}
     by_module = None

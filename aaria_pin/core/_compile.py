@@ -117,12 +117,18 @@ def _compile_listener(base: type) -> Any:
     return CompileListener()
 
 
-def kernel(function: Callable[..., Any]) -> Any:
+def kernel(function: Callable[..., Any] | None = None, *, exact: bool = False) -> Any:
     """``numba.njit(cache=True, fastmath=True, error_model="numpy")``: a cached kernel.
 
     The flags are those every kernel of the package has always been compiled with (the
     results are compared bit for bit with earlier versions), and importing numba through here
-    registers the compile message (module docstring).
+    registers the compile message (module docstring). ``@kernel(exact=True)`` compiles without
+    ``fastmath``: IEEE arithmetic in the written order, no fused multiply-adds, no
+    reassociation, so a kernel that replaces numpy array expressions gives their numbers bit
+    for bit (the trajectory kernels, which replaced array code whose outputs the 0.1 fixtures
+    hold).
     """
     numba = _load_numba()
-    return numba.njit(cache=True, fastmath=True, error_model="numpy")(function)
+    if function is None:
+        return lambda inner: numba.njit(cache=True, fastmath=not exact, error_model="numpy")(inner)
+    return numba.njit(cache=True, fastmath=not exact, error_model="numpy")(function)

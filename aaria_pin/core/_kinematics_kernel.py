@@ -6,6 +6,15 @@ in each joint's own axes, as Pinocchio does: angular velocity ``w``, angular acc
 and proper acceleration ``f`` (classical acceleration minus gravity) of each joint frame, plus
 its world rotation and position; then it reads the requested frames off their joints.
 
+The trajectory kernels (:func:`sine_columns`, :func:`base_kinematics`,
+:func:`gimbal_kinematics`) and the noise pass (:func:`measure_noise`) replaced numpy array code
+whose numbers the 0.1 fixtures hold: they are compiled ``exact`` (no fastmath), repeat its
+operations in its order, and call ``sin``/``cos``, which on the project's machine give numpy's
+numbers bit for bit (4 million arguments up to 10⁵ rad checked; ``tests/core/
+test_trajectory_kernels.py`` holds each kernel equal to the array code). On a machine where
+numpy's ``sin``/``cos`` took another path (e.g. a SIMD library numba does not use), those
+last bits could differ and the fixture tests would say so.
+
 The kernels are compiled on first use and cached on disk, once per install; a first compile says
 so on stderr (:func:`aaria_pin.core._compile.kernel`).
 """
@@ -264,3 +273,168 @@ def free_flyer_state(  # type: ignore[no-untyped-def]  # pragma: no cover
         a_out[t, 0] -= w1 * u2 - w2 * u1
         a_out[t, 1] -= w2 * u0 - w0 * u2
         a_out[t, 2] -= w0 * u1 - w1 * u0
+
+
+@kernel(exact=True)
+def sine_columns(  # type: ignore[no-untyped-def]  # pragma: no cover
+    amplitude, bias, frequency, phase, time, value, velocity, acceleration
+):
+    """``A·sin(w·t + phase) + bias`` and its two derivatives, (T, k) each, into the outputs.
+
+    The operations, their order and their roundings are those of the numpy expressions this
+    replaced (``t·w + phase``; ``A·s + bias``; ``c·(A·w)``; ``s·((-A)·w·w)``), and numba's
+    ``sin``/``cos`` give numpy's numbers on the project's machine (checked on 4 million
+    arguments up to 10⁵ rad), so the values are bit for bit those of the array code.
+    """
+    k_count = amplitude.shape[0]
+    for t in range(time.shape[0]):
+        now = time[t]
+        for k in range(k_count):
+            A = amplitude[k]
+            w = frequency[k]
+            angle = now * w + phase[k]
+            s = np.sin(angle)
+            c = np.cos(angle)
+            value[t, k] = A * s + bias[k]
+            velocity[t, k] = c * (A * w)
+            acceleration[t, k] = s * (-A * w * w)
+
+
+@kernel(exact=True)
+def base_kinematics(  # type: ignore[no-untyped-def]  # pragma: no cover
+    amplitude,
+    bias,
+    frequency,
+    phase,
+    time,
+    position,
+    velocity,
+    acceleration,
+    rotation,
+    omega,
+    omega_dot,
+):
+    """The base's sine motion along x, y, z and through X-Y-Z gimbal angles, per sample.
+
+    Rows 0–2 of the (6,) parameters move the origin, rows 3–5 turn the gimbal
+    (``R = Rx·Ry·Rz``, body rates): every value goes straight into its (T, 3) or (T, 3, 3)
+    output. The expressions are those of :func:`sine_columns` and of
+    ``trajectory.gimbal_xyz_motion`` written per sample, in the same order, so the numbers
+    are the same bit for bit.
+    """
+    gimbal = np.empty(9)
+    for t in range(time.shape[0]):
+        now = time[t]
+        for k in range(3):
+            A = amplitude[k]
+            w = frequency[k]
+            angle = now * w + phase[k]
+            s = np.sin(angle)
+            c = np.cos(angle)
+            position[t, k] = A * s + bias[k]
+            velocity[t, k] = c * (A * w)
+            acceleration[t, k] = s * (-A * w * w)
+        for k in range(3, 6):  # the gimbal angles, rates and accelerations
+            A = amplitude[k]
+            w = frequency[k]
+            angle = now * w + phase[k]
+            s = np.sin(angle)
+            c = np.cos(angle)
+            gimbal[k - 3] = A * s + bias[k]
+            gimbal[k] = c * (A * w)
+            gimbal[k + 3] = s * (-A * w * w)
+        _gimbal(
+            gimbal[0],
+            gimbal[1],
+            gimbal[2],
+            gimbal[3],
+            gimbal[4],
+            gimbal[5],
+            gimbal[6],
+            gimbal[7],
+            gimbal[8],
+            rotation[t],
+            omega[t],
+            omega_dot[t],
+        )
+
+
+@kernel(exact=True)
+def gimbal_kinematics(  # type: ignore[no-untyped-def]  # pragma: no cover
+    angles, rates, accelerations, rotation, omega, omega_dot
+):
+    """X-Y-Z gimbal rotation, body rates and their derivative for every sample (:func:`_gimbal`)."""
+    for t in range(angles.shape[0]):
+        _gimbal(
+            angles[t, 0],
+            angles[t, 1],
+            angles[t, 2],
+            rates[t, 0],
+            rates[t, 1],
+            rates[t, 2],
+            accelerations[t, 0],
+            accelerations[t, 1],
+            accelerations[t, 2],
+            rotation[t],
+            omega[t],
+            omega_dot[t],
+        )
+
+
+@kernel(exact=True)
+def _gimbal(  # type: ignore[no-untyped-def]  # pragma: no cover
+    ax, ay, az, xd, yd, zd, xdd, ydd, zdd, R, omega, omega_dot
+):
+    """``R = Rx(ax)·Ry(ay)·Rz(az)``, body angular velocity and acceleration of one sample.
+
+    Term for term the array expressions of ``trajectory.gimbal_xyz_motion`` (same operands,
+    same order, ``cx·0 - sx·cy`` kept as written: it is ``-0.0``-exact), so the same numbers.
+    """
+    cx, sx = np.cos(ax), np.sin(ax)
+    cy, sy = np.cos(ay), np.sin(ay)
+    cz, sz = np.cos(az), np.sin(az)
+    R[0, 0] = cy * cz
+    R[0, 1] = -cy * sz
+    R[0, 2] = sy
+    r20 = -sy * cz
+    r21 = sy * sz
+    R[1, 0] = cx * sz - sx * r20
+    R[1, 1] = cx * cz - sx * r21
+    R[1, 2] = cx * 0.0 - sx * cy
+    R[2, 0] = sx * sz + cx * r20
+    R[2, 1] = sx * cz + cx * r21
+    R[2, 2] = sx * 0.0 + cx * cy
+    omega[0] = cy * cz * xd + sz * yd
+    omega[1] = -cy * sz * xd + cz * yd
+    omega[2] = sy * xd + zd
+    omega_dot[0] = cy * cz * xdd + sz * ydd - (sy * cz * yd + cy * sz * zd) * xd + cz * zd * yd
+    omega_dot[1] = -cy * sz * xdd + cz * ydd + (sy * sz * yd - cy * cz * zd) * xd - sz * zd * yd
+    omega_dot[2] = sy * xdd + zdd + cy * yd * xd
+
+
+@kernel(exact=True)
+def measure_noise(  # type: ignore[no-untyped-def]  # pragma: no cover
+    measured, exact, bias, change, start, step, white, full_scale, lsb
+):
+    """Standard normals to IMU measurements in place, (m, n_imu·6), per element.
+
+    For sample ``i = start + row = k·step + r`` and column ``j``:
+    ``round(clip(x·white + exact + (Δ[k]·(r/step) + b[k]), ±full_scale) / lsb)·lsb`` with
+    ``x`` the standard normal held in ``measured``, ``b`` the bias knots and ``Δ`` their steps:
+    the operations and their order of ``imu_noise._measure``'s array code, so its numbers
+    bit for bit (``rint`` is numpy's ``round`` to even).
+    """
+    columns = measured.shape[1]
+    for row in range(measured.shape[0]):
+        index = start + row
+        knot = index // step
+        fraction = (index - knot * step) / step
+        for j in range(columns):
+            value = measured[row, j] * white[j] + exact[row, j]
+            value += change[knot, j] * fraction + bias[knot, j]
+            limit = full_scale[j]
+            if value > limit:
+                value = limit
+            if value < -limit:
+                value = -limit
+            measured[row, j] = np.rint(value / lsb[j]) * lsb[j]

@@ -224,10 +224,40 @@ def _measure(
 
     ``measured`` holds the white noise's standard normals on entry. Every operation is per
     element (the bias between two knots is ``b[k] + (b[k+1] - b[k])·r/step`` for sample
-    ``k·step + r``), so a run measured in pieces is bit for bit the run measured whole; the
-    rows go in blocks of :data:`NOISE_BLOCK` so the temporaries stay small (a whole-row
-    temporary of a 20,000-sample piece of 14 IMUs is 13 MB, a block's 2.8 MB; the blocks
-    cost no time measurable against the draws).
+    ``k·step + r``), so a run measured in pieces is bit for bit the run measured whole. One
+    compiled pass (``_kinematics_kernel.measure_noise``) does it: 0.9 ms against 4.3 ms for
+    the array code it replaced (10,000 samples of 14 IMUs), whose operations it repeats in
+    order (:func:`_measure_arrays`, which the tests hold it equal to).
+    """
+    from aaria_pin.core._kinematics_kernel import measure_noise
+
+    n, columns = measured.shape
+    n_imu = columns // 6
+    measure_noise(
+        measured,
+        np.ascontiguousarray(exact, dtype=np.float64).reshape(n, -1),
+        np.ascontiguousarray(bias),
+        np.ascontiguousarray(bias[1:] - bias[:-1]),
+        start,
+        _bias_step(rate, model),
+        np.tile(_per_axis(model, "noise_density"), n_imu) * np.sqrt(rate / 2.0),
+        np.tile(_per_axis(model, "range"), n_imu),
+        np.tile(_per_axis(model, "lsb"), n_imu),
+    )
+
+
+def _measure_arrays(
+    measured: Array,
+    exact: Array,
+    bias: Array,
+    start: int,
+    rate: float,
+    model: ImuNoiseModel,
+) -> None:
+    """:func:`_measure` as numpy array code, rows in blocks of :data:`NOISE_BLOCK`.
+
+    The reference of the compiled pass (a whole-row temporary of a 20,000-sample piece of
+    14 IMUs is 13 MB, a block's 2.8 MB).
     """
     n, columns = measured.shape
     n_imu = columns // 6

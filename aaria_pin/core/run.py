@@ -253,7 +253,12 @@ def simulate_series(
 
     samples = trajectory.q.shape[0]
     slots = list(range(len(imu_frames))) if imu_slots is None else list(imu_slots)
-    imu = np.zeros((samples, len(imu_frames) if n_slots is None else n_slots, 6))
+    n_imu_slots = len(imu_frames) if n_slots is None else n_slots
+    # No empty slot: the noisy measurements are the record's array as they come (no zeros, no
+    # scatter: a 6.7 MB copy and its page faults, 1–1.5 ms of a 10,000-sample run of 14 IMUs).
+    every_slot = slots == list(range(n_imu_slots))
+    shape = (samples, n_imu_slots, 6)
+    imu = np.empty(shape) if every_slot and not noise else np.zeros(shape)
     exact, tool_pose = trajectory_signals(
         robot,
         base,
@@ -263,10 +268,15 @@ def simulate_series(
         imu_out=None if noise else imu,  # noise-free: straight into the record's array
         imu_slots=None if noise else slots,
     )
-    if noise and slots and noise_stream is not None:
-        imu[:, slots] = noise_stream.measure(exact, start)
-    elif noise and slots:
-        imu[:, slots] = add_imu_noise(exact, rate, np.random.default_rng(seed), noise_model)
+    if noise and slots:
+        if noise_stream is not None:
+            measured = noise_stream.measure(exact, start)
+        else:
+            measured = add_imu_noise(exact, rate, np.random.default_rng(seed), noise_model)
+        if every_slot:
+            imu = measured  # a new (T, S, 6) array: the record's, without a copy
+        else:
+            imu[:, slots] = measured
     tau, base_wrench = inverse_dynamics(robot, base, trajectory, threads)
     if robot.moving_base:
         base_pose = base.T_world_base()

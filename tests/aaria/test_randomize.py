@@ -15,6 +15,7 @@ from aaria_pin.aaria.randomize import (
     random_base_table,
     random_dh_table,
     random_joint_table,
+    run_stream,
     run_streams,
 )
 from aaria_pin.core.model import build_model
@@ -51,6 +52,17 @@ def test_streams_depend_only_on_seed_and_run() -> None:
         np.testing.assert_array_equal(x, y)
         assert not np.array_equal(x, z)
     assert not np.array_equal(a[0], a[1])
+
+
+def test_one_stream_alone_is_the_same_generator_as_among_the_four() -> None:
+    for part in range(4):
+        alone = run_stream(5, 17, part).random(4)
+        among = run_streams(5, 17)[part].random(4)
+        seeded = np.random.Generator(
+            np.random.PCG64(np.random.SeedSequence(5, spawn_key=(17, part)))
+        ).random(4)
+        np.testing.assert_array_equal(alone, seeded)
+        np.testing.assert_array_equal(among, seeded)
 
 
 def test_prismatic_motion_stays_on_its_rail_at_the_extremes() -> None:

@@ -197,3 +197,39 @@ def test_record_layout_the_sensen_view_over_q_and_imu_and_the_base_pose() -> Non
     np.testing.assert_allclose(record.base_pose[:, :3, :3], rotation, atol=1e-12)
     np.testing.assert_array_equal(record.base_pose[:, 3], np.tile([0, 0, 0, 1.0], (11, 1)))
     assert record.urdf.startswith("<?xml") or "<robot" in record.urdf[:200]
+
+
+def test_an_arm_is_built_once_per_table_and_records_own_their_arrays() -> None:
+    from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
+    from aaria_pin.aaria.simulate import ARM_CACHE_SIZE, cached_arm
+
+    fig2, fig3 = get_preset("aaria-fig2"), get_preset("aaria-fig3")
+    robot, model = cached_arm(fig2.table)
+    assert cached_arm(np.array(fig2.table).tolist()) == (robot, model)  # same numbers: same arm
+    assert cached_arm(fig3.table)[0] is not robot
+    assert cached_arm(fig2.table, BodyDimensions(density=1000.0))[0] is not robot
+    assert cached_arm(fig2.table, BodyDimensions(density=1000.0))[0].dims.density == 1000.0
+    fresh = build_dh_robot(fig2.table, "aaria")
+    assert robot.urdf == fresh.urdf  # the cached arm is the arm the builder makes
+    assert model.model.nq == fresh.model(moving_base=True).model.nq
+    for k in range(ARM_CACHE_SIZE + 1):  # bounded: the oldest goes
+        table = np.array(fig2.table, dtype=float)
+        table[0, 0] += 1e-3 * (k + 1)
+        cached_arm(table)
+    assert cached_arm(fig2.table)[0] is not robot
+
+    record = simulate_run(fig2.table, duration=0.05, rate=100.0)
+    mount = next(m for m in record.imu_mounts if m.parent)
+    mount.T_parent_imu[0, 3] = 99.0  # a record's arrays are its own
+    again = simulate_run(fig2.table, duration=0.05, rate=100.0)
+    assert next(m for m in again.imu_mounts if m.parent).T_parent_imu[0, 3] != 99.0
+    np.testing.assert_array_equal(again.imu, record.imu)
+
+
+def test_bad_tables_still_raise_through_the_cache() -> None:
+    from aaria_pin.errors import TableError
+
+    with pytest.raises(TableError):
+        simulate_run([["a"] * 5] * 8)
+    with pytest.raises(TableError):
+        simulate_run(np.full((8, 5), np.nan))

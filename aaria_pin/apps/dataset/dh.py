@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.aaria.randomize import random_dh_table, random_joint_table, run_streams
+from aaria_pin.aaria.randomize import random_dh_table, random_joint_table, run_stream
 from aaria_pin.apps.dataset.spec import DatasetSpec, RunInputs
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
@@ -79,14 +79,13 @@ class DhDatasetSpec(DatasetSpec):
         from aaria_pin.aaria.dh import chain_from_aaria
         from aaria_pin.aaria.oscillation import default_joint_table
 
-        structure, joints, _, _ = run_streams(self.seed, run)
         if "structure" in self.vary:
-            dh = random_dh_table(self.config, structure)
+            dh = random_dh_table(self.config, run_stream(self.seed, run, 0))
         else:
             assert self.dh_table is not None
             dh = np.asarray(self.dh_table, dtype=float)
         if "joints" in self.vary:
-            joint_table = random_joint_table(self.config, dh, joints)
+            joint_table = random_joint_table(self.config, dh, run_stream(self.seed, run, 1))
         elif self.joint_table is not None:
             joint_table = np.asarray(self.joint_table, dtype=float)
         else:

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from aaria_pin._version import __version__
-from aaria_pin.aaria.randomize import PARTS, RandomConfig, random_base_table, run_streams
+from aaria_pin.aaria.randomize import PARTS, RandomConfig, random_base_table, run_stream
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.seeds import check_seed
@@ -156,7 +156,7 @@ class DatasetSpec(ABC):
         from aaria_pin.core.oscillation import default_base_table
 
         if "base" in self.vary:
-            base_table = random_base_table(self.config, run_streams(self.seed, run)[2])
+            base_table = random_base_table(self.config, run_stream(self.seed, run, 2))
         else:
             base_table = np.asarray(
                 self.base_table if self.base_table is not None else default_base_table(),

@@ -181,13 +181,14 @@ class UrdfDatasetSpec(DatasetSpec):
 
     def inputs(self, run: int) -> RunInputs:
         """``joint_table``, ``base_table`` (6 × 4; none on a fixed base) and the noise seed."""
-        from aaria_pin.aaria.randomize import random_urdf_joint_table, run_streams
+        from aaria_pin.aaria.randomize import random_urdf_joint_table, run_stream
         from aaria_pin.core.urdf_robot import default_urdf_joint_table
 
         loaded = self.source.load()
-        _, joints, _, _ = run_streams(self.seed, run)
         if "joints" in self.vary:
-            joint_table = random_urdf_joint_table(self.config, loaded.joints, joints)
+            joint_table = random_urdf_joint_table(
+                self.config, loaded.joints, run_stream(self.seed, run, 1)
+            )
         elif self.joint_table is not None:
             joint_table = np.asarray(self.joint_table, dtype=float)
         else:

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import itertools
 import json
-import zlib
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -207,12 +206,73 @@ def chunk_origins(shape: tuple[int, ...], chunk: tuple[int, ...]) -> Iterator[tu
     return itertools.product(*(range(0, dim, size) for dim, size in zip(shape, chunk, strict=True)))
 
 
-def _compressor() -> Any:
+def _codec() -> tuple[Any, Any]:
+    """Deflate and CRC-32: ISA-L's (``isal``), or zlib's where ``isal`` is missing.
+
+    Both make the standard zlib stream and CRC-32; ISA-L deflates about 8 times faster than
+    zlib at level 1 for the same size, and its CRC-32 of a run's 330 kB of chunks takes 4 µs
+    against zlib's 50 µs (measured on the project's machine).
+    """
     try:
-        from isal.isal_zlib import compress
+        from isal.isal_zlib import compress, crc32
     except ImportError:  # pragma: no cover - isal is a dependency; zlib makes the same format
-        from zlib import compress
-    return compress
+        from zlib import compress, crc32
+    return compress, crc32
+
+
+_CONSTANT_CHUNKS: dict[tuple[str, int, bytes], bytes] = {}
+"""Compressed bytes of constant chunks by (dtype, element count, element bytes), per process.
+
+The last row of every pose sample is ``0 0 0 1``: 8 of a run's 32 pose chunks are the same
+constant series in every run, so each is compressed once per process.
+"""
+_MAX_CONSTANT_CHUNKS = 256
+
+
+def _shuffled_entries(array: Array) -> Array:
+    """HDF5's shuffle of each trailing entry's series: ``[entry, byte, t]`` as uint8.
+
+    ``array`` is T × … (one run's series); entry ``i`` (its trailing indices in C order) is the
+    series ``array[:, i]``, and row ``[i]`` of the result, read as bytes, is what the shuffle
+    filter makes of that series: byte ``j`` of every element together, ``j`` = 0 … itemsize-1.
+    One transposing copy for all entries.
+    """
+    samples, itemsize = array.shape[0], array.itemsize
+    flat = np.ascontiguousarray(array).reshape(samples, -1)
+    planes = flat.view(np.uint8).reshape(samples, flat.shape[1], itemsize)
+    return np.ascontiguousarray(planes.transpose(1, 2, 0))
+
+
+def _constant_entries(array: Array) -> Array:
+    """Which trailing entries of a T × … array hold the same bits at every sample."""
+    flat = np.ascontiguousarray(array).reshape(array.shape[0], -1)
+    bits = flat.view(np.dtype(f"u{array.itemsize}"))
+    return np.asarray((bits == bits[:1]).all(axis=0))
+
+
+def _per_entry(shape: tuple[int, ...], chunk: tuple[int, ...]) -> bool:
+    """Whether a chunking holds one trailing entry's whole series per chunk (T × 1 × … × 1)."""
+    return len(shape) > 1 and chunk[0] == shape[0] and all(c == 1 for c in chunk[1:])
+
+
+def _chunk_blocks(array: Array, chunk: tuple[int, ...]) -> list[Any]:
+    """The shuffled bytes of each chunk of one run's array, in storage order (buffers).
+
+    The two chunkings of the layout take one copy each: the whole array (one chunk), or one
+    chunk per trailing entry (chunk T × 1 × … × 1, a pose's entries); any other chunking is
+    cut chunk by chunk.
+    """
+    if chunk == array.shape:
+        raw = np.ascontiguousarray(array)
+        return [np.ascontiguousarray(raw.view(np.uint8).reshape(-1, raw.itemsize).T)]
+    if _per_entry(array.shape, chunk):
+        return list(_shuffled_entries(array))
+    blocks = []
+    for origin in chunk_origins(array.shape, chunk):
+        block = array[tuple(slice(o, o + c) for o, c in zip(origin, chunk, strict=True))]
+        raw = np.ascontiguousarray(block)
+        blocks.append(np.ascontiguousarray(raw.view(np.uint8).reshape(-1, raw.itemsize).T))
+    return blocks
 
 
 def encode_run(layout: DatasetLayout, record: RunRecord, dtype: str) -> EncodedRun:
@@ -224,21 +284,43 @@ def encode_run(layout: DatasetLayout, record: RunRecord, dtype: str) -> EncodedR
     same size), or zlib where ``isal`` is missing. Inputs (mounts, tables) stay float64, series
     take ``dtype``.
 
+    Where the time goes (1,000 samples, 14 IMUs, float32; 43 chunks; about 2.1 ms a run, 2.5
+    ms before the measures below): deflate about 1.5 ms, of which ``imu`` (336 kB) 0.6 ms and
+    each of the 24 varying pose entries (4 kB) about 18 µs, mostly per-stream work (a constant
+    entry takes 4 µs; level 0, which builds no Huffman codes of its own, 7 µs but 24 % more
+    bytes, beyond the size budget). A pose's 16 entries are shuffled by one transposing copy,
+    the 8 constant ones (the last row ``0 0 0 1``) are compressed once per process
+    (:data:`_CONSTANT_CHUNKS`: the same bytes as compressing them again), and the CRC-32 is
+    ISA-L's.
+
     Raises:
         ParameterError: the run does not fit the layout.
     """
     layout.check(record)
-    compress = _compressor()
+    compress, crc32 = _codec()
     encoded: EncodedRun = {}
     for name, array in run_arrays(layout, record, dtype).items():
         chunk = layout.chunk(name, array.shape)
+        blocks = _chunk_blocks(array, chunk)
+        constant = (
+            _constant_entries(array)
+            if _per_entry(array.shape, chunk)
+            else np.zeros(len(blocks), dtype=bool)
+        )
+        flat = array.reshape(array.shape[0], -1) if constant.any() else array
         chunks, checksum = [], 0
-        for origin in chunk_origins(array.shape, chunk):
-            block = array[tuple(slice(o, o + c) for o, c in zip(origin, chunk, strict=True))]
-            raw = np.ascontiguousarray(block)
-            shuffled = raw.view(np.uint8).reshape(-1, raw.itemsize).T.tobytes()
-            data = compress(shuffled, 1)
-            checksum = zlib.crc32(data, checksum)
+        for index, block in enumerate(blocks):
+            if constant[index]:
+                key = (array.dtype.str, array.shape[0], flat[0, index].tobytes())
+                data = _CONSTANT_CHUNKS.get(key)
+                if data is None:
+                    data = compress(block, 1)
+                    if len(_CONSTANT_CHUNKS) >= _MAX_CONSTANT_CHUNKS:
+                        _CONSTANT_CHUNKS.clear()
+                    _CONSTANT_CHUNKS[key] = data
+            else:
+                data = compress(block, 1)
+            checksum = crc32(data, checksum)
             chunks.append(data)
         encoded[name] = (chunks, checksum)
     return encoded
