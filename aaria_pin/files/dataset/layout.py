@@ -210,8 +210,8 @@ def _codec() -> tuple[Any, Any]:
     """Deflate and CRC-32: ISA-L's (``isal``), or zlib's where ``isal`` is missing.
 
     Both make the standard zlib stream and CRC-32; ISA-L deflates about 8 times faster than
-    zlib at level 1 for the same size, and its CRC-32 of a run's 330 kB of chunks takes 4 µs
-    against zlib's 50 µs (measured on the project's machine).
+    zlib at level 1 for the same size, and its CRC-32 of 200 kB takes 4 µs against zlib's 49 µs
+    (measured on the project's machine).
     """
     try:
         from isal.isal_zlib import compress, crc32
@@ -284,14 +284,14 @@ def encode_run(layout: DatasetLayout, record: RunRecord, dtype: str) -> EncodedR
     same size), or zlib where ``isal`` is missing. Inputs (mounts, tables) stay float64, series
     take ``dtype``.
 
-    Where the time goes (1,000 samples, 14 IMUs, float32; 43 chunks; about 2.1 ms a run, 2.5
-    ms before the measures below): deflate about 1.5 ms, of which ``imu`` (336 kB) 0.6 ms and
-    each of the 24 varying pose entries (4 kB) about 18 µs, mostly per-stream work (a constant
-    entry takes 4 µs; level 0, which builds no Huffman codes of its own, 7 µs but 24 % more
-    bytes, beyond the size budget). A pose's 16 entries are shuffled by one transposing copy,
-    the 8 constant ones (the last row ``0 0 0 1``) are compressed once per process
-    (:data:`_CONSTANT_CHUNKS`: the same bytes as compressing them again), and the CRC-32 is
-    ISA-L's.
+    Where the time goes (1,000 samples, 14 IMUs, float32; 43 chunks; 2.1 to 3 ms a run as the
+    shared machine allows, of which the measures below save 0.1 to 0.4 ms): deflate about
+    1.5 ms, of which ``imu`` (336 kB) 0.6 ms and each of the 24 varying pose entries (4 kB)
+    about 18 µs, mostly per-stream work (a constant entry takes 4 µs; level 0, which builds no
+    Huffman codes of its own, 7 µs but 24 % more bytes, beyond the size budget). A pose's 16
+    entries are shuffled by one transposing copy, the 8 constant ones (the last row
+    ``0 0 0 1``) are compressed once per process (:data:`_CONSTANT_CHUNKS`: the same bytes as
+    compressing them again), and the CRC-32 is ISA-L's.
 
     Raises:
         ParameterError: the run does not fit the layout.
