@@ -15,7 +15,7 @@ import os
 import threading
 from collections import OrderedDict
 from collections.abc import Iterator
-from dataclasses import asdict
+from dataclasses import asdict, fields, replace
 from typing import Any
 
 import numpy as np
@@ -143,6 +143,11 @@ def cached_arm(
     Raises:
         TableError, ParameterError: as :func:`~aaria_pin.aaria.dh_robot.build_dh_robot`.
     """
+    # A snapshot of the dimensions: the arm keeps it, so a caller changing its own
+    # density_overrides mapping afterwards changes neither the cached arm nor its key.
+    dims = dims or BodyDimensions()
+    overrides = dict(sorted(dims.density_overrides.items()))
+    dims = replace(dims, density_overrides=overrides)
     try:
         table = np.asarray(dh_table, dtype=float)
         mount = None if imu_mount is None else np.asarray(imu_mount, dtype=float)
@@ -150,10 +155,19 @@ def cached_arm(
             table.shape,
             table.tobytes(),
             None if mount is None else (mount.shape, mount.tobytes()),
-            repr(dims or BodyDimensions()),
+            tuple(
+                (
+                    f.name,
+                    tuple(overrides.items())
+                    if f.name == "density_overrides"
+                    else getattr(dims, f.name),
+                )
+                for f in fields(dims)
+            ),
         )
+        hash(key)
     except (TypeError, ValueError):
-        key = None  # not numbers: the builder says what is wrong
+        key = None  # not numbers (the builder says what is wrong) or not hashable: no cache
     if key is not None:
         with _ARMS_LOCK:
             if key in _ARMS:

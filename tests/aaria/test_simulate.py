@@ -233,3 +233,24 @@ def test_bad_tables_still_raise_through_the_cache() -> None:
         simulate_run([["a"] * 5] * 8)
     with pytest.raises(TableError):
         simulate_run(np.full((8, 5), np.nan))
+
+
+def test_a_changed_density_mapping_neither_changes_nor_reuses_a_cached_arm() -> None:
+    from aaria_pin.aaria.dh_robot import BodyDimensions
+
+    table = get_preset("aaria-fig2").table
+    densities = {"link3": 2700.0}
+    light = simulate_run(
+        table, duration=0.1, noise=False, dims=BodyDimensions(density_overrides=densities)
+    )
+    densities["link3"] = 8000.0  # the caller's mapping changes after the run
+    heavy = simulate_run(
+        table, duration=0.1, noise=False, dims=BodyDimensions(density_overrides=densities)
+    )
+    again = simulate_run(
+        table, duration=0.1, noise=False, dims=BodyDimensions(density_overrides={"link3": 2700.0})
+    )
+    assert not np.array_equal(light.tau, heavy.tau)  # a denser link 3 needs other torques
+    np.testing.assert_array_equal(again.tau, light.tau)
+    assert again.attributes["body_dimensions"]["density_overrides"] == {"link3": 2700.0}
+    assert heavy.attributes["body_dimensions"]["density_overrides"] == {"link3": 8000.0}

@@ -158,3 +158,16 @@ def test_pieces_out_of_order_or_of_another_robot_are_refused(
     with pytest.raises(OutputFileError, match="at least the first piece"):
         RunFileWriter(path, record, SAMPLES - 1)
     assert leftovers(tmp_path) == []
+
+
+def test_pieces_are_never_dropped_when_the_attributes_do_not_cover_the_run(
+    tmp_path: Path, record: RunRecord
+) -> None:
+    from aaria_pin.files.runfile import write_run_pieces
+
+    attributes = {k: v for k, v in record.attributes.items() if k not in ("duration", "rate")}
+    halves = [piece(record, 0, 20, attributes=attributes), piece(record, 20, SAMPLES)]
+
+    with pytest.raises(OutputFileError, match="more than one piece"):
+        write_run_pieces(tmp_path / "run.h5", halves, None)
+    assert not (tmp_path / "run.h5").exists()

@@ -550,6 +550,11 @@ def write_run_pieces(
     first = next(pieces)
     samples = run_length(first)
     if samples <= first.n_samples:
+        if next(pieces, None) is not None:
+            raise OutputFileError(
+                f"{output}: the run's attributes give {samples} samples but it came in more "
+                f"than one piece; allowed: pieces whose 'duration' and 'rate' cover the run"
+            )
         if announce is not None:
             announce(first)
         write_run(output, first, compression=compression)

@@ -63,6 +63,22 @@ class _Hdf5Stream:
 
         self.samples = samples
         self.handle = h5py.File(file, "w", track_order=True)
+        try:
+            self._lay_out(first, arrays, samples, compression)
+        except BaseException:
+            self.handle.close()  # the caller removes the temporary file
+            raise
+
+    def _lay_out(
+        self,
+        first: RunRecord,
+        arrays: Mapping[str, Array],
+        samples: int,
+        compression: str | None,
+    ) -> None:
+        """Create every dataset of the run at its full length (the rest of ``__init__``)."""
+        import h5py
+
         self.handle.attrs["format"] = RUN_FORMAT
         self.handle.attrs["format_version"] = RUN_FORMAT_VERSION
         strings = h5py.string_dtype("utf-8")
