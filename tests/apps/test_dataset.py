@@ -18,6 +18,7 @@ from aaria_pin.apps.dataset import engine
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.apps.dataset.engine import generate_dataset, simulate_dataset_run, task_runs
 from aaria_pin.cli import main
+from aaria_pin.core.record import RunRecord
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.dataset_reader import DatasetReader
 
@@ -282,3 +283,26 @@ def test_peak_memory_does_not_grow_with_the_number_of_runs(tmp_path: Path) -> No
         )
         peaks[n] = int(out.stdout.strip()) / 1024  # MB (ru_maxrss is in kB on Linux)
     assert peaks[2000] - peaks[200] < 20, peaks
+
+
+class _DeadlySpec(DhDatasetSpec):
+    """Run 10's worker dies (as on a segfault); every other run is an ordinary one."""
+
+    def make_run(self, run: int) -> RunRecord:
+        if run == 10:
+            os._exit(1)
+        return super().make_run(run)
+
+
+def test_a_worker_that_dies_fails_only_its_own_run(tmp_path: Path) -> None:
+    settings = {"n_runs": 24, "seed": 7, **SHORT}
+    whole = tmp_path / "whole.h5"
+    generate_dataset(whole, DhDatasetSpec(**settings), workers=1)
+    path = tmp_path / "deadly.h5"
+    report = generate_dataset(path, _DeadlySpec(**settings), workers=2)
+    assert sorted(report.failures) == [10]
+    assert "worker process died" in report.failures[10]
+    with DatasetReader(path) as got, DatasetReader(whole) as want:
+        for k in range(24):
+            if k != 10:  # its task-mates (several short runs a task) are kept, not failed
+                np.testing.assert_array_equal(got.record(k).imu, want.record(k).imu)

@@ -183,8 +183,12 @@ class _LocalRunner:
     def results(self, spec: DatasetSpec, runs: Sequence[int]) -> Iterator[Result]:
         """Results in completion order, a few tasks per worker in flight (:func:`task_runs`).
 
-        A worker that dies fails the runs it had in flight and is replaced.
+        A worker that dies breaks the pool, and every task in flight is lost with it: the pool
+        is replaced and the lost runs are tried again one at a time, alone in the pool, so only
+        the run that kills its worker again fails ("a worker process died during this run");
+        the runs that shared its task or the pool with it are kept.
         """
+        from collections import deque
         from concurrent.futures import FIRST_COMPLETED, wait
         from concurrent.futures.process import BrokenProcessPool
 
@@ -192,9 +196,18 @@ class _LocalRunner:
         pending = (tuple(runs[i : i + size]) for i in range(0, len(runs), size))
         window = self._workers * max(2, 4 // size)
         in_flight: dict[Any, tuple[int, ...]] = {}
+        retry: deque[int] = deque()
+        alone = False  # the one task in flight is a lost run tried again by itself
         while True:
-            for batch in itertools.islice(pending, window - len(in_flight)):
-                in_flight[self._pool.submit(_jobs, spec, batch)] = batch
+            if retry:
+                if not in_flight:
+                    run = retry.popleft()
+                    in_flight[self._pool.submit(_jobs, spec, (run,))] = (run,)
+                    alone = True
+            else:
+                alone = False
+                for batch in itertools.islice(pending, window - len(in_flight)):
+                    in_flight[self._pool.submit(_jobs, spec, batch)] = batch
             if not in_flight:
                 return
             done, _ = wait(in_flight, return_when=FIRST_COMPLETED)
@@ -204,11 +217,13 @@ class _LocalRunner:
                     results = future.result()
                 except BrokenProcessPool:
                     lost = [*batch, *itertools.chain.from_iterable(in_flight.values())]
-                    for run in lost:
-                        yield run, None, "a worker process died during this run"
                     in_flight.clear()
                     self._pool.shutdown(wait=False, cancel_futures=True)
                     self._pool = self._start()
+                    if alone:
+                        yield batch[0], None, "a worker process died during this run"
+                    else:
+                        retry.extend(lost)
                     break
                 yield from results
 
