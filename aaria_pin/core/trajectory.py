@@ -25,6 +25,7 @@ __all__ = [
     "BaseMotion",
     "JointTrajectory",
     "gimbal_xyz_motion",
+    "reference_sine_motion",
     "sample_times",
     "sine_motion",
 ]
@@ -108,14 +109,14 @@ def sine_motion(
     times = np.asarray(time, dtype=float)
     shape = np.broadcast_shapes(*(c.shape for c in columns))
     if len(shape) != 1 or times.ndim != 1:
-        return _sine_arrays(columns[0], columns[1], columns[2], columns[3], times)
+        return reference_sine_motion(columns[0], columns[1], columns[2], columns[3], times)
     A, b, w, p = (np.ascontiguousarray(np.broadcast_to(c, shape)) for c in columns)
     value, velocity, acceleration = (np.empty((times.size, shape[0])) for _ in range(3))
     sine_columns(A, b, w, p, np.ascontiguousarray(times), value, velocity, acceleration)
     return value, velocity, acceleration
 
 
-def _sine_arrays(
+def reference_sine_motion(
     A: Array, bias: Array, w: Array, phase: Array, time: Array
 ) -> tuple[Array, Array, Array]:
     """:func:`sine_motion` as numpy array expressions (any broadcastable shapes).
