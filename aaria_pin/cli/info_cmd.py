@@ -1,4 +1,11 @@
-"""``aaria info``: a summary of a run file (any robot, any version) or a data set."""
+"""``aaria info``: a summary of a run file (any robot, any version) or a data set; a data card.
+
+``aaria info --card DS.h5`` prints a data set's card (:mod:`aaria_pin.apps.dataset.card`): the
+stored one when it is current, else one computed from the file. A run file has no card: its
+``aaria info`` already lists all a card would (its attributes, arrays, units), and a card's
+counts of runs by structure, failures and ranges drawn from belong to a data set; ``--card`` on
+a run file is refused in one line (exit 2).
+"""
 
 from __future__ import annotations
 
@@ -12,14 +19,26 @@ import click
 
 @click.command()
 @click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
-@click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
-def info(file: Path, as_json: bool) -> None:
-    """Summarise a run file or a data set: kind, robot, samples, rate, joints, IMUs, arrays."""
+@click.option("--json", "as_json", is_flag=True, help="Print the summary (or the card) as JSON.")
+@click.option(
+    "--card",
+    is_flag=True,
+    help="Print a data set's card: command, versions, ranges, columns with units and frames, "
+    "noise, runs by structure, failures.",
+)
+def info(file: Path, as_json: bool, card: bool) -> None:
+    """Summarise a run file or a data set: kind, robot, samples, rate, joints, IMUs, arrays.
+
+    With --card, a data set's data card instead (the stored one when current).
+    """
     from aaria_pin.files.dataset_file import is_dataset_file
     from aaria_pin.files.dataset_reader import dataset_summary
     from aaria_pin.files.runfile import run_file_summary
 
     is_dataset = is_dataset_file(file)
+    if card:
+        _echo_card(file, is_dataset, as_json)
+        return
     summary: dict[str, Any] = dataset_summary(file) if is_dataset else run_file_summary(file)
     if as_json:
         click.echo(json.dumps(summary, indent=2, default=str))
@@ -107,3 +126,28 @@ def _echo_dataset(file: Path, summary: Mapping[str, Any]) -> None:
     click.echo("arrays:")
     _echo_arrays(get("arrays") or {}, get("views") or {})
     click.echo(f"config: {json.dumps(get('config'), default=str)}")
+
+
+def _echo_card(file: Path, is_dataset: bool, as_json: bool) -> None:
+    """A data set's card, as text or JSON; a run file is refused.
+
+    Raises:
+        ParameterError: ``file`` is a run file.
+        InputFileError: ``file`` is missing or neither a run file nor a data set.
+    """
+    from aaria_pin.apps.dataset.card import card_text, current_card
+    from aaria_pin.errors import ParameterError
+    from aaria_pin.files.runfile import run_file_summary
+
+    if not is_dataset:
+        run_file_summary(file)  # a missing or unreadable file is refused as such
+        raise ParameterError(
+            parameter="card",
+            value=True,
+            allowed=f"a data set file ({file} is a run file; `aaria info {file}` describes it)",
+        )
+    data_card = current_card(file)
+    if as_json:
+        click.echo(json.dumps(data_card.to_dict(), indent=2))
+    else:
+        click.echo(card_text(data_card), nl=False)
