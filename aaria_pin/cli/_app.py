@@ -90,6 +90,7 @@ def _register() -> None:
         render_cmd,
         robots_cmd,
         simulate_cmd,
+        stats_cmd,
         torques_cmd,
         urdf_cmd,
         view_cmd,
@@ -103,6 +104,7 @@ def _register() -> None:
     main.add_command(render_cmd.render)
     main.add_command(robots_cmd.robots)
     main.add_command(simulate_cmd.simulate)
+    main.add_command(stats_cmd.dataset_stats)
     main.add_command(torques_cmd.torques)
     main.add_command(urdf_cmd.urdf)
     main.add_command(view_cmd.view)

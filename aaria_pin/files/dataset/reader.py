@@ -10,6 +10,9 @@ Example::
         arrays = ds.run(3, ("senSen", "tau"))     # stored arrays (and views) as stored
         for run_index, start, window in ds.windows(200, stride=100, names=("senSen", "tau")):
             ...                                   # window["senSen"]: (200, 91)
+        stats = ds.statistics(("senSen", "tau"), split="train", store=True)  # mean, std
+        train = ds.windows(200, names=("senSen", "tau"), split="train", normalise=True)
+    train[0]["senSen"]                            # a map-style dataset (any DataLoader)
 
 Data sets of both format versions read: version 2 (one layout for every robot, views as HDF5
 virtual datasets) and version 1, written by aaria_pin 0.1 (:mod:`.legacy`). Only complete runs
@@ -19,13 +22,13 @@ are read; each run is one chunk (a few for poses) on disk, so a window costs one
 from __future__ import annotations
 
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.record import RunRecord, mounts_from_poses
+from aaria_pin.core.record import SERIES, ColumnView, RunRecord, mounts_from_poses
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, ParameterError
 from aaria_pin.files._stored import decode_attributes
@@ -36,7 +39,20 @@ from aaria_pin.files.dataset.layout import (
     record_attributes,
 )
 from aaria_pin.files.dataset.legacy import LEGACY_VERSION, legacy_names, legacy_record
+from aaria_pin.files.dataset.statistics import (
+    channel_statistics,
+    read_statistics,
+    store_statistics,
+    view_statistics,
+)
 from aaria_pin.files.dataset.store import read_layout
+from aaria_pin.files.dataset.windows import (
+    DEFAULT_FRACTIONS,
+    WindowDataset,
+    check_fractions,
+    split_runs,
+    view_sources,
+)
 
 __all__ = ["DatasetReader", "dataset_summary"]
 
@@ -166,33 +182,204 @@ class DatasetReader:
             ),
         )
 
+    @property
+    def series_names(self) -> tuple[str, ...]:
+        """The names of :attr:`names` with a time axis (axis 1), the per-run constants apart.
+
+        Series and views have one; the input tables and ``imu_mount`` do not.
+        """
+        views = set(self.layout.views) if self.layout is not None else {"senSen", "signals"}
+        return tuple(name for name in self.names if name in SERIES or name in views)
+
+    @property
+    def _views(self) -> dict[str, ColumnView]:
+        """The views put together from their series (version 2; version 1 stores its view)."""
+        return dict(self.layout.views) if self.layout is not None else {}
+
+    @property
+    def _constants(self) -> frozenset[str]:
+        """The stored per-run arrays without a time axis."""
+        return frozenset(self.names) - set(self.series_names)
+
+    def _chosen_names(self, names: Sequence[str] | None) -> tuple[str, ...]:
+        """Names to read, checked (default: the first view, ``senSen`` or ``signals``)."""
+        if names is None:
+            first = next(iter(self.layout.views)) if self.layout is not None else self.names[0]
+            return (first,)
+        if isinstance(names, str):
+            names = (names,)
+        unknown = [name for name in names if name not in self.names]
+        if unknown or not names:
+            raise ParameterError(
+                parameter="names",
+                value=unknown[0] if unknown else tuple(names),
+                allowed=", ".join(self.names),
+            )
+        return tuple(names)
+
+    def split_runs(
+        self,
+        split: str | None = None,
+        seed: int = 0,
+        fractions: Sequence[float] = DEFAULT_FRACTIONS,
+    ) -> np.ndarray:
+        """The complete runs of one split by run (None: every complete run), increasing.
+
+        See :func:`~aaria_pin.files.dataset.windows.split_runs`: the split of run k depends on
+        ``(seed, fractions, N)`` alone; incomplete runs are in none.
+
+        Raises:
+            ParameterError: an unknown split, a negative seed, or bad fractions.
+        """
+        if split is None:
+            check_fractions(fractions)
+            return np.flatnonzero(self.complete).astype(np.int64)
+        runs = split_runs(len(self), split, seed, fractions)
+        return runs[self.complete[runs]]
+
     def windows(
-        self, length: int, stride: int | None = None, names: Sequence[str] | None = None
-    ) -> Iterator[tuple[int, int, dict[str, Array]]]:
-        """Fixed-length windows over every complete run, run by run.
+        self,
+        length: int,
+        stride: int | None = None,
+        *,
+        names: Sequence[str] | None = None,
+        split: str | None = None,
+        seed: int = 0,
+        fractions: Sequence[float] = DEFAULT_FRACTIONS,
+        normalise: bool = False,
+    ) -> WindowDataset:
+        """Fixed-length windows over the complete runs (of one split), as a map-style dataset.
+
+        ``len(ds)`` windows; ``ds[i]`` is ``{name: window, "run": k, "start": s}`` (NumPy
+        arrays); PyTorch's ``DataLoader(ds, batch_size=64, shuffle=True, num_workers=2)``
+        takes it as it is (see :mod:`aaria_pin.files.dataset.windows`). Iterating gives
+        ``(run, start, {name: window})`` run by run, each run read once.
 
         Args:
             length: samples per window
             stride: samples between window starts (default ``length``: no overlap)
-            names: time-series arrays or views to cut (``senSen``, ``signals``, ``q``, ``tau``,
-                ...; default the first view, ``senSen`` or ``signals``)
+            names: arrays or views (``senSen``, ``signals``, ``imu``, ``q``, ``tau``,
+                ``base_wrench``, …; default the first view, ``senSen`` or ``signals``); a
+                series is cut along time, a per-run constant (``senSenDH``, ``imu_mount``, …)
+                comes whole
+            split: ``"train"``, ``"validation"``, ``"test"``, or None for every complete run
+            seed: the split's seed
+            fractions: of the runs in the training, validation and test splits
+            normalise: subtract the mean and divide by the std (a channel of std 0 only
+                centred) stored for the training split of the same seed and fractions (see
+                :meth:`statistics`)
 
-        Yields:
-            ``(run index, first sample, {name: (length, ...) array})``.
+        Raises:
+            ParameterError: a length outside [1, T], a stride below 1, an unknown name or
+                split, a negative seed or bad fractions.
+            InputFileError: ``normalise`` without such stored statistics for every name.
         """
-        stride = stride or length
-        if names is None:
-            first = next(iter(self.layout.views)) if self.layout is not None else self.names[0]
-            names = (first,)
-        if not (1 <= length <= self.samples and stride >= 1):
+        stride = length if stride is None else stride
+        if not 1 <= length <= self.samples:
             raise ParameterError(
-                f"window length {length}, stride {stride}; allowed: 1 <= length <= {self.samples}"
-                ", stride >= 1"
+                parameter="length", value=length, allowed=f"1 to {self.samples} (samples per run)"
             )
-        for index in np.flatnonzero(self.complete):
-            run = self.run(int(index), names)
-            for start in range(0, self.samples - length + 1, stride):
-                yield int(index), start, {name: run[name][start : start + length] for name in names}
+        if stride < 1:
+            raise ParameterError(parameter="stride", value=stride, allowed="an integer >= 1")
+        chosen = self._chosen_names(names)
+        runs = self.split_runs(split, seed, fractions)
+        statistics = self._normalisation(chosen, seed, fractions) if normalise else None
+        return WindowDataset(
+            self.path,
+            length,
+            stride,
+            chosen,
+            self._views,
+            self._constants,
+            self.samples,
+            runs,
+            split=split,
+            seed=seed,
+            fractions=fractions,
+            statistics=statistics,
+        )
+
+    def statistics(
+        self,
+        names: Sequence[str] | None = None,
+        *,
+        split: str | None = "train",
+        seed: int = 0,
+        fractions: Sequence[float] = DEFAULT_FRACTIONS,
+        store: bool = False,
+    ) -> dict[str, tuple[Array, Array]]:
+        """Per-channel mean and std of arrays over every sample of a split's complete runs.
+
+        One streaming pass in float64 (:func:`~aaria_pin.files.dataset.statistics.
+        channel_statistics`); a series is reduced over runs and time (channel shape: one
+        sample's), a per-run constant over runs.
+
+        Args:
+            names: arrays or views (default: the first view)
+            split: ``"train"`` (default), ``"validation"``, ``"test"``, or None: every
+                complete run
+            seed: the split's seed
+            fractions: of the runs in the training, validation and test splits
+            store: also store them in the file (``statistics/<split>/<name>/mean|std``,
+                replacing those of the same split; the file is opened for writing, so no other
+                handle on it may be open in this process)
+
+        Returns:
+            ``{name: (mean, std)}``, float64 arrays of the channel shape (NaN over no runs).
+
+        Raises:
+            ParameterError: an unknown name or split, a negative seed or bad fractions.
+            OutputFileError: ``store`` on a file that cannot be written.
+        """
+        chosen = self._chosen_names(names)
+        runs = self.split_runs(split, seed, fractions)
+        views = {name: self._views[name] for name in chosen if name in self._views}
+        sources = view_sources(chosen, views)
+        constants = self._constants
+        stored = channel_statistics(
+            self._handle, sources, [name not in constants for name in sources], runs
+        )
+        computed = {
+            name: view_statistics(views[name], stored) if name in views else stored[name]
+            for name in chosen
+        }
+        if store:
+            import h5py
+
+            self._handle.close()
+            try:
+                store_statistics(self.path, computed, split, seed, fractions, len(runs))
+            finally:
+                self._handle = h5py.File(self.path, "r")
+        return {name: (mean, std) for name, (mean, std, _) in computed.items()}
+
+    def stored_statistics(self, split: str | None = "train") -> dict[str, tuple[Array, Array]]:
+        """Statistics stored in the file for one split (see :meth:`statistics`).
+
+        Raises:
+            InputFileError: none stored for that split.
+        """
+        return read_statistics(self._handle, split, self.path)[0]
+
+    def _normalisation(
+        self, names: Sequence[str], seed: int, fractions: Sequence[float]
+    ) -> dict[str, tuple[Array, Array]]:
+        """Stored training statistics of the names, checked to be of the same split."""
+        values, attributes = read_statistics(self._handle, "train", self.path)
+        wanted = (int(seed), tuple(float(f) for f in check_fractions(fractions)))
+        if (attributes["seed"], attributes["fractions"]) != wanted:
+            raise InputFileError(
+                f"{self.path}: statistics stored for split seed {attributes['seed']}, fractions "
+                f"{attributes['fractions']}; allowed: those of the windows (seed {wanted[0]}, "
+                f"fractions {wanted[1]}): store them again with these"
+            )
+        missing = [name for name in names if name not in values]
+        if missing:
+            raise InputFileError(
+                f"{self.path}: no training statistics stored for {missing[0]!r}; allowed: "
+                f"{', '.join(values)} (store them with DatasetReader.statistics)"
+            )
+        return {name: values[name] for name in names}
 
     def close(self) -> None:
         """Close the file."""
