@@ -86,6 +86,7 @@ def _register() -> None:
         arm_cmd,
         dataset_cmd,
         info_cmd,
+        mjcf_cmd,
         plot_cmd,
         render_cmd,
         robots_cmd,
@@ -100,6 +101,7 @@ def _register() -> None:
     main.add_command(arm_cmd.arm)
     main.add_command(dataset_cmd.dataset)
     main.add_command(info_cmd.info)
+    main.add_command(mjcf_cmd.mjcf)
     main.add_command(plot_cmd.plot)
     main.add_command(render_cmd.render)
     main.add_command(robots_cmd.robots)
