@@ -2,6 +2,13 @@
 
     python benchmarks/bench_dataset.py          # 100 and 500 runs of 1,000 samples; 1, 2 workers
     python benchmarks/bench_dataset.py --smoke  # CI: 10 and 20 runs of 100 samples, no goal checked
+    python benchmarks/bench_dataset.py --cluster  # a sharded job on a loopback Dask cluster
+    python benchmarks/bench_dataset.py --cluster --runs 400
+
+``--cluster`` starts ``dask scheduler`` and two ``dask worker`` processes (one thread each) on
+loopback and makes a 40-run job of 2 s at 100 Hz in shards: it prints the client's CPU time
+against the workers' (``getrusage`` in each process, before and after the job) and the bytes
+the client process read and wrote meanwhile (``/proc/self/io``: sockets and the manifest).
 
 The figure of the performance issue is the marginal throughput: the extra samples of the longer
 job divided by its extra wall time, ``(500 - 100) × T / (t500 - t100)``, so worker start-up, the
@@ -14,7 +21,12 @@ and the two-worker ratio is the median of the per-repeat ratios of the marginal 
 from __future__ import annotations
 
 import argparse
+import os
+import resource
+import signal
 import statistics
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -41,11 +53,76 @@ def job_seconds(runs: int, samples: int, workers: int, folder: Path) -> tuple[fl
     return seconds, size
 
 
+def _io_bytes() -> int:
+    """Bytes this process has read and written so far (Linux; 0 elsewhere)."""
+    try:
+        fields = dict(line.split(": ") for line in Path("/proc/self/io").read_text().splitlines())
+    except OSError:
+        return 0
+    return int(fields["rchar"]) + int(fields["wchar"])
+
+
+def _cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def cluster_job(runs: int, duration: float, folder: Path) -> None:
+    """A sharded job on a loopback cluster: the client's CPU and bytes against the workers'."""
+    from dask.distributed import Client
+
+    dask = [sys.executable, "-m", "dask"]
+    file = folder / "scheduler.json"
+    quiet = {"start_new_session": True, "stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
+    processes = [
+        subprocess.Popen(
+            [*dask, "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+             "--scheduler-file", str(file)], **quiet,
+        )
+    ]  # fmt: skip
+    try:
+        while not file.exists():
+            time.sleep(0.05)
+        worker = [*dask, "worker", "--scheduler-file", str(file), "--nthreads", "1"]
+        worker += ["--host", "127.0.0.1", "--no-dashboard"]
+        processes += [subprocess.Popen(worker, **quiet) for _ in range(2)]
+        with Client(scheduler_file=str(file), timeout=60) as client:
+            client.wait_for_workers(2, timeout=120)
+            address = client.scheduler.address
+            spec = DhDatasetSpec(n_runs=runs, seed=1, duration=duration)
+            generate_dataset(folder / "warm.h5", spec, scheduler=address)  # workers import
+            workers_before = sum(client.run(_cpu).values())
+            cpu, io, wall = _cpu(), _io_bytes(), time.perf_counter()
+            report = generate_dataset(folder / "ds.h5", spec, scheduler=address)
+            wall, cpu, io = time.perf_counter() - wall, _cpu() - cpu, _io_bytes() - io
+            workers = sum(client.run(_cpu).values()) - workers_before
+        shards = sum(path.stat().st_size for path in folder.glob("ds-*.h5"))
+        manifest = (folder / "ds.h5").stat().st_size
+        print(
+            f"cluster job: {runs} runs of {duration:g} s at 100 Hz, 2 workers x 1 thread, "
+            f"{report.shards} shards, {wall:.2f} s"
+        )
+        print(
+            f"client CPU {cpu:.2f} s / workers' CPU {workers:.2f} s = {cpu / workers:.1%}; "
+            f"client I/O {io:,} bytes (manifest {manifest:,}); shards {shards:,} bytes"
+        )
+    finally:
+        for process in processes:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--smoke", action="store_true", help="tiny sizes, for CI")
     parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--cluster", action="store_true", help="a sharded job on Dask")
+    parser.add_argument("--runs", type=int, default=40, help="runs of the --cluster job")
     args = parser.parse_args()
+    if args.cluster:
+        with tempfile.TemporaryDirectory() as tmp:
+            cluster_job(args.runs, 2.0, Path(tmp))
+        return
     if args.smoke:
         short, long, samples, repeats = 10, 20, 100, 1
     else:

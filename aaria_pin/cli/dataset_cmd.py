@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import shlex
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -12,28 +14,64 @@ from aaria_pin.cli._options import robot_source_options, table_source_options
 from aaria_pin.core.seeds import MAX_SEED
 
 if TYPE_CHECKING:
+    from aaria_pin.apps.dataset.engine import DatasetEstimate
     from aaria_pin.apps.dataset.urdf import UrdfSource
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
 
 
-def _progress_bar(quiet: bool) -> object:
-    if quiet or not sys.stderr.isatty():
+def _progress(quiet: bool, every: float) -> Callable[[int, int, float], None] | None:
+    """The progress report: a bar on a terminal, else a plain line every ``every`` seconds.
+
+    A batch job's log (stderr not a terminal) gets lines ``aaria: 120/10000 runs, 35.2 runs/s,
+    ETA 281 s`` at most every ``every`` seconds, and the last one when the job ends.
+    """
+    if quiet:
         return None
+    terminal = sys.stderr.isatty()
+    last = [-float("inf")]
 
     def show(done: int, total: int, seconds: float) -> None:
         rate = done / seconds if seconds > 0 else 0.0
         eta = (total - done) / rate if rate > 0 else float("nan")
-        width = 30
-        filled = int(width * done / max(total, 1))
+        if terminal:
+            width = 30
+            filled = int(width * done / max(total, 1))
+            click.echo(
+                f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} runs, "
+                f"{rate:.1f} runs/s, ETA {eta:.0f} s ",
+                err=True,
+                nl=done == total,
+            )
+        elif seconds - last[0] >= every or done == total:
+            last[0] = seconds
+            click.echo(f"aaria: {done}/{total} runs, {rate:.1f} runs/s, ETA {eta:.0f} s", err=True)
+
+    return show
+
+
+def _estimate(quiet: bool) -> Callable[[DatasetEstimate], None] | None:
+    """Print a job's estimated size and time once (to stderr)."""
+    if quiet:
+        return None
+
+    def show(estimate: DatasetEstimate) -> None:
         click.echo(
-            f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} runs, "
-            f"{rate:.1f} runs/s, ETA {eta:.0f} s ",
+            f"aaria: estimate for {estimate.runs} runs: {_size(estimate.bytes)}, about "
+            f"{estimate.seconds:.0f} s on {estimate.workers} workers "
+            f"({estimate.run_seconds * 1e3:.0f} ms a run)",
             err=True,
-            nl=done == total,
         )
 
     return show
+
+
+def _size(count: float) -> str:
+    for unit in ("B", "kB", "MB", "GB"):
+        if count < 1000:
+            return f"{count:.0f} {unit}" if unit == "B" else f"{count:.1f} {unit}"
+        count /= 1000
+    return f"{count:.1f} TB"
 
 
 def _print_config(ctx: click.Context, _: click.Parameter, value: bool) -> None:
@@ -50,6 +88,11 @@ def _print_config(ctx: click.Context, _: click.Parameter, value: bool) -> None:
 @click.option("--seed", type=click.IntRange(0, MAX_SEED), default=0, show_default=True)
 @click.option("--workers", type=click.IntRange(1, 1024), help="Local worker processes [cores].")
 @click.option("--scheduler", help="Address of a Dask distributed scheduler, instead of workers.")
+@click.option(
+    "--shards",
+    type=click.Path(path_type=Path, file_okay=False),
+    help="With --scheduler: folder of the workers' shard files [the output's folder].",
+)
 @click.option("--duration", type=float, default=10.0, show_default=True, help="Run length [s].")
 @click.option("--rate", type=float, default=100.0, show_default=True, help="Sample rate [Hz].")
 @click.option("--noise/--no-noise", default=True, show_default=True, help="IMU noise.")
@@ -70,7 +113,14 @@ def _print_config(ctx: click.Context, _: click.Parameter, value: bool) -> None:
 @click.option("--base", "base_file", type=_FILE, help="Fixed base oscillation table.")
 @click.option("--resume", is_flag=True, help="Continue an interrupted data set file.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing file.")
-@click.option("--quiet", is_flag=True, help="No progress bar.")
+@click.option("--quiet", is_flag=True, help="No estimate, no progress bar or lines.")
+@click.option(
+    "--progress-every",
+    type=click.FloatRange(0),
+    default=10.0,
+    show_default=True,
+    help="Seconds between progress lines when stderr is not a terminal.",
+)
 @click.option(
     "--print-config",
     is_flag=True,
@@ -85,6 +135,7 @@ def dataset(
     seed: int,
     workers: int | None,
     scheduler: str | None,
+    shards: Path | None,
     duration: float,
     rate: float,
     noise: bool,
@@ -104,6 +155,7 @@ def dataset(
     resume: bool,
     overwrite: bool,
     quiet: bool,
+    progress_every: float,
 ) -> None:
     """Simulate N random runs (MODE 1) or N runs of one arm (MODE 2) into a data set.
 
@@ -123,6 +175,8 @@ def dataset(
 
     if workers is not None and scheduler is not None:
         raise click.UsageError("give --workers or --scheduler, not both")
+    if shards is not None and scheduler is None:
+        raise click.UsageError("--shards needs --scheduler")
     source = _urdf_source(robot, urdf_file, tool_frame, imu_layout_file, fixed_base)
     if source is not None and (preset is not None or dh_file is not None):
         raise click.UsageError("give a DH arm (--preset/--dh) or a URDF robot, not both")
@@ -188,13 +242,17 @@ def dataset(
         spec,
         workers=workers,
         scheduler=scheduler,
+        shards=shards,
         resume=resume,
         overwrite=overwrite,
-        progress=_progress_bar(quiet),  # type: ignore[arg-type]
+        progress=_progress(quiet, progress_every),
+        estimate=_estimate(quiet),
+        command=shlex.join(["aaria", *sys.argv[1:]]),
     )
+    in_shards = f", {report.shards} shards" if report.shards else ""
     click.echo(
         f"wrote {report.path}: {report.complete}/{n_runs} runs complete "
-        f"({report.written} in this job, {report.seconds:.1f} s)"
+        f"({report.written} in this job{in_shards}, {report.seconds:.1f} s)"
     )
     if report.failures:
         for run, message in sorted(report.failures.items()):

@@ -77,21 +77,6 @@ def test_run_k_is_a_pure_function_of_seed_and_k(reference: Path) -> None:
     assert not np.array_equal(simulate_dataset_run(spec, 0)["senSenDH"], other["senSenDH"])
 
 
-@pytest.mark.slow
-def test_dask_cluster_gives_the_same_arrays(reference: Path, tmp_path: Path) -> None:
-    from dask.distributed import LocalCluster
-
-    with LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-    ) as cluster:
-        generate_dataset(
-            tmp_path / "dask.h5",
-            DhDatasetSpec(n_runs=24, seed=7, **SHORT),
-            scheduler=cluster.scheduler_address,
-        )
-    _assert_same(reference, tmp_path / "dask.h5")
-
-
 def test_fixed_arm_many_trajectories(tmp_path: Path) -> None:
     preset = get_preset("aaria-fig3")
     spec = DhDatasetSpec(n_runs=5, seed=1, vary=("joints", "base"), dh_table=preset.table, **SHORT)
@@ -306,3 +291,41 @@ def test_a_worker_that_dies_fails_only_its_own_run(tmp_path: Path) -> None:
         for k in range(24):
             if k != 10:  # its task-mates (several short runs a task) are kept, not failed
                 np.testing.assert_array_equal(got.record(k).imu, want.record(k).imu)
+
+
+def test_a_logged_job_prints_its_estimate_and_progress_lines(tmp_path: Path) -> None:
+    path = tmp_path / "ds.h5"
+    args = ["dataset", "-n", "12", "--seed", "7", "--duration", "0.5", "--workers", "2"]
+    result = CliRunner().invoke(main, [*args, "--progress-every", "0", "-o", str(path)])
+    assert result.exit_code == 0, result.output
+    lines = result.stderr.splitlines()  # stderr is not a terminal here: lines, not a bar
+    estimate = [line for line in lines if line.startswith("aaria: estimate for 12 runs: ")]
+    assert len(estimate) == 1 and " kB, about " in estimate[0] and "on 2 workers" in estimate[0]
+    progress = [
+        line for line in lines if re.fullmatch(r"aaria: \d+/12 runs, .* runs/s, ETA .*", line)
+    ]
+    assert len(progress) >= 2 and progress[-1].startswith("aaria: 12/12 runs")
+    assert "\r" not in result.stderr
+    size = int(re.search(r"estimate for 12 runs: ([\d.]+) kB", estimate[0]).group(1).split(".")[0])
+    assert 0.5 < size * 1000 / path.stat().st_size < 2  # within a factor of two of the file
+    quiet = CliRunner().invoke(main, [*args, "--quiet", "--overwrite", "-o", str(path)])
+    assert quiet.exit_code == 0 and quiet.stderr == ""
+
+
+def test_dataset_records_its_command_and_versions(tmp_path: Path) -> None:
+    import platform
+
+    path = tmp_path / "ds.h5"
+    generate_dataset(
+        path, DhDatasetSpec(n_runs=2, **SHORT), workers=1, command="aaria dataset -n 2"
+    )
+    with DatasetReader(path) as reader:
+        attributes = reader.attributes
+        assert attributes["command"] == "aaria dataset -n 2"
+        versions = attributes["versions"]
+        assert versions["numpy"] == np.__version__ and versions["h5py"] == h5py.__version__
+        assert versions["python"] == platform.python_version() and versions["pinocchio"]
+        assert "command" not in reader.record(0).attributes  # the data set's, not a run's
+    generate_dataset(path, DhDatasetSpec(n_runs=2, **SHORT), workers=1, overwrite=True)
+    with DatasetReader(path) as reader:
+        assert reader.attributes["command"] == ""  # the library's default

@@ -228,6 +228,9 @@ def test_card_is_stored_and_read_back(random_arms: Path, tmp_path: Path) -> None
     shutil.copy(random_arms, path)
     with h5py.File(random_arms, "r") as handle:
         before = {name: handle[name][()] for name in ("imu", "senSenDH", "complete")}
+    assert read_stored_card(path) is not None  # the engine stored one at the end of the job
+    with h5py.File(path, "r+") as handle:
+        del handle.attrs[CARD_ATTRIBUTE]
     assert read_stored_card(path) is None
     card = store_card(path)
     with h5py.File(path, "r") as handle:

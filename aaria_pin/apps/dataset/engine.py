@@ -6,9 +6,10 @@ arms, :class:`~.urdf.UrdfDatasetSpec` for a URDF robot) that
 knows the data set's fixed layout and makes run k as a :class:`~aaria_pin.core.record.RunRecord`,
 a pure function of its seed and k; the runners (local worker processes or a Dask cluster) and
 the writer only call it, so the file is the same, array for array, whatever the robot, the
-number of workers, the scheduler or the order in which runs finish. The main process is the only
-writer: it writes each run as it arrives, marks it complete and flushes, so a killed job loses at
-most the runs in flight, and ``resume`` redoes exactly those.
+number of workers, the scheduler or the order in which runs finish. With local workers the main
+process is the only writer: it writes each run as it arrives, marks it complete and flushes, so
+a killed job loses at most the runs in flight, and ``resume`` redoes exactly those. On a Dask
+cluster the workers write shards and the client a manifest over them (:mod:`.shards`).
 """
 
 from __future__ import annotations
@@ -24,22 +25,21 @@ from typing import Any
 
 import numpy as np
 
+from aaria_pin._version import __version__
+from aaria_pin.apps.dataset.card import store_card
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.spec import MAX_RUNS, DatasetSpec
+from aaria_pin.apps.dataset.shards import DatasetEstimate, Estimate, generate_sharded
+from aaria_pin.apps.dataset.spec import MAX_RUNS, DatasetSpec, Result, run_result
 from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
 from aaria_pin.core._malloc import tune_malloc
 from aaria_pin.core.se3 import Array
-from aaria_pin.errors import AariaError, ParameterError
-from aaria_pin.files.dataset_file import (
-    DatasetFile,
-    EncodedRun,
-    check_dataset_path,
-    encode_run,
-    read_dataset_attributes,
-)
+from aaria_pin.errors import ParameterError
+from aaria_pin.files.dataset.shards import read_manifest_shards, remove_unused_shards
+from aaria_pin.files.dataset_file import DatasetFile, check_dataset_path, read_dataset_attributes
 
 __all__ = [
     "MAX_RUNS",
+    "DatasetEstimate",
     "DatasetReport",
     "DatasetSpec",
     "DhDatasetSpec",
@@ -47,6 +47,7 @@ __all__ = [
     "UrdfSource",
     "generate_dataset",
     "simulate_dataset_run",
+    "software_versions",
 ]
 
 FLUSH_SECONDS = 0.5
@@ -63,17 +64,8 @@ def simulate_dataset_run(spec: DatasetSpec, run: int) -> dict[str, Array]:
     return spec.arrays(run)
 
 
-def _job(spec: DatasetSpec, run: int) -> tuple[int, EncodedRun | None, str]:
-    """A worker's task: run ``run`` as compressed chunks, or its one-line error and inputs."""
-    try:
-        return run, encode_run(spec.layout(), spec.make_run(run), spec.dtype), ""
-    except Exception as exc:  # any failure of one run is reported, and the others go on
-        message = str(exc) if isinstance(exc, AariaError) else f"{type(exc).__name__}: {exc}"
-        return run, None, f"{message} ({spec.describe_inputs(run)})"
-
-
-Result = tuple[int, EncodedRun | None, str]
-"""A run's outcome: its index, its encoded chunks (None if it failed), its error message."""
+_job = run_result
+"""A worker's work on one run (:func:`~.spec.run_result`)."""
 
 TASK_SAMPLES = 4000
 """Samples a local worker's task holds at most, in whole runs (:func:`task_runs`)."""
@@ -108,6 +100,7 @@ class DatasetReport:
         complete: runs complete in the file
         failures: failed runs and their errors
         seconds: wall time of this job [s]
+        shards: shard files this job wrote (0: one file, local workers)
     """
 
     path: Path
@@ -115,6 +108,36 @@ class DatasetReport:
     complete: int
     failures: dict[int, str]
     seconds: float
+    shards: int = 0
+
+
+def software_versions() -> dict[str, str]:
+    """Versions of aaria_pin, Pinocchio, NumPy, h5py, HDF5 and Python, by name.
+
+    The ``versions`` attribute of a data set; Pinocchio's is read from its package metadata,
+    without importing it.
+    """
+    import platform
+    from importlib import metadata
+
+    import h5py
+
+    def installed(*names: str) -> str:
+        for name in names:
+            try:
+                return metadata.version(name)
+            except metadata.PackageNotFoundError:
+                continue
+        return ""
+
+    return {
+        "aaria_pin": __version__,
+        "pinocchio": installed("pin", "pinocchio"),
+        "numpy": np.__version__,
+        "h5py": h5py.__version__,
+        "hdf5": h5py.version.hdf5_version,
+        "python": platform.python_version(),
+    }
 
 
 def _worker_setup() -> None:
@@ -232,75 +255,40 @@ class _LocalRunner:
         self._pool.shutdown(wait=True, cancel_futures=True)
 
 
-class _DaskRunner:
-    """An existing Dask distributed cluster, connected before the file is touched."""
-
-    def __init__(self, address: str) -> None:
-        try:
-            from dask.distributed import Client
-        except ImportError:
-            raise ParameterError(
-                parameter="scheduler",
-                value=address,
-                allowed="an address, with Dask installed (pip install 'aaria-pin[distributed]')",
-            ) from None
-        try:
-            self._client = Client(address, timeout=30)
-        except (OSError, TimeoutError, ValueError) as exc:
-            raise ParameterError(
-                parameter="scheduler",
-                value=address,
-                allowed=f"the address of a running Dask scheduler (this one: {exc})",
-            ) from None
-
-    def results(self, spec: DatasetSpec, runs: Sequence[int]) -> Iterator[Result]:
-        """Results in completion order, at most four runs per worker thread in flight."""
-        from dask.distributed import as_completed
-
-        window = 4 * max(1, sum(self._client.nthreads().values()))
-        pending = iter(runs)
-        run_of: dict[Any, int] = {}
-
-        def submit(run: int) -> Any:
-            future = self._client.submit(_job, spec, run, pure=False)
-            run_of[future] = run
-            return future
-
-        futures = as_completed([submit(k) for k in itertools.islice(pending, window)])
-        for future in futures:
-            run = run_of.pop(future)
-            try:
-                yield future.result()
-            except Exception as exc:  # the cluster lost the worker: this run fails
-                yield run, None, f"the cluster could not run it ({type(exc).__name__}: {exc})"
-            for k in itertools.islice(pending, 1):
-                futures.add(submit(k))
-
-    def close(self) -> None:
-        """Disconnect from the cluster."""
-        self._client.close()
-
-
 def generate_dataset(
     path: str | os.PathLike[str],
     spec: DatasetSpec,
     *,
     workers: int | None = None,
     scheduler: str | None = None,
+    shards: str | os.PathLike[str] | None = None,
     resume: bool = False,
     overwrite: bool = False,
     progress: Progress | None = None,
+    estimate: Estimate | None = None,
+    command: str = "",
 ) -> DatasetReport:
     """Simulate the runs of a data set and stream them into one HDF5 file.
+
+    With local workers the file holds every run. With a Dask ``scheduler`` the workers write
+    the runs into shard files (in ``shards``, default the output's folder) and the file is a
+    manifest of virtual datasets over them that reads as one file (:mod:`.shards`); the arrays
+    are the same either way.
 
     Args:
         path: the ``.h5`` file
         spec: what the data set holds
         workers: local worker processes (default: the number of cores)
         scheduler: address of a Dask distributed scheduler (instead of local workers)
+        shards: the folder of the shards, on storage every Dask worker reaches (with
+            ``scheduler`` only)
         resume: continue an existing file (same spec), redoing the runs that are not complete
-        overwrite: replace an existing file
-        progress: called as ``progress(done, total, seconds)`` after each run
+        overwrite: replace an existing file (and its shards)
+        progress: called as ``progress(done, total, seconds)`` after each run (each shard on a
+            cluster)
+        estimate: called once before the bulk of the runs with the job's expected size and time
+            (from the first runs)
+        command: the command line that asked for the data set (attribute ``command``)
 
     Returns:
         What the job did; failed runs are listed there and in the file.
@@ -308,7 +296,8 @@ def generate_dataset(
     Raises:
         OutputFileError: the file exists without ``resume``/``overwrite``, or cannot be made.
         InputFileError: the file to resume is missing or is not a data set.
-        ParameterError: the file to resume holds another spec.
+        ParameterError: the file to resume holds another spec, or was written the other way
+            (in shards, or in one file), or ``shards`` without ``scheduler``.
     """
     start = time.perf_counter()
     file = Path(path)
@@ -321,21 +310,51 @@ def generate_dataset(
         )
     if workers < 1:
         raise ParameterError(parameter="workers", value=workers, allowed=">= 1")
+    if shards is not None and scheduler is None:
+        raise ParameterError(
+            parameter="shards", value=str(shards), allowed="a folder with a scheduler only"
+        )
     if resume:  # compare settings read-only first: a mismatch changes nothing
-        different = spec.mismatches(read_dataset_attributes(file))
+        stored = read_dataset_attributes(file)
+        different = spec.mismatches(stored)
         if different:
             raise ParameterError(
                 f"{file}: was made with other settings ({', '.join(different)}); allowed: the"
                 " same settings as the job that made it"
             )
-    if scheduler is None:
-        tune_malloc()
-        # One run made here loads Pinocchio and the compiled kernels before the workers fork,
-        # so none of them has to load them again; it is kept if the file still needs it.
-        warm = _job(spec, 0)
-    runner: _LocalRunner | _DaskRunner = (
-        _DaskRunner(scheduler) if scheduler else _LocalRunner(workers)
-    )
+        if scheduler is None and "shard_prefix" in stored:
+            raise ParameterError(
+                parameter="scheduler",
+                value=None,
+                allowed=f"a Dask scheduler's address: {file} was written in shards",
+            )
+    attributes = {**spec.attributes(), "command": command, "versions": software_versions()}
+    if scheduler is not None:
+        written, complete, failures, count = generate_sharded(
+            file,
+            spec,
+            attributes,
+            scheduler=scheduler,
+            shards=shards,
+            resume=resume,
+            progress=progress,
+            estimate=estimate,
+        )
+        store_card(file)
+        return DatasetReport(file, written, complete, failures, time.perf_counter() - start, count)
+    previous = read_manifest_shards(file) if overwrite and file.is_file() else None
+    tune_malloc()
+    # One run made here loads Pinocchio and the compiled kernels before the workers fork, so
+    # none of them has to load them again; it is kept if the file still needs it. For the
+    # estimate, two more are timed (the faster counts: another structure may compile a kernel).
+    begin = time.perf_counter()
+    head = [_job(spec, 0)]
+    run_seconds = time.perf_counter() - begin  # an upper bound: it loads everything
+    for run in range(1, min(3, spec.n_runs) if estimate is not None else 1):
+        begin = time.perf_counter()
+        head.append(_job(spec, run))
+        run_seconds = min(run_seconds, time.perf_counter() - begin)
+    runner = _LocalRunner(workers)
     written = 0
     try:
         if resume:
@@ -343,14 +362,19 @@ def generate_dataset(
             store.clear_failures()
         else:
             store = DatasetFile.create(
-                file, spec.n_runs, spec.samples, spec.dtype, spec.attributes(), spec.layout()
+                file, spec.n_runs, spec.samples, spec.dtype, attributes, spec.layout()
             )
+            if previous is not None:  # the shards of the data set this one replaces
+                remove_unused_shards(previous.folder, previous.prefix, set())
         with store:
             todo = [int(k) for k in np.flatnonzero(~store.complete_runs())]
-            head = [warm] if scheduler is None and todo and todo[0] == 0 else []
-            rest = todo[len(head) :]
+            wanted = set(todo)
+            kept = [result for result in head if result[0] in wanted]
+            if estimate is not None:
+                estimate(_local_estimate(head, len(todo), workers, run_seconds))
+            rest = [k for k in todo if k not in {result[0] for result in kept}]
             last_flush = time.perf_counter()
-            results = itertools.chain(head, runner.results(spec, rest) if rest else ())
+            results = itertools.chain(kept, runner.results(spec, rest) if rest else ())
             for done, (run, arrays, error) in enumerate(results, start=1):
                 if arrays is None:
                     store.mark_failed(run, error)
@@ -367,4 +391,18 @@ def generate_dataset(
             failures = store.failures()
     finally:
         runner.close()
+    store_card(file)
     return DatasetReport(file, written, complete, failures, time.perf_counter() - start)
+
+
+def _local_estimate(
+    head: Sequence[Result], runs: int, workers: int, run_seconds: float
+) -> DatasetEstimate:
+    """A local job's cost from the runs made before the workers start (the first one apart)."""
+    sizes = [
+        sum(len(chunk) for chunks, _ in encoded.values() for chunk in chunks)
+        for _, encoded, _ in head
+        if encoded is not None
+    ]
+    per_run = sum(sizes) // len(sizes) if sizes else 0
+    return DatasetEstimate(runs, per_run * runs, runs * run_seconds / workers, workers, run_seconds)

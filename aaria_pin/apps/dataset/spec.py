@@ -27,10 +27,10 @@ from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.seeds import check_seed
 from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE
-from aaria_pin.errors import ParameterError
-from aaria_pin.files.dataset_file import DatasetLayout, run_arrays
+from aaria_pin.errors import AariaError, ParameterError
+from aaria_pin.files.dataset_file import DatasetLayout, EncodedRun, encode_run, run_arrays
 
-__all__ = ["MAX_RUNS", "NOISE_STREAM", "DatasetSpec", "RunInputs"]
+__all__ = ["MAX_RUNS", "NOISE_STREAM", "DatasetSpec", "Result", "RunInputs", "run_result"]
 
 MAX_RUNS = 100_000_000
 """Most runs in one data set."""
@@ -213,6 +213,22 @@ class DatasetSpec(ABC):
             "robot_info",
         )
         return [key for key in keys if _plain(stored.get(key)) != _plain(mine.get(key))]
+
+
+Result = tuple[int, EncodedRun | None, str]
+"""A run's outcome: its index, its encoded chunks (None if it failed), its error message."""
+
+
+def run_result(spec: DatasetSpec, run: int) -> Result:
+    """A worker's work on one run: its compressed chunks, or its one-line error and inputs.
+
+    Any failure of one run is reported, so the others go on.
+    """
+    try:
+        return run, encode_run(spec.layout(), spec.make_run(run), spec.dtype), ""
+    except Exception as exc:
+        message = str(exc) if isinstance(exc, AariaError) else f"{type(exc).__name__}: {exc}"
+        return run, None, f"{message} ({spec.describe_inputs(run)})"
 
 
 def _plain(value: Any) -> Any:

@@ -348,6 +348,11 @@ _DATASET_ONLY = (
     "layout",
     "robot_info",
     "noise_stream",
+    "command",
+    "versions",
+    "shard_dir",
+    "shard_prefix",
+    "card",
 )
 """File attributes that describe the data set, not one of its runs."""
 

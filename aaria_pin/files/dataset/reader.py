@@ -39,6 +39,7 @@ from aaria_pin.files.dataset.layout import (
     record_attributes,
 )
 from aaria_pin.files.dataset.legacy import LEGACY_VERSION, legacy_names, legacy_record
+from aaria_pin.files.dataset.shards import missing_shards, shard_files
 from aaria_pin.files.dataset.statistics import (
     channel_statistics,
     read_statistics,
@@ -97,6 +98,14 @@ class DatasetReader:
                 f"{self.path}: data set format version is {self.version}; allowed: "
                 f"{LEGACY_VERSION}, {DATASET_FORMAT_VERSION} (a newer aaria_pin wrote it)"
             )
+        if self.version == DATASET_FORMAT_VERSION:
+            missing = missing_shards(self._handle, self.path)
+            if missing:
+                self._handle.close()
+                raise InputFileError(
+                    f"{self.path}: its shard {missing[0]} is missing ({len(missing)} missing); "
+                    "allowed: the data set's folder with all its shards"
+                )
         self.complete = self._handle["complete"][()].astype(bool)
         self.layout: DatasetLayout | None = None
         if self.version == LEGACY_VERSION:
@@ -399,7 +408,8 @@ def dataset_summary(path: str | os.PathLike[str]) -> dict[str, Any]:
         ``path``, ``format_version``, ``kind`` (``"dh"`` or ``"urdf"``), ``runs``,
         ``complete``, ``failed``, ``samples``, ``dtype``, ``seed``, ``vary``, ``rate``,
         ``duration``, ``noise``, ``arrays`` (stored name → shape), ``views`` (name → shape),
-        ``file_bytes``, ``data_bytes`` (the stored arrays uncompressed), ``config``, and for a
+        ``file_bytes`` (with its shards), ``shards`` (how many files), ``data_bytes`` (the stored
+        arrays uncompressed), ``config``, and for a
         URDF robot ``robot`` (its name, source, frames, joint and IMU names, base mode).
     """
     with DatasetReader(path) as reader:
@@ -407,6 +417,7 @@ def dataset_summary(path: str | os.PathLike[str]) -> dict[str, Any]:
         attributes = reader.attributes
         stored = reader.stored_names
         views = tuple(reader.layout.views) if reader.layout is not None else ()
+        shards = shard_files(handle, reader.path) if reader.layout is not None else []
         robot = attributes.get("robot_info") if reader.layout is not None else None
         if reader.layout is None and isinstance(attributes.get("robot"), dict):
             robot = attributes["robot"]
@@ -427,7 +438,9 @@ def dataset_summary(path: str | os.PathLike[str]) -> dict[str, Any]:
             "noise": attributes.get("noise"),
             "arrays": {name: list(handle[name].shape) for name in stored},
             "views": {name: list(handle[name].shape) for name in views},
-            "file_bytes": reader.path.stat().st_size,
+            "file_bytes": reader.path.stat().st_size
+            + sum(p.stat().st_size for p in shards if p.is_file()),
+            "shards": len(shards),
             "data_bytes": int(
                 sum(handle[name].size * handle[name].dtype.itemsize for name in stored)
             ),

@@ -11,7 +11,7 @@ from __future__ import annotations
 import json
 import os
 import zlib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -44,7 +44,17 @@ __all__ = [
 ]
 
 
-_DATASET_MARKS = ("format", "format_version", "N", "samples", "dtype", "failures", "layout")
+_DATASET_MARKS = (
+    "format",
+    "format_version",
+    "N",
+    "samples",
+    "dtype",
+    "failures",
+    "layout",
+    "shard_dir",
+    "shard_prefix",
+)
 """Attributes a data set file sets itself (a spec's attributes cannot take these names)."""
 
 
@@ -231,8 +241,14 @@ def _new_file(
     attributes: Mapping[str, Any],
     layout: DatasetLayout,
     raw_attributes: Mapping[str, Any] | None = None,
+    virtual: Mapping[str, Any] | None = None,
 ) -> Any:
-    """Write the empty layout of a data set into ``path`` and return the open h5py file."""
+    """Write the empty layout of a data set into ``path`` and return the open h5py file.
+
+    ``virtual`` maps per-run arrays to ``h5py.VirtualLayout`` objects: those arrays are virtual
+    datasets over other files (a sharded data set's manifest, :mod:`.shards`), the others
+    chunked datasets of this file.
+    """
     import h5py
 
     try:
@@ -253,6 +269,10 @@ def _new_file(
     strings = h5py.string_dtype("utf-8")
     shapes = layout.shapes(samples)
     for name, shape in shapes.items():
+        if virtual is not None and name in virtual:
+            dataset = handle.create_virtual_dataset(name, virtual[name], fillvalue=0)
+            dataset.attrs["units"] = units_of(name)
+            continue
         dataset = handle.create_dataset(
             name,
             shape=(n_runs, *shape),
@@ -350,19 +370,11 @@ def _copy_intact_runs(old: Any, new: Any, layout: DatasetLayout) -> None:
     checksums = old["checksum"][()]
     intact = []
     for run in np.flatnonzero(complete):
-        chunks = []
         try:
-            for index, name in enumerate(layout.names):
-                dataset = old[name]
-                checksum = 0
-                for origin in chunk_origins(dataset.shape[1:], dataset.chunks[1:]):
-                    where = (int(run), *origin)
-                    _, data = dataset.id.read_direct_chunk(where)
-                    checksum = zlib.crc32(data, checksum)
-                    chunks.append((name, where, data))
-                if checksum != checksums[run, index]:
-                    raise ValueError("checksum")
+            chunks, stored = read_run_chunks(old, layout.names, int(run))
         except (OSError, ValueError, KeyError):
+            continue
+        if stored != [int(c) for c in checksums[run]]:
             continue
         for name, where, data in chunks:
             new[name].id.write_direct_chunk(where, data)
@@ -371,6 +383,31 @@ def _copy_intact_runs(old: Any, new: Any, layout: DatasetLayout) -> None:
         new["checksum"][intact] = checksums[intact]
         new["complete"][intact] = 1
     new.flush()
+
+
+def read_run_chunks(
+    handle: Any, names: Sequence[str], row: int
+) -> tuple[list[tuple[str, tuple[int, ...], bytes]], list[int]]:
+    """The stored chunk bytes of one run (row ``row`` of each array) and each array's CRC-32.
+
+    Returns:
+        ``(name, chunk origin with the row, bytes)`` of every chunk in storage order, and the
+        CRC-32 of each array's chunks in ``names`` order (what ``checksum`` records).
+
+    Raises:
+        OSError, KeyError: a chunk or an array cannot be read.
+    """
+    chunks, checksums = [], []
+    for name in names:
+        dataset = handle[name]
+        checksum = 0
+        for origin in chunk_origins(dataset.shape[1:], dataset.chunks[1:]):
+            where = (row, *origin)
+            _, data = dataset.id.read_direct_chunk(where)
+            checksum = zlib.crc32(data, checksum)
+            chunks.append((name, where, data))
+        checksums.append(checksum)
+    return chunks, checksums
 
 
 def check_dataset_path(path: Path, resume: bool, overwrite: bool) -> None:

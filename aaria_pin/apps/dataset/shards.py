@@ -1,0 +1,325 @@
+"""Data sets on a Dask cluster: the workers write shards, the client a manifest over them.
+
+The client connects to an existing Dask distributed scheduler, cuts the runs to make into
+batches of consecutive runs (:func:`shard_runs`) and submits one task per batch
+(:func:`write_shard_task`): the worker makes each run, writes it into the batch's shard beside
+the output (:class:`~aaria_pin.files.dataset.shards.ShardWriter`: temporary name, then renamed)
+and returns a small :class:`ShardAck` (the shard's name, each run's row and CRC-32s, the runs
+that failed). No run's arrays pass through the client: it writes the output as a manifest of
+virtual datasets over the shards (:func:`~aaria_pin.files.dataset.shards.write_manifest`) once
+every task has answered, the empty manifest being laid out first, so ``--resume`` finds the
+job's settings and shard prefix.
+
+Faults: a worker that dies mid-task loses that task only; Dask runs it again on another worker
+(up to its ``allowed-failures``), which writes the same shard name with the same bytes. A task
+that still fails, or a shard that cannot be written (no space, no permission: one
+:class:`~aaria_pin.errors.OutputFileError` line naming the shard), fails the runs of that shard
+alone. ``resume`` checks every shard of the job on the workers
+(:func:`~aaria_pin.files.dataset.shards.verify_shard`: chunk CRC-32s against the stored ones),
+keeps the intact rows and makes the rest.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+import uuid
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from aaria_pin.apps.dataset.spec import DatasetSpec, run_result
+from aaria_pin.errors import OutputFileError, ParameterError
+from aaria_pin.files._stored import first_line
+from aaria_pin.files.dataset.shards import (
+    RunLocation,
+    ShardContents,
+    ShardWriter,
+    list_shards,
+    read_manifest_shards,
+    remove_unused_shards,
+    shard_name,
+    verify_shard,
+    write_manifest,
+)
+
+__all__ = [
+    "SHARD_SAMPLES",
+    "DatasetEstimate",
+    "ShardAck",
+    "connect",
+    "generate_sharded",
+    "shard_runs",
+    "write_shard_task",
+]
+
+SHARD_SAMPLES = 100_000
+"""Samples a shard holds at most, in whole runs (100 runs of 10 s at 100 Hz, about 35 MB)."""
+TASKS_PER_THREAD = 4
+"""Shards per worker thread at least, when the runs allow (to balance the load and lose little
+when a worker dies)."""
+
+
+@dataclass(frozen=True)
+class DatasetEstimate:
+    """A job's expected cost, from its first runs.
+
+    Attributes:
+        runs: runs this job makes
+        bytes: data it writes [bytes]
+        seconds: wall time [s]
+        workers: runs made at once (local workers, or the cluster's threads)
+        run_seconds: one run's time in a worker [s]
+    """
+
+    runs: int
+    bytes: int
+    seconds: float
+    workers: int
+    run_seconds: float
+
+
+Estimate = Callable[[DatasetEstimate], None]
+Progress = Callable[[int, int, float], None]
+
+
+@dataclass(frozen=True)
+class ShardAck:
+    """A shard task's answer to the client (a few hundred bytes, whatever the runs' size).
+
+    Attributes:
+        shard: the shard's file name
+        rows: its number of rows
+        stored: ``(run, row, CRC-32 per array)`` of each run written
+        errors: ``(run, one-line error)`` of each run that failed
+        run_seconds: CPU time of each run written, in its worker thread [s]
+        bytes: the shard's size [bytes]
+    """
+
+    shard: str
+    rows: int
+    stored: tuple[tuple[int, int, tuple[int, ...]], ...]
+    errors: tuple[tuple[int, str], ...]
+    run_seconds: tuple[float, ...]
+    bytes: int
+
+
+def shard_runs(samples: int, runs: int, threads: int) -> int:
+    """Runs per shard: enough shards for every thread, none too big, at least one run.
+
+    At least :data:`TASKS_PER_THREAD` shards per thread when the runs allow, at most
+    :data:`SHARD_SAMPLES` samples a shard.
+
+    More, smaller shards balance the load and lose less when a worker dies; fewer keep the
+    file count and the manifest's mappings (one per array and shard) small.
+    """
+    per_thread = -(-max(runs, 1) // (TASKS_PER_THREAD * max(threads, 1)))
+    return max(1, min(per_thread, SHARD_SAMPLES // max(samples, 1)))
+
+
+def write_shard_task(spec: DatasetSpec, runs: Sequence[int], folder: str, prefix: str) -> ShardAck:
+    """A worker's task: make ``runs`` and write them into their shard in ``folder``.
+
+    A run that raises is reported and leaves its row empty; a shard that cannot be written
+    fails all its runs with the one-line reason (and leaves no file under the shard's name).
+    """
+    import time as clock
+
+    name = shard_name(prefix, runs)
+    stored: list[tuple[int, int, tuple[int, ...]]] = []
+    errors: list[tuple[int, str]] = []
+    seconds: list[float] = []
+    size = 0
+    try:
+        with ShardWriter(
+            Path(folder), prefix, runs, spec.samples, spec.dtype, spec.layout()
+        ) as writer:
+            for row, run in enumerate(runs):
+                begin = clock.thread_time()
+                _, encoded, error = run_result(spec, int(run))
+                if encoded is None:
+                    errors.append((int(run), error))
+                    continue
+                stored.append((int(run), row, writer.write_run(row, encoded)))
+                seconds.append(clock.thread_time() - begin)
+        size = writer.path.stat().st_size
+    except OutputFileError as exc:
+        failed = {run for run, _ in errors}
+        errors += [(int(run), str(exc)) for run in runs if int(run) not in failed]
+        stored, seconds = [], []
+    return ShardAck(name, len(runs), tuple(stored), tuple(errors), tuple(seconds), size)
+
+
+def connect(address: str) -> Any:
+    """A Dask client of the scheduler at ``address``.
+
+    Raises:
+        ParameterError: Dask is missing, or no scheduler answers at ``address``.
+    """
+    try:
+        from dask.distributed import Client
+    except ImportError:
+        raise ParameterError(
+            parameter="scheduler",
+            value=address,
+            allowed="an address, with Dask installed (pip install 'aaria-pin[distributed]')",
+        ) from None
+    try:
+        return Client(address, timeout=30)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise ParameterError(
+            parameter="scheduler",
+            value=address,
+            allowed=f"the address of a running Dask scheduler (this one: {exc})",
+        ) from None
+
+
+@dataclass
+class _Job:
+    """The client's view of a sharded job: where each run is, and what failed."""
+
+    locations: dict[int, RunLocation]
+    checksums: dict[int, tuple[int, ...]]
+    failures: dict[int, str]
+
+    def keep(self, contents: Sequence[ShardContents], n_runs: int) -> None:
+        """Take the intact rows of verified shards (the first shard by name holding a run)."""
+        for shard in sorted(contents, key=lambda c: c.name):
+            for run, (row, checksums) in sorted(shard.intact.items()):
+                if 0 <= run < n_runs and run not in self.locations:
+                    self.locations[run] = RunLocation(shard.name, row, shard.rows)
+                    self.checksums[run] = checksums
+
+    def take(self, ack: ShardAck) -> None:
+        """Record a shard's answer."""
+        for run, row, checksums in ack.stored:
+            self.locations[run] = RunLocation(ack.shard, row, ack.rows)
+            self.checksums[run] = checksums
+            self.failures.pop(run, None)
+        for run, message in ack.errors:
+            if run not in self.locations:  # a duplicate task's failure does not undo a run
+                self.failures[run] = message
+
+
+def _estimate(ack: ShardAck, runs: int, threads: int) -> DatasetEstimate | None:
+    """The job's cost from its first shard.
+
+    A shard's median run: a worker's first run (imports, compiled kernels) is left out when the
+    shard has three runs or more.
+    """
+    if not ack.stored:
+        return None
+    ordered = sorted(ack.run_seconds)
+    run_seconds = ordered[len(ordered) // 2]
+    per_run = ack.bytes / len(ack.stored)
+    return DatasetEstimate(
+        runs, int(per_run * runs), runs * run_seconds / max(threads, 1), threads, run_seconds
+    )
+
+
+def generate_sharded(
+    file: Path,
+    spec: DatasetSpec,
+    attributes: dict[str, Any],
+    *,
+    scheduler: str,
+    shards: str | os.PathLike[str] | None,
+    resume: bool,
+    progress: Progress | None,
+    estimate: Estimate | None,
+) -> tuple[int, int, dict[int, str], int]:
+    """Make a data set on a Dask cluster as shards and a manifest (see the module docstring).
+
+    The caller has checked the output path and, on resume, the settings.
+
+    Args:
+        file: the manifest (the output)
+        spec: what the data set holds
+        attributes: file attributes of a new data set
+        scheduler: the Dask scheduler's address
+        shards: the shard folder (default: the output's folder; on resume, the job's)
+        resume: continue the manifest at ``file``
+        progress: called as ``progress(done, total, seconds)`` after each shard
+        estimate: called once with the job's expected cost, after its first shard
+
+    Returns:
+        Runs written by this job, runs complete, failures, shards this job wrote.
+
+    Raises:
+        ParameterError: no scheduler at the address, a missing shard folder, or (resume) a file
+            that was not written in shards.
+        OutputFileError: the manifest cannot be written.
+    """
+    from dask.distributed import as_completed
+
+    start = time.perf_counter()
+    previous = read_manifest_shards(file) if file.is_file() else None
+    if resume and previous is None:
+        raise ParameterError(
+            parameter="scheduler",
+            value=scheduler,
+            allowed=f"none: {file} was written by local workers in one file (resume it with "
+            "--workers)",
+        )
+    folder = Path(shards) if shards is not None else None
+    if folder is None:
+        folder = previous.folder if resume and previous is not None else file.parent
+    if not folder.is_dir():
+        raise ParameterError(
+            parameter="shards", value=str(folder), allowed="an existing folder for the shards"
+        )
+    client = connect(scheduler)
+    try:
+        layout = spec.layout()
+        job = _Job({}, {}, {})
+        raw: dict[str, Any] | None = None
+        if resume:
+            assert previous is not None
+            prefix, raw = previous.prefix, previous.raw_attributes
+            paths = [str(path) for path in list_shards(folder, prefix)]
+            futures = client.map(verify_shard, paths, prefix=prefix, names=layout.names, pure=False)
+            job.keep(client.gather(futures), spec.n_runs)
+        else:
+            prefix = f"{file.stem}-{uuid.uuid4().hex[:8]}"
+            write_manifest(
+                file, folder, spec.n_runs, spec.samples, spec.dtype, attributes, layout,
+                {}, {}, {}, prefix,
+            )  # fmt: skip
+            if previous is not None:  # the overwritten data set's shards
+                remove_unused_shards(previous.folder, previous.prefix, set())
+        todo = [k for k in range(spec.n_runs) if k not in job.locations]
+        threads = max(1, sum(client.nthreads().values()))
+        size = shard_runs(spec.samples, len(todo), threads)
+        batches = [todo[i : i + size] for i in range(0, len(todo), size)]
+        batch_of = {
+            client.submit(write_shard_task, spec, batch, str(folder), prefix, pure=False): batch
+            for batch in batches
+        }
+        done, told = 0, estimate is None
+        for future in as_completed(list(batch_of)):
+            batch = batch_of.pop(future)
+            try:
+                ack = future.result()
+            except Exception as exc:  # the cluster gave up on the task (its workers died)
+                message = f"the cluster could not run it ({type(exc).__name__}: {first_line(exc)})"
+                ack = ShardAck("", 0, (), tuple((run, message) for run in batch), (), 0)
+            job.take(ack)
+            done += len(batch)
+            if not told and estimate is not None:
+                cost = _estimate(ack, len(todo), threads)
+                if cost is not None:
+                    estimate(cost)
+                    told = True
+            if progress is not None:
+                progress(done, len(todo), time.perf_counter() - start)
+        write_manifest(
+            file, folder, spec.n_runs, spec.samples, spec.dtype, {} if resume else attributes,
+            layout, job.locations, job.checksums, job.failures, prefix, raw_attributes=raw,
+        )  # fmt: skip
+        used = {location.shard for location in job.locations.values()}
+        remove_unused_shards(folder, prefix, used)
+    finally:
+        client.close()
+    written = sum(1 for run in todo if run in job.locations)
+    return written, len(job.locations), job.failures, len(batches)
