@@ -8,7 +8,9 @@ from typing import Any, TypeVar
 
 import click
 
-__all__ = ["check_output", "check_run_option", "output_option"]
+from aaria_pin.viz._formats import PICTURE_SUFFIXES
+
+__all__ = ["PICTURE_SUFFIXES", "check_output", "check_run_option", "output_option"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 

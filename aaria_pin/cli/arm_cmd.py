@@ -20,6 +20,17 @@ def _check_fps(_ctx: click.Context, _param: click.Parameter, fps: int) -> int:
     return fps
 
 
+def _check_gif_size(_ctx: click.Context, _param: click.Parameter, size: int) -> int:
+    """Refuse a GIF size outside :data:`aaria_pin.viz.arm_pictures.ANIMATION_SIZES` (one line)."""
+    from aaria_pin.errors import ParameterError
+    from aaria_pin.viz.arm_pictures import ANIMATION_SIZES
+
+    low, high = ANIMATION_SIZES
+    if not low <= size <= high:
+        raise ParameterError(f"--gif-size {size}; allowed: {low} to {high} px")
+    return size
+
+
 @click.group()
 def arm() -> None:
     """The pick-and-place arm of the robotic-arm report."""
@@ -106,6 +117,14 @@ def urdf(folder: Path, preset: str, radius: float, height: float) -> None:
     callback=_check_fps,
     help="Animation frame rate [frames per second of run time].",
 )
+@click.option(
+    "--gif-size",
+    type=int,
+    default=300,
+    show_default=True,
+    callback=_check_gif_size,
+    help="Animation width and height [px].",
+)
 def pick_place(
     cylinder_xy: tuple[float, float],
     place_xy: tuple[float, float],
@@ -119,6 +138,7 @@ def pick_place(
     sheet: Path | None,
     animation: Path | None,
     fps: int,
+    gif_size: int,
 ) -> None:
     """Pick a cylinder from the floor and put it elsewhere: path, torques, run file."""
     import numpy as np
@@ -151,4 +171,4 @@ def pick_place(
     if animation is not None:
         from aaria_pin.viz.arm_pictures import write_animation
 
-        click.echo(f"wrote {write_animation(animation, run, fps=fps)}")
+        click.echo(f"wrote {write_animation(animation, run, fps=fps, size=gif_size)}")

@@ -1,4 +1,4 @@
-"""``aaria plot``: a run's signals (a run file or a data set's run) as panels in one PNG."""
+"""``aaria plot``: a run's signals (a run file or a data set's run) as panels in one picture."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from aaria_pin.cli._viz_options import check_run_option, output_option
+from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, check_run_option, output_option
 
 
 @click.command()
@@ -16,11 +16,12 @@ from aaria_pin.cli._viz_options import check_run_option, output_option
 )
 @click.option("--imu", help="Show only this IMU (e.g. imu_link3_a); default every IMU.")
 @click.option("--width", type=int, default=1400, show_default=True, help="Width [px].")
-@output_option("PNG", (".png",))
+@output_option("picture", PICTURE_SUFFIXES)
 def plot(run_file: Path, run_index: int | None, imu: str | None, width: int, output: Path) -> None:
     """Plot joint values, torques and forces, the base wrench and the IMUs of a run.
 
     RUN_FILE is a run file of any robot (any version) or a data set (--run picks the run).
+    The output's suffix picks the format: .png, .pdf or .svg.
     """
     from aaria_pin.errors import ParameterError
     from aaria_pin.viz.plot import plot_panels, signal_panels

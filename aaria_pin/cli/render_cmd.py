@@ -1,4 +1,4 @@
-"""``aaria render``: a PNG of an arm in one pose, in the paper's colours."""
+"""``aaria render``: a picture (PNG, PDF, SVG) of an arm in one pose, in the paper's colours."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from aaria_pin.cli._options import load_table_source, table_source_options
-from aaria_pin.cli._viz_options import check_run_option, output_option
+from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, check_run_option, output_option
 
 
 @click.command()
@@ -26,7 +26,7 @@ from aaria_pin.cli._viz_options import check_run_option, output_option
 @click.option("--height", type=int, default=800, show_default=True, help="Height [px].")
 @click.option("--elevation", type=float, default=20.0, show_default=True, help="View [deg].")
 @click.option("--azimuth", type=float, default=-60.0, show_default=True, help="View [deg].")
-@output_option("PNG", (".png",))
+@output_option("picture", PICTURE_SUFFIXES)
 def render(
     preset: str | None,
     dh_file: Path | None,
@@ -41,6 +41,10 @@ def render(
     output: Path,
 ) -> None:
     """Draw an arm in 3D: a preset or table with every joint at zero, or a run at a time.
+
+    The output's suffix picks the format: .png (exactly --width x --height px), .pdf or .svg
+    (vector, cropped to the drawing). Frame axes are red, green, blue = x, y, z; a legend names
+    the colours.
 
     --preset also takes the model presets of plug-ins (pick-place-arm, the arm's viewer plug-in):
     the model at rest.
@@ -79,4 +83,5 @@ def render(
         elevation=elevation,
         azimuth=azimuth,
     )
-    click.echo(f"wrote {output}: {width} x {height} px, {title}")
+    size = f"{width} x {height} px" if output.suffix.lower() == ".png" else "vector"
+    click.echo(f"wrote {output}: {size}, {title}")

@@ -8,22 +8,23 @@ from typing import Any
 
 import click
 
-from aaria_pin.cli._viz_options import check_run_option
+from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, check_run_option, output_option
 
 
 def _print_run(report: dict[str, Any]) -> None:
     width = max([5, *(len(joint["joint"]) for joint in report["joints"])])
     click.echo(
         f"{'module':<7} {'joint':<{width}} {'type':<10} {'peak |tau|':>12} {'rms':>10} "
-        f"{'gravity':>8} {'coriolis':>9} {'inertial':>9} {'energy net':>11} {'energy abs':>11}"
+        f"{'rms gravity':>11} {'rms coriolis':>12} {'rms inertial':>12} {'energy net':>11}"
+        f" {'energy abs':>11}"
     )
     for joint in report["joints"]:
-        shares = joint["shares"]
+        terms = joint["rms_terms"]
         click.echo(
             f"{joint['module']:<7} {joint['joint']:<{width}} {joint['type']:<10}"
             f" {joint['peak_abs']:>8.4g} {joint['unit']:<3}"
-            f" {joint['rms']:>10.4g} {shares['gravity']:>8.1%} {shares['coriolis']:>9.1%}"
-            f" {shares['inertial']:>9.1%} {joint['energy_net_J']:>9.4g} J"
+            f" {joint['rms']:>10.4g} {terms['gravity']:>11.4g} {terms['coriolis']:>12.4g}"
+            f" {terms['inertial']:>12.4g} {joint['energy_net_J']:>9.4g} J"
             f" {joint['energy_abs_J']:>9.4g} J"
         )
     peaks = report["base_wrench_peak"]
@@ -55,9 +56,18 @@ def _print_dataset(report: dict[str, Any]) -> None:
 @click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
 @click.option("--run", "run_index", type=click.IntRange(0), help="One run of a data set.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-@click.option("--plot", type=click.Path(dir_okay=False), help="PNG of the split per joint.")
-def torques(file: Path, run_index: int | None, as_json: bool, plot: str | None) -> None:
-    """Peak and RMS torques, their gravity / Coriolis / inertial split, power and energy.
+@output_option(
+    "picture",
+    PICTURE_SUFFIXES,
+    "--plot",
+    required=False,
+    help="Picture (.png, .pdf, .svg) of each joint's RMS and its terms' RMS, side by side.",
+)
+def torques(file: Path, run_index: int | None, as_json: bool, plot: Path | None) -> None:
+    """Peak and RMS torques, the RMS of their gravity / Coriolis / inertial terms, energy.
+
+    The terms add up to tau at every sample; their RMS do not add up to tau's RMS (they are
+    printed and drawn side by side, never stacked).
 
     FILE is a run file of any robot (a DH arm, a URDF robot, the wrist, the pick-place arm;
     any version) or a data set: a summary of its runs' peaks, or one run with --run.

@@ -23,16 +23,22 @@ from aaria_pin.cli._viz_options import check_run_option, output_option
 )
 @output_option("HTML page", (".html", ".htm"))
 def view(run_file: Path, run_index: int | None, max_samples: int, output: Path) -> None:
-    """Write an HTML page with an interactive 3D view that plays the run (works offline).
+    """Write an HTML page that plays the run in 3D, its signals beside it (works offline).
+
+    The robot is drawn with its URDF visual geometry (meshes, boxes, cylinders, spheres),
+    frame axes red, green, blue = x, y, z; beside it the chosen IMU's six signals and the joint
+    torques, with a cursor at the shown time.
 
     RUN_FILE is a run file of any robot (any version) or a data set (--run picks the run).
     """
-    from aaria_pin.viz.html import shown_samples, write_viewer
+    from aaria_pin.viz.html import shown_samples, signal_panels, write_viewer
     from aaria_pin.viz.sources import load_run_view
 
     check_run_option(run_file, run_index)
     run = load_run_view(run_file, run_index)
     samples = shown_samples(run.time.size, max_samples)
-    write_viewer(output, run.scene, run.time[samples], run.frame_poses(samples), run.title)
+    panels = signal_panels(run.signals, samples)
+    poses = run.frame_poses(samples)
+    write_viewer(output, run.scene, run.time[samples], poses, run.title, panels)
     size = output.stat().st_size
     click.echo(f"wrote {output}: {samples.size} of {run.time.size} samples, {size / 1e6:.2f} MB")

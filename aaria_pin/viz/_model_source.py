@@ -1,8 +1,11 @@
-"""The ``"model"`` run kind: any run, drawn as a stick figure of the model it stores.
+"""The ``"model"`` run kind: any run, drawn from the model it stores, as the robot looks.
 
 The model is rebuilt from the record (:func:`aaria_pin.apps.record_model.record_model`: its URDF
-text, or an Aaria run's DH table when it has none), with a frame for each mounted IMU, and drawn
-by :func:`~aaria_pin.viz.scene.scene_from_model` (URDF meshes are not drawn). The kind of each
+text, or an Aaria run's DH table when it has none), with a frame for each mounted IMU. Its links
+are drawn with their URDF visual geometry (meshes, boxes, cylinders, spheres, in their colours:
+:func:`aaria_pin.viz.visuals.urdf_visual_solids`), with the world, tool and IMU frames of
+:func:`~aaria_pin.viz.scene.scene_from_model`; a model with no visual geometry is drawn as that
+function's stick figure. The kind of each
 joint (for units and panels) is its Pinocchio joint type
 (:func:`aaria_pin.core.kinematics.joint_kind`), the joint matched by exact name. It is the
 fallback kind: tried after every other kind, so it draws any run the others do not claim (a
@@ -17,7 +20,8 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
+from dataclasses import replace as replace_fields
 
 import numpy as np
 
@@ -38,9 +42,16 @@ from aaria_pin.viz._run_view import (
     scene_poses,
     still,
 )
-from aaria_pin.viz.scene import scene_from_model
+from aaria_pin.viz.scene import Scene, scene_from_model
 
-__all__ = ["MODEL_KIND", "ModelView", "is_any_run", "load_model_run", "read_model_view"]
+__all__ = [
+    "MODEL_KIND",
+    "ModelView",
+    "is_any_run",
+    "load_model_run",
+    "read_model_view",
+    "with_visuals",
+]
 
 MODEL_KIND = "model"
 """The kind's name: the run is drawn from the model it stores."""
@@ -93,7 +104,7 @@ def _with_imu_frames(robot: RobotModel, record: RunRecord) -> RobotModel:
         add_imu_frames(robot.model, missing)
     except ModelError as exc:
         raise InputFileError(f"the run's IMU mounts cannot be used: {exc}") from None
-    return replace(robot, sensor_frames=tuple(mount.name for mount in mounted))
+    return replace_fields(robot, sensor_frames=tuple(mount.name for mount in mounted))
 
 
 def read_model_view(path: str | os.PathLike[str]) -> ModelView:
@@ -118,8 +129,24 @@ def read_model_view(path: str | os.PathLike[str]) -> ModelView:
     return ModelView(record, robot, signals, base)
 
 
+def with_visuals(scene: Scene, robot: RobotModel, urdf: str) -> Scene:
+    """A model's scene with its URDF visual geometry in place of its stick figure.
+
+    The scene's frames' axes (world, tool, IMUs) stay; its joint cylinders and bones go when
+    the URDF has any visual geometry on the model's frames (else the scene is returned as is).
+    """
+    from aaria_pin.viz.visuals import urdf_visual_solids
+
+    names = [str(frame.name) for frame in robot.model.frames]
+    visuals = urdf_visual_solids(urdf, names)
+    if not visuals.solids:
+        return scene
+    frames = tuple(dict.fromkeys([*scene.frames, *(s.frame for s in visuals.solids)]))
+    return Scene(scene.name, frames, visuals.solids, scene.lines)
+
+
 def load_model_run(path: str | os.PathLike[str]) -> RunView:
-    """Read a run for drawing: the model as a stick figure.
+    """Read a run for drawing: the model with its URDF visual geometry (or a stick figure).
 
     Raises:
         InputFileError: as :func:`read_model_view`.
@@ -130,6 +157,8 @@ def load_model_run(path: str | os.PathLike[str]) -> RunView:
     origins = scene_poses(robot, scene_from_model(robot), BaseMotion.resting(1), still(q[:1]))
     extent = float(np.ptp(origins[0, :, :3, 3], axis=0).max())
     scene = scene_from_model(robot, size=max(0.01, 0.04 * extent))
+    if view.record.urdf:
+        scene = with_visuals(scene, robot, view.record.urdf)
     poser = view.poser(scene.model_frames)
 
     def frame_poses(samples: Array) -> Array:

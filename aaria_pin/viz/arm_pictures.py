@@ -23,6 +23,7 @@ from aaria_pin.errors import ParameterError
 
 __all__ = [
     "ANIMATION_FPS",
+    "ANIMATION_SIZES",
     "cylinder_poses",
     "sheet_samples",
     "write_animation",
@@ -31,6 +32,9 @@ __all__ = [
 
 ANIMATION_FPS = (1, 50)
 """Lowest and highest animation frame rate [frames per second of run time]."""
+
+ANIMATION_SIZES = (100, 1200)
+"""Smallest and largest side of the (square) animation [px]."""
 
 
 def cylinder_poses(run: PickPlaceRun) -> Array:
@@ -105,12 +109,20 @@ def write_contact_sheet(path: str | os.PathLike[str], run: PickPlaceRun, dpi: in
 
 
 def write_animation(
-    path: str | os.PathLike[str], run: PickPlaceRun, fps: int = 10, dpi: int = 60
+    path: str | os.PathLike[str], run: PickPlaceRun, fps: int = 10, size: int = 300, dpi: int = 60
 ) -> Path:
-    """Write a GIF of the task, ``fps`` frames per second of run time.
+    """Write a GIF of the task, ``fps`` frames per second of run time, ``size`` px square.
+
+    Args:
+        path: the GIF to write (atomically)
+        run: the pick-and-place run
+        fps: frames per second of run time
+        size: width and height of the frames [px]
+        dpi: dots per inch the figure is drawn at (text size: larger is larger text)
 
     Raises:
-        ParameterError: fps outside :data:`ANIMATION_FPS`.
+        ParameterError: fps outside :data:`ANIMATION_FPS`, size outside
+            :data:`ANIMATION_SIZES`.
     """
     from aaria_pin.files.io import atomic_output
     from aaria_pin.viz._plotting import pyplot
@@ -118,13 +130,16 @@ def write_animation(
     low, high = ANIMATION_FPS
     if not low <= fps <= high:
         raise ParameterError(f"animation fps {fps!r}; allowed: {low} to {high}")
+    smallest, largest = ANIMATION_SIZES
+    if not smallest <= size <= largest:
+        raise ParameterError(parameter="size", value=size, allowed=f"{smallest} to {largest} px")
     plt = pyplot()
     from matplotlib.animation import FuncAnimation, PillowWriter
 
     time = run.path.time
     frames = np.unique(np.searchsorted(time, np.arange(0.0, time[-1], 1.0 / fps)))
     drawer = _Drawer(run, frames)
-    fig = plt.figure(figsize=(5, 5))
+    fig = plt.figure(figsize=(size / dpi, size / dpi), dpi=dpi)
     final = Path(path)
     try:
         ax = fig.add_subplot(projection="3d", computed_zorder=False)

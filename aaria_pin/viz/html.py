@@ -1,13 +1,26 @@
-"""A self-contained HTML page that plays a run in an interactive 3D view.
+"""A self-contained HTML page that plays a run: the robot in 3D and its signals beside it.
 
-The page is the template ``viewer.html.in`` (package data) with the run embedded as JSON:
-the scene's solids, lines and bones in their frames' coordinates, and the world pose of every
-frame at each shown sample (``[R row-major, p]``, 12 numbers a frame, each rounded to 5
-decimals: positions to 0.01 mm, rotation entries to 1e-5). Its inline script projects the
-scene itself onto a ``<canvas>`` (no WebGL, no library): drag to orbit, wheel to zoom, a
-play/pause button and a time slider; ``#t=SECONDS`` in the address opens the page paused at
-that time. Nothing is fetched when it is opened (its content security policy forbids any
-load), so it works offline and can be mailed as one file.
+**Choice of 3D library.** The page draws with three.js (r147, vendored in ``viz/vendor`` and
+inlined: one HTML file of about 0.7 MB plus the robot, which works offline and can be mailed,
+with a content security policy that forbids any load). The alternatives were weighed for "one
+file or folder a user can open or send, offline": meshcat's static HTML is three.js too but is
+produced by a running meshcat server (a ZMQ process, pyzmq, tornado) and plays its own
+animation clock, with no hook for plots beside it; viser's static export needs its client build
+folder and a served page; Rerun needs its viewer application and an ``.rrd`` file. Inlining
+three.js keeps the one-file page, draws the URDF's meshes and solids with WebGL (lit, depth
+tested), and lets our script drive playback, so the signal plots' cursor follows it.
+
+The run is embedded as JSON: the scene's solids as triangle meshes (vertices in their frame
+[m], to 0.01 mm, and their colour), its lines (frame axes, red, green, blue = x, y, z, with the
+role's colour marking the origin) and bones, and the world pose of every frame at each shown
+sample (``[R row-major, p]``, 12 numbers a frame, each rounded to 5 decimals: positions to
+0.01 mm, rotation entries to 1e-5), and the signal panels (:func:`signal_panels`: each IMU's
+gyroscope and accelerometer, one IMU shown at a time, and the joint torques and forces) at the
+same samples. The page orbits
+(drag), pans (right drag), zooms (wheel), plays and pauses, has a time slider, draws the tool
+path on request, and draws the panels with a cursor at the shown time; ``#t=SECONDS`` in the
+address opens it paused at that time. Its status line reports what was drawn (triangles, draw
+calls, inked pixels, the sample, the cursor), for tests and curious users.
 """
 
 from __future__ import annotations
@@ -15,39 +28,72 @@ from __future__ import annotations
 import html
 import json
 import os
+from collections.abc import Sequence
+from dataclasses import replace
 from functools import cache
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.io import write_text_atomic
-from aaria_pin.viz.scene import COLOURS, WORLD, Scene, posed_geometry
+from aaria_pin.viz.scene import COLOURS, ROLE_LABELS, WORLD, Scene, posed_geometry
 
-__all__ = ["DEFAULT_MAX_SAMPLES", "shown_samples", "viewer_html", "write_viewer"]
+if TYPE_CHECKING:
+    from aaria_pin.viz._run_view import Signals
+    from aaria_pin.viz.plot import Panel
 
-_TITLE, _DATA = "__AARIA_TITLE__", "__AARIA_DATA__"
-"""Placeholders of the template: the page title (twice) and the run's JSON (once)."""
+__all__ = [
+    "DEFAULT_MAX_SAMPLES",
+    "shown_samples",
+    "signal_panels",
+    "viewer_html",
+    "write_viewer",
+]
+
+_TITLE, _DATA, _LIBRARY = "__AARIA_TITLE__", "__AARIA_DATA__", "__AARIA_LIBRARY__"
+"""Placeholders of the template: the page title (twice), the run's JSON and the 3D library
+(once each)."""
+
+_VENDORED = ("three-r147.min.js", "OrbitControls-r147.js")
+"""The JavaScript files inlined in the page, in order (``viz/vendor``)."""
 
 DEFAULT_MAX_SAMPLES = 500
 """Most samples a page holds by default (the run is decimated evenly to fit)."""
 
-_LEGEND = (
-    ("joint", "joints"),
-    ("link", "links, tool"),
-    ("dh_frame", "DH frames"),
-    ("world_frame", "world frame"),
-    ("tool_frame", "tool frame"),
-    ("imu_frame", "IMUs"),
-)
+
+def signal_panels(signals: Signals, samples: Array) -> tuple[Panel, ...]:
+    """The page's panels at the shown samples: each IMU's two, the joint torques and forces.
+
+    They are :func:`aaria_pin.viz.plot.signal_panels`'s (the ``aaria plot`` panels) less the
+    joint values and the base wrench.
+
+    Args:
+        signals: the run's signals
+        samples: indices (S,) of the shown samples
+    """
+    from aaria_pin.viz.plot import signal_panels as all_panels
+
+    index = np.asarray(samples, dtype=int)
+    shown = []
+    for panel in all_panels(signals):
+        joint_loads = panel.title.endswith(("torques", "forces")) and "joints" in panel.title
+        if panel.group or joint_loads:
+            shown.append(replace(panel, values=np.asarray(panel.values)[index]))
+    return tuple(shown)
 
 
 @cache
 def _template() -> str:
-    return (resources.files("aaria_pin.viz") / "viewer.html.in").read_text(encoding="utf-8")
+    page = (resources.files("aaria_pin.viz") / "viewer.html.in").read_text(encoding="utf-8")
+    folder = resources.files("aaria_pin.viz") / "vendor"
+    library = "\n".join((folder / name).read_text(encoding="utf-8") for name in _VENDORED)
+    if "</script" in library.lower() or "__AARIA_" in library:
+        raise RuntimeError("a vendored script holds '</script' or a placeholder of the page")
+    return page.replace(_LIBRARY, library, 1)
 
 
 def shown_samples(n_samples: int, max_samples: int = DEFAULT_MAX_SAMPLES) -> np.ndarray:
@@ -78,7 +124,29 @@ def _grid(low: Array, high: Array, floor: float) -> list[list[list[float]]]:
     return [[[round(float(v), 4) for v in point] for point in line] for line in lines]
 
 
-def _payload(scene: Scene, time: Array, poses: Array, title: str) -> dict[str, Any]:
+def _panel(panel: Panel) -> dict[str, Any]:
+    values = np.asarray(panel.values, dtype=float)
+    scale = float(np.max(np.abs(values))) if values.size else 0.0
+    digits = 4 if scale == 0.0 else max(0, 4 - int(np.floor(np.log10(scale))))
+    return {
+        "title": f"{panel.title} — {panel.ylabel}",
+        "labels": list(panel.labels),
+        "values": np.round(values.T, digits).tolist(),
+        "group": panel.group,
+    }
+
+
+def _tool_frame(scene: Scene) -> int:
+    """Index of the scene's tool frame (its axes' role is ``tool_frame``), or -1."""
+    for item in scene.lines:
+        if item.role == "tool_frame":
+            return scene.frames.index(item.frame)
+    return -1
+
+
+def _payload(
+    scene: Scene, time: Array, poses: Array, title: str, panels: Sequence[Panel]
+) -> dict[str, Any]:
     index = {name: k for k, name in enumerate(scene.frames)}
     flat = np.concatenate([poses[:, :, :3, :3].reshape(*poses.shape[:2], 9), poses[:, :, :3, 3]], 2)
     low, high = np.full(3, np.inf), np.full(3, -np.inf)
@@ -94,9 +162,9 @@ def _payload(scene: Scene, time: Array, poses: Array, title: str) -> dict[str, A
         "solids": [
             {
                 "f": index[s.frame],
-                "v": np.round(s.vertices, 5).tolist(),
-                "faces": s.faces.tolist(),
-                "c": list(COLOURS.get(s.role, COLOURS["other"])),
+                "v": np.round(s.vertices, 5).ravel().tolist(),
+                "t": s.triangles().ravel().tolist(),
+                "c": [round(float(c), 4) for c in s.rgb],
             }
             for s in scene.solids
         ],
@@ -104,7 +172,8 @@ def _payload(scene: Scene, time: Array, poses: Array, title: str) -> dict[str, A
             {
                 "f": index[item.frame],
                 "p": np.round(item.points, 5).tolist(),
-                "c": list(COLOURS.get(item.role, COLOURS["other"])),
+                "c": np.round(item.colours(), 4).tolist(),
+                "o": list(COLOURS.get(item.role, COLOURS["other"])) if item.axes else None,
                 "w": item.width,
             }
             for item in scene.lines
@@ -118,20 +187,29 @@ def _payload(scene: Scene, time: Array, poses: Array, title: str) -> dict[str, A
         "grid": _grid(low, high, min(float(low[2]), 0.0)),
         "legend": [
             {"label": label, "colour": list(COLOURS[role])}
-            for role, label in _LEGEND
+            for role, label in ROLE_LABELS
             if role in roles or (role == "world_frame" and WORLD in scene.frames)
         ],
+        "tool": _tool_frame(scene),
+        "panels": [_panel(panel) for panel in panels],
     }
 
 
-def viewer_html(scene: Scene, time: Array, poses: Array, title: str) -> str:
-    """The viewer page of a scene moving through poses.
+def viewer_html(
+    scene: Scene,
+    time: Array,
+    poses: Array,
+    title: str,
+    panels: Sequence[Panel] = (),
+) -> str:
+    """The viewer page of a scene moving through poses, with signal panels beside it.
 
     Args:
         scene: the scene
         time: times of the shown samples (S,) [s]
         poses: (S, F, 4, 4) world pose of every scene frame at each shown sample
         title: the page's title
+        panels: plots beside the 3D view, values at the shown samples (:func:`signal_panels`)
 
     Returns:
         The HTML text.
@@ -141,7 +219,14 @@ def viewer_html(scene: Scene, time: Array, poses: Array, title: str) -> str:
             f"poses of shape {poses.shape} for {len(time)} samples and {len(scene.frames)}"
             " frames; allowed: (samples, frames, 4, 4), at least one sample"
         )
-    data = json.dumps(_payload(scene, time, poses, title), separators=(",", ":"))
+    for panel in panels:
+        if np.shape(panel.values) != (len(time), len(panel.labels)):
+            raise ParameterError(
+                parameter="panels",
+                value=f"{panel.title!r} of shape {np.shape(panel.values)}",
+                allowed=f"(samples, labels) = ({len(time)}, {len(panel.labels)})",
+            )
+    data = json.dumps(_payload(scene, time, poses, title, panels), separators=(",", ":"))
     data = data.replace("<", "\\u003c")  # no "</script>" inside the script element
     # the title first (escaped for HTML, "_" as "&#95;" so it cannot spell a placeholder), then
     # the data, which is not scanned again: a title or frame name "__AARIA_TITLE__" stays as is
@@ -150,9 +235,14 @@ def viewer_html(scene: Scene, time: Array, poses: Array, title: str) -> str:
 
 
 def write_viewer(
-    path: str | os.PathLike[str], scene: Scene, time: Array, poses: Array, title: str
+    path: str | os.PathLike[str],
+    scene: Scene,
+    time: Array,
+    poses: Array,
+    title: str,
+    panels: Sequence[Panel] = (),
 ) -> Path:
     """Write the viewer page (atomically); see :func:`viewer_html`."""
     final = Path(path)
-    write_text_atomic(final, viewer_html(scene, time, poses, title))
+    write_text_atomic(final, viewer_html(scene, time, poses, title, panels))
     return final

@@ -1,4 +1,4 @@
-"""A run's signals as scope traces: labelled panels with units, one PNG.
+"""A run's signals as scope traces: labelled panels with units, one picture (PNG, PDF or SVG).
 
 Rows of two panels sharing the time axis: revolute joints, angles [rad] and torques [N·m];
 prismatic joints, positions [m] and forces [N] (so a large lift force does not flatten the
@@ -17,7 +17,7 @@ import numpy as np
 
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
-from aaria_pin.viz._figure import png_figure
+from aaria_pin.viz._figure import figure_file
 from aaria_pin.viz.sources import Signals
 
 __all__ = ["Panel", "plot_panels", "signal_panels"]
@@ -42,12 +42,15 @@ class Panel:
         ylabel: quantity and unit, e.g. ``"angular velocity [rad/s]"``
         values: (T, k) traces
         labels: one legend label per trace
+        group: the IMU it shows (the viewer page shows one IMU's panels at a time); empty:
+            not an IMU's
     """
 
     title: str
     ylabel: str
     values: Array
     labels: tuple[str, ...]
+    group: str = ""
 
 
 def _name(label: str) -> str:
@@ -113,12 +116,14 @@ def signal_panels(signals: Signals, imu: str | None = None) -> list[Panel]:
                 "angular velocity [rad/s]",
                 values[:, :3],
                 tuple(f"w{a}" for a in _AXES),
+                name,
             ),
             Panel(
                 f"{name}: accelerometer",
                 "specific force [m/s²]",
                 values[:, 3:],
                 tuple(f"f{a}" for a in _AXES),
+                name,
             ),
         ]
     return panels
@@ -133,12 +138,12 @@ def plot_panels(
     width: int = 1400,
     row_height: int = 260,
 ) -> Path:
-    """Draw panels two per row into a PNG of ``width`` × (rows · ``row_height``) pixels.
+    """Draw panels two per row into a picture of ``width`` × (rows · ``row_height``) pixels.
 
     Args:
         time: sample times (T,) [s]
         panels: the panels (see :func:`signal_panels`)
-        path: the PNG to write (atomically)
+        path: the picture to write (atomically): ``.png``, ``.pdf`` or ``.svg`` (by the suffix)
         title: the figure's title
         width: picture width [px]
         row_height: height of one row of panels [px]
@@ -159,7 +164,7 @@ def plot_panels(
                 f" {len(time)} samples and {len(panel.labels)} labels; allowed: (samples, labels)"
             )
     rows = (len(panels) + 1) // 2
-    with png_figure(path, width, rows * row_height, layout="constrained") as figure:
+    with figure_file(path, width, rows * row_height, layout="constrained") as figure:
         axes = figure.subplots(rows, 2, sharex=True, squeeze=False)
         for k, ax in enumerate(axes.flat):
             if k >= len(panels):

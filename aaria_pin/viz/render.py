@@ -1,8 +1,10 @@
-"""A PNG of an arm in one pose, in the paper's colours (matplotlib, 3D axes in metres).
+"""A picture (PNG, PDF or SVG) of an arm in one pose, in the paper's colours (matplotlib, metres).
 
-Solids are filled faces shaded by a light from above and in front (so the box sides are told
-apart); coordinate frames are lines drawn over the solids, as Mechanics Explorer draws its
-frames. The axes have equal aspect and show metres.
+Solids are filled faces in their colours (a URDF's, else their role's) shaded by a light from
+above and in front (so the box sides are told apart); coordinate frames are their x, y, z axes
+in red, green, blue, drawn over the solids as Mechanics Explorer draws its frames, with a dot of
+their role's colour at the origin. A legend names the roles and the axes' colours. The axes
+have equal scales, are tight about the arm and show metres.
 """
 
 from __future__ import annotations
@@ -15,26 +17,29 @@ import numpy as np
 
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
-from aaria_pin.viz._figure import png_figure
-from aaria_pin.viz.scene import COLOURS, PosedGeometry
+from aaria_pin.viz._figure import equal_axes_3d, figure_file
+from aaria_pin.viz.scene import AXIS_COLOURS, COLOURS, ROLE_LABELS, PosedGeometry
 
-__all__ = ["MAX_PIXELS", "draw_geometry", "face_colours", "render_geometry"]
+__all__ = ["MAX_PIXELS", "draw_geometry", "draw_legend", "face_colours", "render_geometry"]
 
 MAX_PIXELS = 4000
 """Largest width or height of a picture [px]."""
 
 _LIGHT = np.array([0.4, -0.5, 0.75])
+_MAX_EDGED_FACES = 3000
+"""Most faces drawn with edges (boxes and cylinders are; meshes of thousands are not)."""
 
 
 def face_colours(geometry: PosedGeometry, light: Array = _LIGHT) -> Array:
-    """RGB (N, 3) of each face: its role's colour, Lambert-shaded by a fixed light.
+    """RGB (N, 3) of each face: its colour, Lambert-shaded by a fixed light.
 
     Args:
         geometry: the posed scene
         light: direction towards the light, world axes
 
     Returns:
-        Colours in 0–1; the darkest face keeps 55 % of its role's brightness.
+        Colours in 0–1 (a face's own colour, else its role's); the darkest face keeps 55 % of
+        its colour's brightness.
     """
     faces = geometry.faces
     if faces.shape[0] == 0:
@@ -45,7 +50,10 @@ def face_colours(geometry: PosedGeometry, light: Array = _LIGHT) -> Array:
     length = np.linalg.norm(normal, axis=1, keepdims=True)
     unit = normal / np.where(length > 0, length, 1.0)
     lit = np.abs(unit @ (light / np.linalg.norm(light)))
-    base = np.array([COLOURS.get(role, COLOURS["other"]) for role in geometry.face_roles])
+    if geometry.face_rgb is not None:
+        base = np.asarray(geometry.face_rgb, dtype=float)
+    else:
+        base = np.array([COLOURS.get(role, COLOURS["other"]) for role in geometry.face_roles])
     return np.asarray(base * (0.55 + 0.45 * lit)[:, None])
 
 
@@ -63,27 +71,71 @@ def draw_geometry(
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
     if geometry.faces.shape[0]:
+        many = geometry.faces.shape[0] > _MAX_EDGED_FACES  # a mesh's edges would blacken it
         solids = Poly3DCollection(
             list(geometry.faces),
             facecolors=face_colours(geometry),
-            edgecolors=(0.1, 0.1, 0.1, 0.35),
+            edgecolors="none" if many else (0.1, 0.1, 0.1, 0.35),
             linewidths=0.3,
         )
         solids.set_zorder(1)
         axes.add_collection3d(solids)
     if geometry.segments.shape[0]:
-        colours = [COLOURS.get(role, COLOURS["other"]) for role in geometry.segment_roles]
+        if geometry.segment_rgb is not None:
+            colours = np.asarray(geometry.segment_rgb, dtype=float)
+        else:
+            colours = np.array([COLOURS.get(r, COLOURS["other"]) for r in geometry.segment_roles])
         frames = Line3DCollection(
             list(geometry.segments), colors=colours, linewidths=geometry.segment_widths
         )
         frames.set_zorder(2)
         axes.add_collection3d(frames)
+    if geometry.origins is not None and len(geometry.origins):
+        dots = [COLOURS.get(role, COLOURS["other"]) for role in geometry.origin_roles]
+        axes.scatter(*np.asarray(geometry.origins).T, c=dots, s=14, depthshade=False, zorder=3)
     low, high = geometry.bounds() if bounds is None else (np.asarray(b) for b in bounds)
-    centre, half = (low + high) / 2.0, max(float(np.max(high - low)) / 2.0, 0.05) * 1.05
-    axes.set_xlim(centre[0] - half, centre[0] + half)
-    axes.set_ylim(centre[1] - half, centre[1] + half)
-    axes.set_zlim(centre[2] - half, centre[2] + half)
-    axes.set_box_aspect((1.0, 1.0, 1.0))
+    equal_axes_3d(axes, low, high, min_half=0.05)
+
+
+def draw_legend(axes: Any, geometry: PosedGeometry, **options: Any) -> Any:
+    """A legend of what a posed scene shows: its solids' and frames' roles, the axes' colours.
+
+    Solids in their own colours (a URDF's) are named "links (URDF colours)".
+
+    Args:
+        axes: the axes to put it on
+        geometry: the posed scene
+        **options: more arguments of ``axes.legend`` (e.g. ``loc``)
+
+    Returns:
+        The legend.
+    """
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    roles = set(geometry.face_roles) | set(geometry.origin_roles) | set(geometry.segment_roles)
+    own = geometry.face_rgb is not None and any(
+        not np.allclose(rgb, COLOURS.get(role, COLOURS["other"]))
+        for rgb, role in zip(geometry.face_rgb, geometry.face_roles, strict=True)
+    )
+    handles: list[Any] = []
+    if own:
+        grey = (0.45, 0.45, 0.45)
+        handles.append(Patch(facecolor=grey, edgecolor="k", label="links (URDF colours)"))
+    for role, label in ROLE_LABELS:
+        if role not in roles:
+            continue
+        colour = COLOURS[role]
+        if role in geometry.origin_roles:
+            handles.append(Line2D([], [], marker="o", linestyle="", color=colour, label=label))
+        elif not own and role in geometry.face_roles:
+            handles.append(Patch(facecolor=colour, edgecolor="k", label=label))
+    if "bone" in roles:
+        handles.append(Line2D([], [], color=COLOURS["bone"], linewidth=3, label="links"))
+    if geometry.origin_roles:
+        for axis, colour in zip("xyz", AXIS_COLOURS, strict=True):
+            handles.append(Line2D([], [], color=colour, linewidth=2, label=f"{axis} axis"))
+    return axes.legend(handles=handles, **options)
 
 
 def render_geometry(
@@ -96,11 +148,14 @@ def render_geometry(
     elevation: float = 20.0,
     azimuth: float = -60.0,
 ) -> Path:
-    """Draw a posed scene into a PNG of exactly ``width`` × ``height`` pixels.
+    """Draw a posed scene with its legend into a PNG, PDF or SVG (by the suffix).
+
+    A PNG is exactly ``width`` × ``height`` pixels; a PDF or SVG is that size cropped to what is
+    drawn (:func:`aaria_pin.viz._figure.figure_file`).
 
     Args:
         geometry: the posed scene
-        path: the PNG to write (atomically)
+        path: the picture to write (atomically): ``.png``, ``.pdf`` or ``.svg``
         title: the picture's title
         width: picture width [px]
         height: picture height [px]
@@ -112,11 +167,12 @@ def render_geometry(
 
     Raises:
         ParameterError: a size outside 100–:data:`MAX_PIXELS` px, or matplotlib missing.
+        OutputFileError: another suffix.
     """
     for name, value in (("width", width), ("height", height)):
         if not 100 <= value <= MAX_PIXELS:
             raise ParameterError(f"{name} {value} px; allowed: 100 to {MAX_PIXELS} px")
-    with png_figure(path, width, height) as figure:
+    with figure_file(path, width, height) as figure:
         axes = figure.add_subplot(projection="3d", computed_zorder=False)
         draw_geometry(axes, geometry)
         axes.set_xlabel("x [m]")
@@ -124,5 +180,6 @@ def render_geometry(
         axes.set_zlabel("z [m]")
         axes.view_init(elev=elevation, azim=azimuth)
         axes.set_title(title)
+        draw_legend(axes, geometry, loc="upper left", fontsize=8, framealpha=0.9)
         figure.subplots_adjust(left=0.0, right=1.0, bottom=0.02, top=0.95)
     return Path(path)

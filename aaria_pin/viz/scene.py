@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from aaria_pin.aaria.dh_robot import DHRobot, link_name
 from aaria_pin.core.model import RobotModel
@@ -34,8 +35,10 @@ from aaria_pin.core.se3 import Array
 from aaria_pin.core.urdf import RobotDescription
 
 __all__ = [
+    "AXIS_COLOURS",
     "COLOURS",
     "PART_ROLES",
+    "ROLE_LABELS",
     "WORLD",
     "Bone",
     "Lines",
@@ -44,6 +47,7 @@ __all__ = [
     "Solid",
     "box_solid",
     "cylinder_solid",
+    "mesh_solid",
     "one_axis_joint",
     "posed_geometry",
     "scene_from_description",
@@ -67,6 +71,19 @@ COLOURS: dict[str, tuple[float, float, float]] = {
 }
 """RGB colour (0–1) of each drawing role."""
 
+ROLE_LABELS = (
+    ("joint", "joints"),
+    ("link", "links, tool"),
+    ("dh_frame", "DH frames"),
+    ("world_frame", "world frame"),
+    ("tool_frame", "tool frame"),
+    ("imu_frame", "IMUs"),
+)
+"""Legend label of each drawing role, in legend order."""
+
+AXIS_COLOURS = ((0.85, 0.10, 0.10), (0.10, 0.65, 0.10), (0.10, 0.25, 0.90))
+"""RGB colour (0–1) of a frame's x, y and z axes (RGB = xyz)."""
+
 PART_ROLES = {
     "housing": "joint",
     "rail": "joint",
@@ -88,12 +105,25 @@ class Solid:
         vertices: (V, 3) vertices in the frame [m]
         faces: (F, 4) vertex indices of each face (a triangle repeats its last vertex)
         role: drawing role, a key of :data:`COLOURS`
+        colour: its own RGB colour (0–1), e.g. a URDF material's; None: the role's
     """
 
     frame: str
     vertices: Array
     faces: Array
     role: str
+    colour: tuple[float, float, float] | None = None
+
+    @property
+    def rgb(self) -> tuple[float, float, float]:
+        """The colour it is drawn in: its own, else its role's."""
+        return self.colour or COLOURS.get(self.role, COLOURS["other"])
+
+    def triangles(self) -> Array:
+        """(K, 3) vertex indices of its faces cut into triangles (a quad gives two)."""
+        faces = np.asarray(self.faces, dtype=np.int64)
+        second = faces[faces[:, 3] != faces[:, 2]][:, [0, 2, 3]]
+        return np.concatenate([faces[:, :3], second])
 
 
 @dataclass(frozen=True)
@@ -105,12 +135,21 @@ class Lines:
         points: (L, 2, 3) segment end points in the frame [m]
         role: drawing role, a key of :data:`COLOURS`
         width: line width [px]
+        axes: the three segments are a frame's x, y, z axes, drawn red, green, blue
+            (:data:`AXIS_COLOURS`); the role's colour marks the frame's origin
     """
 
     frame: str
     points: Array
     role: str
     width: float = 2.0
+    axes: bool = False
+
+    def colours(self) -> Array:
+        """(L, 3) RGB of each segment: x, y, z axes red, green, blue, else the role's."""
+        if self.axes:
+            return np.asarray(AXIS_COLOURS)[np.arange(len(self.points)) % 3]
+        return np.broadcast_to(COLOURS.get(self.role, COLOURS["other"]), (len(self.points), 3))
 
 
 @dataclass(frozen=True)
@@ -157,6 +196,12 @@ class PosedGeometry:
         segments: (M, 2, 3) line segments in the world [m] (lines and bones)
         segment_roles: (M,) drawing role of each segment
         segment_widths: (M,) line width of each segment [px]
+        face_rgb: (N, 3) colour (0–1) of each face (its solid's own, else its role's); None:
+            the roles' colours
+        segment_rgb: (M, 3) colour (0–1) of each segment (frame axes RGB = xyz); None: the
+            roles' colours
+        origins: (P, 3) origin of each frame drawn as axes [m]
+        origin_roles: (P,) drawing role of each (its colour marks the origin)
     """
 
     faces: Array
@@ -164,6 +209,10 @@ class PosedGeometry:
     segments: Array
     segment_roles: tuple[str, ...]
     segment_widths: Array
+    face_rgb: Array | None = None
+    segment_rgb: Array | None = None
+    origins: Array | None = None
+    origin_roles: tuple[str, ...] = ()
 
     def bounds(self) -> Array:
         """(2, 3) lower and upper corner of everything drawn [m]."""
@@ -208,14 +257,31 @@ def cylinder_solid(
     return Solid(frame, vertices, np.concatenate([sides, bottom, top]), role)
 
 
+def mesh_solid(
+    frame: str,
+    T_frame_mesh: Array,
+    vertices: ArrayLike,
+    triangles: ArrayLike,
+    role: str,
+    colour: tuple[float, float, float] | None = None,
+) -> Solid:
+    """A triangle mesh (vertices [m] in its own frame ``T_frame_mesh``) fixed to a frame."""
+    placed = np.asarray(vertices, dtype=float) @ T_frame_mesh[:3, :3].T + T_frame_mesh[:3, 3]
+    corners = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    return Solid(frame, placed, np.column_stack([corners, corners[:, 2]]), role, colour)
+
+
 def triad(
     frame: str, length: float, role: str, T_frame_triad: Array | None = None, width: float = 2.0
 ) -> Lines:
-    """The three axes of a coordinate frame as segments of ``length`` [m] from its origin."""
+    """The x, y, z axes of a coordinate frame as segments of ``length`` [m] from its origin.
+
+    They are drawn red, green, blue (:data:`AXIS_COLOURS`); ``role`` colours the origin.
+    """
     T = np.eye(4) if T_frame_triad is None else T_frame_triad
     origin = T[:3, 3]
     points = np.array([[origin, origin + length * T[:3, axis]] for axis in range(3)])
-    return Lines(frame, points, role, width)
+    return Lines(frame, points, role, width, axes=True)
 
 
 def scene_from_description(description: RobotDescription, name: str | None = None) -> Scene:
@@ -373,20 +439,29 @@ def posed_geometry(scene: Scene, poses: Array) -> PosedGeometry:
 
     faces = [place(s.frame, s.vertices)[s.faces] for s in scene.solids]
     face_roles = [s.role for s in scene.solids for _ in range(len(s.faces))]
+    face_rgb = [np.broadcast_to(s.rgb, (len(s.faces), 3)) for s in scene.solids]
     segments = [
         place(item.frame, item.points.reshape(-1, 3)).reshape(-1, 2, 3) for item in scene.lines
     ]
     roles = [item.role for item in scene.lines for _ in range(len(item.points))]
     widths = [item.width for item in scene.lines for _ in range(len(item.points))]
+    rgb = [item.colours() for item in scene.lines]
+    axes = [item for item in scene.lines if item.axes]
+    origins = [place(item.frame, item.points[0, 0][None])[0] for item in axes]
     for bone in scene.bones:
         a, b = poses[index[bone.frame_a]][:3, 3], poses[index[bone.frame_b]][:3, 3]
         segments.append(np.array([[a, b]]))
         roles.append(bone.role)
         widths.append(bone.width)
+        rgb.append(np.array([COLOURS.get(bone.role, COLOURS["other"])]))
     return PosedGeometry(
         np.concatenate(faces) if faces else np.zeros((0, 4, 3)),
         tuple(face_roles),
         np.concatenate(segments) if segments else np.zeros((0, 2, 3)),
         tuple(roles),
         np.asarray(widths, dtype=float),
+        np.concatenate(face_rgb) if face_rgb else np.zeros((0, 3)),
+        np.concatenate(rgb) if rgb else np.zeros((0, 3)),
+        np.array(origins).reshape(-1, 3),
+        tuple(item.role for item in axes),
     )

@@ -139,7 +139,9 @@ def test_render_draws_a_plugin_preset_and_lists_it(
         (["plot", "{table}", "-o", "{out}.png"], "unknown|not a run file"),
         (["view", "{missing}", "-o", "{out}.html"], "no such file"),
         (["view", "{run}", "-o", "{out}.txt"], "allowed: .html"),
-        (["plot", "{run}", "-o", "{out}.svg"], r"'\.svg' .*allowed: \.png$"),
+        (["plot", "{run}", "-o", "{out}.jpg"], r"'\.jpg' .*allowed: \.png, \.pdf, \.svg$"),
+        (["render", "--preset", "aaria-fig2", "-o", "{out}.eps"], r"allowed: \.png, \.pdf, \.svg$"),
+        (["torques", "{run}", "--plot", "{out}.gif"], r"allowed: \.png, \.pdf, \.svg$"),
         (["render", "--from", "{missing}", "-o", "{out}.png"], "no such file"),
     ],
 )

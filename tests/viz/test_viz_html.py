@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import aaria_pin.viz
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
 from aaria_pin.apps.wrist.run import simulate_wrist, write_wrist_run
@@ -20,7 +21,8 @@ from aaria_pin.core.urdf_robot import read_urdf_file
 from aaria_pin.core.urdf_run import simulate_urdf_run
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.runfile import write_run
-from aaria_pin.viz.html import shown_samples, viewer_html, write_viewer
+from aaria_pin.viz.html import shown_samples, signal_panels, viewer_html, write_viewer
+from aaria_pin.viz.plot import Panel
 from aaria_pin.viz.sources import load_run_view
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
@@ -49,7 +51,12 @@ def pages(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
         assert view.kind == name
         k = shown_samples(view.time.size, 120)
         out[name] = write_viewer(
-            folder / f"{name}.html", view.scene, view.time[k], view.frame_poses(k), view.title
+            folder / f"{name}.html",
+            view.scene,
+            view.time[k],
+            view.frame_poses(k),
+            view.title,
+            signal_panels(view.signals, k),
         )
     return out
 
@@ -68,8 +75,12 @@ def test_page_embeds_the_run_and_loads_nothing(pages: dict[str, Path]) -> None:
     assert data["frames"][0] == "world" and "tool_tip" in data["frames"]
     assert {"slider", "play", "canvas"} <= set(re.findall(r'id="(\w+)"', page))
     assert 'type="range"' in page
-    # offline: no address to fetch, and a policy that forbids any load
-    assert "http://" not in page and "https://" not in page
+    # offline: the library is inlined, no address to fetch outside it, a policy that forbids
+    # any load
+    library = (Path(aaria_pin.viz.__file__).parent / "vendor" / "three-r147.min.js").read_text()
+    assert library in page
+    ours = page.replace(library, "")
+    assert "http://" not in ours and "https://" not in ours
     assert not re.search(r"<(script|link|img|iframe)[^>]*(src|href)=", page)
     assert "default-src 'none'" in page
 
@@ -118,7 +129,8 @@ def chromium(tmp: Path, url: str, *extra: str) -> subprocess.CompletedProcess[st
         CHROMIUM,
         "--headless",
         "--no-sandbox",
-        "--disable-gpu",
+        "--use-angle=swiftshader",  # WebGL in software, as a machine without a GPU has it
+        "--enable-unsafe-swiftshader",
         "--disable-quic",
         "--no-first-run",
         "--disable-background-networking",
@@ -154,7 +166,7 @@ def canvas_pixels(path: Path) -> np.ndarray:
 
     with Image.open(path) as image:
         pixels = np.asarray(image.convert("RGB"), dtype=int)
-    return pixels[80:620]  # between the header and the controls
+    return pixels[80:620, :520]  # the 3D view: between the header and the controls
 
 
 needs_chromium = pytest.mark.skipif(
@@ -180,14 +192,26 @@ def test_page_runs_in_chromium_and_the_slider_moves_the_arm(
     tmp_path: Path, pages: dict[str, Path], name: str
 ) -> None:
     url = pages[name].as_uri()
-    dom = chromium(tmp_path, url + "#t=1", "--dump-dom")
-    assert dom.returncode == 0, dom.stderr[-2000:]
-    assert console_lines(dom.stderr) == []  # no error, no warning, nothing logged at all
-    report = status(dom.stdout)
-    assert report["data-state"] == "ready", report
-    assert int(report["data-inked"]) > 2000  # the canvas is drawn on
     data = embedded(pages[name].read_text(encoding="utf-8"))
-    assert int(report["data-sample"]) == int(np.argmin(np.abs(np.array(data["times"]) - 1.0)))
+    reports = {}
+    for t in (1.0, 3.0):
+        dom = chromium(tmp_path, f"{url}#t={t:g}", "--dump-dom")
+        assert dom.returncode == 0, dom.stderr[-2000:]
+        assert console_lines(dom.stderr) == []  # no error, no warning, nothing logged at all
+        report = status(dom.stdout)
+        assert report["data-state"] == "ready", report
+        assert int(report["data-inked"]) > 2000  # the view is drawn on
+        k = int(np.argmin(np.abs(np.array(data["times"]) - t)))
+        assert int(report["data-sample"]) == k
+        reports[t] = report
+    # every triangle of the solids is drawn by WebGL (meshes, not only lines)
+    triangles = sum(len(solid["t"]) // 3 for solid in data["solids"])
+    assert int(reports[1.0]["data-triangles"]) == triangles > 100
+    # the signal panel follows the playback: its cursor moves right with the time, by the
+    # time's share of the plot's width (between 1 s and 3 s of a 4 s run: half of it)
+    assert int(reports[1.0]["data-panels"]) == len(data["panels"]) > 0
+    x1, x3 = float(reports[1.0]["data-cursor"]), float(reports[3.0]["data-cursor"])
+    assert x3 > x1 > 0
 
     shots = []
     for t in (0.0, 3.0):
@@ -200,3 +224,35 @@ def test_page_runs_in_chromium_and_the_slider_moves_the_arm(
         assert np.count_nonzero(pixels.min(axis=-1) < 200) > 2000  # not blank
     changed = np.count_nonzero(np.abs(shots[0] - shots[1]).max(axis=-1) > 30)
     assert changed > 300  # the arm moved with the slider
+
+
+def test_ur5_page_holds_its_urdf_meshes_and_signals(pages: dict[str, Path]) -> None:
+    """The UR5's page draws each link's visual mesh (decimated), in the .dae's own colours."""
+    data = embedded(pages["model"].read_text(encoding="utf-8"))
+    links = ("base_link", "shoulder_link", "upper_arm_link", "forearm_link", "wrist_1_link")
+    meshed = {data["frames"][solid["f"]] for solid in data["solids"]}
+    assert set(links) <= meshed
+    triangles = sum(len(solid["t"]) // 3 for solid in data["solids"])
+    assert 10_000 < triangles < 45_000  # 95 000 in the files, decimated to about 30 000
+    assert not data["bones"]  # no stick figure where the robot has its meshes
+    # the UR5's .dae parts are dark grey and blue-grey, not the "link" role's blue
+    colours = {tuple(solid["c"]) for solid in data["solids"]}
+    assert len(colours) > 3 and all(max(c) - min(c) < 0.25 for c in colours)
+    # one IMU's six signals and the torques, at the page's samples
+    groups = {panel["group"] for panel in data["panels"]}
+    assert "imu_tool" in groups and "" in groups
+    (torques,) = [panel for panel in data["panels"] if panel["group"] == ""]
+    assert torques["labels"][0] == "shoulder_pan_joint" and "torque [N·m]" in torques["title"]
+    assert len(torques["labels"]) == 6 and len(torques["values"][0]) == len(data["times"])
+    gyro = next(p for p in data["panels"] if p["group"] == "imu_tool")
+    assert "gyroscope" in gyro["title"] and gyro["labels"] == ["wx", "wy", "wz"]
+
+
+def test_panels_of_the_wrong_length_are_refused() -> None:
+    from aaria_pin.viz.scene import Scene
+
+    panel = Panel("x", "x [m]", np.zeros((3, 1)), ("a",))
+    with pytest.raises(ParameterError, match="panels"):
+        viewer_html(
+            Scene("x", ("world",)), np.zeros(2), np.stack([np.eye(4)[None]] * 2), "t", [panel]
+        )

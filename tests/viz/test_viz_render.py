@@ -13,7 +13,7 @@ from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.runfile import write_run
-from aaria_pin.viz._figure import png_figure
+from aaria_pin.viz._figure import figure_file
 from aaria_pin.viz.plot import Panel, plot_panels, signal_panels
 from aaria_pin.viz.render import render_geometry
 from aaria_pin.viz.scene import COLOURS, posed_geometry
@@ -208,7 +208,7 @@ def test_legend_check_catches_a_legend_inside_the_axes(
     time = np.linspace(0.0, 1.0, 5)
 
     def inside() -> None:
-        with png_figure(tmp_path / "i.png", 400, 300) as figure:
+        with figure_file(tmp_path / "i.png", 400, 300) as figure:
             ax = figure.subplots()
             ax.plot(time, time, label="x")
             ax.legend()
