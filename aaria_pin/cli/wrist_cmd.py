@@ -3,13 +3,42 @@
 from __future__ import annotations
 
 import json
+import math
+from pathlib import Path
 from typing import Any
 
 import click
 
+from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, output_option
 from aaria_pin.core.seeds import MAX_SEED
+from aaria_pin.errors import ParameterError
 
-_NUMBER = click.FLOAT
+MATRIX_TOLERANCE = 1e-5
+"""Largest ``|RᵀR - I|`` entry of a ``--matrix`` accepted and projected onto the nearest
+rotation: the 6-decimal matrix ``aaria wrist fk`` prints is within about 3e-6 of one."""
+
+EXACT_TOLERANCE = 1e-12
+"""``|RᵀR - I|`` up to which a ``--matrix`` is used as it is (no projection, no note)."""
+
+
+class _FiniteFloat(click.ParamType):
+    """A float that is neither NaN nor infinite (the error names the option)."""
+
+    name = "float"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        number = click.FLOAT.convert(value, param, ctx)
+        if not math.isfinite(number):
+            name = param.name if param is not None else None
+            if isinstance(param, click.Argument):
+                raise ParameterError(
+                    f"{param.human_readable_name} holds {number}; allowed: finite numbers"
+                )
+            raise ParameterError(parameter=name, value=number, allowed="a finite number")
+        return number
+
+
+_NUMBER = _FiniteFloat()
 _ORDERS = (
     "xyz",
     "xzy",
@@ -26,6 +55,24 @@ _ORDERS = (
     "ZYZ",
     "zyz",
 )
+
+
+def _positive(ctx: click.Context, param: click.Parameter, value: float) -> float:
+    if not value > 0:
+        raise ParameterError(parameter=param.name, value=value, allowed="> 0")
+    return value
+
+
+def _range(
+    ctx: click.Context, param: click.Parameter, value: tuple[float, float]
+) -> tuple[float, float]:
+    low, high = value
+    if low > high:
+        raise ParameterError(
+            f"{param.opts[0]} is {low:g} {high:g} (reversed); allowed: LOW HIGH with LOW <= HIGH",
+            parameter=param.name,
+        )
+    return value
 
 
 def _emit(result: dict[str, Any], as_json: bool, radians: bool) -> None:
@@ -62,6 +109,12 @@ def _report(rotation: Any, order: str, radians: bool, limits: bool) -> dict[str,
     pose = wrist_fk(reference)
     angles = angles_from_matrix(pose[:3, :3], order)
     scale = 1.0 if radians else 180.0 / np.pi
+    if ik.residual > 1e-9:
+        click.echo(
+            f"aaria: note: the solutions reproduce the rotation to {ik.residual:.2g} only"
+            " (a member of the singular family moved into the joint limits)",
+            err=True,
+        )
     return {
         "rotation": pose[:3, :3].tolist(),
         "pose": pose.tolist(),
@@ -71,22 +124,68 @@ def _report(rotation: Any, order: str, radians: bool, limits: bool) -> dict[str,
         "solutions": (ik.solutions * scale).tolist(),
         "singular": ik.singular,
         "reachable": ik.reachable,
+        "residual": ik.residual,
     }
 
 
-@click.group(context_settings={"ignore_unknown_options": True})
+def _matrix_rotation(values: tuple[float, ...]) -> Any:
+    """The rotation of a ``--matrix``: as given, projected if within tolerance, else refused."""
+    import numpy as np
+
+    from aaria_pin.core.rotations import as_rotation, rotation_defect
+
+    matrix = np.array(values, dtype=float).reshape(3, 3)
+    defect, det = (float(v) for v in rotation_defect(matrix))
+    if defect > MATRIX_TOLERANCE or det <= 0:
+        raise ParameterError(
+            f"--matrix is not a rotation (|RᵀR - I| = {defect:.3g}, det = {det:.6g}); allowed:"
+            f" |RᵀR - I| <= {MATRIX_TOLERANCE:g} and det > 0, rows as `aaria wrist fk` prints them",
+            parameter="matrix",
+        )
+    if defect <= EXACT_TOLERANCE:
+        return matrix
+    rotation, _ = as_rotation(matrix, tolerance=EXACT_TOLERANCE, project=True)
+    moved = float(np.abs(rotation - matrix).max())
+    click.echo(
+        f"aaria: note: --matrix is {defect:.2g} from a rotation (|RᵀR - I|); using the nearest"
+        f" rotation (SVD), {moved:.2g} from it",
+        err=True,
+    )
+    return rotation
+
+
+_ORDER_HELP = (
+    "Named as scipy names them: lowercase about fixed axes ('xyz' = Rz·Ry·Rx),"
+    " uppercase about moving axes ('ZYZ' = Rz·Ry·Rz, the wrist's own)."
+)
+
+
+@click.group(
+    context_settings={"ignore_unknown_options": True},
+    epilog="""\b
+Examples:
+  aaria wrist fk -30 45 10 && aaria wrist ik --angles 10 -40 75 --order zyx
+  aaria wrist simulate 60 45 -30 -o wrist.h5 && aaria wrist workspace --theta2 0 90""",
+)
 def wrist() -> None:
     """The spherical wrist of the wrist report (standard DH, d3 = 132 mm)."""
 
 
-@wrist.command(context_settings={"ignore_unknown_options": True})
+@wrist.command(
+    context_settings={"ignore_unknown_options": True},
+    epilog="""\b
+Examples:
+  aaria wrist fk -30 45 10                    # pose, xyz angles, both IK branches [deg]
+  aaria wrist fk 30 45 10 --order ZYX --json  # one JSON object
+  aaria wrist fk 0.5 0.8 -0.2 --radians       # joint angles in radians""",
+)
 @click.argument("joints", nargs=3, type=_NUMBER)
 @click.option(
     "--order",
     type=click.Choice(_ORDERS),
     default="xyz",
     show_default=True,
-    help="Angle sequence to express the rotation in (lowercase: fixed axes).",
+    help="Angle sequence to express the rotation in. " + _ORDER_HELP,
 )
 @click.option("--radians", is_flag=True, help="Angles in radians (default degrees).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
@@ -100,16 +199,39 @@ def fk(joints: tuple[float, float, float], order: str, radians: bool, as_json: b
     _emit(_report(wrist_fk(q)[:3, :3], order, radians, limits=False), as_json, radians)
 
 
-@wrist.command(context_settings={"ignore_unknown_options": True})
-@click.option("--angles", nargs=3, type=_NUMBER, help="Tool rotation as three angles X Y Z.")
+@wrist.command(
+    context_settings={"ignore_unknown_options": True},
+    epilog="""\b
+Examples:
+  aaria wrist ik --angles 10 -40 75 --order zyx  # about fixed z, then y, then x [deg]
+  aaria wrist ik --angles 0 120 30 --limits      # only the report's 0-360°, 0-180°
+  aaria wrist ik --matrix 1 0 0 0 1 0 0 0 1      # singular: only θ1 + θ3 is fixed
+  # the rotation `aaria wrist fk 30 45 10` prints, back to its joint angles:
+  aaria wrist ik --matrix 0.516245 -0.598741 0.612372 0.498566 0.791475 0.353553 \\
+      -0.696364 0.122788 0.707107""",
+)
+@click.option(
+    "--angles",
+    nargs=3,
+    type=_NUMBER,
+    help="Tool rotation as three angles A B C in the sequence of --order, in that order"
+    " (default xyz: A about the fixed x axis, then B about y, then C about z).",
+)
 @click.option(
     "--order",
     type=click.Choice(_ORDERS),
     default="xyz",
     show_default=True,
-    help="Sequence of --angles, and of the angles printed.",
+    help="Sequence of --angles, and of the angles printed. " + _ORDER_HELP,
 )
-@click.option("--matrix", nargs=9, type=_NUMBER, help="Tool rotation R11 R12 … R33, row by row.")
+@click.option(
+    "--matrix",
+    nargs=9,
+    type=_NUMBER,
+    help="Tool rotation R11 R12 … R33, row by row. A matrix within 1e-5 of a rotation"
+    " (largest |RᵀR - I| entry, e.g. the 6 decimals `wrist fk` prints) is projected onto the"
+    " nearest rotation, with a note on stderr; beyond that it is refused.",
+)
 @click.option("--limits", is_flag=True, help="Keep solutions in the report's 0–360°, 0–180°.")
 @click.option("--radians", is_flag=True, help="Angles in radians (default degrees).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
@@ -127,23 +249,38 @@ def ik(
     from aaria_pin.core.rotations import matrix_from_angles
 
     if (angles is None) == (matrix is None):
-        raise click.UsageError("give exactly one of --angles X Y Z or --matrix R11 … R33")
+        raise click.UsageError("give exactly one of --angles A B C or --matrix R11 … R33")
     if angles is not None:
         values = np.array(angles) if radians else np.radians(angles)
         rotation = matrix_from_angles(values, order)
     else:
-        rotation = np.array(matrix).reshape(3, 3)
+        rotation = _matrix_rotation(matrix)  # type: ignore[arg-type]
     _emit(_report(rotation, order, radians, limits), as_json, radians)
 
 
-@wrist.command(context_settings={"ignore_unknown_options": True})
+@wrist.command(
+    context_settings={"ignore_unknown_options": True},
+    epilog="""\b
+Examples:
+  aaria wrist simulate 60 45 -30 -o wrist.h5                  # trapezoid, 40°/s after 2 s
+  aaria wrist simulate 60 45 -30 --profile ramp -o wrist.mat  # the report's ramp
+  aaria wrist simulate 90 30 0 --speed 20 --rate 500 -o slow.h5""",
+)
 @click.argument("targets", nargs=3, type=_NUMBER)
-@click.option("--speed", type=float, default=40.0, show_default=True, help="Joint speed [deg/s].")
+@click.option(
+    "--speed",
+    type=_NUMBER,
+    default=40.0,
+    show_default=True,
+    callback=_positive,
+    help="Joint speed [deg/s].",
+)
 @click.option(
     "--acceleration",
-    type=float,
+    type=_NUMBER,
     default=80.0,
     show_default=True,
+    callback=_positive,
     help="Acceleration limit of the trapezoid [deg/s^2].",
 )
 @click.option(
@@ -192,33 +329,47 @@ def simulate(
     click.echo(f"wrote {output}: {run.time.size} samples, peak |tau| per joint [N*m]: {peaks}")
 
 
-@wrist.command()
+@wrist.command(
+    epilog="""\b
+Examples:
+  aaria wrist workspace                              # the report's 0-360°, 0-180°: the sphere
+  aaria wrist workspace --theta2 0 90 --plot ws.png  # a hemisphere, and a picture of it
+  aaria wrist workspace --samples 20000 --json       # one JSON object""",
+)
 @click.option("--samples", type=click.IntRange(1, 10_000_000), default=200_000, show_default=True)
 @click.option(
     "--theta1",
     nargs=2,
-    type=float,
+    type=_NUMBER,
     default=(0.0, 360.0),
     show_default=True,
-    help="Joint 1 range [deg] (the report's 0-360).",
+    callback=_range,
+    help="Joint 1 range LOW HIGH [deg] (the report's 0-360).",
 )
 @click.option(
     "--theta2",
     nargs=2,
-    type=float,
+    type=_NUMBER,
     default=(0.0, 180.0),
     show_default=True,
-    help="Joint 2 range [deg] (the report's 0-180).",
+    callback=_range,
+    help="Joint 2 range LOW HIGH [deg] (the report's 0-180).",
 )
 @click.option("--seed", type=click.IntRange(0, MAX_SEED), default=0, show_default=True)
-@click.option("--plot", type=click.Path(dir_okay=False), help="Write a PNG of the tool points.")
+@output_option(
+    "picture",
+    PICTURE_SUFFIXES,
+    "--plot",
+    required=False,
+    help="Write a picture of the tool points (.png, .pdf or .svg).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def workspace(
     samples: int,
     theta1: tuple[float, float],
     theta2: tuple[float, float],
     seed: int,
-    plot: str | None,
+    plot: Path | None,
     as_json: bool,
 ) -> None:
     """Sample the reachable tool points: radius and covered solid angle."""

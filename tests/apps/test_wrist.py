@@ -8,7 +8,13 @@ from scipy.spatial.transform import Rotation
 
 from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.aaria.presets import get_preset
-from aaria_pin.apps.wrist.kinematics import REPORT_LIMITS, wrist_fk, wrist_ik
+from aaria_pin.apps.wrist.kinematics import (
+    REPORT_LIMITS,
+    wrist_fk,
+    wrist_ik,
+    wrist_ik_batch,
+    wrist_workspace,
+)
 from aaria_pin.core.rotations import matrix_from_angles
 from aaria_pin.errors import ParameterError
 
@@ -128,8 +134,9 @@ def test_batch_ik_equals_the_single_ik() -> None:
     from aaria_pin.apps.wrist.kinematics import wrist_ik_batch
 
     R = Rotation.random(200, random_state=5).as_matrix()
-    batch, singular = wrist_ik_batch(R)
+    batch, singular, residual = wrist_ik_batch(R)
     assert batch.shape == (200, 2, 3) and not singular.any()
+    assert residual.shape == (200,) and residual.max() < 2e-15
     for k in range(200):
         np.testing.assert_allclose(batch[k], wrist_ik(R[k]).solutions, atol=1e-12)
         for q in batch[k]:
@@ -176,3 +183,98 @@ def test_workspace_cli_plot(tmp_path) -> None:
     out = json.loads(result.stdout.splitlines()[0])
     assert out["sphere_fraction"] == pytest.approx(0.5, abs=0.03)
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 10_000
+
+
+def _fk_scipy(q: np.ndarray) -> np.ndarray:
+    """The wrist's rotation Rz(θ1)·Ry(θ2)·Rz(θ3) by scipy (independent of wrist_fk)."""
+    return Rotation.from_euler("ZYZ", np.reshape(q, (-1, 3))).as_matrix()
+
+
+@pytest.mark.parametrize("delta", [9e-10, 1e-10, 1e-11, 1e-12, 3e-13])
+def test_near_the_singularity_every_solution_is_exact(delta: float) -> None:
+    # the issue: AssertionError on 5 to 282 of 300 such rotations, batch solutions off by 6e-6
+    rng = np.random.default_rng(int(-np.log10(delta) * 10))
+    q = rng.uniform(-np.pi, np.pi, (300, 3))
+    q[:, 1] = np.where(rng.random(300) < 0.5, delta, np.pi - delta) * rng.choice([-1, 1], 300)
+    R = _fk_scipy(q)
+    batch = wrist_ik_batch(R)
+    assert batch.singular.all() and batch.residual.max() < 2e-15
+    for k in range(2):
+        np.testing.assert_allclose(_fk_scipy(batch.solutions[:, k]), R, atol=2e-15)
+    for Rk in R[:100]:
+        for limits in (None, REPORT_LIMITS):
+            result = wrist_ik(Rk, limits)
+            assert result.singular and result.reachable and result.residual < 2e-15
+            np.testing.assert_allclose(_fk_scipy(result.solutions), [Rk], atol=2e-15)
+
+
+def test_solutions_are_in_the_half_open_range() -> None:
+    R = Rotation.random(500, random_state=9).as_matrix()
+    half_turns = _fk_scipy(np.array([[np.pi, 0.4, np.pi], [-np.pi, 2.0, 0.0], [0.0, 1.0, np.pi]]))
+    R = np.concatenate([R, half_turns, np.where(np.abs(half_turns) < 1e-15, -0.0, half_turns)])
+    solutions = wrist_ik_batch(R).solutions
+    assert np.all((solutions > -np.pi) & (solutions <= np.pi))
+    for Rk in R:
+        q = wrist_ik(Rk).solutions
+        assert np.all((q > -np.pi) & (q <= np.pi))
+
+
+def test_singular_family_is_searched_within_the_limits() -> None:
+    # the issue: (30°, 0, 20°) is inside θ3 ∈ [10°, 30°], but only θ3 = 0 was tried
+    R = _fk_scipy(np.radians([30.0, 0.0, 20.0]))[0]
+    limits = np.radians([[-180.0, 180.0], [-180.0, 180.0], [10.0, 30.0]])
+    result = wrist_ik(R, limits)
+    assert result.singular and result.reachable
+    np.testing.assert_allclose(np.degrees(result.solutions), [[30.0, 0.0, 20.0]], atol=1e-12)
+    flipped = _fk_scipy(np.radians([100.0, 180.0, -40.0]))[0]  # θ2 = π: θ1 − θ3 is fixed
+    member = wrist_ik(flipped, np.radians([[0.0, 360.0], [0.0, 180.0], [-60.0, -50.0]]))
+    assert member.reachable and -60.0 <= np.degrees(member.solutions[0, 2]) <= -50.0
+    np.testing.assert_allclose(_fk_scipy(member.solutions), [flipped], atol=2e-15)
+
+
+def test_singular_family_search_agrees_with_a_brute_force_scan() -> None:
+    rng = np.random.default_rng(21)
+    found = 0
+    for _ in range(300):
+        q = np.array([rng.uniform(-np.pi, np.pi), rng.choice([0.0, np.pi]), 0.0])
+        R = _fk_scipy(q)[0]
+        low = rng.uniform(-2 * np.pi, 2 * np.pi, 3)
+        limits = np.column_stack([low, low + rng.uniform(0.05, 1.5, 3)])
+        limits[1] = [-0.1, 0.1] if q[1] == 0.0 else [np.pi - 0.1, np.pi + 0.1]
+        # brute force: θ3 on a fine grid, θ1 from the fixed sum or difference, wrapped
+        theta3 = np.linspace(limits[2, 0], limits[2, 1], 20_001)
+        theta1 = q[0] - theta3 if q[1] == 0.0 else q[0] + theta3
+        theta1 = limits[0, 0] + np.mod(theta1 - limits[0, 0], 2 * np.pi)
+        scan = bool(np.any(theta1 <= limits[0, 1]))
+        result = wrist_ik(R, limits)
+        assert result.reachable == scan or not scan  # the scan may miss a sliver
+        if result.reachable:
+            found += 1
+            s = result.solutions[0]
+            assert np.all((s >= limits[:, 0] - 1e-12) & (s <= limits[:, 1] + 1e-12))
+            np.testing.assert_allclose(_fk_scipy(s)[0], R, atol=2e-15)
+    assert found > 50
+
+
+@pytest.mark.parametrize(
+    ("limits", "pattern"),
+    [
+        ([[0, 1], [0, np.inf], [0, 1]], r"limits of joint 2 are \[0, inf\] rad \(not finite\)"),
+        ([[0, 1], [0, 1], [np.nan, 1]], r"joint 3 are \[nan, 1\] rad \(not finite\)"),
+        ([[1, 0], [0, 1], [0, 1]], r"joint 1 are \[1, 0\] rad \(reversed\)"),
+        ([[0, 1], [0, 1]], r"shape \(2, 2\)"),
+    ],
+)
+def test_bad_limits_name_the_joint(limits, pattern: str) -> None:
+    with pytest.raises(ParameterError, match=pattern) as caught:
+        wrist_ik(np.eye(3), limits)
+    assert "np.float64" not in str(caught.value)
+    with pytest.raises(ParameterError, match=pattern):
+        wrist_workspace(100, limits)
+
+
+def test_nan_joint_angles_are_named() -> None:
+    with pytest.raises(ParameterError, match=r"hold nan at θ2; allowed: finite numbers"):
+        wrist_fk([0.1, np.nan, 0.3])
+    with pytest.raises(ParameterError, match=r"shape \(2,\)"):
+        wrist_fk([0.1, 0.2])

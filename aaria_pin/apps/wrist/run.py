@@ -33,7 +33,7 @@ from aaria_pin.core.profiles import ramp_profile, trapezoid_profile
 from aaria_pin.core.record import ImuMount, RunRecord
 from aaria_pin.core.run import sampling_attributes
 from aaria_pin.core.se3 import Array
-from aaria_pin.core.trajectory import BaseMotion, JointTrajectory, sample_times
+from aaria_pin.core.trajectory import MAX_DURATION, BaseMotion, JointTrajectory, sample_times
 from aaria_pin.errors import ParameterError
 
 __all__ = [
@@ -137,23 +137,40 @@ def simulate_wrist(
             that is not positive, or an unknown profile.
     """
     goal = np.asarray(targets, dtype=float)
-    if goal.shape != (3,) or not np.all(np.isfinite(goal)):
+    if goal.shape != (3,):
         raise ParameterError(
-            f"targets of shape {goal.shape}; allowed: three finite angles",
+            f"targets have shape {goal.shape}; allowed: three angles (3,)",
+            parameter="targets",
+            value=goal.shape,
+            allowed="three angles, shape (3,)",
+        )
+    if not np.all(np.isfinite(goal)):
+        raise ParameterError(
+            f"targets are {', '.join(f'{v:g}' for v in goal)} rad; allowed: finite angles",
             parameter="targets",
             value=goal.tolist(),
             allowed="three finite angles",
         )
-    if not (np.isfinite(speed) and speed > 0 and np.isfinite(acceleration) and acceleration > 0):
-        raise ParameterError(
-            f"speed {speed!r} rad/s, acceleration {acceleration!r} rad/s^2; allowed: both > 0",
-            parameter="speed" if not (np.isfinite(speed) and speed > 0) else "acceleration",
-            allowed="> 0",
-        )
+    for name, value in (("speed", speed), ("acceleration", acceleration)):
+        if not (np.isfinite(value) and value > 0):
+            unit = "rad/s" if name == "speed" else "rad/s^2"
+            raise ParameterError(
+                f"{name} is {float(value):g} {unit}; allowed: finite and > 0",
+                parameter=name,
+                value=float(value),
+                allowed="finite and > 0",
+            )
     if profile not in ("trapezoid", "ramp"):
         raise ParameterError(parameter="profile", value=profile, allowed="trapezoid, ramp")
     if duration is None:
         duration = start + float(np.max(np.abs(goal))) / speed + speed / acceleration + 1.0
+        if not duration <= MAX_DURATION:  # say which inputs made it, not a duration not given
+            raise ParameterError(
+                f"speed {float(speed):g} rad/s and acceleration {float(acceleration):g} rad/s^2"
+                f" need a run of {duration:.3g} s to reach the targets; allowed: a run of at most"
+                f" {MAX_DURATION:g} s (a higher speed or acceleration, or a shorter duration)",
+                parameter="speed",
+            )
     time = sample_times(duration, rate)
     columns = [
         trapezoid_profile(g, speed, acceleration, time, start)
