@@ -23,6 +23,7 @@ __all__ = [
     "InputFileError",
     "MeshWarning",
     "ModelError",
+    "NoSpaceError",
     "OutputFileError",
     "ParameterError",
     "TableError",
@@ -108,6 +109,13 @@ class InputFileError(AariaError, OSError):
 
 class OutputFileError(AariaError, OSError):
     """An output file cannot be written (an :class:`OSError` too)."""
+
+
+class NoSpaceError(OutputFileError):
+    """No room left on the device while writing an output.
+
+    The CLI exits with status 1, not 2: the input was fine, the machine was not.
+    """
 
 
 class ModelError(AariaError):

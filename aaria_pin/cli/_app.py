@@ -6,7 +6,7 @@ from typing import Any
 
 import click
 
-from aaria_pin.errors import AariaError
+from aaria_pin.errors import AariaError, NoSpaceError
 
 EXIT_BAD_INPUT = 2
 
@@ -41,6 +41,9 @@ class _Group(click.Group):
     def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
+        except NoSpaceError as exc:  # the input was fine: exit 1, as any failed job
+            click.echo(f"aaria: error: {' '.join(str(exc).split())}", err=True)
+            ctx.exit(1)
         except AariaError as exc:
             message = exc.for_flag(_flags(self))
         except click.UsageError as exc:  # bad options of a command: one line too
@@ -92,6 +95,7 @@ def _register() -> None:
         robots_cmd,
         simulate_cmd,
         stats_cmd,
+        template_cmd,
         torques_cmd,
         urdf_cmd,
         view_cmd,
@@ -107,6 +111,7 @@ def _register() -> None:
     main.add_command(robots_cmd.robots)
     main.add_command(simulate_cmd.simulate)
     main.add_command(stats_cmd.dataset_stats)
+    main.add_command(template_cmd.template)
     main.add_command(torques_cmd.torques)
     main.add_command(urdf_cmd.urdf)
     main.add_command(view_cmd.view)

@@ -26,7 +26,7 @@ def test_read_csv_npy_and_mat(tmp_path: Path) -> None:
     [
         ("missing.csv", None, "no such file"),
         ("t.xlsx", b"x", "unknown table file type '.xlsx'"),
-        ("t.csv", b"1,2,abc\n", "cannot be read as a numeric table"),
+        ("t.csv", b"1,2,abc\n", "row 1, column 3 is 'abc'; allowed: a number"),
         ("t.npy", b"not numpy", "cannot be read"),
         ("t.mat", b"garbage", "cannot be read"),
     ],

@@ -1,0 +1,46 @@
+"""``aaria template``: commented, valid input files to start from."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+KINDS = ("dh", "joints", "base", "imu-layout", "config")
+"""The templates (those of :data:`aaria_pin.aaria.templates.TEMPLATE_KINDS`, kept light here)."""
+
+
+@click.command(
+    epilog="""\b
+Examples:
+  aaria template dh -o my_arm.csv          # edit, then: aaria urdf --dh my_arm.csv -o arm.urdf
+  aaria template joints -o joints.csv      # aaria simulate --dh my_arm.csv --joints joints.csv
+  aaria template base -o base.csv          # aaria simulate ... --base base.csv
+  aaria template imu-layout -o imus.toml   # aaria simulate --robot ur5 --imu-layout imus.toml
+  aaria template config -o ranges.toml     # aaria dataset -n 100 --config ranges.toml -o ds.h5
+  aaria template dh                        # print it"""
+)
+@click.argument("kind", type=click.Choice(KINDS))
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(path_type=Path, dir_okay=False, allow_dash=True),
+    help="File to write (default, or '-': print it).",
+)
+@click.option("--overwrite", is_flag=True, help="Replace an existing file.")
+def template(kind: str, output: Path | None, overwrite: bool) -> None:
+    """Write a commented input file to start from.
+
+    A DH, joint or base table (CSV), an IMU layout or a data-set configuration (TOML). Each is
+    valid as written (the paper's Figure 2 arm, the default motions, the default ranges): edit
+    it and pass it to the command it names.
+    """
+    from aaria_pin.aaria.templates import template_text
+    from aaria_pin.files.io import write_text_atomic
+
+    text = template_text(kind)
+    if output is None or str(output) == "-":
+        click.echo(text, nl=False)
+        return
+    write_text_atomic(output, text, overwrite=overwrite)
+    click.echo(f"wrote {output}: the {kind} template", err=True)
