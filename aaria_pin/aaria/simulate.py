@@ -51,9 +51,12 @@ from aaria_pin.core.seeds import check_seed
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
     DEFAULT_RATE,
+    MAX_SAMPLES,
+    MAX_STREAMED_SAMPLES,
     BaseMotion,
     JointTrajectory,
-    sample_times,
+    piece_times,
+    sample_count,
 )
 from aaria_pin.errors import InputFileError
 
@@ -307,9 +310,11 @@ def simulate_run_chunks(
     sample times; the IMU noise of the pieces is that of the whole run
     (:class:`~aaria_pin.core.imu_noise.ImuNoiseStream`), so the pieces put together
     (:func:`~aaria_pin.core.run.join_chunks`) are bit for bit :func:`simulate_run`'s record
-    and memory does not grow with the run's length. Each piece carries the run's tables,
-    views and attributes. A run driven by torques is one piece (forward dynamics integrates
-    the whole run).
+    and memory does not grow with the run's length (each piece makes its own sample times).
+    Each piece carries the run's tables, views and attributes. A run driven by torques is one
+    piece (forward dynamics integrates the whole run). A run in pieces may have up to
+    :data:`~aaria_pin.core.trajectory.MAX_STREAMED_SAMPLES` samples, one held whole (``chunk``
+    None, or driven by torques) up to :data:`~aaria_pin.core.trajectory.MAX_SAMPLES`.
 
     Args:
         dh_table: as in :func:`simulate_run`
@@ -334,7 +339,8 @@ def simulate_run_chunks(
     """
     check_seed(seed)
     robot, model = cached_arm(dh_table, dims, imu_mount)
-    time = sample_times(duration, rate)
+    streamed = chunk is not None and torques is None
+    samples = sample_count(duration, rate, MAX_STREAMED_SAMPLES if streamed else MAX_SAMPLES)
     senSenJ = (
         default_joint_table(robot.chain) if joint_table is None else np.array(joint_table, float)
     )
@@ -346,12 +352,12 @@ def simulate_run_chunks(
     if torques is not None:
         from aaria_pin.core.forward import check_torques
 
-        by_module = check_torques(torques, time.size, N_MODULES, "torque table")
+        by_module = check_torques(torques, samples, N_MODULES, "torque table")
         tables["torque_table"] = by_module
         chunk = None
-    pieces = chunk_bounds(time.size, chunk)
+    pieces = chunk_bounds(samples, chunk)
     present = sum(slot.parent is not None for slot in robot.imu_slots)
-    stream = noise_stream(time.size, present, rate, seed, noise, noise_model, len(pieces))
+    stream = noise_stream(samples, present, rate, seed, noise, noise_model, len(pieces))
     attributes: dict[str, Any] = {
         "kind": "dh",
         "robot": robot_name,
@@ -369,14 +375,14 @@ def simulate_run_chunks(
     urdf = robot.urdf if keep_urdf else ""
     views = {"senSen": sensen_view()}
     for start, stop in pieces:
-        times = time[start:stop]
+        times = piece_times(start, stop, rate)
         trajectory = joint_trajectory(senSenJ, robot.chain, times)
         base = base_motion(senSenB, times)
-        if by_module is not None:
+        if by_module is not None:  # one piece: the whole run
             from aaria_pin.core.forward import forward_simulate
 
             trajectory = forward_simulate(
-                model, base, by_module[:, columns], time, trajectory.q[0], trajectory.qd[0]
+                model, base, by_module[:, columns], times, trajectory.q[0], trajectory.qd[0]
             )
         series = dh_series(
             robot,
@@ -484,8 +490,9 @@ def simulate_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> Ru
     """Re-make the run stored in a run file from its inputs alone.
 
     The tables (``senSenDH``, ``senSenJ``, ``senSenB``), the IMU mounts and the rate, duration,
-    seed and noise setting come from the file; keyword arguments of :func:`simulate_run` given
-    here replace them.
+    seed and noise setting come from the file (its series are not read:
+    :func:`~aaria_pin.files.runfile.read_run_inputs`); keyword arguments of
+    :func:`simulate_run` given here replace them.
 
     Args:
         path: an ``.h5`` or ``.mat`` run file
@@ -497,9 +504,9 @@ def simulate_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> Ru
     Raises:
         InputFileError: not a DH run file, or its body dimensions cannot be used.
     """
-    from aaria_pin.files.runfile import read_run
+    from aaria_pin.files.runfile import read_run_inputs
 
     try:
-        return simulate_from_record(read_run(path), **overrides)
+        return simulate_from_record(read_run_inputs(path), **overrides)
     except InputFileError as exc:
         raise InputFileError(f"{path}: {exc}", element=str(path)) from None

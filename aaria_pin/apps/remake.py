@@ -100,9 +100,9 @@ def remake_run(path: str | os.PathLike[str], **overrides: Any) -> RunRecord:
     Raises:
         InputFileError: not a run file, or a run that cannot be re-made.
     """
-    from aaria_pin.files.runfile import read_run
+    from aaria_pin.files.runfile import read_run_inputs
 
-    stored = read_run(path)
+    stored = read_run_inputs(path)  # the inputs only: the stored series are not read
     try:
         return remake_record(stored, **overrides)
     except InputFileError as exc:
@@ -122,6 +122,6 @@ def simulate_urdf_from_run_file(path: str | os.PathLike[str], **overrides: Any) 
         The run record; with no overrides it equals the stored one.
     """
     from aaria_pin.core.urdf_run import simulate_urdf_from_record
-    from aaria_pin.files.runfile import read_run
+    from aaria_pin.files.runfile import read_run_inputs
 
-    return simulate_urdf_from_record(read_run(path), **overrides)
+    return simulate_urdf_from_record(read_run_inputs(path), **overrides)

@@ -32,9 +32,9 @@ def _read_mounts(path: Path) -> Any:
             return np.load(path, allow_pickle=False)
         except (OSError, ValueError) as exc:
             raise InputFileError(f"{path}: cannot be read as .npy ({exc})") from None
-    from aaria_pin.files.runfile import read_run
+    from aaria_pin.files.runfile import read_run_inputs
 
-    return read_run(path).imu_mount
+    return read_run_inputs(path).imu_mount
 
 
 @click.command()
@@ -125,9 +125,9 @@ def simulate(
     stored, kind = None, None
     if from_run is not None:
         from aaria_pin.apps.remake import run_kind
-        from aaria_pin.files.runfile import read_run
+        from aaria_pin.files.runfile import read_run_inputs
 
-        stored = read_run(from_run)
+        stored = read_run_inputs(from_run)  # the inputs, not the stored series
         kind = run_kind(stored)
     if robot is not None or urdf_file is not None or kind == "urdf":
         from aaria_pin.cli._simulate_urdf import simulate_urdf_command

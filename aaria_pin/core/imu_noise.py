@@ -190,26 +190,64 @@ def _bias_step(rate: float, model: ImuNoiseModel) -> int:
     return max(1, int(rate * model.bias_correlation_time / BIAS_KNOTS_PER_CORRELATION_TIME))
 
 
-def _bias_knots(
-    rng: np.random.Generator, samples: int, n_imu: int, rate: float, model: ImuNoiseModel
-) -> Array:
-    """The bias on its knots for a run of ``samples``, (knots, n_imu·6) [rad/s, m/s²].
+class _BiasKnots:
+    """The knots of a run's bias drawn in time order, a few at a time (constant memory).
 
     The Gauss–Markov recursion ``b[k] = w[k] + φ·b[k-1]`` runs knot by knot (one row of
     n_imu·6 values per step: 22 steps for 10 s at 100 Hz, at most one per sample below
     ``200/T`` Hz); it gives the numbers of ``scipy.signal.lfilter([1], [1, -φ])``, bit for bit,
-    without importing scipy.signal (0.1 s of a short run's start-up).
+    without importing scipy.signal (0.1 s of a short run's start-up). Only the last knot's
+    value is kept between draws (the recursion's state), so the knots of a run drawn in any
+    number of draws are, element for element, those drawn in one: the standard normals come
+    from ``rng`` in the same order and every operation is per element, in the same order.
+
+    Args:
+        rng: random number generator, positioned where the run's knots begin
+        n_imu: the number of IMUs
+        rate: sample rate [Hz]
+        model: noise model
     """
-    step = _bias_step(rate, model)
-    knots = (samples - 1) // step + 2
-    bias = rng.standard_normal((knots, n_imu, 6)).reshape(knots, -1)
-    dt_over_T = step / (rate * model.bias_correlation_time)
-    phi = float(np.exp(-dt_over_T))
-    bias[1:] *= np.sqrt(-np.expm1(-2.0 * dt_over_T))  # √(1 - φ²), stationary variance 1
-    for k in range(1, knots):
-        bias[k] += phi * bias[k - 1]
-    bias *= np.tile(_per_axis(model, "bias_stability"), n_imu)
-    return bias
+
+    def __init__(
+        self, rng: np.random.Generator, n_imu: int, rate: float, model: ImuNoiseModel
+    ) -> None:
+        self.step = _bias_step(rate, model)
+        dt_over_T = self.step / (rate * model.bias_correlation_time)
+        self._rng = rng
+        self._n_imu = n_imu
+        self._phi = float(np.exp(-dt_over_T))
+        self._innovation = np.sqrt(-np.expm1(-2.0 * dt_over_T))  # √(1 - φ²): variance 1
+        self._stability = np.tile(_per_axis(model, "bias_stability"), n_imu)
+        self._drawn = 0
+        self._last: Array | None = None  # the last knot drawn, before the stability scale
+
+    def draw(self, count: int) -> Array:
+        """The next ``count`` knots of the bias, (count, n_imu·6) [rad/s, m/s²]."""
+        bias = self._rng.standard_normal((count, self._n_imu, 6)).reshape(count, -1)
+        first = 1 if self._drawn == 0 else 0  # knot 0: the stationary draw itself
+        bias[first:] *= self._innovation
+        if first == 0 and count and self._last is not None:
+            bias[0] += self._phi * self._last
+        for k in range(1, count):
+            bias[k] += self._phi * bias[k - 1]
+        if count:
+            self._last = bias[-1].copy()
+        self._drawn += count
+        bias *= self._stability
+        return bias
+
+
+def _knot_count(samples: int, step: int) -> int:
+    """Knots of the bias of a run of ``samples``: the last sample lies before the last knot."""
+    return (samples - 1) // step + 2
+
+
+def _bias_knots(
+    rng: np.random.Generator, samples: int, n_imu: int, rate: float, model: ImuNoiseModel
+) -> Array:
+    """The bias on its knots for a run of ``samples``, (knots, n_imu·6) [rad/s, m/s²]."""
+    knots = _BiasKnots(rng, n_imu, rate, model)
+    return knots.draw(_knot_count(samples, knots.step))
 
 
 def _measure(
@@ -338,12 +376,14 @@ class ImuNoiseStream:
     the whole run with the same generator: the white noise is drawn from ``rng`` piece by piece
     (a ``Generator`` drawing ``standard_normal(n1)`` then ``standard_normal(n2)`` gives the
     numbers of ``standard_normal(n1 + n2)``, checked by the tests), and the bias knots, which
-    :func:`add_imu_noise` draws *after* the whole run's white noise, are drawn up front from a
-    copy of ``rng`` that first draws (and drops) the whole run's white noise in blocks of at
-    most :data:`SKIP_BLOCK` numbers. Skipping costs one more white-noise draw of the run (about
+    :func:`add_imu_noise` draws *after* the whole run's white noise, come from a copy of
+    ``rng`` that first draws (and drops) the whole run's white noise in blocks of at most
+    :data:`SKIP_BLOCK` numbers. Skipping costs one more white-noise draw of the run (about
     1.5 s for 2 million samples of 14 IMUs, against about 4 s for the run itself) and keeps the
-    seed's numbers those of every earlier version; the knots are few (about 200 per
-    correlation time), so they are held for the whole run.
+    seed's numbers those of every earlier version. The knots are then drawn as the pieces need
+    them, keeping only the recursion's last knot and those the current piece spans: a run
+    whose every sample is a knot (below ``200/T`` Hz, e.g. a day at 3.9 Hz: 336,962 knots of
+    14 IMUs, 226 MB) no longer holds them all.
 
     Args:
         samples: T, the run's number of samples
@@ -380,8 +420,21 @@ class ImuNoiseStream:
             part = block[: min(remaining, SKIP_BLOCK)]
             ahead.standard_normal(out=part)
             remaining -= part.size
-        self._bias = _bias_knots(ahead, samples, n_imu, rate, model)
+        self._knots = _BiasKnots(ahead, n_imu, rate, model)
+        self._window = np.empty((0, n_imu * 6))  # knots from index self._window_first on
+        self._window_first = 0
         self._next = 0
+
+    def _bias_window(self, start: int, stop: int) -> tuple[Array, int]:
+        """The knots samples ``start`` … ``stop - 1`` lie between, and the first one's index."""
+        step = self._knots.step
+        first, last = start // step, (stop - 1) // step + 1
+        held = self._window[first - self._window_first :]
+        missing = last + 1 - (first + held.shape[0])
+        if missing > 0:
+            held = np.concatenate([held, self._knots.draw(missing)])
+        self._window, self._window_first = held, first
+        return held[: last + 1 - first], first
 
     def measure(self, signals: Array, start: int) -> Array:
         """Measurements of the exact signals of samples ``start`` … ``start + m - 1``.
@@ -406,7 +459,10 @@ class ImuNoiseStream:
                 f"sample {self.samples}"
             )
         measured = self._rng.standard_normal(exact.shape).reshape(n, -1)
-        _measure(measured, exact, self._bias, start, self.rate, self.model)
+        bias, first = self._bias_window(start, start + n)
+        # The piece's sample i = k·step + r is sample i - first·step of the window: the same
+        # knot offset k - first and the same r, so the same numbers.
+        _measure(measured, exact, bias, start - first * self._knots.step, self.rate, self.model)
         self._next = start + n
         return measured.reshape(exact.shape)
 

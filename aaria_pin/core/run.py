@@ -70,8 +70,10 @@ piece     noise off          noise on
 20,000 keeps a run of any length near 400 MB, well inside the 600 MB goal, at a speed within
 the spread of these figures (the per-piece work outside the arrays is a few milliseconds);
 50,000 would brush the goal with noise on. A run of at most this many samples is one piece:
-computed and written whole, as before. With this length a 2 M-sample run peaks at 336 MB
-(noise off) and 364 MB (noise on), 15 to 20 MB above a 200,000-sample run (the time grid).
+computed and written whole, as before. With this length a 2 M-sample run peaks at 317 MB
+(noise off) and 354 MB (noise on; 359 MB to a ``.mat`` v7.3), 3 to 15 MB above a
+200,000-sample run (``benchmarks/bench_memory.py``; each piece makes its own sample times and
+the noise's bias knots are drawn piece by piece, so nothing is held for the whole run).
 """
 
 
@@ -103,15 +105,15 @@ def run_length(record: RunRecord) -> int:
     """T, the samples of the whole run a record (or a piece of it) belongs to.
 
     From its ``duration`` [s] and ``rate`` [Hz] attributes (:func:`sampling_attributes`), as
-    :func:`~aaria_pin.core.trajectory.sample_times` counts them; the record's own length if
+    :func:`~aaria_pin.core.trajectory.sample_count` counts them; the record's own length if
     it has none.
     """
-    from aaria_pin.core.trajectory import sample_times
+    from aaria_pin.core.trajectory import sample_count
 
     attributes = record.attributes
     if "duration" not in attributes or "rate" not in attributes:
         return record.n_samples
-    return int(sample_times(float(attributes["duration"]), float(attributes["rate"])).size)
+    return sample_count(float(attributes["duration"]), float(attributes["rate"]), None)
 
 
 def noise_stream(

@@ -22,10 +22,13 @@ __all__ = [
     "MAX_DURATION",
     "MAX_RATE",
     "MAX_SAMPLES",
+    "MAX_STREAMED_SAMPLES",
     "BaseMotion",
     "JointTrajectory",
     "gimbal_xyz_motion",
+    "piece_times",
     "reference_sine_motion",
+    "sample_count",
     "sample_times",
     "sine_motion",
 ]
@@ -39,28 +42,34 @@ MAX_DURATION = 86_400.0
 MAX_RATE = 100_000.0
 """Highest sample rate [Hz]."""
 MAX_SAMPLES = 2_000_000
-"""Most samples in one run. A run held whole (a record in memory, a ``.mat`` file) peaks at
-about 2.6 kB per sample noise off, 4.7 kB noise on; ``aaria simulate`` to ``.h5`` computes and
-writes a longer run than :data:`aaria_pin.core.run.CHUNK_SAMPLES` in pieces, in bounded memory
-(364 MB for 2 M samples with noise)."""
+"""Most samples of a run held whole in memory: a record (``simulate_run``, a run driven by
+torques, whose forward dynamics integrate the whole run), a data set's run. Such a run peaks at
+about 2.6 kB per sample noise off, 4.7 kB noise on (5 to 9 GB at this bound)."""
+MAX_STREAMED_SAMPLES = 1_000_000_000
+"""Most samples of a run computed and written in time pieces (``aaria simulate -o``: the
+producers' ``*_chunks`` generators, written by ``write_run_pieces``). Its memory does not grow
+with its length (the time grid too is made piece by piece), so what bounds it is the file and
+the time: 10⁹ samples of ``aaria-fig2`` make a 1.2 TB ``.h5`` (1,176 bytes a sample; a
+``.mat`` adds the 728 of ``senSen``) and take about 2 h with noise (7.7 µs a sample on the
+project's machine, ``benchmarks/bench_memory.py``). That is 10,000 s (2.8 h) at the highest
+rate, a whole day (:data:`MAX_DURATION`) up to 11.5 kHz; the bound is there against a slip of
+the fingers (``--duration 86400 --rate 100000`` would be 8.6 × 10⁹ samples, 10 TB), not
+against memory."""
 
 
-def sample_times(duration: float, rate: float) -> Array:
-    """The time grid of a run: from 0 to ``duration`` inclusive in steps of ``1/rate``.
-
-    Like Simulink's fixed-step output, a run of duration D at rate f has ``⌊D·f⌋ + 1``
-    samples (``D·f`` within 1e-9 of an integer counts as that integer): the first at 0, the last
-    at or just before D.
+def sample_count(duration: float, rate: float, max_samples: int | None = MAX_SAMPLES) -> int:
+    """The number of samples of a run: ``⌊D·f⌋ + 1`` (see :func:`sample_times`), checked.
 
     Args:
         duration: run length [s], 0 < duration <= 86,400
         rate: sample rate [Hz], 0 < rate <= 100,000
-
-    Returns:
-        Sample times [s].
+        max_samples: most samples allowed (:data:`MAX_SAMPLES` for a run held whole,
+            :data:`MAX_STREAMED_SAMPLES` for one computed in pieces); None: no bound beyond
+            those of the duration and the rate (the length of a run that exists)
 
     Raises:
-        ParameterError: a value outside those limits, or more than 2,000,000 samples.
+        ParameterError: a value outside those limits, more than ``max_samples`` samples, or
+            fewer than two.
     """
     if not (np.isfinite(duration) and 0 < duration <= MAX_DURATION):
         raise ParameterError(
@@ -71,12 +80,15 @@ def sample_times(duration: float, rate: float) -> Array:
     if not (np.isfinite(rate) and 0 < rate <= MAX_RATE):
         raise ParameterError(parameter="rate", value=rate, allowed=f"0 < rate <= {MAX_RATE:g} Hz")
     n = math.floor(duration * rate + 1e-9) + 1
-    if n > MAX_SAMPLES:
+    if max_samples is not None and n > max_samples:
+        held = {MAX_SAMPLES: " held in memory", MAX_STREAMED_SAMPLES: " written in pieces"}.get(
+            max_samples, ""
+        )
         raise ParameterError(
-            f"duration × rate gives {n} samples; allowed: at most {MAX_SAMPLES} per run",
+            f"duration × rate gives {n} samples; allowed: at most {max_samples} per run{held}",
             parameter="duration",
             value=duration,
-            allowed=f"at most {MAX_SAMPLES} samples per run (duration × rate)",
+            allowed=f"at most {max_samples} samples per run{held} (duration × rate)",
         )
     if n < 2:
         raise ParameterError(
@@ -85,7 +97,37 @@ def sample_times(duration: float, rate: float) -> Array:
             value=duration,
             allowed=f">= {2 / rate:g} s at {rate:g} Hz (two samples)",
         )
-    return np.arange(n) / rate
+    return n
+
+
+def sample_times(duration: float, rate: float, max_samples: int | None = MAX_SAMPLES) -> Array:
+    """The time grid of a run: from 0 to ``duration`` inclusive in steps of ``1/rate``.
+
+    Like Simulink's fixed-step output, a run of duration D at rate f has ``⌊D·f⌋ + 1``
+    samples (``D·f`` within 1e-9 of an integer counts as that integer): the first at 0, the last
+    at or just before D.
+
+    Args:
+        duration: run length [s], 0 < duration <= 86,400
+        rate: sample rate [Hz], 0 < rate <= 100,000
+        max_samples: as in :func:`sample_count` (default: a run held whole, 2,000,000)
+
+    Returns:
+        Sample times [s].
+
+    Raises:
+        ParameterError: as :func:`sample_count`.
+    """
+    return piece_times(0, sample_count(duration, rate, max_samples), rate)
+
+
+def piece_times(start: int, stop: int, rate: float) -> Array:
+    """Samples ``start`` … ``stop - 1`` of the time grid (:func:`sample_times`) [s].
+
+    The same numbers as ``sample_times(...)[start:stop]`` (each is its index divided by the
+    rate), without making the whole grid: a run in pieces holds only its piece's times.
+    """
+    return np.arange(start, stop) / rate
 
 
 def sine_motion(

@@ -33,7 +33,15 @@ from aaria_pin.core.run import (
     stored_sampling,
 )
 from aaria_pin.core.seeds import check_seed
-from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE, BaseMotion, sample_times
+from aaria_pin.core.trajectory import (
+    DEFAULT_DURATION,
+    DEFAULT_RATE,
+    MAX_SAMPLES,
+    MAX_STREAMED_SAMPLES,
+    BaseMotion,
+    piece_times,
+    sample_count,
+)
 from aaria_pin.core.urdf_robot import (
     UrdfRobot,
     default_urdf_joint_table,
@@ -149,6 +157,7 @@ def simulate_urdf_run_chunks(
     (:func:`~aaria_pin.core.run.join_chunks`) are bit for bit :func:`simulate_urdf_run`'s
     record, noise included; each piece's attributes cover the run up to its end (the last
     piece's ``effort_exceeded`` is the whole run's). A run driven by torques is one piece.
+    The limits on the run's length are those of the DH run's pieces.
 
     Args:
         urdf: the URDF text
@@ -277,7 +286,8 @@ def _loaded_pieces(
     check_seed(seed)
     robot = loaded.robot
     moving_base = robot.moving_base if moving_base is None else moving_base and robot.moving_base
-    time = sample_times(duration, rate)
+    streamed = chunk is not None and torques is None
+    samples = sample_count(duration, rate, MAX_STREAMED_SAMPLES if streamed else MAX_SAMPLES)
     table = (
         default_urdf_joint_table(loaded) if joint_table is None else np.array(joint_table, float)
     )
@@ -289,29 +299,29 @@ def _loaded_pieces(
     if torques is not None:
         from aaria_pin.core.forward import check_torques
 
-        tau_in = check_torques(torques, time.size, robot.n_joints)
+        tau_in = check_torques(torques, samples, robot.n_joints)
         chunk = None
     tables = {"joint_table": table}
     if base_arr is not None:
         tables["base_table"] = base_arr
     if tau_in is not None:
         tables["torque_table"] = tau_in
-    pieces = chunk_bounds(time.size, chunk)
+    pieces = chunk_bounds(samples, chunk)
     stream = noise_stream(
-        time.size, len(robot.sensor_frames), rate, seed, noise, noise_model, len(pieces)
+        samples, len(robot.sensor_frames), rate, seed, noise, noise_model, len(pieces)
     )
     peaks = np.zeros(robot.n_joints)
     for start, stop in pieces:
-        times = time[start:stop]
+        times = piece_times(start, stop, rate)
         trajectory = urdf_joint_trajectory(table, loaded, times)
         base = (
             base_motion(base_arr, times) if base_arr is not None else BaseMotion.resting(times.size)
         )
-        if tau_in is not None:
+        if tau_in is not None:  # one piece: the whole run
             from aaria_pin.core.forward import forward_simulate
 
             trajectory = forward_simulate(
-                robot, base, tau_in, time, trajectory.q[0], trajectory.qd[0]
+                robot, base, tau_in, times, trajectory.q[0], trajectory.qd[0]
             )
         series = simulate_series(
             robot,

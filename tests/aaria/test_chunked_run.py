@@ -130,10 +130,14 @@ def test_a_torque_driven_run_is_one_piece() -> None:
 
 
 @pytest.mark.slow
-def test_the_command_streams_a_run_longer_than_a_chunk(tmp_path: Path) -> None:
-    """30,001 samples (two pieces of the default 20,000) read back as the run computed whole."""
+@pytest.mark.parametrize("suffix", [".h5", ".mat"])
+def test_the_command_streams_a_run_longer_than_a_chunk(tmp_path: Path, suffix: str) -> None:
+    """30,001 samples (two pieces of the default 20,000) read back as the run computed whole.
+
+    A ``.mat`` run longer than a chunk is a MAT-file v7.3, streamed as the ``.h5``.
+    """
     preset = get_preset("aaria-fig2")
-    output = tmp_path / "long.h5"
+    output = tmp_path / f"long{suffix}"
     result = CliRunner().invoke(
         main,
         ["simulate", "--preset", "aaria-fig2", "--duration", "0.3", "--rate", "100000",
@@ -153,6 +157,9 @@ def test_the_command_streams_a_run_longer_than_a_chunk(tmp_path: Path) -> None:
     assert f"{np.abs(whole.tau).max():.4g}" in result.output
     assert_same_run(read_run(output), whole)
     assert whole.n_samples > CHUNK_SAMPLES  # so the command streamed it
+    if suffix == ".mat":
+        with output.open("rb") as stream:
+            assert stream.read(19) == b"MATLAB 7.3 MAT-file"
 
 
 @pytest.mark.slow
@@ -192,14 +199,18 @@ print(json.dumps(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024))
 
 
 @pytest.mark.slow
-def test_peak_memory_of_a_streamed_run_does_not_grow_with_its_length(tmp_path: Path) -> None:
+@pytest.mark.parametrize("suffix", [".h5", ".mat"])
+def test_peak_memory_of_a_streamed_run_does_not_grow_with_its_length(
+    tmp_path: Path, suffix: str
+) -> None:
     """200 k and 600 k samples in chunks of 5,000, noise on: peaks within 30 MB.
 
     Computed whole, the 400 k more samples would take about 1.5 GB more (3.9 kB per sample).
+    A ``.mat`` this long is a MAT-file v7.3, streamed like the ``.h5``.
     """
     peaks = []
     for samples in (200_000, 600_000):
-        output = tmp_path / f"run{samples}.h5"
+        output = tmp_path / f"run{samples}{suffix}"
         result = subprocess.run(
             [sys.executable, "-c", MEMORY_CHILD, str(output), str(samples)],
             capture_output=True,
@@ -207,5 +218,8 @@ def test_peak_memory_of_a_streamed_run_does_not_grow_with_its_length(tmp_path: P
         )
         assert result.returncode == 0, result.stderr
         peaks.append(json.loads(result.stdout.strip().splitlines()[-1]))
+        if suffix == ".mat":  # 19 bytes: reading the whole file here would grow this process,
+            with output.open("rb") as stream:  # whose peak RSS the next child inherits
+                assert stream.read(19) == b"MATLAB 7.3 MAT-file"
         output.unlink()
     assert abs(peaks[1] - peaks[0]) < 30.0, peaks

@@ -291,3 +291,43 @@ def test_simulate_from_a_wrist_run_remakes_it(tmp_path: Path) -> None:
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
     code, _, err = run_cli("simulate", "--from", str(first), "--rate", "10", "-o", str(again))
     assert code == 2 and "--rate does not apply to a wrist run" in err
+
+
+def test_simulate_bounds_a_streamed_run_by_its_own_limit(tmp_path: Path) -> None:
+    """A run in pieces is bounded by 10⁹ samples (not 2 M): 8.6e9 are refused, the flag named."""
+    output = tmp_path / "day.h5"
+    code, _, err = run_cli(
+        "simulate", "--preset", "aaria-fig2", "--duration", "86400", "--rate", "100000",
+        "-o", str(output),
+    )  # fmt: skip
+    assert code == 2
+    assert (
+        "--duration is 86400; allowed: at most 1000000000 samples per run written in pieces" in err
+    )
+    assert not output.exists()
+
+
+def test_simulate_from_reads_only_the_inputs_of_the_run(tmp_path: Path) -> None:
+    """Its series damaged (wrong shapes), a run file still re-makes the run it holds."""
+    import h5py
+
+    from aaria_pin.files.runfile import read_run
+
+    run = tmp_path / "run.h5"
+    code, _, err = run_cli(
+        "simulate", "--preset", "aaria-fig2", "--duration", "0.5", "--seed", "3", "-o", str(run)
+    )
+    assert code == 0, err
+    original = read_run(run)
+    damaged = tmp_path / "damaged.h5"
+    damaged.write_bytes(run.read_bytes())
+    with h5py.File(damaged, "r+") as handle:
+        for name in ("q", "imu", "tau"):
+            del handle[name]
+            handle.create_dataset(name, data=np.zeros(3))
+    again = tmp_path / "again.h5"
+    code, _, err = run_cli("simulate", "--from", str(damaged), "-o", str(again))
+    assert code == 0, err
+    remade = read_run(again)
+    for name in ("time", "q", "imu", "tau", "base_wrench"):
+        np.testing.assert_array_equal(getattr(remade, name), getattr(original, name), err_msg=name)

@@ -201,3 +201,52 @@ def test_noise_attributes() -> None:
     assert attributes["bias_correlation_time_s"] == 100.0
     assert len(attributes) == 13
     assert all(isinstance(value, float) for value in attributes.values())
+
+
+# --- the bias knots drawn piece by piece (constant memory) -----------------------------------
+
+
+def test_bias_knots_are_the_gauss_markov_recursion() -> None:
+    """Against scipy's ``lfilter`` on the same standard normals (an independent recursion)."""
+    from scipy.signal import lfilter
+
+    from aaria_pin.core.imu_noise import _bias_knots
+
+    rate, n_imu, samples = 3.9, 2, 50  # every sample a knot
+    knots = _bias_knots(np.random.default_rng(3), samples, n_imu, rate, ADIS16485)
+    assert knots.shape == (samples + 1, n_imu * 6)
+    phi = np.exp(-1.0 / (rate * ADIS16485.bias_correlation_time))
+    drawn = np.random.default_rng(3).standard_normal((samples + 1, n_imu * 6))
+    drawn[1:] *= np.sqrt(1.0 - phi**2)
+    sigma = np.tile(np.repeat([GYRO.bias_stability, ACCEL.bias_stability], 3), n_imu)
+    expected = lfilter([1.0], [1.0, -phi], drawn, axis=0) * sigma
+    np.testing.assert_allclose(knots, expected, rtol=1e-12, atol=0.0)
+
+
+@pytest.mark.parametrize("sizes", [[7, 1, 30, 13], [1] * 51, [51]])
+def test_bias_knots_drawn_in_pieces_are_the_knots_drawn_at_once(sizes: list[int]) -> None:
+    from aaria_pin.core.imu_noise import _BiasKnots
+
+    whole = _BiasKnots(np.random.default_rng(8), 3, 3.9, ADIS16485).draw(sum(sizes))
+    knots = _BiasKnots(np.random.default_rng(8), 3, 3.9, ADIS16485)
+    assert np.array_equal(np.concatenate([knots.draw(n) for n in sizes]), whole)
+
+
+@pytest.mark.parametrize(("rate", "piece"), [(3.9, 97), (3.9, 1), (150.0, 40), (10_000.0, 333)])
+def test_a_stream_holds_only_its_pieces_knots_and_gives_the_whole_runs_noise(
+    rate: float, piece: int
+) -> None:
+    """A day at 3.9 Hz has a knot per sample: the stream keeps those of one piece, not 336,962."""
+    from aaria_pin.core.imu_noise import ImuNoiseStream
+
+    samples = 1201
+    exact = np.random.default_rng(5).normal(0.0, 2.0, (samples, 4, 6))
+    whole = add_imu_noise(exact, rate, np.random.default_rng(17))
+    stream = ImuNoiseStream(samples, 4, rate, np.random.default_rng(17))
+    step = max(1, int(rate * ADIS16485.bias_correlation_time / 200))
+    pieces = []
+    for start in range(0, samples, piece):
+        pieces.append(stream.measure(exact[start : start + piece], start))
+        spanned = (piece + step - 2) // step + 2  # knots a piece of this length can lie between
+        assert stream._window.shape[0] <= spanned  # the piece's knots only
+    assert np.array_equal(np.concatenate(pieces), whole)

@@ -5,7 +5,15 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from aaria_pin.core.trajectory import gimbal_xyz_motion, sample_times, sine_motion
+from aaria_pin.core.trajectory import (
+    MAX_SAMPLES,
+    MAX_STREAMED_SAMPLES,
+    gimbal_xyz_motion,
+    piece_times,
+    sample_count,
+    sample_times,
+    sine_motion,
+)
 from aaria_pin.errors import ParameterError
 
 
@@ -34,6 +42,29 @@ def test_bad_grids(duration: float, rate: float, pattern: str) -> None:
     assert caught.value.parameter in {"duration", "rate"}
     assert caught.value.allowed
     assert caught.value.value in (duration, rate) or np.isnan(caught.value.value)
+
+
+def test_a_run_held_whole_and_a_run_in_pieces_have_their_own_bounds() -> None:
+    """The issue's run, 20 s at 100 kHz (2,000,001 samples): too long to hold, fine in pieces."""
+    with pytest.raises(ParameterError, match="2000001 samples; allowed: at most 2000000 per run "
+                       "held in memory") as caught:  # fmt: skip
+        sample_count(20.0, 100_000.0)
+    assert (caught.value.parameter, caught.value.value) == ("duration", 20.0)
+    assert sample_count(20.0, 100_000.0, MAX_STREAMED_SAMPLES) == 2_000_001
+    assert sample_count(19.99999, 100_000.0) == MAX_SAMPLES
+    with pytest.raises(ParameterError, match="written in pieces") as caught:
+        sample_count(86_400.0, 100_000.0, MAX_STREAMED_SAMPLES)  # 8.64e9 samples
+    assert caught.value.allowed == (
+        f"at most {MAX_STREAMED_SAMPLES} samples per run written in pieces (duration × rate)"
+    )
+    assert sample_count(86_400.0, 100_000.0, None) == 8_640_000_001  # an existing run's length
+
+
+def test_piece_times_are_the_grid_s_samples() -> None:
+    grid = sample_times(1.23, 977.0)
+    for start, stop in [(0, 5), (17, 400), (1100, grid.size)]:
+        assert np.array_equal(piece_times(start, stop, 977.0), grid[start:stop])
+    np.testing.assert_allclose(piece_times(1000, 1001, 977.0), [1000 / 977.0], rtol=1e-15)
 
 
 def test_error_fields_name_the_flag_in_the_cli() -> None:

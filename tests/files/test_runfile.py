@@ -13,7 +13,13 @@ from scipy.io import loadmat, savemat
 
 from aaria_pin.core.record import ColumnSource, ColumnView, ImuMount, RunRecord
 from aaria_pin.errors import InputFileError, OutputFileError
-from aaria_pin.files.runfile import is_run_file, read_run, run_file_summary, write_run
+from aaria_pin.files.runfile import (
+    is_run_file,
+    read_run,
+    read_run_inputs,
+    run_file_summary,
+    write_run,
+)
 
 ATTRIBUTES: dict[str, Any] = {
     "kind": "dh",
@@ -39,6 +45,17 @@ SENSEN_COLUMNS = (
     *(f"q{i}" for i in range(1, 7)),
     *(f"{slot}_{signal}" for slot in SLOTS for signal in SIGNALS),
 )
+
+
+MAT73 = "v7.3"
+"""A ``suffix`` parameter that means a ``.mat`` written as MAT-file v7.3."""
+
+
+def target(tmp_path: Path, suffix: str) -> tuple[Path, dict[str, Any]]:
+    """The run file of a ``suffix`` parameter and the ``write_run`` options it needs."""
+    if suffix == MAT73:
+        return tmp_path / "run.mat", {"mat_version": "7.3"}
+    return tmp_path / f"run{suffix}", {}
 
 
 def sensen_view() -> ColumnView:
@@ -113,11 +130,11 @@ def assert_records_equal(read: RunRecord, expected: RunRecord) -> None:
     assert read.attributes == expected.attributes
 
 
-@pytest.mark.parametrize("suffix", [".h5", ".hdf5", ".mat", ".H5"])
+@pytest.mark.parametrize("suffix", [".h5", ".hdf5", ".mat", ".H5", MAT73])
 def test_round_trip(tmp_path: Path, suffix: str) -> None:
     record = make_record()
-    path = tmp_path / f"run{suffix}"
-    assert write_run(path, record) == path
+    path, options = target(tmp_path, suffix)
+    assert write_run(path, record, **options) == path
     read = read_run(path)
     assert_records_equal(read, record)
     assert list(read.attributes) == list(record.attributes)
@@ -128,7 +145,7 @@ def test_round_trip(tmp_path: Path, suffix: str) -> None:
     assert is_run_file(path)
 
 
-@pytest.mark.parametrize("suffix", [".h5", ".mat"])
+@pytest.mark.parametrize("suffix", [".h5", ".mat", MAT73])
 @pytest.mark.parametrize(
     ("joints", "imus", "views", "tables"),
     [(1, 0, False, False), (3, 2, False, True), (7, 0, False, True), (6, 14, True, False)],
@@ -137,7 +154,8 @@ def test_round_trip_of_every_shape(
     tmp_path: Path, suffix: str, joints: int, imus: int, views: bool, tables: bool
 ) -> None:
     record = make_record(samples=23, joints=joints, imus=imus, views=views, tables=tables)
-    read = read_run(write_run(tmp_path / f"run{suffix}", record))
+    path, options = target(tmp_path, suffix)
+    read = read_run(write_run(path, record, **options))
     assert_records_equal(read, record)
     assert read.imu.shape == (23, imus, 6)
     assert read.imu_mount.shape == (imus, 4, 4)
@@ -202,11 +220,11 @@ def test_sensen_is_a_virtual_dataset_that_survives_moves(tmp_path: Path) -> None
         assert_records_equal(read_run(file), record)
 
 
-@pytest.mark.parametrize("suffix", [".h5", ".mat"])
+@pytest.mark.parametrize("suffix", [".h5", ".mat", MAT73])
 def test_one_sample_run_keeps_shapes(tmp_path: Path, suffix: str) -> None:
     record = make_record(samples=1)
-    path = tmp_path / f"run{suffix}"
-    write_run(path, record)
+    path, options = target(tmp_path, suffix)
+    write_run(path, record, **options)
     read = read_run(path)
     assert read.time.shape == (1,)
     assert read.q.shape == (1, 6)
@@ -343,13 +361,14 @@ def test_mat_resaved_squeezed_still_reads(tmp_path: Path) -> None:
     np.testing.assert_array_equal(read.tool_pose, record.tool_pose)
 
 
-@pytest.mark.parametrize("suffix", [".h5", ".mat"])
+@pytest.mark.parametrize("suffix", [".h5", ".mat", MAT73])
 def test_summary(tmp_path: Path, suffix: str) -> None:
     record = make_record(samples=1)
-    path = write_run(tmp_path / f"run{suffix}", record)
+    path, options = target(tmp_path, suffix)
+    write_run(path, record, **options)
     summary = run_file_summary(path)
     assert summary["path"] == str(path)
-    assert summary["format"] == ("MATLAB v5" if suffix == ".mat" else "HDF5")
+    assert summary["format"] == {".mat": "MATLAB v5", MAT73: "MATLAB v7.3"}.get(suffix, "HDF5")
     assert summary["format_version"] == 2
     assert summary["layout"] == "aaria_pin run"
     assert summary["kind"] == "dh"
@@ -446,7 +465,7 @@ def test_failure_keeps_previous_file(tmp_path: Path, monkeypatch: pytest.MonkeyP
         raise OSError(28, "No space left on device")
 
     monkeypatch.setattr(h5py.Group, "create_dataset", explode)
-    with pytest.raises(OutputFileError, match=r"cannot be written .*No space left"):
+    with pytest.raises(OutputFileError, match=r"no space left on device writing .*run\.h5"):
         write_run(path, make_record(seed=2))
     assert path.read_bytes() == before
     assert list(tmp_path.iterdir()) == [path]
@@ -518,12 +537,51 @@ def test_read_incomplete_or_newer_run(tmp_path: Path) -> None:
         read_run(path)
 
 
-@pytest.mark.parametrize("suffix", [".h5", ".mat"])
+@pytest.mark.parametrize("suffix", [".h5", ".mat", MAT73])
 def test_one_dimensional_table_is_a_row(tmp_path: Path, suffix: str) -> None:
     record = make_record(samples=3, views=False, tables=False)
     record.tables["targets"] = np.array([0.1, 0.2, 0.3])
-    path = write_run(tmp_path / f"run{suffix}", record)
+    path, options = target(tmp_path, suffix)
+    write_run(path, record, **options)
     read = read_run(path)
     assert read.tables["targets"].shape == (1, 3)
     np.testing.assert_array_equal(read.tables["targets"][0], [0.1, 0.2, 0.3])
     assert run_file_summary(path)["arrays"]["targets"] == (1, 3)
+
+
+@pytest.mark.parametrize("suffix", [".h5", ".mat", MAT73])
+def test_the_inputs_of_a_run_are_read_without_its_series(tmp_path: Path, suffix: str) -> None:
+    record = make_record()
+    path, options = target(tmp_path, suffix)
+    write_run(path, record, **options)
+    inputs = read_run_inputs(path)
+    assert inputs.n_samples == 0
+    assert inputs.q.shape == (0, 6) and inputs.imu.shape == (0, 14, 6)
+    np.testing.assert_array_equal(inputs.imu_mount, record.imu_mount)
+    assert inputs.tables.keys() == record.tables.keys()
+    for name, table in record.tables.items():
+        np.testing.assert_array_equal(inputs.tables[name], table)
+    assert [(m.name, m.parent) for m in inputs.imu_mounts] == [
+        (m.name, m.parent) for m in record.imu_mounts
+    ]
+    assert inputs.joint_names == record.joint_names and inputs.urdf == record.urdf
+    assert inputs.attributes == record.attributes
+    assert inputs.views["senSen"].sources == record.views["senSen"].sources
+
+
+@pytest.mark.parametrize("suffix", [".h5", MAT73])
+def test_read_run_inputs_does_not_touch_the_series(tmp_path: Path, suffix: str) -> None:
+    """A file whose ``imu`` is replaced by a wrong shape: unreadable whole, its inputs read."""
+    record = make_record()
+    path, options = target(tmp_path, suffix)
+    write_run(path, record, **options)
+    with h5py.File(path, "r+") as handle:
+        attributes = dict(handle["imu"].attrs)
+        del handle["imu"]
+        handle.create_dataset("imu", data=np.zeros((5, 5)))
+        handle["imu"].attrs.update(attributes)
+    with pytest.raises(InputFileError, match="imu"):
+        read_run(path)
+    np.testing.assert_array_equal(
+        read_run_inputs(path).tables["senSenDH"], record.tables["senSenDH"]
+    )

@@ -24,13 +24,16 @@ S IMUs; the record's module docstring gives units and frames):
     attribute per item of ``RunRecord.attributes`` (insertion order kept; ``kind``, ``robot``,
     ``rate``, ... are ordinary attributes).
 
-``.mat`` (MATLAB v5 through ``scipy.io.savemat``, compressed)
+``.mat`` (MATLAB v5 through ``scipy.io.savemat``, compressed; or MATLAB v7.3)
     The same arrays under the same names (3-D arrays stay 3-D, ``time`` is 1 × T), each view
     materialised as a real T × C array with its column names as the 1 × C cell array
     ``<view>_columns`` (``senSen_columns``), ``joint_names``, ``imu_names``, ``imu_parents`` as
     1 × n / 1 × S cell arrays, ``urdf`` a char array, and every attribute as a variable
-    ``attr_<name>``, including ``attr_format`` and ``attr_format_version``. A v5 file holds at
-    most 2 GiB per array; write HDF5 for longer runs.
+    ``attr_<name>``, including ``attr_format`` and ``attr_format_version``. A run of more than
+    :data:`~aaria_pin.core.run.CHUNK_SAMPLES` samples is written as a MAT-file v7.3 (an HDF5
+    file MATLAB's ``load`` reads; the layout: :mod:`._mat73`), streamed piece by piece, with
+    the same variables and the sizes MATLAB shows for the v5 file; a shorter one as v5 (why:
+    :func:`mat_version_for`; ``mat_version`` asks for either). :func:`read_run` reads both.
 
 Views are read back from their column names (both formats): ``time`` → ``time``; ``q<j>``
 (1-based) or ``q:<joint>`` → a column of ``q`` (also ``qd``, ``qdd``, ``tau``);
@@ -51,7 +54,8 @@ variable name (letters, digits and ``_``, at most 63 characters).
 A long run is written in time pieces (:func:`write_run_chunks`, :class:`RunFileWriter`): the
 HDF5 datasets are preallocated at the run's full length and filled piece by piece, so memory
 does not grow with the run's length; the file is the same as :func:`write_run` makes of the
-whole record (which is the one-piece case of the same writer). A ``.mat`` file is written whole.
+whole record (which is the one-piece case of the same writer). So is a ``.mat`` v7.3 file; a
+``.mat`` v5 file is written whole.
 
 :func:`read_run` also reads every run file aaria_pin 0.1.0 wrote (:mod:`._legacy`: Aaria DH
 ``.h5``/``.mat``, URDF robot and pick-place ``.h5``, wrist ``.h5``/``.mat``).
@@ -72,7 +76,7 @@ import numpy as np
 from aaria_pin.core.record import SERIES, RunRecord, record_shapes
 from aaria_pin.errors import InputFileError, OutputFileError
 from aaria_pin.files._stored import JSON_SUFFIX, NAME_LISTS, encode_attributes, first_line
-from aaria_pin.files.io import atomic_output, existing_input
+from aaria_pin.files.paths import atomic_output, existing_input
 from aaria_pin.files.runfile._attributes import RUN_FORMAT, RUN_FORMAT_VERSION
 from aaria_pin.files.runfile._hdf5 import (
     _hdf5_errors,
@@ -101,12 +105,15 @@ from aaria_pin.files.runfile._mat import (
     _summarise_mat_v2,
     _write_mat,
     load_mat,
+    mat_attribute_variables,
     mat_variables,
 )
+from aaria_pin.files.runfile._mat73 import _Mat73Stream, check_mat73_compression, is_mat73
 
 __all__ = [
     "COMPRESSIONS",
     "JSON_SUFFIX",
+    "MAT_VERSIONS",
     "RUN_FORMAT",
     "RUN_FORMAT_VERSION",
     "RUN_SUFFIXES",
@@ -114,7 +121,9 @@ __all__ = [
     "RunFileWriter",
     "column_source",
     "is_run_file",
+    "mat_version_for",
     "read_run",
+    "read_run_inputs",
     "run_file_summary",
     "view_from_columns",
     "write_run",
@@ -128,9 +137,31 @@ COMPRESSIONS = (None, "gzip", "lzf")
 RUN_SUFFIXES = (".h5", ".hdf5", ".mat")
 """File suffixes of run files (case-insensitive)."""
 
+MAT_VERSIONS = ("5", "7.3")
+"""MAT-file versions a ``.mat`` run file is written as (:func:`mat_version_for` chooses)."""
 
-def _check_output(final: Path, compression: str | None) -> str:
-    """The output's lower-case suffix; OutputFileError for an unknown suffix or filter."""
+
+def mat_version_for(samples: int) -> str:
+    """The MAT-file version a ``.mat`` run of ``samples`` is written as, unless one is asked.
+
+    ``"7.3"`` (HDF5, streamed piece by piece into preallocated datasets) for a run longer
+    than :data:`~aaria_pin.core.run.CHUNK_SAMPLES` samples, the runs ``aaria simulate``
+    computes in pieces; ``"5"`` (scipy's ``savemat``, compressed) for a shorter one. The
+    reason is structural: scipy writes a v5 file only whole, from arrays in memory, each at
+    most 2 GiB (a ``senSen`` of 2.9 M samples), so a v5 run's memory grows with its length
+    (``aaria simulate --preset aaria-fig2 --duration 1.99999 --rate 100000 -o run.mat``,
+    200,000 samples with noise: 1.12 GB peak and 20 s as v5, 0.34 GB and 4 s as v7.3), while a
+    short run keeps the format every earlier file has, which scipy and every MATLAB read
+    (scipy cannot read v7.3) and which is compressed (that run's v5 file is 139 MB, its
+    uncompressed v7.3 381 MB; ``compression="gzip"`` compresses a v7.3).
+    """
+    from aaria_pin.core.run import CHUNK_SAMPLES
+
+    return "7.3" if samples > CHUNK_SAMPLES else "5"
+
+
+def _check_output(final: Path, compression: str | None, mat_version: str | None = None) -> str:
+    """The output's lower-case suffix; OutputFileError for an unknown suffix, filter or version."""
     suffix = final.suffix.lower()
     if compression not in COMPRESSIONS:
         raise OutputFileError(
@@ -140,23 +171,38 @@ def _check_output(final: Path, compression: str | None) -> str:
         raise OutputFileError(
             f"{final}: unknown run file type {suffix!r}; allowed: {', '.join(RUN_SUFFIXES)}"
         )
+    if mat_version is not None and mat_version not in MAT_VERSIONS:
+        raise OutputFileError(
+            f"{final}: MAT-file version {mat_version!r} is not allowed; allowed: None, "
+            + ", ".join(repr(v) for v in MAT_VERSIONS),
+            parameter="mat_version",
+            value=mat_version,
+            allowed="None, " + ", ".join(repr(v) for v in MAT_VERSIONS),
+        )
     return suffix
 
 
 def write_run(
-    path: str | os.PathLike[str], record: RunRecord, compression: str | None = None
+    path: str | os.PathLike[str],
+    record: RunRecord,
+    compression: str | None = None,
+    mat_version: str | None = None,
 ) -> Path:
     """Write a run record to an HDF5 (``.h5``, ``.hdf5``) or MATLAB (``.mat``) file.
 
     The file is written beside its destination and renamed when complete, so a failure never
     leaves a partial file (see :func:`aaria_pin.files.io.atomic_output`). The layout is described in
-    the module docstring. An HDF5 file is written by :class:`RunFileWriter` in one piece.
+    the module docstring. An HDF5 file, and a ``.mat`` v7.3, is written by
+    :class:`RunFileWriter` in one piece.
 
     Args:
         path: the run file; its suffix selects the format
         record: the run to write
         compression: HDF5 filter of the time series: ``None`` (default, fastest), ``"gzip"``
-            or ``"lzf"``; a ``.mat`` file is always compressed
+            or ``"lzf"``; a ``.mat`` v5 file is always compressed, a v7.3 one takes None or
+            ``"gzip"``
+        mat_version: ``"5"`` or ``"7.3"`` for a ``.mat`` file; None (default): by the run's
+            length (:func:`mat_version_for`)
 
     Returns:
         The path written.
@@ -166,8 +212,10 @@ def write_run(
             view that cannot be stored, an attribute that cannot be stored, or a write failure.
     """
     final = Path(path)
-    if _check_output(final, compression) != ".mat":
-        with RunFileWriter(final, record, compression=compression) as writer:
+    suffix = _check_output(final, compression, mat_version)
+    if suffix != ".mat" or (mat_version or mat_version_for(record.n_samples)) == "7.3":
+        version = "7.3" if suffix == ".mat" else mat_version
+        with RunFileWriter(final, record, compression=compression, mat_version=version) as writer:
             writer.write(0, record)
         return final
     arrays = checked_arrays(final, record)
@@ -186,13 +234,14 @@ def write_run_chunks(
     chunks: Iterable[RunRecord],
     samples: int,
     compression: str | None = None,
+    mat_version: str | None = None,
 ) -> Path:
     """Write a run that comes in time pieces (e.g. ``simulate_run_chunks``) to a run file.
 
-    An HDF5 file is written piece by piece into preallocated datasets (:class:`RunFileWriter`),
-    so memory does not grow with the run's length. A ``.mat`` file (MATLAB v5, which scipy
-    writes only whole) is written from the pieces joined in memory: at most 2 GiB per array,
-    about 3.9 kB per sample while the run is computed; write HDF5 for long runs.
+    An HDF5 file, and a ``.mat`` v7.3 (the version of a run longer than one chunk,
+    :func:`mat_version_for`), is written piece by piece into preallocated datasets
+    (:class:`RunFileWriter`), so memory does not grow with the run's length. A ``.mat`` v5
+    file (which scipy writes only whole) is written from the pieces joined in memory.
 
     Args:
         path: the run file; its suffix selects the format
@@ -200,6 +249,7 @@ def write_run_chunks(
             of the last piece are stored (they cover the whole run)
         samples: T, the run's number of samples (the pieces' lengths add up to it)
         compression: as in :func:`write_run`
+        mat_version: as in :func:`write_run` (None: by ``samples``)
 
     Returns:
         The path written.
@@ -211,14 +261,15 @@ def write_run_chunks(
     from aaria_pin.core.run import join_chunks
 
     final = Path(path)
-    suffix = _check_output(final, compression)
+    suffix = _check_output(final, compression, mat_version)
     pieces = iter(chunks)
     first = next(pieces, None)
     if first is None:
         raise OutputFileError(f"{final}: a run of no piece; allowed: one piece or more")
-    if suffix == ".mat":
-        return write_run(final, join_chunks([first, *pieces]), compression)
-    with RunFileWriter(final, first, samples, compression) as writer:
+    version = mat_version or mat_version_for(samples)
+    if suffix == ".mat" and version == "5":
+        return write_run(final, join_chunks([first, *pieces]), compression, "5")
+    with RunFileWriter(final, first, samples, compression, version) as writer:
         start = 0
         for chunk in itertools.chain([first], pieces):
             writer.write(start, chunk)
@@ -231,11 +282,12 @@ class RunFileWriter:
 
     Entering it creates the file beside its destination (:func:`~aaria_pin.files.io.atomic_output`)
     with the one layout of the module docstring: every series preallocated at the run's full
-    length, ``imu_mount``, the tables, the views (virtual datasets over the full series), the
-    names and the URDF, from the first piece. :meth:`write` stores the series of a piece;
-    leaving the block writes the root attributes (those of the last piece written, which cover
-    the whole run) and renames the file onto its destination. On any failure, or if the pieces
-    do not add up to the run, nothing is left. :func:`write_run` of an HDF5 file is the
+    length, ``imu_mount``, the tables, the views (virtual datasets over the full series; in a
+    ``.mat`` v7.3, real arrays filled piece by piece), the names and the URDF, from the first
+    piece. :meth:`write` stores the series of a piece; leaving the block writes the root
+    attributes (the ``attr_`` variables of a ``.mat``: those of the last piece written, which
+    cover the whole run) and renames the file onto its destination. On any failure, or if the
+    pieces do not add up to the run, nothing is left. :func:`write_run` of an HDF5 file is the
     one-piece case.
 
     Example::
@@ -245,14 +297,17 @@ class RunFileWriter:
             writer.write(first.n_samples, second)
 
     Args:
-        path: the ``.h5`` or ``.hdf5`` file
+        path: the ``.h5``, ``.hdf5`` or ``.mat`` (v7.3) file
         first: the first piece (its names, mounts, URDF, tables and views are the run's)
         samples: T, the run's number of samples (default ``first.n_samples``)
         compression: as in :func:`write_run`
+        mat_version: for a ``.mat``, as in :func:`write_run` (None: by ``samples``); only
+            ``"7.3"`` is written in pieces
 
     Raises:
-        OutputFileError: a ``.mat`` or unknown suffix, ``samples`` < the first piece, or any
-            error of :func:`write_run`.
+        OutputFileError: an unknown suffix, a ``.mat`` of version 5 (written whole by
+            :func:`write_run`), ``samples`` < the first piece, or any error of
+            :func:`write_run`.
     """
 
     def __init__(
@@ -261,14 +316,18 @@ class RunFileWriter:
         first: RunRecord,
         samples: int | None = None,
         compression: str | None = None,
+        mat_version: str | None = None,
     ) -> None:
         self.final = Path(path)
-        if _check_output(self.final, compression) == ".mat":
-            raise OutputFileError(
-                f"{self.final}: a MATLAB v5 file is written whole; allowed: .h5, .hdf5 "
-                "(write_run writes .mat)"
-            )
         self.samples = first.n_samples if samples is None else int(samples)
+        self._mat = _check_output(self.final, compression, mat_version) == ".mat"
+        if self._mat and (mat_version or mat_version_for(self.samples)) != "7.3":
+            raise OutputFileError(
+                f"{self.final}: a MATLAB v5 file is written whole; allowed: .h5, .hdf5, "
+                ".mat v7.3 (write_run writes .mat v5)"
+            )
+        if self._mat:
+            check_mat73_compression(self.final, compression)
         if self.samples < first.n_samples:
             raise OutputFileError(
                 f"{self.final}: a run of {self.samples} samples; allowed: at least the first "
@@ -276,18 +335,24 @@ class RunFileWriter:
             )
         self._first = first
         self._arrays = checked_arrays(self.final, first)
-        encode_attributes(self.final, first.attributes)  # refuse early, before any file
+        self._encoded(first.attributes)  # refuse early, before any file
         self._compression = compression
         self._attributes: Mapping[str, Any] = first.attributes
         self._written = 0
         self._stack: contextlib.ExitStack | None = None
-        self._stream: _Hdf5Stream | None = None
+        self._stream: _Hdf5Stream | _Mat73Stream | None = None
+
+    def _encoded(self, attributes: Mapping[str, Any]) -> list[tuple[str, Any]]:
+        """The stored attributes: root attributes, or a ``.mat``'s ``attr_`` variables."""
+        encoded = encode_attributes(self.final, attributes)
+        return mat_attribute_variables(self.final, encoded) if self._mat else encoded
 
     def __enter__(self) -> RunFileWriter:
         stack = contextlib.ExitStack()
         temporary = stack.enter_context(atomic_output(self.final))
         try:
-            self._stream = _Hdf5Stream(
+            stream = _Mat73Stream if self._mat else _Hdf5Stream
+            self._stream = stream(
                 temporary, self._first, self._arrays, self.samples, self._compression
             )
         except BaseException as exc:
@@ -357,7 +422,7 @@ class RunFileWriter:
                     "allowed: every sample of the run"
                 )
             elif exc is None:
-                attributes = encode_attributes(self.final, self._attributes)
+                attributes = self._encoded(self._attributes)
             stream.close(attributes)
         except BaseException as caught:
             if error is None:
@@ -390,19 +455,47 @@ def read_run(path: str | os.PathLike[str]) -> RunRecord:
         InputFileError: the file is missing, unreadable, of an unknown kind, not a run file,
             of a newer format version, or holds an array of the wrong shape.
     """
+    return _read(path, series=True)
+
+
+def read_run_inputs(path: str | os.PathLike[str]) -> RunRecord:
+    """The record of a run file without its time series: what re-making the run needs.
+
+    A version 2 file's series and views are not read (a 2,000,000-sample ``.h5`` holds
+    2.4 GB of them); the record has no samples (``n_samples == 0``, every series of length
+    0) and the file's names, IMU mounts, URDF, tables, views and attributes (``duration``,
+    ``rate``, ``seed``, ...). A 0.1.0 file, whose inputs partly live in its series (a wrist
+    run's time grid), is read whole, as by :func:`read_run`.
+
+    Args:
+        path: the run file
+
+    Raises:
+        InputFileError: as :func:`read_run`.
+    """
+    return _read(path, series=False)
+
+
+def _read(path: str | os.PathLike[str], series: bool) -> RunRecord:
+    """:func:`read_run` (``series``) or :func:`read_run_inputs`."""
     file = existing_input(path, RUN_SUFFIXES, "run")
     if file.suffix.lower() == ".mat":
-        contents = load_mat(file)
-        layout = mat_layout(file, contents, contents)
-        if layout == LAYOUT_V2:
-            return _read_mat_v2(file, contents)
-        return read_legacy_mat(file, contents, layout)
+        variables = mat_variables(file)
+        marks = [name for name in variables if name.startswith(MAT_ATTRIBUTE_PREFIX)]
+        layout = mat_layout(file, load_mat(file, marks) if marks else {}, variables)
+        if layout != LAYOUT_V2:
+            return read_legacy_mat(file, load_mat(file), layout)
+        views = [name for name in variables if name + COLUMNS_SUFFIX in variables]
+        skipped = set(views) if series else {*views, *SERIES}
+        contents = load_mat(file, [name for name in variables if name not in skipped])
+        contents.update(dict.fromkeys(views))  # a view is read from its column names
+        return _read_mat_v2(file, contents, None if series else variables)
     import h5py
 
     with _hdf5_errors(file), h5py.File(file, "r") as handle:
         layout = hdf5_layout(file, handle)
         if layout == LAYOUT_V2:
-            return _read_hdf5_v2(file, handle)
+            return _read_hdf5_v2(file, handle, series)
         return read_legacy_hdf5(file, handle, layout)
 
 
@@ -413,10 +506,11 @@ def run_file_summary(path: str | os.PathLike[str]) -> dict[str, Any]:
         path: the run file (any kind :func:`read_run` reads)
 
     Returns:
-        ``path`` (str), ``format`` (``"HDF5"`` or ``"MATLAB v5"``), ``format_version`` (int; 1
-        for every 0.1.0 file), ``layout`` (``"aaria_pin run"`` or the 0.1.0 layout, e.g.
-        ``"0.1.0 wrist run"``), ``kind``, ``robot``, ``samples`` (T), ``rate`` [Hz] (the
-        attribute, else from the first two sample times; None for one sample), ``joints`` and
+        ``path`` (str), ``format`` (``"HDF5"``, ``"MATLAB v5"`` or ``"MATLAB v7.3"``),
+        ``format_version`` (int; 1 for every 0.1.0 file), ``layout`` (``"aaria_pin run"`` or
+        the 0.1.0 layout, e.g. ``"0.1.0 wrist run"``), ``kind``, ``robot``, ``samples`` (T),
+        ``rate`` [Hz] (the attribute, else from the first two sample times; None for one
+        sample), ``joints`` and
         ``imus`` (names), ``arrays`` (name → shape, as :func:`read_run` gives them: the series,
         ``imu_mount`` and the tables), ``views`` (name → shape) and ``attributes`` (decoded as
         by :func:`read_run`).
@@ -427,7 +521,7 @@ def run_file_summary(path: str | os.PathLike[str]) -> dict[str, Any]:
     file = existing_input(path, RUN_SUFFIXES, "run")
     time_head: Any
     if file.suffix.lower() == ".mat":
-        kind = "MATLAB v5"
+        kind = "MATLAB v7.3" if is_mat73(file) else "MATLAB v5"
         variables = mat_variables(file)
         small = [
             name
@@ -526,13 +620,13 @@ def write_run_pieces(
     chunks: Iterable[RunRecord],
     compression: str | None,
     announce: Callable[[RunRecord], None] | None = None,
+    mat_version: str | None = None,
 ) -> tuple[RunRecord, int, float]:
-    """Compute a run's pieces and write them: whole if one piece, else streamed into HDF5.
+    """Compute a run's pieces and write them: whole if one piece, else streamed.
 
     A run of one piece (:data:`~aaria_pin.core.run.CHUNK_SAMPLES` samples or fewer) is written
-    by ``write_run`` as before; a longer one by ``write_run_chunks`` piece by piece, so memory
-    does not grow with its length (a ``.mat`` file is then joined in memory, MATLAB v5 being
-    written whole).
+    by ``write_run`` as before (a ``.mat`` as v5); a longer one by ``write_run_chunks`` piece
+    by piece into an HDF5 file or a ``.mat`` v7.3, so memory does not grow with its length.
 
     Args:
         output: the run file
@@ -540,6 +634,7 @@ def write_run_pieces(
         compression: HDF5 filter (None, ``"gzip"``, ``"lzf"``)
         announce: called with the last piece (whose attributes cover the run) before a
             one-piece run is written, or after a streamed run is (for the command's warnings)
+        mat_version: for a ``.mat``, as in :func:`write_run` (None: by the run's length)
 
     Returns:
         The last piece, the run's samples and its peak |tau| [N·m or N].
@@ -557,7 +652,7 @@ def write_run_pieces(
             )
         if announce is not None:
             announce(first)
-        write_run(output, first, compression=compression)
+        write_run(output, first, compression=compression, mat_version=mat_version)
         return first, first.n_samples, float(np.abs(first.tau).max())
     peaks: list[float] = []
     last = [first]
@@ -568,7 +663,7 @@ def write_run_pieces(
             last[0] = piece
             yield piece
 
-    write_run_chunks(output, counted(), samples, compression)
+    write_run_chunks(output, counted(), samples, compression, mat_version)
     if announce is not None:
         announce(last[0])
     return last[0], samples, max(peaks)

@@ -186,14 +186,17 @@ def _v2_parts(
     return datasets, names, others
 
 
-def _read_hdf5_v2(file: Path, handle: Any) -> RunRecord:
-    """The record of an open version 2 HDF5 run file."""
+def _read_hdf5_v2(file: Path, handle: Any, series: bool = True) -> RunRecord:
+    """The record of an open version 2 HDF5 run file (without ``series``: no samples)."""
     datasets, names, others = _v2_parts(file, handle)
-    samples = int(np.prod(datasets["time"].shape))
+    samples = int(np.prod(datasets["time"].shape)) if series else 0
     expected = record_shapes(samples, len(names["joint_names"]), len(names["imu_names"]))
     check_names(file, names, expected["imu_mount"][0])
     arrays = {
-        name: fitted(file, name, datasets[name][()], shape) for name, shape in expected.items()
+        name: fitted(file, name, datasets[name][()], shape)
+        if series or name not in SERIES
+        else np.zeros(shape)
+        for name, shape in expected.items()
     }
     tables: dict[str, Array] = {}
     views: dict[str, ColumnView] = {}

@@ -37,13 +37,14 @@ _MAT_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,62}")
 _MAT_MAX_ARRAY_BYTES = 2**31 - 1
 
 
-def _mat_contents(
-    final: Path,
-    record: RunRecord,
-    arrays: Mapping[str, Array],
-    attributes: list[tuple[str, Any]],
-) -> dict[str, Any]:
-    """The variables of the ``.mat`` layout; OutputFileError for what v5 cannot hold."""
+def mat_attribute_variables(
+    final: Path, attributes: list[tuple[str, Any]]
+) -> list[tuple[str, Any]]:
+    """The ``attr_`` variables of encoded attributes, the format marks first.
+
+    Raises:
+        OutputFileError: an attribute whose ``attr_<name>`` is not a MATLAB variable name.
+    """
     for key, _ in attributes:
         if not _MAT_NAME.fullmatch(MAT_ATTRIBUTE_PREFIX + key):
             raise OutputFileError(
@@ -51,6 +52,21 @@ def _mat_contents(
                 f"{MAT_ATTRIBUTE_PREFIX}{key}; allowed: letters, digits and _, at most "
                 f"{63 - len(MAT_ATTRIBUTE_PREFIX)} characters"
             )
+    return [
+        (MAT_ATTRIBUTE_PREFIX + "format", RUN_FORMAT),
+        (MAT_ATTRIBUTE_PREFIX + "format_version", np.int64(RUN_FORMAT_VERSION)),
+        *((MAT_ATTRIBUTE_PREFIX + key, value) for key, value in attributes),
+    ]
+
+
+def _mat_contents(
+    final: Path,
+    record: RunRecord,
+    arrays: Mapping[str, Array],
+    attributes: list[tuple[str, Any]],
+) -> dict[str, Any]:
+    """The variables of the ``.mat`` layout; OutputFileError for what v5 cannot hold."""
+    variables = mat_attribute_variables(final, attributes)
     contents: dict[str, Any] = dict(arrays)
     for name, view in record.views.items():
         contents[name] = view.materialise(arrays)
@@ -62,13 +78,10 @@ def _mat_contents(
     for name, data in contents.items():
         if isinstance(data, np.ndarray) and data.nbytes > _MAT_MAX_ARRAY_BYTES:
             raise OutputFileError(
-                f"{final}: array {name!r} is {data.nbytes / 2**30:.1f} GiB; a .mat (v5) file "
-                "holds at most 2 GiB per array, write .h5 instead"
+                f"{final}: array {name!r} is {data.nbytes / 2**30:.1f} GiB; a .mat v5 file "
+                "holds at most 2 GiB per array, write it as v7.3 (mat_version='7.3') or .h5"
             )
-    contents[MAT_ATTRIBUTE_PREFIX + "format"] = RUN_FORMAT
-    contents[MAT_ATTRIBUTE_PREFIX + "format_version"] = np.int64(RUN_FORMAT_VERSION)
-    for key, value in attributes:
-        contents[MAT_ATTRIBUTE_PREFIX + key] = value
+    contents.update(variables)
     return contents
 
 
@@ -105,7 +118,15 @@ def _mat_errors(file: Path) -> Iterator[None]:
 
 
 def load_mat(file: Path, names: list[str] | None = None) -> dict[str, Any]:
-    """Variables of a MATLAB v5 file, unsqueezed, in MATLAB's own classes."""
+    """Variables of a MATLAB v5 or v7.3 file, unsqueezed, in MATLAB's own classes.
+
+    A v7.3 file (HDF5) is read by :func:`~aaria_pin.files.runfile._mat73.load_mat73` into
+    the same forms as scipy gives a v5 file's variables.
+    """
+    from aaria_pin.files.runfile._mat73 import is_mat73, load_mat73
+
+    if is_mat73(file):
+        return load_mat73(file, names)
     from scipy.io import loadmat
 
     with _mat_errors(file):
@@ -115,7 +136,11 @@ def load_mat(file: Path, names: list[str] | None = None) -> dict[str, Any]:
 
 
 def mat_variables(file: Path) -> dict[str, tuple[int, ...]]:
-    """The names and shapes of a MATLAB v5 file's variables, without reading them."""
+    """The names and shapes of a MATLAB v5 or v7.3 file's variables, without reading them."""
+    from aaria_pin.files.runfile._mat73 import is_mat73, mat73_variables
+
+    if is_mat73(file):
+        return mat73_variables(file)
     from scipy.io import whosmat
 
     with _mat_errors(file):
@@ -174,13 +199,26 @@ def _mat_names(
     return {name: mat_strings(contents[name]) for name in NAME_LISTS}
 
 
-def _read_mat_v2(file: Path, contents: Mapping[str, Any]) -> RunRecord:
-    """The record of loaded version 2 ``.mat`` variables."""
-    names = _mat_names(file, contents, contents)
-    samples = int(np.size(contents["time"]))
+def _read_mat_v2(
+    file: Path, contents: Mapping[str, Any], present: Container[str] | None = None
+) -> RunRecord:
+    """The record of loaded version 2 ``.mat`` variables.
+
+    Args:
+        file: the file, for messages
+        contents: its variables (a view's data may be left out or None: only its column
+            names are read)
+        present: the file's variable names, when ``contents`` leaves out the series: the
+            record then has no samples (what re-making the run needs, :func:`read_run_inputs`)
+    """
+    names = _mat_names(file, contents, contents if present is None else present)
+    samples = int(np.size(contents["time"])) if "time" in contents else 0
     expected = record_shapes(samples, len(names["joint_names"]), len(names["imu_names"]))
     check_names(file, names, expected["imu_mount"][0])
-    arrays = {name: fitted(file, name, contents[name], shape) for name, shape in expected.items()}
+    arrays = {
+        name: fitted(file, name, contents[name], shape) if name in contents else np.zeros(shape)
+        for name, shape in expected.items()
+    }
     record_names = (names["joint_names"], names["imu_names"])
     views: dict[str, ColumnView] = {}
     tables: dict[str, Array] = {}
