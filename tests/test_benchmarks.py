@@ -20,6 +20,8 @@ ROOT = Path(__file__).resolve().parent.parent
         "bench_dataset.py",
         "bench_rotations.py",
         "bench_memory.py",
+        "bench_identify.py",
+        "bench_identify_dynamics.py",
     ],
 )
 def test_benchmark_smoke(script: str) -> None:

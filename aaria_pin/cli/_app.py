@@ -88,6 +88,7 @@ def _register() -> None:
     from aaria_pin.cli import (
         arm_cmd,
         dataset_cmd,
+        identify_cmd,
         info_cmd,
         mjcf_cmd,
         plot_cmd,
@@ -104,6 +105,7 @@ def _register() -> None:
 
     main.add_command(arm_cmd.arm)
     main.add_command(dataset_cmd.dataset)
+    main.add_command(identify_cmd.identify)
     main.add_command(info_cmd.info)
     main.add_command(mjcf_cmd.mjcf)
     main.add_command(plot_cmd.plot)

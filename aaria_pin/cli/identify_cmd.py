@@ -1,0 +1,125 @@
+"""``aaria identify``: the kinematic model of an Aaria arm from its IMU signals and encoders."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import click
+
+from aaria_pin.cli._viz_options import check_output, check_run_option
+
+if TYPE_CHECKING:
+    from aaria_pin.apps.identify.kinematics import KinematicIdentification
+
+_TABLE_HEADER = (
+    "estimated Aaria DH table (aaria identify): alpha [rad], a [m], theta [rad], d [m], "
+    "link type; rows 1-6 modules, 7 tool, 8 base"
+)
+
+
+def _print(result: KinematicIdentification) -> None:
+    names = {0: "empty", 1: "revolute", 2: "prismatic"}
+    click.echo(
+        "structure: " + ", ".join(f"{m + 1} {names[t]}" for m, t in enumerate(result.link_types))
+    )
+    click.echo("table [alpha a theta d type]:")
+    for row in result.table:
+        click.echo("  " + " ".join(f"{v:9.5f}" for v in row[:4]) + f" {int(row[4])}")
+    for deficiency in result.deficiencies:
+        click.echo(f"not determined: {deficiency.description}")
+    worst = max(result.residual_rms.items(), key=lambda item: item[1]["accel_m_s2"])
+    click.echo(
+        f"residual RMS: largest accelerometer {worst[1]['accel_m_s2']:.3g} m/s^2 ({worst[0]}), "
+        f"fit {result.fit['seconds']:.1f} s on {result.fit['samples']} samples"
+    )
+    truth = result.truth
+    if truth is not None:
+        click.echo(
+            f"against the truth: link types {sum(truth.link_types_right)}/6 right, tool tip "
+            f"RMS {truth.tool_tip_rms:.3g} m, max {truth.tool_tip_max:.3g} m, joint axes within "
+            f"{max(truth.axis_angle_max.values(), default=0.0):.3g} rad"
+        )
+
+
+def _write_outputs(result: KinematicIdentification, table: Path | None, urdf: Path | None) -> None:
+    from aaria_pin.files.io import atomic_output
+
+    if table is not None:
+        import numpy as np
+
+        with atomic_output(table) as temporary:
+            np.savetxt(temporary, result.table, delimiter=",", fmt="%.17g", header=_TABLE_HEADER)
+    if urdf is not None:
+        from aaria_pin.aaria.dh_robot import build_dh_robot
+
+        poses = [mount.T_parent_imu for mount in result.mounts]
+        robot = build_dh_robot(result.table, imu_mount=poses, name="aaria_identified")
+        with atomic_output(urdf) as temporary:
+            temporary.write_text(robot.urdf, encoding="utf-8")
+
+
+def identify_kinematics_command(
+    file: Path, run_index: int | None, table: Path | None, urdf: Path | None, as_json: bool
+) -> dict[str, Any] | None:
+    """Identify the run, write the outputs, print the result (or return it for ``--json``)."""
+    from aaria_pin.apps.identify.kinematics import identify_kinematics
+    from aaria_pin.errors import ParameterError
+    from aaria_pin.files.dataset_file import is_dataset_file
+
+    if is_dataset_file(file):
+        if run_index is None:
+            raise ParameterError(parameter="run", value=None, allowed="a run index for a data set")
+        from aaria_pin.files.dataset_reader import DatasetReader
+
+        with DatasetReader(file) as reader:
+            record = reader.record(run_index)
+    else:
+        from aaria_pin.files.runfile import read_run
+
+        record = read_run(file)
+    result = identify_kinematics(record)
+    _write_outputs(result, table, urdf)
+    if as_json:
+        return result.to_json()
+    _print(result)
+    return None
+
+
+@click.command()
+@click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
+@click.option("--run", "run_index", type=click.IntRange(0), help="One run of a data set.")
+@click.option(
+    "-o",
+    "--output",
+    "table",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help="Write the estimated 8 x 5 DH table (.csv).",
+)
+@click.option(
+    "--urdf",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help="Write the estimated arm, IMUs at their estimated mounts (.urdf).",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def identify(
+    file: Path, run_index: int | None, table: Path | None, urdf: Path | None, as_json: bool
+) -> None:
+    """Identify an Aaria arm's kinematic model from a DH run's IMU signals and encoders.
+
+    FILE is a DH run file, or a data set with --run K. Only the encoders, the IMU signals and
+    which link each IMU is on are used: the structure (each module empty, revolute or
+    prismatic), the extended DH table and the link IMUs' mounts are estimated (the base and
+    tool IMUs define the base and tool-tip frames). Printed: the table, the parameter
+    combinations the data cannot determine, residuals, and the errors against the truth the
+    file holds.
+    """
+    check_run_option(file, run_index)
+    if table is not None:
+        check_output(table, "CSV table", (".csv",))
+    if urdf is not None:
+        check_output(urdf, "URDF", (".urdf",))
+    report = identify_kinematics_command(file, run_index, table, urdf, as_json)
+    if report is not None:
+        click.echo(json.dumps(report))
