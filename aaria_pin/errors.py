@@ -16,6 +16,7 @@ handles file errors catches them.
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 __all__ = [
@@ -28,18 +29,63 @@ __all__ = [
     "ParameterError",
     "TableError",
     "UrdfError",
+    "plain_message",
 ]
 
 
+_SHOWN_ITEMS = 8
+"""Most numbers of an array or sequence a message shows (then "…" and the shape)."""
+
+_NUMPY_REPR = re.compile(
+    r"np\.(?:True_|False_|(?:float|int|uint|complex|bool|str_|bytes_)\w*\((.*?)\))"
+)
+"""A NumPy scalar as ``repr`` (NumPy 2) writes it: ``np.float64(1.5)``, ``np.True_``."""
+
+
+def _plain_numpy(match: re.Match[str]) -> str:
+    text = match.group(0)
+    if text in ("np.True_", "np.False_"):
+        return text[3:-1]
+    return match.group(1)
+
+
+def plain_message(text: str) -> str:
+    """``text`` with NumPy scalar reprs written as plain values (``np.float64(0.5)`` → ``0.5``).
+
+    Messages composed with ``{value!r}`` or from lists of NumPy numbers would otherwise show
+    ``np.float64(…)``; every :class:`AariaError` passes its message through this.
+    """
+    return _NUMPY_REPR.sub(_plain_numpy, text) if "np." in text else text
+
+
 def _shown(value: Any) -> str:
-    """A value as the message shows it: numbers with %g, text quoted, the rest by repr."""
+    """A value as the message shows it: numbers with %g, text quoted, arrays as plain lists.
+
+    NumPy scalars show as Python numbers (``nan``, ``1.5``), arrays as ``[1, 2.5, nan]`` (at
+    most :data:`_SHOWN_ITEMS` values, then ``…`` and the shape), the rest by ``repr`` with
+    NumPy scalars in it plain (:func:`plain_message`). NumPy is not imported: its values are
+    recognised by their methods.
+    """
+    if getattr(value, "ndim", None) == 0 and hasattr(value, "item"):
+        value = value.item()  # a NumPy scalar or 0-d array: the Python number
     if isinstance(value, bool):
         return str(value)
     if isinstance(value, int | float):
         return f"{value:g}"
     if isinstance(value, str):
         return repr(value)
-    return repr(value)
+    shape = getattr(value, "shape", None)
+    if shape is not None and hasattr(value, "ravel") and hasattr(value, "tolist"):
+        items = value.ravel()[: _SHOWN_ITEMS + 1].tolist()
+        size = 1
+        for extent in shape:
+            size *= int(extent)
+        shown = "[" + ", ".join(_shown(item) for item in items[:_SHOWN_ITEMS])
+        if size > _SHOWN_ITEMS or len(shape) > 1:
+            more = ", …" if size > _SHOWN_ITEMS else ""
+            return f"{shown}{more}] (shape {' × '.join(map(str, shape))})"
+        return shown + "]"
+    return plain_message(repr(value))  # a list or tuple of NumPy numbers shows them plainly
 
 
 class AariaError(ValueError):
@@ -73,12 +119,15 @@ class AariaError(ValueError):
         self.value = value
         self.allowed = allowed
         self.element = element
-        super().__init__(message if message is not None else self._compose(parameter))
+        super().__init__(
+            plain_message(message) if message is not None else self._compose(parameter)
+        )
 
     def _compose(self, name: str | None) -> str:
         subject = " of ".join(part for part in (self.element, name) if part) or "input"
         text = f"{subject} is {_shown(self.value)}"
-        return f"{text}; allowed: {self.allowed}" if self.allowed is not None else text
+        whole = f"{text}; allowed: {self.allowed}" if self.allowed is not None else text
+        return plain_message(whole)
 
     def for_flag(self, flags: dict[str, str]) -> str:
         """The message with the parameter named by its command-line flag.

@@ -57,3 +57,36 @@ def test_one_base_class() -> None:
     for kind in (TableError, ParameterError, InputFileError, OutputFileError, ModelError):
         assert issubclass(kind, AariaError)
     assert issubclass(UrdfError, ModelError)
+
+
+def test_numpy_values_are_shown_plainly() -> None:
+    """Fields holding NumPy scalars or arrays read as the numbers, never ``np.float64(…)``."""
+    import numpy as np
+
+    cases = [
+        (np.float64(np.nan), "nan"),
+        (np.float32(1.5), "1.5"),
+        (np.int64(-3), "-3"),
+        (np.bool_(True), "True"),
+        (np.array(2.25), "2.25"),
+        (np.array([1.0, np.inf, -0.5]), "[1, inf, -0.5]"),
+        (np.zeros((3, 2)), "[0, 0, 0, 0, 0, 0] (shape 3 × 2)"),
+        (np.arange(20.0), "[0, 1, 2, 3, 4, 5, 6, 7, …] (shape 20)"),
+        ((np.float64(0.1), 2), "(0.1, 2)"),
+    ]
+    for value, shown in cases:
+        error = ParameterError(parameter="x", value=value, allowed="finite")
+        assert str(error) == f"x is {shown}; allowed: finite"
+        assert error.for_flag({"x": "--x"}) == f"--x is {shown}; allowed: finite"
+        assert error.value is value
+
+
+def test_numpy_reprs_in_a_given_message_are_made_plain() -> None:
+    import numpy as np
+
+    speed, lengths = np.float64(1e-9), [np.float32(0.25), np.int32(2)]
+    error = ParameterError(f"speed {speed!r} and lengths {lengths}; allowed: > 0")
+    assert str(error) == "speed 1e-09 and lengths [0.25, 2]; allowed: > 0"
+    assert str(TableError(f"flag {np.False_!r}; allowed: True")) == "flag False; allowed: True"
+    # text that merely mentions NumPy is left alone
+    assert str(ModelError("np.linalg failed; allowed: x")) == "np.linalg failed; allowed: x"

@@ -15,8 +15,55 @@ if TYPE_CHECKING:
 F = TypeVar("F", bound=Callable[..., Any])
 
 
+class FiniteFloat(click.ParamType):
+    """A float that is neither NaN nor infinite; else one line naming the option (exit 2)."""
+
+    name = "float"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        """The number, or :class:`~aaria_pin.errors.ParameterError` for NaN or ±inf."""
+        import math
+
+        from aaria_pin.errors import ParameterError
+
+        number = click.FLOAT.convert(value, param, ctx)
+        if not math.isfinite(number):
+            if isinstance(param, click.Argument):
+                raise ParameterError(
+                    f"{param.human_readable_name} holds {number}; allowed: finite numbers"
+                )
+            name = param.name if param is not None else None
+            raise ParameterError(parameter=name, value=number, allowed="a finite number")
+        return number
+
+
+FINITE_FLOAT = FiniteFloat()
+"""The click type of a number option that must be finite (``--elevation``, ``--time``)."""
+
+PRESET_HELP = "Built-in table: aaria-fig2, aaria-fig3, spherical-wrist."
+"""The help of ``--preset`` for commands that take the DH presets only."""
+
+
 def table_source_options(func: F) -> F:
     """Add ``--preset NAME | --dh FILE [--convention ...]`` to a command."""
+    return table_source(PRESET_HELP)(func)
+
+
+def table_source(preset_help: str = PRESET_HELP) -> Callable[[F], F]:
+    """``--preset NAME | --dh FILE [--convention ...]`` with ``--preset`` described otherwise.
+
+    Args:
+        preset_help: the help of ``--preset`` (a command that also takes plug-in presets
+            names them)
+    """
+
+    def add(func: F) -> F:
+        return _table_source_options(func, preset_help)
+
+    return add
+
+
+def _table_source_options(func: F, preset_help: str) -> F:
     func = click.option(
         "--convention",
         type=click.Choice(["aaria", "standard", "modified"]),
@@ -30,9 +77,7 @@ def table_source_options(func: F) -> F:
         type=click.Path(path_type=Path, dir_okay=False),
         help="DH table file: CSV, .npy, or .mat holding senSenDH.",
     )(func)
-    func = click.option(
-        "--preset", help="Built-in table: aaria-fig2, aaria-fig3, spherical-wrist."
-    )(func)
+    func = click.option("--preset", help=preset_help)(func)
     return func
 
 

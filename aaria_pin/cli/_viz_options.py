@@ -16,7 +16,11 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 
 def check_output(path: Path, what: str, suffixes: tuple[str, ...]) -> None:
-    """Refuse an output of another type, or in a folder that does not exist.
+    """Refuse an output of another type, in a folder that does not exist, or not writable.
+
+    The type and the folder are told here; the rest (``-``, a name too long for the file
+    system, a folder or a socket at the path, an unwritable folder, an output another aaria
+    process is writing) by :func:`aaria_pin.files.paths.check_output`.
 
     Args:
         path: the file to write
@@ -27,14 +31,20 @@ def check_output(path: Path, what: str, suffixes: tuple[str, ...]) -> None:
         OutputFileError: naming the path and what is allowed (one line).
     """
     from aaria_pin.errors import OutputFileError
+    from aaria_pin.files.paths import check_output as check_output_path
 
+    if str(path) in ("-", ""):
+        check_output_path(path)  # refused: this command does not write to standard output
     if path.suffix.lower() not in suffixes:
         raise OutputFileError(
             f"{path}: suffix {path.suffix!r} is not one of a {what}; allowed: {', '.join(suffixes)}"
         )
     folder = path.parent
     if not folder.is_dir():
-        raise OutputFileError(f"{path}: no folder {folder}; allowed: a file in an existing folder")
+        raise OutputFileError(
+            f"{path}: no folder {folder} (it does not exist); allowed: a file in an existing folder"
+        )
+    check_output_path(path, suffixes=suffixes)
 
 
 def output_option(

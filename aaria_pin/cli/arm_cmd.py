@@ -31,12 +31,24 @@ def _check_gif_size(_ctx: click.Context, _param: click.Parameter, size: int) -> 
     return size
 
 
-@click.group()
+@click.group(
+    epilog="""\b
+Examples:
+  aaria arm urdf -o arm/                    # arm/pick_place_arm.urdf and arm/meshes/*.stl
+  aaria arm pick-place --cylinder 0.35 0.1 --place 0.2 -0.3 -o pp.h5 --sheet pp.png"""
+)
 def arm() -> None:
     """The pick-and-place arm of the robotic-arm report."""
 
 
-@arm.command("urdf")
+@arm.command(
+    "urdf",
+    epilog="""\b
+Examples:
+  aaria arm urdf -o arm/                                # the report's cylinder
+  aaria arm urdf -o arm_big/ --radius 0.04 --height 0.2
+  aaria view pp.h5 -o pp.html                           # a pick-place run, with its meshes""",
+)
 @click.option(
     "-o",
     "--output",
@@ -55,7 +67,7 @@ def arm() -> None:
 def urdf(folder: Path, preset: str, radius: float, height: float) -> None:
     """Write the arm's URDF and the STL meshes of its parts.
 
-    Its frame ``grasp`` is the centre of a gripped cylinder of --radius and --height.
+    Its frame 'grasp' is the centre of a gripped cylinder of --radius and --height.
     """
     from aaria_pin.apps.arm.preset import arm_parts, get_arm_preset, write_arm_urdf
     from aaria_pin.apps.arm.task import Cylinder
@@ -67,7 +79,14 @@ def urdf(folder: Path, preset: str, radius: float, height: float) -> None:
     click.echo(f"wrote {path} and {len(parts)} meshes in {folder / 'meshes'}")
 
 
-@arm.command("pick-place")
+@arm.command(
+    "pick-place",
+    epilog="""\b
+Examples:
+  aaria arm pick-place --cylinder 0.35 0.1 --place 0.2 -0.3 -o pp.h5
+  aaria arm pick-place --cylinder 0.3 0.2 --place -0.3 0.2 --mass 1.5 --branch left \\
+      -o pp.mat --sheet poses.png --animation task.gif --fps 15 --gif-size 400""",
+)
 @click.option(
     "--cylinder",
     "cylinder_xy",
@@ -140,10 +159,14 @@ def pick_place(
     fps: int,
     gif_size: int,
 ) -> None:
-    """Pick a cylinder from the floor and put it elsewhere: path, torques, run file."""
+    """Pick a cylinder from the floor and put it elsewhere: path, torques, run file.
+
+    Prints the phases and each joint's peak torque [N*m] or force [N] and the payload's share
+    of it; --sheet and --animation draw the task.
+    """
     import numpy as np
 
-    from aaria_pin.apps.arm.preset import ARM_JOINTS
+    from aaria_pin.apps.arm.preset import ARM_JOINTS, arm_joints, get_arm_preset
     from aaria_pin.apps.arm.run import effort_excess, simulate_pick_place, write_pick_place_run
     from aaria_pin.apps.arm.task import PHASES, Cylinder
 
@@ -156,12 +179,19 @@ def pick_place(
         click.echo(f"  {name:<9} {start:6.2f} - {end:6.2f} s")
     peak = np.abs(run.tau).max(axis=0)
     share = np.abs(run.tau - run.tau_free).max(axis=0)
-    click.echo("  joint       peak |tau|   payload share (peak)")
+    units = {
+        joint.name: "N" if joint.kind == "prismatic" else "N*m"
+        for joint in arm_joints(get_arm_preset(preset))
+    }
+    click.echo("  joint       peak |tau|       payload share (peak)")
     for joint, p, s in zip(ARM_JOINTS, peak, share, strict=True):
-        click.echo(f"  {joint:<10} {p:10.4g}   {s:10.4g}")
+        unit = units[joint]
+        click.echo(f"  {joint:<10} {p:10.4g} {unit:<3}   {s:10.4g} {unit}")
     for joint, peak_value, limit in effort_excess(run):
+        unit = units[joint]
         click.echo(
-            f"warning: {joint} peak |tau| {peak_value:.4g} exceeds the URDF effort limit {limit:g}",
+            f"warning: {joint} peak |tau| {peak_value:.4g} {unit} exceeds the URDF effort limit "
+            f"{limit:g} {unit}",
             err=True,
         )
     if sheet is not None:
@@ -171,4 +201,10 @@ def pick_place(
     if animation is not None:
         from aaria_pin.viz.arm_pictures import write_animation
 
+        frames = int(run.path.time[-1] * fps) + 1
+        click.echo(
+            f"aaria: drawing the animation: about {frames} frames of {gif_size} x {gif_size} px "
+            f"at {fps} fps into {animation} …",
+            err=True,
+        )
         click.echo(f"wrote {write_animation(animation, run, fps=fps, size=gif_size)}")

@@ -14,6 +14,7 @@ from aaria_pin.cli._options import (
     robot_source_options,
     table_source_options,
 )
+from aaria_pin.cli._viz_options import output_option
 from aaria_pin.errors import ModelError
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
@@ -47,7 +48,13 @@ def _source(params: dict[str, Any]) -> str:
     return source
 
 
-@click.command()
+@click.command(
+    epilog="""\b
+Examples:
+  aaria mjcf --preset aaria-fig2 -o fig2.xml         # moving base: a 6-DOF base chain
+  aaria mjcf --robot panda --fixed-base -o panda.xml
+  aaria mjcf --from run.h5 -o run.xml                # the run's robot, IMUs and rate"""
+)
 @table_source_options
 @robot_source_options
 @click.option(
@@ -60,7 +67,7 @@ def _source(params: dict[str, Any]) -> str:
 @click.option(
     "--rate", type=float, help="Sample rate [Hz]; timestep 1/rate (default 100, or the run's)."
 )
-@click.option("-o", "--output", type=_FILE, required=True, help="MJCF file to write (.xml).")
+@output_option("MJCF file", (".xml", ".mjcf"), help="MJCF file to write (.xml).")
 def mjcf(**params: Any) -> None:
     """Write a MuJoCo model (MJCF) of a robot, with a gyro and an accelerometer per IMU.
 

@@ -9,7 +9,13 @@ import click
 from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, check_run_option, output_option
 
 
-@click.command()
+@click.command(
+    epilog="""\b
+Examples:
+  aaria plot run.h5 -o run.png                    # every panel, 1400 px wide
+  aaria plot run.h5 --imu imu_link3_a -o imu.svg  # one IMU's signals
+  aaria plot ds.h5 --run 12 --width 900 -o run12.pdf"""
+)
 @click.argument("run_file", type=click.Path(path_type=Path, dir_okay=False))
 @click.option(
     "--run", "run_index", type=click.IntRange(0), help="One run of a data set (default 0)."

@@ -6,12 +6,22 @@ from pathlib import Path
 
 import click
 
-from aaria_pin.cli._options import load_table_source, table_source_options
+from aaria_pin.cli._options import FINITE_FLOAT, load_table_source, table_source
 from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, check_run_option, output_option
 
 
-@click.command()
-@table_source_options
+@click.command(
+    epilog="""\b
+Examples:
+  aaria render --preset aaria-fig2 -o fig2.png                 # every joint at zero
+  aaria render --preset pick-place-arm --elevation 30 -o arm.svg
+  aaria render --from run.h5 --time 2.5 --width 600 --height 450 -o pose.png
+  aaria render --from ds.h5 --run 3 -o run3.pdf                # a data set's run 3"""
+)
+@table_source(
+    "Built-in table (aaria-fig2, aaria-fig3, spherical-wrist) or a plug-in's model preset "
+    "(pick-place-arm); an unknown name lists those installed."
+)
 @click.option(
     "--from",
     "run_file",
@@ -21,11 +31,25 @@ from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, check_run_option, outpu
 @click.option(
     "--run", "run_index", type=click.IntRange(0), help="One run of a data set (default 0)."
 )
-@click.option("--time", "at_time", type=float, help="Time in the run [s] (default: its start).")
+@click.option(
+    "--time", "at_time", type=FINITE_FLOAT, help="Time in the run [s] (default: its start)."
+)
 @click.option("--width", type=int, default=1000, show_default=True, help="Width [px].")
 @click.option("--height", type=int, default=800, show_default=True, help="Height [px].")
-@click.option("--elevation", type=float, default=20.0, show_default=True, help="View [deg].")
-@click.option("--azimuth", type=float, default=-60.0, show_default=True, help="View [deg].")
+@click.option(
+    "--elevation",
+    type=FINITE_FLOAT,
+    default=20.0,
+    show_default=True,
+    help="View elevation above the x-y plane [deg].",
+)
+@click.option(
+    "--azimuth",
+    type=FINITE_FLOAT,
+    default=-60.0,
+    show_default=True,
+    help="View azimuth about z [deg].",
+)
 @output_option("picture", PICTURE_SUFFIXES)
 def render(
     preset: str | None,

@@ -8,7 +8,13 @@ from pathlib import Path
 import click
 
 
-@click.command()
+@click.command(
+    epilog="""\b
+Examples:
+  aaria robots                   # the names --robot takes
+  aaria robots --check --paths   # which ones load, their joints and IMUs, their files
+  aaria simulate --robot ur5 -o ur5.h5"""
+)
 @click.option("--paths", is_flag=True, help="Also print each robot's URDF file.")
 @click.option(
     "--check", is_flag=True, help="Load each robot: its joint count, or why it is refused."

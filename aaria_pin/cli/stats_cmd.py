@@ -22,7 +22,14 @@ def _names(text: str | None) -> tuple[str, ...] | None:
     return tuple(part.strip() for part in text.split(",") if part.strip()) if text else None
 
 
-@click.command("dataset-stats")
+@click.command(
+    "dataset-stats",
+    epilog="""\b
+Examples:
+  aaria dataset-stats ds.h5                      # the training split's senSen channels
+  aaria dataset-stats ds.h5 --names imu,tau --store
+  aaria dataset-stats ds.h5 --split all --json""",
+)
 @click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
 @click.option(
     "--names",
@@ -60,6 +67,7 @@ def dataset_stats(
 
     from aaria_pin.errors import ParameterError
     from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.io import existing_input
 
     try:
         shares = tuple(float(part) for part in fractions.split(","))
@@ -68,6 +76,7 @@ def dataset_stats(
             parameter="fractions", value=fractions, allowed="three numbers, e.g. 0.8,0.1,0.1"
         ) from None
     chosen_split = None if split == _ALL else split
+    existing_input(file, None, "data set")  # a missing file or a folder in one line
     with DatasetReader(file) as reader:
         statistics = reader.statistics(
             _names(names), split=chosen_split, seed=seed, fractions=shares, store=store

@@ -29,8 +29,14 @@ def _print_run(report: dict[str, Any]) -> None:
         )
     peaks = report["base_wrench_peak"]
     click.echo(
-        "base wrench peaks: " + ", ".join(f"{k} {v:.4g}" for k, v in peaks.items()) + " (N, N*m)"
+        "base wrench peaks: "
+        + ", ".join(f"{k} {v:.4g} {'N' if k.startswith('f') else 'N*m'}" for k, v in peaks.items())
     )
+
+
+def _unit(kind: str) -> str:
+    """The unit of a joint's torque: a force [N] for a prismatic joint, else a torque [N*m]."""
+    return "N" if kind == "prismatic" else "N*m"
 
 
 def _print_dataset(report: dict[str, Any]) -> None:
@@ -38,21 +44,30 @@ def _print_dataset(report: dict[str, Any]) -> None:
     for module, kinds in report["by_module"].items():
         label = f"module {module}" + (f" ({names[module]})" if module in names else "")
         for kind, stats in kinds.items():
+            unit = _unit(kind)
             click.echo(
                 f"{label} {kind:<10} runs {stats['runs']:>6}  peak |tau| "
-                f"median {stats['median']:.4g}  p95 {stats['p95']:.4g}  "
-                f"max {stats['max']:.4g}"
+                f"median {stats['median']:.4g} {unit}  p95 {stats['p95']:.4g} {unit}  "
+                f"max {stats['max']:.4g} {unit}"
             )
     click.echo(
         "largest peaks: "
         + "; ".join(
-            f"run {x['run']} module {x['module']} ({x['type']}) {x['peak_abs']:.4g}"
+            f"run {x['run']} module {x['module']} ({x['type']}) {x['peak_abs']:.4g} "
+            f"{_unit(x['type'])}"
             for x in report["largest"]
         )
     )
 
 
-@click.command()
+@click.command(
+    epilog="""\b
+Examples:
+  aaria torques run.h5                   # per joint: peak, RMS, its terms, energy
+  aaria torques run.h5 --plot rms.png    # and the RMS of each term, side by side
+  aaria torques ds.h5                    # a data set: peaks by module and joint type
+  aaria torques ds.h5 --run 7 --json"""
+)
 @click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
 @click.option("--run", "run_index", type=click.IntRange(0), help="One run of a data set.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")

@@ -7,9 +7,19 @@ from pathlib import Path
 import click
 
 from aaria_pin.cli._options import load_table_source, robot_name, table_source_options
+from aaria_pin.cli._viz_options import output_option
+
+URDF_SUFFIXES = (".urdf", ".xml")
+"""Suffixes of a URDF output."""
 
 
-@click.command()
+@click.command(
+    epilog="""\b
+Examples:
+  aaria urdf --preset aaria-fig2 -o fig2.urdf          # the paper's Table 3 arm
+  aaria template dh -o arm.csv && aaria urdf --dh arm.csv -o arm.urdf
+  aaria urdf --dh wrist.csv --convention standard --density 7850 -o wrist.urdf"""
+)
 @table_source_options
 @click.option(
     "--density",
@@ -18,17 +28,15 @@ from aaria_pin.cli._options import load_table_source, robot_name, table_source_o
     show_default=True,
     help="Density of every body [kg/m^3].",
 )
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(path_type=Path, dir_okay=False),
-    required=True,
-    help="URDF file to write.",
-)
+@output_option("URDF file", URDF_SUFFIXES, help="URDF file to write (.urdf or .xml).")
 def urdf(
     preset: str | None, dh_file: Path | None, convention: str, density: float, output: Path
 ) -> None:
-    """Write the URDF of a DH table (fixed base, tool tip and IMU frames included)."""
+    """Write the URDF of a DH table (fixed base, tool tip and IMU frames included).
+
+    Prints the joints and the IMU frames the file holds (two per link, the base and the tool
+    tip; an empty module has no link and so no IMUs).
+    """
     from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
     from aaria_pin.aaria.presets import get_preset
     from aaria_pin.files.io import write_text_atomic
@@ -42,8 +50,9 @@ def urdf(
         mass_properties=get_preset(preset).mass_properties if preset else None,
     )
     write_text_atomic(output, robot.urdf)
+    imus = [slot.name for slot in robot.imu_slots if slot.parent is not None]
     click.echo(
         f"wrote {output}: {len(robot.chain.joints)} joints "
         f"(modules {', '.join(map(str, robot.chain.modules))}), "
-        f"{len(robot.imu_slots)} IMU slots"
+        f"{len(imus)} IMUs: {', '.join(imus)}"
     )

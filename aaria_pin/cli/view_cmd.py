@@ -9,7 +9,12 @@ import click
 from aaria_pin.cli._viz_options import check_run_option, output_option
 
 
-@click.command()
+@click.command(
+    epilog="""\b
+Examples:
+  aaria view run.h5 -o run.html                      # open it in a browser, offline
+  aaria view ds.h5 --run 5 --max-samples 2000 -o run5.html"""
+)
 @click.argument("run_file", type=click.Path(path_type=Path, dir_okay=False))
 @click.option(
     "--run", "run_index", type=click.IntRange(0), help="One run of a data set (default 0)."

@@ -12,6 +12,7 @@ folders above the URDF and ``ROS_PACKAGE_PATH``; relative paths from the URDF's 
 from __future__ import annotations
 
 import os
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -104,6 +105,52 @@ def _float(element: ET.Element, key: str, what: str, default: float | None = Non
     return value
 
 
+_DECIMAL = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+"""A finite number as urdfdom reads one (no ``inf``, ``nan``, ``1_0`` or hexadecimal)."""
+
+
+def _numbers(element: ET.Element, key: str, what: str, count: int) -> None:
+    """Refuse an attribute that is not ``count`` (1 or 3) finite numbers (absent: its default).
+
+    Pinocchio's URDF parser (urdfdom) reports such a vector in several lines of C++ output
+    that name no element; this names it: ``link 'forearm' <origin xyz> is '0 0'``.
+    """
+    text = element.get(key)
+    if text is None:
+        return
+    parts = text.split(" ")  # urdfdom splits at spaces only
+    numbers = [part for part in parts if part]
+    readable = all(_DECIMAL.fullmatch(part) for part in numbers)
+    if len(numbers) != count or not readable or not all(np.isfinite(list(map(float, numbers)))):
+        allowed = "three finite numbers" if count == 3 else "a finite number"
+        raise UrdfError(f"{what} is {text!r}; allowed: {allowed}")
+
+
+_GEOMETRY_NUMBERS = {"box": (("size", 3),), "mesh": (("scale", 3),)} | {
+    shape: (("radius", 1), ("length", 1)) for shape in ("cylinder", "sphere", "capsule")
+}
+"""Geometry attributes checked as numbers: name and how many numbers."""
+
+
+def _check_vectors(owner: ET.Element, what: str) -> None:
+    """Check the origins of a link or joint and of its parts, and their geometry's numbers.
+
+    The ``<origin xyz rpy>`` of ``owner`` and of its inertial, visual and collision parts; the
+    box size, mesh scale, radius and length of their geometry.
+    """
+    places = [(owner, what)]
+    for tag in ("inertial", "visual", "collision"):
+        places += [(part, f"{what} <{tag}>") for part in owner.findall(tag)]
+    for place, where in places:
+        origin = place.find("origin")
+        if origin is not None:
+            for key in ("xyz", "rpy"):
+                _numbers(origin, key, f"{where} <origin {key}>", 3)
+        for shape in place.findall("geometry/*"):
+            for key, count in _GEOMETRY_NUMBERS.get(shape.tag, ()):
+                _numbers(shape, key, f"{where} <{shape.tag} {key}>", count)
+
+
 def _check_inertial(link: ET.Element, name: str) -> None:
     inertial = link.find("inertial")
     if inertial is None:
@@ -134,6 +181,7 @@ def _joint(element: ET.Element, links: set[str]) -> UrdfJoint:
     if not name:
         raise UrdfError("a <joint> has no name; allowed: a non-empty name attribute")
     what = f"joint {name!r}"
+    _check_vectors(element, what)
     kind = element.get("type", "")
     if kind not in JOINT_TYPES:
         raise UrdfError(
@@ -239,7 +287,8 @@ def check_urdf(text: str, urdf_dir: Path | None = None) -> UrdfSummary:
             without a name or with a duplicate one, a joint of an unsupported type or whose
             parent or child is missing or unknown, a link with two parent joints, not exactly
             one root link, a negative mass, an inertia that is not positive definite, a bad
-            limit or axis.
+            limit or axis, an ``<origin xyz|rpy>`` that is not three finite numbers (the link or
+            joint, and the part, named), a box size or mesh scale that is not three numbers.
     """
     try:
         root = ET.fromstring(text)
@@ -255,6 +304,7 @@ def check_urdf(text: str, urdf_dir: Path | None = None) -> UrdfSummary:
             raise UrdfError("a <link> has no name; allowed: a non-empty name attribute")
         if name in links:
             raise UrdfError(f"link {name!r} is defined twice")
+        _check_vectors(link, f"link {name!r}")
         _check_inertial(link, name)
         links.append(name)
     if not links:

@@ -163,6 +163,14 @@ def load_urdf_robot(
     if summary.missing_meshes:
         warnings.warn(missing_meshes_message(summary), MeshWarning, stacklevel=2)
     tool = tool_frame if tool_frame is not None else _default_tool(summary)
+    frames = (*summary.links, *(joint.name for joint in summary.joints))
+    if tool not in frames:
+        raise ModelError(  # no parameter field: the message keeps naming the model
+            f"tool frame {tool!r} is not in model {summary.name!r}; allowed: a link, "
+            f"{', '.join(summary.links)}",
+            value=tool,
+            allowed=", ".join(summary.links),
+        )
     bare = build_model(
         urdf,
         moving_base=moving_base,

@@ -37,7 +37,6 @@ from __future__ import annotations
 import importlib
 import os
 from collections.abc import Callable
-from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -198,11 +197,11 @@ def run_kind(path: str | os.PathLike[str]) -> str:
     """The kind of a run file (a key given to :func:`register_run_kind`).
 
     Raises:
-        InputFileError: a missing file, or none of the known kinds.
+        InputFileError: a missing file, a folder, a FIFO or device, or none of the known kinds.
     """
-    file = Path(path)
-    if not file.is_file():
-        raise InputFileError(f"{file}: no such file")
+    from aaria_pin.files.paths import existing_input
+
+    file = existing_input(path, None, "run")  # not a FIFO, which a reader could wait on
     return _known_kind(run_file(file))  # one read for every probe
 
 
@@ -218,10 +217,9 @@ def load_run_view(path: str | os.PathLike[str], run: int | None = None) -> RunVi
         ParameterError: ``run`` given for a run file, or not a run of the data set.
     """
     from aaria_pin.files.dataset_file import is_dataset_file
+    from aaria_pin.files.paths import existing_input
 
-    file = Path(path)
-    if not file.is_file():
-        raise InputFileError(f"{file}: no such file")
+    file = existing_input(path, None, "run")  # not a FIFO, which a reader could wait on
     if is_dataset_file(file):
         header = dataset_run(file, 0 if run is None else run)
     elif run is not None:

@@ -103,7 +103,10 @@ def test_bad_urdf_one_line_exit_2_no_file(tmp_path: Path, urdf_text: str, patter
         (["--robot", "ur5", "--preset", "aaria-fig2"], "--preset is for DH arms"),
         (["--robot", "ur5", "--urdf", "x.urdf"], "not both"),
         (["--preset", "aaria-fig2", "--fixed-base"], "--fixed-base is for URDF robots"),
-        (["--robot", "ur5", "--tool", "nowhere"], "frame 'nowhere'"),
+        (
+            ["--robot", "ur5", "--tool", "nowhere"],
+            "frame 'nowhere' is not in model 'ur5'; allowed: a link, base_link",
+        ),
         (["--robot", "ur5", "--density", "2000"], "--density is for DH arms"),
     ],
 )
@@ -211,3 +214,16 @@ def test_simulate_a_robot_to_mat_holds_the_same_arrays_as_h5(tmp_path: Path) -> 
     assert from_mat.joint_names == h5.joint_names and from_mat.imu_names == h5.imu_names
     np.testing.assert_array_equal(from_mat.imu, h5.imu)
     np.testing.assert_array_equal(from_mat.tables["joint_table"], h5.tables["joint_table"])
+
+
+def test_urdf_reports_the_imus_the_file_holds(tmp_path: Path) -> None:
+    """The printed IMU names are the imu_* links of the written file (fig3: module 2 empty)."""
+    import xml.etree.ElementTree as ET
+
+    out = tmp_path / "fig3.urdf"
+    code, stdout, err = run_cli("urdf", "--preset", "aaria-fig3", "-o", str(out))
+    assert code == 0, err
+    links = [link.get("name", "") for link in ET.parse(out).getroot().iter("link")]
+    held = [name for name in links if name.startswith("imu_")]
+    assert len(held) == 12 and "imu_link2_a" not in held
+    assert stdout.rstrip().endswith(f"12 IMUs: {', '.join(held)}")

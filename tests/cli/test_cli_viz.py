@@ -170,3 +170,21 @@ def test_render_pick_place_arm_through_the_arm_plugin(tmp_path: Path) -> None:
                  "-o", str(out))  # fmt: skip
     assert result.exit_code == 0, result.output
     assert png_size(out) == (400, 300)
+
+
+def test_torques_print_every_peak_with_its_unit(files: dict[str, Path]) -> None:
+    """fig3 has prismatic modules 1 and 5 (forces, N) and revolute ones (torques, N*m)."""
+    import re
+
+    result = run("torques", str(files["run"]))
+    assert result.exit_code == 0, result.output
+    rows = {line.split()[1]: line for line in result.output.splitlines() if line[:1].isdigit()}
+    types = {joint: line.split()[2] for joint, line in rows.items()}
+    assert set(types.values()) == {"prismatic", "revolute"}
+    for joint, line in rows.items():
+        unit = "N" if types[joint] == "prismatic" else "N*m"
+        assert re.search(rf"\s[\d.e+-]+ {re.escape(unit)}\s", line), line
+    wrench = result.output.splitlines()[-1]
+    assert re.fullmatch(
+        r"base wrench peaks: (f[xyz] [\d.e+-]+ N, ){3}(m[xyz] [\d.e+-]+ N\*m(, )?){3}", wrench
+    ), wrench
