@@ -169,7 +169,7 @@ def record_torque_report(record: RunRecord) -> dict[str, Any]:
                 "module": column + 1,
                 "joint": name,
                 "type": kind,
-                "unit": "N*m" if kind == "revolute" else "N",
+                "unit": "N" if kind == "prismatic" else "N*m",
                 "peak_abs": float(np.abs(tau[:, index]).max()),
                 "rms": float(_rms(tau[:, index])),
                 "rms_terms": rms_terms,

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
 from typing import Any
 
 import click
 
+from aaria_pin.cli._options import FINITE_FLOAT
 from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, output_option
 from aaria_pin.core.seeds import MAX_SEED
 from aaria_pin.errors import ParameterError
@@ -21,24 +21,7 @@ EXACT_TOLERANCE = 1e-12
 """``|RᵀR - I|`` up to which a ``--matrix`` is used as it is (no projection, no note)."""
 
 
-class _FiniteFloat(click.ParamType):
-    """A float that is neither NaN nor infinite (the error names the option)."""
-
-    name = "float"
-
-    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
-        number = click.FLOAT.convert(value, param, ctx)
-        if not math.isfinite(number):
-            name = param.name if param is not None else None
-            if isinstance(param, click.Argument):
-                raise ParameterError(
-                    f"{param.human_readable_name} holds {number}; allowed: finite numbers"
-                )
-            raise ParameterError(parameter=name, value=number, allowed="a finite number")
-        return number
-
-
-_NUMBER = _FiniteFloat()
+_NUMBER = FINITE_FLOAT
 _ORDERS = (
     "xyz",
     "xzy",
