@@ -151,19 +151,28 @@ _NOISE_KEYS: tuple[tuple[str, str, float, str], ...] = (
 
 def _config() -> str:
     datasheet = "\n".join(f"#   {name}: {value:g} {unit}" for name, value, unit in DATASHEET_ROWS)
-    noise = "\n".join(
-        f"# {sensor}_{key} = {value!r}  # {what}" for sensor, key, value, what in _NOISE_KEYS
+    sensors = "\n\n".join(
+        f"[noise.{sensor}]\n"
+        + "\n".join(
+            f"{key} = {value!r}  # {what}"
+            for name, key, value, what in _NOISE_KEYS
+            if name == sensor
+        )
+        for sensor in ("gyro", "accel")
     )
     return f"""\
 {default_config_toml().rstrip()}
 
 # IMU noise (--noise): the Analog Devices ADIS16485 data sheet,
 {datasheet}
-# in SI units per axis (the model of aaria_pin.core.imu_noise.ADIS16485):
-# [imu_noise]
-{noise}
-# bias_correlation_time = {ADIS16485.bias_correlation_time!r}  # Gauss-Markov bias [s]
-# (commented out: 'aaria dataset --config' does not read an [imu_noise] table yet)
+# in SI units per axis (the model of aaria_pin.core.imu_noise.ADIS16485); a key left out keeps
+# its ADIS16485 value.
+[noise]
+bandwidth_hz = {ADIS16485.bandwidth_hz!r}  # sensor bandwidth [Hz]
+internal_rate_hz = {ADIS16485.internal_rate_hz!r}  # internal sample rate [Hz]
+bias_correlation_time = {ADIS16485.bias_correlation_time!r}  # Gauss-Markov bias [s]
+
+{sensors}
 """
 
 

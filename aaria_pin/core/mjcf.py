@@ -417,10 +417,12 @@ def emit_mjcf(
             element=clash[0],
         )
     materials: dict[str, Array] = {}
-    for material in root.findall("material"):
+    for material in root.iter("material"):  # top-level, or defined inside a visual and reused
         colour = material.find("color")
         if colour is not None:
-            materials[material.get("name", "")] = _floats(colour.get("rgba"), _NEUTRAL_GREY)
+            materials.setdefault(
+                material.get("name", ""), _floats(colour.get("rgba"), _NEUTRAL_GREY)
+            )
     links = {link.get("name", ""): link for link in root.findall("link")}
     elements = {joint.get("name", ""): joint for joint in root.findall("joint")}
     children: dict[str, list[tuple[str, ET.Element]]] = {}

@@ -75,13 +75,16 @@ def figure_file(
                 figure.savefig(temporary, format="png", dpi=DPI)
             else:
                 metadata = {"CreationDate": None} if kind == "pdf" else {"Date": None}
-                figure.savefig(
-                    temporary,
-                    format=kind,
-                    bbox_inches="tight",
-                    pad_inches=0.02,
-                    metadata=metadata,
-                )
+                # A fixed salt: SVG clip-path ids are hashes salted at random otherwise, so two
+                # writes of one figure differed.
+                with plt.rc_context({"svg.hashsalt": "aaria_pin"}):
+                    figure.savefig(
+                        temporary,
+                        format=kind,
+                        bbox_inches="tight",
+                        pad_inches=0.02,
+                        metadata=metadata,
+                    )
     finally:
         plt.close(figure)
 

@@ -166,3 +166,12 @@ def test_animation_has_the_asked_size_and_frame_rate(tmp_path: Path) -> None:
     with pytest.raises(ParameterError, match="size"):
         write_animation(tmp_path / "b.gif", arm_run, size=20)
     assert not (tmp_path / "b.gif").exists()
+
+
+def test_a_vector_figure_written_twice_is_the_same_file(tmp_path: Path) -> None:
+    for suffix in ("svg", "pdf"):
+        first, second = tmp_path / f"a.{suffix}", tmp_path / f"b.{suffix}"
+        for out in (first, second):
+            result = run("render", "--preset", "aaria-fig2", "-o", str(out))
+            assert result.exit_code == 0, result.output
+        assert first.read_bytes() == second.read_bytes(), suffix

@@ -185,7 +185,7 @@ class WindowDataset:
         fractions: Sequence[float] = DEFAULT_FRACTIONS,
         statistics: Statistics | None = None,
     ) -> None:
-        self.path = Path(path)
+        self.path = Path(path).resolve()  # a pickled copy may run in another folder
         self.length = int(length)
         self.stride = int(stride)
         self.names = tuple(names)
