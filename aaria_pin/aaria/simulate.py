@@ -32,6 +32,14 @@ from aaria_pin.aaria.oscillation import (
     validate_joint_table,
 )
 from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, sensen_view
+from aaria_pin.core.excitation import (
+    FourierExcitation,
+    check_trajectory,
+    fourier_excitation,
+    motion_attributes,
+    motion_slice,
+    stored_motion,
+)
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.record import ImuMount, RunRecord
@@ -65,8 +73,10 @@ __all__ = [
     "DEFAULT_DURATION",
     "DEFAULT_RATE",
     "DH_ROBOT",
+    "FOURIER_LIMITS",
     "UNITS",
     "cached_arm",
+    "dh_fourier_excitation",
     "dh_imu_mounts",
     "sampling_attributes",
     "simulate_from_record",
@@ -78,6 +88,79 @@ __all__ = [
 
 DH_ROBOT = "aaria-arm"
 """The ``robot`` attribute of a run whose DH table is not named (not a preset)."""
+
+
+FOURIER_LIMITS = {"revolute": (1.0, 1.5, 5.0), "prismatic": (None, 0.5, 2.0)}
+"""Limits of a DH arm's Fourier excitation by joint kind: position [rad] (None: the rail,
+``±d/2``), |velocity| [rad/s or m/s] and |acceleration| [rad/s² or m/s²]. A revolute module
+swings within ±1 rad (the sine default's 0.6 rad amplitude, a little wider), a prismatic one
+along its whole rail."""
+
+
+def dh_fourier_excitation(
+    dh_table: ArrayLike,
+    duration: float = DEFAULT_DURATION,
+    rate: float = DEFAULT_RATE,
+    *,
+    base_frequency: float | None = None,
+    harmonics: int | None = None,
+    seed: int | np.random.SeedSequence | None = 0,
+    max_samples: int | None = MAX_SAMPLES,
+) -> FourierExcitation:
+    """A random Fourier excitation of an Aaria arm's modules (:data:`FOURIER_LIMITS`).
+
+    Coefficients are drawn for all six modules (so a module's motion does not depend on which
+    other modules are empty) by :func:`~aaria_pin.core.excitation.fourier_excitation`; the
+    rows of empty modules are then zero.
+
+    Args:
+        dh_table: 8 × 5 extended DH table
+        duration: run length [s]
+        rate: sample rate [Hz]
+        base_frequency: the base frequency [Hz] (default: as
+            :func:`~aaria_pin.core.excitation.fourier_excitation`)
+        harmonics: harmonics per joint (default
+            :data:`~aaria_pin.core.excitation.DEFAULT_HARMONICS`)
+        seed: seed of the coefficients
+        max_samples: most samples of the run (as :func:`~aaria_pin.core.trajectory.sample_count`)
+
+    Returns:
+        The excitation, one row per module (six).
+
+    Raises:
+        TableError: a bad DH table. ParameterError: as
+            :func:`~aaria_pin.core.excitation.fourier_excitation`.
+    """
+    from aaria_pin.aaria.dh import chain_from_aaria
+    from aaria_pin.core.excitation import DEFAULT_HARMONICS
+
+    chain = chain_from_aaria(dh_table)
+    q_limits = np.tile([-1.0, 1.0], (N_MODULES, 1))
+    qd_limits = np.full(N_MODULES, FOURIER_LIMITS["revolute"][1])
+    qdd_limits = np.full(N_MODULES, FOURIER_LIMITS["revolute"][2])
+    for joint in chain.joints:
+        row = joint.module - 1
+        position, speed, acceleration = FOURIER_LIMITS[joint.kind]
+        q_limits[row] = (joint.lower, joint.upper) if position is None else (-position, position)
+        qd_limits[row], qdd_limits[row] = speed, acceleration
+    excitation = fourier_excitation(
+        N_MODULES,
+        duration,
+        rate,
+        base_frequency=base_frequency,
+        harmonics=DEFAULT_HARMONICS if harmonics is None else harmonics,
+        q_limits=q_limits,
+        qd_limits=qd_limits,
+        qdd_limits=qdd_limits,
+        seed=seed,
+        max_samples=max_samples,
+    )
+    empty = np.ones(N_MODULES, dtype=bool)
+    empty[[joint.module - 1 for joint in chain.joints]] = False
+    for array in (excitation.a, excitation.b):
+        array[empty] = 0.0
+    excitation.offset[empty] = 0.0
+    return excitation
 
 
 def _module_columns(columns: list[int], values: Array) -> Array:
@@ -231,6 +314,7 @@ def simulate_run(
     dims: BodyDimensions | None = None,
     imu_mount: ArrayLike | None = None,
     torques: ArrayLike | None = None,
+    motion: JointTrajectory | FourierExcitation | None = None,
     threads: int = 1,
     robot_name: str = DH_ROBOT,
     keep_urdf: bool = True,
@@ -255,6 +339,15 @@ def simulate_run(
             (:func:`~aaria_pin.core.forward.forward_simulate`), starting from the joint table's
             values and velocities at t = 0, instead of following the joint table (stored as the
             table ``torque_table``)
+        motion: the joint motion instead of the joint table's sines, by module (six columns
+            or rows; those of empty modules are ignored): a
+            :class:`~aaria_pin.core.trajectory.JointTrajectory` of the run's samples (T × 6,
+            e.g. :func:`~aaria_pin.core.excitation.trajectory_from_samples`; stored as the
+            table ``joint_trajectory``, T × 19: time, q, qd, qdd) or a
+            :class:`~aaria_pin.core.excitation.FourierExcitation`
+            (:func:`dh_fourier_excitation`; stored as the table ``fourier_coefficients`` and
+            the attribute ``fourier``). The attribute ``motion`` says which: ``sine``,
+            ``trajectory`` or ``fourier``
         threads: worker threads of the batched RNEA
         robot_name: the ``robot`` attribute (a preset's name, or the table's)
         keep_urdf: keep the arm's URDF text in the record. It is written once per arm
@@ -278,6 +371,7 @@ def simulate_run(
             dims=dims,
             imu_mount=imu_mount,
             torques=torques,
+            motion=motion,
             threads=threads,
             robot_name=robot_name,
             keep_urdf=keep_urdf,
@@ -299,6 +393,7 @@ def simulate_run_chunks(
     dims: BodyDimensions | None = None,
     imu_mount: ArrayLike | None = None,
     torques: ArrayLike | None = None,
+    motion: JointTrajectory | FourierExcitation | None = None,
     threads: int = 1,
     robot_name: str = DH_ROBOT,
     keep_urdf: bool = True,
@@ -328,6 +423,8 @@ def simulate_run_chunks(
         dims: body dimensions and densities
         imu_mount: as in :func:`simulate_run`
         torques: as in :func:`simulate_run` (the run is then one piece)
+        motion: as in :func:`simulate_run`; a given trajectory is sliced piece by piece, a
+            Fourier excitation evaluated on each piece's times (bit for bit the whole run's)
         threads: worker threads of the batched RNEA
         robot_name: the ``robot`` attribute
         keep_urdf: keep the arm's URDF text in the records
@@ -348,6 +445,13 @@ def simulate_run_chunks(
     senSenB = default_base_table() if base_table is None else validate_base_table(base_table)
     columns = [module - 1 for module in robot.chain.modules]  # module order → senSen columns
     tables = {"senSenDH": robot.chain.table.copy(), "senSenJ": senSenJ, "senSenB": senSenB}
+    if isinstance(motion, JointTrajectory):
+        lower, upper = np.full(N_MODULES, -np.inf), np.full(N_MODULES, np.inf)
+        for joint in robot.chain.joints:
+            lower[joint.module - 1], upper[joint.module - 1] = joint.lower, joint.upper
+        motion = check_trajectory(motion, samples, rate, lower, upper, JOINT_NAMES)
+    motion_tables, motion_attrs = motion_attributes(motion, N_MODULES)
+    tables.update(motion_tables)
     by_module = None
     if torques is not None:
         from aaria_pin.core.forward import check_torques
@@ -367,6 +471,7 @@ def simulate_run_chunks(
             "density_overrides": dict(robot.dims.density_overrides),
         },
         "drive": "motion" if torques is None else "torque",
+        **motion_attrs,
         "base_frame": model.base_frame,
         "tool_frame": model.tool_frame,
         "version": __version__,
@@ -376,7 +481,10 @@ def simulate_run_chunks(
     views = {"senSen": sensen_view()}
     for start, stop in pieces:
         times = piece_times(start, stop, rate)
-        trajectory = joint_trajectory(senSenJ, robot.chain, times)
+        if motion is None:
+            trajectory = joint_trajectory(senSenJ, robot.chain, times)
+        else:
+            trajectory = motion_slice(motion, start, stop, times, columns)
         base = base_motion(senSenB, times)
         if by_module is not None:  # one piece: the whole run
             from aaria_pin.core.forward import forward_simulate
@@ -419,8 +527,9 @@ def simulate_run_chunks(
 def simulate_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
     """Re-make a DH run from the inputs its record holds.
 
-    The tables (``senSenDH``, ``senSenJ``, ``senSenB``, and ``torque_table`` for a run driven by
-    torques), the IMU mounts, the body dimensions,
+    The tables (``senSenDH``, ``senSenJ``, ``senSenB``, ``torque_table`` for a run driven by
+    torques, ``joint_trajectory`` or ``fourier_coefficients`` for a run that follows a given
+    motion), the IMU mounts, the body dimensions,
     the robot's name and the rate, duration, seed and noise setting come from the record;
     keyword arguments of :func:`simulate_run` given here replace them.
 
@@ -477,6 +586,9 @@ def _stored_settings(stored: RunRecord, overrides: dict[str, Any]) -> dict[str, 
     }
     if "torque_table" in stored.tables:
         settings["torques"] = stored.tables["torque_table"]
+    motion = stored_motion(stored.tables, attributes)
+    if motion is not None:
+        settings["motion"] = motion
     if "body_dimensions" in attributes:
         try:
             settings["dims"] = BodyDimensions(**attributes["body_dimensions"])

@@ -4,9 +4,13 @@ A run record holds the inputs that made it: an Aaria DH run its tables ``senSenD
 ``senSenJ``, ``senSenB``; a URDF robot's run its URDF text, ``joint_table``, ``base_table`` and
 IMU layout; a wrist run its ``targets`` and motion settings; a pick-and-place run its cylinder,
 place, preset, rate and IK branch; every run its rate, duration, seed and noise setting (and a
-run driven by torques its ``torque_table``). :func:`remake_record` simulates the run again from
-them, by the producer of its kind (``attributes["kind"]``), so that with no overrides the
-re-made run equals the stored one; :func:`remake_run` does the same from a run file.
+run driven by torques its ``torque_table``; a DH or URDF run that follows a Fourier excitation
+its ``fourier_coefficients`` and ``fourier`` attribute, one that follows a given trajectory its
+``joint_trajectory``: :func:`~aaria_pin.core.excitation.stored_motion`; a run without a
+``motion`` attribute, written before, follows its joint table's sines). :func:`remake_record`
+simulates the run again from them, by the producer of its kind (``attributes["kind"]``), so
+that with no overrides the re-made run equals the stored one; :func:`remake_run` does the same
+from a run file.
 """
 
 from __future__ import annotations

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import click
@@ -42,7 +43,9 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     """
     import warnings
 
+    from aaria_pin.cli._simulate_motion import motion_note, urdf_motion_overrides
     from aaria_pin.core.imu_layout import read_imu_layout
+    from aaria_pin.core.urdf_robot import load_urdf_robot
     from aaria_pin.core.urdf_run import (
         simulate_urdf_from_record_chunks,
         simulate_urdf_run_chunks,
@@ -79,9 +82,31 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
         if stored is not None:
             if params["fixed_base"]:
                 overrides["moving_base"] = False
+            folder = stored.attributes.get("urdf_dir") or None
+            overrides.update(
+                urdf_motion_overrides(
+                    params,
+                    overrides,
+                    stored,
+                    lambda: load_urdf_robot(stored.urdf, urdf_dir=Path(folder) if folder else None),
+                )
+            )
             chunks = simulate_urdf_from_record_chunks(stored, **overrides)
         else:
             text, folder, source = load_robot_source(params["robot"], params["urdf_file"])
+            overrides.update(
+                urdf_motion_overrides(
+                    params,
+                    overrides,
+                    None,
+                    lambda: load_urdf_robot(
+                        text,
+                        urdf_dir=folder,
+                        tool_frame=overrides.get("tool_frame"),
+                        imu_layout=overrides.get("imu_layout"),
+                    ),
+                )
+            )
             chunks = simulate_urdf_run_chunks(
                 text,
                 urdf_dir=folder,
@@ -95,6 +120,7 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     click.echo(
         f"wrote {output}: {record.attributes['robot']}, {len(record.joint_names)} joints, "
         f"{len(record.imu_mounts)} IMUs, {samples} samples at "
-        f"{record.attributes['rate']:g} Hz, noise {'on' if record.attributes['noise'] else 'off'}, "
+        f"{record.attributes['rate']:g} Hz, {motion_note(record)}"
+        f"noise {'on' if record.attributes['noise'] else 'off'}, "
         f"peak |tau| {peak:.4g}"
     )

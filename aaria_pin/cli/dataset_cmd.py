@@ -56,9 +56,10 @@ def _estimate(quiet: bool) -> Callable[[DatasetEstimate], None] | None:
         return None
 
     def show(estimate: DatasetEstimate) -> None:
+        seconds = "under 1 s" if estimate.seconds < 1 else f"about {estimate.seconds:.0f} s"
         click.echo(
-            f"aaria: estimate for {estimate.runs} runs: {_size(estimate.bytes)}, about "
-            f"{estimate.seconds:.0f} s on {estimate.workers} workers "
+            f"aaria: estimate for {estimate.runs} runs: {_size(estimate.bytes)}, {seconds} "
+            f"(the runs, not start-up) on {estimate.workers} workers "
             f"({estimate.run_seconds * 1e3:.0f} ms a run)",
             err=True,
         )
@@ -82,12 +83,32 @@ def _print_config(ctx: click.Context, _: click.Parameter, value: bool) -> None:
         ctx.exit(0)
 
 
-@click.command()
+@click.command(
+    epilog="""\b
+Examples:
+  aaria dataset -n 1000 --seed 7 -o random.h5            # random arms, joints and bases
+  aaria dataset -n 200 --preset aaria-fig2 -o fig2.h5    # one arm, random motions
+  aaria dataset -n 200 --robot ur5 --duration 5 -o ur5.h5
+  aaria dataset -n 1000 --motion fourier --duration 30 --rate 200 -o ident.h5  # excitation
+  aaria dataset -n 1000 --config ranges.toml -o ds.h5    # ranges, noise: aaria template config
+  aaria dataset -n 1000 --seed 7 -o random.h5 --resume   # go on after Ctrl-C or a crash
+  aaria dataset -n 100000 --scheduler tcp://head:8786 -o big.h5"""
+)
 @click.option("-n", "n_runs", type=int, required=True, help="Number of runs N.")
 @click.option("-o", "--output", type=_FILE, required=True, help="Data set file (.h5).")
-@click.option("--seed", type=click.IntRange(0, MAX_SEED), default=0, show_default=True)
+@click.option(
+    "--seed",
+    type=click.IntRange(0, MAX_SEED),
+    default=0,
+    show_default=True,
+    help="Seed of the whole data set: run k is the same for a given seed and k, whatever the"
+    " workers.",
+)
 @click.option("--workers", type=click.IntRange(1, 1024), help="Local worker processes [cores].")
-@click.option("--scheduler", help="Address of a Dask distributed scheduler, instead of workers.")
+@click.option(
+    "--scheduler",
+    help="Address of a Dask distributed scheduler (tcp://host:8786), instead of local workers.",
+)
 @click.option(
     "--shards",
     type=click.Path(path_type=Path, file_okay=False),
@@ -97,10 +118,18 @@ def _print_config(ctx: click.Context, _: click.Parameter, value: bool) -> None:
 @click.option("--rate", type=float, default=100.0, show_default=True, help="Sample rate [Hz].")
 @click.option("--noise/--no-noise", default=True, show_default=True, help="IMU noise.")
 @click.option(
-    "--dtype", type=click.Choice(["float32", "float64"]), default="float32", show_default=True
+    "--dtype",
+    type=click.Choice(["float32", "float64"]),
+    default="float32",
+    show_default=True,
+    help="Number type of the stored series (time, joints, IMU signals, torques, poses); the"
+    " input tables stay float64.",
 )
 @click.option(
-    "--config", "config_file", type=_FILE, help="TOML file of ranges (see --print-config)."
+    "--config",
+    "config_file",
+    type=_FILE,
+    help="TOML file of ranges and of the IMU noise ([noise]; see aaria template config).",
 )
 @click.option(
     "--vary",
@@ -111,7 +140,32 @@ def _print_config(ctx: click.Context, _: click.Parameter, value: bool) -> None:
 @robot_source_options
 @click.option("--joints", "joints_file", type=_FILE, help="Fixed joint oscillation table.")
 @click.option("--base", "base_file", type=_FILE, help="Fixed base oscillation table.")
-@click.option("--resume", is_flag=True, help="Continue an interrupted data set file.")
+@click.option(
+    "--motion",
+    type=click.Choice(["sine", "fourier"]),
+    default="sine",
+    show_default=True,
+    help="Joint motion of each run: the joint table's sines, or a Fourier excitation drawn from"
+    " the run's joint stream (per joint a finite Fourier series within its limits; stored as"
+    " the table fourier_coefficients).",
+)
+@click.option(
+    "--harmonics",
+    type=click.IntRange(1, 1000),
+    help="Harmonics per joint of --motion fourier (default 5).",
+)
+@click.option(
+    "--base-frequency",
+    type=float,
+    help="Base frequency of --motion fourier [Hz] (default: the lowest >= 0.1 Hz that fits a"
+    " whole number of periods into a run).",
+)
+@click.option(
+    "--resume",
+    is_flag=True,
+    help="Continue an interrupted data set file (the same settings); a complete one is left"
+    " as it is.",
+)
 @click.option("--overwrite", is_flag=True, help="Replace an existing file.")
 @click.option("--quiet", is_flag=True, help="No estimate, no progress bar or lines.")
 @click.option(
@@ -152,6 +206,9 @@ def dataset(
     fixed_base: bool,
     joints_file: Path | None,
     base_file: Path | None,
+    motion: str,
+    harmonics: int | None,
+    base_frequency: float | None,
     resume: bool,
     overwrite: bool,
     quiet: bool,
@@ -163,8 +220,9 @@ def dataset(
     vary, its structure does not.
     """
     from aaria_pin.aaria.presets import get_preset
-    from aaria_pin.aaria.randomize import load_config
+    from aaria_pin.apps.dataset.config import load_dataset_config
     from aaria_pin.apps.dataset.engine import (
+        DatasetJobStoppedError,
         DatasetSpec,
         DhDatasetSpec,
         UrdfDatasetSpec,
@@ -177,6 +235,13 @@ def dataset(
         raise click.UsageError("give --workers or --scheduler, not both")
     if shards is not None and scheduler is None:
         raise click.UsageError("--shards needs --scheduler")
+    if convention != "aaria":
+        raise ParameterError(
+            parameter="convention",
+            value=convention,
+            allowed="aaria (a data set's arms are Aaria tables; a standard or modified table"
+            " can be simulated with aaria simulate, or its robot made with aaria urdf)",
+        )
     source = _urdf_source(robot, urdf_file, tool_frame, imu_layout_file, fixed_base)
     if source is not None and (preset is not None or dh_file is not None):
         raise click.UsageError("give a DH arm (--preset/--dh) or a URDF robot, not both")
@@ -212,6 +277,8 @@ def dataset(
             if chosen.convention != "aaria":
                 raise ParameterError(f"preset {preset!r} is not an Aaria table; allowed: aaria-*")
             dh_table, joint_table, base_table = chosen.table, chosen.joint_table, chosen.base_table
+            if motion == "fourier":
+                joint_table = None  # the excitation replaces the preset's sines
             name = preset
         else:
             assert dh_file is not None
@@ -220,6 +287,7 @@ def dataset(
         joint_table = read_table(joints_file, "senSenJ" if source is None else "joint_table")
     if base_file is not None:
         base_table = read_table(base_file, "senSenB")
+    config, noise_model = load_dataset_config(config_file)
     settings: dict[str, Any] = {
         "n_runs": n_runs,
         "seed": seed,
@@ -227,28 +295,39 @@ def dataset(
         "rate": rate,
         "noise": noise,
         "dtype": dtype,
-        "config": load_config(config_file),
+        "config": config,
+        "noise_model": noise_model,
         "vary": parts,
         "joint_table": joint_table,
         "base_table": base_table,
+        "motion": motion,
+        "harmonics": harmonics,
+        "base_frequency": base_frequency,
     }
     spec: DatasetSpec = (
         DhDatasetSpec(**settings, dh_table=dh_table, name=name)
         if source is None
         else UrdfDatasetSpec(**settings, robot=source)
     )
-    report = generate_dataset(
-        output,
-        spec,
-        workers=workers,
-        scheduler=scheduler,
-        shards=shards,
-        resume=resume,
-        overwrite=overwrite,
-        progress=_progress(quiet, progress_every),
-        estimate=_estimate(quiet),
-        command=shlex.join(["aaria", *sys.argv[1:]]),
-    )
+    try:
+        report = generate_dataset(
+            output,
+            spec,
+            workers=workers,
+            scheduler=scheduler,
+            shards=shards,
+            resume=resume,
+            overwrite=overwrite,
+            progress=_progress(quiet, progress_every),
+            estimate=_estimate(quiet),
+            command=shlex.join(["aaria", *sys.argv[1:]]),
+        )
+    except DatasetJobStoppedError as exc:
+        click.echo(f"\naaria: {exc}" if sys.stderr.isatty() else f"aaria: {exc}", err=True)
+        raise SystemExit(exc.exit_status) from None
+    if resume and report.written == 0 and report.complete == n_runs and not report.failures:
+        click.echo(f"{report.path}: already complete ({n_runs}/{n_runs} runs); nothing to do")
+        return
     in_shards = f", {report.shards} shards" if report.shards else ""
     click.echo(
         f"wrote {report.path}: {report.complete}/{n_runs} runs complete "

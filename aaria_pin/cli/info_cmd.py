@@ -9,15 +9,23 @@ a run file is refused in one line (exit 2).
 
 from __future__ import annotations
 
+import contextlib
 import json
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import click
 
 
-@click.command()
+@click.command(
+    epilog="""\b
+Examples:
+  aaria info run.h5               # a run: robot, samples, rate, joints, IMUs, arrays
+  aaria info ds.h5                # a data set: runs complete and failed, settings, arrays
+  aaria info --card ds.h5         # its data card
+  aaria info --json ds.h5         # the summary as JSON"""
+)
 @click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
 @click.option("--json", "as_json", is_flag=True, help="Print the summary (or the card) as JSON.")
 @click.option(
@@ -36,16 +44,39 @@ def info(file: Path, as_json: bool, card: bool) -> None:
     from aaria_pin.files.runfile import run_file_summary
 
     is_dataset = is_dataset_file(file)
-    if card:
-        _echo_card(file, is_dataset, as_json)
-        return
-    summary: dict[str, Any] = dataset_summary(file) if is_dataset else run_file_summary(file)
+    with _damaged_data_set(file, is_dataset):
+        if card:
+            _echo_card(file, is_dataset, as_json)
+            return
+        summary: dict[str, Any] = dataset_summary(file) if is_dataset else run_file_summary(file)
     if as_json:
         click.echo(json.dumps(summary, indent=2, default=str))
     elif is_dataset:
         _echo_dataset(file, summary)
     else:
         _echo_run(file, summary)
+
+
+@contextlib.contextmanager
+def _damaged_data_set(file: Path, is_dataset: bool) -> Iterator[None]:
+    """A data set HDF5 cannot read as one (an array missing, a damaged index): one line.
+
+    The toolkit's own errors pass through as they are.
+    """
+    from aaria_pin.errors import AariaError, InputFileError
+    from aaria_pin.files._stored import first_line
+
+    try:
+        yield
+    except AariaError:
+        raise
+    except (KeyError, OSError, RuntimeError, ValueError) as exc:
+        if not is_dataset:
+            raise
+        raise InputFileError(
+            f"{file}: a damaged data set ({first_line(exc)}); allowed: a complete aaria_pin"
+            " data set (make it again)"
+        ) from None
 
 
 def _shape(shape: Sequence[int]) -> str:

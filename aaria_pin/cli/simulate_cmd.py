@@ -37,7 +37,16 @@ def _read_mounts(path: Path) -> Any:
     return read_run_inputs(path).imu_mount
 
 
-@click.command()
+@click.command(
+    epilog="""\b
+Examples:
+  aaria simulate --preset aaria-fig2 -o fig2.h5             # the joint table's sines
+  aaria simulate --preset aaria-fig2 --motion fourier --duration 30 --rate 200 -o f.h5
+  aaria simulate --robot ur5 --motion fourier --harmonics 3 --base-frequency 0.2 -o ur5.h5
+  aaria simulate --robot ur5 --trajectory motion.csv -o mine.h5   # time,<joint>,... columns
+  aaria simulate --from f.h5 --seed 3 -o again.h5           # the same motion, other noise
+  aaria simulate --dh table.csv --drive torque --torques tau.npy -o fwd.mat"""
+)
 @table_source_options
 @robot_source_options
 @click.option("--joints", "joints_file", type=_FILE, help="Joint oscillation table (senSenJ).")
@@ -73,6 +82,38 @@ def _read_mounts(path: Path) -> Any:
     help="Joint torques for --drive torque: a run file (its tau), or a T x n table (CSV, .npy, "
     ".mat 'tau'); a DH arm's by module (T x 6).",
 )
+@click.option(
+    "--motion",
+    type=click.Choice(["sine", "fourier"]),
+    help="Joint motion: sine (the joint table; the default) or fourier (per joint a random "
+    "finite Fourier series within its position, speed and acceleration limits, the "
+    "excitation used for identification). With --from: as stored unless given.",
+)
+@click.option(
+    "--harmonics",
+    type=click.IntRange(1, 1000),
+    help="Harmonics per joint of --motion fourier (default 5).",
+)
+@click.option(
+    "--base-frequency",
+    type=float,
+    help="Base frequency of --motion fourier [Hz] (default: the lowest >= 0.1 Hz that fits a "
+    "whole number of periods into the run).",
+)
+@click.option(
+    "--trajectory",
+    type=_FILE,
+    help="Joint motion from a file: time and one column per joint (CSV with a header "
+    "time,<joint>,..., .npy T x (1+n), or HDF5 time/q such as a run file); columns matched by "
+    "joint name when named; derivatives by a quintic spline unless given (qd_<joint>, "
+    "qdd_<joint>). Its span and rate are the run's unless --duration/--rate are given.",
+)
+@click.option(
+    "--smoothing",
+    type=click.FloatRange(min=0),
+    help="For --trajectory: RMS [rad or m] of the noise the spline may smooth away (default 0: "
+    "through every sample).",
+)
 @click.option("--noise/--no-noise", default=None, help="IMU noise on (default) or off.")
 @click.option(
     "--compress",
@@ -101,6 +142,11 @@ def simulate(
     density: float | None,
     drive: str,
     torques_file: Path | None,
+    motion: str | None,
+    harmonics: int | None,
+    base_frequency: float | None,
+    trajectory: Path | None,
+    smoothing: float | None,
     noise: bool | None,
     compress: str,
     output: Path,
@@ -110,10 +156,15 @@ def simulate(
     The arm is a DH arm (--preset, --dh; 14 IMU slots, the senSen layout) or any URDF robot
     (--robot, --urdf; two IMUs per moving link plus base and tool), or the run stored in a run
     file (--from, any kind). Every run is written in the one run layout (.h5 or .mat).
+
+    The joints follow the joint table's sines, a Fourier excitation (--motion fourier: per
+    joint a random finite Fourier series within its position, speed and acceleration limits)
+    or a given trajectory (--trajectory FILE).
     """
     from aaria_pin.aaria.dh_robot import BodyDimensions
     from aaria_pin.aaria.presets import get_preset
     from aaria_pin.aaria.simulate import simulate_from_record_chunks, simulate_run_chunks
+    from aaria_pin.cli._simulate_motion import dh_motion_overrides, motion_note
     from aaria_pin.core._malloc import tune_malloc
     from aaria_pin.errors import ParameterError
     from aaria_pin.files.io import read_table
@@ -157,6 +208,7 @@ def simulate(
             raise click.UsageError(
                 "--from takes the DH table from the run file; drop --preset/--dh"
             )
+        overrides.update(dh_motion_overrides(params, overrides, stored, stored.tables["senSenDH"]))
         chunks = simulate_from_record_chunks(stored, **overrides)
     else:
         table, table_convention, name = load_table_source(preset, dh_file, convention)
@@ -168,10 +220,12 @@ def simulate(
             chosen = get_preset(preset)
             overrides.setdefault("joint_table", chosen.joint_table)
             overrides.setdefault("base_table", chosen.base_table)
+        overrides.update(dh_motion_overrides(params, overrides, None, table))
         chunks = simulate_run_chunks(table, robot_name=name, **overrides)
     record, samples, peak = write_run_pieces(output, chunks, compression)
     click.echo(
         f"wrote {output}: {samples} samples at {record.attributes['rate']:g} Hz, "
+        f"{motion_note(record)}"
         f"noise {'on' if record.attributes['noise'] else 'off'}, "
         f"peak |tau| {peak:.4g}"
     )

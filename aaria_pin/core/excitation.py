@@ -15,21 +15,43 @@
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.core.se3 import Array
-from aaria_pin.core.trajectory import MAX_SAMPLES, JointTrajectory, sample_times
-from aaria_pin.errors import ParameterError
+from aaria_pin.core.trajectory import (
+    MAX_SAMPLES,
+    JointTrajectory,
+    piece_times,
+    sample_count,
+    sample_times,
+)
+from aaria_pin.errors import InputFileError, ParameterError
 
 __all__ = [
     "DEFAULT_EXCITATION_FREQUENCY",
     "DEFAULT_HARMONICS",
+    "MOTIONS",
+    "PEAK_PIECE",
+    "FourierExcitation",
+    "check_trajectory",
+    "default_base_frequency",
+    "fourier_excitation",
     "fourier_motion",
     "fourier_series",
+    "motion_attributes",
+    "motion_slice",
+    "stored_motion",
     "trajectory_from_samples",
 ]
+
+MOTIONS = ("sine", "fourier", "trajectory")
+"""The ``motion`` attribute of a run: the joint table's sines, a Fourier excitation
+(:class:`FourierExcitation`, table ``fourier_coefficients``, attribute ``fourier``), or a given
+trajectory (table ``joint_trajectory``: time, q, qd, qdd)."""
 
 DEFAULT_EXCITATION_FREQUENCY = 0.1
 """Lowest base frequency of the default Fourier excitation [Hz] (a 10 s period, as Swevers et
@@ -40,6 +62,9 @@ DEFAULT_HARMONICS = 5
 
 DEFAULT_FILL = 0.95
 """Fraction of the tightest limit the scaled Fourier motion reaches."""
+
+PEAK_PIECE = 100_000
+"""Samples per piece over which :func:`fourier_excitation` finds the series' peaks."""
 
 
 def _per_joint(value: ArrayLike, n_joints: int, name: str, positive: bool) -> Array:
@@ -82,6 +107,10 @@ def fourier_series(
     ``q_j(t) = offset_j + sum_l (a_jl / (l·w)) sin(l·w·t) - (b_jl / (l·w)) cos(l·w·t)``,
     ``w = 2π·base_frequency``, l = 1 … L.
 
+    The harmonics are summed one after the other with element-wise operations (no matrix
+    product), so each sample's value depends only on its own time: a run computed in time
+    pieces gets bit for bit the samples of the run computed whole.
+
     Args:
         a: sine coefficients, (n, L) [rad/s or m/s]
         b: cosine coefficients, (n, L) [rad/s or m/s]
@@ -92,17 +121,118 @@ def fourier_series(
     Returns:
         q, qd, qdd, each (T, n).
     """
-    harmonics = np.arange(1, a.shape[1] + 1)
-    w = 2.0 * np.pi * base_frequency * harmonics  # (L,)
-    angle = np.multiply.outer(np.asarray(time), w)  # (T, L)
-    s, c = np.sin(angle), np.cos(angle)
-    q = s @ (a / w).T - c @ (b / w).T + offset
-    qd = c @ a.T + s @ b.T
-    qdd = -s @ (a * w).T + c @ (b * w).T
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    times = np.asarray(time)[:, None]
+    dtype = np.result_type(times.dtype, float)
+    shape = (times.shape[0], a.shape[0])
+    q = np.zeros(shape, dtype=dtype)
+    qd, qdd = np.zeros(shape, dtype=dtype), np.zeros(shape, dtype=dtype)
+    for harmonic in range(a.shape[1]):
+        w = 2.0 * np.pi * base_frequency * (harmonic + 1)
+        angle = times * w
+        s, c = np.sin(angle), np.cos(angle)
+        a_l, b_l = a[:, harmonic], b[:, harmonic]
+        q += s * (a_l / w) - c * (b_l / w)
+        qd += c * a_l + s * b_l
+        qdd += c * (b_l * w) - s * (a_l * w)
+    q += np.asarray(offset, dtype=float)
     return q, qd, qdd
 
 
-def fourier_motion(
+@dataclass(frozen=True)
+class FourierExcitation:
+    """The coefficients of a Fourier excitation (:func:`fourier_series`): a motion on any times.
+
+    Attributes:
+        a: sine coefficients, (n, L) [rad/s or m/s]
+        b: cosine coefficients, (n, L) [rad/s or m/s]
+        offset: the mean value of each joint, (n,) [rad or m]
+        base_frequency: the base frequency [Hz]
+        settings: how the coefficients were drawn (base frequency, harmonics, limits, fill,
+            seed), JSON-ready: a run stores it as its ``fourier`` attribute
+    """
+
+    a: Array
+    b: Array
+    offset: Array
+    base_frequency: float
+    settings: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def n_joints(self) -> int:
+        """n, the joints moved."""
+        return int(self.a.shape[0])
+
+    @property
+    def harmonics(self) -> int:
+        """L, the harmonics per joint."""
+        return int(self.a.shape[1])
+
+    def trajectory(self, time: Array) -> JointTrajectory:
+        """The motion on the sample times ``time`` (T,) [s]: q, qd, qdd (T, n)."""
+        q, qd, qdd = fourier_series(self.a, self.b, self.offset, self.base_frequency, time)
+        return JointTrajectory(np.asarray(time), q, qd, qdd)
+
+    def table(self) -> Array:
+        """The coefficients as one n × (1 + 2L) table: ``offset, a_1 … a_L, b_1 … b_L``."""
+        return np.column_stack([self.offset, self.a, self.b])
+
+    @classmethod
+    def from_table(
+        cls, table: ArrayLike, base_frequency: float, settings: dict[str, Any] | None = None
+    ) -> FourierExcitation:
+        """The excitation of a coefficient table (:meth:`table`) and its base frequency.
+
+        Raises:
+            ParameterError: not an n × (1 + 2L) table of finite numbers, or a base frequency
+                that is not > 0.
+        """
+        array = np.asarray(table, dtype=float)
+        if (
+            array.ndim != 2
+            or array.shape[1] < 3
+            or array.shape[1] % 2 == 0
+            or not np.all(np.isfinite(array))
+        ):
+            raise ParameterError(
+                parameter="fourier_coefficients",
+                value=array.shape,
+                allowed="n × (1 + 2L) finite numbers (offset, a_1 … a_L, b_1 … b_L)",
+            )
+        if not (np.isfinite(base_frequency) and base_frequency > 0):
+            raise ParameterError(parameter="base_frequency", value=base_frequency, allowed="> 0 Hz")
+        harmonics = (array.shape[1] - 1) // 2
+        return cls(
+            a=array[:, 1 : 1 + harmonics].copy(),
+            b=array[:, 1 + harmonics :].copy(),
+            offset=array[:, 0].copy(),
+            base_frequency=float(base_frequency),
+            settings=dict(settings or {}),
+        )
+
+
+def default_base_frequency(duration: float) -> float:
+    """The default base frequency of a Fourier excitation of a run of ``duration`` [s], in Hz.
+
+    The lowest frequency of at least :data:`DEFAULT_EXCITATION_FREQUENCY` that fits a whole
+    number of periods into the run.
+    """
+    return math.ceil(DEFAULT_EXCITATION_FREQUENCY * duration - 1e-9) / duration
+
+
+def _seed_setting(seed: int | np.random.SeedSequence | None) -> Any:
+    """A seed as JSON: an int, None, or ``{"entropy", "spawn_key"}`` of a ``SeedSequence``."""
+    if isinstance(seed, np.random.SeedSequence):
+        entropy = seed.entropy
+        if entropy is not None and not isinstance(entropy, int | np.integer):
+            entropy = [int(x) for x in entropy]
+        elif entropy is not None:
+            entropy = int(entropy)
+        return {"entropy": entropy, "spawn_key": [int(k) for k in seed.spawn_key]}
+    return None if seed is None else int(seed)
+
+
+def fourier_excitation(
     n_joints: int,
     duration: float,
     rate: float,
@@ -114,8 +244,9 @@ def fourier_motion(
     qdd_limits: ArrayLike = 5.0,
     seed: int | np.random.SeedSequence | None = 0,
     fill: float = DEFAULT_FILL,
-) -> JointTrajectory:
-    """A random Fourier excitation of each joint within its position, speed and acceleration limits.
+    max_samples: int | None = MAX_SAMPLES,
+) -> FourierExcitation:
+    """Coefficients of a random Fourier excitation within position, speed and acceleration limits.
 
     Each joint's 2·L coefficients are drawn from a standard normal distribution; the series is
     centred in the joint's position range and scaled so that, over the run's samples, the
@@ -137,9 +268,14 @@ def fourier_motion(
         qdd_limits: largest |acceleration|, one value or one per joint [rad/s² or m/s²]
         seed: seed of the coefficients (``numpy.random.default_rng``)
         fill: fraction of the tightest limit reached, 0 < fill <= 1
+        max_samples: most samples of the run (:func:`~aaria_pin.core.trajectory.sample_count`:
+            :data:`~aaria_pin.core.trajectory.MAX_STREAMED_SAMPLES` for a run in pieces); the
+            peaks are found over the run's samples :data:`PEAK_PIECE` at a time, so memory
+            does not grow with the run
 
     Returns:
-        The joint trajectory on the run's time grid.
+        The coefficients (:meth:`FourierExcitation.trajectory` evaluates them on any times),
+        their ``settings`` the arguments.
 
     Raises:
         ParameterError: a value outside the ranges above.
@@ -150,9 +286,9 @@ def fourier_motion(
         raise ParameterError(parameter="harmonics", value=harmonics, allowed="an integer >= 1")
     if not (np.isfinite(fill) and 0 < fill <= 1):
         raise ParameterError(parameter="fill", value=fill, allowed="0 < fill <= 1")
-    time = sample_times(duration, rate)
+    samples = sample_count(duration, rate, max_samples)
     if base_frequency is None:
-        base_frequency = math.ceil(DEFAULT_EXCITATION_FREQUENCY * duration - 1e-9) / duration
+        base_frequency = default_base_frequency(duration)
     if not (np.isfinite(base_frequency) and base_frequency > 0):
         raise ParameterError(parameter="base_frequency", value=base_frequency, allowed="> 0 Hz")
     if harmonics * base_frequency >= rate / 2:
@@ -168,21 +304,73 @@ def fourier_motion(
     a = rng.standard_normal((n_joints, harmonics))
     b = rng.standard_normal((n_joints, harmonics))
     centre, half_range = (lower + upper) / 2, (upper - lower) / 2
-    q, qd, qdd = fourier_series(a, b, np.zeros(n_joints), base_frequency, time)
-    peaks = np.stack(
-        [
-            np.max(np.abs(q), axis=0) / half_range,
-            np.max(np.abs(qd), axis=0) / qd_max,
-            np.max(np.abs(qdd), axis=0) / qdd_max,
-        ]
-    ).max(axis=0)
+    zero = np.zeros(n_joints)
+    peaks = np.zeros(n_joints)
+    for start in range(0, samples, PEAK_PIECE):
+        time = piece_times(start, min(start + PEAK_PIECE, samples), rate)
+        q, qd, qdd = fourier_series(a, b, zero, base_frequency, time)
+        piece_peaks = np.stack(
+            [
+                np.max(np.abs(q), axis=0) / half_range,
+                np.max(np.abs(qd), axis=0) / qd_max,
+                np.max(np.abs(qdd), axis=0) / qdd_max,
+            ]
+        ).max(axis=0)
+        np.maximum(peaks, piece_peaks, out=peaks)
     scale = fill / np.where(peaks > 0, peaks, 1.0)
-    # Scaling the coefficients scales the series exactly: recompute rather than rescale the
-    # arrays, so q, qd and qdd are the series of the returned coefficients.
-    q, qd, qdd = fourier_series(
-        a * scale[:, None], b * scale[:, None], centre, base_frequency, time
+    # Scaling the coefficients scales the series exactly: the motion is evaluated from the
+    # scaled coefficients, so q, qd and qdd are the series of the returned coefficients.
+    settings = {
+        "base_frequency": float(base_frequency),
+        "harmonics": int(harmonics),
+        "q_limits": np.column_stack([lower, upper]).tolist(),
+        "qd_limits": qd_max.tolist(),
+        "qdd_limits": qdd_max.tolist(),
+        "fill": float(fill),
+        "seed": _seed_setting(seed),
+    }
+    return FourierExcitation(
+        a * scale[:, None], b * scale[:, None], centre, float(base_frequency), settings
     )
-    return JointTrajectory(time, q, qd, qdd)
+
+
+def fourier_motion(
+    n_joints: int,
+    duration: float,
+    rate: float,
+    *,
+    base_frequency: float | None = None,
+    harmonics: int = DEFAULT_HARMONICS,
+    q_limits: ArrayLike = (-1.0, 1.0),
+    qd_limits: ArrayLike = 1.5,
+    qdd_limits: ArrayLike = 5.0,
+    seed: int | np.random.SeedSequence | None = 0,
+    fill: float = DEFAULT_FILL,
+) -> JointTrajectory:
+    """A random Fourier excitation of each joint within its position, speed and acceleration limits.
+
+    :func:`fourier_excitation`'s coefficients evaluated on the run's time grid
+    (:func:`~aaria_pin.core.trajectory.sample_times`); the arguments are its.
+
+    Returns:
+        The joint trajectory on the run's time grid.
+
+    Raises:
+        ParameterError: a value outside the ranges of :func:`fourier_excitation`.
+    """
+    excitation = fourier_excitation(
+        n_joints,
+        duration,
+        rate,
+        base_frequency=base_frequency,
+        harmonics=harmonics,
+        q_limits=q_limits,
+        qd_limits=qd_limits,
+        qdd_limits=qdd_limits,
+        seed=seed,
+        fill=fill,
+    )
+    return excitation.trajectory(sample_times(duration, rate))
 
 
 def _column_matrix(values: ArrayLike, n_samples: int, name: str) -> Array:
@@ -292,3 +480,188 @@ def trajectory_from_samples(
         if x is not None:
             outputs[name] = x.copy() if same_grid else make_interp_spline(times, x, k=3)(at)
     return JointTrajectory(grid, np.asarray(q_out), outputs["qd"], outputs["qdd"])
+
+
+# --- a run's motion: checked, stored, sliced into pieces, re-made ---------------------------------
+
+
+def check_trajectory(
+    trajectory: JointTrajectory,
+    samples: int,
+    rate: float,
+    lower: ArrayLike,
+    upper: ArrayLike,
+    joint_names: tuple[str, ...] | list[str],
+) -> JointTrajectory:
+    """A given joint trajectory checked against a run: its samples, columns, finite numbers, range.
+
+    Args:
+        trajectory: the motion, q, qd and qdd each (T, n)
+        samples: T, the run's number of samples
+        rate: the run's sample rate [Hz]
+        lower: each joint's lowest position, (n,) [rad or m] (-inf: unchecked)
+        upper: each joint's highest position, (n,) [rad or m] (inf: unchecked)
+        joint_names: the n joints, in column order
+
+    Returns:
+        The trajectory as C-ordered float arrays, ``time`` the run's time grid.
+
+    Raises:
+        ParameterError: (``trajectory``) another shape, a value not finite, or a joint that
+            leaves its range, in one line naming the joint.
+    """
+    n_joints = len(joint_names)
+    arrays = {}
+    for name in ("q", "qd", "qdd"):
+        array = np.ascontiguousarray(getattr(trajectory, name), dtype=float)
+        if array.shape != (samples, n_joints):
+            raise ParameterError(
+                parameter="trajectory",
+                value=f"{name} of shape {array.shape}",
+                allowed=f"({samples}, {n_joints}): the run's samples × its joints",
+            )
+        if not np.all(np.isfinite(array)):
+            row, column = (int(i) for i in np.argwhere(~np.isfinite(array))[0])
+            raise ParameterError(
+                parameter="trajectory",
+                value="not finite",
+                allowed="finite numbers",
+                element=f"{name} row {row}, joint {joint_names[column]}",
+            )
+        arrays[name] = array
+    low = np.broadcast_to(np.asarray(lower, dtype=float), (n_joints,))
+    high = np.broadcast_to(np.asarray(upper, dtype=float), (n_joints,))
+    q_min, q_max = arrays["q"].min(axis=0), arrays["q"].max(axis=0)
+    outside = (q_min < low - 1e-12) | (q_max > high + 1e-12)
+    if np.any(outside):
+        j = int(np.argmax(outside))
+        raise ParameterError(
+            f"trajectory joint {joint_names[j]} moves over [{q_min[j]:.4g}, {q_max[j]:.4g}]; "
+            f"allowed: within its range [{low[j]:.4g}, {high[j]:.4g}]",
+            parameter="trajectory",
+            value=[float(f"{q_min[j]:.4g}"), float(f"{q_max[j]:.4g}")],
+            allowed=f"within [{low[j]:.4g}, {high[j]:.4g}]",
+            element=joint_names[j],
+        )
+    return JointTrajectory(piece_times(0, samples, rate), arrays["q"], arrays["qd"], arrays["qdd"])
+
+
+def motion_attributes(
+    motion: JointTrajectory | FourierExcitation | None, n_joints: int
+) -> tuple[dict[str, Array], dict[str, Any]]:
+    """The tables and attributes a run stores about its joint motion (:data:`MOTIONS`).
+
+    Args:
+        motion: None (the joint table's sines), a checked trajectory (:func:`check_trajectory`)
+            or a Fourier excitation
+        n_joints: the joints (or module columns) of the run's motion
+
+    Returns:
+        ``(tables, attributes)``: ``joint_trajectory`` (T × (1 + 3n): time, q, qd, qdd) or
+        ``fourier_coefficients`` (n × (1 + 2L), :meth:`FourierExcitation.table`); ``motion``
+        and, for a Fourier excitation, ``fourier`` (its settings and base frequency).
+
+    Raises:
+        ParameterError: (``motion``) a Fourier excitation of another number of joints, or
+            something else.
+    """
+    if motion is None:
+        return {}, {"motion": "sine"}
+    if isinstance(motion, JointTrajectory):
+        table = np.column_stack([motion.time, motion.q, motion.qd, motion.qdd])
+        return {"joint_trajectory": table}, {"motion": "trajectory"}
+    if not isinstance(motion, FourierExcitation):
+        raise ParameterError(
+            parameter="motion",
+            value=type(motion).__name__,
+            allowed="None, a JointTrajectory or a FourierExcitation",
+        )
+    if motion.n_joints != n_joints:
+        raise ParameterError(
+            f"motion is a Fourier excitation of {motion.n_joints} joints; allowed: {n_joints}",
+            parameter="motion",
+            value=motion.n_joints,
+            allowed=f"{n_joints} joints",
+        )
+    settings = {**motion.settings, "base_frequency": float(motion.base_frequency)}
+    return {"fourier_coefficients": motion.table()}, {"motion": "fourier", "fourier": settings}
+
+
+def motion_slice(
+    motion: JointTrajectory | FourierExcitation,
+    start: int,
+    stop: int,
+    time: Array,
+    columns: list[int] | None = None,
+) -> JointTrajectory:
+    """Samples ``start`` … ``stop - 1`` of a run's given motion, on the piece's ``time``.
+
+    A trajectory is sliced; a Fourier excitation is evaluated on ``time`` (each sample
+    depends only on its own time: :func:`fourier_series`), so pieces put together are the
+    whole run's motion bit for bit.
+
+    Args:
+        motion: a checked trajectory of the whole run, or a Fourier excitation
+        start: the piece's first sample
+        stop: one past its last sample
+        time: its sample times [s]
+        columns: the columns kept (e.g. an Aaria arm's non-empty modules); None: all
+    """
+    if isinstance(motion, FourierExcitation):
+        whole = motion.trajectory(time)
+        q, qd, qdd = whole.q, whole.qd, whole.qdd
+    else:
+        q, qd, qdd = (x[start:stop] for x in (motion.q, motion.qd, motion.qdd))
+    if columns is not None:
+        q, qd, qdd = (np.ascontiguousarray(x[:, columns]) for x in (q, qd, qdd))
+    return JointTrajectory(time, q, qd, qdd)
+
+
+def stored_motion(
+    tables: dict[str, Array], attributes: dict[str, Any]
+) -> JointTrajectory | FourierExcitation | None:
+    """The joint motion a run record stores (:func:`motion_attributes`), to re-make the run.
+
+    Returns:
+        None for a run of sines (``motion`` ``sine`` or no ``motion`` attribute: a run written
+        before motions were stored), else the trajectory or the Fourier excitation.
+
+    Raises:
+        InputFileError: another ``motion``, or one whose table or settings are missing.
+    """
+    kind = attributes.get("motion", "sine")
+    if kind == "sine":
+        return None
+    needed = {"fourier": "fourier_coefficients", "trajectory": "joint_trajectory"}.get(kind)
+    if needed is None:
+        raise InputFileError(
+            parameter="motion", value=kind, allowed=", ".join(MOTIONS), element="run"
+        )
+    if needed not in tables:
+        raise InputFileError(
+            f"run has motion {kind!r} but no table {needed}; allowed: a run written by this "
+            "toolkit",
+            element="run",
+        )
+    table = np.asarray(tables[needed], dtype=float)
+    if kind == "fourier":
+        settings = attributes.get("fourier")
+        if not isinstance(settings, dict) or "base_frequency" not in settings:
+            raise InputFileError(
+                "run has motion 'fourier' but no attribute fourier with its base_frequency; "
+                "allowed: a run written by this toolkit",
+                element="run",
+            )
+        return FourierExcitation.from_table(table, float(settings["base_frequency"]), settings)
+    if table.ndim != 2 or (table.shape[1] - 1) % 3 or table.shape[1] < 4:
+        raise InputFileError(
+            f"run table joint_trajectory has shape {table.shape}; allowed: T × (1 + 3n)",
+            element="run",
+        )
+    n = (table.shape[1] - 1) // 3
+    return JointTrajectory(
+        table[:, 0].copy(),
+        np.ascontiguousarray(table[:, 1 : 1 + n]),
+        np.ascontiguousarray(table[:, 1 + n : 1 + 2 * n]),
+        np.ascontiguousarray(table[:, 1 + 2 * n :]),
+    )

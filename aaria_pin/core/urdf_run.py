@@ -20,6 +20,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin._version import __version__
+from aaria_pin.core.excitation import (
+    DEFAULT_HARMONICS,
+    FourierExcitation,
+    check_trajectory,
+    fourier_excitation,
+    motion_attributes,
+    motion_slice,
+    stored_motion,
+)
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.core.record import ImuMount, RunRecord
@@ -39,6 +48,7 @@ from aaria_pin.core.trajectory import (
     MAX_SAMPLES,
     MAX_STREAMED_SAMPLES,
     BaseMotion,
+    JointTrajectory,
     piece_times,
     sample_count,
 )
@@ -48,16 +58,98 @@ from aaria_pin.core.urdf_robot import (
     effort_excess,
     load_urdf_robot,
     urdf_joint_trajectory,
+    usable_range,
     validate_urdf_joint_table,
 )
+from aaria_pin.errors import ModelError
 
 __all__ = [
+    "FOURIER_SPEED",
     "simulate_loaded_robot",
     "simulate_urdf_from_record",
     "simulate_urdf_from_record_chunks",
     "simulate_urdf_run",
     "simulate_urdf_run_chunks",
+    "urdf_fourier_excitation",
 ]
+
+FOURIER_SPEED = (1.5, 5.0)
+"""|velocity| [rad/s or m/s] and |acceleration| [rad/s² or m/s²] of a URDF robot's Fourier
+excitation; the velocity is the URDF's limit where that is finite and lower."""
+
+Motion = JointTrajectory | FourierExcitation | None
+"""A run's joint motion beside its joint table: a given trajectory or a Fourier excitation."""
+
+
+def urdf_fourier_excitation(
+    loaded: UrdfRobot,
+    duration: float = DEFAULT_DURATION,
+    rate: float = DEFAULT_RATE,
+    *,
+    base_frequency: float | None = None,
+    harmonics: int | None = None,
+    seed: int | np.random.SeedSequence | None = 0,
+    max_samples: int | None = MAX_SAMPLES,
+) -> FourierExcitation:
+    """A random Fourier excitation of a URDF robot's joints within their limits.
+
+    Each joint moves within the part of its range that default motions use
+    (:func:`~aaria_pin.core.urdf_robot.usable_range`: the URDF limits, a continuous joint
+    ±π, a prismatic one at most 0.5 m), at most at its URDF velocity limit (or
+    :data:`FOURIER_SPEED`), by :func:`~aaria_pin.core.excitation.fourier_excitation`. A mimic
+    joint's row is its leader's scaled by the multiplier, plus the offset: the series of
+    ``multiplier·q_leader + offset``.
+
+    Args:
+        loaded: the robot (:func:`~aaria_pin.core.urdf_robot.load_urdf_robot`)
+        duration: run length [s]
+        rate: sample rate [Hz]
+        base_frequency: the base frequency [Hz] (default: as
+            :func:`~aaria_pin.core.excitation.fourier_excitation`)
+        harmonics: harmonics per joint (default
+            :data:`~aaria_pin.core.excitation.DEFAULT_HARMONICS`)
+        seed: seed of the coefficients
+        max_samples: most samples of the run (as :func:`~aaria_pin.core.trajectory.sample_count`)
+
+    Returns:
+        The excitation, one row per actuated joint in model order.
+
+    Raises:
+        ParameterError: as :func:`~aaria_pin.core.excitation.fourier_excitation`.
+        ModelError: a mimic joint whose leader is not actuated.
+    """
+    joints = loaded.joints
+    ranges = [usable_range(joint) for joint in joints]
+    q_limits = [(middle - span / 2, middle + span / 2) for middle, span in ranges]
+    speed, acceleration = FOURIER_SPEED
+    qd_limits = [
+        min(speed, joint.velocity) if np.isfinite(joint.velocity) and joint.velocity > 0 else speed
+        for joint in joints
+    ]
+    excitation = fourier_excitation(
+        len(joints),
+        duration,
+        rate,
+        base_frequency=base_frequency,
+        harmonics=DEFAULT_HARMONICS if harmonics is None else harmonics,
+        q_limits=q_limits,
+        qd_limits=qd_limits,
+        qdd_limits=acceleration,
+        seed=seed,
+        max_samples=max_samples,
+    )
+    names = [joint.name for joint in joints]
+    for row, joint in enumerate(joints):
+        if joint.mimic is None:
+            continue
+        leader, multiplier, offset = joint.mimic
+        if leader not in names:
+            raise ModelError(f"joint {joint.name!r} mimics {leader!r}, which is not actuated")
+        source = names.index(leader)
+        excitation.a[row] = multiplier * excitation.a[source]
+        excitation.b[row] = multiplier * excitation.b[source]
+        excitation.offset[row] = multiplier * excitation.offset[source] + offset
+    return excitation
 
 
 def simulate_urdf_run(
@@ -77,6 +169,7 @@ def simulate_urdf_run(
     noise_model: ImuNoiseModel = ADIS16485,
     threads: int = 1,
     torques: ArrayLike | None = None,
+    motion: Motion = None,
 ) -> RunRecord:
     """Simulate one run of a URDF robot.
 
@@ -102,6 +195,16 @@ def simulate_urdf_run(
             under them by forward dynamics, starting from the joint table's values and
             velocities at t = 0, instead of following the joint table (stored as the table
             ``torque_table``)
+        motion: the joint motion instead of the joint table's sines, one column (or row) per
+            actuated joint in model order: a
+            :class:`~aaria_pin.core.trajectory.JointTrajectory` of the run's samples (e.g.
+            :func:`~aaria_pin.core.excitation.trajectory_from_samples`; stored as the table
+            ``joint_trajectory``: time, q, qd, qdd; checked against the URDF position limits;
+            mimic columns used as given) or a
+            :class:`~aaria_pin.core.excitation.FourierExcitation`
+            (:func:`urdf_fourier_excitation`; stored as the table ``fourier_coefficients`` and
+            the attribute ``fourier``). The attribute ``motion`` says which: ``sine``,
+            ``trajectory`` or ``fourier``
 
     Returns:
         The run record (kind ``"urdf"``).
@@ -127,6 +230,7 @@ def simulate_urdf_run(
         noise_model=noise_model,
         threads=threads,
         torques=torques,
+        motion=motion,
     )
     record.attributes["urdf_dir"] = "" if urdf_dir is None else str(urdf_dir)
     return record
@@ -149,6 +253,7 @@ def simulate_urdf_run_chunks(
     noise_model: ImuNoiseModel = ADIS16485,
     threads: int = 1,
     torques: ArrayLike | None = None,
+    motion: Motion = None,
     chunk: int | None = CHUNK_SAMPLES,
 ) -> Iterator[RunRecord]:
     """:func:`simulate_urdf_run` computed in time chunks: one record per piece, in order.
@@ -175,6 +280,7 @@ def simulate_urdf_run_chunks(
         noise_model: IMU noise parameters
         threads: worker threads of the batched RNEA
         torques: as in :func:`simulate_urdf_run` (the run is then one piece)
+        motion: as in :func:`simulate_urdf_run` (sliced or evaluated piece by piece)
         chunk: samples per piece (default :data:`~aaria_pin.core.run.CHUNK_SAMPLES`); None:
             one piece
 
@@ -201,6 +307,7 @@ def simulate_urdf_run_chunks(
         noise_model=noise_model,
         threads=threads,
         torques=torques,
+        motion=motion,
         chunk=chunk,
         extra={"urdf_dir": "" if urdf_dir is None else str(urdf_dir)},
     )
@@ -220,6 +327,7 @@ def simulate_loaded_robot(
     noise_model: ImuNoiseModel = ADIS16485,
     threads: int = 1,
     torques: ArrayLike | None = None,
+    motion: Motion = None,
 ) -> RunRecord:
     """The same as :func:`simulate_urdf_run` for a robot already loaded (a data set's runs).
 
@@ -238,6 +346,7 @@ def simulate_loaded_robot(
         noise_model: IMU noise parameters
         threads: worker threads of the batched RNEA
         torques: as in :func:`simulate_urdf_run`
+        motion: as in :func:`simulate_urdf_run`
 
     Returns:
         The run record (kind ``"urdf"``).
@@ -256,6 +365,7 @@ def simulate_loaded_robot(
             noise_model=noise_model,
             threads=threads,
             torques=torques,
+            motion=motion,
             chunk=None,
         )
     )
@@ -275,6 +385,7 @@ def _loaded_pieces(
     noise_model: ImuNoiseModel,
     threads: int,
     torques: ArrayLike | None,
+    motion: Motion,
     chunk: int | None,
     extra: dict[str, Any] | None = None,
 ) -> Iterator[RunRecord]:
@@ -302,10 +413,16 @@ def _loaded_pieces(
         tau_in = check_torques(torques, samples, robot.n_joints)
         chunk = None
     tables = {"joint_table": table}
+    if isinstance(motion, JointTrajectory):
+        lower = [-np.inf if j.mimic is not None else j.lower for j in loaded.joints]
+        upper = [np.inf if j.mimic is not None else j.upper for j in loaded.joints]
+        motion = check_trajectory(motion, samples, rate, lower, upper, robot.joint_names)
+    motion_tables, motion_attrs = motion_attributes(motion, robot.n_joints)
     if base_arr is not None:
         tables["base_table"] = base_arr
     if tau_in is not None:
         tables["torque_table"] = tau_in
+    tables.update(motion_tables)
     pieces = chunk_bounds(samples, chunk)
     stream = noise_stream(
         samples, len(robot.sensor_frames), rate, seed, noise, noise_model, len(pieces)
@@ -313,7 +430,10 @@ def _loaded_pieces(
     peaks = np.zeros(robot.n_joints)
     for start, stop in pieces:
         times = piece_times(start, stop, rate)
-        trajectory = urdf_joint_trajectory(table, loaded, times)
+        if motion is None:
+            trajectory = urdf_joint_trajectory(table, loaded, times)
+        else:
+            trajectory = motion_slice(motion, start, stop, times)
         base = (
             base_motion(base_arr, times) if base_arr is not None else BaseMotion.resting(times.size)
         )
@@ -351,6 +471,7 @@ def _loaded_pieces(
             },
             **sampling_attributes(rate, duration, seed, noise, noise_model),
             "drive": "motion" if torques is None else "torque",
+            **motion_attrs,
             "version": __version__,
             **(extra or {}),
         }
@@ -420,5 +541,8 @@ def _stored_settings(stored: RunRecord, overrides: dict[str, Any]) -> dict[str, 
     }
     if "torque_table" in stored.tables:
         settings["torques"] = stored.tables["torque_table"]
+    motion = stored_motion(stored.tables, attributes)
+    if motion is not None:
+        settings["motion"] = motion
     settings.update(overrides)
     return settings

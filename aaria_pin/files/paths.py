@@ -41,12 +41,13 @@ __all__ = [
     "check_output",
     "check_outputs",
     "existing_input",
+    "no_space",
     "output_lock",
     "write_text_atomic",
 ]
 
 _NO_SPACE = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
-_NO_SPACE_TEXT = ("No space left on device", "Disk quota exceeded", "File too large")
+_NO_SPACE_TEXT = ("No space left on device", "Disk quota exceeded", "File too large", "errno = 28")
 
 
 def existing_input(path: str | os.PathLike[str], suffixes: Sequence[str] | None, kind: str) -> Path:
@@ -219,7 +220,7 @@ def _is_device(final: Path) -> bool:
     return stat.S_ISCHR(mode) or stat.S_ISFIFO(mode)
 
 
-def _no_space(exc: BaseException) -> bool:
+def no_space(exc: BaseException) -> bool:
     """Whether an error says the file system ran out of room."""
     if isinstance(exc, OSError) and exc.errno in _NO_SPACE:
         return True
@@ -321,7 +322,7 @@ def atomic_output(path: str | os.PathLike[str], *, overwrite: bool = True) -> It
             _rename(temporary, final, overwrite)
         except BaseException as exc:
             temporary.unlink(missing_ok=True)
-            if _no_space(exc):
+            if no_space(exc):
                 raise _no_space_error(final) from None
             raise
 
@@ -360,7 +361,7 @@ def _through_device(final: Path) -> Iterator[Path]:
             with open(descriptor, "wb", buffering=0, closefd=True) as target:
                 shutil.copyfileobj(source, target, 1 << 20)
     except BaseException as exc:
-        if _no_space(exc):
+        if no_space(exc):
             raise _no_space_error(final) from None
         if isinstance(exc, OSError) and not isinstance(exc, AariaError):
             raise _refused(

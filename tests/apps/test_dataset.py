@@ -17,6 +17,7 @@ from aaria_pin.aaria.presets import get_preset
 from aaria_pin.apps.dataset import engine
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.apps.dataset.engine import generate_dataset, simulate_dataset_run, task_runs
+from aaria_pin.apps.remake import remake_record
 from aaria_pin.cli import main
 from aaria_pin.core.record import RunRecord
 from aaria_pin.errors import ParameterError
@@ -329,3 +330,65 @@ def test_dataset_records_its_command_and_versions(tmp_path: Path) -> None:
     generate_dataset(path, DhDatasetSpec(n_runs=2, **SHORT), workers=1, overwrite=True)
     with DatasetReader(path) as reader:
         assert reader.attributes["command"] == ""  # the library's default
+
+
+def test_fourier_runs_are_drawn_from_their_joint_stream_within_the_limits(tmp_path: Path) -> None:
+    """--motion fourier: random arms follow their stored series, the same whatever the workers."""
+    settings = {"n_runs": 6, "seed": 4, "duration": 2.0, "rate": 50.0, "noise": False}
+    spec = DhDatasetSpec(**settings, motion="fourier", harmonics=3)
+    generate_dataset(tmp_path / "one.h5", spec, workers=1)
+    generate_dataset(tmp_path / "two.h5", spec, workers=2)
+    _assert_same(tmp_path / "one.h5", tmp_path / "two.h5")
+    with DatasetReader(tmp_path / "one.h5") as reader:
+        assert reader.attributes["fourier"] == {"base_frequency": 0.5, "harmonics": 3}
+        coefficients = [reader.run(k)["fourier_coefficients"] for k in range(6)]
+        for k in range(6):
+            run = reader.run(k, ["time", "q", "qd", "senSenDH", "fourier_coefficients"])
+            table, t = run["fourier_coefficients"], run["time"].astype(float)
+            assert table.shape == (6, 7)
+            w = 2 * np.pi * 0.5 * np.arange(1, 4)
+            angle = t[:, None] * w  # the series by hand: offset + sum a/w sin - b/w cos
+            q = table[:, 0] + np.sin(angle) @ (table[:, 1:4] / w).T
+            q -= np.cos(angle) @ (table[:, 4:7] / w).T
+            np.testing.assert_allclose(run["q"], q, atol=1e-6)  # float32 series
+            for module, (_, _, _, d, code) in enumerate(run["senSenDH"][:6]):
+                bound = {0: 0.0, 1: 1.0, 2: d / 2}[int(code)]  # empty, ±1 rad, the rail ±d/2
+                assert np.abs(run["q"][:, module]).max() <= bound + 1e-6
+                assert np.abs(run["qd"][:, module]).max() <= (1.5 if code == 1 else 0.5) + 1e-6
+    assert not np.allclose(coefficients[0][:, 1:], coefficients[1][:, 1:])  # drawn per run
+    code = CliRunner().invoke(
+        main, ["dataset", "-n", "2", "--harmonics", "3", "--quiet", "-o", str(tmp_path / "x.h5")]
+    )
+    assert code.exit_code == 2 and "--harmonics is 3; allowed: only with motion fourier" in (
+        code.stderr
+    )
+    assert not (tmp_path / "x.h5").exists()
+
+
+def test_fourier_runs_of_a_urdf_robot(tmp_path: Path) -> None:
+    from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
+    from aaria_pin.core.catalogue import find_robot
+    from aaria_pin.core.urdf_robot import read_urdf_file
+
+    entry = find_robot("ur5")
+    source = UrdfSource(read_urdf_file(entry.urdf), "ur5", str(entry.urdf.parent))
+    spec = UrdfDatasetSpec(
+        n_runs=3,
+        seed=1,
+        duration=2.0,
+        rate=50.0,
+        robot=source,
+        motion="fourier",
+        vary=("joints", "base"),
+    )
+    generate_dataset(tmp_path / "ur5.h5", spec, workers=1)
+    with DatasetReader(tmp_path / "ur5.h5") as reader:
+        for k in range(3):
+            run = reader.run(k, ["q", "qd", "qdd", "fourier_coefficients"])
+            assert run["fourier_coefficients"].shape == (6, 11)
+            assert np.abs(run["q"][:, 2]).max() <= np.pi  # ur5.urdf: the elbow within ±π
+            assert np.abs(run["qd"]).max() <= 1.5 + 1e-6 and np.abs(run["qdd"]).max() <= 5 + 1e-5
+        record = reader.record(2)
+    assert record.attributes["motion"] == "fourier"
+    remade = remake_record(record)
+    assert np.array_equal(remade.q.astype(np.float32), record.q)

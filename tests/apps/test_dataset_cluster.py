@@ -22,7 +22,7 @@ import pytest
 from click.testing import CliRunner
 
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.engine import generate_dataset
+from aaria_pin.apps.dataset.engine import DatasetJobStoppedError, generate_dataset
 from aaria_pin.apps.dataset.shards import write_shard_task
 from aaria_pin.cli.dataset_cmd import dataset
 from aaria_pin.core.record import RunRecord
@@ -226,6 +226,37 @@ def test_killed_worker_gives_the_identical_file(reference: Path, tmp_path: Path)
     assert report.failures == {} and report.complete == RUNS
     _assert_same(reference, tmp_path / "ds.h5")
     assert not list(tmp_path.glob(".ds-*"))  # the killed worker's temporary shard is gone
+
+
+def test_a_lost_scheduler_is_one_line_and_the_runs_are_kept(
+    cluster: Cluster, reference: Path, tmp_path: Path
+) -> None:
+    own = Cluster(tmp_path)
+    path = tmp_path / "ds.h5"
+    try:
+
+        def kill_scheduler(done: int, total: int, seconds: float) -> None:
+            if own.scheduler.poll() is None:
+                os.killpg(own.scheduler.pid, signal.SIGKILL)
+                own.scheduler.wait()
+
+        with pytest.raises(DatasetJobStoppedError) as stopped:
+            generate_dataset(
+                path, _SlowSpec(**SETTINGS), scheduler=own.address, progress=kill_scheduler
+            )
+        message = str(stopped.value)
+        assert f"lost the Dask scheduler at {own.address}" in message and "\n" not in message
+        assert "--resume" in message
+        assert stopped.value.saved is not None and 0 < stopped.value.saved < RUNS
+    finally:
+        own.stop()
+    with h5py.File(path, "r") as handle:  # the runs acknowledged before the loss are in it
+        assert int(handle["complete"][()].sum()) == stopped.value.saved
+    report = generate_dataset(
+        path, DhDatasetSpec(**SETTINGS), scheduler=cluster.address, resume=True
+    )  # another scheduler
+    assert report.complete == RUNS and report.written <= RUNS - stopped.value.saved
+    _assert_same(reference, path)
 
 
 @dataclass(frozen=True)

@@ -193,23 +193,19 @@ CASES = [
     ("simulate --preset aaria-fig2 -o s.jpg", r"allowed: \.h5"),
     ("simulate --preset aaria-fig2 -o {long}.h5", "bytes"),
     # dataset (H11)
-    pytest.param(
-        "dataset -n 4 --dh {nan.csv} --overwrite -o existing.h5", "nan", marks=_xfail("H11")
-    ),
-    pytest.param("dataset -n 4 --joints {nan.csv} -o d.h5", "nan", marks=_xfail("H11")),
-    pytest.param("dataset -n 2 --config {not_utf8.toml} -o d.h5", "UTF-8", marks=_xfail("H11")),
-    pytest.param("dataset -n 2 --config {long.toml} -o d.h5", r"\ba\b.*long", marks=_xfail("H11")),
-    pytest.param(
-        "dataset -n 2 --config {huge.toml} -o d.h5", r"\(a\) is|\ba = ", marks=_xfail("H11")
-    ),
-    pytest.param("dataset -n 2 --scheduler '' -o d.h5", "--scheduler", marks=_xfail("H11")),
-    pytest.param("dataset -n 2 -o -", "not a file path", marks=_xfail("H11")),
-    pytest.param("dataset -n 2 -o d.txt", r"allowed: \.h5", marks=_xfail("H11")),
+    pytest.param("dataset -n 4 --dh {nan.csv} --overwrite -o existing.h5", "nan"),
+    pytest.param("dataset -n 4 --joints {nan.csv} -o d.h5", "nan"),
+    pytest.param("dataset -n 2 --config {not_utf8.toml} -o d.h5", "UTF-8"),
+    pytest.param("dataset -n 2 --config {long.toml} -o d.h5", r"\ba\b.*long"),
+    pytest.param("dataset -n 2 --config {huge.toml} -o d.h5", r"\(a\) is|\ba = "),
+    pytest.param("dataset -n 2 --scheduler '' -o d.h5", "--scheduler"),
+    pytest.param("dataset -n 2 -o -", "not a file path"),
+    pytest.param("dataset -n 2 -o d.txt", r"allowed: \.h5"),
     # info (H11)
-    pytest.param("info missing.h5", "no such file", marks=_xfail("H11")),
-    pytest.param("info {adir}", "directory|folder", marks=_xfail("H11")),
+    pytest.param("info missing.h5", "no such file"),
+    pytest.param("info {adir}", "directory|folder"),
     # identify (H5, registered by the lead)
-    pytest.param("identify missing.h5 -o t.csv", "no such file", marks=_xfail("H5")),
+    pytest.param("identify missing.h5 -o t.csv", "no such file"),
 ]
 
 

@@ -524,14 +524,18 @@ def store_card(path: str | os.PathLike[str]) -> DatasetCard:
     card = dataset_card(path)
     try:
         with h5py.File(path, "r+") as handle:
-            handle.attrs[CARD_ATTRIBUTE] = json.dumps(card.to_dict(), ensure_ascii=False)
+            # The stored card names no path (a file moved or copied would carry a stale one,
+            # and a resumed file would differ from an uninterrupted one): read, it takes the
+            # path it is read from (current_card).
+            stored = {**card.to_dict(), "path": ""}
+            handle.attrs[CARD_ATTRIBUTE] = json.dumps(stored, ensure_ascii=False)
     except OSError as exc:
         raise InputFileError(f"{path}: cannot store its card ({exc})") from None
     return card
 
 
 def read_stored_card(path: str | os.PathLike[str]) -> DatasetCard | None:
-    """The card stored in a data set, if there is one and it is current.
+    """The card stored in a data set, if there is one and it is current, naming ``path``.
 
     Current: of this :data:`CARD_VERSION`, and the file's N, complete runs and failed runs are
     still those the card counted (a resumed or continued job changes them).
@@ -558,7 +562,7 @@ def read_stored_card(path: str | os.PathLike[str]) -> DatasetCard | None:
             int(reader.complete.sum()),
             failed,
         )
-    return card if current else None
+    return replace(card, path=str(Path(path))) if current else None
 
 
 def current_card(path: str | os.PathLike[str]) -> DatasetCard:
@@ -567,7 +571,7 @@ def current_card(path: str | os.PathLike[str]) -> DatasetCard:
     A stored card names the file as it is now (it may have been renamed or moved since).
     """
     stored = read_stored_card(path)
-    return replace(stored, path=str(Path(path))) if stored else dataset_card(path)
+    return stored if stored else dataset_card(path)
 
 
 # --- the card as text ------------------------------------------------------------------------
@@ -655,11 +659,11 @@ def card_text(card: DatasetCard) -> str:
             f"  {column.name:<{width}} {_shape(column.shape)} {column.dtype} {column.role}"
             f" [{column.units}]{convention}"
         )
-        if column.frame:
+        if column.frame and column.frame not in column.units:  # stored units may say it already
             lines.append(f"  {'':<{width}} frame: {column.frame}")
         for group in column.column_groups:
             span = group.first if group.count == 1 else f"{group.first} … {group.last}"
-            frame = f", {group.frame}" if group.frame else ""
+            frame = f", {group.frame}" if group.frame and group.frame not in group.units else ""
             lines.append(
                 f"  {'':<{width}} {group.quantity}: {_count(group.count, 'column')} ({span})"
                 f" [{group.units}]{frame}"

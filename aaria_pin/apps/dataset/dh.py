@@ -5,7 +5,11 @@ table and its base table from its own streams, unless the spec fixes them, and i
 :func:`aaria_pin.aaria.simulate.simulate_run`. Its record keeps the paper's module order (joints
 ``joint1`` … ``joint6``, 14 IMU slots; an empty module's columns are zero), so every run has
 the same layout: the tables ``senSenDH``, ``senSenJ`` (8 × 5) and ``senSenB`` (6 × 4: a 2 × 4
-table is stored expanded, one row per axis), and the view ``senSen`` (T × 91).
+table is stored expanded, one row per axis), and the view ``senSen`` (T × 91). With a Fourier
+excitation (``motion="fourier"``) run k follows
+:func:`~aaria_pin.aaria.simulate.dh_fourier_excitation` of its table, drawn from its joint
+stream, stored as the table ``fourier_coefficients`` (6 × (1 + 2L)); its ``senSenJ`` is the
+arm's default joint table (not followed).
 """
 
 from __future__ import annotations
@@ -72,10 +76,15 @@ class DhDatasetSpec(DatasetSpec):
         urdf = ""
         if "structure" not in self.vary and self.dh_table is not None:
             urdf = _arm_urdf(np.asarray(self.dh_table, dtype=float).tobytes())
-        return dh_layout(urdf)
+        harmonics = self.fourier_settings()["harmonics"] if self.motion == "fourier" else 0
+        return dh_layout(urdf, harmonics)
 
     def inputs(self, run: int) -> RunInputs:
-        """``senSenDH``, ``senSenJ``, ``senSenB`` (6 × 4) and the noise seed of run ``run``."""
+        """``senSenDH``, ``senSenJ``, ``senSenB`` (6 × 4) and the noise seed of run ``run``.
+
+        With a Fourier excitation also ``fourier_coefficients`` (6 × (1 + 2L)), and the arm's
+        default ``senSenJ``.
+        """
         from aaria_pin.aaria.dh import chain_from_aaria
         from aaria_pin.aaria.oscillation import default_joint_table
 
@@ -84,16 +93,46 @@ class DhDatasetSpec(DatasetSpec):
         else:
             assert self.dh_table is not None
             dh = np.asarray(self.dh_table, dtype=float)
-        if "joints" in self.vary:
+        fourier = self.motion == "fourier"
+        if "joints" in self.vary and not fourier:
             joint_table = random_joint_table(self.config, dh, run_stream(self.seed, run, 1))
         elif self.joint_table is not None:
             joint_table = np.asarray(self.joint_table, dtype=float)
         else:
             joint_table = default_joint_table(chain_from_aaria(dh))
         base_table, noise_seed = self.base_and_noise(run)
-        return RunInputs(
-            {"senSenDH": dh, "senSenJ": joint_table, "senSenB": base_table}, noise_seed
-        )
+        tables = {"senSenDH": dh, "senSenJ": joint_table, "senSenB": base_table}
+        if fourier:
+            from aaria_pin.aaria.simulate import dh_fourier_excitation
+
+            excitation = dh_fourier_excitation(
+                dh, self.duration, self.rate, seed=self.fourier_seed(run), **self.fourier_settings()
+            )
+            tables["fourier_coefficients"] = excitation.table()
+        return RunInputs(tables, noise_seed)
+
+    def check_inputs(self, inputs: RunInputs) -> None:
+        """Check the DH table, the base table and, where its structure is known, the joint table.
+
+        The joint table is checked against the structure it drives when that is known before
+        the run (drawn with it, or fixed); a fixed joint table over random structures is checked
+        for shape and finite entries only (a structure it does not fit fails its run alone).
+
+        Raises:
+            TableError: a table no run can use.
+        """
+        from aaria_pin.aaria.dh import chain_from_aaria, validate_aaria_table
+        from aaria_pin.aaria.oscillation import validate_joint_table
+        from aaria_pin.core.oscillation import JOINT_COLUMNS
+        from aaria_pin.core.tables import finite_table
+
+        super().check_inputs(inputs)
+        dh = validate_aaria_table(inputs.tables["senSenDH"])
+        joints = inputs.tables["senSenJ"]
+        if "joints" in self.vary or "structure" not in self.vary:
+            validate_joint_table(joints, chain_from_aaria(dh))
+        else:
+            finite_table(joints, JOINT_COLUMNS, "joint oscillation table", rows=(8,))
 
     def simulate(self, inputs: RunInputs) -> RunRecord:
         """:func:`~aaria_pin.aaria.simulate.simulate_run` of the inputs."""
@@ -107,16 +146,19 @@ class DhDatasetSpec(DatasetSpec):
             rate=self.rate,
             seed=inputs.noise_seed,
             noise=self.noise,
+            noise_model=self.noise_model,
+            motion=self.run_motion(inputs),
             robot_name=self.robot_name(),
             keep_urdf=False,
         )
 
 
 @cache
-def dh_layout(urdf: str = "") -> DatasetLayout:
+def dh_layout(urdf: str = "", harmonics: int = 0) -> DatasetLayout:
     """The per-run layout of an Aaria data set (``urdf``: the arm's, when it is fixed).
 
-    Kept per process: every run's encoding asks for it.
+    ``harmonics`` > 0: runs of a Fourier excitation, with the table ``fourier_coefficients``
+    (6 × (1 + 2·harmonics)). Kept per process: every run's encoding asks for it.
     """
     from aaria_pin.aaria.dh_robot import BASE_FRAME, TOOL_FRAME, link_name
     from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, imu_slot_order, sensen_view
@@ -124,11 +166,14 @@ def dh_layout(urdf: str = "") -> DatasetLayout:
     parents = [BASE_FRAME, TOOL_FRAME]
     for module in range(1, N_MODULES + 1):
         parents += [link_name(module)] * 2
+    tables = {"senSenDH": (8, 5), "senSenJ": (8, 5), "senSenB": (6, 4)}
+    if harmonics:
+        tables["fourier_coefficients"] = (N_MODULES, 1 + 2 * harmonics)
     return DatasetLayout(
         JOINT_NAMES,
         imu_slot_order(),
         tuple(parents),
-        {"senSenDH": (8, 5), "senSenJ": (8, 5), "senSenB": (6, 4)},
+        tables,
         {"senSen": sensen_view()},
         urdf,
     )

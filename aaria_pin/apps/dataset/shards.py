@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from aaria_pin.apps.dataset.spec import DatasetSpec, run_result
+from aaria_pin.apps.dataset.spec import DatasetJobStoppedError, DatasetSpec, run_result
 from aaria_pin.errors import OutputFileError, ParameterError
 from aaria_pin.files._stored import first_line
 from aaria_pin.files.dataset.shards import (
@@ -175,6 +175,26 @@ def connect(address: str) -> Any:
         ) from None
 
 
+class _QuietClientLog:
+    """Dask's client log held to CRITICAL for a job (its reconnection errors are tracebacks)."""
+
+    def __init__(self) -> None:
+        import logging
+
+        self._logger = logging.getLogger("distributed.client")
+        self._level = self._logger.level
+        self._logger.setLevel(logging.CRITICAL)
+
+    def restore(self) -> None:
+        """Put the log's level back."""
+        self._logger.setLevel(self._level)
+
+
+def _scheduler_lost(client: Any) -> bool:
+    """Whether a Dask client has lost its scheduler (closed after failing to reconnect)."""
+    return str(getattr(client, "status", "running")) not in ("running", "newly-created")
+
+
 @dataclass
 class _Job:
     """The client's view of a sharded job: where each run is, and what failed."""
@@ -269,7 +289,11 @@ def generate_sharded(
         raise ParameterError(
             parameter="shards", value=str(folder), allowed="an existing folder for the shards"
         )
+    # Absolute for the workers, whose working folder is their own (the manifest still maps
+    # its shards by paths relative to itself).
+    folder = folder.resolve()
     client = connect(scheduler)
+    quiet = _QuietClientLog()  # a lost scheduler is told in one line, not the client's trace
     try:
         layout = spec.layout()
         job = _Job({}, {}, {})
@@ -297,11 +321,15 @@ def generate_sharded(
             for batch in batches
         }
         done, told = 0, estimate is None
+        lost: BaseException | None = None
         for future in as_completed(list(batch_of)):
             batch = batch_of.pop(future)
             try:
                 ack = future.result()
             except Exception as exc:  # the cluster gave up on the task (its workers died)
+                if _scheduler_lost(client):
+                    lost = exc
+                    break
                 message = f"the cluster could not run it ({type(exc).__name__}: {first_line(exc)})"
                 ack = ShardAck("", 0, (), tuple((run, message) for run in batch), (), 0)
             job.take(ack)
@@ -317,9 +345,18 @@ def generate_sharded(
             file, folder, spec.n_runs, spec.samples, spec.dtype, {} if resume else attributes,
             layout, job.locations, job.checksums, job.failures, prefix, raw_attributes=raw,
         )  # fmt: skip
+        if lost is not None:  # the runs so far are in the manifest; their shards are kept
+            raise DatasetJobStoppedError(
+                f"lost the Dask scheduler at {scheduler} ({type(lost).__name__}:"
+                f" {first_line(lost) or 'closed'}): {len(job.locations)}/{spec.n_runs} runs saved"
+                f" in {file}; the same command with --resume goes on once a scheduler is there",
+                len(job.locations),
+                spec.n_runs,
+            )
         used = {location.shard for location in job.locations.values()}
         remove_unused_shards(folder, prefix, used)
     finally:
         client.close()
+        quiet.restore()
     written = sum(1 for run in todo if run in job.locations)
     return written, len(job.locations), job.failures, len(batches)

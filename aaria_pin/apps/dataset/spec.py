@@ -23,6 +23,7 @@ import numpy as np
 
 from aaria_pin._version import __version__
 from aaria_pin.aaria.randomize import PARTS, RandomConfig, random_base_table, run_stream
+from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.seeds import check_seed
@@ -30,10 +31,27 @@ from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE
 from aaria_pin.errors import AariaError, ParameterError
 from aaria_pin.files.dataset_file import DatasetLayout, EncodedRun, encode_run, run_arrays
 
-__all__ = ["MAX_RUNS", "NOISE_STREAM", "DatasetSpec", "Result", "RunInputs", "run_result"]
+__all__ = [
+    "JOINT_STREAM",
+    "MAX_RUNS",
+    "MOTIONS",
+    "NOISE_STREAM",
+    "DatasetJobStoppedError",
+    "DatasetSpec",
+    "Result",
+    "RunInputs",
+    "check_first_run",
+    "run_result",
+]
 
 MAX_RUNS = 100_000_000
 """Most runs in one data set."""
+MOTIONS = ("sine", "fourier")
+"""A data set's joint motions: the joint tables' sines, or a Fourier excitation per run."""
+JOINT_STREAM = PARTS.index("joints")
+"""The stream of a run's joint motion: its joint table, or its Fourier coefficients
+(``SeedSequence(seed, spawn_key=(k, JOINT_STREAM))``; run 0's for every run when the joints
+do not vary)."""
 NOISE_STREAM = len(PARTS)
 """The noise of run k is ``SeedSequence(seed, spawn_key=(k, NOISE_STREAM))``."""
 
@@ -72,6 +90,18 @@ class DatasetSpec(ABC):
             the robot's default table)
         base_table: the fixed base oscillation table when the base does not vary (default:
             :func:`~aaria_pin.core.oscillation.default_base_table`)
+        noise_model: the IMU noise model (default: the ADIS16485 data sheet; recorded in the
+            file's ``noise_parameters``)
+        motion: ``"sine"`` (the joint tables) or ``"fourier"``: each run follows a Fourier
+            excitation (:func:`~aaria_pin.core.excitation.fourier_excitation`) drawn from its
+            joint stream (:data:`JOINT_STREAM`), stored per run as the table
+            ``fourier_coefficients`` (its ``senSenJ``/``joint_table`` is then the robot's
+            default, not followed); recorded in the file's ``motion`` and ``fourier``
+            attributes
+        harmonics: harmonics per joint of a Fourier excitation (default
+            :data:`~aaria_pin.core.excitation.DEFAULT_HARMONICS`)
+        base_frequency: its base frequency [Hz] (default
+            :func:`~aaria_pin.core.excitation.default_base_frequency` of the duration)
     """
 
     n_runs: int
@@ -84,6 +114,10 @@ class DatasetSpec(ABC):
     vary: tuple[str, ...] = PARTS
     joint_table: Array | None = None
     base_table: Array | None = None
+    noise_model: ImuNoiseModel = ADIS16485
+    motion: str = "sine"
+    harmonics: int | None = None
+    base_frequency: float | None = None
 
     def __post_init__(self) -> None:
         from aaria_pin.core.trajectory import sample_times
@@ -99,6 +133,70 @@ class DatasetSpec(ABC):
                 parameter="vary", value=unknown[0], element="a part", allowed=", ".join(PARTS)
             )
         sample_times(self.duration, self.rate)  # checks duration and rate
+        self._check_motion()
+
+    def _check_motion(self) -> None:
+        """Refuse a motion, harmonics or base frequency that no run can use.
+
+        Raises:
+            ParameterError: an unknown motion, Fourier settings for sines, a fixed joint table
+                with a Fourier excitation, or settings :func:`fourier_excitation` refuses.
+        """
+        from aaria_pin.core.excitation import fourier_excitation
+
+        if self.motion not in MOTIONS:
+            raise ParameterError(parameter="motion", value=self.motion, allowed=", ".join(MOTIONS))
+        if self.motion == "sine":
+            for name in ("harmonics", "base_frequency"):
+                if getattr(self, name) is not None:
+                    raise ParameterError(
+                        parameter=name,
+                        value=getattr(self, name),
+                        allowed="only with motion fourier",
+                    )
+            return
+        if self.joint_table is not None:
+            raise ParameterError(
+                parameter="joint_table",
+                value="a joint table",
+                allowed="none with a Fourier excitation (it replaces the joint tables)",
+            )
+        fourier_excitation(1, self.duration, self.rate, **self.fourier_settings())
+
+    def fourier_settings(self) -> dict[str, Any]:
+        """``base_frequency`` (resolved) and ``harmonics`` of the Fourier excitation."""
+        from aaria_pin.core.excitation import DEFAULT_HARMONICS, default_base_frequency
+
+        return {
+            "base_frequency": float(
+                default_base_frequency(self.duration)
+                if self.base_frequency is None
+                else self.base_frequency
+            ),
+            "harmonics": int(DEFAULT_HARMONICS if self.harmonics is None else self.harmonics),
+        }
+
+    def fourier_seed(self, run: int) -> np.random.SeedSequence:
+        """The seed of run ``run``'s Fourier coefficients (:data:`JOINT_STREAM`)."""
+        drawn = run if "joints" in self.vary else 0
+        return np.random.SeedSequence(self.seed, spawn_key=(drawn, JOINT_STREAM))
+
+    def run_motion(self, inputs: RunInputs) -> Any:
+        """The ``motion`` of a run's producer: None (sines) or its Fourier excitation."""
+        if self.motion == "sine":
+            return None
+        from aaria_pin.core.excitation import FourierExcitation
+
+        settings = self.fourier_settings()
+        return FourierExcitation.from_table(
+            inputs.tables["fourier_coefficients"], settings["base_frequency"], settings
+        )
+
+    def motion_attributes(self) -> dict[str, Any]:
+        """``motion`` and ``fourier`` of a Fourier data set; nothing for sines (as before)."""
+        if self.motion == "sine":
+            return {}
+        return {"motion": self.motion, "fourier": self.fourier_settings()}
 
     # --- what a robot adds ----------------------------------------------------------------------
 
@@ -126,6 +224,21 @@ class DatasetSpec(ABC):
     @abstractmethod
     def simulate(self, inputs: RunInputs) -> RunRecord:
         """The run made from its inputs."""
+
+    def check_inputs(self, inputs: RunInputs) -> None:
+        """Check a run's input tables on their own, before any simulation.
+
+        The robot's subclass checks its tables; this checks the base table.
+
+        Raises:
+            TableError: a table no run can use.
+        """
+        from aaria_pin.core.oscillation import validate_base_table
+
+        if "senSenB" in inputs.tables:
+            validate_base_table(inputs.tables["senSenB"])
+        if "base_table" in inputs.tables:
+            validate_base_table(inputs.tables["base_table"])
 
     # --- the same for every robot ---------------------------------------------------------------
 
@@ -168,7 +281,6 @@ class DatasetSpec(ABC):
 
     def attributes(self) -> dict[str, Any]:
         """File attributes describing the spec (what :meth:`mismatches` compares on resume)."""
-        from aaria_pin.core.imu_noise import ADIS16485
         from aaria_pin.core.run import sampling_attributes
 
         fixed = {
@@ -180,11 +292,14 @@ class DatasetSpec(ABC):
             "kind": self.kind,
             "robot": self.robot_name(),
             **({"robot_info": info} if (info := self.robot_attributes()) else {}),
-            **sampling_attributes(self.rate, self.duration, self.seed, self.noise, ADIS16485),
+            **sampling_attributes(
+                self.rate, self.duration, self.seed, self.noise, self.noise_model
+            ),
             "noise_stream": NOISE_STREAM,
             "vary": list(self.vary),
             "config": self.config.as_dict(),
             "fixed_tables": fixed,
+            **self.motion_attributes(),
             "version": __version__,
         }
 
@@ -211,6 +326,8 @@ class DatasetSpec(ABC):
             "kind",
             "robot",
             "robot_info",
+            "motion",
+            "fourier",
         )
         return [key for key in keys if _plain(stored.get(key)) != _plain(mine.get(key))]
 
@@ -229,6 +346,62 @@ def run_result(spec: DatasetSpec, run: int) -> Result:
     except Exception as exc:
         message = str(exc) if isinstance(exc, AariaError) else f"{type(exc).__name__}: {exc}"
         return run, None, f"{message} ({spec.describe_inputs(run)})"
+
+
+def check_first_run(spec: DatasetSpec) -> Result:
+    """Check run 0's inputs, then make and encode run 0 (before a data set file is touched).
+
+    Run 0 takes every fixed input (tables, the robot) and one draw of the random ones: a table
+    no run can use, or config ranges that draw such a table, are refused here
+    (:meth:`DatasetSpec.check_inputs`). When nothing varies, every run has run 0's inputs, so
+    run 0 failing on its inputs is refused too.
+
+    Returns:
+        Run 0's result (a failed run, as the job records it, when its failure depends on what
+        was drawn).
+
+    Raises:
+        ParameterError: run 0's inputs are refused, naming them and why.
+    """
+    try:
+        spec.check_inputs(spec.inputs(0))
+    except AariaError as exc:
+        drawn = f" (its {', '.join(spec.vary)} drawn from the config ranges)" if spec.vary else ""
+        raise ParameterError(
+            f"run 0 of the data set cannot be made{drawn}: {' '.join(str(exc).split())}"
+        ) from None
+    if spec.vary:
+        return run_result(spec, 0)
+    try:
+        record = spec.make_run(0)
+    except AariaError as exc:
+        raise ParameterError(
+            f"no run of the data set can be made: {' '.join(str(exc).split())}"
+        ) from None
+    except Exception:
+        return run_result(spec, 0)
+    try:
+        return 0, encode_run(spec.layout(), record, spec.dtype), ""
+    except Exception:
+        return run_result(spec, 0)
+
+
+class DatasetJobStoppedError(Exception):
+    """A data-set job stopped before its end (Ctrl-C, no space left, its scheduler lost).
+
+    The runs saved so far are in the file, and the same command with ``--resume`` goes on.
+
+    Attributes:
+        saved: runs complete in the file (None: the file cannot be read)
+        total: the data set's N
+        exit_status: the command's exit status (130 after Ctrl-C, else 1)
+    """
+
+    def __init__(self, message: str, saved: int | None, total: int, exit_status: int = 1) -> None:
+        super().__init__(message)
+        self.saved = saved
+        self.total = total
+        self.exit_status = exit_status
 
 
 def _plain(value: Any) -> Any:

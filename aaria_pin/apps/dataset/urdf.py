@@ -5,9 +5,12 @@ run's joint oscillation table (:func:`~aaria_pin.aaria.randomize.random_urdf_joi
 table from the same streams as an Aaria data set; run k is simulated by
 :func:`aaria_pin.core.urdf_run.simulate_loaded_robot`. Its layout: the robot's actuated joints
 in model order, its IMU layout, the tables ``joint_table`` (n × 5) and, on a moving base,
-``base_table`` (6 × 4), and the robot's URDF text. The file's ``robot_info`` attribute records
-the robot (source, name, base and tool frames, moving base, joint names, IMU names, parents and
-poses, the URDF's SHA-256), compared on resume.
+``base_table`` (6 × 4), and the robot's URDF text; with a Fourier excitation
+(``motion="fourier"``) also ``fourier_coefficients`` (n × (1 + 2L):
+:func:`~aaria_pin.core.urdf_run.urdf_fourier_excitation`, drawn from the run's joint stream;
+its ``joint_table`` is then the robot's default, not followed). The file's ``robot_info``
+attribute records the robot (source, name, base and tool frames, moving base, joint names,
+IMU names, parents and poses, the URDF's SHA-256), compared on resume.
 """
 
 from __future__ import annotations
@@ -159,7 +162,7 @@ class UrdfDatasetSpec(DatasetSpec):
 
         Kept per process with the loaded robot: every run's encoding asks for it.
         """
-        key = (*self.source._key(), "layout")
+        key = (*self.source._key(), "layout", self.motion, self.harmonics)
         if key not in _LAYOUTS:
             _LAYOUTS.clear()
             _LAYOUTS[key] = self._make_layout()
@@ -170,6 +173,9 @@ class UrdfDatasetSpec(DatasetSpec):
         tables = {"joint_table": (loaded.robot.n_joints, 5)}
         if self.source.moving_base:
             tables["base_table"] = (6, 4)
+        if self.motion == "fourier":
+            harmonics = self.fourier_settings()["harmonics"]
+            tables["fourier_coefficients"] = (loaded.robot.n_joints, 1 + 2 * harmonics)
         return DatasetLayout(
             loaded.robot.joint_names,
             tuple(mount.name for mount in loaded.imu_mounts),
@@ -185,7 +191,8 @@ class UrdfDatasetSpec(DatasetSpec):
         from aaria_pin.core.urdf_robot import default_urdf_joint_table
 
         loaded = self.source.load()
-        if "joints" in self.vary:
+        fourier = self.motion == "fourier"
+        if "joints" in self.vary and not fourier:
             joint_table = random_urdf_joint_table(
                 self.config, loaded.joints, run_stream(self.seed, run, 1)
             )
@@ -197,7 +204,29 @@ class UrdfDatasetSpec(DatasetSpec):
         tables = {"joint_table": joint_table}
         if self.source.moving_base:
             tables["base_table"] = base_table
+        if fourier:
+            from aaria_pin.core.urdf_run import urdf_fourier_excitation
+
+            excitation = urdf_fourier_excitation(
+                loaded,
+                self.duration,
+                self.rate,
+                seed=self.fourier_seed(run),
+                **self.fourier_settings(),
+            )
+            tables["fourier_coefficients"] = excitation.table()
         return RunInputs(tables, noise_seed)
+
+    def check_inputs(self, inputs: RunInputs) -> None:
+        """The joint table against the robot's joints, and the base table.
+
+        Raises:
+            TableError: a table no run can use.
+        """
+        from aaria_pin.core.urdf_robot import validate_urdf_joint_table
+
+        super().check_inputs(inputs)
+        validate_urdf_joint_table(inputs.tables["joint_table"], self.source.load())
 
     def simulate(self, inputs: RunInputs) -> RunRecord:
         """:func:`~aaria_pin.core.urdf_run.simulate_loaded_robot` of the inputs."""
@@ -213,4 +242,6 @@ class UrdfDatasetSpec(DatasetSpec):
             rate=self.rate,
             seed=inputs.noise_seed,
             noise=self.noise,
+            noise_model=self.noise_model,
+            motion=self.run_motion(inputs),
         )

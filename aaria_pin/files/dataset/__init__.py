@@ -18,7 +18,9 @@ signals), an Aaria data set also ``senSen`` (N × T × 91). Each view has a ``co
 attribute; ``layout_json`` records the tables and the views' sources.
 
 Bookkeeping: ``complete`` (N, uint8: 1 once a run is written and flushed), ``failed`` (N, uint8),
-``checksum`` (N × arrays, uint32: the CRC-32 of each run's stored chunks, checked on resume).
+``checksum`` (N × arrays, uint32: the CRC-32 of each run's chunks before deflate, so it depends
+on the numbers only; checked on resume, where a file of an earlier 0.2 that recorded the CRC-32
+of the deflated bytes is still accepted).
 Chunks hold one run (see :mod:`.layout`), compressed with gzip level 1 after the shuffle filter.
 File attributes: ``format``, ``format_version``, ``N``, ``samples``, ``dtype``, ``kind``,
 ``robot``, the run settings (rate, duration, noise, noise parameters, gravity, units, version,

@@ -57,7 +57,8 @@ SIGNALS_VIEW = "signals"
 """The flat view every data set has: ``time``, ``q:<joint>`` …, ``<imu>_<signal>`` …"""
 
 EncodedRun = dict[str, tuple[list[bytes], int]]
-"""A run ready to store: per array, its chunks' bytes (in chunk order) and their CRC-32."""
+"""A run ready to store: per array, its chunks' bytes (in chunk order) and the CRC-32 of their
+uncompressed bytes (see :func:`encode_run`)."""
 
 
 @dataclass(frozen=True)
@@ -278,6 +279,12 @@ def _chunk_blocks(array: Array, chunk: tuple[int, ...]) -> list[Any]:
 def encode_run(layout: DatasetLayout, record: RunRecord, dtype: str) -> EncodedRun:
     """Each stored array of a run as the bytes of its HDF5 chunks, and their CRC-32.
 
+    The CRC-32 is that of the chunks' bytes before deflate (the shuffled numbers, what HDF5
+    gives back when it decodes a chunk's deflate), so it depends on the numbers only: two
+    encoders, or two runs of one, that deflate the same numbers to other bytes still record
+    the same ``checksum`` row (a resumed data set equals an uninterrupted one array for array,
+    ``checksum`` included).
+
     A chunk is what HDF5's filters make of it: the shuffle filter (byte ``j`` of every element
     together), then deflate at level 1, so h5py, MATLAB and any HDF5 reader decode it. Deflate
     runs through ISA-L (``isal``: a standard zlib stream, about 8 times faster than zlib at the
@@ -320,7 +327,7 @@ def encode_run(layout: DatasetLayout, record: RunRecord, dtype: str) -> EncodedR
                     _CONSTANT_CHUNKS[key] = data
             else:
                 data = compress(block, 1)
-            checksum = crc32(data, checksum)
+            checksum = crc32(block, checksum)
             chunks.append(data)
         encoded[name] = (chunks, checksum)
     return encoded

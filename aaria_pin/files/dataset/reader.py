@@ -106,6 +106,12 @@ class DatasetReader:
                     f"{self.path}: its shard {missing[0]} is missing ({len(missing)} missing); "
                     "allowed: the data set's folder with all its shards"
                 )
+        if "complete" not in self._handle:
+            self._handle.close()
+            raise InputFileError(
+                f"{self.path}: a damaged data set: no 'complete' array; "
+                "allowed: a complete aaria_pin data set (make it again)"
+            )
         self.complete = self._handle["complete"][()].astype(bool)
         self.layout: DatasetLayout | None = None
         if self.version == LEGACY_VERSION:

@@ -243,13 +243,14 @@ def verify_shard(path: str | os.PathLike[str], prefix: str, names: Sequence[str]
             rows = len(runs)
             for row in np.flatnonzero(complete):
                 try:
-                    _, stored = read_run_chunks(handle, names, int(row))
-                except (OSError, KeyError, ValueError):
+                    _, plain, stored = read_run_chunks(handle, names, int(row))
+                except (OSError, KeyError, ValueError, RuntimeError):
                     continue
-                if stored == [int(c) for c in checksums[row]]:
-                    intact[int(runs[row])] = (int(row), tuple(stored))
+                recorded = [int(c) for c in checksums[row]]
+                if recorded in (plain, stored):  # stored: an older shard (compressed CRC-32s)
+                    intact[int(runs[row])] = (int(row), tuple(recorded))
         size = file.stat().st_size
-    except (OSError, KeyError, ValueError):  # unreadable: nothing of it is kept
+    except (OSError, KeyError, ValueError, RuntimeError):  # unreadable: nothing of it is kept
         return ShardContents(file.name, 0, {}, 0)
     return ShardContents(file.name, rows, intact, size)
 
