@@ -122,5 +122,5 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
         f"{len(record.imu_mounts)} IMUs, {samples} samples at "
         f"{record.attributes['rate']:g} Hz, {motion_note(record)}"
         f"noise {'on' if record.attributes['noise'] else 'off'}, "
-        f"peak |tau| {peak:.4g}"
+        f"peak |tau| {peak:.4g} (N*m, N for a prismatic joint)"
     )

@@ -227,7 +227,7 @@ def simulate(
         f"wrote {output}: {samples} samples at {record.attributes['rate']:g} Hz, "
         f"{motion_note(record)}"
         f"noise {'on' if record.attributes['noise'] else 'off'}, "
-        f"peak |tau| {peak:.4g}"
+        f"peak |tau| {peak:.4g} (N*m, N for a prismatic joint)"
     )
 
 
@@ -258,5 +258,6 @@ def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str) -> None:
     write_run(output, record, compression=None if compress == "none" else compress)
     click.echo(
         f"wrote {output}: {record.attributes['robot']} ({kind}), {record.n_samples} samples at "
-        f"{record.attributes['rate']:g} Hz, peak |tau| {abs(record.tau).max():.4g}"
+        f"{record.attributes['rate']:g} Hz, peak |tau| {abs(record.tau).max():.4g} "
+        "(N*m, N for a prismatic joint)"
     )
