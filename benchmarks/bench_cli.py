@@ -9,13 +9,18 @@ defaults: 10 s at 100 Hz, 1,001 samples, noise on) with the kernels' disk cache 
 (``NUMBA_CACHE_DIR`` a fresh folder), whether it says that it compiles, and whether the next
 process loads the kernels instead (no message). Writing: the extra wall time of ``aaria simulate``
 for the long run over the short one, per extra sample, against the floor per sample (Pinocchio's
-``rneaInParallel``, one thread, same arm and trajectory).
+``rneaInParallel``, one thread, same arm and trajectory). On a shared machine whole processes
+are noisy, so each repeat measures the floor (in this process) next to its short and long
+run, and the ratio printed is the median of the per-repeat ratios with their range; the same
+ratio of the commands' CPU time (user + system, ``getrusage`` of the children) is printed
+beside it: it moves less when other jobs share the cores.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -43,9 +48,18 @@ def aaria() -> list[str]:
 
 
 def wall(command: list[str], env: dict[str, str] | None = None) -> float:
+    return timed(command, env)[0]
+
+
+def timed(command: list[str], env: dict[str, str] | None = None) -> tuple[float, float]:
+    """Wall time and CPU time (user + system) of one run of a command [s]."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     subprocess.run(command, check=True, capture_output=True, env=env)
-    return time.perf_counter() - start
+    elapsed = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return elapsed, cpu
 
 
 def first_command(folder: Path) -> tuple[float, bool, float, bool]:
@@ -81,6 +95,7 @@ def simulate(samples: int, folder: Path) -> list[str]:
 
 
 def floor_per_sample(samples: int, repeats: int) -> float:
+    """The floor per sample [s]: median of ``repeats`` batched RNEAs over ``samples``."""
     preset = get_preset("aaria-fig2")
     robot = build_dh_robot(preset.table)
     model = robot.model(moving_base=True)
@@ -111,10 +126,20 @@ def main() -> None:
         cold_s, cold_says, next_s, next_says = first_command(folder)
         simulate_s, help_s = startup(folder, 3 if args.smoke else 9)
         wall(simulate(short, folder))  # warm the compiled kernels' cache
-        short_s = statistics.median(wall(simulate(short, folder)) for _ in range(repeats))
-        long_s = statistics.median(wall(simulate(long, folder)) for _ in range(repeats))
-    floor = floor_per_sample(min(long, 200_000), max(repeats, 3))
+        rows = []  # per repeat: short wall, long wall, short CPU, long CPU, floor per sample
+        for _ in range(repeats):
+            floor_before = floor_per_sample(min(long, 200_000), 3)
+            short_wall, short_cpu = timed(simulate(short, folder))
+            long_wall, long_cpu = timed(simulate(long, folder))
+            floor_after = floor_per_sample(min(long, 200_000), 3)
+            floor_now = (floor_before + floor_after) / 2.0
+            rows.append((short_wall, long_wall, short_cpu, long_cpu, floor_now))
+    short_s = statistics.median(row[0] for row in rows)
+    long_s = statistics.median(row[1] for row in rows)
+    floor = statistics.median(row[4] for row in rows)
     extra = (long_s - short_s) / (long - short)
+    wall_ratios = [(row[1] - row[0]) / (long - short) / row[4] for row in rows]
+    cpu_ratios = [(row[3] - row[2]) / (long - short) / row[4] for row in rows]
     print(f"start-up, whole processes ({' '.join(aaria())}), medians")
     print(f"{'what':<52} {'value':>9}   goal")
     print(
@@ -140,6 +165,11 @@ def main() -> None:
     print(f"{'extra wall per sample':<44} {extra * 1e6:>9.2f} us")
     print(f"{'floor per sample (rneaInParallel, 1 thread)':<44} {floor * 1e6:>9.2f} us")
     print(f"{'extra per sample / floor per sample':<44} {extra / floor:>12.2f}")
+    for label, ratios in (("wall", wall_ratios), ("CPU", cpu_ratios)):
+        print(
+            f"{f'per repeat, extra {label} / floor: median':<44} {statistics.median(ratios):>12.2f}"
+            f"   (range {min(ratios):.2f}-{max(ratios):.2f})"
+        )
 
 
 if __name__ == "__main__":

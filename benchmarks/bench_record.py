@@ -6,10 +6,11 @@
 Prints a table of medians over repeats, measured in turn within each repeat in one process, and
 the median of the per-repeat ratios to the floor: the record with noise off and on, the record
 plus its write to an uncompressed ``.h5`` (the issue's "record + write"; a temporary folder),
-and a per-sample Pinocchio loop. The table is measured twice: first with glibc's default
-malloc, then with the thresholds the ``aaria`` commands and the data-set workers set
-(``aaria_pin.core._malloc.tune_malloc``, irreversible, hence second; the floor is measured
-again under it), where freed arrays are reused instead of faulting fresh pages in.
+the write alone (a record made beforehand) and a per-sample Pinocchio loop. The table is
+measured twice: first with glibc's default malloc, then with the thresholds the ``aaria``
+commands and the data-set workers set (``aaria_pin.core._malloc.tune_malloc``, irreversible,
+hence second; the floor is measured again under it), where freed arrays are reused instead of
+faulting fresh pages in.
 """
 
 from __future__ import annotations
@@ -102,12 +103,19 @@ def main() -> None:
 
         return run
 
+    made = record(False)()
+
+    def write_alone() -> None:
+        """Write a record made beforehand (uncompressed .h5): the write's own cost."""
+        _written.append(write_run(Path(folder.name) / f"run{len(_written)}.h5", made))
+
     funcs = {
         "floor": lambda: batched_rnea(model.model, q, v, a, threads=1),
         "record": record(False),
         "noisy": record(True),
         "write": written(False),
         "noisy write": written(True),
+        "write alone": write_alone,
     }
     times = interleaved(funcs, repeats)
 
@@ -142,6 +150,7 @@ def report(times: dict[str, list[float]], title: str, reference_samples: int) ->
         "noisy": "record, noise on",
         "write": "record + write .h5 (uncompressed), noise off",
         "noisy write": "record + write .h5 (uncompressed), noise on",
+        "write alone": "write .h5 alone (uncompressed; record made before)",
         "loop": f"per-sample Pinocchio loop (timed on {reference_samples})",
     }
     for name, label in labels.items():

@@ -177,8 +177,13 @@ def _acquire(final: Path, lock: Path, fcntl: object) -> int:
         except FileNotFoundError:
             same = False
         if same:  # not a lock file its last holder removed while we opened it
-            os.ftruncate(descriptor, 0)
-            os.pwrite(descriptor, f"{os.getpid()}\n".encode(), 0)
+            # The stamp is written, then the file trimmed to it: truncating to zero first made
+            # ext4 write the file out when the descriptor closed (auto_da_alloc: a file
+            # truncated to zero and written again is flushed on close), 2.5-4 ms of every
+            # output (more on a busy disk) against 0.14 ms so.
+            stamp = f"{os.getpid()}\n".encode()
+            os.pwrite(descriptor, stamp, 0)
+            os.ftruncate(descriptor, len(stamp))
             return descriptor
         os.close(descriptor)
     raise _busy(final, 0)

@@ -450,6 +450,7 @@ def test_failure_during_writing_leaves_nothing(
         raise RuntimeError("disk on fire")
 
     monkeypatch.setattr(h5py.Group, "create_dataset", explode)
+    monkeypatch.setattr(h5py.h5d, "create", explode)  # the run file's low-level datasets
     monkeypatch.setattr(scipy.io, "savemat", explode)
     for name in ("run.h5", "run.mat"):
         with pytest.raises(RuntimeError, match="disk on fire"):
@@ -465,6 +466,7 @@ def test_failure_keeps_previous_file(tmp_path: Path, monkeypatch: pytest.MonkeyP
         raise OSError(28, "No space left on device")
 
     monkeypatch.setattr(h5py.Group, "create_dataset", explode)
+    monkeypatch.setattr(h5py.h5d, "create", explode)
     with pytest.raises(OutputFileError, match=r"no space left on device writing .*run\.h5"):
         write_run(path, make_record(seed=2))
     assert path.read_bytes() == before

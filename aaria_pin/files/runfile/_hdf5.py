@@ -24,6 +24,7 @@ from aaria_pin.files._stored import (
     decode_attribute,
     first_line,
     units_of,
+    write_attributes,
 )
 from aaria_pin.files.runfile._attributes import (
     _RESERVED_ATTRIBUTES,
@@ -76,64 +77,129 @@ class _Hdf5Stream:
         samples: int,
         compression: str | None,
     ) -> None:
-        """Create every dataset of the run at its full length (the rest of ``__init__``)."""
-        import h5py
+        """Create every dataset of the run at its full length (the rest of ``__init__``).
 
-        self.handle.attrs["format"] = RUN_FORMAT
-        self.handle.attrs["format_version"] = RUN_FORMAT_VERSION
+        The uncompressed datasets, the names and the URDF are created through h5py's low-level
+        API with one dataset-creation property list (:func:`_new_dataset`); the file is the
+        one ``create_dataset`` makes (the same types, layouts, creation properties and
+        attributes; ``tests/files/test_runfile_lowlevel.py`` compares them), without h5py's
+        argument handling per dataset (``make_new_dset``: 72 µs a dataset against 34 µs here,
+        measured on a busy machine; 17 datasets a run file). With the attributes
+        (:func:`~aaria_pin.files._stored.write_attributes`) and the view
+        (:func:`~aaria_pin.files._stored.create_virtual_view`) also low-level, laying out a
+        10,000-sample run file takes 2.4 ms of CPU instead of 5.0 ms, and the whole write 6.3 ms
+        instead of 10.5 ms (``aaria-fig2``, 2 cores). Compressed series (chunked, filtered) still
+        go through ``create_dataset``.
+        """
+        import h5py
+        from h5py import h5p
+
+        root = self.handle.id
+        write_attributes(root, [("format", RUN_FORMAT), ("format_version", RUN_FORMAT_VERSION)])
         strings = h5py.string_dtype("utf-8")
         names = {
             "joint_names": list(first.joint_names),
             "imu_names": list(first.imu_names),
             "imu_parents": [mount.parent for mount in first.imu_mounts],
         }
+        # h5py's create_dataset: no timestamps, attribute order untracked (its defaults)
+        dcpl = h5p.create(h5p.DATASET_CREATE)
+        dcpl.set_obj_track_times(False)
+        dcpl.set_attr_creation_order(0)
         shapes: dict[str, tuple[int, ...]] = {}
         self.series: dict[str, Any] = {}
         for name, data in arrays.items():
             if name in SERIES:
                 shape = (samples, *data.shape[1:])
-                row_bytes = max(1, data[0].nbytes if data.shape[0] else 8)
-                chunks = None
-                if compression is not None and 0 not in shape:
+                if compression is None or 0 in shape:
+                    dataset = _new_dataset(root, name, np.dtype(np.float64), shape, dcpl)
+                else:
+                    row_bytes = max(1, data[0].nbytes if data.shape[0] else 8)
                     rows = max(1, min(samples, _CHUNK_ROWS, _CHUNK_BYTES // row_bytes))
-                    chunks = (rows, *shape[1:])
-                dataset = self.handle.create_dataset(
-                    name,
-                    shape=shape,
-                    dtype=np.float64,
-                    chunks=chunks,
-                    compression=compression if chunks else None,
-                    compression_opts=1 if chunks and compression == "gzip" else None,
-                    shuffle=chunks is not None,
-                )
+                    dataset = self.handle.create_dataset(
+                        name,
+                        shape=shape,
+                        dtype=np.float64,
+                        chunks=(rows, *shape[1:]),
+                        compression=compression,
+                        compression_opts=1 if compression == "gzip" else None,
+                        shuffle=True,
+                    ).id
                 self.series[name] = dataset
             else:
                 shape = data.shape
-                dataset = self.handle.create_dataset(name, data=data)
+                dataset = _new_dataset(root, name, data.dtype, shape, dcpl, data)
             shapes[name] = shape
-            dataset.attrs["units"] = units_of(name)
+            write_attributes(dataset, [("units", units_of(name))])
         for name, view in first.views.items():
             units = view.units or VIEW_UNITS
             create_virtual_view(self.handle, name, view, shapes, np.float64, units)
         for name, values in names.items():
-            self.handle.create_dataset(name, data=np.array(values, dtype=object), dtype=strings)
-        self.handle.create_dataset("urdf", data=first.urdf, dtype=strings)
+            _new_dataset(root, name, strings, (len(values),), dcpl, np.array(values, strings))
+        _new_dataset(root, "urdf", strings, (), dcpl, np.array(first.urdf, strings))
 
     def write(self, start: int, arrays: Mapping[str, Array]) -> None:
-        """Store the series of samples ``start`` … (contiguous float64 arrays by name)."""
+        """Store the series of samples ``start`` … (contiguous float64 arrays by name).
+
+        Straight from the caller's arrays through the low-level ``DatasetID.write`` (a piece
+        that fills a dataset with ``h5s.ALL``, else a hyperslab of the file's dataspace): no
+        copy, and none of ``write_direct``'s selection objects (the 12 MB of a 10,000-sample
+        run: 2.7 ms of CPU against 3.6 ms through ``write_direct``; writing them with one
+        ``os.pwrite`` takes about 2 ms on this machine).
+        """
+        from h5py import h5s
+
         for name, dataset in self.series.items():
             data = arrays[name]
-            if data.shape[0]:
-                dataset.write_direct(data, dest_sel=np.s_[start : start + data.shape[0]])
+            rows = data.shape[0]
+            if not rows:
+                continue
+            if start == 0 and rows == self.samples:
+                dataset.write(h5s.ALL, h5s.ALL, data)
+                continue
+            stored = dataset.get_space()
+            stored.select_hyperslab((start, *(0 for _ in data.shape[1:])), data.shape)
+            dataset.write(h5s.create_simple(data.shape), stored, data)
 
     def close(self, attributes: list[tuple[str, Any]] | None) -> None:
         """Write the root attributes (unless None: a failed file) and close the file."""
         try:
             if attributes is not None:
-                for key, value in attributes:
-                    self.handle.attrs[key] = value
+                write_attributes(self.handle.id, attributes)
         finally:
             self.handle.close()
+
+
+def _new_dataset(
+    parent: Any,
+    name: str,
+    dtype: Any,
+    shape: tuple[int, ...],
+    dcpl: Any,
+    data: Array | None = None,
+) -> Any:
+    """A new dataset (low-level ``DatasetID``) as h5py's ``create_dataset`` makes it.
+
+    Args:
+        parent: the low-level identifier of the group (or file) it goes in
+        name: its name
+        dtype: its numpy dtype (h5py's string dtype for strings)
+        shape: its shape (``()``: a scalar)
+        dcpl: the dataset-creation property list
+        data: its values (an array of ``dtype`` and ``shape``), or None to write later
+    """
+    from h5py import h5d, h5s, h5t
+
+    dataset = h5d.create(
+        parent,
+        name.encode("utf-8"),
+        h5t.py_create(dtype, logical=True),
+        h5s.create_simple(shape),
+        dcpl=dcpl,
+    )
+    if data is not None and data.size:
+        dataset.write(h5s.ALL, h5s.ALL, data)
+    return dataset
 
 
 @contextlib.contextmanager

@@ -186,9 +186,10 @@ def checked_arrays(final: Path, record: RunRecord) -> dict[str, Array]:
                 f"{final}: array {name!r} has shape {describe_shape(arrays[name].shape)}; "
                 f"expected {describe_shape(expected[name])}"
             )
+    joint_names, imu_names = record.joint_names, record.imu_names  # built once, not per column
     for name, view in record.views.items():
         for column, source in zip(view.columns, view.sources, strict=True):
-            read = column_source(column, record.joint_names, record.imu_names)
+            read = column_source(column, joint_names, imu_names)
             if read != source:
                 raise OutputFileError(
                     f"{final}: view {name!r} column {column!r} is {source.array}"
