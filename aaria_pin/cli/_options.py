@@ -146,6 +146,9 @@ def load_robot_source(robot: str | None, urdf_file: Path | None) -> tuple[str, P
         entry = find_robot(robot)
         return read_urdf_file(entry.urdf), entry.urdf.parent, entry.name
     assert urdf_file is not None
+    from aaria_pin.files.paths import existing_input
+
+    existing_input(urdf_file, None, "URDF")  # a FIFO or a folder: one line, never a wait
     return read_urdf_file(urdf_file), urdf_file.parent, str(urdf_file)
 
 

@@ -58,7 +58,10 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     if params["tool_frame"] is not None:
         overrides["tool_frame"] = params["tool_frame"]
     if params["imu_layout_file"] is not None:
-        overrides["imu_layout"] = read_imu_layout(params["imu_layout_file"])
+        from aaria_pin.files.paths import existing_input
+
+        layout_file = existing_input(params["imu_layout_file"], None, "IMU layout")
+        overrides["imu_layout"] = read_imu_layout(layout_file)
     if params["joints_file"] is not None:
         overrides["joint_table"] = read_table(params["joints_file"], "joint_table")
     if params["base_file"] is not None:

@@ -287,6 +287,10 @@ def dataset(
         joint_table = read_table(joints_file, "senSenJ" if source is None else "joint_table")
     if base_file is not None:
         base_table = read_table(base_file, "senSenB")
+    if config_file is not None:
+        from aaria_pin.files.paths import existing_input
+
+        existing_input(config_file, None, "config")  # a FIFO: one line, never a wait
     config, noise_model = load_dataset_config(config_file)
     settings: dict[str, Any] = {
         "n_runs": n_runs,
@@ -358,7 +362,13 @@ def _urdf_source(
     from aaria_pin.core.urdf_robot import missing_meshes_message
 
     text, folder, name = load_robot_source(robot, urdf_file)
-    layout = None if imu_layout_file is None else read_imu_layout(imu_layout_file)
+    from aaria_pin.files.paths import existing_input
+
+    layout = (
+        None
+        if imu_layout_file is None
+        else read_imu_layout(existing_input(imu_layout_file, None, "IMU layout"))
+    )
     source = UrdfSource(text, name, str(folder), not fixed_base, tool_frame, layout)
     summary = source.load().summary  # checks the robot here, once, before any worker starts
     if summary.missing_meshes:

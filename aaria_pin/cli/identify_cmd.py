@@ -87,24 +87,99 @@ def identify_kinematics_command(
     return None
 
 
-@click.command()
-@click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
+_MODES_HELP = """
+\b
+Examples:
+  aaria identify run.h5 -o est.csv --urdf est.urdf   # kinematics of a DH run
+  aaria identify ds.h5 --run 3 --json                # one run of a data set
+  aaria identify --dynamics run.h5 --parameters      # inertial base parameters from torques
+  aaria identify --dataset clean.h5 noisy.h5 --workers 2 --plot cdf.png
+"""
+
+
+def _check_modes(
+    files: tuple[Path, ...],
+    dynamics: bool,
+    dataset: bool,
+    run_index: int | None,
+    urdf: Path | None,
+    plot: Path | None,
+) -> None:
+    """Refuse options of another mode (one line, exit 2)."""
+    if not files:
+        raise click.UsageError("no FILE given; allowed: a run file, or data sets with --dataset")
+    if not dataset:
+        if len(files) > 1:
+            raise click.UsageError(
+                f"{len(files)} files given; allowed: one run file, or data sets with --dataset"
+            )
+        if plot is not None:
+            raise click.UsageError("--plot is for --dataset")
+    elif run_index is not None:
+        raise click.UsageError("--run is for one run; --dataset identifies every run")
+    if urdf is not None and (dynamics or dataset):
+        raise click.UsageError("--urdf is for the kinematic identification of one run")
+
+
+@click.command(epilog=_MODES_HELP)
+@click.argument("files", nargs=-1, type=click.Path(path_type=Path, dir_okay=False))
+@click.option(
+    "--dynamics",
+    is_flag=True,
+    help="Identify the inertial base parameters from the torques (with --dataset: as well).",
+)
+@click.option(
+    "--dataset",
+    is_flag=True,
+    help="Benchmark: identify every run of the data sets FILES, accuracy by noise and length.",
+)
 @click.option("--run", "run_index", type=click.IntRange(0), help="One run of a data set.")
 @click.option(
     "-o",
     "--output",
-    "table",
     type=click.Path(path_type=Path, dir_okay=False),
-    help="Write the estimated 8 x 5 DH table (.csv).",
+    help="The estimated 8 x 5 DH table (.csv); with --dynamics or --dataset the report (.json).",
 )
 @click.option(
     "--urdf",
     type=click.Path(path_type=Path, dir_okay=False),
     help="Write the estimated arm, IMUs at their estimated mounts (.urdf).",
 )
+@click.option(
+    "--holdout",
+    type=click.FloatRange(0.0, 0.9),
+    default=0.2,
+    show_default=True,
+    help="--dynamics: share of the run, at its end, held out of the fit.",
+)
+@click.option("--parameters", is_flag=True, help="--dynamics: print every base parameter.")
+@click.option(
+    "--workers",
+    type=click.IntRange(1, 1024),
+    default=1,
+    show_default=True,
+    help="--dataset: processes [cores].",
+)
+@click.option("--limit", type=click.IntRange(1), help="--dataset: at most N runs of each data set.")
+@click.option(
+    "--plot",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help="--dataset: the CDF of tool-tip errors per group (.png, .pdf, .svg).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def identify(
-    file: Path, run_index: int | None, table: Path | None, urdf: Path | None, as_json: bool
+    files: tuple[Path, ...],
+    dynamics: bool,
+    dataset: bool,
+    run_index: int | None,
+    output: Path | None,
+    urdf: Path | None,
+    holdout: float,
+    parameters: bool,
+    workers: int,
+    limit: int | None,
+    plot: Path | None,
+    as_json: bool,
 ) -> None:
     """Identify an Aaria arm's kinematic model from a DH run's IMU signals and encoders.
 
@@ -114,12 +189,54 @@ def identify(
     tool IMUs define the base and tool-tip frames). Printed: the table, the parameter
     combinations the data cannot determine, residuals, and the errors against the truth the
     file holds.
+
+    With --dynamics: the robot's inertial base parameters (any run, URDF robots too) from
+    q, qd, qdd, tau and the base wrench; held-out torque error, total mass, centre of mass.
+
+    With --dataset: every run of the data sets FILES identified (--workers processes), then
+    the accuracy against the truth by noise, run length and rate: link types right, tool-tip
+    RMS error median, 95th percentile and largest, share within 1 mm and 1 cm, seconds per arm.
     """
+    _check_modes(files, dynamics, dataset, run_index, urdf, plot)
+    if dataset:
+        from aaria_pin.cli._identify_dataset import dataset_command
+
+        if output is not None:
+            check_output(output, "JSON report", (".json",))
+        if plot is not None:
+            from aaria_pin.viz._formats import PICTURE_SUFFIXES
+
+            check_output(plot, "picture", tuple(PICTURE_SUFFIXES))
+        dataset_command(
+            files,
+            workers=workers,
+            dynamics=dynamics,
+            limit=limit,
+            as_json=as_json,
+            output=output,
+            plot=plot,
+        )
+        return
+    (file,) = files
     check_run_option(file, run_index)
-    if table is not None:
-        check_output(table, "CSV table", (".csv",))
+    if dynamics:
+        from aaria_pin.cli._identify_dynamics import dynamics_command
+
+        if output is not None:
+            check_output(output, "JSON report", (".json",))
+        dynamics_command(
+            file,
+            run_index,
+            holdout=holdout,
+            as_json=as_json,
+            output=output,
+            show_parameters=parameters,
+        )
+        return
+    if output is not None:
+        check_output(output, "CSV table", (".csv",))
     if urdf is not None:
         check_output(urdf, "URDF", (".urdf",))
-    report = identify_kinematics_command(file, run_index, table, urdf, as_json)
+    report = identify_kinematics_command(file, run_index, output, urdf, as_json)
     if report is not None:
         click.echo(json.dumps(report))

@@ -140,6 +140,10 @@ def mjcf(**params: Any) -> None:
 
             urdf, folder, name = load_robot_source(params["robot"], params["urdf_file"])
             layout_file = params["imu_layout_file"]
+            if layout_file is not None:
+                from aaria_pin.files.paths import existing_input
+
+                layout_file = existing_input(layout_file, None, "IMU layout")
             robot = load_urdf_robot(
                 urdf,
                 urdf_dir=folder,

@@ -45,6 +45,7 @@ __all__ = [
     "angles_from_matrix",
     "as_rotation",
     "elementary",
+    "half_open",
     "matrix_from_angles",
     "rotation_defect",
 ]
@@ -236,7 +237,7 @@ def angles_from_matrix(
     return _moving_axes_angles(R, (i, j, k), lock_tolerance)
 
 
-def _half_open(angle: Array) -> Array:
+def half_open(angle: Array) -> Array:
     """Angles from ``atan2`` moved from exactly -π to π, so they lie in (-π, π]."""
     return np.where(angle == -np.pi, np.pi, angle)
 
@@ -282,5 +283,5 @@ def _moving_axes_angles(R: Array, axes: tuple[int, int, int], lock_tolerance: fl
         residual = np.swapaxes(elementary(i, a_near) @ elementary(j, b_near), -1, -2) @ R[near]
         c = np.array(c, dtype=float, copy=True)
         c[near] = _angle_about(last, residual)
-    angles = np.stack([_half_open(a), b, _half_open(c)], axis=-1)
+    angles = np.stack([half_open(a), b, half_open(c)], axis=-1)
     return Angles(angles, np.asarray(lock_distance < np.sin(lock_tolerance)))

@@ -10,6 +10,7 @@ into the one :class:`~aaria_pin.core.record.RunRecord` with :func:`sampling_attr
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -182,11 +183,27 @@ def stored_sampling(attributes: dict[str, Any]) -> dict[str, Any]:
     re-making a run from its record (defaults where an attribute is missing).
     """
     return {
-        "duration": float(attributes.get("duration", DEFAULT_DURATION)),
-        "rate": float(attributes.get("rate", DEFAULT_RATE)),
+        "duration": _stored_number(attributes, "duration", DEFAULT_DURATION, "s"),
+        "rate": _stored_number(attributes, "rate", DEFAULT_RATE, "Hz"),
         "seed": stored_seed(attributes),
         "noise": bool(attributes.get("noise", True)),
     }
+
+
+def _stored_number(attributes: dict[str, Any], name: str, default: float, unit: str) -> float:
+    """A stored positive number, or one line naming the attribute (a damaged or edited file)."""
+    from aaria_pin.errors import InputFileError
+
+    value = attributes.get(name, default)
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if not (math.isfinite(number) and number > 0):
+        raise InputFileError(
+            f"the run's attribute {name!r} is {value!r}; allowed: a positive number of {unit}"
+        )
+    return number
 
 
 @dataclass(frozen=True)

@@ -91,8 +91,10 @@ class DhDatasetSpec(DatasetSpec):
         if "structure" in self.vary:
             dh = random_dh_table(self.config, run_stream(self.seed, run, 0))
         else:
+            from aaria_pin.aaria.dh import validate_aaria_table
+
             assert self.dh_table is not None
-            dh = np.asarray(self.dh_table, dtype=float)
+            dh = validate_aaria_table(self.dh_table)  # its shape, before rows are indexed
         fourier = self.motion == "fourier"
         if "joints" in self.vary and not fourier:
             joint_table = random_joint_table(self.config, dh, run_stream(self.seed, run, 1))

@@ -48,7 +48,7 @@ from aaria_pin.apps.dataset.spec import (
 from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
 from aaria_pin.core._malloc import tune_malloc
 from aaria_pin.core.se3 import Array
-from aaria_pin.errors import OutputFileError, ParameterError
+from aaria_pin.errors import ParameterError
 from aaria_pin.files.dataset.shards import read_manifest_shards, remove_unused_shards
 from aaria_pin.files.dataset.store import (
     DatasetFile,
@@ -455,8 +455,7 @@ def generate_dataset(
         )
     if workers < 1:
         raise ParameterError(parameter="workers", value=workers, allowed=">= 1")
-    check_dataset_path(file, resume, overwrite, exists=False)
-    _refuse_if_busy(file)
+    check_dataset_path(file, resume, overwrite, exists=False)  # also: its lock held elsewhere
     check_dataset_path(file, resume, overwrite)
     if resume:  # compare settings read-only first: a mismatch changes nothing
         stored = read_dataset_attributes(file)
@@ -497,22 +496,6 @@ def generate_dataset(
             spec.n_runs,
             exit_status=130,
         ) from None
-
-
-def _refuse_if_busy(file: Path) -> None:
-    """Refuse at once an output another aaria process is writing (its lock is held)."""
-    from aaria_pin.files._locks import lock_holder
-
-    holder = lock_holder(file)
-    if holder is not None:
-        raise OutputFileError(
-            f"{file}: is being written by another aaria process (pid {holder or 'unknown'});"
-            " allowed: an output no other job is writing (wait for it to end, or choose"
-            " another file)",
-            parameter="path",
-            value=str(file),
-            element=str(file),
-        )
 
 
 def _saved_runs(file: Path) -> int | None:

@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.aaria.presets import WRIST_D3
-from aaria_pin.core.rotations import angles_from_matrix, as_rotation
+from aaria_pin.core.rotations import angles_from_matrix, as_rotation, half_open
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
@@ -171,22 +171,18 @@ class WristBatch(NamedTuple):
     residual: Array
 
 
-def _half_open(angle: Array) -> Array:
-    """Angles in [-π, π] with -π moved to π: (-π, π]."""
-    return np.where(angle == -np.pi, np.pi, angle)
-
-
 def _other_branch(first: Array) -> Array:
     """The other branch ``θ1 ± π, -θ2, θ3 ± π`` of (..., 3) angles in (-π, π] (one rounding)."""
-    turned = _half_open(np.where(first > 0, first - np.pi, first + np.pi))  # a tiny a > 0: -π
-    return np.stack([turned[..., 0], _half_open(-first[..., 1]), turned[..., 2]], axis=-1)
+    turned = half_open(np.where(first > 0, first - np.pi, first + np.pi))  # a tiny a > 0: -π
+    return np.stack([turned[..., 0], half_open(-first[..., 1]), turned[..., 2]], axis=-1)
 
 
 def _wrap_into(angles: Array, limits: Array) -> tuple[Array, np.ndarray]:
     """Angles shifted by multiples of 2π into [low, high], and whether that worked."""
     low, high = limits[:, 0], limits[:, 1]
-    shifted = low + np.mod(angles - low, 2 * np.pi)
-    inside = shifted <= high + 1e-12
+    slack = 1e-12  # either side: an angle of -7e-17 against a low limit of 0 is inside
+    shifted = low - slack + np.mod(angles - low + slack, 2 * np.pi)
+    inside = shifted <= high + slack
     return shifted, np.asarray(inside.all(axis=-1), dtype=bool)
 
 

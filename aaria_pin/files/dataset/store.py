@@ -511,6 +511,11 @@ def check_dataset_path(path: Path, resume: bool, overwrite: bool, exists: bool =
     from aaria_pin.files.paths import check_output
 
     check_output(path)  # "-", a name too long, a missing or unwritable folder, a locked output
+    if path.exists() and not path.is_file():
+        raise OutputFileError(
+            f"{path}: is not a regular file; allowed: a regular .h5 file (a data set is read "
+            "again while it is written)"
+        )
     if path.suffix.lower() not in (".h5", ".hdf5"):
         raise OutputFileError(f"{path}: unknown data set type {path.suffix!r}; allowed: .h5, .hdf5")
     if not exists:
