@@ -149,3 +149,27 @@ def test_export_stl_round_trip(tmp_path) -> None:
 def test_dimensions_that_fold_the_hand_into_the_pillar_are_refused() -> None:
     with pytest.raises(ParameterError, match="A - B > pillar radius"):
         ArmDimensions(upper_arm=0.3, forearm=0.3)
+
+
+def test_a_full_disk_half_way_leaves_no_partial_arm_folder(
+    tmp_path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import errno
+
+    import aaria_pin.apps.arm.preset as preset
+
+    calls: list[str] = []
+    real_export = preset.export_stl
+
+    def export_until_full(mesh: object, path: object) -> None:
+        calls.append(str(path))
+        if len(calls) == 3:  # the third mesh finds the disk full
+            raise OSError(errno.ENOSPC, "No space left on device")
+        real_export(mesh, path)
+
+    monkeypatch.setattr(preset, "export_stl", export_until_full)
+    folder = tmp_path / "arm"
+    with pytest.raises(OSError, match="No space left"):
+        write_arm_urdf(folder, ArmDimensions())
+    assert len(calls) == 3
+    assert not folder.exists()  # the two meshes written and the folders made are gone

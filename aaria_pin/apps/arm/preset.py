@@ -32,6 +32,7 @@ The files are made at run time, not shipped: they follow the dimensions, and a m
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Mapping
 from pathlib import Path
@@ -325,15 +326,30 @@ def write_arm_urdf(
     from aaria_pin.files.io import write_text_atomic
 
     root = Path(folder)
+    meshes = root / "meshes"
+    made = [p for p in (root, meshes) if not p.exists()]  # outermost first
     try:
-        (root / "meshes").mkdir(parents=True, exist_ok=True)
+        meshes.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise OutputFileError(f"{root}: cannot make the folder ({exc.strerror})") from None
     parts = arm_parts(dims) if parts is None else parts
-    for name, part in parts.items():
-        export_stl(part.mesh, root / "meshes" / f"{name}.stl")
     urdf = root / "pick_place_arm.urdf"
-    write_text_atomic(urdf, arm_urdf(dims, grasp=grasp, parts=parts))
+    written: list[Path] = []
+    try:
+        for name, part in parts.items():
+            target = meshes / f"{name}.stl"
+            new = not target.exists()
+            export_stl(part.mesh, target)  # atomic: an existing mesh is replaced only whole
+            if new:
+                written.append(target)
+        write_text_atomic(urdf, arm_urdf(dims, grasp=grasp, parts=parts))
+    except BaseException:  # a full disk half-way: no partial set of new files is left
+        for path in written:
+            path.unlink(missing_ok=True)
+        for path in reversed(made):
+            with contextlib.suppress(OSError):
+                path.rmdir()  # only if now empty
+        raise
     return urdf
 
 
