@@ -212,7 +212,7 @@ def test_resume_with_other_settings_is_refused(reference: Path, tmp_path: Path) 
         (["-n", "0"], "-n is 0"),
         (["-n", "2", "--config", "CONFIG_UNKNOWN"], "unknown key 'speed'"),
         (["-n", "2", "--config", "CONFIG_EMPTY"], "allowed: a range"),
-        (["-n", "2", "--config", "MISSING"], "cannot be read"),
+        (["-n", "2", "--config", "MISSING"], "no such file"),
         (["-n", "2", "--vary", "structure,colour"], "a part of --vary is 'colour'"),
         (["-n", "2", "--vary", "joints"], "needs --preset or --dh"),
         (["-n", "2", "--dtype", "float16"], "'float16' is not one of"),

@@ -57,7 +57,7 @@ def test_card_of_a_dh_data_set_with_failures(failing: Path) -> None:
     assert "runs " + ", ".join(map(str, failed)) in out
     for heading in ("## Drawn from", "## Noise", "## Columns", "## Structures", "## Failures"):
         assert heading in out
-    assert "base_wrench" in out and "frame: world-aligned axes, about the base origin" in out
+    assert "base_wrench" in out and "world-aligned axes, about the base origin" in out
     assert "angular velocity: 42 columns (imu_base_wx … imu_link6_b_wz) [rad/s]" in out
 
 
