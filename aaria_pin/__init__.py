@@ -37,15 +37,20 @@ if TYPE_CHECKING:
     from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
     from aaria_pin.aaria.presets import Preset, get_preset
     from aaria_pin.aaria.simulate import simulate_run
+    from aaria_pin.apps.identify.dynamics import identify_dynamics
+    from aaria_pin.apps.identify.kinematics import identify_kinematics
     from aaria_pin.core.catalogue import find_robot
+    from aaria_pin.core.excitation import fourier_motion
+    from aaria_pin.core.mjcf import record_mjcf, replay_in_mujoco
     from aaria_pin.core.model import RobotModel, build_model
     from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
     from aaria_pin.core.urdf import RobotDescription, emit_urdf
     from aaria_pin.core.urdf_robot import UrdfRobot, load_urdf_robot
     from aaria_pin.core.urdf_run import simulate_urdf_run
+    from aaria_pin.files.dataset.windows import WindowDataset
     from aaria_pin.files.dataset_reader import DatasetReader
     from aaria_pin.files.io import read_table
-    from aaria_pin.files.runfile import read_run, write_run
+    from aaria_pin.files.runfile import read_run, read_run_inputs, write_run
 
 _LAZY = {
     # robots
@@ -74,6 +79,13 @@ _LAZY = {
     "write_run": "aaria_pin.files.runfile",
     "DatasetReader": "aaria_pin.files.dataset_reader",
     "read_table": "aaria_pin.files.io",
+    "read_run_inputs": "aaria_pin.files.runfile",
+    "WindowDataset": "aaria_pin.files.dataset.windows",
+    "fourier_motion": "aaria_pin.core.excitation",
+    "record_mjcf": "aaria_pin.core.mjcf",
+    "replay_in_mujoco": "aaria_pin.core.mjcf",
+    "identify_kinematics": "aaria_pin.apps.identify.kinematics",
+    "identify_dynamics": "aaria_pin.apps.identify.dynamics",
 }
 
 __all__ = [
@@ -96,16 +108,23 @@ __all__ = [
     "TableError",
     "UrdfError",
     "UrdfRobot",
+    "WindowDataset",
     "__version__",
     "build_dh_robot",
     "build_model",
     "chain_from_table",
     "emit_urdf",
     "find_robot",
+    "fourier_motion",
     "get_preset",
+    "identify_dynamics",
+    "identify_kinematics",
     "load_urdf_robot",
     "read_run",
+    "read_run_inputs",
     "read_table",
+    "record_mjcf",
+    "replay_in_mujoco",
     "simulate_run",
     "simulate_urdf_run",
     "write_run",
