@@ -3,10 +3,13 @@
     python benchmarks/bench_identify.py               # 20 random arms, 30 s at 200 Hz, no noise
     python benchmarks/bench_identify.py -n 100 --noise
     python benchmarks/bench_identify.py --smoke       # CI: two short runs, no goal checked
+    python benchmarks/bench_identify.py -n 20 --motion fourier   # Fourier excitation instead
 
 Each arm is drawn as ``aaria dataset`` draws run k (structure, joint and base tables of the
 default ranges, seed 0), simulated (``simulate_run``), then identified from its record
-(``identify_kinematics``). Printed per arm: the link types right, the tool tip's RMS and largest
+(``identify_kinematics``). With ``--motion fourier`` the joints follow a random Fourier
+excitation (``dh_fourier_excitation``, seed k) instead of the joint table's sines; the base
+moves alike. Printed per arm: the link types right, the tool tip's RMS and largest
 position error over the run (independent Pinocchio forward kinematics of the estimated and the
 true table), the largest joint axis angle error, the named deficiencies and the seconds; then
 the share of arms with every link type right, the share within 1 mm (1 cm with noise), and the
@@ -32,7 +35,7 @@ from aaria_pin.aaria.randomize import (
     random_joint_table,
     run_streams,
 )
-from aaria_pin.aaria.simulate import simulate_run
+from aaria_pin.aaria.simulate import dh_fourier_excitation, simulate_run
 from aaria_pin.apps.identify.kinematics import identify_kinematics
 
 
@@ -43,6 +46,8 @@ def main() -> None:
     parser.add_argument("--rate", type=float, default=200.0)
     parser.add_argument("--noise", action="store_true", help="ADIS16485 noise on")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--motion", choices=("sine", "fourier"), default="sine")
+    parser.add_argument("--first", type=int, default=0, help="first arm")
     parser.add_argument("--smoke", action="store_true")
     args = parser.parse_args()
     if args.smoke:
@@ -50,7 +55,7 @@ def main() -> None:
     config = load_config(None)
     goal = 0.01 if args.noise else 1e-3
     rows = []
-    for k in range(args.n):
+    for k in range(args.first, args.first + args.n):
         structure, joints, base, _ = run_streams(args.seed, k)
         table = random_dh_table(config, structure)
         joint_table = random_joint_table(config, table, joints)
@@ -64,6 +69,11 @@ def main() -> None:
             rate=args.rate,
             noise=args.noise,
             seed=k,
+            motion=(
+                dh_fourier_excitation(table, args.duration, args.rate, seed=k)
+                if args.motion == "fourier"
+                else None
+            ),
         )
         floor = time.perf_counter() - start
         start = time.perf_counter()
@@ -84,7 +94,8 @@ def main() -> None:
     types_right = np.mean([r[0] for r in rows])
     within = np.mean([r[1] <= goal for r in rows])
     print(
-        f"{args.n} arms, {args.duration:g} s at {args.rate:g} Hz, noise {args.noise}: "
+        f"{args.n} arms, {args.duration:g} s at {args.rate:g} Hz, noise {args.noise}, "
+        f"motion {args.motion}: "
         f"link types right {types_right:.1%}; tool tip RMS <= {goal:g} m: {within:.1%}; "
         f"seconds median {statistics.median(r[2] for r in rows):.1f}, max "
         f"{max(r[2] for r in rows):.1f}; ratio to the simulation floor median "

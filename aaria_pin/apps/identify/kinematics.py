@@ -13,7 +13,12 @@ the base pose. It estimates
    each link IMU's mounting pose, by nonlinear least squares
    (Levenberg–Marquardt) of predicted minus measured IMU signals over the run, on the exact
    model (:func:`~aaria_pin.apps.identify._kin_model.predict_signals`, a whole-run
-   forward pass of rates and specific forces);
+   forward pass of rates and specific forces), each signal weighted by 1 / its noise level
+   (the record's noise parameters, else ADIS16485's). A fit that ends above the noise floor
+   is a local minimum: other starts (each prismatic theta forced to each quarter turn, the
+   closed-form start from more samples) are walked, the best few fitted, the smallest
+   residual kept, stopping at the floor. On noisy records the base IMU's signals, inputs of
+   the model, are smoothed and differentiated with windows the data choose (:func:`_smoothed`);
 4. each parameter's standard deviation from the Jacobian at the solution, the residual RMS per
    IMU, the parameter combinations the data cannot determine (the Jacobian's null space, named
    in words: "d2 and d3 add up (only d2 + d3 is determined)"), and, when the record holds the
@@ -73,7 +78,8 @@ TOOL_PARENT = "tool_tip"
 _MOVING = 1e-9  # [rad or m] an encoder whose range is below this does not move
 _DEFICIENT = 1e-5  # singular value ratio below which a direction is not determined
 _INIT_SAMPLES = 400
-_SMOOTHING_WINDOW = 0.5  # [s] of the base gyroscope's derivative when the record is noisy
+_WINDOWS = (0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0)  # [s] smoothing windows tried on noisy base signals
+_AGREE = 2.0  # a longer window agrees when within this many of the shorter one's noise σ
 _FIT_SAMPLES = 4000  # noisy fits gain from every sample (8.3 mm at 1000 samples, 1.2 mm at 6001)
 _RELATIVE_DECREASE = 1e-6  # the fit stops when an iteration gains less than this share
 _NEGATIVE_START = 1e-3  # [m] a start length below minus this is invalid
@@ -84,6 +90,9 @@ _ROUND_UP = 1e-3  # [m] a length this close below 0 is 0
 _LONGEST_MOVE = 1.0  # [m] along a null direction, to make lengths valid
 _PENALTY = 1e6  # [1/m] weight of a negative length
 _MIN_SAMPLES = 20
+_AT_FLOOR = 1.1  # a fit whose weighted RMS is within this factor of the noise floor is done
+_EXACT_FLOOR = 1e-3  # the noise floor of a noise-free record (its fits end near 1e-8)
+_REFITS = 3  # other starts fitted on every sample, after their walks
 
 
 @dataclass(frozen=True)
@@ -208,25 +217,60 @@ def _derivatives(time: Array, values: Array, order: int) -> list[Array]:
     return [spline.derivative(k)(time) for k in range(1, order + 1)]
 
 
-def _smoothed_derivative(time: Array, values: Array) -> Array:
-    """The derivative of noisy samples: a Savitzky–Golay cubic over half a second.
+def _smoothed(time: Array, values: Array, level: float, deriv: int) -> Array:
+    """Noisy samples smoothed (``deriv`` 0) or differentiated (1), the window chosen by the data.
 
-    Against the noise-free derivative of ``aaria-fig2``'s base gyroscope (ADIS16485 noise,
-    30 s at 200 Hz): the interpolating spline leaves 0.32 rad/s² RMS (it differentiates the
-    white noise), this local cubic 1.8e-3 (over 0.25 s: 5.4e-3; over 1 s: 7e-4, but a longer
-    window bends faster base motions); a smoothing spline with its smoothness by generalised
-    cross-validation 4.4e-4, at 4 s a column.
+    A Savitzky–Golay cubic per column over the longest of the windows :data:`_WINDOWS` whose
+    estimate agrees with every shorter window's within :data:`_AGREE` times the shorter one's
+    noise (Lepski's rule: the noise of each window's estimate is known from the white noise
+    ``level`` and the filter's coefficients; a longer window is taken until it starts to bend
+    the motion). Against the noise-free derivative of random arm 16's base gyroscope (ADIS16485
+    noise, 30 s at 200 Hz, true RMS 0.10, 0.0095, 0.0040 rad/s²): one fixed 0.5 s window left
+    2.0e-3 rad/s² RMS on each axis, a smoothing spline with the noise's smoothness
+    (``s = n·level²``) 1.5e-3, 4.4e-4, 6.4e-4, this rule 1.1e-3, 3.4e-4, 2.8e-4; that arm's
+    tool tip went from 0.42 m to 8 cm (the base's small rotations carry the lengths its
+    joints' own motion does not show: what is left is the noise's limit, not the filter's).
+
+    Args:
+        time: sample times [s]
+        values: T × C samples
+        level: the white noise's per-sample standard deviation [units of values]
+        deriv: 0 (smoothed values) or 1 (their time derivative)
+
+    Returns:
+        T × C, smoothed values or derivatives [units (per second)].
     """
-    from scipy.signal import savgol_filter
+    from scipy.signal import savgol_coeffs, savgol_filter
 
     step = float(np.median(np.diff(time)))
-    window = max(5, 2 * round(_SMOOTHING_WINDOW / step / 2) + 1)
     samples = values.shape[0]
-    window = min(window, samples if samples % 2 else samples - 1)
-    if window < 5:
+    longest = samples if samples % 2 else samples - 1
+    sizes = sorted({min(max(5, 2 * round(w / step / 2) + 1), longest) for w in _WINDOWS})
+    if sizes[0] < 5:
+        if deriv == 0:
+            return values.copy()
         (derivative,) = _derivatives(time, values, 1)
         return derivative
-    return np.asarray(savgol_filter(values, window, 3, deriv=1, delta=step, axis=0))
+    estimates = [
+        np.asarray(savgol_filter(values, n, 3, deriv=deriv, delta=step, axis=0)) for n in sizes
+    ]
+    noise = [
+        level * float(np.linalg.norm(savgol_coeffs(n, 3, deriv=deriv, delta=step))) for n in sizes
+    ]
+    out = np.empty_like(values, dtype=float)
+    for column in range(values.shape[1]):
+        chosen = 0
+        for k in range(1, len(sizes)):
+            agree = all(
+                np.sqrt(np.mean((estimates[k][:, column] - estimates[j][:, column]) ** 2))
+                <= _AGREE * noise[j]
+                for j in range(k)
+            )
+            if not agree:
+                break
+            chosen = k
+        out[:, column] = estimates[chosen][:, column]
+    return out
 
 
 def _layout(record: RunRecord) -> tuple[ArmLayout, int, tuple[int, ...]]:
@@ -283,11 +327,29 @@ def _kinds(record: RunRecord, layout: ArmLayout, base: int, qd: Array) -> tuple[
     return tuple(kinds)
 
 
-def _weights(rate: float) -> Array:
-    """1 / the white-noise level of each signal at the record's rate (ADIS16485's ratio)."""
-    gyro = np.deg2rad(ADIS16485.gyro.noise_density) * np.sqrt(rate / 2.0)
-    accel = ADIS16485.accel.noise_density * np.sqrt(rate / 2.0)
-    return np.array([1 / gyro] * 3 + [1 / accel] * 3)
+def _weights(rate: float, noise_parameters: Any = None) -> Array:
+    """1 / each signal's per-sample noise level at the record's rate (gyroscope, accelerometer).
+
+    The level is the white noise's ``density·√(rate/2)`` and the quantisation's ``lsb/√12``
+    added in quadrature, from the record's ``noise_parameters`` (the noise it was simulated
+    with) or else ADIS16485's: on noise-free records only the ratio of the two matters. (The
+    first version converted the gyroscope's density, already in rad/s/√Hz, from degrees again:
+    the gyroscopes weighed 57 times too much, the accelerometers that carry the lengths too
+    little; with ADIS16485 noise 10 of 20 random arms were within 1 cm.)
+    """
+    parameters = noise_parameters if isinstance(noise_parameters, dict) else {}
+    levels = []
+    for sensor, units, model in (
+        ("gyro", "rad_s", ADIS16485.gyro),
+        ("accel", "m_s2", ADIS16485.accel),
+    ):
+        density = float(
+            parameters.get(f"{sensor}_noise_density_{units}_sqrtHz", model.noise_density)
+        )
+        lsb = float(parameters.get(f"{sensor}_lsb_{units}", model.lsb))
+        level = np.hypot(density * np.sqrt(rate / 2.0), lsb / np.sqrt(12.0))
+        levels += [1.0 / level] * 3
+    return np.array(levels)
 
 
 def _wrap(angle: float) -> float:
@@ -593,6 +655,36 @@ def _start(layout: ArmLayout, data: KinematicData, measured: Array, weights: Arr
     return best[1]
 
 
+def _other_starts(
+    layout: ArmLayout,
+    data: KinematicData,
+    measured: Array,
+    weights: Array,
+    spread: Any,
+    first: Array,
+) -> list[Array]:
+    """Starts other than the first, each once.
+
+    Each prismatic module's theta forced to each quarter turn (the gyroscopes cannot give it),
+    and the closed-form start from four times the samples (noise sways its greedy choices).
+    """
+    starts: list[Array] = []
+    index = spread(_INIT_SAMPLES)
+    part, part_measured = data.subsample(index), measured[index]
+    for module, kind in enumerate(layout.kinds):
+        if kind != "prismatic":
+            continue
+        for theta in _THETA_GRID:
+            trial, _ = initial_parameters(
+                layout, part, part_measured, weights, forced={module: theta}
+            )
+            starts.append(trial)
+    more = spread(4 * _INIT_SAMPLES)
+    trial, _ = initial_parameters(layout, data.subsample(more), measured[more], weights)
+    starts.append(trial)
+    return [z for z in starts if not any(np.allclose(z, y) for y in [first, *starts[:0]])]
+
+
 def identify_kinematics(
     record: RunRecord,
     *,
@@ -636,23 +728,26 @@ def identify_kinematics(
     layout = ArmLayout(
         layout.modules, _kinds(record, layout, base, qd), layout.link_imus, layout.tool_imu
     )
+    rate = (time.size - 1) / (time[-1] - time[0])
+    weights = _weights(rate, record.attributes.get("noise_parameters"))
     omega_base = np.asarray(record.imu[:, base, :3], dtype=float)
+    force_base = np.asarray(record.imu[:, base, 3:], dtype=float)
     if record.attributes.get("noise"):
-        omega_dot = _smoothed_derivative(time, omega_base)
+        # the base IMU's signals are inputs of the model: smoothed (and differentiated) with
+        # windows the data choose, from the noise level the weights hold
+        omega_dot = _smoothed(time, omega_base, 1.0 / weights[0], 1)
+        omega_base = _smoothed(time, omega_base, 1.0 / weights[0], 0)
+        force_base = _smoothed(time, force_base, 1.0 / weights[3], 0)
     else:
         (omega_dot,) = _derivatives(time, omega_base, 1)
-    data = KinematicData(
-        omega_base, omega_dot, np.asarray(record.imu[:, base, 3:], dtype=float), q, qd, qdd
-    )
+    data = KinematicData(omega_base, omega_dot, force_base, q, qd, qdd)
     measured = np.asarray(record.imu[:, list(layout.imus)], dtype=float)
-    rate = (time.size - 1) / (time[-1] - time[0])
-    weights = _weights(rate)
 
     def spread(count: int) -> Array:
         return np.unique(np.linspace(0, time.size - 1, min(count, time.size)).astype(int))
 
     start = spread(_INIT_SAMPLES)
-    x0 = _start(layout, data.subsample(start), measured[start], weights)
+    start_data, start_measured = data.subsample(start), measured[start]
     # A faint pull towards the start fixes what the data leave open (the null directions of
     # parallel axes): _PRIOR σ per metre or radian, nothing against the data's own curvature.
     # A table's lengths are not negative: where the data leave a family of equivalent tables
@@ -661,9 +756,12 @@ def identify_kinematics(
     # not need many samples: it runs on the start's few, then the fit ends on more.
     identity = _PRIOR * np.eye(layout.n_params)
     lengths = _length_indices(layout)
+
     extra = layout.n_params + len(lengths)
 
-    def fit(x: Array, index: Array, iterations: int) -> tuple[Array, Array, Array, int]:
+    def fit(
+        x: Array, anchor: Array, index: Array, iterations: int
+    ) -> tuple[Array, Array, Array, int]:
         part, part_measured = data.subsample(index), measured[index]
 
         def residual(x: Array) -> Array:
@@ -671,7 +769,7 @@ def identify_kinematics(
             return np.concatenate(
                 [
                     ((predicted - part_measured) * weights).ravel(),
-                    _PRIOR * (x - x0),
+                    _PRIOR * (x - anchor),
                     _PENALTY * np.minimum(x[lengths], 0.0),
                 ]
             )
@@ -684,10 +782,40 @@ def identify_kinematics(
         x, fun, jac, done = _levenberg_marquardt(residual, jacobian, x, iterations)
         return x, fun[:-extra], jac[:-extra], done
 
-    x, fun, _, walk = fit(x0, spread(_WALK_SAMPLES), max_iterations)
-    start_rms = float(np.sqrt(np.mean(fun**2)))
-    fit_index = spread(max_fit_samples)
-    x, fun, jac, iterations = fit(x, fit_index, max_iterations)
+    def rms(values: Array) -> float:
+        return float(np.sqrt(np.mean(values**2)))
+
+    walk_index, fit_index = spread(_WALK_SAMPLES), spread(max_fit_samples)
+    # the weights are 1 / the noise level: a fit at the noise floor has a weighted RMS near 1
+    floor = _AT_FLOOR * (1.0 if record.attributes.get("noise") else _EXACT_FLOOR)
+    x0 = _start(layout, start_data, start_measured, weights)
+    x, fun, _, walk = fit(x0, x0, walk_index, max_iterations)
+    start_rms = rms(fun)
+    x, fun, jac, iterations = fit(x, x0, fit_index, max_iterations)
+    starts = 1
+    if rms(fun) > floor:
+        # a local minimum: other starts (the quarter turns of prismatic thetas the gyroscopes
+        # cannot give, a start from more samples), each walked on few samples; the best few
+        # walks fitted on all, the smallest residual kept, stopping at the noise floor
+        walked: list[tuple[float, int, Array, Array, int]] = []
+        for other in _other_starts(layout, data, measured, weights, spread, x0):
+            z, z_fun, _, z_walk = fit(other, other, walk_index, max_iterations)
+            walked.append((rms(z_fun), len(walked), z, other, z_walk))
+        for z_rms, _, z, other, z_walk in sorted(walked, key=lambda item: item[:2])[:_REFITS]:
+            z, z_fun, z_jac, z_iterations = fit(z, other, fit_index, max_iterations)
+            starts += 1
+            if rms(z_fun) < rms(fun):
+                x, fun, jac, iterations, walk, start_rms, x0 = (
+                    z,
+                    z_fun,
+                    z_jac,
+                    z_iterations,
+                    z_walk,
+                    z_rms,
+                    other,
+                )
+            if rms(fun) <= floor:
+                break
     names = layout.parameter_names(record.imu_names)
     deficiencies, sigmas, basis = _deficiencies(jac, names, layout.n_dh)
     moved = _non_negative_lengths(x, basis, lengths)
@@ -720,6 +848,7 @@ def identify_kinematics(
         "samples": int(fit_index.size),
         "iterations": iterations,
         "walk_iterations": walk,
+        "starts": starts,
         "walk_rms_weighted": start_rms,
         "end_rms_weighted": float(np.sqrt(np.mean(fun**2))),
         "seconds": _time.perf_counter() - started,
