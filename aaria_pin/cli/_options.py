@@ -107,6 +107,21 @@ def robot_name(stem: str) -> str:
     return cleaned if cleaned[:1].isalpha() else f"arm_{cleaned}"
 
 
+def fourier_options(func: F) -> F:
+    """Add ``--harmonics`` and ``--base-frequency``, the settings of ``--motion fourier``."""
+    func = click.option(
+        "--base-frequency",
+        type=FINITE_FLOAT,
+        help="Base frequency of --motion fourier [Hz] (default: the lowest >= 0.1 Hz that fits a "
+        "whole number of periods into a run).",
+    )(func)
+    return click.option(
+        "--harmonics",
+        type=click.IntRange(1, 1000),
+        help="Harmonics per joint of --motion fourier (default 5).",
+    )(func)
+
+
 def robot_source_options(func: F) -> F:
     """Add ``--robot NAME | --urdf FILE`` and the URDF robot's tool, IMU and base options."""
     func = click.option(

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from aaria_pin.cli._options import robot_source_options, table_source_options
+from aaria_pin.cli._options import fourier_options, robot_source_options, table_source_options
 from aaria_pin.core.seeds import MAX_SEED
 
 if TYPE_CHECKING:
@@ -149,17 +149,7 @@ Examples:
     " the run's joint stream (per joint a finite Fourier series within its limits; stored as"
     " the table fourier_coefficients).",
 )
-@click.option(
-    "--harmonics",
-    type=click.IntRange(1, 1000),
-    help="Harmonics per joint of --motion fourier (default 5).",
-)
-@click.option(
-    "--base-frequency",
-    type=float,
-    help="Base frequency of --motion fourier [Hz] (default: the lowest >= 0.1 Hz that fits a"
-    " whole number of periods into a run).",
-)
+@fourier_options
 @click.option(
     "--resume",
     is_flag=True,

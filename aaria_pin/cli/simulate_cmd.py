@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from aaria_pin.cli._options import (
+    fourier_options,
     load_table_source,
     robot_source_options,
     sampling_overrides,
@@ -89,17 +90,7 @@ Examples:
     "finite Fourier series within its position, speed and acceleration limits, the "
     "excitation used for identification). With --from: as stored unless given.",
 )
-@click.option(
-    "--harmonics",
-    type=click.IntRange(1, 1000),
-    help="Harmonics per joint of --motion fourier (default 5).",
-)
-@click.option(
-    "--base-frequency",
-    type=float,
-    help="Base frequency of --motion fourier [Hz] (default: the lowest >= 0.1 Hz that fits a "
-    "whole number of periods into the run).",
-)
+@fourier_options
 @click.option(
     "--trajectory",
     type=_FILE,

@@ -106,7 +106,7 @@ def test_trajectory_file_gives_the_run_its_q_at_the_samples(tmp_path: Path) -> N
         (["--motion", "fourier", "--trajectory", "T"], "--trajectory FILE is the motion"),
         (["--smoothing", "0.1"], "--smoothing is for --trajectory FILE"),
         (["--motion", "fourier", "--joints", "T"], "--joints is the sines' table; not allowed"),
-        (["--motion", "fourier", "--harmonics", "600"], "--harmonics is 600; allowed: harmonics"),
+        (["--motion", "fourier", "--harmonics", "600"], "harmonics × base_frequency is 600 ×"),
         (["--motion", "fourier", "--base-frequency", "0"], "--base-frequency is 0; allowed: > 0"),
         (["--trajectory", "T", "--duration", "9"], "--duration is 9; allowed: at most 3 s"),
         (["--trajectory", "WIDE"], "has 7 joint columns; allowed: 6 joint columns"),
