@@ -472,3 +472,26 @@ def test_a_full_disk_keeps_the_runs_and_resumes(tmp_path: Path) -> None:
         _assert_identical(tmp_path / "whole" / "ds.h5", disk / "ds.h5")
     finally:
         subprocess.run(["umount", "-l", str(disk)], check=False)
+
+
+def test_without_room_for_a_copy_resume_continues_the_file_in_place(
+    reference: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from aaria_pin.errors import NoSpaceError
+    from aaria_pin.files.dataset import store
+
+    path = tmp_path / "full.h5"
+    _interrupted(path, 6)
+    with h5py.File(path, "r+") as handle:
+        never = int(np.flatnonzero(handle["complete"][()] == 0)[0])
+        handle["complete"][never] = 1  # a damaged flag: found and redone in place too
+    before = path.stat().st_ino
+
+    def no_room(*args: object, **kwargs: object) -> None:
+        raise NoSpaceError("no space left on device writing the copy")
+
+    monkeypatch.setattr(store, "_new_file", no_room)  # the copy cannot be made
+    report = generate_dataset(path, DhDatasetSpec(**SETTINGS), workers=1, resume=True)
+    assert path.stat().st_ino == before  # the same file, continued: no second copy
+    assert report.complete == 24 and report.written == 24 - 6
+    _assert_identical(reference, path)

@@ -12,13 +12,13 @@ import contextlib
 import json
 import os
 import zlib
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from aaria_pin.errors import InputFileError, OutputFileError
+from aaria_pin.errors import InputFileError, NoSpaceError, OutputFileError
 from aaria_pin.files._stored import (
     NAME_LISTS,
     create_virtual_view,
@@ -131,13 +131,27 @@ class DatasetFile:
         Every run flagged complete whose stored chunks match their CRC-32 is copied, chunk bytes
         as they are, into a new file that then replaces the old one; damaged, unflagged and
         half-written runs are left out, to be redone. A crash can leave HDF5's chunk index
-        pointing past the end of the file; the copy starts from clean metadata.
+        pointing past the end of the file; the copy starts from clean metadata. When the device
+        has no room for the copy (a job stopped by a full disk, resumed after a little space
+        was freed), the file is continued where it is instead: the flags of damaged runs are
+        cleared in place and only the runs to redo need room.
 
         Raises:
             InputFileError: missing, unreadable, of format version 1, or not a complete data
                 set layout.
         """
         file = Path(path)
+        try:
+            cls._copy_for_resume(file)
+        except NoSpaceError:  # no room for a second copy: continue the file in place
+            resumed = cls._open(file)
+            _unflag_damaged_runs(resumed._handle, resumed.layout)
+            return resumed
+        return cls._open(file)
+
+    @classmethod
+    def _copy_for_resume(cls, file: Path) -> None:
+        """Replace ``file`` by a fresh copy of its intact runs (see :meth:`open_for_resume`)."""
         old = _open_dataset_read_only(file)
         try:
             attrs = dict(old.attrs)
@@ -152,7 +166,6 @@ class DatasetFile:
                 new.close()
         finally:
             old.close()
-        return cls._open(file)
 
     @property
     def attributes(self) -> dict[str, Any]:
@@ -389,39 +402,67 @@ COPY_BLOCK_RUNS = 4096
 """Runs whose flags and checksums a resumed copy reads at once (its memory stays flat in N)."""
 
 
-def _copy_intact_runs(old: Any, new: Any, layout: DatasetLayout) -> None:
-    """Copy the chunk bytes of every complete run whose CRC-32 matches into ``new``.
+def _verified_runs(
+    handle: Any, layout: DatasetLayout
+) -> Iterator[
+    tuple[list[tuple[int, list[tuple[str, tuple[int, ...], bytes]], list[int]]], list[int]]
+]:
+    """Per block of runs flagged complete, the intact ones and the damaged ones.
 
-    A run whose chunks cannot be read (a ``complete`` flag set on a run never written: HDF5
-    has no chunk there, "Can't get storage size of chunk") is a run to redo, as is one whose
-    CRC-32 differs. The flags and checksums are read :data:`COPY_BLOCK_RUNS` runs at a time.
+    Intact runs come as (run, chunks, plain CRC-32s). A run whose chunks cannot be read (a
+    ``complete`` flag set on a run never written: HDF5 has no chunk there, "Can't get storage
+    size of chunk") is damaged, as is one whose CRC-32 differs. The flags and checksums are
+    read :data:`COPY_BLOCK_RUNS` runs at a time.
     """
-    n_runs = int(old["complete"].shape[0])
+    n_runs = int(handle["complete"].shape[0])
     for begin in range(0, n_runs, COPY_BLOCK_RUNS):
         end = min(n_runs, begin + COPY_BLOCK_RUNS)
-        complete = np.asarray(old["complete"][begin:end], dtype=bool)
+        complete = np.asarray(handle["complete"][begin:end], dtype=bool)
         if not complete.any():
             continue
-        checksums = old["checksum"][begin:end]
-        intact: list[int] = []
-        rows: list[list[int]] = []
+        checksums = handle["checksum"][begin:end]
+        intact = []
+        damaged: list[int] = []
         for offset in np.flatnonzero(complete):
             run = begin + int(offset)
             try:
-                chunks, plain, stored = read_run_chunks(old, layout.names, run)
+                chunks, plain, stored = read_run_chunks(handle, layout.names, run)
             except (OSError, ValueError, KeyError, RuntimeError):
+                damaged.append(run)
                 continue
-            recorded = [int(c) for c in checksums[offset]]
-            if recorded not in (plain, stored):
+            if [int(c) for c in checksums[offset]] not in (plain, stored):
+                damaged.append(run)
                 continue
+            intact.append((run, chunks, plain))
+        yield intact, damaged
+
+
+def _copy_intact_runs(old: Any, new: Any, layout: DatasetLayout) -> None:
+    """Copy the chunk bytes of every complete run whose CRC-32 matches into ``new``."""
+    for intact, _ in _verified_runs(old, layout):
+        for _, chunks, _ in intact:
             for name, where, data in chunks:
                 new[name].id.write_direct_chunk(where, data)
-            intact.append(run)
-            rows.append(plain)
         if intact:
-            new["checksum"][intact] = np.array(rows, dtype="u4")
-            new["complete"][intact] = 1
+            runs = [run for run, _, _ in intact]
+            new["checksum"][runs] = np.array([plain for _, _, plain in intact], dtype="u4")
+            new["complete"][runs] = 1
     new.flush()
+
+
+def _unflag_damaged_runs(handle: Any, layout: DatasetLayout) -> None:
+    """In place, clear the flag of every damaged complete run (to redo).
+
+    The intact ones get their plain CRC-32s, as a copy would store them.
+    """
+    for intact, damaged in _verified_runs(handle, layout):
+        if damaged:
+            handle["complete"][damaged] = 0
+            handle["failed"][damaged] = 0
+        if intact:
+            runs = [run for run, _, _ in intact]
+            handle["checksum"][runs] = np.array([plain for _, _, plain in intact], dtype="u4")
+    handle.flush()
 
 
 def _decompress() -> Any:
