@@ -311,7 +311,7 @@ def test_piped_job_prints_the_estimate_and_progress_lines(
         capture_output=True, text=True, check=True,
     )  # fmt: skip
     lines = result.stderr.splitlines()
-    assert any(line.startswith(f"aaria: estimate for {RUNS} runs: ") for line in lines), lines
+    assert lines[0].startswith(f"aaria: estimate for {RUNS} runs: "), lines  # before any run
     progress = [line for line in lines if " runs/s, ETA " in line]
     assert len(progress) >= 2 and progress[-1].startswith(f"aaria: {RUNS}/{RUNS} runs, ")
     assert "\r" not in result.stderr  # no bar in a log

@@ -36,7 +36,12 @@ import numpy as np
 from aaria_pin._version import __version__
 from aaria_pin.apps.dataset.card import store_card
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.shards import DatasetEstimate, Estimate, generate_sharded
+from aaria_pin.apps.dataset.shards import (
+    DatasetEstimate,
+    Estimate,
+    estimate_from_runs,
+    generate_sharded,
+)
 from aaria_pin.apps.dataset.spec import (
     MAX_RUNS,
     DatasetJobStoppedError,
@@ -538,6 +543,10 @@ def _generate(
     head = [check_first_run(spec)]
     run_seconds = time.perf_counter() - begin  # an upper bound: it loads everything
     attributes = {**spec.attributes(), "command": command, "versions": software_versions()}
+    for run in range(1, min(3, spec.n_runs) if estimate is not None else 1):
+        begin = time.perf_counter()
+        head.append(_job(spec, run))
+        run_seconds = min(run_seconds, time.perf_counter() - begin)
     if scheduler is not None:
         with output_lock(file):
             check_dataset_path(file, resume, overwrite)
@@ -550,13 +559,10 @@ def _generate(
                 resume=resume,
                 progress=progress,
                 estimate=estimate,
+                head=(head, run_seconds),
             )
             store_card(file)
         return DatasetReport(file, written, complete, failures, time.perf_counter() - start, count)
-    for run in range(1, min(3, spec.n_runs) if estimate is not None else 1):
-        begin = time.perf_counter()
-        head.append(_job(spec, run))
-        run_seconds = min(run_seconds, time.perf_counter() - begin)
     runner = _LocalRunner(workers)
     try:
         with output_lock(file):
@@ -609,7 +615,7 @@ def _write_local(
         todo = int(complete_flags.size - np.count_nonzero(complete_flags))
         kept = [result for result in head if not complete_flags[result[0]]]
         if estimate is not None:
-            estimate(_local_estimate(head, todo, workers, run_seconds))
+            estimate(estimate_from_runs(head, todo, workers, run_seconds))
         rest = _incomplete_runs(complete_flags, {result[0] for result in kept})
         last_flush = time.perf_counter()
         results = itertools.chain(kept, runner.results(spec, rest))
@@ -644,16 +650,3 @@ def _write_local(
         raise
     store.close()
     return written, complete, failures
-
-
-def _local_estimate(
-    head: Sequence[Result], runs: int, workers: int, run_seconds: float
-) -> DatasetEstimate:
-    """A local job's cost from the runs made before the workers start (the first one apart)."""
-    sizes = [
-        sum(len(chunk) for chunks, _ in encoded.values() for chunk in chunks)
-        for _, encoded, _ in head
-        if encoded is not None
-    ]
-    per_run = sum(sizes) // len(sizes) if sizes else 0
-    return DatasetEstimate(runs, per_run * runs, runs * run_seconds / workers, workers, run_seconds)

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from aaria_pin.apps.dataset.spec import DatasetJobStoppedError, DatasetSpec, run_result
+from aaria_pin.apps.dataset.spec import DatasetJobStoppedError, DatasetSpec, Result, run_result
 from aaria_pin.errors import OutputFileError, ParameterError
 from aaria_pin.files._stored import first_line
 from aaria_pin.files.dataset.shards import (
@@ -222,6 +222,26 @@ class _Job:
                 self.failures[run] = message
 
 
+def estimate_from_runs(
+    head: Sequence[Result], runs: int, workers: int, run_seconds: float
+) -> DatasetEstimate:
+    """A job's cost from runs made in this process before the workers start.
+
+    Args:
+        head: those runs' results (their encoded sizes give the bytes per run)
+        runs: runs the job still makes
+        workers: worker threads or processes that make them at once
+        run_seconds: the fastest of those runs [s] (the first loads everything)
+    """
+    sizes = [
+        sum(len(chunk) for chunks, _ in encoded.values() for chunk in chunks)
+        for _, encoded, _ in head
+        if encoded is not None
+    ]
+    per_run = sum(sizes) // len(sizes) if sizes else 0
+    return DatasetEstimate(runs, per_run * runs, runs * run_seconds / workers, workers, run_seconds)
+
+
 def _estimate(ack: ShardAck, runs: int, threads: int) -> DatasetEstimate | None:
     """The job's cost from its first shard.
 
@@ -248,6 +268,7 @@ def generate_sharded(
     resume: bool,
     progress: Progress | None,
     estimate: Estimate | None,
+    head: tuple[Sequence[Result], float] | None = None,
 ) -> tuple[int, int, dict[int, str], int]:
     """Make a data set on a Dask cluster as shards and a manifest (see the module docstring).
 
@@ -261,7 +282,10 @@ def generate_sharded(
         shards: the shard folder (default: the output's folder; on resume, the job's)
         resume: continue the manifest at ``file``
         progress: called as ``progress(done, total, seconds)`` after each shard
-        estimate: called once with the job's expected cost, after its first shard
+        estimate: called once with the job's expected cost: before the shards are sent when
+            ``head`` is given, else after the first shard
+        head: runs made in this process before the job (the caller's input check) and the
+            fastest one's time [s], for the estimate before starting
 
     Returns:
         Runs written by this job, runs complete, failures, shards this job wrote.
@@ -316,11 +340,15 @@ def generate_sharded(
         threads = max(1, sum(client.nthreads().values()))
         size = shard_runs(spec.samples, len(todo), threads)
         batches = [todo[i : i + size] for i in range(0, len(todo), size)]
+        told = estimate is None
+        if estimate is not None and head is not None and head[0]:
+            estimate(estimate_from_runs(head[0], len(todo), threads, head[1]))
+            told = True
         batch_of = {
             client.submit(write_shard_task, spec, batch, str(folder), prefix, pure=False): batch
             for batch in batches
         }
-        done, told = 0, estimate is None
+        done = 0
         lost: BaseException | None = None
         for future in as_completed(list(batch_of)):
             batch = batch_of.pop(future)
