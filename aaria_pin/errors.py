@@ -70,7 +70,9 @@ def _shown(value: Any) -> str:
         value = value.item()  # a NumPy scalar or 0-d array: the Python number
     if isinstance(value, bool):
         return str(value)
-    if isinstance(value, int | float):
+    if isinstance(value, int):
+        return str(value)  # 100000000000, not 1e+11
+    if isinstance(value, float):
         return f"{value:g}"
     if isinstance(value, str):
         return repr(value)

@@ -372,3 +372,10 @@ def test_arrays_in_shard_files_read_the_same(dataset: Path, tmp_path: Path) -> N
         for name, (mean, std) in sharded.statistics(names).items():
             np.testing.assert_array_equal(mean, reference[name][0])
             np.testing.assert_array_equal(std, reference[name][1])
+
+
+def test_statistics_of_an_empty_split_are_refused_not_nan(dataset: Path) -> None:
+    with DatasetReader(dataset) as reader:
+        with pytest.raises(ParameterError) as error:
+            reader.statistics(("tau",), split="test", fractions=(0.5, 0.5, 0.0))
+    assert error.value.parameter == "split" and "holds none" in str(error.value)

@@ -348,6 +348,13 @@ class DatasetReader:
         """
         chosen = self._chosen_names(names)
         runs = self.split_runs(split, seed, fractions)
+        if len(runs) == 0:  # statistics of nothing: NaN, useless to normalise with
+            raise ParameterError(
+                parameter="split",
+                value=split,
+                allowed=f"a split holding a complete run (this one holds none of {len(self)}"
+                " with these fractions and seed)",
+            )
         views = {name: self._views[name] for name in chosen if name in self._views}
         sources = view_sources(chosen, views)
         constants = self._constants
