@@ -106,7 +106,7 @@ def test_near_singular_angles_give_exact_solutions() -> None:
         (["simulate", "10", "0", "0", "--rate", "nan", "-o", "{tmp}/w.h5"], "--rate is nan"),
         (
             ["simulate", "10", "0", "0", "--speed", "1e-9", "-o", "{tmp}/w.h5"],
-            "speed 1.74533e-11 rad/s and acceleration 1.39626 rad/s^2 need a run of 1e+10 s",
+            "speed 1.74533e-11 rad/s (1e-09 deg/s) and acceleration 1.39626 rad/s^2 (80 deg/s^2)",
         ),
         (
             ["simulate", "10", "0", "0", "--duration", "inf", "-o", "{tmp}/w.h5"],

@@ -166,8 +166,9 @@ def simulate_wrist(
         duration = start + float(np.max(np.abs(goal))) / speed + speed / acceleration + 1.0
         if not duration <= MAX_DURATION:  # say which inputs made it, not a duration not given
             raise ParameterError(
-                f"speed {float(speed):g} rad/s and acceleration {float(acceleration):g} rad/s^2"
-                f" need a run of {duration:.3g} s to reach the targets; allowed: a run of at most"
+                f"speed {float(speed):g} rad/s ({np.degrees(speed):g} deg/s) and acceleration"
+                f" {float(acceleration):g} rad/s^2 ({np.degrees(acceleration):g} deg/s^2) need a"
+                f" run of {duration:.3g} s to reach the targets; allowed: a run of at most"
                 f" {MAX_DURATION:g} s (a higher speed or acceleration, or a shorter duration)",
                 parameter="speed",
             )
