@@ -264,13 +264,11 @@ def urdf_motion_overrides(
     if _check_flags(params) is None:
         return {}
     loaded = load()
+    from aaria_pin.core.urdf_robot import mimic_followers
+
     names = tuple(joint.name for joint in loaded.joints)
     moving = [j for j, joint in enumerate(loaded.joints) if joint.mimic is None]
-    followers = {
-        j: (names.index(joint.mimic[0]), float(joint.mimic[1]), float(joint.mimic[2]))
-        for j, joint in enumerate(loaded.joints)
-        if joint.mimic is not None and joint.mimic[0] in names
-    }
+    followers = mimic_followers(loaded.joints)
 
     def fourier(duration: float, rate: float, settings: dict[str, Any]) -> Any:
         return urdf_fourier_excitation(loaded, duration, rate, **settings)

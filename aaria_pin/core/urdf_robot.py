@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import os
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -38,6 +39,7 @@ __all__ = [
     "default_urdf_joint_table",
     "effort_excess",
     "load_urdf_robot",
+    "mimic_followers",
     "missing_meshes_message",
     "read_urdf_file",
     "urdf_joint_trajectory",
@@ -313,15 +315,28 @@ def urdf_joint_trajectory(table: ArrayLike, robot: UrdfRobot, time: Array) -> Jo
     prismatic = np.array([joint.kind == "prismatic" for joint in robot.joints])
     amplitude = np.where(prismatic, arr[:, 1], arr[:, 0])
     q, qd, qdd = sine_motion(amplitude, arr[:, 2], arr[:, 3], arr[:, 4], time)
-    names = [joint.name for joint in robot.joints]
-    for column, joint in enumerate(robot.joints):
+    for column, (source, multiplier, offset) in mimic_followers(robot.joints).items():
+        q[:, column] = multiplier * q[:, source] + offset
+        qd[:, column] = multiplier * qd[:, source]
+        qdd[:, column] = multiplier * qdd[:, source]
+    return JointTrajectory(time, q, qd, qdd)
+
+
+def mimic_followers(joints: Sequence[UrdfJoint]) -> dict[int, tuple[int, float, float]]:
+    """The mimic joints among actuated ``joints``: column → (leader's column, multiplier, offset).
+
+    A follower's value is ``multiplier · leader + offset`` [rad or m].
+
+    Raises:
+        ModelError: a joint that mimics one that is not among ``joints``.
+    """
+    names = [joint.name for joint in joints]
+    followers: dict[int, tuple[int, float, float]] = {}
+    for column, joint in enumerate(joints):
         if joint.mimic is None:
             continue
         leader, multiplier, offset = joint.mimic
         if leader not in names:
             raise ModelError(f"joint {joint.name!r} mimics {leader!r}, which is not actuated")
-        source = names.index(leader)
-        q[:, column] = multiplier * q[:, source] + offset
-        qd[:, column] = multiplier * qd[:, source]
-        qdd[:, column] = multiplier * qdd[:, source]
-    return JointTrajectory(time, q, qd, qdd)
+        followers[column] = (names.index(leader), float(multiplier), float(offset))
+    return followers

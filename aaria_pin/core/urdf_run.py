@@ -57,11 +57,11 @@ from aaria_pin.core.urdf_robot import (
     default_urdf_joint_table,
     effort_excess,
     load_urdf_robot,
+    mimic_followers,
     urdf_joint_trajectory,
     usable_range,
     validate_urdf_joint_table,
 )
-from aaria_pin.errors import ModelError
 
 __all__ = [
     "FOURIER_SPEED",
@@ -138,14 +138,7 @@ def urdf_fourier_excitation(
         seed=seed,
         max_samples=max_samples,
     )
-    names = [joint.name for joint in joints]
-    for row, joint in enumerate(joints):
-        if joint.mimic is None:
-            continue
-        leader, multiplier, offset = joint.mimic
-        if leader not in names:
-            raise ModelError(f"joint {joint.name!r} mimics {leader!r}, which is not actuated")
-        source = names.index(leader)
+    for row, (source, multiplier, offset) in mimic_followers(joints).items():
         excitation.a[row] = multiplier * excitation.a[source]
         excitation.b[row] = multiplier * excitation.b[source]
         excitation.offset[row] = multiplier * excitation.offset[source] + offset
