@@ -13,9 +13,10 @@ reading under its name without the suffix (:func:`decode_attribute`).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -388,3 +389,19 @@ def first_line(exc: BaseException) -> str:
     """The first line of an exception's message, or its type name."""
     text = str(exc)
     return text.splitlines()[0] if text else type(exc).__name__
+
+
+@contextlib.contextmanager
+def read_errors(file: str | os.PathLike[str], what: str) -> Iterator[None]:
+    """Turn h5py's (or the OS's) errors on reading ``file`` into a one-line InputFileError.
+
+    Args:
+        file: the file read
+        what: what it was read as, for the message (``"an HDF5 run file"``)
+    """
+    try:
+        yield
+    except InputFileError:
+        raise
+    except (OSError, ValueError, TypeError, KeyError) as exc:
+        raise InputFileError(f"{file}: cannot be read as {what} ({first_line(exc)})") from None

@@ -8,7 +8,7 @@ layout.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -22,7 +22,7 @@ from aaria_pin.files._stored import (
     STORED_NAMES,
     create_virtual_view,
     decode_attribute,
-    first_line,
+    read_errors,
     units_of,
     write_attributes,
 )
@@ -202,17 +202,9 @@ def _new_dataset(
     return dataset
 
 
-@contextlib.contextmanager
-def _hdf5_errors(file: Path) -> Iterator[None]:
+def _hdf5_errors(file: Path) -> contextlib.AbstractContextManager[None]:
     """Turn h5py's errors on reading ``file`` into one-line :class:`InputFileError`."""
-    try:
-        yield
-    except InputFileError:
-        raise
-    except (OSError, ValueError, TypeError, KeyError) as exc:
-        raise InputFileError(
-            f"{file}: cannot be read as an HDF5 run file ({first_line(exc)})"
-        ) from None
+    return read_errors(file, "an HDF5 run file")
 
 
 def _strings(item: Any) -> list[str]:

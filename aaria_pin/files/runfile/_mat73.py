@@ -35,7 +35,7 @@ from __future__ import annotations
 import contextlib
 import sys
 import time
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -43,8 +43,8 @@ import numpy as np
 
 from aaria_pin.core.record import SERIES, ColumnView, RunRecord
 from aaria_pin.core.se3 import Array
-from aaria_pin.errors import InputFileError, OutputFileError
-from aaria_pin.files._stored import first_line
+from aaria_pin.errors import OutputFileError
+from aaria_pin.files._stored import read_errors
 from aaria_pin.files.runfile._layout import COLUMNS_SUFFIX
 
 MAT73_HEADER = b"MATLAB 7.3 MAT-file"
@@ -295,17 +295,9 @@ class _Mat73Stream:
 # --- reading -------------------------------------------------------------------------------------
 
 
-@contextlib.contextmanager
-def _mat73_errors(file: Path) -> Iterator[None]:
+def _mat73_errors(file: Path) -> contextlib.AbstractContextManager[None]:
     """Turn h5py's errors on reading ``file`` into one-line :class:`InputFileError`."""
-    try:
-        yield
-    except InputFileError:
-        raise
-    except (OSError, ValueError, TypeError, KeyError) as exc:
-        raise InputFileError(
-            f"{file}: cannot be read as a .mat v7.3 run file ({first_line(exc)})"
-        ) from None
+    return read_errors(file, "a .mat v7.3 run file")
 
 
 def _class_of(dataset: Any) -> str:
