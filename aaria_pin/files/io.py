@@ -19,6 +19,7 @@ import numpy as np
 from aaria_pin.core.oscillation import BASE_COLUMNS, JOINT_COLUMNS
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError
+from aaria_pin.files._stored import first_line
 from aaria_pin.files.paths import (
     atomic_output,
     check_output,
@@ -108,8 +109,9 @@ def read_table(
     except InputFileError:
         raise
     except (OSError, ValueError, TypeError, EOFError) as exc:
-        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise InputFileError(f"{file}: cannot be read as a numeric table ({reason})") from None
+        raise InputFileError(
+            f"{file}: cannot be read as a numeric table ({first_line(exc)})"
+        ) from None
     if table.size == 0:
         shape = " × ".join(str(n) for n in table.shape)
         raise InputFileError(
@@ -171,11 +173,10 @@ def _read_csv(file: Path, names: Sequence[str] | None) -> Array:
             header_at, header = number, cells
         break
     start = 0 if header_at is None else header_at + 1
-    body = "\n".join(lines[start:])
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error")  # an empty file is an error, not a warning
-            table = np.loadtxt(body.splitlines(), delimiter=",", comments="#", ndmin=2)
+            table = np.loadtxt(lines[start:], delimiter=",", comments="#", ndmin=2)
     except UserWarning:
         raise InputFileError(
             f"{file}: is empty; allowed: a numeric table"

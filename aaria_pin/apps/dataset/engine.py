@@ -59,9 +59,9 @@ from aaria_pin.files.dataset.store import (
     DatasetFile,
     check_dataset_path,
     dataset_progress,
-    no_space_error,
     read_dataset_attributes,
 )
+from aaria_pin.files.paths import no_space
 
 __all__ = [
     "MAX_RUNS",
@@ -638,7 +638,7 @@ def _write_local(
         raise
     except BaseException as exc:
         store.abandon()
-        if no_space_error(exc):
+        if no_space(exc):
             saved = _saved_runs(file)
             shown = "no run" if not saved else f"{saved}/{spec.n_runs} runs"
             raise DatasetJobStoppedError(

@@ -41,7 +41,6 @@ __all__ = [
     "dataset_progress",
     "decode_attributes",
     "is_dataset_file",
-    "no_space_error",
     "read_dataset_attributes",
     "read_layout",
 ]
@@ -569,10 +568,3 @@ def check_dataset_path(path: Path, resume: bool, overwrite: bool, exists: bool =
         )
     if resume and not path.is_file():
         raise InputFileError(f"{path}: no such file to resume")
-
-
-def no_space_error(exc: BaseException) -> bool:
-    """Whether an error (an OSError, or HDF5's through h5py) says the device ran out of room."""
-    from aaria_pin.files.paths import no_space
-
-    return no_space(exc)
