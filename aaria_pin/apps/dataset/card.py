@@ -39,6 +39,7 @@ import numpy as np
 from aaria_pin.aaria.dh import LinkType
 from aaria_pin.aaria.randomize import PARTS
 from aaria_pin.aaria.sensen import N_MODULES
+from aaria_pin.apps.dataset.spec import NOISE_STREAM
 from aaria_pin.core.record import IMU_SIGNALS, SERIES, ColumnView
 from aaria_pin.errors import InputFileError
 from aaria_pin.files._stored import JSON_SUFFIX, units_of
@@ -409,7 +410,7 @@ def _noise_stream(attributes: Mapping[str, Any]) -> int | None:
     """The noise stream (0.1 did not record it: it used stream 3, as the reader assumes)."""
     if attributes.get("noise_stream") is not None:
         return int(attributes["noise_stream"])
-    return len(PARTS)
+    return NOISE_STREAM
 
 
 def _views(reader: Any) -> dict[str, ColumnView]:

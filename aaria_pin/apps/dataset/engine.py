@@ -460,8 +460,7 @@ def generate_dataset(
         )
     if workers < 1:
         raise ParameterError(parameter="workers", value=workers, allowed=">= 1")
-    check_dataset_path(file, resume, overwrite, exists=False)  # also: its lock held elsewhere
-    check_dataset_path(file, resume, overwrite)
+    check_dataset_path(file, resume, overwrite)  # also: its lock held elsewhere
     if resume:  # compare settings read-only first: a mismatch changes nothing
         stored = read_dataset_attributes(file)
         different = spec.mismatches(stored)

@@ -298,14 +298,7 @@ def generate_sharded(
     from dask.distributed import as_completed
 
     start = time.perf_counter()
-    previous = read_manifest_shards(file) if file.is_file() else None
-    if resume and previous is None:
-        raise ParameterError(
-            parameter="scheduler",
-            value=scheduler,
-            allowed=f"none: {file} was written by local workers in one file (resume it with "
-            "--workers)",
-        )
+    previous = read_manifest_shards(file) if file.is_file() else None  # the caller checked
     folder = Path(shards) if shards is not None else None
     if folder is None:
         folder = previous.folder if resume and previous is not None else file.parent

@@ -29,6 +29,7 @@ from aaria_pin.apps.identify._kin_model import (
     KinematicData,
     mount_signal,
     predict_signals,
+    wrap_angle,
 )
 from aaria_pin.core.se3 import Array
 
@@ -213,15 +214,11 @@ def _candidates(
         return pairs
     theta = forced[index - 1]
     kept: list[tuple[float | None, float | None]] = [
-        (t, a) for t, a in pairs if t is not None and abs(_wrap(t - theta)) < 1e-6
+        (t, a) for t, a in pairs if t is not None and abs(wrap_angle(t - theta)) < 1e-6
     ]
     alphas: Sequence[float | None] = _GRID if index < len(fitter.layout.kinds) else (None,)
     fallback: list[tuple[float | None, float | None]] = [(theta, alpha) for alpha in alphas]
     return kept or fallback
-
-
-def _wrap(angle: float) -> float:
-    return float((angle + np.pi) % (2 * np.pi) - np.pi)
 
 
 def _open_candidates(

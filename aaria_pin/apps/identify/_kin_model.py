@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from aaria_pin.aaria.dh import R_WORLD_DH
+from aaria_pin.core.rotations import elementary
 from aaria_pin.core.se3 import Array
 
 __all__ = [
@@ -124,14 +125,14 @@ def rotation_from_vector(vector: Array) -> Array:
     return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
 
 
-def _rot_x(angle: float) -> Array:
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+def json_number(value: float) -> float | None:
+    """A finite number as a float, anything else (NaN, ±inf) as None (JSON has no NaN)."""
+    return float(value) if np.isfinite(value) else None
 
 
-def _rot_z(angle: float) -> Array:
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+def wrap_angle(angle: float) -> float:
+    """An angle in [-π, π) [rad]."""
+    return float((angle + np.pi) % (2 * np.pi) - np.pi)
 
 
 def _cross(u: Array, v: Array) -> Array:
@@ -209,10 +210,12 @@ def chain_states(
         alpha, second, a = params[3 * index : 3 * index + 3]
         q, qd, qdd = data.q[:, index], data.qd[:, index], data.qdd[:, index]
         if kind == "revolute":
-            R = _rot_x(alpha)
+            R = elementary(0, alpha)
             state = _revolute(_fixed(state, R, R @ np.array([0.0, 0.0, second])), q, qd, qdd)
         else:
-            state = _prismatic(_fixed(state, _rot_x(alpha) @ _rot_z(second), None), q, qd, qdd)
+            state = _prismatic(
+                _fixed(state, elementary(0, alpha) @ elementary(2, second), None), q, qd, qdd
+            )
         states.append(state)
         state = _fixed(state, None, np.array([a, 0.0, 0.0]))
     w, _, f = _fixed(state, None, np.array([params[layout.n_dh - 1], 0.0, 0.0]))

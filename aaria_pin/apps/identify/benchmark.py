@@ -29,6 +29,8 @@ from typing import Any
 
 import numpy as np
 
+from aaria_pin.apps.identify._kin_model import json_number
+
 __all__ = [
     "RunAccuracy",
     "accuracy_table",
@@ -145,10 +147,9 @@ def identify_dataset_run(
         from aaria_pin.apps.identify.dynamics import identify_dynamics
 
         started = time.perf_counter()
-        report = identify_dynamics(record).to_json()
+        worst = identify_dynamics(record).worst_holdout_relative_rms
         dynamics_seconds = time.perf_counter() - started
-        values = [v for v in report["holdout_relative_rms"].values() if v is not None]
-        dynamics_error = float(max(values)) if values else None
+        dynamics_error = json_number(worst)
     return RunAccuracy(
         **common,
         link_types_right=truth is not None and all(truth.link_types_right),
@@ -270,9 +271,9 @@ def accuracy_table(results: Iterable[RunAccuracy]) -> list[dict[str, Any]]:
             "runs": len(runs),
             "failed": sum(r.error is not None for r in runs),
             "link_types_right_share": float(np.mean([r.link_types_right for r in runs])),
-            "tool_tip_rms_median_m": _number(np.median(rms)),
-            "tool_tip_rms_p95_m": _number(np.percentile(rms, 95, method="higher")),
-            "tool_tip_rms_max_m": _number(np.max(rms)),
+            "tool_tip_rms_median_m": json_number(np.median(rms)),
+            "tool_tip_rms_p95_m": json_number(np.percentile(rms, 95, method="higher")),
+            "tool_tip_rms_max_m": json_number(np.max(rms)),
             "within_1mm_share": float(np.mean(rms <= WITHIN[0])),
             "within_1cm_share": float(np.mean(rms <= WITHIN[1])),
             "seconds_median": float(np.median(seconds)),
@@ -284,10 +285,6 @@ def accuracy_table(results: Iterable[RunAccuracy]) -> list[dict[str, Any]]:
             row["dynamics_holdout_relative_rms_max"] = float(np.max(dynamic))
         table.append(row)
     return table
-
-
-def _number(value: float) -> float | None:
-    return float(value) if np.isfinite(value) else None
 
 
 def group_label(group: dict[str, Any]) -> str:

@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from aaria_pin.apps.identify._kin_model import json_number
 from aaria_pin.apps.record_model import record_base, record_columns, record_model
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
@@ -337,10 +338,6 @@ def base_parameters(
     )
 
 
-def _json_float(x: float) -> float | None:
-    return float(x) if np.isfinite(x) else None
-
-
 @dataclass(frozen=True)
 class DynamicIdentification:
     """What :func:`identify_dynamics` found.
@@ -400,21 +397,21 @@ class DynamicIdentification:
             "samples_train": self.samples_train,
             "samples_holdout": self.samples_holdout,
             "holdout_relative_rms": {
-                s: _json_float(x)
+                s: json_number(x)
                 for s, x in zip(self.signals, self.holdout_relative_rms, strict=True)
             },
             "holdout_rms": {
-                s: _json_float(x) for s, x in zip(self.signals, self.holdout_rms, strict=True)
+                s: json_number(x) for s, x in zip(self.signals, self.holdout_rms, strict=True)
             },
             "train_relative_rms": {
-                s: _json_float(x)
+                s: json_number(x)
                 for s, x in zip(self.signals, self.train_relative_rms, strict=True)
             },
-            "worst_holdout_relative_rms": _json_float(self.worst_holdout_relative_rms),
+            "worst_holdout_relative_rms": json_number(self.worst_holdout_relative_rms),
             "total_mass": {
-                "estimate": _json_float(self.total_mass),
+                "estimate": json_number(self.total_mass),
                 "model": self.total_mass_model,
-                "error": _json_float(self.total_mass - self.total_mass_model),
+                "error": json_number(self.total_mass - self.total_mass_model),
             },
             "centre_of_mass": {"error": self.com_error, **self.com_start},
             "base_parameters": [
@@ -422,7 +419,7 @@ class DynamicIdentification:
                     "name": name,
                     "combination": expression,
                     "estimate": float(value),
-                    "std": _json_float(float(std)),
+                    "std": json_number(float(std)),
                     "model": float(truth),
                 }
                 for name, expression, value, std, truth in zip(

@@ -57,9 +57,11 @@ from aaria_pin.apps.identify._kin_init import (
 from aaria_pin.apps.identify._kin_model import (
     ArmLayout,
     KinematicData,
+    json_number,
     predict_signals,
     rotation_from_vector,
     weighted_jacobian,
+    wrap_angle,
 )
 from aaria_pin.core.imu_noise import ADIS16485
 from aaria_pin.core.record import ImuMount, RunRecord
@@ -164,15 +166,11 @@ class KinematicIdentification:
 
     def to_json(self) -> dict[str, Any]:
         """A JSON-ready dict of everything (arrays as lists, NaN as None)."""
-
-        def number(value: float) -> float | None:
-            return None if not np.isfinite(value) else float(value)
-
         out: dict[str, Any] = {
             "table": self.table.tolist(),
             "link_types": list(self.link_types),
             "parameters": [
-                {"name": name, "estimate": float(value), "sigma": number(sigma)}
+                {"name": name, "estimate": float(value), "sigma": json_number(sigma)}
                 for name, value, sigma in zip(
                     self.parameter_names, self.estimates, self.sigmas, strict=True
                 )
@@ -202,8 +200,8 @@ class KinematicIdentification:
             out["truth"] = {
                 "link_types_true": list(t.link_types_true),
                 "link_types_right": list(t.link_types_right),
-                "tool_tip_rms_m": number(t.tool_tip_rms),
-                "tool_tip_max_m": number(t.tool_tip_max),
+                "tool_tip_rms_m": json_number(t.tool_tip_rms),
+                "tool_tip_max_m": json_number(t.tool_tip_max),
                 "axis_angle_max_rad": {str(k): v for k, v in t.axis_angle_max.items()},
             }
         return out
@@ -352,10 +350,6 @@ def _weights(rate: float, noise_parameters: Any = None) -> Array:
     return np.array(levels)
 
 
-def _wrap(angle: float) -> float:
-    return float((angle + np.pi) % (2 * np.pi) - np.pi)
-
-
 def _table(layout: ArmLayout, x: Array, q: Array) -> Array:
     """The 8 × 5 table of a parameter vector (lengths within a millimetre below 0 set to 0)."""
     x = x.copy()
@@ -365,10 +359,10 @@ def _table(layout: ArmLayout, x: Array, q: Array) -> Array:
     for index, (module, kind) in enumerate(zip(layout.modules, layout.kinds, strict=True)):
         alpha, second, a = x[3 * index : 3 * index + 3]
         if kind == "revolute":
-            table[module - 1] = [_wrap(alpha), a, 0.0, second, 1]
+            table[module - 1] = [wrap_angle(alpha), a, 0.0, second, 1]
         else:
             rail = 2.0 * float(np.max(np.abs(q[:, index]))) * (1 + 1e-9)
-            table[module - 1] = [_wrap(alpha), a, _wrap(second), rail, 2]
+            table[module - 1] = [wrap_angle(alpha), a, wrap_angle(second), rail, 2]
     table[6] = [0.0, x[layout.n_dh - 1], 0.0, 0.0, 1]
     return table
 

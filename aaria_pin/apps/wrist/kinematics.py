@@ -19,7 +19,7 @@ the whole family is searched for a member inside them.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -177,12 +177,16 @@ def _other_branch(first: Array) -> Array:
     return np.stack([turned[..., 0], half_open(-first[..., 1]), turned[..., 2]], axis=-1)
 
 
+def _shift_into(angle: Any, low: Any, high: Any) -> tuple[Any, Any]:
+    """An angle shifted by a multiple of 2π into [low, high], and whether that worked."""
+    slack = 1e-12  # either side: an angle of -7e-17 against a low limit of 0 is inside
+    shifted = low - slack + np.mod(angle - low + slack, 2 * np.pi)
+    return shifted, shifted <= high + slack
+
+
 def _wrap_into(angles: Array, limits: Array) -> tuple[Array, np.ndarray]:
     """Angles shifted by multiples of 2π into [low, high], and whether that worked."""
-    low, high = limits[:, 0], limits[:, 1]
-    slack = 1e-12  # either side: an angle of -7e-17 against a low limit of 0 is inside
-    shifted = low - slack + np.mod(angles - low + slack, 2 * np.pi)
-    inside = shifted <= high + slack
+    shifted, inside = _shift_into(angles, limits[:, 0], limits[:, 1])
     return shifted, np.asarray(inside.all(axis=-1), dtype=bool)
 
 
@@ -235,8 +239,8 @@ def _family_member(first: Array, bounds: Array) -> Array | None:
     theta1, theta2, theta3 = (float(v) for v in first)
     two_pi = 2 * np.pi
     for candidate in (theta2, -theta2):
-        shifted2 = bounds[1, 0] + np.mod(candidate - bounds[1, 0], two_pi)
-        if shifted2 > bounds[1, 1] + 1e-12:
+        shifted2, inside = _shift_into(candidate, bounds[1, 0], bounds[1, 1])
+        if not inside:
             continue
         sign = 1.0 if np.cos(candidate) > 0 else -1.0  # θ1 + sign·θ3 is fixed
         fixed = theta1 + sign * theta3
