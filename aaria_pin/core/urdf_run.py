@@ -202,31 +202,27 @@ def simulate_urdf_run(
     Returns:
         The run record (kind ``"urdf"``).
     """
-    check_seed(seed)
-    loaded = load_urdf_robot(
-        urdf,
-        urdf_dir=urdf_dir,
-        moving_base=True,  # a fixed base is a free-flyer held at rest: RNEA gives the mount's load
-        tool_frame=tool_frame,
-        imu_layout=imu_layout,
+    return join_chunks(
+        simulate_urdf_run_chunks(
+            urdf,
+            joint_table,
+            base_table,
+            urdf_dir=urdf_dir,
+            source=source,
+            moving_base=moving_base,
+            tool_frame=tool_frame,
+            imu_layout=imu_layout,
+            duration=duration,
+            rate=rate,
+            seed=seed,
+            noise=noise,
+            noise_model=noise_model,
+            threads=threads,
+            torques=torques,
+            motion=motion,
+            chunk=None,
+        )
     )
-    record = simulate_loaded_robot(
-        loaded,
-        joint_table,
-        base_table,
-        moving_base=moving_base,
-        source=source,
-        duration=duration,
-        rate=rate,
-        seed=seed,
-        noise=noise,
-        noise_model=noise_model,
-        threads=threads,
-        torques=torques,
-        motion=motion,
-    )
-    record.attributes["urdf_dir"] = "" if urdf_dir is None else str(urdf_dir)
-    return record
 
 
 def simulate_urdf_run_chunks(

@@ -62,8 +62,11 @@ def test_a_run_held_whole_and_a_run_in_pieces_have_their_own_bounds() -> None:
 
 def test_piece_times_are_the_grid_s_samples() -> None:
     grid = sample_times(1.23, 977.0)
+    assert grid.size == 1202  # 1.23 s at 977 Hz, both ends: floor(1.23 × 977) + 1
     for start, stop in [(0, 5), (17, 400), (1100, grid.size)]:
-        assert np.array_equal(piece_times(start, stop, 977.0), grid[start:stop])
+        by_hand = np.array([k / 977.0 for k in range(start, stop)])  # sample k at k / rate
+        assert np.array_equal(piece_times(start, stop, 977.0), by_hand)
+        assert np.array_equal(grid[start:stop], by_hand)
     np.testing.assert_allclose(piece_times(1000, 1001, 977.0), [1000 / 977.0], rtol=1e-15)
 
 
