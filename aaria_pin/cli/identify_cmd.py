@@ -44,7 +44,7 @@ def _print(result: KinematicIdentification) -> None:
 
 
 def _write_outputs(result: KinematicIdentification, table: Path | None, urdf: Path | None) -> None:
-    from aaria_pin.files.io import atomic_output
+    from aaria_pin.files.io import atomic_output, write_text_atomic
 
     if table is not None:
         import numpy as np
@@ -56,8 +56,7 @@ def _write_outputs(result: KinematicIdentification, table: Path | None, urdf: Pa
 
         poses = [mount.T_parent_imu for mount in result.mounts]
         robot = build_dh_robot(result.table, imu_mount=poses, name="aaria_identified")
-        with atomic_output(urdf) as temporary:
-            temporary.write_text(robot.urdf, encoding="utf-8")
+        write_text_atomic(urdf, robot.urdf)
 
 
 def identify_kinematics_command(

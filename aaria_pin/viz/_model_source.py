@@ -22,6 +22,7 @@ import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from dataclasses import replace as replace_fields
+from pathlib import Path
 
 import numpy as np
 
@@ -129,16 +130,28 @@ def read_model_view(path: str | os.PathLike[str]) -> ModelView:
     return ModelView(record, robot, signals, base)
 
 
-def with_visuals(scene: Scene, robot: RobotModel, urdf: str) -> Scene:
+def with_visuals(scene: Scene, robot: RobotModel, urdf: str, urdf_dir: Path | None = None) -> Scene:
     """A model's scene with its URDF visual geometry in place of its stick figure.
 
     The scene's frames' axes (world, tool, IMUs) stay; its joint cylinders and bones go when
     the URDF has any visual geometry on the model's frames (else the scene is returned as is).
+    Meshes given by relative path are found in ``urdf_dir`` (the run's ``urdf_dir``
+    attribute); meshes that cannot be found are named in a warning.
     """
+    import warnings
+
+    from aaria_pin.errors import MeshWarning
     from aaria_pin.viz.visuals import urdf_visual_solids
 
     names = [str(frame.name) for frame in robot.model.frames]
-    visuals = urdf_visual_solids(urdf, names)
+    visuals = urdf_visual_solids(urdf, names, urdf_dir)
+    if visuals.missing:
+        shown = ", ".join(str(m) for m in list(visuals.missing)[:3])
+        warnings.warn(
+            f"{len(visuals.missing)} visual mesh(es) not found, drawn without them: {shown}",
+            MeshWarning,
+            stacklevel=2,
+        )
     if not visuals.solids:
         return scene
     frames = tuple(dict.fromkeys([*scene.frames, *(s.frame for s in visuals.solids)]))
@@ -158,7 +171,8 @@ def load_model_run(path: str | os.PathLike[str]) -> RunView:
     extent = float(np.ptp(origins[0, :, :3, 3], axis=0).max())
     scene = scene_from_model(robot, size=max(0.01, 0.04 * extent))
     if view.record.urdf:
-        scene = with_visuals(scene, robot, view.record.urdf)
+        folder = view.record.attributes.get("urdf_dir")
+        scene = with_visuals(scene, robot, view.record.urdf, Path(folder) if folder else None)
     poser = view.poser(scene.model_frames)
 
     def frame_poses(samples: Array) -> Array:

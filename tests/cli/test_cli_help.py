@@ -11,9 +11,6 @@ from click.testing import CliRunner
 
 from aaria_pin.cli import main
 
-OTHERS_TO_ADD: dict[str, str] = {}
-"""Commands whose owners add their Examples block (the lead turns these cases on)."""
-
 
 def _commands() -> list[tuple[str, ...]]:
     """The path of every registered command, groups and their subcommands included."""
@@ -30,16 +27,7 @@ def _commands() -> list[tuple[str, ...]]:
 
 
 def _cases() -> list[object]:
-    return [
-        pytest.param(
-            path,
-            id=" ".join(path),
-            marks=[pytest.mark.xfail(strict=False, reason=OTHERS_TO_ADD[path[0]])]
-            if path[0] in OTHERS_TO_ADD
-            else [],
-        )
-        for path in _commands()
-    ]
+    return [pytest.param(path, id=" ".join(path)) for path in _commands()]
 
 
 def _command(path: tuple[str, ...]) -> click.Command:

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from aaria_pin.errors import MeshWarning
 from aaria_pin.viz.visuals import urdf_visual_solids
 
 
@@ -107,3 +108,37 @@ def test_meshes_are_decimated_to_the_budget() -> None:
             for v in (full, small)
         ]
         np.testing.assert_allclose(boxes[1], boxes[0], atol=0.005)
+
+
+_RELATIVE_MESH_URDF = """<robot name="stick">
+  <link name="base"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01"
+    ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="arm"><inertial><origin xyz="0 0 0.1"/><mass value="1"/><inertia ixx="0.01"
+    iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <visual><geometry><mesh filename="meshes/block.stl"/></geometry></visual></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="arm"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="10" velocity="3"/></joint>
+</robot>"""
+
+
+def test_a_run_s_relative_meshes_are_found_in_its_urdf_folder(tmp_path: Path) -> None:
+    import warnings
+
+    import trimesh
+
+    from aaria_pin.core.urdf_run import simulate_urdf_run
+    from aaria_pin.files.runfile import write_run
+    from aaria_pin.viz._model_source import load_model_run
+
+    (tmp_path / "meshes").mkdir()
+    trimesh.creation.box(extents=(0.1, 0.2, 0.3)).export(tmp_path / "meshes" / "block.stl")
+    record = simulate_urdf_run(_RELATIVE_MESH_URDF, urdf_dir=tmp_path, duration=0.1, rate=50)
+    run = write_run(tmp_path / "run.h5", record)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # found: no warning
+        view = load_model_run(run)
+    meshes = [s for s in view.scene.solids if s.frame == "arm"]
+    assert meshes and meshes[0].triangles().shape[0] == 12  # the box's 12 triangles
+    record.attributes["urdf_dir"] = str(tmp_path / "elsewhere")
+    with pytest.warns(MeshWarning, match="meshes/block.stl"):
+        load_model_run(write_run(tmp_path / "moved.h5", record))
