@@ -1,11 +1,12 @@
 """An output's exclusive lock: one aaria process writes a given output at a time.
 
-The lock is ``fcntl.flock`` on a small file beside the output, ``.<name>.lock``, holding the
-writer's pid. ``flock`` locks belong to the open file and go away with the process however it
-ends (SIGKILL included), so a crash never leaves a lock held; the lock file a crash leaves is
-taken over and removed by the next job. The lock is re-entrant within a process (the data-set
-engine holds it for a whole job and writes its file through
-:func:`~aaria_pin.files.paths.atomic_output`, which takes it too).
+The lock is a :class:`filelock.UnixFileLock` (``flock``) on a small file beside the output,
+``.<name>.lock``, stamped with the writer's pid. ``flock`` locks belong to the open file and go
+away with the process however it ends (SIGKILL included), so a crash never leaves a lock held;
+the lock file a crash leaves (a stale lock) is taken over and removed by the next job. The lock
+is re-entrant within a process (the data-set engine holds it for a whole job and writes its file
+through :func:`~aaria_pin.files.paths.atomic_output`, which takes it too). ``filelock`` is
+imported when a lock is first taken (25 ms; ``aaria --help`` does not pay it).
 """
 
 from __future__ import annotations
@@ -17,15 +18,24 @@ import os
 import threading
 from collections.abc import Iterator
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from aaria_pin.errors import OutputFileError
 
+if TYPE_CHECKING:
+    from filelock import UnixFileLock
+
 __all__ = ["hidden_stem", "lock_holder", "output_lock"]
 
-_HELD: dict[str, int] = {}
-"""Locks this process holds: lock file path → nesting depth."""
+_HELD: dict[str, UnixFileLock] = {}
+"""Locks this process holds: lock file path → the lock (``filelock`` counts the nesting)."""
 
 _HELD_GUARD = threading.Lock()
+
+os.register_at_fork(after_in_child=_HELD.clear)  # a forked child holds none of them
+
+_ATTEMPTS = 20
+"""Tries to take a lock whose file its last holder removed while we opened it."""
 
 _SPARE_BYTES = 40
 """Bytes a hidden companion name adds to the output's name: ``.`` + ``.<pid>.<8>.tmp`` + suffix."""
@@ -57,17 +67,25 @@ def _lock_path(final: Path) -> Path:
 
 
 def lock_holder(final: Path) -> int | None:
-    """The pid of another process that holds ``final``'s lock, or None (free, or ours)."""
+    """The pid of another process that holds ``final``'s lock, or None (free, or ours).
+
+    0 when another process holds it but its stamp cannot be read (not written yet).
+    """
     lock = _lock_path(final)
     if str(lock) in _HELD:
         return None
+    return _holder(lock)
+
+
+def _holder(lock: Path) -> int | None:
+    """The pid stamped in a lock file another open file holds (0 unreadable), or None (free)."""
+    import fcntl
+
     try:
         descriptor = os.open(lock, os.O_RDONLY)
     except OSError:
         return None
     try:
-        import fcntl
-
         try:
             fcntl.flock(descriptor, fcntl.LOCK_SH | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -86,11 +104,33 @@ def _pid_in(descriptor: int) -> int:
         return 0
 
 
+def _stamp(descriptor: int) -> None:
+    """Write our pid into the lock file just locked (``filelock``'s ``on_acquired``).
+
+    The stamp is written, then the file trimmed to it: truncating to zero first made ext4 write
+    the file out when the descriptor closed (auto_da_alloc: a file truncated to zero and written
+    again is flushed on close), 2.5-4 ms of every output (more on a busy disk) against 0.14 ms so.
+    """
+    stamp = f"{os.getpid()}\n".encode()
+    os.pwrite(descriptor, stamp, 0)
+    os.ftruncate(descriptor, len(stamp))
+
+
 def _busy(final: Path, pid: int) -> OutputFileError:
     shown = f"pid {pid}" if pid else "pid unknown"
     return OutputFileError(
         f"{final}: is being written by another aaria process ({shown}); allowed: an output "
         "no other job is writing (wait for it, or choose another file)",
+        parameter="path",
+        value=str(final),
+        element=str(final),
+    )
+
+
+def _unlockable(final: Path, reason: str) -> OutputFileError:
+    return OutputFileError(
+        f"{final}: cannot lock it in {final.parent} ({reason}); allowed: a file in a writable "
+        "folder",
         parameter="path",
         value=str(final),
         element=str(final),
@@ -118,72 +158,51 @@ def output_lock(path: str | os.PathLike[str]) -> Iterator[Path]:
         OutputFileError: another process holds the lock (naming its pid), or the lock file
             cannot be made in the output's folder.
     """
-    import fcntl
-
     final = Path(os.path.realpath(path)) if os.path.islink(path) else Path(path)
-    lock = _lock_path(final)
-    key = str(lock)
+    lock_path = _lock_path(final)
+    key = str(lock_path)
     with _HELD_GUARD:
-        if key in _HELD:
-            _HELD[key] += 1
-            nested = True
+        lock = _HELD.get(key)
+        if lock is not None:
+            lock.acquire()  # nested: filelock counts it
         else:
-            nested = False
-    if nested:
-        try:
-            yield final
-        finally:
-            with _HELD_GUARD:
-                _HELD[key] -= 1
-        return
-    descriptor = _acquire(final, lock, fcntl)
-    with _HELD_GUARD:
-        _HELD[key] = 1
+            lock = _acquire(final, lock_path)
+            _HELD[key] = lock
     try:
         yield final
     finally:
         with _HELD_GUARD:
-            del _HELD[key]
-        with contextlib.suppress(OSError):
-            os.unlink(lock)  # still locked: a waiting opener sees another inode and retries
-        os.close(descriptor)
+            if lock.lock_counter == 1:
+                del _HELD[key]
+                with contextlib.suppress(OSError):
+                    os.unlink(lock_path)  # still locked: a waiting opener sees it gone and retries
+            lock.release()
 
 
-def _acquire(final: Path, lock: Path, fcntl: object) -> int:
-    """Open, lock and stamp the lock file; the descriptor stays open while the lock is held."""
-    flock = fcntl.flock  # type: ignore[attr-defined]
-    exclusive = fcntl.LOCK_EX | fcntl.LOCK_NB  # type: ignore[attr-defined]
-    for _ in range(20):
+def _acquire(final: Path, lock_path: Path) -> UnixFileLock:
+    """Take and stamp the lock of ``final`` (non-blocking), or refuse naming the holder."""
+    from filelock import Timeout, UnixFileLock
+
+    folder = lock_path.parent
+    if not folder.is_dir():  # filelock would make the folder
+        raise _unlockable(final, os.strerror(errno.ENOENT))
+    lock = UnixFileLock(
+        lock_path,
+        mode=0o644,
+        thread_local=False,  # re-entrant in the process, whichever thread
+        blocking=False,
+        fallback_to_soft=False,  # a soft lock a crash leaves stays held
+        on_acquired=_stamp,
+    )
+    for _ in range(_ATTEMPTS):
         try:
-            descriptor = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
-        except OSError as exc:
-            raise OutputFileError(
-                f"{final}: cannot lock it in {lock.parent} ({exc.strerror}); allowed: a file "
-                "in a writable folder",
-                parameter="path",
-                value=str(final),
-                element=str(final),
-            ) from None
-        try:
-            flock(descriptor, exclusive)
-        except OSError as exc:
-            pid = _pid_in(descriptor)
-            os.close(descriptor)
-            if exc.errno in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
+            lock.acquire()
+        except Timeout:
+            pid = _holder(lock_path)
+            if pid is not None:
                 raise _busy(final, pid) from None
-            raise OutputFileError(f"{final}: cannot be locked ({exc.strerror})") from None
-        try:
-            same = os.fstat(descriptor).st_ino == os.stat(lock).st_ino
-        except FileNotFoundError:
-            same = False
-        if same:  # not a lock file its last holder removed while we opened it
-            # The stamp is written, then the file trimmed to it: truncating to zero first made
-            # ext4 write the file out when the descriptor closed (auto_da_alloc: a file
-            # truncated to zero and written again is flushed on close), 2.5-4 ms of every
-            # output (more on a busy disk) against 0.14 ms so.
-            stamp = f"{os.getpid()}\n".encode()
-            os.pwrite(descriptor, stamp, 0)
-            os.ftruncate(descriptor, len(stamp))
-            return descriptor
-        os.close(descriptor)
+            continue  # its holder removed the file as we opened it: try the new one
+        except OSError as exc:
+            raise _unlockable(final, exc.strerror or str(exc)) from None
+        return lock
     raise _busy(final, 0)
