@@ -163,8 +163,8 @@ def _check_link_type(arr: Array, row: int, allowed: Sequence[LinkType], what: st
         names = ", ".join(f"{int(t)} ({t.name.lower()})" for t in allowed)
         raise TableError(
             f"{what}: row {row + 1}, column 5 (link type) is {value:g}; allowed: {names}",
+            parameter="table",
             value=float(value),
-            allowed=names,
             element=f"row {row + 1}, column 5 (link type)",
         )
     return LinkType(int(value))
@@ -176,8 +176,8 @@ def _check_non_negative(arr: Array, row: int, col: int, what: str) -> None:
             f"{what}: row {row + 1}, column {col + 1} ({AARIA_COLUMNS[col]}) is"
             f" {arr[row, col]:g} {_COLUMN_UNITS[col]}; allowed: a length from 0 to"
             f" {MAX_LENGTH:g} m",
+            parameter="table",
             value=float(arr[row, col]),
-            allowed=f"a length from 0 to {MAX_LENGTH:g} m",
             element=f"row {row + 1}, column {col + 1} ({AARIA_COLUMNS[col]})",
         )
 
@@ -207,8 +207,8 @@ def validate_aaria_table(table: ArrayLike) -> Array:
     if all(t is LinkType.EMPTY for t in types):
         raise TableError(
             f"{what}: every module (rows 1-6) is empty; allowed: at least one 1 or 2",
+            parameter="table",
             value="all link types 0",
-            allowed="at least one 1 or 2",
             element="rows 1-6, column 5 (link type)",
         )
     return arr
@@ -232,6 +232,7 @@ def validate_dh_table(table: ArrayLike, convention: Convention = "standard") -> 
     if not 1 <= arr.shape[0] <= _MAX_ROWS:
         raise TableError(
             f"{what}: {arr.shape[0]} rows is not allowed; expected 1 to {_MAX_ROWS}",
+            parameter="table",
             value=arr.shape[0],
             allowed=f"1 to {_MAX_ROWS} rows",
             element="rows",

@@ -95,14 +95,20 @@ class BodyDimensions:
             value = getattr(self, name)
             if not (np.isfinite(value) and 0 < value <= MAX_SECTION):
                 raise ParameterError(
-                    f"{name} is {value!r} m; allowed: a length 0 < length <= {MAX_SECTION:g} m"
+                    f"{name} is {value!r} m; allowed: a length 0 < length <= {MAX_SECTION:g} m",
+                    parameter=name,
+                    value=value,
+                    allowed=f"a length 0 < length <= {MAX_SECTION:g} m",
                 )
         densities = {"every body": self.density, **self.density_overrides}
         for name, value in densities.items():
             if not (np.isfinite(value) and 0 < value <= MAX_DENSITY):
-                raise ParameterError(
+                raise ParameterError(  # the message as written (its CLI text is tested)
                     f"density of {name} is {value!r} kg/m^3; allowed: 0 < density"
-                    f" <= {MAX_DENSITY:g}"
+                    f" <= {MAX_DENSITY:g}",
+                    parameter="density" if name == "every body" else "density_overrides",
+                    value=value,
+                    element=None if name == "every body" else name,
                 )
 
     def density_of(self, link: str) -> float:
@@ -372,9 +378,19 @@ def mount_imu_slots(slots: tuple[ImuSlot, ...], imu_mount: ArrayLike) -> tuple[I
     poses = np.asarray(imu_mount, dtype=float)
     expected = (len(slots), 4, 4)
     if poses.shape != expected:
-        raise ParameterError(f"imu_mount has shape {poses.shape}; allowed: {expected}")
+        raise ParameterError(
+            f"imu_mount has shape {poses.shape}; allowed: {expected}",
+            parameter="imu_mount",
+            value=poses.shape,
+            allowed=str(expected),
+        )
     if not np.all(np.isfinite(poses)):
-        raise ParameterError("imu_mount holds NaN or inf; allowed: finite poses")
+        raise ParameterError(
+            "imu_mount holds NaN or inf; allowed: finite poses",
+            parameter="imu_mount",
+            value=poses,
+            allowed="finite poses",
+        )
     moved = []
     for slot, pose in zip(slots, poses, strict=True):
         if slot.parent is None:
@@ -389,7 +405,11 @@ def mount_imu_slots(slots: tuple[ImuSlot, ...], imu_mount: ArrayLike) -> tuple[I
         if not rigid:
             raise ParameterError(
                 f"imu_mount of {slot.name} is not a rigid transform; allowed: [R p; 0 0 0 1]"
-                " with R a rotation"
+                " with R a rotation",
+                parameter="imu_mount",
+                value=pose,
+                allowed="[R p; 0 0 0 1] with R a rotation",
+                element=slot.name,
             )
         moved.append(ImuSlot(slot.name, slot.parent, pose.copy()))
     return tuple(moved)
@@ -430,7 +450,14 @@ def build_dh_robot(
     if mass_properties:
         unknown = sorted(set(mass_properties) - {link.name for link in description.links})
         if unknown:
-            raise ParameterError(f"mass properties for {unknown[0]!r}: no such link")
+            raise ParameterError(
+                f"mass properties for {unknown[0]!r}: no such link",
+                parameter="mass_properties",
+                value=unknown[0],
+                allowed="a link of the robot ("
+                + ", ".join(link.name for link in description.links)
+                + ")",
+            )
         links = tuple(
             replace(link, mass_properties=mass_properties[link.name])
             if link.name in mass_properties

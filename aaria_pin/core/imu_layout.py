@@ -133,7 +133,16 @@ def default_imu_layout(
     return tuple(mounts)
 
 
-def _vector(entry: dict[str, Any], key: str, where: str) -> list[float]:
+def _refused(file: Path, text: str, element: str | None = None) -> InputFileError:
+    """The error of layout ``file``: ``"<file>: [<element>: ]<text>"``, ``path`` at fault.
+
+    No ``allowed`` field: the CLI prints the message as written (it names the file).
+    """
+    where = f"{file}: {element}" if element else str(file)
+    return InputFileError(f"{where}: {text}", parameter="path", value=str(file), element=element)
+
+
+def _vector(entry: dict[str, Any], key: str, file: Path, element: str) -> list[float]:
     value = entry.get(key, [0.0, 0.0, 0.0])
     if (
         not isinstance(value, list)
@@ -141,7 +150,7 @@ def _vector(entry: dict[str, Any], key: str, where: str) -> list[float]:
         or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
         or not np.all(np.isfinite(value))
     ):
-        raise InputFileError(f"{where}: {key} = {value!r}; allowed: three finite numbers")
+        raise _refused(file, f"{key} = {value!r}; allowed: three finite numbers", element)
     return [float(v) for v in value]
 
 
@@ -156,28 +165,30 @@ def read_imu_layout(path: str | os.PathLike[str]) -> tuple[ImuMount, ...]:
     try:
         data = tomllib.loads(file.read_text(encoding="utf-8"))
     except OSError as exc:
-        raise InputFileError(f"{file}: cannot be read ({exc.strerror})") from None
+        raise _refused(file, f"cannot be read ({exc.strerror})") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise InputFileError(f"{file}: not a TOML file ({exc})") from None
+        raise _refused(file, f"not a TOML file ({exc})") from None
     entries = data.get("imu")
     if not isinstance(entries, list) or not entries:
-        raise InputFileError(f"{file}: no [[imu]] tables; allowed: one [[imu]] table per IMU")
+        raise _refused(file, "no [[imu]] tables; allowed: one [[imu]] table per IMU")
     mounts: list[ImuMount] = []
     for number, entry in enumerate(entries, start=1):
-        where = f"{file}: [[imu]] number {number}"
+        where = f"[[imu]] number {number}"
         if not isinstance(entry, dict):
-            raise InputFileError(f"{where}: {entry!r} is not a table; allowed: [[imu]] tables")
+            raise _refused(file, f"{entry!r} is not a table; allowed: [[imu]] tables", where)
         unknown = set(entry) - {"name", "parent", "xyz", "rpy"}
         if unknown:
-            raise InputFileError(
-                f"{where}: unknown key {sorted(unknown)[0]!r}; allowed: name, parent, xyz, rpy"
+            raise _refused(
+                file,
+                f"unknown key {sorted(unknown)[0]!r}; allowed: name, parent, xyz, rpy",
+                where,
             )
         for key in ("name", "parent"):
             if not isinstance(entry.get(key), str) or not entry[key]:
-                raise InputFileError(f"{where}: no {key}; allowed: a non-empty string")
+                raise _refused(file, f"no {key}; allowed: a non-empty string", where)
         if any(mount.name == entry["name"] for mount in mounts):
-            raise InputFileError(f"{where}: name {entry['name']!r} is used twice")
-        pose = _pose(_vector(entry, "xyz", where), _vector(entry, "rpy", where))
+            raise _refused(file, f"name {entry['name']!r} is used twice", where)
+        pose = _pose(_vector(entry, "xyz", file, where), _vector(entry, "rpy", file, where))
         mounts.append(ImuMount(entry["name"], entry["parent"], pose))
     return tuple(mounts)
 
@@ -192,10 +203,20 @@ def add_imu_frames(model: pin.Model, mounts: Sequence[ImuMount]) -> None:
         if not model.existFrame(mount.parent):
             raise ModelError(
                 f"IMU {mount.name!r}: parent frame {mount.parent!r} is not in model "
-                f"{model.name!r}; allowed: a link, joint or frame of the URDF"
+                f"{model.name!r}; allowed: a link, joint or frame of the URDF",
+                parameter="mounts",
+                value=mount.parent,
+                allowed="a link, joint or frame of the URDF",
+                element=f"parent of IMU {mount.name!r}",
             )
         if model.existFrame(mount.name):
-            raise ModelError(f"IMU name {mount.name!r} is already a frame of the robot")
+            raise ModelError(
+                f"IMU name {mount.name!r} is already a frame of the robot",
+                parameter="mounts",
+                value=mount.name,
+                allowed="a name that is not a frame of the robot",
+                element="IMU name",
+            )
         parent_id = frame_index(model, mount.parent)
         parent = model.frames[parent_id]
         placement = parent.placement * pin.SE3(mount.T_parent_imu)

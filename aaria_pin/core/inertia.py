@@ -30,11 +30,15 @@ ALUMINIUM_DENSITY = 2700.0
 """Default density of every body [kg/m³]."""
 
 
-def _check_positive(name: str, value: float, allow_zero: bool = False) -> None:
-    ok = value >= 0.0 if allow_zero else value > 0.0
-    if not (np.isfinite(value) and ok):
-        bound = ">= 0" if allow_zero else "> 0"
-        raise ParameterError(f"{name} is {value!r}; allowed: a finite number {bound}")
+def _check_positive(name: str, value: float, *, parameter: str, element: str) -> None:
+    if not (np.isfinite(value) and value > 0.0):
+        raise ParameterError(
+            f"{name} is {value!r}; allowed: a finite number > 0",
+            parameter=parameter,
+            value=value,
+            allowed="a finite number > 0",
+            element=element,
+        )
 
 
 def box_inertia(mass: float, size: tuple[float, float, float]) -> Array:
@@ -115,9 +119,13 @@ class Part:
     role: str = "link"
 
     def __post_init__(self) -> None:
-        _check_positive(f"{self.role} density [kg/m^3]", self.density)
+        _check_positive(
+            f"{self.role} density [kg/m^3]", self.density, parameter="density", element=self.role
+        )
         for value in self.dimensions:
-            _check_positive(f"{self.role} dimension [m]", value)
+            _check_positive(
+                f"{self.role} dimension [m]", value, parameter="dimensions", element=self.role
+            )
 
     @property
     def volume(self) -> float:

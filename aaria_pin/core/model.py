@@ -92,7 +92,7 @@ def frame_index(model: pin.Model, name: str) -> int:
     for index, frame in enumerate(model.frames):
         if frame.name == name:
             return index
-    raise ModelError(f"frame {name!r} is not in model {model.name!r}")
+    raise ModelError(f"frame {name!r} is not in model {model.name!r}", parameter="name", value=name)
 
 
 def _finish(
@@ -335,5 +335,7 @@ def build_model(
         else:
             model = pin.buildModelFromXML(urdf)
     except (RuntimeError, ValueError) as exc:
-        raise ModelError(f"URDF cannot be built into a model: {exc}") from None
+        raise ModelError(
+            f"URDF cannot be built into a model: {exc}", parameter="urdf", value=str(exc)
+        ) from None
     return _finish(model, urdf, moving_base, base_frame, tool_frame, sensor_frames)

@@ -93,7 +93,10 @@ def _parse(seq: str) -> tuple[tuple[int, int, int], bool]:
         raise ParameterError(
             f"rotation sequence {seq!r} is not allowed; allowed: three of x, y, z with no axis"
             " twice in a row, all lowercase (fixed axes) or all uppercase (moving axes), e.g."
-            " 'xyz', 'ZYX', 'ZYZ'"
+            " 'xyz', 'ZYX', 'ZYZ'",
+            parameter="seq",
+            value=seq,
+            allowed="three of x, y, z with no axis twice in a row, all lowercase or all uppercase",
         )
     axes = tuple(_AXIS[c] for c in seq.lower())
     return (axes[0], axes[1], axes[2]), seq.isupper()
@@ -120,12 +123,25 @@ def _finite_angles(angles: ArrayLike) -> Array:
         arr = np.asarray(angles, dtype=float)
     except (TypeError, ValueError):
         raise ParameterError(
-            "angles are not numbers; allowed: an array of shape (..., 3)"
+            "angles are not numbers; allowed: an array of shape (..., 3)",
+            parameter="angles",
+            value=type(angles).__name__,
+            allowed="an array of shape (..., 3)",
         ) from None
     if arr.ndim == 0 or arr.shape[-1] != 3:
-        raise ParameterError(f"angles have shape {arr.shape}; allowed: (..., 3)")
+        raise ParameterError(
+            f"angles have shape {arr.shape}; allowed: (..., 3)",
+            parameter="angles",
+            value=arr.shape,
+            allowed="(..., 3)",
+        )
     if not np.all(np.isfinite(arr)):
-        raise ParameterError("angles hold NaN or inf; allowed: finite numbers")
+        raise ParameterError(
+            "angles hold NaN or inf; allowed: finite numbers",
+            parameter="angles",
+            value=arr,
+            allowed="finite numbers",
+        )
     return arr
 
 
@@ -184,11 +200,26 @@ def as_rotation(
     try:
         R = np.array(matrix, dtype=float)
     except (TypeError, ValueError):
-        raise ParameterError("matrix is not numeric; allowed: (..., 3, 3) real numbers") from None
+        raise ParameterError(
+            "matrix is not numeric; allowed: (..., 3, 3) real numbers",
+            parameter="matrix",
+            value=type(matrix).__name__,
+            allowed="(..., 3, 3) real numbers",
+        ) from None
     if R.ndim < 2 or R.shape[-2:] != (3, 3):
-        raise ParameterError(f"matrix has shape {R.shape}; allowed: (..., 3, 3)")
+        raise ParameterError(
+            f"matrix has shape {R.shape}; allowed: (..., 3, 3)",
+            parameter="matrix",
+            value=R.shape,
+            allowed="(..., 3, 3)",
+        )
     if not np.all(np.isfinite(R)):
-        raise ParameterError("matrix holds NaN or inf; allowed: finite numbers")
+        raise ParameterError(
+            "matrix holds NaN or inf; allowed: finite numbers",
+            parameter="matrix",
+            value=R,
+            allowed="finite numbers",
+        )
     error, det = rotation_defect(R)
     bad = (error > tolerance) | (det < 0)
     if not project:
@@ -200,7 +231,11 @@ def as_rotation(
             raise ParameterError(
                 f"matrix{where} is not a rotation"
                 f" (|RᵀR - I| = {worst:.3g}, det = {d:.6g}); allowed: orthonormal within"
-                f" {tolerance:g} with det +1, or project it"
+                f" {tolerance:g} with det +1, or project it",
+                parameter="matrix",
+                value=R[tuple(index)] if R.ndim > 2 else R,
+                allowed=f"orthonormal within {tolerance:g} with det +1",
+                element=where.strip() or None,
             )
         return R, np.zeros(R.shape[:-2], dtype=bool)
     U, _, Vt = np.linalg.svd(R)

@@ -12,7 +12,12 @@ from aaria_pin.errors import TableError
 
 
 def finite_table(
-    table: ArrayLike, columns: Sequence[str], what: str, rows: Sequence[int] | None = None
+    table: ArrayLike,
+    columns: Sequence[str],
+    what: str,
+    rows: Sequence[int] | None = None,
+    *,
+    parameter: str = "table",
 ) -> Array:
     """The table as a new 2-D float array with ``len(columns)`` columns, all entries finite.
 
@@ -21,6 +26,7 @@ def finite_table(
         columns: column names, for messages
         what: the table's name, for messages
         rows: the allowed row counts (any when None)
+        parameter: the caller's parameter the table came in by, for the error's ``parameter``
 
     Raises:
         TableError: not numeric, a wrong shape, or a NaN / inf (naming its row and column).
@@ -28,7 +34,12 @@ def finite_table(
     try:
         arr = np.array(table, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise TableError(f"{what}: not a numeric table ({exc})") from None
+        raise TableError(
+            f"{what}: not a numeric table ({exc})",
+            parameter=parameter,
+            value=type(table).__name__,
+            allowed="a numeric table",
+        ) from None
     width = len(columns)
     if arr.ndim != 2 or arr.shape[1] != width or (rows is not None and arr.shape[0] not in rows):
         expected = (
@@ -36,8 +47,8 @@ def finite_table(
         )
         raise TableError(
             f"{what}: shape {arr.shape} is not allowed; expected {expected}",
+            parameter=parameter,
             value=arr.shape,
-            allowed=str(expected),
             element="shape",
         )
     bad = np.argwhere(~np.isfinite(arr))
@@ -46,8 +57,8 @@ def finite_table(
         raise TableError(
             f"{what}: row {row + 1}, column {col + 1} ({columns[col]}) is {arr[row, col]};"
             " allowed: a finite number",
+            parameter=parameter,
             value=float(arr[row, col]),
-            allowed="a finite number",
             element=f"row {row + 1}, column {col + 1} ({columns[col]})",
         )
     return arr
