@@ -10,6 +10,11 @@ fields a Python caller can read without parsing text:
 - ``allowed``: what is allowed, as text;
 - ``element``: where in the value (``"row 3, column 2"``, a joint or link name, a file path).
 
+Every error the package makes names its ``parameter`` (``tests/test_raise_sites.py`` walks the
+package's AST for one that does not). The CLI recomposes the message around its flag when the
+error also has ``allowed``; an error whose message must reach the user as written (it names its
+file, or the table by its title) leaves ``allowed`` out of the fields.
+
 An :class:`OutputFileError` and an :class:`InputFileError` are also :class:`OSError`, so code that
 handles file errors catches them.
 """

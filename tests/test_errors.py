@@ -44,6 +44,46 @@ def test_the_cli_names_the_flag_not_the_parameter() -> None:
     assert error.for_flag({}) == str(error)
 
 
+def test_the_cli_names_the_flag_of_a_cell() -> None:
+    error = TableError(
+        "base table: row 2, column 1 (x) is inf; allowed: finite",
+        parameter="base_table",
+        value=math.inf,
+        allowed="finite",
+        element="row 2, column 1 (x)",
+    )
+    assert str(error) == "base table: row 2, column 1 (x) is inf; allowed: finite"
+    assert error.for_flag({"base_table": "--base"}) == (
+        "row 2, column 1 (x) of --base is inf; allowed: finite"
+    )
+
+
+def test_a_message_without_allowed_is_printed_as_written() -> None:
+    """No ``allowed`` field: the CLI keeps the message (it names its file), flag or not."""
+    error = InputFileError(
+        "imus.toml: [[imu]] number 2: no name; allowed: a non-empty string",
+        parameter="path",
+        value="imus.toml",
+        element="[[imu]] number 2",
+    )
+    assert error.for_flag({"path": "-o/--output"}) == str(error)
+    assert (error.parameter, error.value, error.allowed) == ("path", "imus.toml", None)
+
+
+def test_for_flag_is_the_one_mapping_of_parameters_to_flags() -> None:
+    """Only the CLI's error handler turns a parameter into a flag, through ``for_flag``."""
+    import ast
+    from pathlib import Path
+
+    package = Path(__file__).resolve().parent.parent / "aaria_pin"
+    callers = []
+    for path in sorted(package.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Attribute) and node.attr == "for_flag":
+                callers.append(path.relative_to(package).as_posix())
+    assert len(callers) == 1 and callers[0].startswith("cli/"), callers  # today cli/_app.py
+
+
 @pytest.mark.parametrize("kind", [InputFileError, OutputFileError])
 def test_file_errors_are_os_errors_and_aaria_errors(kind: type[AariaError]) -> None:
     with pytest.raises(OSError, match="folder") as caught:
