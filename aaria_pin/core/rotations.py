@@ -118,27 +118,39 @@ def elementary(axis: int, angle: ArrayLike) -> Array:
     return R
 
 
-def _finite_angles(angles: ArrayLike) -> Array:
+def _finite(value: ArrayLike, parameter: str, trailing: tuple[int, ...], copy: bool) -> Array:
+    """``value`` as a float array of shape ``(..., *trailing)``, every entry finite.
+
+    Args:
+        value: the array given
+        parameter: its parameter's name, for the error
+        trailing: the shape of its last axes
+        copy: a new array (else ``value`` itself where it is a float array already)
+
+    Raises:
+        ParameterError: not numbers, another shape, or a NaN or inf.
+    """
+    shape = "(..., " + ", ".join(map(str, trailing)) + ")"
     try:
-        arr = np.asarray(angles, dtype=float)
+        arr = np.array(value, dtype=float) if copy else np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         raise ParameterError(
-            "angles are not numbers; allowed: an array of shape (..., 3)",
-            parameter="angles",
-            value=type(angles).__name__,
-            allowed="an array of shape (..., 3)",
+            f"{parameter} is not numeric; allowed: an array of shape {shape}",
+            parameter=parameter,
+            value=type(value).__name__,
+            allowed=f"an array of shape {shape}",
         ) from None
-    if arr.ndim == 0 or arr.shape[-1] != 3:
+    if arr.ndim < len(trailing) or arr.shape[arr.ndim - len(trailing) :] != trailing:
         raise ParameterError(
-            f"angles have shape {arr.shape}; allowed: (..., 3)",
-            parameter="angles",
+            f"{parameter} has shape {arr.shape}; allowed: {shape}",
+            parameter=parameter,
             value=arr.shape,
-            allowed="(..., 3)",
+            allowed=shape,
         )
     if not np.all(np.isfinite(arr)):
         raise ParameterError(
-            "angles hold NaN or inf; allowed: finite numbers",
-            parameter="angles",
+            f"{parameter} holds NaN or inf; allowed: finite numbers",
+            parameter=parameter,
             value=arr,
             allowed="finite numbers",
         )
@@ -155,7 +167,7 @@ def matrix_from_angles(angles: ArrayLike, seq: str) -> Array:
     Returns:
         (..., 3, 3) rotation matrices.
     """
-    arr = _finite_angles(angles)
+    arr = _finite(angles, "angles", (3,), copy=False)
     axes, intrinsic = _parse(seq)
     factors = [elementary(axis, arr[..., n]) for n, axis in enumerate(axes)]
     if intrinsic:
@@ -197,29 +209,7 @@ def as_rotation(
         ParameterError: wrong shape, NaN or inf, or (without ``project``) a matrix that is not
             orthonormal within ``tolerance`` or has determinant -1.
     """
-    try:
-        R = np.array(matrix, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(
-            "matrix is not numeric; allowed: (..., 3, 3) real numbers",
-            parameter="matrix",
-            value=type(matrix).__name__,
-            allowed="(..., 3, 3) real numbers",
-        ) from None
-    if R.ndim < 2 or R.shape[-2:] != (3, 3):
-        raise ParameterError(
-            f"matrix has shape {R.shape}; allowed: (..., 3, 3)",
-            parameter="matrix",
-            value=R.shape,
-            allowed="(..., 3, 3)",
-        )
-    if not np.all(np.isfinite(R)):
-        raise ParameterError(
-            "matrix holds NaN or inf; allowed: finite numbers",
-            parameter="matrix",
-            value=R,
-            allowed="finite numbers",
-        )
+    R = _finite(matrix, "matrix", (3, 3), copy=True)
     error, det = rotation_defect(R)
     bad = (error > tolerance) | (det < 0)
     if not project:

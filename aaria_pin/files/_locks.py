@@ -116,24 +116,30 @@ def _stamp(descriptor: int) -> None:
     os.ftruncate(descriptor, len(stamp))
 
 
-def _busy(final: Path, pid: int) -> OutputFileError:
-    shown = f"pid {pid}" if pid else "pid unknown"
+def _refused(final: Path, text: str, allowed: str) -> OutputFileError:
+    """``"<final>: <text>; allowed: <allowed>"``, the output ``path`` at fault.
+
+    No ``allowed`` field: the CLI prints the message as written (it names the file).
+    """
     return OutputFileError(
-        f"{final}: is being written by another aaria process ({shown}); allowed: an output "
-        "no other job is writing (wait for it, or choose another file)",
+        f"{final}: {text}; allowed: {allowed}",
         parameter="path",
         value=str(final),
         element=str(final),
     )
 
 
+def _busy(final: Path, pid: int) -> OutputFileError:
+    return _refused(
+        final,
+        f"is being written by another aaria process (pid {pid or 'unknown'})",
+        "an output no other job is writing (wait for it, or choose another file)",
+    )
+
+
 def _unlockable(final: Path, reason: str) -> OutputFileError:
-    return OutputFileError(
-        f"{final}: cannot lock it in {final.parent} ({reason}); allowed: a file in a writable "
-        "folder",
-        parameter="path",
-        value=str(final),
-        element=str(final),
+    return _refused(
+        final, f"cannot lock it in {final.parent} ({reason})", "a file in a writable folder"
     )
 
 
