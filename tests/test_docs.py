@@ -1,0 +1,155 @@
+"""The documentation: ``mkdocs build --strict`` passes, and every code example in it runs.
+
+Each page's ```` ```bash ```` and ```` ```python ```` blocks run in order in one temporary folder
+(so a page's later blocks read the files its earlier ones wrote): ``aaria ...`` commands run
+in-process through click (``> FILE`` writes their stdout to FILE), any other shell command runs
+in bash, Python blocks are exec'd in one namespace per page. Every command must exit 0. Blocks
+that should not run are written as ```` ```console ```` or ```` ```text ````. The README's blocks
+run the same way.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+ROOT = Path(__file__).resolve().parent.parent
+DOCS = ROOT / "docs"
+PAGES = [*sorted(DOCS.rglob("*.md")), ROOT / "README.md"]
+FENCE = re.compile(r"^```(\w+)[^\n]*\n(.*?)^```$", re.MULTILINE | re.DOTALL)
+RUN = ("bash", "python")
+
+
+def code_blocks(text: str) -> list[tuple[str, str]]:
+    """The fenced code blocks of a Markdown text, in order: (language, code)."""
+    return [(match[1], match[2]) for match in FENCE.finditer(text)]
+
+
+def shell_commands(code: str) -> list[list[str]]:
+    """A bash block as commands (argument lists), comments dropped, ``&&`` chains split."""
+    commands: list[list[str]] = []
+    for line in code.replace("\\\n", " ").splitlines():
+        words = shlex.split(line, comments=True)
+        command: list[str] = []
+        for word in [*words, "&&"]:
+            if word == "&&":
+                if command:
+                    commands.append(command)
+                command = []
+            else:
+                command.append(word)
+    return commands
+
+
+def run_shell(argv: list[str], where: Path) -> None:
+    """One command: ``aaria`` in-process (stdout to a file after ``>``), anything else in bash."""
+    out = None
+    if ">" in argv:
+        at = argv.index(">")
+        argv, out = argv[:at], argv[at + 1]
+    if argv[0] != "aaria":
+        line = shlex.join(argv) + (f" > {shlex.quote(out)}" if out else "")
+        done = subprocess.run(["bash", "-c", line], cwd=where, capture_output=True, text=True)
+        assert done.returncode == 0, f"{line}: {done.stderr}"
+        return
+    from aaria_pin.cli import main
+
+    result = CliRunner().invoke(main, argv[1:])
+    if result.exception is not None and not isinstance(result.exception, SystemExit):
+        raise AssertionError(shlex.join(argv)) from result.exception
+    assert result.exit_code == 0, f"{shlex.join(argv)}: exit {result.exit_code}: {result.stderr}"
+    if out is not None:
+        (where / out).write_text(result.stdout)
+
+
+def page_id(page: Path) -> str:
+    return str(page.relative_to(ROOT))
+
+
+def pages_with_examples() -> list[Path]:
+    return [page for page in PAGES if any(lang in RUN for lang, _ in code_blocks(page.read_text()))]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page", pages_with_examples(), ids=page_id)
+def test_every_example_on_the_page_runs(
+    page: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    namespace: dict[str, object] = {"__name__": "__docs__"}
+    ran = 0
+    for language, code in code_blocks(page.read_text()):
+        if language == "bash":
+            for argv in shell_commands(code):
+                run_shell(argv, tmp_path)
+                ran += 1
+        elif language == "python":
+            exec(compile(code, str(page), "exec"), namespace)
+            ran += 1
+    assert ran > 0
+
+
+def test_code_blocks_are_found_with_their_language() -> None:
+    text = "a\n```bash\naaria info x.h5  # note\nls && aaria robots\n```\n```console\n$ no\n```\n"
+    assert code_blocks(text) == [
+        ("bash", "aaria info x.h5  # note\nls && aaria robots\n"),
+        ("console", "$ no\n"),
+    ]
+    assert shell_commands(code_blocks(text)[0][1]) == [
+        ["aaria", "info", "x.h5"],
+        ["ls"],
+        ["aaria", "robots"],
+    ]
+
+
+def test_every_block_has_a_language() -> None:
+    for page in PAGES:
+        bare = re.findall(r"^```\n(?:(?!```).)*?^```$", page.read_text(), re.MULTILINE | re.DOTALL)
+        assert not bare, f"{page_id(page)}: a code block without a language: {bare[0][:60]!r}"
+
+
+def test_the_command_pages_cover_every_command() -> None:
+    import click
+
+    from aaria_pin.cli import main
+
+    context = click.Context(main, info_name="aaria")
+    marked = {
+        name
+        for page in (DOCS / "commands").glob("*.md")
+        for name in re.findall(r"<!-- aaria-help: ([\w-]+) -->", page.read_text())
+    }
+    assert marked == set(main.list_commands(context))
+
+
+def test_readme_is_short_and_links_into_the_docs() -> None:
+    text = (ROOT / "README.md").read_text()
+    assert len(text.splitlines()) <= 300
+    for link in re.findall(r"\]\((docs/[^)#]+)", text):
+        assert (ROOT / link).is_file(), link
+
+
+@pytest.mark.slow
+def test_mkdocs_build_strict(tmp_path: Path) -> None:
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "NO_MKDOCS_2_WARNING": "1"}
+    site = tmp_path / "site"
+    done = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(site)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        env=env,
+    )
+    assert done.returncode == 0, done.stderr[-4000:]
+    # the generated pages are there: a command's options and a module's API
+    simulate = (site / "commands" / "simulate" / "index.html").read_text()
+    assert "--duration" in simulate
+    api = (site / "api" / "aaria_pin" / "index.html").read_text()
+    assert "simulate_run" in api
