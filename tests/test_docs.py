@@ -180,3 +180,41 @@ def test_mkdocs_build_strict(tmp_path: Path) -> None:
     assert "--duration" in simulate
     api = (site / "api" / "aaria_pin" / "index.html").read_text()
     assert "simulate_run" in api
+
+
+def named_in_text(text: str) -> set[str]:
+    """The package's modules and objects a text names (``aaria_pin.x.y``, ``aaria_pin/x/y.py``)."""
+    dotted = {name for name in re.findall(r"\baaria_pin(?:\.\w+)+", text) if name[-3:] != ".md"}
+    paths = re.findall(r"\baaria_pin/[\w/]*\w(?:\.py)?", text)
+    return dotted | {path.removesuffix(".py").replace("/", ".") for path in paths}
+
+
+def resolves(name: str) -> bool:
+    """Whether ``name`` is a module of the tree, or a module and a name defined at its top level."""
+    parts = name.split(".")
+    for cut in range(len(parts), 0, -1):
+        base = ROOT.joinpath(*parts[:cut])
+        source = base / "__init__.py" if base.is_dir() else base.with_suffix(".py")
+        if base.is_dir() or source.is_file():
+            rest = parts[cut:]
+            if not rest:
+                return True
+            text = source.read_text() if source.is_file() else ""
+            defined = rf"^(?:def|class) {rest[0]}\b|^{rest[0]}\b\s*[:=]|^\s+\"{rest[0]}\":"
+            return len(rest) <= 2 and re.search(defined, text, re.MULTILINE) is not None
+    return False
+
+
+def test_named_modules_and_objects_exist() -> None:
+    assert named_in_text("see `aaria_pin.core.rotations` and aaria_pin/viz/vendor") == {
+        "aaria_pin.core.rotations",
+        "aaria_pin.viz.vendor",
+    }
+    assert resolves("aaria_pin.errors.AariaError") and not resolves("aaria_pin.errors.Nope")
+    missing = {
+        f"{page_id(page)}: {name}"
+        for page in PAGES
+        for name in named_in_text(page.read_text())
+        if not resolves(name)
+    }
+    assert not missing, sorted(missing)
