@@ -3,8 +3,9 @@
 - ``<!-- aaria-help: simulate -->`` in a page becomes ``aaria simulate --help`` (from click, so a
   command's options in the docs are always its options); a group (``wrist``, ``arm``) also gets
   each subcommand's help. An unknown command fails the build.
-- ``api/<module>.md``: one page per public module of ``aaria_pin`` (no ``_`` in its path),
-  rendered from its docstrings by mkdocstrings, and listed in the nav under "API reference".
+- ``api/<module>.md``: one page per public module of ``aaria_pin`` (no ``_`` in its path; the
+  command line is left to the command pages), rendered from its docstrings by mkdocstrings, and
+  listed in the nav under "API reference", one section per layer.
   The pages are found by walking the package tree, so moved or renamed modules need no edit here.
 """
 
@@ -26,8 +27,8 @@ def public_modules() -> list[str]:
         parts = list(path.relative_to(ROOT).with_suffix("").parts)
         if parts[-1] == "__init__":
             parts = parts[:-1]
-        if any(part.startswith("_") for part in parts):
-            continue
+        if any(part.startswith("_") for part in parts) or parts[1:2] == ["cli"]:
+            continue  # private, or the command line (its pages are under Commands)
         names.append(".".join(parts))
     return names
 
@@ -37,11 +38,21 @@ def _api_path(module: str) -> str:
 
 
 def on_config(config: Any) -> Any:
-    """Fill the nav's "API reference" section with one page per module."""
-    pages = [{module: _api_path(module)} for module in public_modules()]
+    """Fill the nav's "API reference" section with one page per module, by layer."""
+    pages: list[dict[str, Any]] = [{"Overview": "api/index.md"}]
+    layers: dict[str, list[dict[str, str]]] = {}
+    for module in public_modules():
+        parts = module.split(".")
+        if len(parts) <= 2 and not (PACKAGE / parts[-1]).is_dir():
+            pages.append({module: _api_path(module)})  # the front door, errors
+        else:
+            layers.setdefault(parts[1], []).append({module: _api_path(module)})
+    order = ("core", "files", "aaria", "apps", "viz")  # bottom up, as the architecture page
+    ranked = sorted(layers, key=lambda name: (order.index(name) if name in order else 99, name))
+    pages += [{f"aaria_pin.{layer}": layers[layer]} for layer in ranked]
     for index, entry in enumerate(config["nav"]):
         if isinstance(entry, dict) and "API reference" in entry:
-            config["nav"][index] = {"API reference": [{"Overview": "api/index.md"}, *pages]}
+            config["nav"][index] = {"API reference": pages}
     return config
 
 
