@@ -44,7 +44,8 @@ if TYPE_CHECKING:
     from aaria_pin.core.mjcf import record_mjcf, replay_in_mujoco
     from aaria_pin.core.model import RobotModel, build_model
     from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
-    from aaria_pin.core.urdf import RobotDescription, emit_urdf
+    from aaria_pin.core.urdf import RobotDescription
+    from aaria_pin.core.urdf_emitter import emit_urdf
     from aaria_pin.core.urdf_robot import UrdfRobot, load_urdf_robot
     from aaria_pin.core.urdf_run import simulate_urdf_run
     from aaria_pin.files.dataset.windows import WindowDataset
@@ -67,7 +68,7 @@ _LAZY = {
     "RobotModel": "aaria_pin.core.model",
     "build_model": "aaria_pin.core.model",
     "RobotDescription": "aaria_pin.core.urdf",
-    "emit_urdf": "aaria_pin.core.urdf",
+    "emit_urdf": "aaria_pin.core.urdf_emitter",
     # runs
     "simulate_run": "aaria_pin.aaria.simulate",
     "simulate_urdf_run": "aaria_pin.core.urdf_run",

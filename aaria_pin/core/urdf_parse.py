@@ -425,9 +425,7 @@ def _joint(element: ET.Element, links: set[str]) -> UrdfJoint:
             _float(mimic_element, "offset", f"{what} <mimic>", 0.0),
         )
     parent, child = ends["parent"], ends["child"]
-    return UrdfJoint(
-        name, kind, parent, child, lower, upper, velocity, mimic, effort, origin, axis
-    )
+    return UrdfJoint(name, kind, parent, child, lower, upper, velocity, mimic, effort, origin, axis)
 
 
 def _check_mimics(joints: list[UrdfJoint]) -> None:
