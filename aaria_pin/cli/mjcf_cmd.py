@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -15,7 +15,9 @@ from aaria_pin.cli._options import (
     table_source_options,
 )
 from aaria_pin.cli._viz_options import output_option
-from aaria_pin.errors import ModelError
+
+if TYPE_CHECKING:
+    from aaria_pin.core.record import ImuMount
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
 
@@ -48,6 +50,43 @@ def _source(params: dict[str, Any]) -> str:
     return source
 
 
+def _robot(
+    source: str, moving: bool, params: dict[str, Any]
+) -> tuple[str, Path | None, str | None, tuple[ImuMount, ...], str, int]:
+    """A DH arm's or URDF robot's URDF, folder, tool frame, IMU mounts, name and joint count."""
+    if source == "dh":
+        from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
+        from aaria_pin.aaria.presets import get_preset
+        from aaria_pin.aaria.simulate import dh_imu_mounts
+
+        preset = params["preset"]
+        table, convention, name = load_table_source(preset, params["dh_file"], params["convention"])
+        arm = build_dh_robot(
+            table,
+            convention,
+            BodyDimensions(density=2700.0 if params["density"] is None else params["density"]),
+            name=robot_name(name),
+            mass_properties=get_preset(preset).mass_properties if preset else None,
+        )
+        return arm.urdf, None, "tool_tip", dh_imu_mounts(arm), name, len(arm.chain.joints)
+    from aaria_pin.core.imu_layout import read_imu_layout
+    from aaria_pin.core.urdf_robot import load_urdf_robot
+    from aaria_pin.files.paths import existing_input
+
+    urdf, folder, name = load_robot_source(params["robot"], params["urdf_file"])
+    layout = params["imu_layout_file"]
+    robot = load_urdf_robot(
+        urdf,
+        urdf_dir=folder,
+        moving_base=moving,
+        tool_frame=params["tool_frame"],
+        imu_layout=None
+        if layout is None
+        else read_imu_layout(existing_input(layout, None, "IMU layout")),
+    )
+    return urdf, folder, robot.robot.tool_frame, robot.imu_mounts, name, robot.robot.n_joints
+
+
 @click.command(
     epilog="""\b
 Examples:
@@ -75,114 +114,38 @@ def mjcf(**params: Any) -> None:
     base chain (slides along x, y, z, hinges about x, y, z) so a run can be replayed.
     """
     import warnings
-    from functools import partial
+    from importlib.util import find_spec
 
-    from aaria_pin.core.mjcf import (
-        BASE_JOINTS,
-        emit_mjcf,
-        load_mjcf,
-        record_mjcf,
-        record_moving_base,
-    )
+    from aaria_pin.apps.record_model import record_mjcf, record_moving_base
+    from aaria_pin.core.export.mjcf_emit import BASE_JOINTS, emit_mjcf
     from aaria_pin.core.trajectory import DEFAULT_RATE
     from aaria_pin.files.io import write_text_atomic
 
-    source = _source(params)
+    source, rate, output = _source(params), params["rate"], params["output"]
     moving = not params["fixed_base"]
-    rate = params["rate"]
-    output: Path = params["output"]
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         if source == "run":
             from aaria_pin.files.runfile import read_run
 
             record = read_run(params["from_run"])
-            if not record.urdf:  # a 0.1.0 DH or wrist file: the URDF of the run re-made
-                from dataclasses import replace
-
-                from aaria_pin.apps.remake import remake_record
-
-                record = replace(record, urdf=remake_record(record).urdf)
-            moving = not params["fixed_base"] and record_moving_base(record)
-            emit = partial(record_mjcf, record, moving_base=moving, rate=rate)
+            moving = moving and record_moving_base(record)
             name = str(record.attributes.get("robot", params["from_run"].stem))
             joints, imus = len(record.joint_names), record.imu_mounts
-        elif source == "dh":
-            from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
-            from aaria_pin.aaria.presets import get_preset
-            from aaria_pin.aaria.simulate import dh_imu_mounts
-
-            table, convention, name = load_table_source(
-                params["preset"], params["dh_file"], params["convention"]
-            )
-            density = 2700.0 if params["density"] is None else params["density"]
-            preset = params["preset"]
-            arm = build_dh_robot(
-                table,
-                convention,
-                BodyDimensions(density=density),
-                name=robot_name(name),
-                mass_properties=get_preset(preset).mass_properties if preset else None,
-            )
-            imus = dh_imu_mounts(arm)
-            joints = len(arm.chain.joints)
-            emit = partial(
-                emit_mjcf,
-                arm.urdf,
-                imus,
-                moving_base=moving,
-                rate=DEFAULT_RATE if rate is None else rate,
-                tool_frame="tool_tip",
-            )
+            mjcf = record_mjcf(record, moving_base=moving, rate=rate, balance_inertia="auto")
         else:
-            from aaria_pin.core.imu_layout import read_imu_layout
-            from aaria_pin.core.urdf_robot import load_urdf_robot
-
-            urdf, folder, name = load_robot_source(params["robot"], params["urdf_file"])
-            layout_file = params["imu_layout_file"]
-            if layout_file is not None:
-                from aaria_pin.files.paths import existing_input
-
-                layout_file = existing_input(layout_file, None, "IMU layout")
-            robot = load_urdf_robot(
-                urdf,
-                urdf_dir=folder,
-                moving_base=moving,
-                tool_frame=params["tool_frame"],
-                imu_layout=None if layout_file is None else read_imu_layout(layout_file),
-            )
-            imus = robot.imu_mounts
-            joints = robot.robot.n_joints
-            emit = partial(
-                emit_mjcf,
+            urdf, folder, tool, imus, name, joints = _robot(source, moving, params)
+            rate = DEFAULT_RATE if rate is None else rate
+            mjcf = emit_mjcf(
                 urdf,
                 imus,
                 moving_base=moving,
-                rate=DEFAULT_RATE if rate is None else rate,
+                rate=rate,
                 urdf_dir=folder,
-                tool_frame=robot.robot.tool_frame,
+                tool_frame=tool,
+                balance_inertia="auto",
             )
-        text, skipped = emit()
-    try:
-        import mujoco  # noqa: F401  (the optional extra: check the model compiles)
-    except ImportError:
-        compiled = "not checked: mujoco is not installed"
-    else:
-        compiled = "compiles in MuJoCo"
-        try:
-            load_mjcf(text)
-        except ModelError as exc:
-            if "A + B >= C" not in str(exc):
-                raise
-            text, skipped = emit(balance_inertia=True)
-            load_mjcf(text)
-            click.echo(
-                "aaria: warning: MuJoCo refuses inertias of this URDF whose principal moments "
-                f"break A + B >= C ({str(exc).partition('Element name ')[2] or exc}); written "
-                'with balanceinertia="true", which raises them: those links\' dynamics differ '
-                "from the URDF's",
-                err=True,
-            )
+    text, skipped = mjcf
     write_text_atomic(output, text)
     for warning in caught:
         click.echo(f"aaria: warning: {warning.message}", err=True)
@@ -195,6 +158,9 @@ def mjcf(**params: Any) -> None:
         )
     sensors = sum(1 for mount in imus if mount.parent)
     base = f"moving base ({', '.join(BASE_JOINTS)})" if moving else "fixed base"
+    compiled = (
+        "compiles in MuJoCo" if find_spec("mujoco") else "not checked: mujoco is not installed"
+    )
     click.echo(
         f"wrote {output}: {name}, {joints} joints, {sensors} IMU sites with a gyro and an "
         f"accelerometer, {base}, {compiled}"

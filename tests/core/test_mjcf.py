@@ -8,15 +8,9 @@ import numpy as np
 import pytest
 
 import aaria_pin as ap
-from aaria_pin.core.mjcf import (
-    BASE_JOINTS,
-    emit_mjcf,
-    gimbal_xyz_coordinates,
-    load_mjcf,
-    record_base_motion,
-    record_mjcf,
-    replay_in_mujoco,
-)
+from aaria_pin.apps.record_model import record_base_motion, record_mjcf, replay_in_mujoco
+from aaria_pin.core.export.mjcf_emit import BASE_JOINTS, emit_mjcf, load_mjcf
+from aaria_pin.core.export.mjcf_replay import gimbal_xyz_coordinates
 from aaria_pin.core.record import ImuMount
 from aaria_pin.errors import ModelError, ParameterError
 
@@ -201,7 +195,7 @@ SPHERICAL = """<robot name="ball">
 
 
 def test_massless_virtual_links_and_a_point_mass_get_negligible_inertia() -> None:
-    from aaria_pin.core.mjcf import NEGLIGIBLE_INERTIA, NEGLIGIBLE_MASS
+    from aaria_pin.core.export.mjcf_bodies import NEGLIGIBLE_INERTIA, NEGLIGIBLE_MASS
 
     # MuJoCo refuses moving bodies without mass or moments: the two virtual links of a
     # spherical joint made of hinges, and a point mass (its moments are all zero)
