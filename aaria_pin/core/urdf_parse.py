@@ -404,8 +404,8 @@ def _joint(element: ET.Element, links: set[str]) -> UrdfJoint:
         raise _error(f"{what}: type {kind!r} is not supported; allowed: {', '.join(JOINT_TYPES)}")
     ends = {}
     for end in ("parent", "child"):
-        tag = element.find(end)
-        link = None if tag is None else tag.get("link")
+        end_element = element.find(end)
+        link = None if end_element is None else end_element.get("link")
         if not link:
             raise _error(f"{what}: no <{end} link=...>; a joint needs a parent and a child")
         if link not in links:
