@@ -16,7 +16,8 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from aaria_pin.core.urdf_parse import UrdfJoint, parse_urdf
+from aaria_pin.core.urdf_parse import parse_urdf
+from aaria_pin.core.urdf_tree import UrdfJoint
 
 __all__ = ["UrdfSummary", "check_urdf", "resolve_mesh"]
 

@@ -29,7 +29,7 @@ from aaria_pin.core.se3 import Array
 from aaria_pin.core.tables import finite_table
 from aaria_pin.core.trajectory import JointTrajectory, sine_motion
 from aaria_pin.core.urdf_check import UrdfSummary, check_urdf
-from aaria_pin.core.urdf_parse import UrdfJoint
+from aaria_pin.core.urdf_tree import UrdfJoint
 from aaria_pin.errors import InputFileError, MeshWarning, ModelError, TableError, UrdfError
 
 __all__ = [

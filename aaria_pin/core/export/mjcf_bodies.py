@@ -22,7 +22,7 @@ from aaria_pin.core.record import ImuMount
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.urdf_check import resolve_mesh
 from aaria_pin.core.urdf_emitter import exact_number, exact_numbers
-from aaria_pin.core.urdf_parse import UrdfDocument, UrdfJoint, UrdfLink, UrdfShape
+from aaria_pin.core.urdf_tree import UrdfDocument, UrdfJoint, UrdfLink, UrdfShape
 from aaria_pin.errors import ModelError
 
 __all__ = [

@@ -50,7 +50,8 @@ from aaria_pin.core.record import ImuMount
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import DEFAULT_RATE
 from aaria_pin.core.urdf_emitter import exact_number, exact_numbers
-from aaria_pin.core.urdf_parse import UrdfDocument, UrdfJoint, parse_urdf
+from aaria_pin.core.urdf_parse import parse_urdf
+from aaria_pin.core.urdf_tree import UrdfDocument, UrdfJoint
 from aaria_pin.errors import ModelError, ParameterError
 
 if TYPE_CHECKING:
