@@ -113,14 +113,17 @@ def record_model(record: RunRecord, moving_base: bool = True) -> RobotModel:
                 sensor_frames=sensors,
             )
         except ModelError as exc:
-            raise InputFileError(f"the run's URDF cannot be used: {exc}") from None
+            raise InputFileError(
+                f"the run's URDF cannot be used: {exc}", parameter="record"
+            ) from None
     if record.attributes.get("kind") == "wrist" and "senSenDH" not in record.tables:
         from aaria_pin.apps.wrist.run import report_wrist  # a wrist run of 0.1.0: no URDF
 
         return report_wrist().model(moving_base=moving_base)
     if "senSenDH" not in record.tables:
         raise InputFileError(
-            "the run has no URDF and no senSenDH table; allowed: a run that stores its model"
+            "the run has no URDF and no senSenDH table; allowed: a run that stores its model",
+            parameter="record",
         )
     from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
 
@@ -128,7 +131,9 @@ def record_model(record: RunRecord, moving_base: bool = True) -> RobotModel:
     try:
         dims = BodyDimensions(**dims_attr) if isinstance(dims_attr, dict) else None
     except (TypeError, ValueError, ParameterError) as exc:
-        raise InputFileError(f"the run's body_dimensions cannot be used ({exc})") from None
+        raise InputFileError(
+            f"the run's body_dimensions cannot be used ({exc})", parameter="record"
+        ) from None
     robot = build_dh_robot(record.tables["senSenDH"], "aaria", dims)
     return robot.model(moving_base=moving_base)
 
@@ -175,7 +180,8 @@ def record_joint_kinds(robot: RobotModel) -> tuple[str, ...]:
             kind = ""
         if kind not in ("revolute", "prismatic"):
             raise InputFileError(
-                f"joint {name!r} is a {joint.shortname()}; allowed: revolute and prismatic joints"
+                f"joint {name!r} is a {joint.shortname()}; allowed: revolute and prismatic joints",
+                parameter="record",
             )
         kinds.append(kind)
     return tuple(kinds)
@@ -187,7 +193,8 @@ def record_columns(record: RunRecord, robot: RobotModel) -> list[int]:
     if missing:
         raise InputFileError(
             f"joint {missing[0]!r} of the run's model has no column in the run; allowed: "
-            + ", ".join(record.joint_names)
+            + ", ".join(record.joint_names),
+            parameter="record",
         )
     return [record.joint(name) for name in robot.joint_names]
 
