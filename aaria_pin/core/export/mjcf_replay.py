@@ -72,17 +72,29 @@ def gimbal_xyz_coordinates(
     return angles, rates, accelerations
 
 
-def _joint_address(model: mujoco.MjModel, name: str) -> tuple[int, int]:
-    """(qpos address, dof address) of a 1-DOF joint by name."""
+def _named(model: mujoco.MjModel, sensor: bool, name: str) -> int:
+    """The id of a joint or sensor by name.
+
+    Raises:
+        ModelError: the MJCF has none of that name.
+    """
     import mujoco
 
-    joint_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
-    if joint_id < 0:
+    kind = mujoco.mjtObj.mjOBJ_SENSOR if sensor else mujoco.mjtObj.mjOBJ_JOINT
+    found = int(mujoco.mj_name2id(model, kind, name))
+    if found < 0:
+        what, allowed = ("sensor", "with the run's IMUs") if sensor else ("joint", "of its robot")
         raise ModelError(
-            f"joint {name!r} is not in the MJCF; allowed: a model of the run's robot",
-            element=name,
+            f"{what} {name!r} is not in the MJCF; allowed: a model {allowed}",
             parameter="xml",
+            element=name,
         )
+    return found
+
+
+def _joint_address(model: mujoco.MjModel, name: str) -> tuple[int, int]:
+    """(qpos address, dof address) of a 1-DOF joint by name."""
+    joint_id = _named(model, False, name)
     return int(model.jnt_qposadr[joint_id]), int(model.jnt_dofadr[joint_id])
 
 
@@ -163,17 +175,11 @@ def replay_motion(
     for s, mount in enumerate(record.imu_mounts):
         if not mount.parent:
             continue
-        addresses = []
-        for sensor in sensor_names(mount.name):
-            sensor_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SENSOR, sensor)
-            if sensor_id < 0:
-                raise ModelError(
-                    f"sensor {sensor!r} is not in the MJCF; allowed: a model with the run's IMUs",
-                    element=sensor,
-                    parameter="xml",
-                )
-            addresses.append(int(model.sensor_adr[sensor_id]))
-        sensors.append((s, addresses[0], addresses[1]))
+        gyro, accelerometer = (
+            int(model.sensor_adr[_named(model, True, sensor)])
+            for sensor in sensor_names(mount.name)
+        )
+        sensors.append((s, gyro, accelerometer))
     imu = np.zeros((samples, len(record.imu_mounts), 6))
     tau = np.zeros((samples, len(record.joint_names)))
     for t in range(samples):
