@@ -39,12 +39,13 @@ if TYPE_CHECKING:
     from aaria_pin.aaria.simulate import simulate_run
     from aaria_pin.apps.identify.dynamics import identify_dynamics
     from aaria_pin.apps.identify.kinematics import identify_kinematics
+    from aaria_pin.apps.record_model import record_mjcf, replay_in_mujoco
     from aaria_pin.core.catalogue import find_robot
     from aaria_pin.core.excitation import fourier_motion
-    from aaria_pin.core.mjcf import record_mjcf, replay_in_mujoco
     from aaria_pin.core.model import RobotModel, build_model
     from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
-    from aaria_pin.core.urdf import RobotDescription, emit_urdf
+    from aaria_pin.core.urdf import RobotDescription
+    from aaria_pin.core.urdf_emitter import emit_urdf
     from aaria_pin.core.urdf_robot import UrdfRobot, load_urdf_robot
     from aaria_pin.core.urdf_run import simulate_urdf_run
     from aaria_pin.files.dataset.windows import WindowDataset
@@ -67,7 +68,7 @@ _LAZY = {
     "RobotModel": "aaria_pin.core.model",
     "build_model": "aaria_pin.core.model",
     "RobotDescription": "aaria_pin.core.urdf",
-    "emit_urdf": "aaria_pin.core.urdf",
+    "emit_urdf": "aaria_pin.core.urdf_emitter",
     # runs
     "simulate_run": "aaria_pin.aaria.simulate",
     "simulate_urdf_run": "aaria_pin.core.urdf_run",
@@ -82,8 +83,8 @@ _LAZY = {
     "read_run_inputs": "aaria_pin.files.runfile",
     "WindowDataset": "aaria_pin.files.dataset.windows",
     "fourier_motion": "aaria_pin.core.excitation",
-    "record_mjcf": "aaria_pin.core.mjcf",
-    "replay_in_mujoco": "aaria_pin.core.mjcf",
+    "record_mjcf": "aaria_pin.apps.record_model",
+    "replay_in_mujoco": "aaria_pin.apps.record_model",
     "identify_kinematics": "aaria_pin.apps.identify.kinematics",
     "identify_dynamics": "aaria_pin.apps.identify.dynamics",
 }

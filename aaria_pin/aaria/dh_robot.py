@@ -31,7 +31,8 @@ from numpy.typing import ArrayLike
 from aaria_pin.aaria.dh import Convention, KinematicChain, chain_from_table
 from aaria_pin.core.inertia import ALUMINIUM_DENSITY, Inertia, Part
 from aaria_pin.core.se3 import Array, translation
-from aaria_pin.core.urdf import JointDescription, LinkDescription, RobotDescription, emit_urdf
+from aaria_pin.core.urdf import JointDescription, LinkDescription, RobotDescription
+from aaria_pin.core.urdf_emitter import emit_urdf
 from aaria_pin.errors import ParameterError
 
 if TYPE_CHECKING:
@@ -280,7 +281,7 @@ def describe_chain(
         imu_slots: IMU mounts (defaults: :func:`default_imu_slots`)
 
     Returns:
-        The robot description, ready for :func:`~aaria_pin.core.urdf.emit_urdf`.
+        The robot description, ready for :func:`~aaria_pin.core.urdf_emitter.emit_urdf`.
     """
     dims = dims or BodyDimensions()
     slots = imu_slots if imu_slots is not None else default_imu_slots(chain, dims)

@@ -22,7 +22,7 @@ from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, ParameterError
 
 if TYPE_CHECKING:
-    from aaria_pin.core.urdf_check import UrdfJoint
+    from aaria_pin.core.urdf_tree import UrdfJoint
 
 __all__ = [
     "PARTS",

@@ -3,49 +3,63 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
-from aaria_pin.cli._options import (
-    load_robot_source,
-    load_table_source,
-    robot_name,
-    robot_source_options,
-    table_source_options,
-)
+from aaria_pin.cli._options import load_robot_source, robot_source_options, table_source_options
 from aaria_pin.cli._viz_options import output_option
-from aaria_pin.errors import ModelError
+from aaria_pin.cli.urdf_cmd import table_arm
+
+if TYPE_CHECKING:
+    from aaria_pin.core.record import ImuMount
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
+_SOURCES = {"dh": ("preset", "dh_file"), "urdf": ("robot", "urdf_file"), "run": ("from_run",)}
+_REFUSED = {"dh": ("tool", "imu-layout"), "urdf": ("density",), "run": ("tool", "imu-layout")}
+_KEYS = {"tool": "tool_frame", "imu-layout": "imu_layout_file", "density": "density"}
+_WHERE = {"dh": "a DH arm", "urdf": "a URDF robot", "run": "--from"}
 
 
 def _source(params: dict[str, Any]) -> str:
-    """Which robot source the options name: ``dh``, ``urdf`` or ``run``.
-
-    Raises:
-        click.UsageError: none or more than one source, or an option of another source.
-    """
-    given = {
-        "dh": params["preset"] is not None or params["dh_file"] is not None,
-        "urdf": params["robot"] is not None or params["urdf_file"] is not None,
-        "run": params["from_run"] is not None,
-    }
-    if sum(given.values()) != 1:
+    """``dh``, ``urdf`` or ``run``: the one robot source the options name (else a UsageError)."""
+    given = [name for name, keys in _SOURCES.items() if any(params[k] is not None for k in keys)]
+    if len(given) != 1:
         raise click.UsageError(
             "give one robot: --preset NAME or --dh FILE, --robot NAME or --urdf FILE, or --from RUN"
         )
-    source = next(name for name, on in given.items() if on)
-    refused = {
-        "dh": {"tool_frame": "--tool", "imu_layout_file": "--imu-layout"},
-        "urdf": {"density": "--density"},
-        "run": {"tool_frame": "--tool", "imu_layout_file": "--imu-layout", "density": "--density"},
-    }[source]
-    for key, flag in refused.items():
-        if params[key] is not None:
-            where = {"dh": "a DH arm", "urdf": "a URDF robot", "run": "--from"}[source]
-            raise click.UsageError(f"{flag} is not allowed with {where}")
-    return source
+    refused = _REFUSED[given[0]] + (("density",) if given[0] == "run" else ())
+    for flag in refused:
+        if params[_KEYS[flag]] is not None:
+            raise click.UsageError(f"--{flag} is not allowed with {_WHERE[given[0]]}")
+    return given[0]
+
+
+def _robot(source: str, moving: bool, params: dict[str, Any]) -> tuple[Any, ...]:
+    """A DH arm's or URDF robot's URDF, folder, tool, IMU mounts, name and joint count."""
+    if source == "dh":
+        from aaria_pin.aaria.simulate import dh_imu_mounts
+
+        density = 2700.0 if params["density"] is None else params["density"]
+        arm, name = table_arm(params["preset"], params["dh_file"], params["convention"], density)
+        return arm.urdf, None, "tool_tip", dh_imu_mounts(arm), name, len(arm.chain.joints)
+    from aaria_pin.core.imu_layout import read_imu_layout
+    from aaria_pin.core.urdf_robot import load_urdf_robot
+    from aaria_pin.files.paths import existing_input
+
+    urdf, folder, name = load_robot_source(params["robot"], params["urdf_file"])
+    layout = params["imu_layout_file"]
+    if layout is not None:
+        layout = read_imu_layout(existing_input(layout, None, "IMU layout"))
+    loaded = load_urdf_robot(
+        urdf,
+        urdf_dir=folder,
+        moving_base=moving,
+        tool_frame=params["tool_frame"],
+        imu_layout=layout,
+    )
+    tool, joints = loaded.robot.tool_frame, loaded.robot.n_joints
+    return urdf, folder, tool, loaded.imu_mounts, name, joints
 
 
 @click.command(
@@ -75,114 +89,38 @@ def mjcf(**params: Any) -> None:
     base chain (slides along x, y, z, hinges about x, y, z) so a run can be replayed.
     """
     import warnings
-    from functools import partial
+    from importlib.util import find_spec
 
-    from aaria_pin.core.mjcf import (
-        BASE_JOINTS,
-        emit_mjcf,
-        load_mjcf,
-        record_mjcf,
-        record_moving_base,
-    )
+    from aaria_pin.apps.record_model import record_mjcf, record_moving_base
+    from aaria_pin.core.export.mjcf_emit import BASE_JOINTS, emit_mjcf
     from aaria_pin.core.trajectory import DEFAULT_RATE
     from aaria_pin.files.io import write_text_atomic
 
-    source = _source(params)
+    source, rate, output = _source(params), params["rate"], params["output"]
     moving = not params["fixed_base"]
-    rate = params["rate"]
-    output: Path = params["output"]
+    imus: tuple[ImuMount, ...]
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         if source == "run":
             from aaria_pin.files.runfile import read_run
 
             record = read_run(params["from_run"])
-            if not record.urdf:  # a 0.1.0 DH or wrist file: the URDF of the run re-made
-                from dataclasses import replace
-
-                from aaria_pin.apps.remake import remake_record
-
-                record = replace(record, urdf=remake_record(record).urdf)
-            moving = not params["fixed_base"] and record_moving_base(record)
-            emit = partial(record_mjcf, record, moving_base=moving, rate=rate)
+            moving = moving and record_moving_base(record)
             name = str(record.attributes.get("robot", params["from_run"].stem))
             joints, imus = len(record.joint_names), record.imu_mounts
-        elif source == "dh":
-            from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
-            from aaria_pin.aaria.presets import get_preset
-            from aaria_pin.aaria.simulate import dh_imu_mounts
-
-            table, convention, name = load_table_source(
-                params["preset"], params["dh_file"], params["convention"]
-            )
-            density = 2700.0 if params["density"] is None else params["density"]
-            preset = params["preset"]
-            arm = build_dh_robot(
-                table,
-                convention,
-                BodyDimensions(density=density),
-                name=robot_name(name),
-                mass_properties=get_preset(preset).mass_properties if preset else None,
-            )
-            imus = dh_imu_mounts(arm)
-            joints = len(arm.chain.joints)
-            emit = partial(
-                emit_mjcf,
-                arm.urdf,
-                imus,
-                moving_base=moving,
-                rate=DEFAULT_RATE if rate is None else rate,
-                tool_frame="tool_tip",
-            )
+            mjcf = record_mjcf(record, moving_base=moving, rate=rate, balance_inertia="auto")
         else:
-            from aaria_pin.core.imu_layout import read_imu_layout
-            from aaria_pin.core.urdf_robot import load_urdf_robot
-
-            urdf, folder, name = load_robot_source(params["robot"], params["urdf_file"])
-            layout_file = params["imu_layout_file"]
-            if layout_file is not None:
-                from aaria_pin.files.paths import existing_input
-
-                layout_file = existing_input(layout_file, None, "IMU layout")
-            robot = load_urdf_robot(
-                urdf,
-                urdf_dir=folder,
-                moving_base=moving,
-                tool_frame=params["tool_frame"],
-                imu_layout=None if layout_file is None else read_imu_layout(layout_file),
-            )
-            imus = robot.imu_mounts
-            joints = robot.robot.n_joints
-            emit = partial(
-                emit_mjcf,
+            urdf, folder, tool, imus, name, joints = _robot(source, moving, params)
+            mjcf = emit_mjcf(
                 urdf,
                 imus,
                 moving_base=moving,
                 rate=DEFAULT_RATE if rate is None else rate,
                 urdf_dir=folder,
-                tool_frame=robot.robot.tool_frame,
+                tool_frame=tool,
+                balance_inertia="auto",
             )
-        text, skipped = emit()
-    try:
-        import mujoco  # noqa: F401  (the optional extra: check the model compiles)
-    except ImportError:
-        compiled = "not checked: mujoco is not installed"
-    else:
-        compiled = "compiles in MuJoCo"
-        try:
-            load_mjcf(text)
-        except ModelError as exc:
-            if "A + B >= C" not in str(exc):
-                raise
-            text, skipped = emit(balance_inertia=True)
-            load_mjcf(text)
-            click.echo(
-                "aaria: warning: MuJoCo refuses inertias of this URDF whose principal moments "
-                f"break A + B >= C ({str(exc).partition('Element name ')[2] or exc}); written "
-                'with balanceinertia="true", which raises them: those links\' dynamics differ '
-                "from the URDF's",
-                err=True,
-            )
+    text, skipped = mjcf
     write_text_atomic(output, text)
     for warning in caught:
         click.echo(f"aaria: warning: {warning.message}", err=True)
@@ -195,7 +133,10 @@ def mjcf(**params: Any) -> None:
         )
     sensors = sum(1 for mount in imus if mount.parent)
     base = f"moving base ({', '.join(BASE_JOINTS)})" if moving else "fixed base"
+    checked = (
+        "compiles in MuJoCo" if find_spec("mujoco") else "not checked: mujoco is not installed"
+    )
     click.echo(
         f"wrote {output}: {name}, {joints} joints, {sensors} IMU sites with a gyro and an "
-        f"accelerometer, {base}, {compiled}"
+        f"accelerometer, {base}, {checked}"
     )

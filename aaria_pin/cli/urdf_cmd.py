@@ -3,14 +3,36 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
 from aaria_pin.cli._options import load_table_source, robot_name, table_source_options
 from aaria_pin.cli._viz_options import output_option
 
+if TYPE_CHECKING:
+    from aaria_pin.aaria.dh_robot import DHRobot
+
 URDF_SUFFIXES = (".urdf", ".xml")
 """Suffixes of a URDF output."""
+
+
+def table_arm(
+    preset: str | None, dh_file: Path | None, convention: str, density: float
+) -> tuple[DHRobot, str]:
+    """The DH arm of ``--preset`` or ``--dh`` (a preset's measured masses) and its source name."""
+    from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
+    from aaria_pin.aaria.presets import get_preset
+
+    table, table_convention, name = load_table_source(preset, dh_file, convention)
+    arm = build_dh_robot(
+        table,
+        table_convention,
+        BodyDimensions(density=density),
+        name=robot_name(name),
+        mass_properties=get_preset(preset).mass_properties if preset else None,
+    )
+    return arm, name
 
 
 @click.command(
@@ -37,18 +59,9 @@ def urdf(
     Prints the joints and the IMU frames the file holds (two per link, the base and the tool
     tip; an empty module has no link and so no IMUs).
     """
-    from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
-    from aaria_pin.aaria.presets import get_preset
     from aaria_pin.files.io import write_text_atomic
 
-    table, table_convention, name = load_table_source(preset, dh_file, convention)
-    robot = build_dh_robot(
-        table,
-        table_convention,
-        BodyDimensions(density=density),
-        name=robot_name(name),
-        mass_properties=get_preset(preset).mass_properties if preset else None,
-    )
+    robot, _ = table_arm(preset, dh_file, convention, density)
     write_text_atomic(output, robot.urdf)
     imus = [slot.name for slot in robot.imu_slots if slot.parent is not None]
     click.echo(

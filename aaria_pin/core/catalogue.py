@@ -50,11 +50,14 @@ def robots_folder() -> Path:
         distribution = metadata.distribution(_DISTRIBUTION)
     except metadata.PackageNotFoundError:
         raise ParameterError(
-            "example-robot-data is not installed; install it with 'pip install example-robot-data'"
+            "example-robot-data is not installed; install it with 'pip install example-robot-data'",
+            parameter="robot",
         ) from None
     folder = Path(str(distribution.locate_file(_ROBOTS)))
     if not folder.is_dir():
-        raise ParameterError(f"example-robot-data is installed but {folder} is missing")
+        raise ParameterError(
+            f"example-robot-data is installed but {folder} is missing", parameter="robot"
+        )
     return folder
 
 

@@ -28,7 +28,8 @@ from aaria_pin.core.record import ImuMount
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.tables import finite_table
 from aaria_pin.core.trajectory import JointTrajectory, sine_motion
-from aaria_pin.core.urdf_check import UrdfJoint, UrdfSummary, check_urdf
+from aaria_pin.core.urdf_check import UrdfSummary, check_urdf
+from aaria_pin.core.urdf_tree import UrdfJoint
 from aaria_pin.errors import InputFileError, MeshWarning, ModelError, TableError, UrdfError
 
 __all__ = [
@@ -92,9 +93,9 @@ def read_urdf_file(path: str | os.PathLike[str]) -> str:
     try:
         return file.read_text(encoding="utf-8")
     except FileNotFoundError:
-        raise InputFileError(f"{file}: no such file") from None
+        raise InputFileError(f"{file}: no such file", parameter="urdf_file") from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise InputFileError(f"{file}: cannot be read ({exc})") from None
+        raise InputFileError(f"{file}: cannot be read ({exc})", parameter="urdf_file") from None
 
 
 def missing_meshes_message(summary: UrdfSummary) -> str:
@@ -167,11 +168,11 @@ def load_urdf_robot(
     tool = tool_frame if tool_frame is not None else _default_tool(summary)
     frames = (*summary.links, *(joint.name for joint in summary.joints))
     if tool not in frames:
-        raise ModelError(  # no parameter field: the message keeps naming the model
+        raise ModelError(  # no allowed field: the message keeps naming the model
             f"tool frame {tool!r} is not in model {summary.name!r}; allowed: a link, "
             f"{', '.join(summary.links)}",
+            parameter="tool_frame",
             value=tool,
-            allowed=", ".join(summary.links),
         )
     bare = build_model(
         urdf,
@@ -191,12 +192,15 @@ def load_urdf_robot(
     if robot.n_joints == 0:
         raise UrdfError(
             f"robot {summary.name!r} has no actuated joint (all its joints are fixed); allowed: "
-            "at least one revolute, continuous or prismatic joint"
+            "at least one revolute, continuous or prismatic joint",
+            parameter="urdf",
         )
     joints = tuple(summary.joint(name) for name in robot.joint_names)
     for joint in joints:
         if joint.kind == "fixed":  # pragma: no cover - Pinocchio never makes a fixed joint
-            raise ModelError(f"joint {joint.name!r} is fixed but has a model joint")
+            raise ModelError(
+                f"joint {joint.name!r} is fixed but has a model joint", parameter="urdf"
+            )
     return UrdfRobot(robot, summary, tuple(mounts), joints)
 
 
@@ -278,20 +282,25 @@ def validate_urdf_joint_table(table: ArrayLike, robot: UrdfRobot) -> Array:
             continue
         where = f"{what}: row {row + 1} ({joint.kind} joint {joint.name!r})"
         if arr[row, 3] < 0:
-            raise TableError(f"{where}, column 4 (frequency) is {arr[row, 3]:g}; allowed: >= 0")
+            raise TableError(
+                f"{where}, column 4 (frequency) is {arr[row, 3]:g}; allowed: >= 0",
+                parameter="joint_table",
+            )
         amplitude = abs(arr[row, 1] if joint.kind == "prismatic" else arr[row, 0])
         low, high = arr[row, 2] - amplitude, arr[row, 2] + amplitude
         unit = "m" if joint.kind == "prismatic" else "rad"
         if low < joint.lower - _RANGE_TOLERANCE or high > joint.upper + _RANGE_TOLERANCE:
             raise TableError(
                 f"{where} moves over [{low:.4g}, {high:.4g}] {unit}; allowed: within its URDF "
-                f"limits [{joint.lower:.4g}, {joint.upper:.4g}] {unit}"
+                f"limits [{joint.lower:.4g}, {joint.upper:.4g}] {unit}",
+                parameter="joint_table",
             )
         speed = amplitude * arr[row, 3]
         if speed > joint.velocity * (1 + 1e-12):
             raise TableError(
                 f"{where} reaches {speed:.4g} {unit}/s; allowed: within its URDF velocity "
-                f"limit {joint.velocity:.4g} {unit}/s (|amplitude| × frequency)"
+                f"limit {joint.velocity:.4g} {unit}/s (|amplitude| × frequency)",
+                parameter="joint_table",
             )
     return arr
 
@@ -337,6 +346,8 @@ def mimic_followers(joints: Sequence[UrdfJoint]) -> dict[int, tuple[int, float, 
             continue
         leader, multiplier, offset = joint.mimic
         if leader not in names:
-            raise ModelError(f"joint {joint.name!r} mimics {leader!r}, which is not actuated")
+            raise ModelError(
+                f"joint {joint.name!r} mimics {leader!r}, which is not actuated", parameter="joints"
+            )
         followers[column] = (names.index(leader), float(multiplier), float(offset))
     return followers

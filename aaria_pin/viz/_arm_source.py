@@ -166,7 +166,8 @@ def load_pick_place_view(path: str | os.PathLike[str]) -> RunView:
     if not is_pick_place_run(path):
         raise InputFileError(
             f"{os.fspath(path)}: not a pick-place run file; allowed: a run file of aaria arm"
-            " pick-place"
+            " pick-place",
+            parameter="run",
         )
     return _load(path)
 
@@ -183,7 +184,9 @@ def _load(file: str | os.PathLike[str]) -> RunView:
         place = (float(attributes["place"][0]), float(attributes["place"][1]))
         start, end = (float(v) for v in attributes["held_interval"])
     except (KeyError, TypeError, ValueError, IndexError, AariaError) as exc:
-        raise InputFileError(f"{file}: its pick-place attributes cannot be used ({exc})") from None
+        raise InputFileError(
+            f"{file}: its pick-place attributes cannot be used ({exc})", parameter="run"
+        ) from None
     scene = arm_scene(dims, (radius, height))
     time = view.signals.time
     held = (time >= start) & (time < end)

@@ -75,7 +75,9 @@ def load_aaria_run(file: str | os.PathLike[str]) -> RunView:
         try:
             dims = BodyDimensions(**record.attributes["body_dimensions"])
         except (TypeError, ValueError, ParameterError) as exc:
-            raise InputFileError(f"{file}: body_dimensions cannot be used ({exc})") from None
+            raise InputFileError(
+                f"{file}: body_dimensions cannot be used ({exc})", parameter="run"
+            ) from None
     mounts = record.imu_mount
     robot = build_dh_robot(record.tables["senSenDH"], "aaria", dims)
     if mounts.shape[0] == len(robot.imu_slots):
@@ -95,6 +97,7 @@ def load_wrist_run(file: str | os.PathLike[str]) -> RunView:
     robot = report_wrist()
     if np.shape(record.q)[1] != len(robot.chain.joints):
         raise InputFileError(
-            f"{file}: q of shape {np.shape(record.q)}; allowed: T × {len(robot.chain.joints)}"
+            f"{file}: q of shape {np.shape(record.q)}; allowed: T × {len(robot.chain.joints)}",
+            parameter="run",
         )
     return _view(file, "wrist", robot, record)

@@ -104,7 +104,9 @@ def _with_imu_frames(robot: RobotModel, record: RunRecord) -> RobotModel:
     try:
         add_imu_frames(robot.model, missing)
     except ModelError as exc:
-        raise InputFileError(f"the run's IMU mounts cannot be used: {exc}") from None
+        raise InputFileError(
+            f"the run's IMU mounts cannot be used: {exc}", parameter="record"
+        ) from None
     return replace_fields(robot, sensor_frames=tuple(mount.name for mount in mounted))
 
 
@@ -126,7 +128,7 @@ def read_model_view(path: str | os.PathLike[str]) -> ModelView:
         robot = _with_imu_frames(record_model(record, moving_base=base is not None), record)
         signals = record_signals(record, robot)
     except InputFileError as exc:
-        raise InputFileError(f"{os.fspath(path)}: {exc}") from None
+        raise InputFileError(f"{os.fspath(path)}: {exc}", parameter="run") from None
     return ModelView(record, robot, signals, base)
 
 

@@ -2,11 +2,12 @@
 
 Every ``<visual>`` of every link whose frame the scene has becomes a
 :class:`~aaria_pin.viz.scene.Solid` fixed to that link's frame (Pinocchio names a link's frame
-after the link), placed by the visual's ``<origin>``. The URDF is read by yourdfpy (the parser
-viser uses), meshes (``.dae``, ``.stl``, ``.obj``, …) by trimesh, each resolved as the URDF check
-resolves them (:func:`aaria_pin.core.urdf_check.resolve_mesh`: ``package://`` from the installed
-packages' ``share`` folders). A visual's colour is its URDF material's (inline or named), else the
-colours the mesh file gives its parts (a ``.dae`` material), else the ``"link"`` role's.
+after the link), placed by the visual's ``<origin>``. The URDF is the one parse the check and the
+MJCF export read (:func:`aaria_pin.core.urdf_parse.parse_urdf`), meshes (``.dae``, ``.stl``,
+``.obj``, …) are read by trimesh, each resolved as the URDF check resolves them
+(:func:`aaria_pin.core.urdf_check.resolve_mesh`: ``package://`` from the installed packages'
+``share`` folders). A visual's colour is its URDF material's (inline or named), else the colours
+the mesh file gives its parts (a ``.dae`` material), else the ``"link"`` role's.
 
 Meshes are decimated (quadric decimation by fast-simplification, through trimesh, vertices
 merged first) so a robot keeps about ``max_triangles`` triangles in all: the UR5's visual meshes
@@ -18,7 +19,6 @@ left out and named (:attr:`UrdfVisuals.missing`).
 
 from __future__ import annotations
 
-import io
 from collections.abc import Collection
 from dataclasses import dataclass, replace
 from functools import lru_cache
@@ -106,15 +106,6 @@ def _decimated(path: str, index: int, ratio: float) -> tuple[Array, NDArray[np.i
     return np.asarray(smaller.vertices, dtype=float), np.asarray(smaller.faces, dtype=np.int64)
 
 
-def _materials(robot: Any) -> dict[str, tuple[float, float, float]]:
-    colours = {}
-    for material in robot.materials or ():
-        colour = _rgb(material.color.rgba if material.color is not None else None)
-        if material.name and colour is not None:
-            colours[material.name] = colour
-    return colours
-
-
 def urdf_visual_solids(
     urdf: str,
     frames: Collection[str],
@@ -132,62 +123,49 @@ def urdf_visual_solids(
     Returns:
         The solids, and the mesh files left out.
     """
-    import yourdfpy
-
     from aaria_pin.core.urdf_check import resolve_mesh
+    from aaria_pin.core.urdf_parse import parse_urdf
 
-    robot = yourdfpy.URDF.load(
-        io.BytesIO(urdf.encode("utf-8")), build_scene_graph=False, load_meshes=False
-    ).robot
-    named = _materials(robot)
+    document = parse_urdf(urdf)
     wanted = set(frames)
-    shapes: list[tuple[str, Array, Any, tuple[float, float, float] | None]] = []
-    missing: list[str] = []
-    for link in robot.links:
-        if link.name not in wanted:
-            continue
-        for visual in link.visuals:
-            T = np.eye(4) if visual.origin is None else np.asarray(visual.origin, dtype=float)
-            material = visual.material
-            colour = None
-            if material is not None:
-                colour = _rgb(material.color.rgba if material.color is not None else None)
-                colour = colour or named.get(material.name or "")
-            shapes.append((link.name, T, visual.geometry, colour))
+    shapes = [
+        (link.name, visual.origin.transform(), visual.geometry, _rgb(document.colour(visual)))
+        for link in document.links
+        if link.name in wanted
+        for visual in link.visuals
+    ]
     meshes: dict[str, str] = {}
+    missing: list[str] = []
     for _, _, geometry, _ in shapes:
-        if geometry is not None and geometry.mesh is not None:
-            file = resolve_mesh(geometry.mesh.filename, urdf_dir)
+        if geometry is not None and geometry.kind == "mesh":
+            file = resolve_mesh(geometry.filename, urdf_dir)
             try:
                 parts = _mesh_parts(str(file)) if file is not None else None
             except Exception:  # any reader error: the mesh is left out, named
                 parts = None
             if parts:
-                meshes[geometry.mesh.filename] = str(file)
+                meshes[geometry.filename] = str(file)
             else:
-                missing.append(geometry.mesh.filename)
+                missing.append(geometry.filename)
     total = sum(len(p[1]) for file in set(meshes.values()) for p in _mesh_parts(file))
     ratio = 1.0 if total <= max_triangles else max_triangles / total
     solids: list[Solid] = []
     for frame, T, geometry, colour in shapes:
         if geometry is None:
             continue
-        if geometry.box is not None:
-            size = [float(v) for v in geometry.box.size]
-            solids.append(replace(box_solid(frame, T, size, _ROLE), colour=colour))
-        elif geometry.cylinder is not None:
-            cylinder = geometry.cylinder
-            solid = cylinder_solid(frame, T, cylinder.radius, cylinder.length, _ROLE)
+        if geometry.kind == "box":
+            solids.append(replace(box_solid(frame, T, list(geometry.size), _ROLE), colour=colour))
+        elif geometry.kind == "cylinder":
+            solid = cylinder_solid(frame, T, geometry.radius, geometry.length, _ROLE)
             solids.append(replace(solid, colour=colour))
-        elif geometry.sphere is not None:
+        elif geometry.kind == "sphere":
             import trimesh
 
-            sphere = trimesh.creation.icosphere(subdivisions=2, radius=geometry.sphere.radius)
+            sphere = trimesh.creation.icosphere(subdivisions=2, radius=geometry.radius)
             solids.append(mesh_solid(frame, T, sphere.vertices, sphere.faces, _ROLE, colour))
-        elif geometry.mesh is not None and geometry.mesh.filename in meshes:
-            found = meshes[geometry.mesh.filename]
-            scale = geometry.mesh.scale
-            factors = np.ones(3) if scale is None else np.broadcast_to(scale, 3).astype(float)
+        elif geometry.kind == "mesh" and geometry.filename in meshes:
+            found = meshes[geometry.filename]
+            factors = np.array(geometry.scale, dtype=float)
             for k, (_, _, part_colour) in enumerate(_mesh_parts(found)):
                 vertices, triangles = _decimated(found, k, round(ratio, 4))
                 solids.append(

@@ -9,7 +9,8 @@ import pytest
 from click.testing import CliRunner
 
 import aaria_pin as ap
-from aaria_pin.core.mjcf import BASE_JOINTS, replay_in_mujoco
+from aaria_pin.apps.record_model import replay_in_mujoco
+from aaria_pin.core.export.mjcf_emit import BASE_JOINTS
 
 mujoco = pytest.importorskip("mujoco")
 

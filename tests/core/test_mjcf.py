@@ -8,15 +8,9 @@ import numpy as np
 import pytest
 
 import aaria_pin as ap
-from aaria_pin.core.mjcf import (
-    BASE_JOINTS,
-    emit_mjcf,
-    gimbal_xyz_coordinates,
-    load_mjcf,
-    record_base_motion,
-    record_mjcf,
-    replay_in_mujoco,
-)
+from aaria_pin.apps.record_model import record_base_motion, record_mjcf, replay_in_mujoco
+from aaria_pin.core.export.mjcf_emit import BASE_JOINTS, emit_mjcf, load_mjcf
+from aaria_pin.core.export.mjcf_replay import gimbal_xyz_coordinates
 from aaria_pin.core.record import ImuMount
 from aaria_pin.errors import ModelError, ParameterError
 
@@ -201,7 +195,7 @@ SPHERICAL = """<robot name="ball">
 
 
 def test_massless_virtual_links_and_a_point_mass_get_negligible_inertia() -> None:
-    from aaria_pin.core.mjcf import NEGLIGIBLE_INERTIA, NEGLIGIBLE_MASS
+    from aaria_pin.core.export.mjcf_bodies import NEGLIGIBLE_INERTIA, NEGLIGIBLE_MASS
 
     # MuJoCo refuses moving bodies without mass or moments: the two virtual links of a
     # spherical joint made of hinges, and a point mass (its moments are all zero)
@@ -254,3 +248,25 @@ def test_a_written_model_loads_from_its_file(tmp_path: Path, ur5_run: ap.RunReco
     path.write_text(record_mjcf(ur5_run)[0])
     model = mujoco.MjModel.from_xml_path(str(path))
     assert model.nsensor == 28 and model.sensor("imu_tool_accelerometer").dim[0] == 3
+
+
+def test_auto_balance_balances_only_what_mujoco_refuses() -> None:
+    with pytest.warns(UserWarning, match="break A \\+ B >= C \\('arm'"):
+        text, _ = emit_mjcf(UNBALANCED, (), balance_inertia="auto")
+    assert 'balanceinertia="true"' in text
+    A, B, C = sorted(load_mjcf(text).body("arm").inertia)
+    assert A + B >= C and A + B + C == pytest.approx(0.012, rel=1e-12)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a model MuJoCo accepts: written as asked, no warning
+        assert emit_mjcf(URDF, (), balance_inertia="auto") == emit_mjcf(URDF, ())
+
+
+def test_a_moving_base_replay_needs_the_base_motion(fig2_run: ap.RunRecord) -> None:
+    from aaria_pin.core.export.mjcf_replay import replay_motion
+
+    xml, _ = record_mjcf(fig2_run)
+    with pytest.raises(ParameterError, match="no base motion is given") as info:
+        replay_motion(fig2_run, xml)
+    assert info.value.parameter == "base"

@@ -17,7 +17,8 @@ from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.core.inertia import Part
 from aaria_pin.core.se3 import rpy_from_matrix
-from aaria_pin.core.urdf import JointDescription, LinkDescription, RobotDescription, emit_urdf
+from aaria_pin.core.urdf import JointDescription, LinkDescription, RobotDescription
+from aaria_pin.core.urdf_emitter import emit_urdf
 from aaria_pin.errors import ModelError
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -30,8 +30,8 @@ from aaria_pin.core.urdf import (
     RobotDescription,
     Shape,
     Sphere,
-    emit_urdf,
 )
+from aaria_pin.core.urdf_emitter import emit_urdf
 from aaria_pin.errors import ModelError
 
 FIXTURE = (

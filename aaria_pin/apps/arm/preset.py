@@ -64,8 +64,8 @@ from aaria_pin.core.urdf import (
     Mesh,
     RobotDescription,
     Shape,
-    emit_urdf,
 )
+from aaria_pin.core.urdf_emitter import emit_urdf
 
 if TYPE_CHECKING:
     from aaria_pin.core.model import RobotModel
