@@ -7,10 +7,10 @@ per-run layout (:meth:`DatasetSpec.layout`) and make run k (:meth:`DatasetSpec.m
 its inputs (:meth:`DatasetSpec.inputs`); the engine (:mod:`.engine`) only calls these, whatever
 the robot.
 
-Run k of a data set with seed S is a pure function of (S, k) and the spec: its inputs come from
-:func:`aaria_pin.aaria.randomize.run_streams` and its noise from the fourth stream, so the file is
-the same, array for array, whatever the number of workers, the scheduler or the order in which
-runs finish.
+Run k of a data set with seed S is a pure function of (S, k) and the spec: its inputs and its
+noise come from its named streams, ``RunSeeds(S, k)`` (:class:`~aaria_pin.core.seeds.RunSeeds`),
+so the file is the same, array for array, whatever the number of workers, the scheduler or the
+order in which runs finish. The run itself is made by :func:`~.runs.simulate_inputs`.
 """
 
 from __future__ import annotations
@@ -22,17 +22,16 @@ from typing import Any
 import numpy as np
 
 from aaria_pin._version import __version__
-from aaria_pin.aaria.randomize import PARTS, RandomConfig, random_base_table, run_stream
+from aaria_pin.aaria.randomize import PARTS, RandomConfig, random_base_table
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
-from aaria_pin.core.seeds import check_seed
+from aaria_pin.core.seeds import DATASET_STREAMS, RunSeeds, check_seed
 from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE
-from aaria_pin.errors import AariaError, ParameterError
+from aaria_pin.errors import AariaError, OutputFileError, ParameterError
 from aaria_pin.files.dataset_file import DatasetLayout, EncodedRun, encode_run, run_arrays
 
 __all__ = [
-    "JOINT_STREAM",
     "MAX_RUNS",
     "MOTIONS",
     "NOISE_STREAM",
@@ -48,12 +47,10 @@ MAX_RUNS = 100_000_000
 """Most runs in one data set."""
 MOTIONS = ("sine", "fourier")
 """A data set's joint motions: the joint tables' sines, or a Fourier excitation per run."""
-JOINT_STREAM = PARTS.index("joints")
-"""The stream of a run's joint motion: its joint table, or its Fourier coefficients
-(``SeedSequence(seed, spawn_key=(k, JOINT_STREAM))``; run 0's for every run when the joints
-do not vary)."""
-NOISE_STREAM = len(PARTS)
-"""The noise of run k is ``SeedSequence(seed, spawn_key=(k, NOISE_STREAM))``."""
+NOISE_STREAM = DATASET_STREAMS.index("noise")
+"""The value of a data set's ``noise_stream`` attribute (3): the spawn-key part of its runs'
+noise, which the file records so a reader re-derives a run's noise seed. Streams themselves
+come from :class:`~aaria_pin.core.seeds.RunSeeds` only."""
 
 
 @dataclass(frozen=True)
@@ -94,7 +91,7 @@ class DatasetSpec(ABC):
             file's ``noise_parameters``)
         motion: ``"sine"`` (the joint tables) or ``"fourier"``: each run follows a Fourier
             excitation (:func:`~aaria_pin.core.excitation.fourier_excitation`) drawn from its
-            joint stream (:data:`JOINT_STREAM`), stored per run as the table
+            ``joints`` stream (:meth:`fourier_seed`), stored per run as the table
             ``fourier_coefficients`` (its ``senSenJ``/``joint_table`` is then the robot's
             default, not followed); recorded in the file's ``motion`` and ``fourier``
             attributes
@@ -177,9 +174,12 @@ class DatasetSpec(ABC):
         }
 
     def fourier_seed(self, run: int) -> np.random.SeedSequence:
-        """The seed of run ``run``'s Fourier coefficients (:data:`JOINT_STREAM`)."""
+        """The seed of run ``run``'s Fourier coefficients: its ``joints`` stream.
+
+        Run 0's for every run when the joints do not vary.
+        """
         drawn = run if "joints" in self.vary else 0
-        return np.random.SeedSequence(self.seed, spawn_key=(drawn, JOINT_STREAM))
+        return RunSeeds(self.seed, drawn).sequence("fourier")
 
     def run_motion(self, inputs: RunInputs) -> Any:
         """The ``motion`` of a run's producer: None (sines) or its Fourier excitation."""
@@ -221,10 +221,6 @@ class DatasetSpec(ABC):
     def inputs(self, run: int) -> RunInputs:
         """The inputs of run ``run``, a pure function of the seed and ``run``."""
 
-    @abstractmethod
-    def simulate(self, inputs: RunInputs) -> RunRecord:
-        """The run made from its inputs."""
-
     def check_inputs(self, inputs: RunInputs) -> None:
         """Check a run's input tables on their own, before any simulation.
 
@@ -244,7 +240,9 @@ class DatasetSpec(ABC):
 
     def make_run(self, run: int) -> RunRecord:
         """Run ``run`` as a record, a pure function of the spec and ``run``."""
-        return self.simulate(self.inputs(run))
+        from aaria_pin.apps.dataset.runs import simulate_inputs
+
+        return simulate_inputs(self, self.inputs(run))
 
     def arrays(self, run: int) -> dict[str, Array]:
         """The stored arrays of run ``run`` by name, in the data set's dtypes."""
@@ -268,8 +266,9 @@ class DatasetSpec(ABC):
         """Base table (6 × 4) and noise seed of run ``run`` (every robot draws them alike)."""
         from aaria_pin.core.oscillation import default_base_table
 
+        seeds = RunSeeds(self.seed, run)
         if "base" in self.vary:
-            base_table = random_base_table(self.config, run_stream(self.seed, run, 2))
+            base_table = random_base_table(self.config, seeds.generator("base"))
         else:
             base_table = np.asarray(
                 self.base_table if self.base_table is not None else default_base_table(),
@@ -277,7 +276,7 @@ class DatasetSpec(ABC):
             )
         if base_table.shape == (2, 4):
             base_table = np.repeat(base_table, 3, axis=0)
-        return base_table, np.random.SeedSequence(self.seed, spawn_key=(run, NOISE_STREAM))
+        return base_table, seeds.sequence("noise")
 
     def attributes(self) -> dict[str, Any]:
         """File attributes describing the spec (what :meth:`mismatches` compares on resume)."""
@@ -368,7 +367,10 @@ def check_first_run(spec: DatasetSpec) -> Result:
     except AariaError as exc:
         drawn = f" (its {', '.join(spec.vary)} drawn from the config ranges)" if spec.vary else ""
         raise ParameterError(
-            f"run 0 of the data set cannot be made{drawn}: {' '.join(str(exc).split())}"
+            f"run 0 of the data set cannot be made{drawn}: {' '.join(str(exc).split())}",
+            parameter=exc.parameter or "spec",
+            value=exc.value,
+            element=exc.element,
         ) from None
     if spec.vary:
         return run_result(spec, 0)
@@ -376,7 +378,10 @@ def check_first_run(spec: DatasetSpec) -> Result:
         record = spec.make_run(0)
     except AariaError as exc:
         raise ParameterError(
-            f"no run of the data set can be made: {' '.join(str(exc).split())}"
+            f"no run of the data set can be made: {' '.join(str(exc).split())}",
+            parameter=exc.parameter or "spec",
+            value=exc.value,
+            element=exc.element,
         ) from None
     except Exception:
         return run_result(spec, 0)
@@ -386,19 +391,36 @@ def check_first_run(spec: DatasetSpec) -> Result:
         return run_result(spec, 0)
 
 
-class DatasetJobStoppedError(Exception):
+class DatasetJobStoppedError(OutputFileError):
     """A data-set job stopped before its end (Ctrl-C, no space left, its scheduler lost).
 
-    The runs saved so far are in the file, and the same command with ``--resume`` goes on.
+    The output is left incomplete, so it is an :class:`~aaria_pin.errors.OutputFileError`
+    (an :class:`OSError` too) whose ``parameter`` is ``path`` and ``value`` the file. The runs
+    saved so far are in the file, and the same command with ``--resume`` goes on.
 
-    Attributes:
+    Args:
+        message: the one-line message (what stopped the job, the runs saved)
         saved: runs complete in the file (None: the file cannot be read)
         total: the data set's N
         exit_status: the command's exit status (130 after Ctrl-C, else 1)
+        path: the data set file
+
+    Attributes:
+        saved: as given
+        total: as given
+        exit_status: as given
     """
 
-    def __init__(self, message: str, saved: int | None, total: int, exit_status: int = 1) -> None:
-        super().__init__(message)
+    def __init__(
+        self,
+        message: str,
+        saved: int | None,
+        total: int,
+        exit_status: int = 1,
+        *,
+        path: str = "",
+    ) -> None:
+        super().__init__(message, parameter="path", value=path)
         self.saved = saved
         self.total = total
         self.exit_status = exit_status
