@@ -170,7 +170,8 @@ def generate_dataset(
             saved,
             spec.n_runs,
             exit_status=130,
-            path=str(file),
+            parameter="path",
+            value=str(file),
         ) from None
 
 
@@ -323,7 +324,8 @@ def _write_local(
                 " and run the same command with --resume to go on",
                 saved,
                 spec.n_runs,
-                path=str(file),
+                parameter="path",
+                value=str(file),
             ) from None
         raise
     store.close()

@@ -83,7 +83,7 @@ class DatasetJob:
 
     Raises:
         ParameterError: an empty ``scheduler``, ``shards`` without ``scheduler``, ``workers``
-            below 1.
+            below 1 or beside a ``scheduler``.
     """
 
     workers: int | None = None
@@ -105,7 +105,15 @@ class DatasetJob:
             )
         if self.shards is not None and self.scheduler is None:
             raise ParameterError(
-                parameter="shards", value=str(self.shards), allowed="a folder with a scheduler only"
+                parameter="shards",
+                value=str(self.shards),
+                allowed="a folder with a scheduler only (--shards needs --scheduler)",
+            )
+        if self.workers is not None and self.scheduler is not None:
+            raise ParameterError(
+                parameter="workers",
+                value=self.workers,
+                allowed="none with a scheduler (give --workers or --scheduler, not both)",
             )
         if self.workers is not None and self.workers < 1:
             raise ParameterError(parameter="workers", value=self.workers, allowed=">= 1")

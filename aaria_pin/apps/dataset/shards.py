@@ -349,7 +349,8 @@ def generate_sharded(
                 f" in {file}; the same command with --resume goes on once a scheduler is there",
                 len(job.locations),
                 spec.n_runs,
-                path=str(file),
+                parameter="path",
+                value=str(file),
             )
         used = {location.shard for location in job.locations.values()}
         remove_unused_shards(folder, prefix, used)

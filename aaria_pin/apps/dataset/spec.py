@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -30,6 +30,9 @@ from aaria_pin.core.seeds import DATASET_STREAMS, RunSeeds, check_seed
 from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE
 from aaria_pin.errors import AariaError, OutputFileError, ParameterError
 from aaria_pin.files.dataset_file import DatasetLayout, EncodedRun, encode_run, run_arrays
+
+if TYPE_CHECKING:
+    from aaria_pin.apps.dataset.sources import DatasetSources
 
 __all__ = [
     "MAX_RUNS",
@@ -115,6 +118,24 @@ class DatasetSpec(ABC):
     motion: str = "sine"
     harmonics: int | None = None
     base_frequency: float | None = None
+
+    @classmethod
+    def from_sources(cls, sources: DatasetSources) -> DatasetSpec:
+        """The checked spec of a data set from where its parts come from.
+
+        The rules of ``aaria dataset`` (which parts vary, presets, table files, a URDF robot,
+        the config file): :func:`~.sources.spec_from_sources`. The robot decides the subclass,
+        whichever class this is called on.
+
+        Args:
+            sources: presets, file paths and settings (:class:`~.sources.DatasetSources`)
+
+        Returns:
+            A :class:`~.dh.DhDatasetSpec` or a :class:`~.urdf.UrdfDatasetSpec`.
+        """
+        from aaria_pin.apps.dataset.sources import spec_from_sources
+
+        return spec_from_sources(sources)
 
     def __post_init__(self) -> None:
         from aaria_pin.core.trajectory import sample_times
@@ -403,7 +424,8 @@ class DatasetJobStoppedError(OutputFileError):
         saved: runs complete in the file (None: the file cannot be read)
         total: the data set's N
         exit_status: the command's exit status (130 after Ctrl-C, else 1)
-        path: the data set file
+        parameter: ``path``, the output of :func:`~.engine.generate_dataset`
+        value: the data set file
 
     Attributes:
         saved: as given
@@ -418,9 +440,10 @@ class DatasetJobStoppedError(OutputFileError):
         total: int,
         exit_status: int = 1,
         *,
-        path: str = "",
+        parameter: str = "path",
+        value: str = "",
     ) -> None:
-        super().__init__(message, parameter="path", value=path)
+        super().__init__(message, parameter=parameter, value=value)
         self.saved = saved
         self.total = total
         self.exit_status = exit_status
