@@ -59,11 +59,17 @@ def _bar() -> Callable[[int, int, float], None]:
     def show(done: int, total: int, seconds: float) -> None:
         if not bars:
             bars.append(
-                click.progressbar(length=total, label="runs", show_pos=True, file=sys.stderr)
+                click.progressbar(
+                    length=total,
+                    label="runs",
+                    show_pos=True,
+                    item_show_func=lambda rate: rate,
+                    file=sys.stderr,
+                )
             )
             bars[0].__enter__()
         bar = bars[0]
-        bar.update(done - bar.pos)
+        bar.update(done - bar.pos, f"{done / seconds if seconds > 0 else 0.0:.1f} runs/s")
         if done >= total:
             bar.__exit__(None, None, None)
 

@@ -14,10 +14,8 @@ import pytest
 from click.testing import CliRunner
 
 from aaria_pin.aaria.presets import get_preset
-from aaria_pin.apps.dataset import runner
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.apps.dataset.engine import generate_dataset, simulate_dataset_run
-from aaria_pin.apps.dataset.runner import task_runs
 from aaria_pin.apps.remake import remake_record
 from aaria_pin.cli import main
 from aaria_pin.core.record import RunRecord
@@ -51,21 +49,6 @@ def test_workers_do_not_change_the_arrays(reference: Path, tmp_path: Path) -> No
     generate_dataset(tmp_path / "two.h5", DhDatasetSpec(n_runs=24, seed=7, **SHORT), workers=2)
     _assert_same(reference, tmp_path / "two.h5")
     assert _arrays(reference)["complete"].all()
-
-
-def test_runs_per_task_do_not_change_the_arrays(
-    reference: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    assert task_runs(51) == 8  # the reference: eight runs of 0.5 s a task
-    monkeypatch.setattr(runner, "TASK_SAMPLES", 1)  # one run a task
-    assert task_runs(51) == 1
-    path = tmp_path / "single.h5"
-    generate_dataset(path, DhDatasetSpec(n_runs=24, seed=7, **SHORT), workers=2)
-    _assert_same(reference, path)
-
-
-def test_runs_per_task_follow_the_run_length() -> None:
-    assert [task_runs(n) for n in (1, 100, 1000, 1500, 4000, 10**6)] == [8, 8, 4, 2, 1, 1]
 
 
 def test_run_k_is_a_pure_function_of_seed_and_k(reference: Path) -> None:

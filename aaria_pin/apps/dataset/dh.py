@@ -50,7 +50,7 @@ class DhDatasetSpec(DatasetSpec):
             raise ParameterError(
                 parameter="dh_table",
                 value=None,
-                allowed="a DH table (a preset's or a file's) when the structure does not vary",
+                allowed="a DH table when the structure does not vary (it needs --preset or --dh)",
             )
 
     @property

@@ -175,7 +175,7 @@ def _vary(sources: DatasetSources, robot: UrdfSource | None) -> tuple[str, ...]:
     A URDF robot's structure is fixed (its spec refuses to vary it, naming why).
 
     Raises:
-        ParameterError: a part both fixed and varied, or a structure neither varied nor given.
+        ParameterError: a part both fixed and varied.
     """
     fixed = {
         "structure": sources.preset is not None or sources.dh_file is not None,
@@ -207,13 +207,7 @@ def _vary(sources: DatasetSources, robot: UrdfSource | None) -> tuple[str, ...]:
                 element="a part",
                 allowed=f"parts without a fixed table (a fixed {part} table was given)",
             )
-    if robot is None and "structure" not in parts and not fixed["structure"]:
-        raise ParameterError(
-            parameter="dh_table",
-            value=None,
-            allowed="a DH table when the structure does not vary (it needs --preset or --dh)",
-        )
-    return parts
+    return parts  # a structure neither varied nor given: refused by DhDatasetSpec
 
 
 def _dh_tables(sources: DatasetSources) -> tuple[Any, Any, Any, str]:
