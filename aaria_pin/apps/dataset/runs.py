@@ -49,12 +49,7 @@ def _dh_run(spec: DhDatasetSpec, inputs: RunInputs) -> RunRecord:
         inputs.tables["senSenDH"],
         inputs.tables["senSenJ"],
         inputs.tables["senSenB"],
-        duration=spec.duration,
-        rate=spec.rate,
-        seed=inputs.noise_seed,
-        noise=spec.noise,
-        noise_model=spec.noise_model,
-        motion=spec.run_motion(inputs),
+        **_settings(spec, inputs),
         robot_name=spec.robot_name(),
         keep_urdf=False,
     )
@@ -69,13 +64,20 @@ def _urdf_run(spec: UrdfDatasetSpec, inputs: RunInputs) -> RunRecord:
         inputs.tables.get("base_table"),
         moving_base=spec.source.moving_base,
         source=spec.source.source,
-        duration=spec.duration,
-        rate=spec.rate,
-        seed=inputs.noise_seed,
-        noise=spec.noise,
-        noise_model=spec.noise_model,
-        motion=spec.run_motion(inputs),
+        **_settings(spec, inputs),
     )
+
+
+def _settings(spec: DatasetSpec, inputs: RunInputs) -> dict[str, Any]:
+    """The producers' common keywords: sampling, noise (seed and model), motion."""
+    return {
+        "duration": spec.duration,
+        "rate": spec.rate,
+        "seed": inputs.noise_seed,
+        "noise": spec.noise,
+        "noise_model": spec.noise_model,
+        "motion": spec.run_motion(inputs),
+    }
 
 
 _PRODUCERS: dict[str, Callable[[Any, RunInputs], RunRecord]] = {"dh": _dh_run, "urdf": _urdf_run}

@@ -20,12 +20,12 @@ Each rule is checked once, here or in the spec's own checks, before any run is m
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from aaria_pin.aaria.randomize import PARTS
-from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE
+from aaria_pin.apps.dataset.spec import DatasetSettings
 from aaria_pin.errors import ParameterError
 
 if TYPE_CHECKING:
@@ -36,16 +36,13 @@ __all__ = ["DatasetSources", "spec_from_sources"]
 
 
 @dataclass(frozen=True)
-class DatasetSources:
+class DatasetSources(DatasetSettings):
     """What a data set is made from, as names and paths (read by :func:`spec_from_sources`).
 
+    Its run settings (``n_runs``, ``seed``, ``duration``, ``rate``, ``noise``, ``dtype``,
+    ``motion``, ``harmonics``, ``base_frequency``) are those of :class:`~.spec.DatasetSettings`.
+
     Attributes:
-        n_runs: number of runs N
-        seed: seed of the whole data set
-        duration: run length [s]
-        rate: sample rate [Hz]
-        noise: add IMU noise
-        dtype: ``"float32"`` or ``"float64"`` for the stored series
         config_file: TOML file of ranges and IMU noise (None: the defaults)
         vary: the random parts, a comma-separated text or a sequence (None: every part that
             no fixed table or robot pins down)
@@ -60,17 +57,8 @@ class DatasetSources:
         fixed_base: keep the URDF robot's root link fixed (its base does not move)
         joints_file: a fixed joint oscillation table file
         base_file: a fixed base oscillation table file
-        motion: ``"sine"`` or ``"fourier"``
-        harmonics: harmonics per joint of a Fourier excitation
-        base_frequency: its base frequency [Hz]
     """
 
-    n_runs: int
-    seed: int = 0
-    duration: float = DEFAULT_DURATION
-    rate: float = DEFAULT_RATE
-    noise: bool = True
-    dtype: str = "float32"
     config_file: str | Path | None = None
     vary: str | Sequence[str] | None = None
     preset: str | None = None
@@ -83,9 +71,6 @@ class DatasetSources:
     fixed_base: bool = False
     joints_file: str | Path | None = None
     base_file: str | Path | None = None
-    motion: str = "sine"
-    harmonics: int | None = None
-    base_frequency: float | None = None
 
 
 def spec_from_sources(sources: DatasetSources) -> DatasetSpec:
@@ -140,18 +125,10 @@ def spec_from_sources(sources: DatasetSources) -> DatasetSpec:
         existing_input(sources.config_file, None, "config")  # a FIFO: one line, never a wait
     config, noise_model = load_dataset_config(sources.config_file)
     settings: dict[str, Any] = {
-        "n_runs": sources.n_runs,
-        "seed": sources.seed,
-        "duration": sources.duration,
-        "rate": sources.rate,
-        "noise": sources.noise,
-        "dtype": sources.dtype,
+        **{item.name: getattr(sources, item.name) for item in fields(DatasetSettings)},
         "config": config,
         "noise_model": noise_model,
         "vary": vary,
-        "motion": sources.motion,
-        "harmonics": sources.harmonics,
-        "base_frequency": sources.base_frequency,
     }
     if robot is not None:
         joint_table = _table(sources.joints_file, "joint_table")

@@ -39,6 +39,7 @@ __all__ = [
     "MOTIONS",
     "NOISE_STREAM",
     "DatasetJobStoppedError",
+    "DatasetSettings",
     "DatasetSpec",
     "Result",
     "RunInputs",
@@ -74,8 +75,10 @@ class RunInputs:
 
 
 @dataclass(frozen=True)
-class DatasetSpec(ABC):
-    """The settings every data set shares; a subclass adds its robot.
+class DatasetSettings:
+    """The settings of a data set's runs that do not depend on where its parts come from.
+
+    Shared by the spec (:class:`DatasetSpec`) and its sources (:class:`~.sources.DatasetSources`).
 
     Attributes:
         n_runs: number of runs N
@@ -84,17 +87,9 @@ class DatasetSpec(ABC):
         rate: sample rate [Hz]
         noise: add IMU noise
         dtype: ``"float32"`` or ``"float64"`` for the stored series
-        config: ranges and probabilities of the random parts
-        vary: the random parts, a subset of ``("structure", "joints", "base")``
-        joint_table: the fixed joint oscillation table when the joints do not vary (default:
-            the robot's default table)
-        base_table: the fixed base oscillation table when the base does not vary (default:
-            :func:`~aaria_pin.core.oscillation.default_base_table`)
-        noise_model: the IMU noise model (default: the ADIS16485 data sheet; recorded in the
-            file's ``noise_parameters``)
         motion: ``"sine"`` (the joint tables) or ``"fourier"``: each run follows a Fourier
             excitation (:func:`~aaria_pin.core.excitation.fourier_excitation`) drawn from its
-            ``joints`` stream (:meth:`fourier_seed`), stored per run as the table
+            ``joints`` stream (:meth:`DatasetSpec.fourier_seed`), stored per run as the table
             ``fourier_coefficients`` (its ``senSenJ``/``joint_table`` is then the robot's
             default, not followed); recorded in the file's ``motion`` and ``fourier``
             attributes
@@ -110,14 +105,33 @@ class DatasetSpec(ABC):
     rate: float = DEFAULT_RATE
     noise: bool = True
     dtype: str = "float32"
+    motion: str = "sine"
+    harmonics: int | None = None
+    base_frequency: float | None = None
+
+
+@dataclass(frozen=True)
+class DatasetSpec(DatasetSettings, ABC):
+    """What a data set holds: its settings (:class:`DatasetSettings`) and random parts.
+
+    A subclass adds its robot.
+
+    Attributes:
+        config: ranges and probabilities of the random parts
+        vary: the random parts, a subset of ``("structure", "joints", "base")``
+        joint_table: the fixed joint oscillation table when the joints do not vary (default:
+            the robot's default table)
+        base_table: the fixed base oscillation table when the base does not vary (default:
+            :func:`~aaria_pin.core.oscillation.default_base_table`)
+        noise_model: the IMU noise model (default: the ADIS16485 data sheet; recorded in the
+            file's ``noise_parameters``)
+    """
+
     config: RandomConfig = field(default_factory=RandomConfig)
     vary: tuple[str, ...] = PARTS
     joint_table: Array | None = None
     base_table: Array | None = None
     noise_model: ImuNoiseModel = ADIS16485
-    motion: str = "sine"
-    harmonics: int | None = None
-    base_frequency: float | None = None
 
     @classmethod
     def from_sources(cls, sources: DatasetSources) -> DatasetSpec:
