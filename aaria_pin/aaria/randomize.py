@@ -35,6 +35,7 @@ __all__ = [
     "random_dh_table",
     "random_joint_table",
     "random_urdf_joint_table",
+    "read_config_file",
 ]
 
 PARTS = DATASET_STREAMS[:3]
@@ -214,23 +215,41 @@ def load_config(path: str | Path | None) -> RandomConfig:
     """Read a TOML configuration (keys of :class:`RandomConfig`; missing keys keep defaults).
 
     Raises:
-        InputFileError: the file is missing or not TOML.
+        InputFileError: the file is missing, unreadable, not UTF-8 or not TOML.
         ParameterError: an unknown key, or a value out of its allowed set.
     """
     if path is None:
         return RandomConfig()
+    return config_from_mapping(read_config_file(path), str(path))
+
+
+def read_config_file(path: str | Path) -> dict[str, Any]:
+    """The tables of a TOML configuration file, as plain values (not checked).
+
+    Raises:
+        InputFileError: the file is missing, unreadable, not UTF-8 or not TOML (one line).
+    """
     file = Path(path)
     try:
-        data = tomllib.loads(file.read_text(encoding="utf-8"))
+        raw = file.read_bytes()
     except OSError as exc:
         raise InputFileError(
             f"{file}: cannot be read ({exc.strerror})", parameter="path", value=str(file)
         ) from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputFileError(
+            f"{file}: byte {exc.start} is not UTF-8 text; allowed: a TOML file in UTF-8",
+            parameter="path",
+            value=str(file),
+        ) from None
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputFileError(
             f"{file}: not valid TOML ({exc})", parameter="path", value=str(file)
         ) from None
-    return config_from_mapping(data, str(file))
 
 
 def config_from_mapping(data: Mapping[str, Any], where: str = "config") -> RandomConfig:

@@ -1,10 +1,7 @@
 """``aaria dataset``: many random runs into one HDF5 data set, in parallel.
 
-The command parses its flags and makes one library call: the data set's spec from its sources
-(:meth:`~aaria_pin.apps.dataset.spec.DatasetSpec.from_sources`: which parts vary, presets,
-table files, a URDF robot, the config file) and the job
-(:func:`~aaria_pin.apps.dataset.engine.generate_dataset`). It prints the estimate, the progress
-(a bar on a terminal, plain lines in a log) and the report.
+Flags in; the spec from its sources (:meth:`~aaria_pin.apps.dataset.spec.DatasetSpec.from_sources`)
+and the job (:func:`~aaria_pin.apps.dataset.engine.generate_dataset`); its reports out.
 """
 
 from __future__ import annotations
@@ -53,25 +50,16 @@ def _progress(quiet: bool, every: float) -> Callable[[int, int, float], None] | 
 
 
 def _bar() -> Callable[[int, int, float], None]:
-    """Click's progress bar on stderr, made at the first report (when the total is known)."""
+    """A progress bar (click's) on stderr, made at the first report (when the total is known)."""
     bars: list[Any] = []
 
     def show(done: int, total: int, seconds: float) -> None:
         if not bars:
-            bars.append(
-                click.progressbar(
-                    length=total,
-                    label="runs",
-                    show_pos=True,
-                    item_show_func=lambda rate: rate,
-                    file=sys.stderr,
-                )
-            )
-            bars[0].__enter__()
-        bar = bars[0]
-        bar.update(done - bar.pos, f"{done / seconds if seconds > 0 else 0.0:.1f} runs/s")
+            options = {"label": "runs", "show_pos": True, "item_show_func": lambda rate: rate}
+            bars.append(click.progressbar(length=total, file=sys.stderr, **options).__enter__())
+        bars[0].update(done - bars[0].pos, f"{done / seconds if seconds > 0 else 0:.1f} runs/s")
         if done >= total:
-            bar.__exit__(None, None, None)
+            bars[0].__exit__(None, None, None)
 
     return show
 

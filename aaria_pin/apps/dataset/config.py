@@ -24,14 +24,13 @@ refused naming the key, and a file that is not UTF-8 is refused in one line.
 from __future__ import annotations
 
 import dataclasses
-import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from aaria_pin.aaria.randomize import RandomConfig, config_from_mapping
+from aaria_pin.aaria.randomize import RandomConfig, config_from_mapping, read_config_file
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, SensorNoise
-from aaria_pin.errors import AariaError, InputFileError, ParameterError
+from aaria_pin.errors import AariaError, ParameterError
 
 __all__ = ["NOISE_TABLE", "load_dataset_config", "noise_model_from_mapping"]
 
@@ -59,26 +58,7 @@ def load_dataset_config(
     if path is None:
         return RandomConfig(), ADIS16485
     file = Path(path)
-    try:
-        raw = file.read_bytes()
-    except OSError as exc:
-        raise InputFileError(
-            f"{file}: cannot be read ({exc.strerror})", parameter="path", value=str(file)
-        ) from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise InputFileError(
-            f"{file}: byte {exc.start} is not UTF-8 text; allowed: a TOML file in UTF-8",
-            parameter="path",
-            value=str(file),
-        ) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputFileError(
-            f"{file}: not valid TOML ({exc})", parameter="path", value=str(file)
-        ) from None
+    data = read_config_file(file)
     noise = data.pop(NOISE_TABLE, {})
     _check_value_types(data, str(file))
     return config_from_mapping(data, str(file)), noise_model_from_mapping(noise, str(file))
