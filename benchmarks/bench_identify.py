@@ -29,14 +29,15 @@ if hasattr(os, "sched_setaffinity"):
 import numpy as np
 
 from aaria_pin.aaria.randomize import (
+    PARTS,
     load_config,
     random_base_table,
     random_dh_table,
     random_joint_table,
-    run_streams,
 )
 from aaria_pin.aaria.simulate import dh_fourier_excitation, simulate_run
 from aaria_pin.apps.identify.kinematics import identify_kinematics
+from aaria_pin.core.seeds import RunSeeds
 
 
 def main() -> None:
@@ -56,7 +57,7 @@ def main() -> None:
     goal = 0.01 if args.noise else 1e-3
     rows = []
     for k in range(args.first, args.first + args.n):
-        structure, joints, base, _ = run_streams(args.seed, k)
+        structure, joints, base = (RunSeeds(args.seed, k).generator(p) for p in PARTS)
         table = random_dh_table(config, structure)
         joint_table = random_joint_table(config, table, joints)
         base_table = random_base_table(config, base)

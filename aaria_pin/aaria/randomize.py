@@ -1,10 +1,11 @@
 """Random Aaria runs (the paper's MODE 1): structures, joint and base oscillations.
 
 Every range and probability lives in one :class:`RandomConfig`, read from a TOML file with the
-layout of :func:`default_config_toml` (unknown keys and empty ranges are refused). Run k of a
-data set with seed S draws from its own streams, ``SeedSequence(S, spawn_key=(k, part))``, one
-per part (structure, joints, base, noise), so its inputs and noise depend only on (S, k), and
-keeping one part fixed (``vary``) leaves the draws of the others unchanged.
+layout of :func:`default_config_toml` (unknown keys and empty ranges are refused). Each draw takes
+its generator: run k of a data set with seed S draws each part from its own stream,
+``RunSeeds(S, k).generator(part)`` (:class:`~aaria_pin.core.seeds.RunSeeds`), so its inputs and
+noise depend only on (S, k), and keeping one part fixed (``vary``) leaves the draws of the
+others unchanged.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from aaria_pin.core.se3 import Array
+from aaria_pin.core.seeds import DATASET_STREAMS
 from aaria_pin.errors import InputFileError, ParameterError
 
 if TYPE_CHECKING:
@@ -33,12 +35,11 @@ __all__ = [
     "random_dh_table",
     "random_joint_table",
     "random_urdf_joint_table",
-    "run_stream",
-    "run_streams",
+    "read_config_file",
 ]
 
-PARTS = ("structure", "joints", "base")
-"""What a data set can vary, in stream order (the noise has the fourth stream)."""
+PARTS = DATASET_STREAMS[:3]
+"""What a data set can vary: ``structure``, ``joints``, ``base`` (the streams but the noise)."""
 
 _HALF_PI = math.pi / 2
 
@@ -95,43 +96,56 @@ class RandomConfig:
             value = getattr(self, item.name)
             if item.name == "base_per_axis":
                 if not isinstance(value, bool):
-                    raise ParameterError(f"config {item.name} is {value!r}; allowed: true or false")
+                    raise _config_error(item.name, value, "true or false")
                 continue
             numbers = tuple(float(v) for v in value)
             if not all(math.isfinite(v) for v in numbers):
-                raise ParameterError(f"config {item.name} is {value!r}; allowed: finite numbers")
+                raise _config_error(item.name, value, "finite numbers")
             if item.name.endswith("_choices"):
                 if not numbers:
-                    raise ParameterError(f"config {item.name} is empty; allowed: one or more")
+                    raise _config_error(item.name, value, "one or more", shown="empty")
             elif item.name == "link_type_probabilities":
                 if len(numbers) != 3 or min(numbers) < 0 or numbers[1] + numbers[2] <= 0:
-                    raise ParameterError(
-                        f"config {item.name} is {value!r}; allowed: 3 probabilities >= 0 "
-                        "(empty, revolute, prismatic), revolute + prismatic > 0"
+                    raise _config_error(
+                        item.name,
+                        value,
+                        "3 probabilities >= 0 (empty, revolute, prismatic), revolute + prismatic"
+                        " > 0",
                     )
             elif len(numbers) != 2 or numbers[0] > numbers[1]:
-                raise ParameterError(
-                    f"config {item.name} is {value!r}; allowed: a range [low, high], low <= high"
-                )
+                raise _config_error(item.name, value, "a range [low, high], low <= high")
         if self.a[0] < 0 or self.d[0] < 0 or self.tool_a[0] < 0:
-            raise ParameterError("config lengths a, d, tool_a must be >= 0")
-        if self.prismatic_amplitude_fraction[1] > 0.5 or self.prismatic_amplitude_fraction[0] < 0:
             raise ParameterError(
-                f"config prismatic_amplitude_fraction is {self.prismatic_amplitude_fraction!r};"
-                " allowed: within [0, 0.5] (the rail is d long)"
+                "config lengths a, d, tool_a must be >= 0",
+                parameter="config",
+                value=(self.a[0], self.d[0], self.tool_a[0]),
+                element="a, d, tool_a",
+            )
+        if self.prismatic_amplitude_fraction[1] > 0.5 or self.prismatic_amplitude_fraction[0] < 0:
+            raise _config_error(
+                "prismatic_amplitude_fraction",
+                self.prismatic_amplitude_fraction,
+                "within [0, 0.5] (the rail is d long)",
             )
         if abs(self.prismatic_bias_fraction[0]) > 1 or abs(self.prismatic_bias_fraction[1]) > 1:
-            raise ParameterError(
-                f"config prismatic_bias_fraction is {self.prismatic_bias_fraction!r};"
-                " allowed: within [-1, 1]"
+            raise _config_error(
+                "prismatic_bias_fraction", self.prismatic_bias_fraction, "within [-1, 1]"
             )
         worst = max(abs(v) for v in self.revolute_bias) + self.revolute_amplitude[1]
         if worst > 2 * math.pi:
             raise ParameterError(
-                f"config revolute bias and amplitude reach {worst:.4g} rad; allowed: <= 2π"
+                f"config revolute bias and amplitude reach {worst:.4g} rad; allowed: <= 2π",
+                parameter="config",
+                value=worst,
+                element="revolute_bias, revolute_amplitude",
             )
         if self.joint_frequency[0] < 0 or self.base_frequency[0] < 0:
-            raise ParameterError("config frequencies must be >= 0 rad/s")
+            raise ParameterError(
+                "config frequencies must be >= 0 rad/s",
+                parameter="config",
+                value=(self.joint_frequency[0], self.base_frequency[0]),
+                element="joint_frequency, base_frequency",
+            )
 
     def as_dict(self) -> dict[str, Any]:
         """The configuration as plain values (lists for ranges), for files and attributes."""
@@ -143,6 +157,20 @@ class RandomConfig:
             )
             for item in fields(self)
         }
+
+
+def _config_error(name: str, value: Any, allowed: str, shown: str = "") -> ParameterError:
+    """``config NAME is VALUE; allowed: ALLOWED``, of ``parameter`` ``config``, ``element`` NAME.
+
+    The message is given whole (not composed from the fields): a key's name may also be a flag's
+    parameter (``base_frequency``), which the CLI must not name instead of the config key.
+    """
+    return ParameterError(
+        f"config {name} is {shown or repr(value)}; allowed: {allowed}",
+        parameter="config",
+        value=value,
+        element=name,
+    )
 
 
 _DESCRIPTIONS = {
@@ -187,19 +215,41 @@ def load_config(path: str | Path | None) -> RandomConfig:
     """Read a TOML configuration (keys of :class:`RandomConfig`; missing keys keep defaults).
 
     Raises:
-        InputFileError: the file is missing or not TOML.
+        InputFileError: the file is missing, unreadable, not UTF-8 or not TOML.
         ParameterError: an unknown key, or a value out of its allowed set.
     """
     if path is None:
         return RandomConfig()
+    return config_from_mapping(read_config_file(path), str(path))
+
+
+def read_config_file(path: str | Path) -> dict[str, Any]:
+    """The tables of a TOML configuration file, as plain values (not checked).
+
+    Raises:
+        InputFileError: the file is missing, unreadable, not UTF-8 or not TOML (one line).
+    """
     file = Path(path)
     try:
-        data = tomllib.loads(file.read_text(encoding="utf-8"))
+        raw = file.read_bytes()
     except OSError as exc:
-        raise InputFileError(f"{file}: cannot be read ({exc.strerror})") from None
+        raise InputFileError(
+            f"{file}: cannot be read ({exc.strerror})", parameter="path", value=str(file)
+        ) from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputFileError(
+            f"{file}: byte {exc.start} is not UTF-8 text; allowed: a TOML file in UTF-8",
+            parameter="path",
+            value=str(file),
+        ) from None
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputFileError(f"{file}: not valid TOML ({exc})") from None
-    return config_from_mapping(data, str(file))
+        raise InputFileError(
+            f"{file}: not valid TOML ({exc})", parameter="path", value=str(file)
+        ) from None
 
 
 def config_from_mapping(data: Mapping[str, Any], where: str = "config") -> RandomConfig:
@@ -208,7 +258,10 @@ def config_from_mapping(data: Mapping[str, Any], where: str = "config") -> Rando
     unknown = sorted(set(data) - known)
     if unknown:
         raise ParameterError(
-            f"{where}: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(known))}"
+            f"{where}: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(known))}",
+            parameter="config",
+            value=unknown[0],
+            element=where,
         )
     values: dict[str, Any] = {
         key: (tuple(v) if isinstance(v, list) else v) for key, v in data.items()
@@ -216,21 +269,9 @@ def config_from_mapping(data: Mapping[str, Any], where: str = "config") -> Rando
     try:
         return RandomConfig(**values)
     except (TypeError, ValueError) as exc:
-        raise ParameterError(f"{where}: {exc}") from None
-
-
-def run_streams(seed: int, run: int) -> list[np.random.Generator]:
-    """The four random streams of run ``run``: structure, joints, base, noise."""
-    return [run_stream(seed, run, part) for part in range(len(PARTS) + 1)]
-
-
-def run_stream(seed: int, run: int, part: int) -> np.random.Generator:
-    """Stream ``part`` of run ``run`` alone (0 structure, 1 joints, 2 base, 3 noise).
-
-    The same generator as ``run_streams(seed, run)[part]``; a data-set run makes only the
-    streams it draws from (each costs about 15 µs to seed).
-    """
-    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(run, part)))
+        raise ParameterError(
+            f"{where}: {exc}", parameter="config", value=dict(data), element=where
+        ) from None
 
 
 def _uniform(rng: np.random.Generator, bounds: Iterable[float]) -> float:

@@ -1,4 +1,8 @@
-"""``aaria dataset``: many random runs into one HDF5 data set, in parallel."""
+"""``aaria dataset``: many random runs into one HDF5 data set, in parallel.
+
+Flags in; the spec from its sources (:meth:`~aaria_pin.apps.dataset.spec.DatasetSpec.from_sources`)
+and the job (:func:`~aaria_pin.apps.dataset.engine.generate_dataset`); its reports out.
+"""
 
 from __future__ import annotations
 
@@ -14,38 +18,48 @@ from aaria_pin.cli._options import fourier_options, robot_source_options, table_
 from aaria_pin.core.seeds import MAX_SEED
 
 if TYPE_CHECKING:
-    from aaria_pin.apps.dataset.engine import DatasetEstimate
-    from aaria_pin.apps.dataset.urdf import UrdfSource
+    from aaria_pin.apps.dataset.job import DatasetEstimate
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
+_JOB_FLAGS = ("workers", "scheduler", "shards", "resume", "overwrite")
+"""The flags of the job (:class:`~aaria_pin.apps.dataset.job.DatasetJob`); the rest are the
+data set's sources (:class:`~aaria_pin.apps.dataset.sources.DatasetSources`)."""
 
 
 def _progress(quiet: bool, every: float) -> Callable[[int, int, float], None] | None:
     """The progress report: a bar on a terminal, else a plain line every ``every`` seconds.
 
     A batch job's log (stderr not a terminal) gets lines ``aaria: 120/10000 runs, 35.2 runs/s,
-    ETA 281 s`` at most every ``every`` seconds, and the last one when the job ends.
+    ETA 281 s`` at most every ``every`` seconds, and the last one when the job ends; a terminal
+    gets click's progress bar.
     """
     if quiet:
         return None
-    terminal = sys.stderr.isatty()
+    if sys.stderr.isatty():
+        return _bar()
     last = [-float("inf")]
 
-    def show(done: int, total: int, seconds: float) -> None:
-        rate = done / seconds if seconds > 0 else 0.0
-        eta = (total - done) / rate if rate > 0 else float("nan")
-        if terminal:
-            width = 30
-            filled = int(width * done / max(total, 1))
-            click.echo(
-                f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} runs, "
-                f"{rate:.1f} runs/s, ETA {eta:.0f} s ",
-                err=True,
-                nl=done == total,
-            )
-        elif seconds - last[0] >= every or done == total:
+    def line(done: int, total: int, seconds: float) -> None:
+        if seconds - last[0] >= every or done == total:
             last[0] = seconds
+            rate = done / seconds if seconds > 0 else 0.0
+            eta = (total - done) / rate if rate > 0 else float("nan")
             click.echo(f"aaria: {done}/{total} runs, {rate:.1f} runs/s, ETA {eta:.0f} s", err=True)
+
+    return line
+
+
+def _bar() -> Callable[[int, int, float], None]:
+    """A progress bar (click's) on stderr, made at the first report (when the total is known)."""
+    bars: list[Any] = []
+
+    def show(done: int, total: int, seconds: float) -> None:
+        if not bars:
+            options = {"label": "runs", "show_pos": True, "item_show_func": lambda rate: rate}
+            bars.append(click.progressbar(length=total, file=sys.stderr, **options).__enter__())
+        bars[0].update(done - bars[0].pos, f"{done / seconds if seconds > 0 else 0:.1f} runs/s")
+        if done >= total:
+            bars[0].__exit__(None, None, None)
 
     return show
 
@@ -173,153 +187,46 @@ Examples:
     callback=_print_config,
     help="Print the default configuration and exit.",
 )
-def dataset(
-    n_runs: int,
-    output: Path,
-    seed: int,
-    workers: int | None,
-    scheduler: str | None,
-    shards: Path | None,
-    duration: float,
-    rate: float,
-    noise: bool,
-    dtype: str,
-    config_file: Path | None,
-    vary: str | None,
-    preset: str | None,
-    dh_file: Path | None,
-    convention: str,
-    robot: str | None,
-    urdf_file: Path | None,
-    tool_frame: str | None,
-    imu_layout_file: Path | None,
-    fixed_base: bool,
-    joints_file: Path | None,
-    base_file: Path | None,
-    motion: str,
-    harmonics: int | None,
-    base_frequency: float | None,
-    resume: bool,
-    overwrite: bool,
-    quiet: bool,
-    progress_every: float,
-) -> None:
+def dataset(output: Path, quiet: bool, progress_every: float, **flags: Any) -> None:
     """Simulate N random runs (MODE 1) or N runs of one arm (MODE 2) into a data set.
 
     With --robot NAME or --urdf FILE the arm is that URDF robot: its joint and base motions
     vary, its structure does not.
     """
-    from aaria_pin.aaria.presets import get_preset
-    from aaria_pin.apps.dataset.config import load_dataset_config
+    import warnings
+
     from aaria_pin.apps.dataset.engine import (
+        DatasetJob,
         DatasetJobStoppedError,
         DatasetSpec,
-        DhDatasetSpec,
-        UrdfDatasetSpec,
         generate_dataset,
     )
-    from aaria_pin.errors import ParameterError
-    from aaria_pin.files.io import read_table
+    from aaria_pin.apps.dataset.sources import DatasetSources
+    from aaria_pin.errors import MeshWarning
 
-    if workers is not None and scheduler is not None:
-        raise click.UsageError("give --workers or --scheduler, not both")
-    if shards is not None and scheduler is None:
-        raise click.UsageError("--shards needs --scheduler")
-    if convention != "aaria":
-        raise ParameterError(
-            parameter="convention",
-            value=convention,
-            allowed="aaria (a data set's arms are Aaria tables; a standard or modified table"
-            " can be simulated with aaria simulate, or its robot made with aaria urdf)",
-        )
-    source = _urdf_source(robot, urdf_file, tool_frame, imu_layout_file, fixed_base)
-    if source is not None and (preset is not None or dh_file is not None):
-        raise click.UsageError("give a DH arm (--preset/--dh) or a URDF robot, not both")
-    fixed = {
-        "structure": preset is not None or dh_file is not None or source is not None,
-        "joints": joints_file is not None,
-        "base": base_file is not None,
-    }
-    if source is not None and not source.moving_base:
-        if base_file is not None:
-            raise click.UsageError("--base moves the base; not allowed with --fixed-base")
-        fixed["base"] = True
-    if vary is None:
-        parts = tuple(part for part, given in fixed.items() if not given)
-    else:
-        parts = tuple(part.strip() for part in vary.split(",") if part.strip())
-        clash = [part for part in parts if fixed.get(part)]
-        if "base" in clash and fixed_base:
-            raise ParameterError("--fixed-base: the base cannot vary; allowed: --vary joints")
-        if clash:
-            raise ParameterError(
-                f"--vary {clash[0]} and a fixed {clash[0]} table were both given; allowed: one"
-            )
-    if source is None and "structure" not in parts and not fixed["structure"]:
-        raise click.UsageError("a structure that does not vary needs --preset or --dh")
-    dh_table = joint_table = base_table = None
-    name = ""
-    if preset is not None or dh_file is not None:
-        if preset is not None and dh_file is not None:
-            raise click.UsageError("give at most one of --preset NAME or --dh FILE")
-        if preset is not None:
-            chosen = get_preset(preset)
-            if chosen.convention != "aaria":
-                raise ParameterError(f"preset {preset!r} is not an Aaria table; allowed: aaria-*")
-            dh_table, joint_table, base_table = chosen.table, chosen.joint_table, chosen.base_table
-            if motion == "fourier":
-                joint_table = None  # the excitation replaces the preset's sines
-            name = preset
-        else:
-            assert dh_file is not None
-            dh_table = read_table(dh_file, "senSenDH")
-    if joints_file is not None:
-        joint_table = read_table(joints_file, "senSenJ" if source is None else "joint_table")
-    if base_file is not None:
-        base_table = read_table(base_file, "senSenB")
-    if config_file is not None:
-        from aaria_pin.files.paths import existing_input
-
-        existing_input(config_file, None, "config")  # a FIFO: one line, never a wait
-    config, noise_model = load_dataset_config(config_file)
-    settings: dict[str, Any] = {
-        "n_runs": n_runs,
-        "seed": seed,
-        "duration": duration,
-        "rate": rate,
-        "noise": noise,
-        "dtype": dtype,
-        "config": config,
-        "noise_model": noise_model,
-        "vary": parts,
-        "joint_table": joint_table,
-        "base_table": base_table,
-        "motion": motion,
-        "harmonics": harmonics,
-        "base_frequency": base_frequency,
-    }
-    spec: DatasetSpec = (
-        DhDatasetSpec(**settings, dh_table=dh_table, name=name)
-        if source is None
-        else UrdfDatasetSpec(**settings, robot=source)
+    job = DatasetJob(
+        **{name: flags.pop(name) for name in _JOB_FLAGS},
+        progress=_progress(quiet, progress_every),
+        estimate=_estimate(quiet),
+        command=shlex.join(["aaria", *sys.argv[1:]]),
     )
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", MeshWarning)
+        spec = DatasetSpec.from_sources(DatasetSources(**flags))
+    for warning in caught:  # missing meshes told once, as a line; others as they came
+        if issubclass(warning.category, MeshWarning):
+            click.echo(f"aaria: warning: {warning.message}", err=True)
+        else:
+            warnings.warn_explicit(
+                warning.message, warning.category, warning.filename, warning.lineno
+            )
     try:
-        report = generate_dataset(
-            output,
-            spec,
-            workers=workers,
-            scheduler=scheduler,
-            shards=shards,
-            resume=resume,
-            overwrite=overwrite,
-            progress=_progress(quiet, progress_every),
-            estimate=_estimate(quiet),
-            command=shlex.join(["aaria", *sys.argv[1:]]),
-        )
+        report = generate_dataset(output, spec, job)
     except DatasetJobStoppedError as exc:
         click.echo(f"\naaria: {exc}" if sys.stderr.isatty() else f"aaria: {exc}", err=True)
         raise SystemExit(exc.exit_status) from None
-    if resume and report.written == 0 and report.complete == n_runs and not report.failures:
+    n_runs = spec.n_runs
+    if job.resume and report.written == 0 and report.complete == n_runs and not report.failures:
         click.echo(f"{report.path}: already complete ({n_runs}/{n_runs} runs); nothing to do")
         return
     in_shards = f", {report.shards} shards" if report.shards else ""
@@ -332,35 +239,3 @@ def dataset(
             click.echo(f"run {run} failed: {message}", err=True)
         click.echo(f"failed runs: {sorted(report.failures)}", err=True)
         raise SystemExit(1)
-
-
-def _urdf_source(
-    robot: str | None,
-    urdf_file: Path | None,
-    tool_frame: str | None,
-    imu_layout_file: Path | None,
-    fixed_base: bool,
-) -> UrdfSource | None:
-    """The URDF robot of ``--robot``/``--urdf`` (None for DH arms), its missing meshes told."""
-    if robot is None and urdf_file is None:
-        if tool_frame is not None or imu_layout_file is not None or fixed_base:
-            raise click.UsageError("--tool, --imu-layout and --fixed-base need --robot or --urdf")
-        return None
-    from aaria_pin.apps.dataset.urdf import UrdfSource
-    from aaria_pin.cli._options import load_robot_source
-    from aaria_pin.core.imu_layout import read_imu_layout
-    from aaria_pin.core.urdf_robot import missing_meshes_message
-
-    text, folder, name = load_robot_source(robot, urdf_file)
-    from aaria_pin.files.paths import existing_input
-
-    layout = (
-        None
-        if imu_layout_file is None
-        else read_imu_layout(existing_input(imu_layout_file, None, "IMU layout"))
-    )
-    source = UrdfSource(text, name, str(folder), not fixed_base, tool_frame, layout)
-    summary = source.load().summary  # checks the robot here, once, before any worker starts
-    if summary.missing_meshes:
-        click.echo(f"aaria: warning: {missing_meshes_message(summary)}", err=True)
-    return source

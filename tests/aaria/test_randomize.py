@@ -9,16 +9,16 @@ from aaria_pin.aaria.dh import chain_from_aaria
 from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.aaria.oscillation import validate_base_table, validate_joint_table
 from aaria_pin.aaria.randomize import (
+    PARTS,
     RandomConfig,
     default_config_toml,
     load_config,
     random_base_table,
     random_dh_table,
     random_joint_table,
-    run_stream,
-    run_streams,
 )
 from aaria_pin.core.model import build_model
+from aaria_pin.core.seeds import DATASET_STREAMS, RunSeeds
 from aaria_pin.errors import InputFileError, ParameterError
 
 CONFIG = RandomConfig()
@@ -28,7 +28,7 @@ CONFIG = RandomConfig()
 def test_thousands_of_draws_are_valid_and_in_range() -> None:
     types = np.zeros(3, dtype=int)
     for run in range(3000):
-        structure, joints, base, _ = run_streams(11, run)
+        structure, joints, base = (RunSeeds(11, run).generator(p) for p in PARTS)
         table = random_dh_table(CONFIG, structure)
         chain = chain_from_aaria(table)  # validates the table
         for row in range(6):
@@ -45,24 +45,22 @@ def test_thousands_of_draws_are_valid_and_in_range() -> None:
 
 
 def test_streams_depend_only_on_seed_and_run() -> None:
-    a = [rng.random(3) for rng in run_streams(5, 17)]
-    b = [rng.random(3) for rng in run_streams(5, 17)]
-    c = [rng.random(3) for rng in run_streams(5, 18)]
+    a = [RunSeeds(5, 17).generator(part).random(3) for part in DATASET_STREAMS]
+    b = [RunSeeds(5, 17).generator(part).random(3) for part in DATASET_STREAMS]
+    c = [RunSeeds(5, 18).generator(part).random(3) for part in DATASET_STREAMS]
     for x, y, z in zip(a, b, c, strict=True):
         np.testing.assert_array_equal(x, y)
         assert not np.array_equal(x, z)
     assert not np.array_equal(a[0], a[1])
 
 
-def test_one_stream_alone_is_the_same_generator_as_among_the_four() -> None:
-    for part in range(4):
-        alone = run_stream(5, 17, part).random(4)
-        among = run_streams(5, 17)[part].random(4)
+def test_the_parts_are_the_first_streams_of_a_data_set_run() -> None:
+    assert PARTS == ("structure", "joints", "base")
+    for part, name in enumerate(DATASET_STREAMS):  # the spawn keys every data set since 0.2 used
         seeded = np.random.Generator(
             np.random.PCG64(np.random.SeedSequence(5, spawn_key=(17, part)))
         ).random(4)
-        np.testing.assert_array_equal(alone, seeded)
-        np.testing.assert_array_equal(among, seeded)
+        np.testing.assert_array_equal(RunSeeds(5, 17).generator(name).random(4), seeded)
 
 
 def test_prismatic_motion_stays_on_its_rail_at_the_extremes() -> None:

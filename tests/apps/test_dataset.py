@@ -14,9 +14,8 @@ import pytest
 from click.testing import CliRunner
 
 from aaria_pin.aaria.presets import get_preset
-from aaria_pin.apps.dataset import engine
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.engine import generate_dataset, simulate_dataset_run, task_runs
+from aaria_pin.apps.dataset.engine import generate_dataset, simulate_dataset_run
 from aaria_pin.apps.remake import remake_record
 from aaria_pin.cli import main
 from aaria_pin.core.record import RunRecord
@@ -50,21 +49,6 @@ def test_workers_do_not_change_the_arrays(reference: Path, tmp_path: Path) -> No
     generate_dataset(tmp_path / "two.h5", DhDatasetSpec(n_runs=24, seed=7, **SHORT), workers=2)
     _assert_same(reference, tmp_path / "two.h5")
     assert _arrays(reference)["complete"].all()
-
-
-def test_runs_per_task_do_not_change_the_arrays(
-    reference: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    assert task_runs(51) == 8  # the reference: eight runs of 0.5 s a task
-    monkeypatch.setattr(engine, "TASK_SAMPLES", 1)  # one run a task
-    assert task_runs(51) == 1
-    path = tmp_path / "single.h5"
-    generate_dataset(path, DhDatasetSpec(n_runs=24, seed=7, **SHORT), workers=2)
-    _assert_same(reference, path)
-
-
-def test_runs_per_task_follow_the_run_length() -> None:
-    assert [task_runs(n) for n in (1, 100, 1000, 1500, 4000, 10**6)] == [8, 8, 4, 2, 1, 1]
 
 
 def test_run_k_is_a_pure_function_of_seed_and_k(reference: Path) -> None:
@@ -393,3 +377,39 @@ def test_fourier_runs_of_a_urdf_robot(tmp_path: Path) -> None:
     assert record.attributes["motion"] == "fourier"
     remade = remake_record(record)
     assert np.array_equal(remade.q.astype(np.float32), record.q)
+
+
+FIXTURES_0_3 = Path(__file__).resolve().parent.parent / "fixtures" / "v0_3_0"
+
+
+@pytest.mark.parametrize(
+    ("name", "args"),
+    [
+        ("dh_dataset.h5", ["-n", "3"]),
+        ("ur5_dataset.h5", ["-n", "2", "--robot", "ur5"]),
+        ("dh_fourier_dataset.h5", ["-n", "2", "--motion", "fourier"]),
+    ],
+)
+def test_the_0_3_data_sets_are_made_again_bit_for_bit(
+    tmp_path: Path, name: str, args: list[str]
+) -> None:
+    """The commands of tests/fixtures/v0_3_0/README.md write the same arrays and settings."""
+    path = tmp_path / name
+    common = ["--duration", "0.2", "--seed", "7", "--workers", "1", "--quiet"]
+    result = CliRunner().invoke(main, ["dataset", *args, *common, "-o", str(path)])
+    assert result.exit_code == 0, result.output
+    with h5py.File(FIXTURES_0_3 / name, "r") as want, h5py.File(path, "r") as got:
+        names: list[str] = []
+        want.visit(names.append)
+        assert sorted(names) == sorted(_names(got))
+        for array in names:
+            np.testing.assert_array_equal(got[array][()], want[array][()], err_msg=array)
+        changed = {"version", "versions_json", "command", "card_json"}  # this job's, not the data
+        for key in set(want.attrs) - changed:
+            assert np.array_equal(got.attrs[key], want.attrs[key]), key
+
+
+def _names(handle: h5py.File) -> list[str]:
+    names: list[str] = []
+    handle.visit(names.append)
+    return names

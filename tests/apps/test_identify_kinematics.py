@@ -19,17 +19,18 @@ from click.testing import CliRunner
 from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.randomize import (
+    PARTS,
     load_config,
     random_base_table,
     random_dh_table,
     random_joint_table,
-    run_streams,
 )
 from aaria_pin.aaria.simulate import simulate_run
 from aaria_pin.apps.identify._kin_init import detect_kind
 from aaria_pin.apps.identify.kinematics import identify_kinematics
 from aaria_pin.cli.identify_cmd import identify
 from aaria_pin.core.record import ImuMount, RunRecord
+from aaria_pin.core.seeds import RunSeeds
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.io import read_table
 from aaria_pin.files.runfile import write_run
@@ -80,7 +81,7 @@ def test_presets_recover_structure_and_tool_tip(name: str) -> None:
 
 def test_random_arm_with_prismatic_and_empty_modules() -> None:
     config = load_config(None)
-    structure, joints, base, _ = run_streams(0, 2)
+    structure, joints, base = (RunSeeds(0, 2).generator(p) for p in PARTS)
     table = random_dh_table(config, structure)
     types = table[:6, 4]
     assert (types == 0).any() and (types == 2).any()  # the case this test is about
@@ -165,7 +166,7 @@ def test_cli_writes_table_urdf_and_json(tmp_path: Path) -> None:
 
 def _random_record(k: int, noise: bool) -> tuple[np.ndarray, RunRecord]:
     config = load_config(None)
-    structure, joints, base, _ = run_streams(0, k)
+    structure, joints, base = (RunSeeds(0, k).generator(p) for p in PARTS)
     table = random_dh_table(config, structure)
     record = simulate_run(
         table,

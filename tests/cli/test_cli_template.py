@@ -85,15 +85,16 @@ def test_the_imu_layout_template_simulates_ur5(tmp_path: Path) -> None:
 
 
 def test_the_config_template_is_the_default_configuration(tmp_path: Path) -> None:
-    from aaria_pin.aaria.randomize import RandomConfig, random_dh_table, run_stream
+    from aaria_pin.aaria.randomize import RandomConfig, random_dh_table
     from aaria_pin.aaria.simulate import simulate_run
     from aaria_pin.apps.dataset.config import load_dataset_config
     from aaria_pin.core.imu_noise import ADIS16485
+    from aaria_pin.core.seeds import RunSeeds
 
     config, noise = load_dataset_config(_write(tmp_path, "config", "ranges.toml"))
     assert config == RandomConfig()
     assert noise == ADIS16485  # the [noise] tables hold the data sheet's values, as read
-    table = random_dh_table(config, run_stream(0, 0, 0))
+    table = random_dh_table(config, RunSeeds(0, 0).generator("structure"))
     assert simulate_run(table, duration=0.05).imu.shape == (6, 14, 6)
 
 

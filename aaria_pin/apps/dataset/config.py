@@ -24,14 +24,13 @@ refused naming the key, and a file that is not UTF-8 is refused in one line.
 from __future__ import annotations
 
 import dataclasses
-import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from aaria_pin.aaria.randomize import RandomConfig, config_from_mapping
+from aaria_pin.aaria.randomize import RandomConfig, config_from_mapping, read_config_file
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, SensorNoise
-from aaria_pin.errors import AariaError, InputFileError, ParameterError
+from aaria_pin.errors import AariaError, ParameterError
 
 __all__ = ["NOISE_TABLE", "load_dataset_config", "noise_model_from_mapping"]
 
@@ -59,20 +58,7 @@ def load_dataset_config(
     if path is None:
         return RandomConfig(), ADIS16485
     file = Path(path)
-    try:
-        raw = file.read_bytes()
-    except OSError as exc:
-        raise InputFileError(f"{file}: cannot be read ({exc.strerror})") from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise InputFileError(
-            f"{file}: byte {exc.start} is not UTF-8 text; allowed: a TOML file in UTF-8"
-        ) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputFileError(f"{file}: not valid TOML ({exc})") from None
+    data = read_config_file(file)
     noise = data.pop(NOISE_TABLE, {})
     _check_value_types(data, str(file))
     return config_from_mapping(data, str(file)), noise_model_from_mapping(noise, str(file))
@@ -89,7 +75,12 @@ def _check_value_types(data: Mapping[str, Any], where: str) -> None:
         default = defaults[key]
         if isinstance(default, bool):
             if not isinstance(value, bool):
-                raise ParameterError(f"{where}: {key} is {value!r}; allowed: true or false")
+                raise ParameterError(
+                    f"{where}: {key} is {value!r}; allowed: true or false",
+                    parameter="config",
+                    value=value,
+                    element=key,
+                )
             continue
         numbers = isinstance(value, list) and all(
             isinstance(v, int | float) and not isinstance(v, bool) for v in value
@@ -97,7 +88,10 @@ def _check_value_types(data: Mapping[str, Any], where: str) -> None:
         if not numbers:
             example = "[" + ", ".join(f"{v:g}" for v in default) + "]"
             raise ParameterError(
-                f"{where}: {key} is {value!r}; allowed: a list of numbers, e.g. {example}"
+                f"{where}: {key} is {value!r}; allowed: a list of numbers, e.g. {example}",
+                parameter="config",
+                value=value,
+                element=key,
             )
 
 
@@ -110,7 +104,10 @@ def noise_model_from_mapping(data: Any, where: str = "config") -> ImuNoiseModel:
     """
     if not isinstance(data, Mapping):
         raise ParameterError(
-            f"{where}: {NOISE_TABLE} is {data!r}; allowed: a table [{NOISE_TABLE}]"
+            f"{where}: {NOISE_TABLE} is {data!r}; allowed: a table [{NOISE_TABLE}]",
+            parameter="config",
+            value=data,
+            element=NOISE_TABLE,
         )
     model_keys = [f.name for f in dataclasses.fields(ImuNoiseModel)]
     _refuse_unknown(data, model_keys, f"{where}: {NOISE_TABLE}")
@@ -124,29 +121,49 @@ def noise_model_from_mapping(data: Any, where: str = "config") -> ImuNoiseModel:
     try:
         return dataclasses.replace(ADIS16485, **changes)
     except AariaError as exc:
-        raise ParameterError(f"{where}: {NOISE_TABLE}.{exc}") from None
+        raise ParameterError(
+            f"{where}: {NOISE_TABLE}.{exc}",
+            parameter="config",
+            value=exc.value,
+            element=NOISE_TABLE,
+        ) from None
 
 
 def _sensor(base: SensorNoise, data: Any, where: str) -> SensorNoise:
     if not isinstance(data, Mapping):
-        raise ParameterError(f"{where} is {data!r}; allowed: a table of its noise parameters")
+        raise ParameterError(
+            f"{where} is {data!r}; allowed: a table of its noise parameters",
+            parameter="config",
+            value=data,
+            element=where,
+        )
     _refuse_unknown(data, [f.name for f in dataclasses.fields(SensorNoise)], where)
     values = {key: _number(value, f"{where}.{key}") for key, value in data.items()}
     try:
         return dataclasses.replace(base, **values)
     except AariaError as exc:
-        raise ParameterError(f"{where}.{exc}") from None
+        raise ParameterError(
+            f"{where}.{exc}", parameter="config", value=exc.value, element=where
+        ) from None
 
 
 def _refuse_unknown(data: Mapping[str, Any], known: list[str], where: str) -> None:
     unknown = sorted(set(data) - set(known))
     if unknown:
         raise ParameterError(
-            f"{where} has the unknown key {unknown[0]!r}; allowed: {', '.join(known)}"
+            f"{where} has the unknown key {unknown[0]!r}; allowed: {', '.join(known)}",
+            parameter="config",
+            value=unknown[0],
+            element=where,
         )
 
 
 def _number(value: Any, where: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ParameterError(f"{where} is {value!r}; allowed: a number")
+        raise ParameterError(
+            f"{where} is {value!r}; allowed: a number",
+            parameter="config",
+            value=value,
+            element=where,
+        )
     return float(value)

@@ -2,7 +2,8 @@
 
 Run k draws its 8 × 5 DH table (:func:`~aaria_pin.aaria.randomize.random_dh_table`), its joint
 table and its base table from its own streams, unless the spec fixes them, and is simulated by
-:func:`aaria_pin.aaria.simulate.simulate_run`. Its record keeps the paper's module order (joints
+:func:`aaria_pin.aaria.simulate.simulate_run` (:mod:`.runs`). Its record keeps the paper's
+module order (joints
 ``joint1`` … ``joint6``, 14 IMU slots; an empty module's columns are zero), so every run has
 the same layout: the tables ``senSenDH``, ``senSenJ`` (8 × 5) and ``senSenB`` (6 × 4: a 2 × 4
 table is stored expanded, one row per axis), and the view ``senSen`` (T × 91). With a Fourier
@@ -20,10 +21,10 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.aaria.randomize import random_dh_table, random_joint_table, run_stream
+from aaria_pin.aaria.randomize import random_dh_table, random_joint_table
 from aaria_pin.apps.dataset.spec import DatasetSpec, RunInputs
-from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
+from aaria_pin.core.seeds import RunSeeds
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.dataset_file import DatasetLayout
 
@@ -49,7 +50,7 @@ class DhDatasetSpec(DatasetSpec):
             raise ParameterError(
                 parameter="dh_table",
                 value=None,
-                allowed="a DH table (a preset's or a file's) when the structure does not vary",
+                allowed="a DH table when the structure does not vary (it needs --preset or --dh)",
             )
 
     @property
@@ -88,8 +89,9 @@ class DhDatasetSpec(DatasetSpec):
         from aaria_pin.aaria.dh import chain_from_aaria
         from aaria_pin.aaria.oscillation import default_joint_table
 
+        seeds = RunSeeds(self.seed, run)
         if "structure" in self.vary:
-            dh = random_dh_table(self.config, run_stream(self.seed, run, 0))
+            dh = random_dh_table(self.config, seeds.generator("structure"))
         else:
             from aaria_pin.aaria.dh import validate_aaria_table
 
@@ -97,7 +99,7 @@ class DhDatasetSpec(DatasetSpec):
             dh = validate_aaria_table(self.dh_table)  # its shape, before rows are indexed
         fourier = self.motion == "fourier"
         if "joints" in self.vary and not fourier:
-            joint_table = random_joint_table(self.config, dh, run_stream(self.seed, run, 1))
+            joint_table = random_joint_table(self.config, dh, seeds.generator("joints"))
         elif self.joint_table is not None:
             joint_table = np.asarray(self.joint_table, dtype=float)
         else:
@@ -135,24 +137,6 @@ class DhDatasetSpec(DatasetSpec):
             validate_joint_table(joints, chain_from_aaria(dh))
         else:
             finite_table(joints, JOINT_COLUMNS, "joint oscillation table", rows=(8,))
-
-    def simulate(self, inputs: RunInputs) -> RunRecord:
-        """:func:`~aaria_pin.aaria.simulate.simulate_run` of the inputs."""
-        from aaria_pin.aaria.simulate import simulate_run
-
-        return simulate_run(
-            inputs.tables["senSenDH"],
-            inputs.tables["senSenJ"],
-            inputs.tables["senSenB"],
-            duration=self.duration,
-            rate=self.rate,
-            seed=inputs.noise_seed,
-            noise=self.noise,
-            noise_model=self.noise_model,
-            motion=self.run_motion(inputs),
-            robot_name=self.robot_name(),
-            keep_urdf=False,
-        )
 
 
 @cache

@@ -21,14 +21,14 @@ keeps the intact rows and makes the rest.
 
 from __future__ import annotations
 
-import os
 import time
 import uuid
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from aaria_pin.apps.dataset.job import DatasetEstimate, DatasetJob
 from aaria_pin.apps.dataset.spec import DatasetJobStoppedError, DatasetSpec, Result, run_result
 from aaria_pin.errors import OutputFileError, ParameterError
 from aaria_pin.files._stored import first_line
@@ -46,7 +46,6 @@ from aaria_pin.files.dataset.shards import (
 
 __all__ = [
     "SHARD_SAMPLES",
-    "DatasetEstimate",
     "ShardAck",
     "connect",
     "generate_sharded",
@@ -59,29 +58,6 @@ SHARD_SAMPLES = 100_000
 TASKS_PER_THREAD = 4
 """Shards per worker thread at least, when the runs allow (to balance the load and lose little
 when a worker dies)."""
-
-
-@dataclass(frozen=True)
-class DatasetEstimate:
-    """A job's expected cost, from its first runs.
-
-    Attributes:
-        runs: runs this job makes
-        bytes: data it writes [bytes]
-        seconds: wall time [s]
-        workers: runs made at once (local workers, or the cluster's threads)
-        run_seconds: one run's time in a worker [s]
-    """
-
-    runs: int
-    bytes: int
-    seconds: float
-    workers: int
-    run_seconds: float
-
-
-Estimate = Callable[[DatasetEstimate], None]
-Progress = Callable[[int, int, float], None]
 
 
 @dataclass(frozen=True)
@@ -262,12 +238,7 @@ def generate_sharded(
     file: Path,
     spec: DatasetSpec,
     attributes: dict[str, Any],
-    *,
-    scheduler: str,
-    shards: str | os.PathLike[str] | None,
-    resume: bool,
-    progress: Progress | None,
-    estimate: Estimate | None,
+    settings: DatasetJob,
     head: tuple[Sequence[Result], float] | None = None,
 ) -> tuple[int, int, dict[int, str], int]:
     """Make a data set on a Dask cluster as shards and a manifest (see the module docstring).
@@ -278,12 +249,11 @@ def generate_sharded(
         file: the manifest (the output)
         spec: what the data set holds
         attributes: file attributes of a new data set
-        scheduler: the Dask scheduler's address
-        shards: the shard folder (default: the output's folder; on resume, the job's)
-        resume: continue the manifest at ``file``
-        progress: called as ``progress(done, total, seconds)`` after each shard
-        estimate: called once with the job's expected cost: before the shards are sent when
-            ``head`` is given, else after the first shard
+        settings: its ``scheduler`` (the Dask scheduler's address), ``shards`` (the shard folder;
+            default: the output's folder; on resume, the job's), ``resume`` (continue the
+            manifest at ``file``), ``progress`` (called as ``progress(done, total, seconds)``
+            after each shard) and ``estimate`` (called once with the job's expected cost:
+            before the shards are sent when ``head`` is given, else after the first shard)
         head: runs made in this process before the job (the caller's input check) and the
             fastest one's time [s], for the estimate before starting
 
@@ -298,6 +268,12 @@ def generate_sharded(
     from dask.distributed import as_completed
 
     start = time.perf_counter()
+    scheduler, shards, resume = settings.scheduler, settings.shards, settings.resume
+    progress, estimate = settings.progress, settings.estimate
+    if scheduler is None:
+        raise ParameterError(
+            parameter="scheduler", value=None, allowed="a Dask scheduler's address"
+        )
     previous = read_manifest_shards(file) if file.is_file() else None  # the caller checked
     folder = Path(shards) if shards is not None else None
     if folder is None:
@@ -373,6 +349,8 @@ def generate_sharded(
                 f" in {file}; the same command with --resume goes on once a scheduler is there",
                 len(job.locations),
                 spec.n_runs,
+                parameter="path",
+                value=str(file),
             )
         used = {location.shard for location in job.locations.values()}
         remove_unused_shards(folder, prefix, used)

@@ -7,36 +7,39 @@ per-run layout (:meth:`DatasetSpec.layout`) and make run k (:meth:`DatasetSpec.m
 its inputs (:meth:`DatasetSpec.inputs`); the engine (:mod:`.engine`) only calls these, whatever
 the robot.
 
-Run k of a data set with seed S is a pure function of (S, k) and the spec: its inputs come from
-:func:`aaria_pin.aaria.randomize.run_streams` and its noise from the fourth stream, so the file is
-the same, array for array, whatever the number of workers, the scheduler or the order in which
-runs finish.
+Run k of a data set with seed S is a pure function of (S, k) and the spec: its inputs and its
+noise come from its named streams, ``RunSeeds(S, k)`` (:class:`~aaria_pin.core.seeds.RunSeeds`),
+so the file is the same, array for array, whatever the number of workers, the scheduler or the
+order in which runs finish. The run itself is made by :func:`~.runs.simulate_inputs`.
 """
 
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from aaria_pin._version import __version__
-from aaria_pin.aaria.randomize import PARTS, RandomConfig, random_base_table, run_stream
+from aaria_pin.aaria.randomize import PARTS, RandomConfig, random_base_table
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
-from aaria_pin.core.seeds import check_seed
+from aaria_pin.core.seeds import DATASET_STREAMS, RunSeeds, check_seed
 from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE
-from aaria_pin.errors import AariaError, ParameterError
+from aaria_pin.errors import AariaError, OutputFileError, ParameterError
 from aaria_pin.files.dataset_file import DatasetLayout, EncodedRun, encode_run, run_arrays
 
+if TYPE_CHECKING:
+    from aaria_pin.apps.dataset.sources import DatasetSources
+
 __all__ = [
-    "JOINT_STREAM",
     "MAX_RUNS",
     "MOTIONS",
     "NOISE_STREAM",
     "DatasetJobStoppedError",
+    "DatasetSettings",
     "DatasetSpec",
     "Result",
     "RunInputs",
@@ -48,12 +51,10 @@ MAX_RUNS = 100_000_000
 """Most runs in one data set."""
 MOTIONS = ("sine", "fourier")
 """A data set's joint motions: the joint tables' sines, or a Fourier excitation per run."""
-JOINT_STREAM = PARTS.index("joints")
-"""The stream of a run's joint motion: its joint table, or its Fourier coefficients
-(``SeedSequence(seed, spawn_key=(k, JOINT_STREAM))``; run 0's for every run when the joints
-do not vary)."""
-NOISE_STREAM = len(PARTS)
-"""The noise of run k is ``SeedSequence(seed, spawn_key=(k, NOISE_STREAM))``."""
+NOISE_STREAM = DATASET_STREAMS.index("noise")
+"""The value of a data set's ``noise_stream`` attribute (3): the spawn-key part of its runs'
+noise, which the file records so a reader re-derives a run's noise seed. Streams themselves
+come from :class:`~aaria_pin.core.seeds.RunSeeds` only."""
 
 
 @dataclass(frozen=True)
@@ -74,8 +75,10 @@ class RunInputs:
 
 
 @dataclass(frozen=True)
-class DatasetSpec(ABC):
-    """The settings every data set shares; a subclass adds its robot.
+class DatasetSettings:
+    """The settings of a data set's runs that do not depend on where its parts come from.
+
+    Shared by the spec (:class:`DatasetSpec`) and its sources (:class:`~.sources.DatasetSources`).
 
     Attributes:
         n_runs: number of runs N
@@ -84,17 +87,9 @@ class DatasetSpec(ABC):
         rate: sample rate [Hz]
         noise: add IMU noise
         dtype: ``"float32"`` or ``"float64"`` for the stored series
-        config: ranges and probabilities of the random parts
-        vary: the random parts, a subset of ``("structure", "joints", "base")``
-        joint_table: the fixed joint oscillation table when the joints do not vary (default:
-            the robot's default table)
-        base_table: the fixed base oscillation table when the base does not vary (default:
-            :func:`~aaria_pin.core.oscillation.default_base_table`)
-        noise_model: the IMU noise model (default: the ADIS16485 data sheet; recorded in the
-            file's ``noise_parameters``)
         motion: ``"sine"`` (the joint tables) or ``"fourier"``: each run follows a Fourier
             excitation (:func:`~aaria_pin.core.excitation.fourier_excitation`) drawn from its
-            joint stream (:data:`JOINT_STREAM`), stored per run as the table
+            ``joints`` stream (:meth:`DatasetSpec.fourier_seed`), stored per run as the table
             ``fourier_coefficients`` (its ``senSenJ``/``joint_table`` is then the robot's
             default, not followed); recorded in the file's ``motion`` and ``fourier``
             attributes
@@ -110,14 +105,51 @@ class DatasetSpec(ABC):
     rate: float = DEFAULT_RATE
     noise: bool = True
     dtype: str = "float32"
+    motion: str = "sine"
+    harmonics: int | None = None
+    base_frequency: float | None = None
+
+
+@dataclass(frozen=True)
+class DatasetSpec(DatasetSettings, ABC):
+    """What a data set holds: its settings (:class:`DatasetSettings`) and random parts.
+
+    A subclass adds its robot.
+
+    Attributes:
+        config: ranges and probabilities of the random parts
+        vary: the random parts, a subset of ``("structure", "joints", "base")``
+        joint_table: the fixed joint oscillation table when the joints do not vary (default:
+            the robot's default table)
+        base_table: the fixed base oscillation table when the base does not vary (default:
+            :func:`~aaria_pin.core.oscillation.default_base_table`)
+        noise_model: the IMU noise model (default: the ADIS16485 data sheet; recorded in the
+            file's ``noise_parameters``)
+    """
+
     config: RandomConfig = field(default_factory=RandomConfig)
     vary: tuple[str, ...] = PARTS
     joint_table: Array | None = None
     base_table: Array | None = None
     noise_model: ImuNoiseModel = ADIS16485
-    motion: str = "sine"
-    harmonics: int | None = None
-    base_frequency: float | None = None
+
+    @classmethod
+    def from_sources(cls, sources: DatasetSources) -> DatasetSpec:
+        """The checked spec of a data set from where its parts come from.
+
+        The rules of ``aaria dataset`` (which parts vary, presets, table files, a URDF robot,
+        the config file): :func:`~.sources.spec_from_sources`. The robot decides the subclass,
+        whichever class this is called on.
+
+        Args:
+            sources: presets, file paths and settings (:class:`~.sources.DatasetSources`)
+
+        Returns:
+            A :class:`~.dh.DhDatasetSpec` or a :class:`~.urdf.UrdfDatasetSpec`.
+        """
+        from aaria_pin.apps.dataset.sources import spec_from_sources
+
+        return spec_from_sources(sources)
 
     def __post_init__(self) -> None:
         from aaria_pin.core.trajectory import sample_times
@@ -177,9 +209,12 @@ class DatasetSpec(ABC):
         }
 
     def fourier_seed(self, run: int) -> np.random.SeedSequence:
-        """The seed of run ``run``'s Fourier coefficients (:data:`JOINT_STREAM`)."""
+        """The seed of run ``run``'s Fourier coefficients: its ``joints`` stream.
+
+        Run 0's for every run when the joints do not vary.
+        """
         drawn = run if "joints" in self.vary else 0
-        return np.random.SeedSequence(self.seed, spawn_key=(drawn, JOINT_STREAM))
+        return RunSeeds(self.seed, drawn).sequence("fourier")
 
     def run_motion(self, inputs: RunInputs) -> Any:
         """The ``motion`` of a run's producer: None (sines) or its Fourier excitation."""
@@ -221,10 +256,6 @@ class DatasetSpec(ABC):
     def inputs(self, run: int) -> RunInputs:
         """The inputs of run ``run``, a pure function of the seed and ``run``."""
 
-    @abstractmethod
-    def simulate(self, inputs: RunInputs) -> RunRecord:
-        """The run made from its inputs."""
-
     def check_inputs(self, inputs: RunInputs) -> None:
         """Check a run's input tables on their own, before any simulation.
 
@@ -244,7 +275,9 @@ class DatasetSpec(ABC):
 
     def make_run(self, run: int) -> RunRecord:
         """Run ``run`` as a record, a pure function of the spec and ``run``."""
-        return self.simulate(self.inputs(run))
+        from aaria_pin.apps.dataset.runs import simulate_inputs
+
+        return simulate_inputs(self, self.inputs(run))
 
     def arrays(self, run: int) -> dict[str, Array]:
         """The stored arrays of run ``run`` by name, in the data set's dtypes."""
@@ -268,8 +301,9 @@ class DatasetSpec(ABC):
         """Base table (6 × 4) and noise seed of run ``run`` (every robot draws them alike)."""
         from aaria_pin.core.oscillation import default_base_table
 
+        seeds = RunSeeds(self.seed, run)
         if "base" in self.vary:
-            base_table = random_base_table(self.config, run_stream(self.seed, run, 2))
+            base_table = random_base_table(self.config, seeds.generator("base"))
         else:
             base_table = np.asarray(
                 self.base_table if self.base_table is not None else default_base_table(),
@@ -277,7 +311,7 @@ class DatasetSpec(ABC):
             )
         if base_table.shape == (2, 4):
             base_table = np.repeat(base_table, 3, axis=0)
-        return base_table, np.random.SeedSequence(self.seed, spawn_key=(run, NOISE_STREAM))
+        return base_table, seeds.sequence("noise")
 
     def attributes(self) -> dict[str, Any]:
         """File attributes describing the spec (what :meth:`mismatches` compares on resume)."""
@@ -368,7 +402,10 @@ def check_first_run(spec: DatasetSpec) -> Result:
     except AariaError as exc:
         drawn = f" (its {', '.join(spec.vary)} drawn from the config ranges)" if spec.vary else ""
         raise ParameterError(
-            f"run 0 of the data set cannot be made{drawn}: {' '.join(str(exc).split())}"
+            f"run 0 of the data set cannot be made{drawn}: {' '.join(str(exc).split())}",
+            parameter=exc.parameter or "spec",
+            value=exc.value,
+            element=exc.element,
         ) from None
     if spec.vary:
         return run_result(spec, 0)
@@ -376,7 +413,10 @@ def check_first_run(spec: DatasetSpec) -> Result:
         record = spec.make_run(0)
     except AariaError as exc:
         raise ParameterError(
-            f"no run of the data set can be made: {' '.join(str(exc).split())}"
+            f"no run of the data set can be made: {' '.join(str(exc).split())}",
+            parameter=exc.parameter or "spec",
+            value=exc.value,
+            element=exc.element,
         ) from None
     except Exception:
         return run_result(spec, 0)
@@ -386,19 +426,38 @@ def check_first_run(spec: DatasetSpec) -> Result:
         return run_result(spec, 0)
 
 
-class DatasetJobStoppedError(Exception):
+class DatasetJobStoppedError(OutputFileError):
     """A data-set job stopped before its end (Ctrl-C, no space left, its scheduler lost).
 
-    The runs saved so far are in the file, and the same command with ``--resume`` goes on.
+    The output is left incomplete, so it is an :class:`~aaria_pin.errors.OutputFileError`
+    (an :class:`OSError` too) whose ``parameter`` is ``path`` and ``value`` the file. The runs
+    saved so far are in the file, and the same command with ``--resume`` goes on.
 
-    Attributes:
+    Args:
+        message: the one-line message (what stopped the job, the runs saved)
         saved: runs complete in the file (None: the file cannot be read)
         total: the data set's N
         exit_status: the command's exit status (130 after Ctrl-C, else 1)
+        parameter: ``path``, the output of :func:`~.engine.generate_dataset`
+        value: the data set file
+
+    Attributes:
+        saved: as given
+        total: as given
+        exit_status: as given
     """
 
-    def __init__(self, message: str, saved: int | None, total: int, exit_status: int = 1) -> None:
-        super().__init__(message)
+    def __init__(
+        self,
+        message: str,
+        saved: int | None,
+        total: int,
+        exit_status: int = 1,
+        *,
+        parameter: str = "path",
+        value: str = "",
+    ) -> None:
+        super().__init__(message, parameter=parameter, value=value)
         self.saved = saved
         self.total = total
         self.exit_status = exit_status

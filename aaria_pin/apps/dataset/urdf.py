@@ -3,7 +3,8 @@
 A data set of a URDF robot keeps the robot fixed (its structure cannot vary) and draws each
 run's joint oscillation table (:func:`~aaria_pin.aaria.randomize.random_urdf_joint_table`) and base
 table from the same streams as an Aaria data set; run k is simulated by
-:func:`aaria_pin.core.urdf_run.simulate_loaded_robot`. Its layout: the robot's actuated joints
+:func:`aaria_pin.core.urdf_run.simulate_loaded_robot` (:mod:`.runs`). Its layout: the robot's
+actuated joints
 in model order, its IMU layout, the tables ``joint_table`` (n × 5) and, on a moving base,
 ``base_table`` (6 × 4), and the robot's URDF text; with a Fourier excitation
 (``motion="fourier"``) also ``fourier_coefficients`` (n × (1 + 2L):
@@ -22,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from aaria_pin.apps.dataset.spec import DatasetSpec, RunInputs
-from aaria_pin.core.record import ImuMount, RunRecord
+from aaria_pin.core.record import ImuMount
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.dataset_file import DatasetLayout
 
@@ -187,14 +188,15 @@ class UrdfDatasetSpec(DatasetSpec):
 
     def inputs(self, run: int) -> RunInputs:
         """``joint_table``, ``base_table`` (6 × 4; none on a fixed base) and the noise seed."""
-        from aaria_pin.aaria.randomize import random_urdf_joint_table, run_stream
+        from aaria_pin.aaria.randomize import random_urdf_joint_table
+        from aaria_pin.core.seeds import RunSeeds
         from aaria_pin.core.urdf_robot import default_urdf_joint_table
 
         loaded = self.source.load()
         fourier = self.motion == "fourier"
         if "joints" in self.vary and not fourier:
             joint_table = random_urdf_joint_table(
-                self.config, loaded.joints, run_stream(self.seed, run, 1)
+                self.config, loaded.joints, RunSeeds(self.seed, run).generator("joints")
             )
         elif self.joint_table is not None:
             joint_table = np.asarray(self.joint_table, dtype=float)
@@ -227,21 +229,3 @@ class UrdfDatasetSpec(DatasetSpec):
 
         super().check_inputs(inputs)
         validate_urdf_joint_table(inputs.tables["joint_table"], self.source.load())
-
-    def simulate(self, inputs: RunInputs) -> RunRecord:
-        """:func:`~aaria_pin.core.urdf_run.simulate_loaded_robot` of the inputs."""
-        from aaria_pin.core.urdf_run import simulate_loaded_robot
-
-        return simulate_loaded_robot(
-            self.source.load(),
-            inputs.tables["joint_table"],
-            inputs.tables.get("base_table"),
-            moving_base=self.source.moving_base,
-            source=self.source.source,
-            duration=self.duration,
-            rate=self.rate,
-            seed=inputs.noise_seed,
-            noise=self.noise,
-            noise_model=self.noise_model,
-            motion=self.run_motion(inputs),
-        )
