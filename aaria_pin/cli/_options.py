@@ -40,6 +40,18 @@ class FiniteFloat(click.ParamType):
 FINITE_FLOAT = FiniteFloat()
 """The click type of a number option that must be finite (``--elevation``, ``--time``)."""
 
+
+def json_option(help: str = "Print one JSON object.") -> Callable[[F], F]:
+    """``--json`` (the parameter ``as_json``): print the result as JSON."""
+    return click.option("--json", "as_json", is_flag=True, help=help)
+
+
+def shown(*decls: str, default: Any, help: str, **attrs: Any) -> Callable[[F], F]:
+    """An option with a default shown in the help; its type is the default's unless given."""
+    attrs.setdefault("type", type(default))
+    return click.option(*decls, default=default, show_default=True, help=help, **attrs)
+
+
 PRESET_HELP = "Built-in table: aaria-fig2, aaria-fig3, spherical-wrist."
 """The help of ``--preset`` for commands that take the DH presets only."""
 
