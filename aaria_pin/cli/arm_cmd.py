@@ -7,6 +7,7 @@ from typing import Any
 
 import click
 
+from aaria_pin.cli._app import AariaGroup
 from aaria_pin.cli._options import shown
 from aaria_pin.cli._viz_options import output_option
 
@@ -33,6 +34,7 @@ _PRESET = shown("--preset", default="pick-place-arm", help="Arm preset.")
 
 
 @click.group(
+    cls=AariaGroup,
     epilog="""\b
 Examples:
   aaria arm urdf -o arm/                    # arm/pick_place_arm.urdf and arm/meshes/*.stl
