@@ -10,7 +10,13 @@ import click
 
 from aaria_pin.viz._formats import PICTURE_SUFFIXES
 
-__all__ = ["PICTURE_SUFFIXES", "check_output", "check_run_option", "output_option"]
+__all__ = [
+    "PICTURE_SUFFIXES",
+    "check_output",
+    "check_run_option",
+    "output_option",
+    "run_option",
+]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -81,6 +87,11 @@ def output_option(
         callback=check,
         help=help or f"{what} file to write ({', '.join(suffixes)}).",
     )
+
+
+def run_option(help: str = "One run of a data set (default 0).") -> Callable[[F], F]:
+    """``--run K`` (the parameter ``run_index``): one run of a data set."""
+    return click.option("--run", "run_index", type=click.IntRange(0), help=help)
 
 
 def check_run_option(path: Path, run_index: int | None) -> None:

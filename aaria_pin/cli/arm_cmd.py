@@ -38,7 +38,7 @@ _PRESET = shown("--preset", default="pick-place-arm", help="Arm preset.")
     epilog="""\b
 Examples:
   aaria arm urdf -o arm/                    # arm/pick_place_arm.urdf and arm/meshes/*.stl
-  aaria arm pick-place --cylinder 0.35 0.1 --place 0.2 -0.3 -o pp.h5 --sheet pp.png"""
+  aaria arm pick-place --cylinder 0.35 0.1 --place 0.2 -0.3 -o pp.h5 --sheet pp.png""",
 )
 def arm() -> None:
     """The pick-and-place arm of the robotic-arm report."""
