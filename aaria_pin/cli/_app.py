@@ -10,14 +10,12 @@ from aaria_pin.errors import AariaError, NoSpaceError
 
 EXIT_BAD_INPUT = 2
 
-PARAMETER_FLAGS = {
-    "joint_table": "--joints",
-    "base_table": "--base",
-    "table": "--dh",
-    "dh_table": "--dh",
-    "path": "-o/--output",
-}
-"""Library parameters whose flag is not named after them (the rest: ``--<name>``)."""
+PARAMETER_FLAGS = {"joint_table": "--joints", "base_table": "--base", "path": "-o/--output"}
+PARAMETER_FLAGS |= {"table": "--dh", "dh_table": "--dh"}
+"""Library parameters whose flag is not named after them, in every command."""
+
+COMMAND_FLAGS: dict[str, dict[str, str]] = {}
+"""A command's own exceptions (command name → parameter → flag), over the rules above."""
 
 _COMMAND = "aaria_pin.command"
 """The key of ``ctx.meta`` (shared by the nested contexts) naming the command that runs."""
@@ -26,9 +24,9 @@ _COMMAND = "aaria_pin.command"
 def flag_names(command: click.Command | None) -> dict[str, str]:
     """Library parameter name → the flag that sets it, for one command.
 
-    A parameter maps to the option of the same name (``run_index`` → ``--run``), or to the
-    option spelled after it (``imu_layout`` → ``--imu-layout``), else to
-    :data:`PARAMETER_FLAGS`, else to a command's own ``flag_overrides`` (set in its module).
+    A parameter maps to the option of the same name (``run_index`` → ``--run``) or spelled
+    after it (``imu_layout`` → ``--imu-layout``), else by :data:`PARAMETER_FLAGS`; the
+    command's entry in :data:`COMMAND_FLAGS` goes over both.
     """
     flags = dict(PARAMETER_FLAGS)
     params = command.params if command is not None else []
@@ -37,7 +35,7 @@ def flag_names(command: click.Command | None) -> dict[str, str]:
             long = max(param.opts, key=len)
             flags[param.name] = long
             flags[long.lstrip("-").replace("-", "_")] = long
-    flags.update(getattr(command, "flag_overrides", {}))
+    flags.update(COMMAND_FLAGS.get(command.name or "", {}) if command is not None else {})
     return flags
 
 
@@ -111,31 +109,13 @@ def main() -> None:
 
 
 def _register() -> None:
-    from aaria_pin.cli import (
-        arm_cmd,
-        dataset_cmd,
-        identify_cmd,
-        info_cmd,
-        mjcf_cmd,
-        plot_cmd,
-        render_cmd,
-        robots_cmd,
-        simulate_cmd,
-        stats_cmd,
-        template_cmd,
-        torques_cmd,
-        urdf_cmd,
-        view_cmd,
-        wrist_cmd,
-    )
+    from importlib import import_module
 
-    for command in (
-        *(arm_cmd.arm, dataset_cmd.dataset, identify_cmd.identify, info_cmd.info, mjcf_cmd.mjcf),
-        *(plot_cmd.plot, render_cmd.render, robots_cmd.robots, simulate_cmd.simulate),
-        *(stats_cmd.dataset_stats, template_cmd.template, torques_cmd.torques, urdf_cmd.urdf),
-        *(view_cmd.view, wrist_cmd.wrist),
-    ):
-        main.add_command(command)
+    for module in ("arm", "dataset", "identify", "info", "mjcf", "plot", "render", "robots"):
+        main.add_command(getattr(import_module(f"aaria_pin.cli.{module}_cmd"), module))
+    for module in ("simulate", "stats", "template", "torques", "urdf", "view", "wrist"):
+        name = "dataset_stats" if module == "stats" else module
+        main.add_command(getattr(import_module(f"aaria_pin.cli.{module}_cmd"), name))
 
 
 _register()

@@ -9,7 +9,7 @@ from typing import Any
 import click
 
 from aaria_pin.cli._app import AariaGroup
-from aaria_pin.cli._options import FINITE_FLOAT, json_option
+from aaria_pin.cli._options import FINITE_FLOAT, json_option, shown
 from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, output_option
 from aaria_pin.core.seeds import MAX_SEED
 from aaria_pin.errors import ParameterError
@@ -23,9 +23,7 @@ _radians = click.option("--radians", is_flag=True, help="Angles in radians (defa
 
 
 def _order(help: str) -> Any:
-    return click.option(
-        "--order", type=click.Choice(_ORDERS), default="xyz", show_default=True, help=help
-    )
+    return shown("--order", default="xyz", type=click.Choice(_ORDERS), help=help + _ORDER_HELP)
 
 
 def _positive(_ctx: click.Context, param: click.Parameter, value: float) -> float:
@@ -36,11 +34,8 @@ def _positive(_ctx: click.Context, param: click.Parameter, value: float) -> floa
 
 def _range(_ctx: click.Context, param: click.Parameter, value: tuple[float, float]) -> Any:
     if value[0] > value[1]:
-        raise ParameterError(
-            f"{param.name} is {value[0]:g} {value[1]:g} (reversed); allowed: LOW HIGH with LOW <="
-            " HIGH",
-            parameter=param.name,
-        )
+        low_high = f"{value[0]:g} {value[1]:g} (reversed); allowed: LOW HIGH with LOW <= HIGH"
+        raise ParameterError(f"{param.name} is {low_high}", parameter=param.name)
     return value
 
 
@@ -71,7 +66,7 @@ Examples:
   aaria wrist fk 0.5 0.8 -0.2 --radians       # joint angles in radians""",
 )
 @click.argument("joints", nargs=3, type=FINITE_FLOAT)
-@_order("Angle sequence to express the rotation in." + _ORDER_HELP)
+@_order("Angle sequence to express the rotation in.")
 @_radians
 @json_option()
 def fk(joints: tuple[float, float, float], order: str, radians: bool, as_json: bool) -> None:
@@ -97,32 +92,21 @@ Examples:
       -0.696364 0.122788 0.707107""",
 )
 @click.option(
-    "--angles",
-    nargs=3,
-    type=FINITE_FLOAT,
+    "--angles", nargs=3, type=FINITE_FLOAT,
     help="Tool rotation as three angles A B C in the sequence of --order, in that order"
     " (default xyz: A about the fixed x axis, then B about y, then C about z).",
-)
-@_order("Sequence of --angles, and of the angles printed." + _ORDER_HELP)
+)  # fmt: skip
+@_order("Sequence of --angles, and of the angles printed.")
 @click.option(
-    "--matrix",
-    nargs=9,
-    type=FINITE_FLOAT,
+    "--matrix", nargs=9, type=FINITE_FLOAT,
     help="Tool rotation R11 R12 … R33, row by row. A matrix within 1e-5 of a rotation"
     " (largest |RᵀR - I| entry, e.g. the 6 decimals `wrist fk` prints) is projected onto the"
     " nearest rotation, with a note on stderr; beyond that it is refused.",
-)
+)  # fmt: skip
 @click.option("--limits", is_flag=True, help="Keep solutions in the report's 0–360°, 0–180°.")
 @_radians
 @json_option()
-def ik(
-    angles: tuple[float, float, float] | None,
-    order: str,
-    matrix: tuple[float, ...] | None,
-    limits: bool,
-    radians: bool,
-    as_json: bool,
-) -> None:
+def ik(angles: Any, order: str, matrix: Any, limits: bool, radians: bool, as_json: bool) -> None:
     """Every joint solution for a tool rotation given as angles or as a matrix."""
     import numpy as np
 
@@ -131,11 +115,11 @@ def ik(
 
     if (angles is None) == (matrix is None):
         raise click.UsageError("give exactly one of --angles A B C or --matrix R11 … R33")
-    note = None
     if angles is not None:
         rotation = matrix_from_angles(np.array(angles) if radians else np.radians(angles), order)
-    else:
-        rotation, note = nearest_rotation(matrix)
+        _echo(wrist_report(rotation, order, limits, not radians), as_json)
+        return
+    rotation, note = nearest_rotation(matrix)
     notes = () if note is None else (f"--{note}",)
     _echo(wrist_report(rotation, order, limits, not radians, notes), as_json)
 
@@ -149,49 +133,31 @@ Examples:
   aaria wrist simulate 90 30 0 --speed 20 --rate 500 -o slow.h5""",
 )
 @click.argument("targets", nargs=3, type=FINITE_FLOAT)
-@click.option(
-    "--speed", type=FINITE_FLOAT, default=40.0, show_default=True, callback=_positive,
-    help="Joint speed [deg/s].",
-)  # fmt: skip
-@click.option(
-    "--acceleration", type=FINITE_FLOAT, default=80.0, show_default=True, callback=_positive,
+@shown("--speed", default=40.0, type=FINITE_FLOAT, callback=_positive, help="Joint speed [deg/s].")
+@shown(
+    "--acceleration", default=80.0, type=FINITE_FLOAT, callback=_positive,
     help="Acceleration limit of the trapezoid [deg/s^2].",
 )  # fmt: skip
-@click.option(
-    "--profile", type=click.Choice(["trapezoid", "ramp"]), default="trapezoid", show_default=True,
+@shown(
+    "--profile", default="trapezoid", type=click.Choice(["trapezoid", "ramp"]),
     help="Smooth trapezoid (for torques) or the report's ramp.",
 )  # fmt: skip
 @click.option("--duration", type=float, help="Run length [s] (default: 1 s after arrival).")
-@click.option("--rate", type=float, default=100.0, show_default=True, help="Sample rate [Hz].")
+@shown("--rate", default=100.0, help="Sample rate [Hz].")
 @click.option("--radians", is_flag=True, help="Targets in radians (default degrees).")
 @click.option(
     "-o", "--output", type=click.Path(dir_okay=False), required=True,
     help="Run file: .h5 or .mat (time, q, qd, qdd, tau, tool_pose).",
 )  # fmt: skip
-def simulate(
-    targets: tuple[float, float, float],
-    speed: float,
-    acceleration: float,
-    profile: str,
-    duration: float | None,
-    rate: float,
-    radians: bool,
-    output: str,
-) -> None:
+def simulate(targets: Any, radians: bool, output: str, **motion: Any) -> None:
     """Move the wrist to TARGETS (J1 J2 J3) after 2 s and write joint torques along the way."""
     import numpy as np
 
     from aaria_pin.apps.wrist.run import simulate_wrist, write_wrist_run
 
     goal = np.array(targets) if radians else np.radians(targets)
-    run = simulate_wrist(
-        goal,
-        speed=np.radians(speed),
-        acceleration=np.radians(acceleration),
-        profile="ramp" if profile == "ramp" else "trapezoid",
-        duration=duration,
-        rate=rate,
-    )
+    limits = {key: np.radians(motion.pop(key)) for key in ("speed", "acceleration")}
+    run = simulate_wrist(goal, **limits, **motion)
     write_wrist_run(output, run)
     peaks = "  ".join(f"{v:.4g}" for v in np.abs(run.tau).max(axis=0))
     click.echo(f"wrote {output}: {run.time.size} samples, peak |tau| per joint [N*m]: {peaks}")
@@ -204,29 +170,22 @@ Examples:
   aaria wrist workspace --theta2 0 90 --plot ws.png  # a hemisphere, and a picture of it
   aaria wrist workspace --samples 20000 --json       # one JSON object""",
 )
-@click.option("--samples", type=click.IntRange(1, 10_000_000), default=200_000, show_default=True)
-@click.option(
-    "--theta1", nargs=2, type=FINITE_FLOAT, default=(0.0, 360.0), show_default=True,
-    callback=_range, help="Joint 1 range LOW HIGH [deg] (the report's 0-360).",
+@shown("--samples", default=200_000, type=click.IntRange(1, 10_000_000), help="Tool points.")
+@shown(
+    "--theta1", default=(0.0, 360.0), nargs=2, type=FINITE_FLOAT, callback=_range,
+    help="Joint 1 range LOW HIGH [deg] (the report's 0-360).",
 )  # fmt: skip
-@click.option(
-    "--theta2", nargs=2, type=FINITE_FLOAT, default=(0.0, 180.0), show_default=True,
-    callback=_range, help="Joint 2 range LOW HIGH [deg] (the report's 0-180).",
+@shown(
+    "--theta2", default=(0.0, 180.0), nargs=2, type=FINITE_FLOAT, callback=_range,
+    help="Joint 2 range LOW HIGH [deg] (the report's 0-180).",
 )  # fmt: skip
-@click.option("--seed", type=click.IntRange(0, MAX_SEED), default=0, show_default=True)
+@shown("--seed", default=0, type=click.IntRange(0, MAX_SEED), help="Seed of the samples.")
 @output_option(
     "picture", PICTURE_SUFFIXES, "--plot", required=False,
     help="Write a picture of the tool points (.png, .pdf or .svg).",
 )  # fmt: skip
 @json_option()
-def workspace(
-    samples: int,
-    theta1: tuple[float, float],
-    theta2: tuple[float, float],
-    seed: int,
-    plot: Path | None,
-    as_json: bool,
-) -> None:
+def workspace(theta1: Any, theta2: Any, plot: Path | None, as_json: bool, **samples: Any) -> None:
     """Sample the reachable tool points: radius and covered solid angle."""
     import numpy as np
 
@@ -234,7 +193,7 @@ def workspace(
     from aaria_pin.apps.wrist.report import workspace_report
 
     limits = np.radians([list(theta1), list(theta2), [-180.0, 180.0]])
-    space = wrist_workspace(samples, limits, seed=seed)
+    space = wrist_workspace(limits=limits, **samples)
     if plot:
         from aaria_pin.viz.report_plots import plot_workspace
 
