@@ -11,7 +11,7 @@ from aaria_pin.errors import AariaError, NoSpaceError
 EXIT_BAD_INPUT = 2
 
 PARAMETER_FLAGS = {"joint_table": "--joints", "base_table": "--base", "path": "-o/--output"}
-PARAMETER_FLAGS |= {"table": "--dh", "dh_table": "--dh"}
+PARAMETER_FLAGS.update(table="--dh", dh_table="--dh")
 """Library parameters whose flag is not named after them, in every command."""
 
 COMMAND_FLAGS: dict[str, dict[str, str]] = {}
@@ -50,12 +50,10 @@ def flag_message(error: AariaError, command: click.Command | None) -> str:
 
 
 class AariaGroup(click.Group):
-    """A group that records which of its commands runs, for :func:`flag_message`."""
+    """A group that notes in ``ctx.meta`` which command runs (the innermost group's wins)."""
 
-    def resolve_command(
-        self, ctx: click.Context, args: list[str]
-    ) -> tuple[str | None, click.Command | None, list[str]]:
-        """As click's, noting the command in ``ctx.meta`` (the innermost group's wins)."""
+    def resolve_command(self, ctx: click.Context, args: list[str]) -> Any:
+        """As click's, noting the command."""
         name, command, rest = super().resolve_command(ctx, args)
         ctx.meta[_COMMAND] = command
         return name, command, rest

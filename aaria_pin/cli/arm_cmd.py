@@ -21,10 +21,8 @@ def _within(bounds: str, unit: str) -> Any:
 
         low, high = getattr(arm_pictures, bounds)
         if not low <= value <= high:
-            flag = max(param.opts, key=len)
-            raise ParameterError(
-                f"{flag} {value}; allowed: {low} to {high} {unit}", parameter=param.name
-            )
+            allowed = f"{low} to {high} {unit}"
+            raise ParameterError(f"{param.name} {value}; allowed: {allowed}", parameter=param.name)
         return value
 
     return check
@@ -89,10 +87,12 @@ Examples:
 @shown("--mass", default=0.5, help="Cylinder mass [kg].")
 @shown("--radius", default=0.03, help="Radius [m].")
 @shown("--height", default=0.12, help="Height [m].")
-@click.option(
-    "--branch", type=click.Choice(["nearest", "left", "right"]), default="nearest",
-    show_default=True, help="IK branch of every move.",
-)  # fmt: skip
+@shown(
+    "--branch",
+    default="nearest",
+    type=click.Choice(["nearest", "left", "right"]),
+    help="IK branch of every move.",
+)
 @shown("--rate", default=100.0, help="Sample rate [Hz].")
 @_PRESET
 @output_option("run file", (".h5", ".hdf5", ".mat"), help="Run file (.h5 or .mat).")
@@ -103,25 +103,17 @@ Examples:
 @output_option(
     "animation", (".gif",), "--animation", required=False, help="GIF animation of the task."
 )
-@click.option(
-    "--fps", type=int, default=10, show_default=True,
-    callback=_within("ANIMATION_FPS", "frames per second"),
+@shown(
+    "--fps", default=10, callback=_within("ANIMATION_FPS", "frames per second"),
     help="Animation frame rate [frames per second of run time].",
 )  # fmt: skip
-@click.option(
-    "--gif-size", type=int, default=300, show_default=True,
-    callback=_within("ANIMATION_SIZES", "px"), help="Animation width and height [px].",
-)  # fmt: skip
-def pick_place(
-    cylinder_xy: tuple[float, float],
-    mass: float,
-    radius: float,
-    height: float,
-    output: Path,
-    sheet: Path | None,
-    animation: Path | None,
-    **task: Any,
-) -> None:
+@shown(
+    "--gif-size",
+    default=300,
+    callback=_within("ANIMATION_SIZES", "px"),
+    help="Animation width and height [px].",
+)
+def pick_place(output: Path, sheet: Path | None, animation: Path | None, **task: Any) -> None:
     """Pick a cylinder from the floor and put it elsewhere: path, torques, run file.
 
     Prints the phases and each joint's peak torque [N*m] or force [N] and the payload's share
@@ -133,8 +125,10 @@ def pick_place(
 
     # the files and --fps are checked while the options are read, before anything is computed
     fps, size = task.pop("fps"), task.pop("gif_size")
-    cylinder = Cylinder(cylinder_xy[0], cylinder_xy[1], radius, height, mass)
-    run = simulate_pick_place(cylinder, task.pop("place_xy"), **task)
+    shape = [task.pop(key) for key in ("radius", "height", "mass")]
+    run = simulate_pick_place(
+        Cylinder(*task.pop("cylinder_xy"), *shape), task.pop("place_xy"), **task
+    )
     write_pick_place_run(output, run)
     click.echo(f"wrote {output}: {run.path.time.size} samples, {run.path.time[-1]:.2f} s")
     text, warnings = pick_place_report(run)
@@ -148,10 +142,8 @@ def pick_place(
     if animation is not None:
         from aaria_pin.viz.arm_pictures import write_animation
 
-        frames = int(run.path.time[-1] * fps) + 1
+        frames = f"about {int(run.path.time[-1] * fps) + 1} frames of {size} x {size} px"
         click.echo(
-            f"aaria: drawing the animation: about {frames} frames of {size} x {size} px "
-            f"at {fps} fps into {animation} …",
-            err=True,
+            f"aaria: drawing the animation: {frames} at {fps} fps into {animation} …", err=True
         )
         click.echo(f"wrote {write_animation(animation, run, fps=fps, size=size)}")
