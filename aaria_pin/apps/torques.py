@@ -38,7 +38,13 @@ from aaria_pin.errors import InputFileError, ParameterError
 if TYPE_CHECKING:  # Pinocchio loads only where a model is used
     from aaria_pin.core.model import RobotModel
 
-__all__ = ["dataset_torque_report", "record_torque_report", "run_torque_report", "torque_split"]
+__all__ = [
+    "dataset_torque_report",
+    "record_torque_report",
+    "run_torque_report",
+    "torque_split",
+    "torque_text",
+]
 
 _TERMS = ("gravity", "coriolis", "inertial")
 
@@ -259,6 +265,59 @@ def dataset_torque_report(path: str | os.PathLike[str], top: int = 5) -> dict[st
             for peak, run, module, joint, kind in largest[:top]
         ],
     }
+
+
+def _unit(kind: str) -> str:
+    """The unit of a joint's effort: a force [N] for a prismatic joint, else a torque [N*m]."""
+    return "N" if kind == "prismatic" else "N*m"
+
+
+def torque_text(report: dict[str, Any], one_run: bool = True) -> str:
+    """A torque report as the table ``aaria torques`` prints.
+
+    Args:
+        report: :func:`record_torque_report`'s (``one_run``) or :func:`dataset_torque_report`'s
+        one_run: which of the two ``report`` is
+
+    Returns:
+        One run: a line per joint (peak, RMS, RMS of each term, energy) and the base wrench's
+        peaks; a data set: a line per module and joint type (peaks' median, p95, max) and the
+        largest peaks.
+    """
+    if not one_run:
+        names = report.get("joints", {})
+        lines = [
+            f"module {module}"
+            + (f" ({names[module]})" if module in names else "")
+            + f" {kind:<10} runs {s['runs']:>6}  peak |tau| median {s['median']:.4g} {_unit(kind)}"
+            f"  p95 {s['p95']:.4g} {_unit(kind)}  max {s['max']:.4g} {_unit(kind)}"
+            for module, kinds in report["by_module"].items()
+            for kind, s in kinds.items()
+        ]
+        largest = (
+            f"run {x['run']} module {x['module']} ({x['type']}) {x['peak_abs']:.4g} "
+            f"{_unit(x['type'])}"
+            for x in report["largest"]
+        )
+        return "\n".join([*lines, "largest peaks: " + "; ".join(largest)])
+    width = max([5, *(len(joint["joint"]) for joint in report["joints"])])
+    lines = [
+        f"{'module':<7} {'joint':<{width}} {'type':<10} {'peak |tau|':>12} {'rms':>10} "
+        f"{'rms gravity':>11} {'rms coriolis':>12} {'rms inertial':>12} {'energy net':>11}"
+        f" {'energy abs':>11}"
+    ]
+    for joint in report["joints"]:
+        terms = joint["rms_terms"]
+        lines.append(
+            f"{joint['module']:<7} {joint['joint']:<{width}} {joint['type']:<10}"
+            f" {joint['peak_abs']:>8.4g} {joint['unit']:<3}"
+            f" {joint['rms']:>10.4g} {terms['gravity']:>11.4g} {terms['coriolis']:>12.4g}"
+            f" {terms['inertial']:>12.4g} {joint['energy_net_J']:>9.4g} J"
+            f" {joint['energy_abs_J']:>9.4g} J"
+        )
+    peaks = report["base_wrench_peak"].items()
+    units = ", ".join(f"{k} {v:.4g} {'N' if k.startswith('f') else 'N*m'}" for k, v in peaks)
+    return "\n".join([*lines, "base wrench peaks: " + units])
 
 
 def run_torque_report(

@@ -1,4 +1,4 @@
-"""The click group and its error handling."""
+"""The click group, and the one mapping of a library error to the command line's words."""
 
 from __future__ import annotations
 
@@ -10,9 +10,57 @@ from aaria_pin.errors import AariaError, NoSpaceError
 
 EXIT_BAD_INPUT = 2
 
+PARAMETER_FLAGS = {"joint_table": "--joints", "base_table": "--base", "path": "-o/--output"}
+PARAMETER_FLAGS.update(table="--dh", dh_table="--dh")
+"""Library parameters whose flag is not named after them, in every command."""
 
-class _Group(click.Group):
-    """A click group that turns the toolkit's input errors into one line and exit status 2."""
+COMMAND_FLAGS: dict[str, dict[str, str]] = {}
+"""A command's own exceptions (command name → parameter → flag), over the rules above."""
+
+_COMMAND = "aaria_pin.command"
+"""The key of ``ctx.meta`` (shared by the nested contexts) naming the command that runs."""
+
+
+def flag_names(command: click.Command | None) -> dict[str, str]:
+    """Library parameter name → the flag that sets it, for one command.
+
+    A parameter maps to the option of the same name (``run_index`` → ``--run``) or spelled
+    after it (``imu_layout`` → ``--imu-layout``), else by :data:`PARAMETER_FLAGS`; the
+    command's entry in :data:`COMMAND_FLAGS` goes over both.
+    """
+    flags = dict(PARAMETER_FLAGS)
+    params = command.params if command is not None else []
+    for param in params:
+        if isinstance(param, click.Option) and param.name:
+            long = max(param.opts, key=len)
+            flags[param.name] = long
+            flags[long.lstrip("-").replace("-", "_")] = long
+    flags.update(COMMAND_FLAGS.get(command.name or "", {}) if command is not None else {})
+    return flags
+
+
+def flag_message(error: AariaError, command: click.Command | None) -> str:
+    """The error's one line, its parameter named by the command's flag."""
+    flags = flag_names(command)
+    message = error.for_flag(flags)
+    name = error.parameter
+    if name in flags and message.startswith(f"{name} "):  # "run is …" → "--run is …"
+        message = flags[name] + message[len(name) :]
+    return " ".join(message.split())
+
+
+class AariaGroup(click.Group):
+    """A group that notes in ``ctx.meta`` which command runs (the innermost group's wins)."""
+
+    def resolve_command(self, ctx: click.Context, args: list[str]) -> Any:
+        """As click's, noting the command."""
+        name, command, rest = super().resolve_command(ctx, args)
+        ctx.meta[_COMMAND] = command
+        return name, command, rest
+
+
+class _Main(AariaGroup):
+    """The ``aaria`` group: the toolkit's input errors become one line and exit status 2."""
 
     def main(self, args: Any = None, *rest: Any, **kwargs: Any) -> Any:
         """Run the command line; as the ``aaria`` process (arguments from ``sys.argv``), end fast.
@@ -45,79 +93,27 @@ class _Group(click.Group):
             click.echo(f"aaria: error: {' '.join(str(exc).split())}", err=True)
             ctx.exit(1)
         except AariaError as exc:
-            message = exc.for_flag(_flags(self))
+            message = flag_message(exc, ctx.meta.get(_COMMAND))
         except click.UsageError as exc:  # bad options of a command: one line too
-            message = exc.format_message()
-        click.echo(f"aaria: error: {' '.join(message.split())}", err=True)
+            message = " ".join(exc.format_message().split())
+        click.echo(f"aaria: error: {message}", err=True)
         ctx.exit(EXIT_BAD_INPUT)
 
 
-_PARAMETER_FLAGS = {
-    "joint_table": "--joints",
-    "base_table": "--base",
-    "table": "--dh",
-    "dh_table": "--dh",
-    "torques": "--torques",
-    "path": "-o/--output",
-    "run": "--run",
-}
-"""Library parameters whose flag is named otherwise (the rest map by their option's name)."""
-
-
-def _flags(group: click.Group) -> dict[str, str]:
-    """Library parameter name → the flag that sets it, over every command of the group."""
-    flags: dict[str, str] = {}
-    stack: list[click.Command] = list(group.commands.values())
-    while stack:
-        command = stack.pop()
-        if isinstance(command, click.Group):
-            stack.extend(command.commands.values())
-        for param in command.params:
-            if isinstance(param, click.Option) and param.name:
-                flags.setdefault(param.name, max(param.opts, key=len))
-    return {**flags, **_PARAMETER_FLAGS}
-
-
-@click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
+@click.group(cls=_Main, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="aaria-pin")
 def main() -> None:
     """Aaria on Pinocchio: reconfigurable manipulators, IMU datasets, torques."""
 
 
 def _register() -> None:
-    from aaria_pin.cli import (
-        arm_cmd,
-        dataset_cmd,
-        identify_cmd,
-        info_cmd,
-        mjcf_cmd,
-        plot_cmd,
-        render_cmd,
-        robots_cmd,
-        simulate_cmd,
-        stats_cmd,
-        template_cmd,
-        torques_cmd,
-        urdf_cmd,
-        view_cmd,
-        wrist_cmd,
-    )
+    from importlib import import_module
 
-    main.add_command(arm_cmd.arm)
-    main.add_command(dataset_cmd.dataset)
-    main.add_command(identify_cmd.identify)
-    main.add_command(info_cmd.info)
-    main.add_command(mjcf_cmd.mjcf)
-    main.add_command(plot_cmd.plot)
-    main.add_command(render_cmd.render)
-    main.add_command(robots_cmd.robots)
-    main.add_command(simulate_cmd.simulate)
-    main.add_command(stats_cmd.dataset_stats)
-    main.add_command(template_cmd.template)
-    main.add_command(torques_cmd.torques)
-    main.add_command(urdf_cmd.urdf)
-    main.add_command(view_cmd.view)
-    main.add_command(wrist_cmd.wrist)
+    for module in ("arm", "dataset", "identify", "info", "mjcf", "plot", "render", "robots"):
+        main.add_command(getattr(import_module(f"aaria_pin.cli.{module}_cmd"), module))
+    for module in ("simulate", "stats", "template", "torques", "urdf", "view", "wrist"):
+        name = "dataset_stats" if module == "stats" else module
+        main.add_command(getattr(import_module(f"aaria_pin.cli.{module}_cmd"), name))
 
 
 _register()

@@ -6,7 +6,8 @@ from pathlib import Path
 
 import click
 
-from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, check_run_option, output_option
+from aaria_pin.cli._options import shown
+from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, check_run_option, output_option, run_option
 
 
 @click.command(
@@ -17,11 +18,9 @@ Examples:
   aaria plot ds.h5 --run 12 --width 900 -o run12.pdf"""
 )
 @click.argument("run_file", type=click.Path(path_type=Path, dir_okay=False))
-@click.option(
-    "--run", "run_index", type=click.IntRange(0), help="One run of a data set (default 0)."
-)
+@run_option()
 @click.option("--imu", help="Show only this IMU (e.g. imu_link3_a); default every IMU.")
-@click.option("--width", type=int, default=1400, show_default=True, help="Width [px].")
+@shown("--width", default=1400, help="Width [px].")
 @output_option("picture", PICTURE_SUFFIXES)
 def plot(run_file: Path, run_index: int | None, imu: str | None, width: int, output: Path) -> None:
     """Plot joint values, torques and forces, the base wrench and the IMUs of a run.
@@ -29,16 +28,8 @@ def plot(run_file: Path, run_index: int | None, imu: str | None, width: int, out
     RUN_FILE is a run file of any robot (any version) or a data set (--run picks the run).
     The output's suffix picks the format: .png, .pdf or .svg.
     """
-    from aaria_pin.errors import ParameterError
-    from aaria_pin.viz.plot import plot_panels, signal_panels
-    from aaria_pin.viz.render import MAX_PIXELS
-    from aaria_pin.viz.sources import load_run_view
+    from aaria_pin.viz.plot import plot_run
 
     check_run_option(run_file, run_index)
-    if not 400 <= width <= MAX_PIXELS:
-        raise ParameterError(f"width {width} px; allowed: 400 to {MAX_PIXELS} px")
-    view = load_run_view(run_file, run_index)
-    panels = signal_panels(view.signals, imu)
-    title = view.title if imu is None else f"{view.title}: {imu}"
-    plot_panels(view.time, panels, output, title, width=width)
-    click.echo(f"wrote {output}: {len(panels)} panels, {view.time.size} samples")
+    panels, samples = plot_run(run_file, output, run_index, imu, width)
+    click.echo(f"wrote {output}: {panels} panels, {samples} samples")

@@ -22,11 +22,9 @@ Examples:
 )
 @click.argument("kind", type=click.Choice(KINDS))
 @click.option(
-    "-o",
-    "--output",
-    type=click.Path(path_type=Path, dir_okay=False, allow_dash=True),
+    "-o", "--output", type=click.Path(path_type=Path, dir_okay=False, allow_dash=True),
     help="File to write (default, or '-': print it).",
-)
+)  # fmt: skip
 @click.option("--overwrite", is_flag=True, help="Replace an existing file.")
 def template(kind: str, output: Path | None, overwrite: bool) -> None:
     """Write a commented input file to start from.

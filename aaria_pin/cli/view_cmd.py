@@ -6,7 +6,8 @@ from pathlib import Path
 
 import click
 
-from aaria_pin.cli._viz_options import check_run_option, output_option
+from aaria_pin.cli._options import shown
+from aaria_pin.cli._viz_options import check_run_option, output_option, run_option
 
 
 @click.command(
@@ -16,16 +17,11 @@ Examples:
   aaria view ds.h5 --run 5 --max-samples 2000 -o run5.html"""
 )
 @click.argument("run_file", type=click.Path(path_type=Path, dir_okay=False))
-@click.option(
-    "--run", "run_index", type=click.IntRange(0), help="One run of a data set (default 0)."
-)
-@click.option(
-    "--max-samples",
-    type=click.IntRange(2),
-    default=500,
-    show_default=True,
+@run_option()
+@shown(
+    "--max-samples", default=500, type=click.IntRange(2),
     help="Most samples in the page (the run is decimated evenly).",
-)
+)  # fmt: skip
 @output_option("HTML page", (".html", ".htm"))
 def view(run_file: Path, run_index: int | None, max_samples: int, output: Path) -> None:
     """Write an HTML page that plays the run in 3D, its signals beside it (works offline).
@@ -36,14 +32,9 @@ def view(run_file: Path, run_index: int | None, max_samples: int, output: Path) 
 
     RUN_FILE is a run file of any robot (any version) or a data set (--run picks the run).
     """
-    from aaria_pin.viz.html import shown_samples, signal_panels, write_viewer
-    from aaria_pin.viz.sources import load_run_view
+    from aaria_pin.viz.html import write_run_viewer
 
     check_run_option(run_file, run_index)
-    run = load_run_view(run_file, run_index)
-    samples = shown_samples(run.time.size, max_samples)
-    panels = signal_panels(run.signals, samples)
-    poses = run.frame_poses(samples)
-    write_viewer(output, run.scene, run.time[samples], poses, run.title, panels)
-    size = output.stat().st_size
-    click.echo(f"wrote {output}: {samples.size} of {run.time.size} samples, {size / 1e6:.2f} MB")
+    shown_samples, samples = write_run_viewer(run_file, output, run_index, max_samples)
+    size = output.stat().st_size / 1e6
+    click.echo(f"wrote {output}: {shown_samples} of {samples} samples, {size:.2f} MB")

@@ -51,6 +51,7 @@ __all__ = [
     "shown_samples",
     "signal_panels",
     "viewer_html",
+    "write_run_viewer",
     "write_viewer",
 ]
 
@@ -103,7 +104,7 @@ def shown_samples(n_samples: int, max_samples: int = DEFAULT_MAX_SAMPLES) -> np.
         ParameterError: ``max_samples`` below 2.
     """
     if max_samples < 2:
-        raise ParameterError(f"max samples {max_samples}; allowed: 2 or more")
+        raise ParameterError(parameter="max_samples", value=max_samples, allowed="2 or more")
     if n_samples <= max_samples:
         return np.arange(n_samples)
     return np.unique(np.round(np.linspace(0, n_samples - 1, max_samples)).astype(int))
@@ -246,3 +247,34 @@ def write_viewer(
     final = Path(path)
     write_text_atomic(final, viewer_html(scene, time, poses, title, panels))
     return final
+
+
+def write_run_viewer(
+    path: str | os.PathLike[str],
+    output: str | os.PathLike[str],
+    run: int | None = None,
+    max_samples: int = DEFAULT_MAX_SAMPLES,
+) -> tuple[int, int]:
+    """Write the viewer page of a run file, or of a data set's run (see :func:`viewer_html`).
+
+    Args:
+        path: a run file of any robot (any version), or a data set (``run``)
+        output: the page to write (atomically)
+        run: the run of a data set (default its first); only for a data set
+        max_samples: most samples in the page (the run is decimated evenly)
+
+    Returns:
+        The number of samples shown and of the run's samples.
+
+    Raises:
+        ParameterError: a bad ``run`` or ``max_samples``.
+        InputFileError: a file that cannot be read as a run.
+    """
+    from aaria_pin.viz.sources import load_run_view
+
+    view = load_run_view(path, run)
+    samples = shown_samples(view.time.size, max_samples)
+    panels = signal_panels(view.signals, samples)
+    poses = view.frame_poses(samples)
+    write_viewer(output, view.scene, view.time[samples], poses, view.title, panels)
+    return samples.size, view.time.size

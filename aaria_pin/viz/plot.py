@@ -20,7 +20,7 @@ from aaria_pin.errors import ParameterError
 from aaria_pin.viz._figure import figure_file
 from aaria_pin.viz.sources import Signals
 
-__all__ = ["Panel", "plot_panels", "signal_panels"]
+__all__ = ["Panel", "plot_panels", "plot_run", "signal_panels"]
 
 _AXES = ("x", "y", "z")
 
@@ -182,3 +182,40 @@ def plot_panels(
                 ax.tick_params(labelbottom=True)
         figure.suptitle(title)
     return Path(path)
+
+
+def plot_run(
+    path: str | os.PathLike[str],
+    output: str | os.PathLike[str],
+    run: int | None = None,
+    imu: str | None = None,
+    width: int = 1400,
+) -> tuple[int, int]:
+    """Plot a run's joint values, torques and forces, base wrench and IMUs into one picture.
+
+    Args:
+        path: a run file of any robot (any version), or a data set (``run``)
+        output: the picture to write (atomically): ``.png``, ``.pdf`` or ``.svg``
+        run: the run of a data set (default its first); only for a data set
+        imu: show only this IMU (default every IMU)
+        width: picture width [px], 400 to :data:`~aaria_pin.viz.render.MAX_PIXELS`
+
+    Returns:
+        The number of panels drawn and of samples.
+
+    Raises:
+        ParameterError: a bad width, ``run`` or ``imu``.
+        InputFileError: a file that cannot be read as a run.
+    """
+    from aaria_pin.viz.render import MAX_PIXELS
+    from aaria_pin.viz.sources import load_run_view
+
+    if not 400 <= width <= MAX_PIXELS:
+        raise ParameterError(
+            f"width {width} px; allowed: 400 to {MAX_PIXELS} px", parameter="width"
+        )
+    view = load_run_view(path, run)
+    panels = signal_panels(view.signals, imu)
+    title = view.title if imu is None else f"{view.title}: {imu}"
+    plot_panels(view.time, panels, output, title, width=width)
+    return len(panels), view.time.size

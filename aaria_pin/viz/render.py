@@ -10,17 +10,29 @@ have equal scales, are tight about the arm and show metres.
 from __future__ import annotations
 
 import os
+from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 from aaria_pin.viz._figure import equal_axes_3d, figure_file
-from aaria_pin.viz.scene import AXIS_COLOURS, COLOURS, ROLE_LABELS, PosedGeometry
+from aaria_pin.viz.scene import AXIS_COLOURS, COLOURS, ROLE_LABELS, PosedGeometry, posed_geometry
 
-__all__ = ["MAX_PIXELS", "draw_geometry", "draw_legend", "face_colours", "render_geometry"]
+if TYPE_CHECKING:
+    from aaria_pin.aaria.dh import Convention
+
+__all__ = [
+    "MAX_PIXELS",
+    "PictureSettings",
+    "draw_geometry",
+    "draw_legend",
+    "face_colours",
+    "render_geometry",
+    "render_picture",
+]
 
 MAX_PIXELS = 4000
 """Largest width or height of a picture [px]."""
@@ -171,7 +183,9 @@ def render_geometry(
     """
     for name, value in (("width", width), ("height", height)):
         if not 100 <= value <= MAX_PIXELS:
-            raise ParameterError(f"{name} {value} px; allowed: 100 to {MAX_PIXELS} px")
+            raise ParameterError(
+                f"{name} {value} px; allowed: 100 to {MAX_PIXELS} px", parameter=name
+            )
     with figure_file(path, width, height) as figure:
         axes = figure.add_subplot(projection="3d", computed_zorder=False)
         draw_geometry(axes, geometry)
@@ -183,3 +197,78 @@ def render_geometry(
         draw_legend(axes, geometry, loc="upper left", fontsize=8, framealpha=0.9)
         figure.subplots_adjust(left=0.0, right=1.0, bottom=0.02, top=0.95)
     return Path(path)
+
+
+@dataclass(frozen=True)
+class PictureSettings:
+    """How a picture is drawn.
+
+    Attributes:
+        width: picture width [px] (100 to :data:`MAX_PIXELS`)
+        height: picture height [px] (100 to :data:`MAX_PIXELS`)
+        elevation: view elevation above the x-y plane [deg]
+        azimuth: view azimuth about z [deg]
+    """
+
+    width: int = 1000
+    height: int = 800
+    elevation: float = 20.0
+    azimuth: float = -60.0
+
+
+def render_picture(
+    path: str | os.PathLike[str],
+    *,
+    preset: str | None = None,
+    dh_file: str | os.PathLike[str] | None = None,
+    convention: Convention = "aaria",
+    run_file: str | os.PathLike[str] | None = None,
+    run: int | None = None,
+    time: float | None = None,
+    settings: PictureSettings = PictureSettings(),
+) -> str:
+    """Draw an arm in 3D: a preset or a DH table file at rest, or a run at a time.
+
+    Args:
+        path: the picture to write (atomically): ``.png``, ``.pdf`` or ``.svg``
+        preset: a DH table preset or a plug-in's model preset, every joint at zero
+        dh_file: a DH table file (CSV, ``.npy``, or ``.mat`` holding ``senSenDH``)
+        convention: the convention of ``dh_file``'s table
+        run_file: a run file of any robot, or a data set (``run``)
+        run: the run of a data set (default its first); only with ``run_file``
+        time: the time in the run [s] (default its start); only with ``run_file``
+        settings: the picture's size and view
+
+    Returns:
+        The picture's title (the preset, the file, or the run and the time shown).
+
+    Raises:
+        ParameterError: not exactly one of ``preset``, ``dh_file``, ``run_file``; ``run`` or
+            ``time`` without ``run_file``; a time outside the run; a bad size.
+        InputFileError: a file that cannot be read.
+    """
+    from aaria_pin.viz.sources import load_run_view, preset_view, sample_at, table_view
+
+    if [preset, dh_file, run_file].count(None) != 2:
+        raise ParameterError(
+            parameter="preset", value=preset, allowed="exactly one of preset, dh_file, run_file"
+        )
+    for name, value in (("time", time), ("run", run)):
+        if run_file is None and value is not None:
+            raise ParameterError(parameter=name, value=value, allowed="None without a run_file")
+    if run_file is not None:
+        view = load_run_view(run_file, run)
+        k = sample_at(view.time, view.time[0] if time is None else time)
+        scene, poses = view.scene, view.frame_poses(np.array([k]))[0]
+        title = f"{view.title}, t = {view.time[k]:.3f} s"
+    elif preset is not None:
+        scene, poses = preset_view(preset)
+        title = scene.name
+    else:
+        from aaria_pin.files.io import read_table
+
+        table_path = Path(str(dh_file))
+        scene, poses = table_view(read_table(table_path, "senSenDH"), convention, table_path.stem)
+        title = table_path.name
+    render_geometry(posed_geometry(scene, poses), path, title, **asdict(settings))
+    return title

@@ -130,7 +130,8 @@ def sample_at(time: Array, t: float) -> int:
     step = float(np.median(np.diff(time))) if time.size > 1 else 0.0
     if not (np.isfinite(t) and time[0] - step / 2 <= t <= time[-1] + step / 2):
         raise ParameterError(
-            f"time {t:g} s is outside the run; allowed: {time[0]:g} to {time[-1]:g} s"
+            f"time {t:g} s is outside the run; allowed: {time[0]:g} to {time[-1]:g} s",
+            parameter="time",
         )
     return int(np.argmin(np.abs(time - t)))
 
@@ -271,9 +272,12 @@ def preset_view(name: str) -> tuple[Scene, Array]:
         if name in _ANNOUNCED_PRESETS:
             raise ParameterError(
                 f"preset {name!r} is a model preset that cannot be drawn yet (no"
-                f" PRESETS[{name!r}] in {_ANNOUNCED_PRESETS[name]}); allowed: {allowed}"
+                f" PRESETS[{name!r}] in {_ANNOUNCED_PRESETS[name]}); allowed: {allowed}",
+                parameter="preset",
             )
-        raise ParameterError(f"preset {name!r} is not known; allowed: {allowed}")
+        raise ParameterError(
+            f"preset {name!r} is not known; allowed: {allowed}", parameter="preset"
+        )
     scene, poses = _PRESETS[name]()
     poses = np.asarray(poses, dtype=float)
     if poses.shape != (len(scene.frames), 4, 4):
