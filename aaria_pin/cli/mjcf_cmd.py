@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -35,7 +36,9 @@ def _source(params: dict[str, Any]) -> str:
     return given[0]
 
 
-def _robot(source: str, moving: bool, params: dict[str, Any]) -> tuple[Any, ...]:
+def _robot(
+    source: str, moving: bool, params: dict[str, Any]
+) -> tuple[str, Path | None, str, Sequence[ImuMount], str, int]:
     """A DH arm's or URDF robot's URDF, folder, tool, IMU mounts, name and joint count."""
     if source == "dh":
         from aaria_pin.aaria.simulate import dh_imu_mounts
@@ -98,7 +101,7 @@ def mjcf(**params: Any) -> None:
 
     source, rate, output = _source(params), params["rate"], params["output"]
     moving = not params["fixed_base"]
-    imus: tuple[ImuMount, ...]
+    imus: Sequence[ImuMount]
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         if source == "run":
