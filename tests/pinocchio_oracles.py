@@ -17,14 +17,16 @@ from aaria_pin.core.model import RobotModel
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 
 
+def _frame_ids(robot: RobotModel, frames: Sequence[str]) -> list[int]:
+    return [robot.frame_id(name) for name in frames]
+
+
 def reference_imu_signals(
     robot: RobotModel, base: BaseMotion, trajectory: JointTrajectory, frames: Sequence[str]
 ) -> np.ndarray:
     """IMU signals ``[w f]`` of frames, (T, F, 6), by Pinocchio's frame algorithms per sample."""
-    model = robot.model
-    data = model.createData()
+    model, data, ids = robot.model, robot.model.createData(), _frame_ids(robot, frames)
     q, v, a = full_state(robot, base, trajectory)
-    ids = [robot.frame_id(name) for name in frames]
     out = np.empty((q.shape[0], len(ids), 6))
     for k in range(q.shape[0]):
         pin.forwardKinematics(model, data, q[k], v[k], a[k])
@@ -40,10 +42,8 @@ def reference_frame_poses(
     robot: RobotModel, base: BaseMotion, trajectory: JointTrajectory, frames: Sequence[str]
 ) -> np.ndarray:
     """World poses ``T_world_frame`` of frames, (T, F, 4, 4), one Pinocchio call per sample."""
-    model = robot.model
-    data = model.createData()
-    q, _, _ = full_state(robot, base, trajectory)
-    ids = [robot.frame_id(name) for name in frames]
+    model, data, ids = robot.model, robot.model.createData(), _frame_ids(robot, frames)
+    q = full_state(robot, base, trajectory)[0]
     out = np.empty((q.shape[0], len(ids), 4, 4))
     for k in range(q.shape[0]):
         pin.framesForwardKinematics(model, data, q[k])

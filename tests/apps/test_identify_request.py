@@ -20,10 +20,10 @@ from aaria_pin.files.runfile import write_run
 
 @pytest.fixture(scope="module")
 def fig3_record():
-    preset = get_preset("aaria-fig3")
-    return simulate_run(
-        preset.table, preset.joint_table, preset.base_table, duration=4, rate=50, noise=False
-    )
+    """A noise-free aaria-fig3 run, 4 s at 50 Hz (its preset's motions)."""
+    fig3 = get_preset("aaria-fig3")
+    tables = (fig3.table, fig3.joint_table, fig3.base_table)
+    return simulate_run(*tables, duration=4, rate=50, noise=False)
 
 
 @pytest.fixture(scope="module")

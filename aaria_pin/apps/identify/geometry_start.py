@@ -19,7 +19,7 @@ against it).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 
 import numpy as np
 
@@ -334,6 +334,21 @@ def initial_parameters(
     return x, float(residual @ residual)
 
 
+def _quarter_turns(
+    layout: ArmLayout, data: KinematicData, measured: Array, weights: Array
+) -> Iterator[list[tuple[Array, float]]]:
+    """Per prismatic module (lazily), its starts with theta forced to each quarter turn.
+
+    Each is :func:`initial_parameters` with that theta forced, and its cost.
+    """
+    for index, kind in enumerate(layout.kinds):
+        if kind == "prismatic":
+            yield [
+                initial_parameters(layout, data, measured, weights, forced={index: theta})
+                for theta in _THETA_GRID
+            ]
+
+
 def start_parameters(
     layout: ArmLayout, data: KinematicData, measured: Array, weights: Array, lengths: Sequence[int]
 ) -> Array:
@@ -359,13 +374,8 @@ def start_parameters(
         return x
     best = ((negative, cost), x)
     ceiling = 10.0 * cost + measured.size  # an equivalent start fits as well as the first
-    for index, kind in enumerate(layout.kinds):
-        if kind != "prismatic":
-            continue
-        for theta in _THETA_GRID:
-            trial, trial_cost = initial_parameters(
-                layout, data, measured, weights, forced={index: theta}
-            )
+    for trials in _quarter_turns(layout, data, measured, weights):
+        for trial, trial_cost in trials:
             key = (int(np.sum(trial[lengths] < -_NEGATIVE_START)), trial_cost)
             if trial_cost <= ceiling and key < best[0]:
                 best = (key, trial)
@@ -401,14 +411,8 @@ def other_starts(
     starts: list[Array] = []
     index = spread(INIT_SAMPLES)
     part, part_measured = data.subsample(index), measured[index]
-    for module, kind in enumerate(layout.kinds):
-        if kind != "prismatic":
-            continue
-        for theta in _THETA_GRID:
-            trial, _ = initial_parameters(
-                layout, part, part_measured, weights, forced={module: theta}
-            )
-            starts.append(trial)
+    for trials in _quarter_turns(layout, part, part_measured, weights):
+        starts += [trial for trial, _ in trials]
     more = spread(4 * INIT_SAMPLES)
     trial, _ = initial_parameters(layout, data.subsample(more), measured[more], weights)
     starts.append(trial)

@@ -41,10 +41,6 @@ _TABLE_HEADER = (
 )
 
 
-def _refuse(parameter: str, value: Any, allowed: str) -> ParameterError:
-    return ParameterError(parameter=parameter, value=value, allowed=allowed)
-
-
 @dataclass(frozen=True)
 class IdentifyRequest:
     """What to identify and where the results go.
@@ -110,7 +106,8 @@ class IdentifyRequest:
         ):
             if given:
                 value = getattr(self, parameter)
-                raise _refuse(parameter, str(value) if isinstance(value, Path) else value, allowed)
+                value = str(value) if isinstance(value, Path) else value
+                raise ParameterError(parameter=parameter, value=value, allowed=allowed)
 
 
 @dataclass(frozen=True)
@@ -148,13 +145,13 @@ def _record(path: Path, run: int | None) -> RunRecord:
 
     if is_dataset_file(path):
         if run is None:
-            raise _refuse("run", None, "a run index for a data set")
+            raise ParameterError(parameter="run", value=None, allowed="a run index for a data set")
         from aaria_pin.files.dataset_reader import DatasetReader
 
         with DatasetReader(path) as reader:
             return reader.record(run)
     if run is not None:
-        raise _refuse("run", run, "None for a run file (it is one run)")
+        raise ParameterError(parameter="run", value=run, allowed="None for a run file (one run)")
     from aaria_pin.files.runfile import read_run
 
     return read_run(path)
