@@ -37,8 +37,7 @@ if TYPE_CHECKING:
     from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
     from aaria_pin.aaria.presets import Preset, get_preset
     from aaria_pin.aaria.simulate import simulate_run
-    from aaria_pin.apps.identify.dynamics import identify_dynamics
-    from aaria_pin.apps.identify.kinematics import identify_kinematics
+    from aaria_pin.apps.identify import identify_dynamics, identify_kinematics
     from aaria_pin.apps.record_model import record_mjcf, replay_in_mujoco
     from aaria_pin.core.catalogue import find_robot
     from aaria_pin.core.excitation import fourier_motion
@@ -85,8 +84,8 @@ _LAZY = {
     "fourier_motion": "aaria_pin.core.excitation",
     "record_mjcf": "aaria_pin.apps.record_model",
     "replay_in_mujoco": "aaria_pin.apps.record_model",
-    "identify_kinematics": "aaria_pin.apps.identify.kinematics",
-    "identify_dynamics": "aaria_pin.apps.identify.dynamics",
+    "identify_kinematics": "aaria_pin.apps.identify",
+    "identify_dynamics": "aaria_pin.apps.identify",
 }
 
 __all__ = [

@@ -36,7 +36,7 @@ from aaria_pin.aaria.randomize import (
     random_joint_table,
 )
 from aaria_pin.aaria.simulate import dh_fourier_excitation, simulate_run
-from aaria_pin.apps.identify.kinematics import identify_kinematics
+from aaria_pin.apps.identify import identify_kinematics
 from aaria_pin.core.seeds import RunSeeds
 
 

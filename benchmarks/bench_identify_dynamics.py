@@ -16,21 +16,23 @@ from __future__ import annotations
 import argparse
 import os
 import statistics
+import sys
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 if hasattr(os, "sched_setaffinity"):
     os.sched_setaffinity(0, {max(os.sched_getaffinity(0))})  # one core
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))  # the oracles
+
+from pinocchio_oracles import reference_torque_regressor
+
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
-from aaria_pin.apps.identify.dynamics import (
-    identify_dynamics,
-    reference_torque_regressor,
-    torque_regressor,
-)
+from aaria_pin.apps.identify import identify_dynamics, torque_regressor
 from aaria_pin.apps.record_model import record_base, record_columns, record_model
 from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.dynamics import batched_rnea

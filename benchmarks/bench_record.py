@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import os
 import statistics
+import sys
 import tempfile
 import time
 from collections.abc import Callable
@@ -28,13 +29,17 @@ if hasattr(os, "sched_setaffinity"):
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))  # the oracles
+
+from pinocchio_oracles import reference_frame_poses, reference_imu_signals
+
 from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.aaria.oscillation import base_motion, joint_trajectory
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
 from aaria_pin.core._malloc import tune_malloc
 from aaria_pin.core.dynamics import batched_rnea
-from aaria_pin.core.kinematics import full_state, reference_frame_poses, reference_imu_signals
+from aaria_pin.core.kinematics import full_state
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.trajectory import sample_times
 from aaria_pin.files.runfile import write_run

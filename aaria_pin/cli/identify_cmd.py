@@ -1,90 +1,17 @@
-"""``aaria identify``: the kinematic model of an Aaria arm from its IMU signals and encoders."""
+"""``aaria identify``: flags into one :class:`~aaria_pin.apps.identify.request.IdentifyRequest`."""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import click
 
-from aaria_pin.cli._viz_options import check_output, check_run_option
+from aaria_pin.cli._viz_options import check_output
 
 if TYPE_CHECKING:
-    from aaria_pin.apps.identify.kinematics import KinematicIdentification
-
-_TABLE_HEADER = (
-    "estimated Aaria DH table (aaria identify): alpha [rad], a [m], theta [rad], d [m], "
-    "link type; rows 1-6 modules, 7 tool, 8 base"
-)
-
-
-def _print(result: KinematicIdentification) -> None:
-    names = {0: "empty", 1: "revolute", 2: "prismatic"}
-    click.echo(
-        "structure: " + ", ".join(f"{m + 1} {names[t]}" for m, t in enumerate(result.link_types))
-    )
-    click.echo("table [alpha a theta d type]:")
-    for row in result.table:
-        click.echo("  " + " ".join(f"{v:9.5f}" for v in row[:4]) + f" {int(row[4])}")
-    for deficiency in result.deficiencies:
-        click.echo(f"not determined: {deficiency.description}")
-    worst = max(result.residual_rms.items(), key=lambda item: item[1]["accel_m_s2"])
-    click.echo(
-        f"residual RMS: largest accelerometer {worst[1]['accel_m_s2']:.3g} m/s^2 ({worst[0]}), "
-        f"fit {result.fit['seconds']:.1f} s on {result.fit['samples']} samples"
-    )
-    truth = result.truth
-    if truth is not None:
-        click.echo(
-            f"against the truth: link types {sum(truth.link_types_right)}/6 right, tool tip "
-            f"RMS {truth.tool_tip_rms:.3g} m, max {truth.tool_tip_max:.3g} m, joint axes within "
-            f"{max(truth.axis_angle_max.values(), default=0.0):.3g} rad"
-        )
-
-
-def _write_outputs(result: KinematicIdentification, table: Path | None, urdf: Path | None) -> None:
-    from aaria_pin.files.io import atomic_output, write_text_atomic
-
-    if table is not None:
-        import numpy as np
-
-        with atomic_output(table) as temporary:
-            np.savetxt(temporary, result.table, delimiter=",", fmt="%.17g", header=_TABLE_HEADER)
-    if urdf is not None:
-        from aaria_pin.aaria.dh_robot import build_dh_robot
-
-        poses = [mount.T_parent_imu for mount in result.mounts]
-        robot = build_dh_robot(result.table, imu_mount=poses, name="aaria_identified")
-        write_text_atomic(urdf, robot.urdf)
-
-
-def identify_kinematics_command(
-    file: Path, run_index: int | None, table: Path | None, urdf: Path | None, as_json: bool
-) -> dict[str, Any] | None:
-    """Identify the run, write the outputs, print the result (or return it for ``--json``)."""
-    from aaria_pin.apps.identify.kinematics import identify_kinematics
-    from aaria_pin.errors import ParameterError
-    from aaria_pin.files.dataset_file import is_dataset_file
-
-    if is_dataset_file(file):
-        if run_index is None:
-            raise ParameterError(parameter="run", value=None, allowed="a run index for a data set")
-        from aaria_pin.files.dataset_reader import DatasetReader
-
-        with DatasetReader(file) as reader:
-            record = reader.record(run_index)
-    else:
-        from aaria_pin.files.runfile import read_run
-
-        record = read_run(file)
-    result = identify_kinematics(record)
-    _write_outputs(result, table, urdf)
-    if as_json:
-        return result.to_json()
-    _print(result)
-    return None
-
+    from aaria_pin.apps.identify.request import IdentifyOutcome
 
 _MODES_HELP = """
 \b
@@ -96,28 +23,24 @@ Examples:
 """
 
 
-def _check_modes(
-    files: tuple[Path, ...],
-    dynamics: bool,
-    dataset: bool,
-    run_index: int | None,
-    urdf: Path | None,
-    plot: Path | None,
-) -> None:
-    """Refuse options of another mode (one line, exit 2)."""
-    if not files:
-        raise click.UsageError("no FILE given; allowed: a run file, or data sets with --dataset")
-    if not dataset:
-        if len(files) > 1:
-            raise click.UsageError(
-                f"{len(files)} files given; allowed: one run file, or data sets with --dataset"
-            )
-        if plot is not None:
-            raise click.UsageError("--plot is for --dataset")
-    elif run_index is not None:
-        raise click.UsageError("--run is for one run; --dataset identifies every run")
-    if urdf is not None and (dynamics or dataset):
-        raise click.UsageError("--urdf is for the kinematic identification of one run")
+def _plot_tool_tip_cdf(path: Path, outcome: IdentifyOutcome) -> None:
+    """The CDF of the tool-tip RMS error per group (log scale) to a picture."""
+    from aaria_pin.apps.identify.benchmark import WITHIN, tool_tip_cdf
+    from aaria_pin.viz._figure import figure_file
+
+    with figure_file(path, 800, 500, layout="constrained") as figure:
+        axes = figure.add_subplot()
+        for label, errors, share in tool_tip_cdf(outcome.runs, outcome.groups):
+            axes.step(errors, share, where="post", label=label)
+        for threshold in WITHIN:
+            axes.axvline(threshold, color="0.6", linestyle=":", linewidth=1)
+        axes.set_xscale("log")
+        axes.set_ylim(0.0, 1.0)
+        axes.set_xlabel("tool-tip position RMS error over the run [m]")
+        axes.set_ylabel("share of arms")
+        axes.set_title("aaria identify: kinematic identification against the truth")
+        axes.grid(True, which="both", alpha=0.3)
+        axes.legend(loc="lower right")
 
 
 @click.command(epilog=_MODES_HELP)
@@ -147,17 +70,11 @@ def _check_modes(
 @click.option(
     "--holdout",
     type=click.FloatRange(0.0, 0.9),
-    default=0.2,
-    show_default=True,
-    help="--dynamics: share of the run, at its end, held out of the fit.",
+    help="--dynamics: share of the run, at its end, held out of the fit.  [default: 0.2]",
 )
 @click.option("--parameters", is_flag=True, help="--dynamics: print every base parameter.")
 @click.option(
-    "--workers",
-    type=click.IntRange(1, 1024),
-    default=1,
-    show_default=True,
-    help="--dataset: processes [cores].",
+    "--workers", type=click.IntRange(1, 1024), help="--dataset: processes [cores].  [default: 1]"
 )
 @click.option("--limit", type=click.IntRange(1), help="--dataset: at most N runs of each data set.")
 @click.option(
@@ -173,9 +90,9 @@ def identify(
     run_index: int | None,
     output: Path | None,
     urdf: Path | None,
-    holdout: float,
+    holdout: float | None,
     parameters: bool,
-    workers: int,
+    workers: int | None,
     limit: int | None,
     plot: Path | None,
     as_json: bool,
@@ -196,46 +113,26 @@ def identify(
     the accuracy against the truth by noise, run length and rate: link types right, tool-tip
     RMS error median, 95th percentile and largest, share within 1 mm and 1 cm, seconds per arm.
     """
-    _check_modes(files, dynamics, dataset, run_index, urdf, plot)
-    if dataset:
-        from aaria_pin.cli._identify_dataset import dataset_command
+    from aaria_pin.apps.identify.request import IdentifyRequest, identify_files
 
-        if output is not None:
-            check_output(output, "JSON report", (".json",))
-        if plot is not None:
-            from aaria_pin.viz._formats import PICTURE_SUFFIXES
+    request = IdentifyRequest(
+        files,
+        dynamics=dynamics,
+        dataset=dataset,
+        run=run_index,
+        output=output,
+        urdf=urdf,
+        holdout=holdout,
+        parameters=parameters,
+        workers=workers,
+        limit=limit,
+        plot=plot,
+    )
+    if plot is not None:
+        from aaria_pin.viz._formats import PICTURE_SUFFIXES
 
-            check_output(plot, "picture", tuple(PICTURE_SUFFIXES))
-        dataset_command(
-            files,
-            workers=workers,
-            dynamics=dynamics,
-            limit=limit,
-            as_json=as_json,
-            output=output,
-            plot=plot,
-        )
-        return
-    (file,) = files
-    check_run_option(file, run_index)
-    if dynamics:
-        from aaria_pin.cli._identify_dynamics import dynamics_command
-
-        if output is not None:
-            check_output(output, "JSON report", (".json",))
-        dynamics_command(
-            file,
-            run_index,
-            holdout=holdout,
-            as_json=as_json,
-            output=output,
-            show_parameters=parameters,
-        )
-        return
-    if output is not None:
-        check_output(output, "CSV table", (".csv",))
-    if urdf is not None:
-        check_output(urdf, "URDF", (".urdf",))
-    report = identify_kinematics_command(file, run_index, output, urdf, as_json)
-    if report is not None:
-        click.echo(json.dumps(report))
+        check_output(plot, "picture", tuple(PICTURE_SUFFIXES))
+    outcome = identify_files(request)
+    if plot is not None:
+        _plot_tool_tip_cdf(plot, outcome)
+    click.echo(json.dumps(outcome.report) if as_json else "\n".join(outcome.lines))

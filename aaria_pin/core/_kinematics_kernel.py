@@ -6,8 +6,8 @@ in each joint's own axes, as Pinocchio does: angular velocity ``w``, angular acc
 and proper acceleration ``f`` (classical acceleration minus gravity) of each joint frame, plus
 its world rotation and position; then it reads the requested frames off their joints.
 
-The trajectory kernels (:func:`sine_columns`, :func:`base_kinematics`,
-:func:`gimbal_kinematics`) and the noise pass (:func:`measure_noise`) replaced numpy array code
+The trajectory kernels (:func:`sine_columns`, :func:`base_kinematics` and its
+:func:`_gimbal`) and the noise pass (:func:`measure_noise`) replaced numpy array code
 whose numbers the 0.1 fixtures hold: they are compiled ``exact`` (no fastmath), repeat its
 operations in its order, and call ``sin``/``cos``, which on the project's machine give numpy's
 numbers bit for bit (4 million arguments up to 10⁵ rad checked; ``tests/core/
@@ -353,28 +353,6 @@ def base_kinematics(  # type: ignore[no-untyped-def]  # pragma: no cover
             gimbal[6],
             gimbal[7],
             gimbal[8],
-            rotation[t],
-            omega[t],
-            omega_dot[t],
-        )
-
-
-@kernel(exact=True)
-def gimbal_kinematics(  # type: ignore[no-untyped-def]  # pragma: no cover
-    angles, rates, accelerations, rotation, omega, omega_dot
-):
-    """X-Y-Z gimbal rotation, body rates and their derivative for every sample (:func:`_gimbal`)."""
-    for t in range(angles.shape[0]):
-        _gimbal(
-            angles[t, 0],
-            angles[t, 1],
-            angles[t, 2],
-            rates[t, 0],
-            rates[t, 1],
-            rates[t, 2],
-            accelerations[t, 0],
-            accelerations[t, 1],
-            accelerations[t, 2],
             rotation[t],
             omega[t],
             omega_dot[t],

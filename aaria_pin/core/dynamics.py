@@ -16,7 +16,7 @@ from aaria_pin.core.model import RobotModel
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 
-__all__ = ["batched_rnea", "inverse_dynamics", "reference_inverse_dynamics"]
+__all__ = ["batched_rnea", "inverse_dynamics"]
 
 
 def batched_rnea(model: pin.Model, q: Array, v: Array, a: Array, threads: int = 1) -> Array:
@@ -72,13 +72,3 @@ def inverse_dynamics(
     """
     q, v, a = full_state(robot, base, trajectory)
     return _split(robot, base, batched_rnea(robot.model, q, v, a, threads))
-
-
-def reference_inverse_dynamics(
-    robot: RobotModel, base: BaseMotion, trajectory: JointTrajectory
-) -> tuple[Array, Array]:
-    """The same as :func:`inverse_dynamics`, one ``pinocchio.rnea`` call per sample."""
-    data = robot.model.createData()
-    q, v, a = full_state(robot, base, trajectory)
-    generalized = np.array([pin.rnea(robot.model, data, *x) for x in zip(q, v, a, strict=True)])
-    return _split(robot, base, generalized)

@@ -8,8 +8,8 @@ revolute and prismatic joints about any axis and a free-flyer root that carries 
 base motion. One Python call per trajectory, not per sample: a per-sample loop over
 Pinocchio's frame functions costs about 70 times the batched RNEA.
 
-:func:`reference_imu_signals` and :func:`reference_frame_poses` compute the same quantities one
-sample at a time with Pinocchio's frame algorithms; the tests hold the two paths equal.
+The tests hold it equal to Pinocchio's frame algorithms called one sample at a time (their
+oracle, ``tests/pinocchio_oracles.py``).
 
 An IMU reports angular velocity and specific force (the frame origin's acceleration minus
 gravity), both in its own axes.
@@ -34,8 +34,6 @@ __all__ = [
     "imu_signals",
     "joint_configuration",
     "joint_kind",
-    "reference_frame_poses",
-    "reference_imu_signals",
     "trajectory_signals",
 ]
 
@@ -80,7 +78,10 @@ def joint_kind(joint: pin.JointModel) -> tuple[str, Array]:
             if suffix in ("evoluteUnaligned", "evoluteUnboundedUnaligned", "rismaticUnaligned"):
                 return kind, _unaligned_axis(joint, kind)
     raise ModelError(
-        f"joint type {name} is not supported; allowed: revolute, prismatic, free-flyer"
+        f"joint type {name} is not supported; allowed: revolute, prismatic, free-flyer",
+        parameter="joint",
+        value=name,
+        allowed="revolute, prismatic, free-flyer",
     )
 
 
@@ -137,7 +138,13 @@ def _check_shapes(robot: RobotModel, base: BaseMotion, trajectory: JointTrajecto
     for name in ("q", "qd", "qdd"):
         shape = np.shape(getattr(trajectory, name))
         if shape != expected:
-            raise ModelError(f"trajectory {name} has shape {shape}; allowed: {expected}")
+            raise ModelError(
+                f"trajectory {name} has shape {shape}; allowed: {expected}",
+                parameter="trajectory",
+                value=shape,
+                allowed=str(expected),
+                element=name,
+            )
     if robot.moving_base:
         for name, tail in (
             ("rotation", (3, 3)),
@@ -149,7 +156,13 @@ def _check_shapes(robot: RobotModel, base: BaseMotion, trajectory: JointTrajecto
         ):
             shape = np.shape(getattr(base, name))
             if shape != (n, *tail):
-                raise ModelError(f"base {name} has shape {shape}; allowed: {(n, *tail)}")
+                raise ModelError(
+                    f"base {name} has shape {shape}; allowed: {(n, *tail)}",
+                    parameter="base",
+                    value=shape,
+                    allowed=str((n, *tail)),
+                    element=name,
+                )
 
 
 def trajectory_signals(
@@ -201,7 +214,10 @@ def trajectory_signals(
     ):
         raise ModelError(
             f"imu_out of shape {imu_out.shape} and slots {slots.tolist()} do not fit"
-            f" {len(imu_frames)} IMUs over {n} samples"
+            f" {len(imu_frames)} IMUs over {n} samples",
+            parameter="imu_out",
+            value=imu_out.shape,
+            allowed=f"({n}, >= {len(imu_frames)}, 6) with a slot per IMU frame",
         )
     poses = np.empty((n, len(pose_frames), 4, 4))
     q, qd, qdd = (
@@ -311,39 +327,4 @@ def joint_configuration(robot: RobotModel, joint_values: Array) -> Array:
             out[:, start + 1] = np.sin(joint_values[:, column])
         else:
             out[:, start] = joint_values[:, column]
-    return out
-
-
-def reference_imu_signals(
-    robot: RobotModel, base: BaseMotion, trajectory: JointTrajectory, frames: Sequence[str]
-) -> Array:
-    """The same as :func:`imu_signals`, one Pinocchio call per sample (the slow reference)."""
-    model = robot.model
-    data = model.createData()
-    q, v, a = full_state(robot, base, trajectory)
-    ids = [robot.frame_id(name) for name in frames]
-    out = np.empty((q.shape[0], len(ids), 6))
-    for k in range(q.shape[0]):
-        pin.forwardKinematics(model, data, q[k], v[k], a[k])
-        for f, frame_id in enumerate(ids):
-            R = pin.updateFramePlacement(model, data, frame_id).rotation
-            out[k, f, :3] = pin.getFrameVelocity(model, data, frame_id, pin.LOCAL).angular
-            acc = pin.getFrameClassicalAcceleration(model, data, frame_id, pin.LOCAL).linear
-            out[k, f, 3:] = acc - R.T @ model.gravity.linear
-    return out
-
-
-def reference_frame_poses(
-    robot: RobotModel, base: BaseMotion, trajectory: JointTrajectory, frames: Sequence[str]
-) -> Array:
-    """The same as :func:`frame_poses`, one Pinocchio call per sample (the slow reference)."""
-    model = robot.model
-    data = model.createData()
-    q, _, _ = full_state(robot, base, trajectory)
-    ids = [robot.frame_id(name) for name in frames]
-    out = np.empty((q.shape[0], len(ids), 4, 4))
-    for k in range(q.shape[0]):
-        pin.framesForwardKinematics(model, data, q[k])
-        for f, frame_id in enumerate(ids):
-            out[k, f] = data.oMf[frame_id].homogeneous
     return out

@@ -25,7 +25,6 @@ __all__ = [
     "MAX_STREAMED_SAMPLES",
     "BaseMotion",
     "JointTrajectory",
-    "gimbal_xyz_motion",
     "piece_times",
     "reference_sine_motion",
     "sample_count",
@@ -232,41 +231,3 @@ class BaseMotion:
         T[:, :3, 3] = self.position
         T[:, 3, 3] = 1.0
         return T
-
-
-def gimbal_xyz_motion(
-    angles: Array, rates: Array, accelerations: Array
-) -> tuple[Array, Array, Array]:
-    """Rotation, body angular velocity and its derivative of an X-Y-Z gimbal.
-
-    The gimbal turns about x, then the new y, then the newer z:
-    ``R = Rx(ax) · Ry(ay) · Rz(az)``.
-
-    Args:
-        angles: gimbal angles (ax, ay, az), shape (T, 3) [rad]
-        rates: their derivatives, shape (T, 3) [rad/s]
-        accelerations: their second derivatives, shape (T, 3) [rad/s²]
-
-    Returns:
-        ``R_world_base`` (T, 3, 3), angular velocity (T, 3) [rad/s] and angular acceleration
-        (T, 3) [rad/s²], both in the rotated (body) axes.
-    """
-    from aaria_pin.core._kinematics_kernel import gimbal_kinematics
-
-    n = angles.shape[0]
-    for name, value in (("angles", angles), ("rates", rates), ("accelerations", accelerations)):
-        if np.shape(value) != (n, 3):
-            raise ParameterError(
-                f"gimbal {name} have shape {np.shape(value)}; allowed: ({n}, 3)",
-                parameter=name,
-                value=np.shape(value),
-                allowed=f"({n}, 3)",
-            )
-    R, omega, omega_dot = np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((n, 3))
-    gimbal_kinematics(
-        *(np.ascontiguousarray(x, dtype=float) for x in (angles, rates, accelerations)),
-        R,
-        omega,
-        omega_dot,
-    )
-    return R, omega, omega_dot

@@ -112,6 +112,9 @@ def test_dataset_benchmark_table_report_and_plot(tiny_dataset: Path, tmp_path: P
         (["--dynamics", "{run}", "--urdf", "{tmp}/a.urdf"], "--urdf"),
         (["--dynamics", "{ds}"], "--run"),
         (["{run}", "--plot", "{tmp}/cdf.png"], "--plot"),
+        (["{run}", "--holdout", "0.3"], "--holdout is 0.3; allowed: the dynamics only"),
+        (["--dynamics", "{run}", "--workers", "2"], "--workers is 2"),
+        (["--dataset", "{ds}", "--dynamics", "--parameters"], "--parameters"),
         ([], "no FILE"),
     ],
 )

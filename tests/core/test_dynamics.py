@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from conftest import paper_frames
+from pinocchio_oracles import reference_inverse_dynamics
 
 from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
 from aaria_pin.aaria.oscillation import (
@@ -15,7 +16,7 @@ from aaria_pin.aaria.oscillation import (
 )
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
-from aaria_pin.core.dynamics import inverse_dynamics, reference_inverse_dynamics
+from aaria_pin.core.dynamics import inverse_dynamics
 from aaria_pin.core.trajectory import sample_times
 
 g = 9.81

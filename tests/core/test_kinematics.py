@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from conftest import paper_frames
+from pinocchio_oracles import reference_frame_poses, reference_imu_signals
 
 from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.aaria.oscillation import (
@@ -15,7 +16,7 @@ from aaria_pin.aaria.oscillation import (
 )
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
-from aaria_pin.core.kinematics import imu_signals, reference_imu_signals
+from aaria_pin.core.kinematics import imu_signals
 from aaria_pin.core.trajectory import sample_times
 
 G = np.array([0.0, 0.0, -9.81])
@@ -154,7 +155,7 @@ _ODD_AXES_URDF = """<?xml version="1.0"?>
 
 @pytest.mark.parametrize("moving_base", [False, True])
 def test_any_axis_urdf_equals_pinocchio(moving_base: bool) -> None:
-    from aaria_pin.core.kinematics import frame_poses, reference_frame_poses
+    from aaria_pin.core.kinematics import frame_poses
     from aaria_pin.core.model import build_model
     from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 

@@ -100,7 +100,7 @@ def test_an_arm_with_an_empty_module_on_a_fixed_base() -> None:
 
 
 def test_gimbal_coordinates_invert_the_gimbal_motion() -> None:
-    from aaria_pin.core.trajectory import gimbal_xyz_motion
+    from gimbal_oracle import gimbal_xyz_motion
 
     rng = np.random.default_rng(7)
     angles = rng.uniform(-3.0, 3.0, (500, 3))

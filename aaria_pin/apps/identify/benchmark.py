@@ -29,14 +29,17 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.apps.identify._kin_model import json_number
+from aaria_pin.apps.identify._json import json_number
 
 __all__ = [
+    "WITHIN",
     "RunAccuracy",
+    "accuracy_lines",
     "accuracy_table",
     "benchmark_datasets",
     "group_label",
     "identify_dataset_run",
+    "tool_tip_cdf",
 ]
 
 WITHIN = (1e-3, 1e-2)
@@ -89,7 +92,7 @@ class RunAccuracy:
 
 
 def identify_dataset_run(
-    path: str | os.PathLike[str], run: int, dynamics: bool = False
+    path: str | os.PathLike[str], run: int, dynamics: bool = False, holdout: float = 0.2
 ) -> RunAccuracy:
     """Identify one run of a data set (kinematics, and with ``dynamics`` the inertial parameters).
 
@@ -99,12 +102,13 @@ def identify_dataset_run(
     Args:
         path: the data set
         run: the run's index
-        dynamics: also identify the base inertial parameters (held-out 20 % at the end)
+        dynamics: also identify the base inertial parameters
+        holdout: with ``dynamics``, the share of the run, at its end, held out of the fit
 
     Returns:
         The run's accuracy.
     """
-    from aaria_pin.apps.identify.kinematics import identify_kinematics
+    from aaria_pin.apps.identify.geometry import identify_kinematics
     from aaria_pin.errors import AariaError
     from aaria_pin.files.dataset_reader import DatasetReader
 
@@ -144,10 +148,10 @@ def identify_dataset_run(
     dynamics_error: float | None = None
     dynamics_seconds: float | None = None
     if dynamics:
-        from aaria_pin.apps.identify.dynamics import identify_dynamics
+        from aaria_pin.apps.identify.inertial import identify_dynamics
 
         started = time.perf_counter()
-        worst = identify_dynamics(record).worst_holdout_relative_rms
+        worst = identify_dynamics(record, holdout=holdout).worst_holdout_relative_rms
         dynamics_seconds = time.perf_counter() - started
         dynamics_error = json_number(worst)
     return RunAccuracy(
@@ -162,7 +166,7 @@ def identify_dataset_run(
     )
 
 
-def _identify_task(task: tuple[str, int, bool]) -> RunAccuracy:
+def _identify_task(task: tuple[str, int, bool, float]) -> RunAccuracy:
     return identify_dataset_run(*task)
 
 
@@ -173,6 +177,7 @@ def benchmark_datasets(
     dynamics: bool = False,
     limit: int | None = None,
     progress: Callable[[RunAccuracy], None] | None = None,
+    holdout: float = 0.2,
 ) -> list[RunAccuracy]:
     """Identify every complete run of each data set, in a pool of ``workers`` processes.
 
@@ -182,6 +187,7 @@ def benchmark_datasets(
         dynamics: also identify the base inertial parameters of each run
         limit: at most this many complete runs of each data set (the first ones)
         progress: called with each run's result as it arrives
+        holdout: with ``dynamics``, the share of each run held out of the fit
 
     Returns:
         One result per run, in data set and run order.
@@ -197,7 +203,7 @@ def benchmark_datasets(
         raise ParameterError(
             f"limit is {limit}; allowed: at least 1", parameter="limit", value=limit, allowed=">= 1"
         )
-    tasks: list[tuple[str, int, bool]] = []
+    tasks: list[tuple[str, int, bool, float]] = []
     for path in paths:
         with DatasetReader(path) as reader:
             kind = reader.attributes.get("kind")
@@ -209,17 +215,17 @@ def benchmark_datasets(
                     allowed="a data set of DH arms",
                 )
             runs = [int(k) for k in np.flatnonzero(reader.complete)]
-        tasks += [(str(path), k, dynamics) for k in runs[:limit]]
+        tasks += [(str(path), k, dynamics, holdout) for k in runs[:limit]]
     results: list[RunAccuracy] = []
     for result in _run_tasks(tasks, workers):
         if progress is not None:
             progress(result)
         results.append(result)
-    order = {(path, run): i for i, (path, run, _) in enumerate(tasks)}
+    order = {(path, run): i for i, (path, run, *_) in enumerate(tasks)}
     return sorted(results, key=lambda r: order[(r.dataset, r.run)])
 
 
-def _run_tasks(tasks: list[tuple[str, int, bool]], workers: int) -> Iterable[RunAccuracy]:
+def _run_tasks(tasks: list[tuple[str, int, bool, float]], workers: int) -> Iterable[RunAccuracy]:
     """Results in completion order: in this process, or from a process pool (fork on Linux)."""
     if workers <= 1 or len(tasks) <= 1:
         yield from map(_identify_task, tasks)
@@ -291,3 +297,62 @@ def group_label(group: dict[str, Any]) -> str:
     """A short label of a group: ``"noise, 30 s at 200 Hz"``."""
     noise = "ADIS16485 noise" if group["noise"] else "no noise"
     return f"{noise}, {group['duration_s']:g} s at {group['rate_hz']:g} Hz"
+
+
+def _mm(value: float | None) -> str:
+    return "-" if value is None else f"{value * 1e3:.3g}"
+
+
+def accuracy_lines(groups: Sequence[dict[str, Any]]) -> list[str]:
+    """An :func:`accuracy_table` as lines of a text table (a header, then a line per group)."""
+    width = max([len(group_label(g)) for g in groups] + [5])
+    dynamics = any("dynamics_holdout_relative_rms_median" in g for g in groups)
+    header = (
+        f"{'group':<{width}} {'arms':>5} {'failed':>6} {'types right':>11} "
+        f"{'tool tip RMS [mm]: median':>25} {'p95':>7} {'max':>7} {'<=1 mm':>7} {'<=1 cm':>7} "
+        f"{'s/arm':>6}"
+    )
+    lines = [header + (f" {'torque held-out rel. RMS':>24}" if dynamics else "")]
+    for g in groups:
+        line = (
+            f"{group_label(g):<{width}} {g['runs']:>5} {g['failed']:>6} "
+            f"{g['link_types_right_share']:>11.1%} {_mm(g['tool_tip_rms_median_m']):>25} "
+            f"{_mm(g['tool_tip_rms_p95_m']):>7} {_mm(g['tool_tip_rms_max_m']):>7} "
+            f"{g['within_1mm_share']:>7.1%} {g['within_1cm_share']:>7.1%} "
+            f"{g['seconds_median']:>6.1f}"
+        )
+        if dynamics:
+            value = g.get("dynamics_holdout_relative_rms_median")
+            line += f" {'-' if value is None else format(value, '.3g'):>24}"
+        lines.append(line)
+    return lines
+
+
+def tool_tip_cdf(
+    runs: Sequence[RunAccuracy], groups: Sequence[dict[str, Any]]
+) -> list[tuple[str, Any, Any]]:
+    """The cumulative distribution of the tool-tip RMS error per group, to plot (log scale).
+
+    Args:
+        runs: the runs' results (:func:`benchmark_datasets`)
+        groups: their groups (:func:`accuracy_table`)
+
+    Returns:
+        Per group its label, the sorted finite errors [m] (at least 1e-9) and the share of
+        the group's arms at or below each (a failed run counts as infinitely wrong).
+    """
+    curves = []
+    for g in groups:
+        key = (g["noise"], g["duration_s"], g["rate_hz"])
+        errors = np.sort(
+            [
+                r.tool_tip_rms if np.isfinite(r.tool_tip_rms) else np.inf
+                for r in runs
+                if (r.noise, r.duration, r.rate) == key
+            ]
+        )
+        share = np.arange(1, errors.size + 1) / errors.size
+        finite = np.isfinite(errors)
+        label = f"{group_label(g)} ({g['runs']} arms)"
+        curves.append((label, np.maximum(errors[finite], 1e-9), share[finite]))
+    return curves

@@ -19,12 +19,12 @@ against it).
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 
 import numpy as np
 
 from aaria_pin.aaria.dh import R_WORLD_DH
-from aaria_pin.apps.identify._kin_model import (
+from aaria_pin.apps.identify.geometry_model import (
     ArmLayout,
     KinematicData,
     mount_signal,
@@ -33,7 +33,15 @@ from aaria_pin.apps.identify._kin_model import (
 )
 from aaria_pin.core.se3 import Array
 
-__all__ = ["detect_kind", "initial_parameters", "kabsch", "rotation_vector"]
+__all__ = [
+    "INIT_SAMPLES",
+    "detect_kind",
+    "initial_parameters",
+    "kabsch",
+    "other_starts",
+    "rotation_vector",
+    "start_parameters",
+]
 
 _GRID = (0.0, np.pi / 2, -np.pi / 2, np.pi)
 _FORCE_WEIGHT = 0.05  # rad/s per m/s² when specific forces help fix a mounting rotation
@@ -41,6 +49,10 @@ _SPREAD = 0.01  # second over first singular value of the rates: they span two d
 _RCOND = 1e-6  # relative singular value below which a length combination is left at 0
 _PASSES = 3  # Procrustes and lengths in turn, when forces fix a rotation
 _NEGATIVE_A = -0.02  # [m] a link length below this marks a candidate as the wrong branch
+_NEGATIVE_START = 1e-3  # [m] a start length below minus this is invalid
+_THETA_GRID = (0.0, np.pi / 2, np.pi, -np.pi / 2)  # prismatic thetas tried as other starts
+INIT_SAMPLES = 400
+"""Samples of the closed-form start, spread over the run."""
 
 
 def detect_kind(omega_child: Array, omega_parent: Array, qd: Array) -> tuple[str, float]:
@@ -320,3 +332,88 @@ def initial_parameters(
         x = best[1]
     residual = fitter.residual(x, range(len(layout.imus)))
     return x, float(residual @ residual)
+
+
+def _quarter_turns(
+    layout: ArmLayout, data: KinematicData, measured: Array, weights: Array
+) -> Iterator[list[tuple[Array, float]]]:
+    """Per prismatic module (lazily), its starts with theta forced to each quarter turn.
+
+    Each is :func:`initial_parameters` with that theta forced, and its cost.
+    """
+    for index, kind in enumerate(layout.kinds):
+        if kind == "prismatic":
+            yield [
+                initial_parameters(layout, data, measured, weights, forced={index: theta})
+                for theta in _THETA_GRID
+            ]
+
+
+def start_parameters(
+    layout: ArmLayout, data: KinematicData, measured: Array, weights: Array, lengths: Sequence[int]
+) -> Array:
+    """The closed-form start; if it has a negative length, the best start with one forced theta.
+
+    Equivalent tables form families the start's greedy choice of a prismatic module's theta
+    can land in on the wrong side (a negative d further on); one forced quarter turn of one
+    prismatic theta at a time usually reaches the valid side, where the fit need not walk.
+
+    Args:
+        layout: the arm's modules and IMUs
+        data: the base motion and joint motions (a subsample of the run)
+        measured: the measured signals of :attr:`ArmLayout.imus`, T × S × 6
+        weights: the weight of each signal, 6
+        lengths: indices of the parameters that are lengths (must not be negative)
+
+    Returns:
+        The start's parameter vector.
+    """
+    x, cost = initial_parameters(layout, data, measured, weights)
+    negative = int(np.sum(x[lengths] < -_NEGATIVE_START))
+    if not negative:
+        return x
+    best = ((negative, cost), x)
+    ceiling = 10.0 * cost + measured.size  # an equivalent start fits as well as the first
+    for trials in _quarter_turns(layout, data, measured, weights):
+        for trial, trial_cost in trials:
+            key = (int(np.sum(trial[lengths] < -_NEGATIVE_START)), trial_cost)
+            if trial_cost <= ceiling and key < best[0]:
+                best = (key, trial)
+        if best[0][0] == 0:
+            break
+    return best[1]
+
+
+def other_starts(
+    layout: ArmLayout,
+    data: KinematicData,
+    measured: Array,
+    weights: Array,
+    spread: Callable[[int], Array],
+    first: Array,
+) -> list[Array]:
+    """Starts other than the first, each once.
+
+    Each prismatic module's theta forced to each quarter turn (the gyroscopes cannot give it),
+    and the closed-form start from four times the samples (noise sways its greedy choices).
+
+    Args:
+        layout: the arm's modules and IMUs
+        data: the base motion and joint motions over the run
+        measured: the measured signals of :attr:`ArmLayout.imus`, T × S × 6
+        weights: the weight of each signal, 6
+        spread: sample count → that many sample indices spread evenly over the run
+        first: the first start (left out)
+
+    Returns:
+        The other starts' parameter vectors.
+    """
+    starts: list[Array] = []
+    index = spread(INIT_SAMPLES)
+    part, part_measured = data.subsample(index), measured[index]
+    for trials in _quarter_turns(layout, part, part_measured, weights):
+        starts += [trial for trial, _ in trials]
+    more = spread(4 * INIT_SAMPLES)
+    trial, _ = initial_parameters(layout, data.subsample(more), measured[more], weights)
+    starts.append(trial)
+    return [z for z in starts if not any(np.allclose(z, y) for y in [first, *starts[:0]])]

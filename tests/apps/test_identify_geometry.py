@@ -26,8 +26,8 @@ from aaria_pin.aaria.randomize import (
     random_joint_table,
 )
 from aaria_pin.aaria.simulate import simulate_run
-from aaria_pin.apps.identify._kin_init import detect_kind
-from aaria_pin.apps.identify.kinematics import identify_kinematics
+from aaria_pin.apps.identify import identify_kinematics
+from aaria_pin.apps.identify.geometry_start import detect_kind
 from aaria_pin.cli.identify_cmd import identify
 from aaria_pin.core.record import ImuMount, RunRecord
 from aaria_pin.core.seeds import RunSeeds
@@ -195,7 +195,7 @@ def test_noisy_arm_leaves_a_local_minimum() -> None:
 def test_smoothed_derivative_of_a_noisy_sine() -> None:
     # against the analytic derivative: a slow and a fast sine under white noise, both within
     # 1.5 % of their amplitude (a plain difference quotient: 0.14 rad/s², 30 times more)
-    from aaria_pin.apps.identify.kinematics import _smoothed
+    from aaria_pin.apps.identify.geometry_signals import smoothed as _smoothed
 
     rng = np.random.default_rng(3)
     time = np.arange(6001) / 200.0

@@ -11,13 +11,13 @@ from dataclasses import replace
 import numpy as np
 import pinocchio as pin
 import pytest
+from pinocchio_oracles import reference_torque_regressor
 
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
-from aaria_pin.apps.identify.dynamics import (
+from aaria_pin.apps.identify import (
     base_parameters,
     identify_dynamics,
-    reference_torque_regressor,
     standard_parameters,
     torque_regressor,
 )
@@ -235,24 +235,6 @@ def test_the_estimate_follows_the_data_not_the_urdf(ur5_record):
     assert result.total_mass == pytest.approx(1.1 * result.total_mass_model, rel=1e-9)
     scale = np.maximum(np.abs(result.model_values), 1.0)  # kg, kg·m, kg·m²
     assert np.all(np.abs(result.estimate - 1.1 * result.model_values) <= 1e-6 * scale)
-
-
-def test_command_prints_and_writes_the_report(tmp_path, fig3_record, capsys):
-    from aaria_pin.cli._identify_dynamics import dynamics_command
-    from aaria_pin.files.runfile import write_run
-
-    run = write_run(tmp_path / "run.h5", fig3_record)
-    out = tmp_path / "report.json"
-    report = dynamics_command(run, holdout=0.2, as_json=True, output=out)
-    printed = json.loads(capsys.readouterr().out)
-    assert printed == report == json.loads(out.read_text())
-    assert printed["worst_holdout_relative_rms"] <= 1e-6
-    dynamics_command(run, show_parameters=True)
-    text = capsys.readouterr().out
-    assert "total mass:" in text and "held-out rel. RMS" in text and " = " in text
-    with pytest.raises(ParameterError) as error:
-        dynamics_command(run, 3)
-    assert error.value.parameter == "run"
 
 
 def test_a_fixed_base_with_its_mount_load_recovers_the_mass():

@@ -125,11 +125,6 @@ def rotation_from_vector(vector: Array) -> Array:
     return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
 
 
-def json_number(value: float) -> float | None:
-    """A finite number as a float, anything else (NaN, ±inf) as None (JSON has no NaN)."""
-    return float(value) if np.isfinite(value) else None
-
-
 def wrap_angle(angle: float) -> float:
     """An angle in [-π, π) [rad]."""
     return float((angle + np.pi) % (2 * np.pi) - np.pi)

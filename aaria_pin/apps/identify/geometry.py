@@ -1,0 +1,231 @@
+"""Identify an Aaria arm's kinematic model from its IMU signals and joint encoders.
+
+:func:`identify_kinematics` takes a DH run's record and uses only what a real set-up has: the
+sample times, the joint encoder columns ``q``, the IMU signals, which link each IMU is on
+(``imu_mounts[i].parent``), and nothing of the DH table, the IMU mounting poses, the tool pose or
+the base pose. It estimates
+
+1. the structure: each module empty (its encoder does not move and no IMU sits on its link),
+   revolute or prismatic (:func:`~aaria_pin.apps.identify.geometry_start.detect_kind`);
+2. a start in closed form (joint axes from gyroscope differences, lengths by linear least
+   squares; :func:`~aaria_pin.apps.identify.geometry_start.initial_parameters`);
+3. the extended DH table (per module ``alpha, a`` and ``d`` or ``theta``, the tool length) and
+   each link IMU's mounting pose, by nonlinear least squares
+   (Levenberg–Marquardt) of predicted minus measured IMU signals over the run, on the exact
+   model (:func:`~aaria_pin.apps.identify.geometry_model.predict_signals`, a whole-run
+   forward pass of rates and specific forces), each signal weighted by 1 / its noise level
+   (the record's noise parameters, else ADIS16485's). A fit that ends above the noise floor
+   is a local minimum: other starts (each prismatic theta forced to each quarter turn, the
+   closed-form start from more samples) are walked, the best few fitted, the smallest
+   residual kept, stopping at the floor. On noisy records the base IMU's signals, inputs of
+   the model, are smoothed and differentiated with windows the data choose
+   (:func:`~aaria_pin.apps.identify.geometry_signals.smoothed`);
+4. each parameter's standard deviation from the Jacobian at the solution, the residual RMS per
+   IMU, the parameter combinations the data cannot determine (the Jacobian's null space, named
+   in words: "d2 and d3 add up (only d2 + d3 is determined)"), and, when the record holds the
+   truth, the errors: link types, the tool tip's position over the run from an independent
+   forward kinematics (Pinocchio, :func:`~aaria_pin.core.kinematics.trajectory_signals`) of the
+   estimated and the true table, and the joint axes' angles.
+
+What the set-up defines rather than measures: the **base IMU's frame is the base frame** and the
+**tool IMU's frame is the tool-tip frame** (as Aaria mounts them: ``imu_base`` at the base origin,
+``imu_tool`` at the tool tip, both unrotated). A real arm has no other physical marker of either
+frame, so these two mounts are not estimated (identity); the link IMUs' mounts are. The base
+may move: its angular velocity and the specific force at its origin are the base IMU's signals,
+its angular acceleration their spline derivative; the base pose is never used. Joint velocities
+and accelerations are the derivatives of a quintic spline through the encoder values.
+
+DH tables are not unique (the same arm has several): compare tool-tip trajectories and joint
+axes, not table entries. A revolute module's ``theta`` and a prismatic module's rail length
+``d`` do not act on the kinematics; the table gives 0 and the shortest rail the encoder's range
+fits in. The base row (row 8) is unused by the kinematics (zeros); the tool row is
+``[0, a7, 0, 0, 1]``.
+"""
+
+from __future__ import annotations
+
+import time as _time
+
+import numpy as np
+
+from aaria_pin.apps.identify.geometry_fit import WeightedFit, deficiencies, non_negative_lengths
+from aaria_pin.apps.identify.geometry_model import ArmLayout, KinematicData, predict_signals
+from aaria_pin.apps.identify.geometry_result import KinematicIdentification
+from aaria_pin.apps.identify.geometry_signals import derivatives, signal_weights, smoothed
+from aaria_pin.apps.identify.geometry_start import INIT_SAMPLES, other_starts, start_parameters
+from aaria_pin.apps.identify.geometry_structure import (
+    arm_layout,
+    estimated_mounts,
+    joint_kinds,
+    length_indices,
+    table_lengths,
+    table_of,
+)
+from aaria_pin.apps.identify.geometry_truth import truth_errors
+from aaria_pin.core.record import RunRecord
+from aaria_pin.core.se3 import Array
+from aaria_pin.errors import ParameterError
+
+__all__ = ["identify_kinematics"]
+
+_FIT_SAMPLES = 4000  # noisy fits gain from every sample (8.3 mm at 1000 samples, 1.2 mm at 6001)
+_WALK_SAMPLES = 120
+_MIN_SAMPLES = 20
+_AT_FLOOR = 1.1  # a fit whose weighted RMS is within this factor of the noise floor is done
+_EXACT_FLOOR = 1e-3  # the noise floor of a noise-free record (its fits end near 1e-8)
+_REFITS = 3  # other starts fitted on every sample, after their walks
+
+
+def _rms(values: Array) -> float:
+    return float(np.sqrt(np.mean(values**2)))
+
+
+def _measured_data(
+    record: RunRecord, layout: ArmLayout, base: int
+) -> tuple[ArmLayout, KinematicData, Array, Array]:
+    """The layout with its joint kinds, the model's inputs, the measured signals, the weights."""
+    time = np.asarray(record.time, dtype=float)
+    columns = [m - 1 for m in layout.modules]
+    q = np.asarray(record.q, dtype=float)[:, columns]
+    qd, qdd = derivatives(time, q, 2)
+    layout = ArmLayout(
+        layout.modules, joint_kinds(record, layout, base, qd), layout.link_imus, layout.tool_imu
+    )
+    rate = (time.size - 1) / (time[-1] - time[0])
+    weights = signal_weights(rate, record.attributes.get("noise_parameters"))
+    omega_base = np.asarray(record.imu[:, base, :3], dtype=float)
+    force_base = np.asarray(record.imu[:, base, 3:], dtype=float)
+    if record.attributes.get("noise"):
+        # the base IMU's signals are inputs of the model: smoothed (and differentiated) with
+        # windows the data choose, from the noise level the weights hold
+        omega_dot = smoothed(time, omega_base, 1.0 / weights[0], 1)
+        omega_base = smoothed(time, omega_base, 1.0 / weights[0], 0)
+        force_base = smoothed(time, force_base, 1.0 / weights[3], 0)
+    else:
+        (omega_dot,) = derivatives(time, omega_base, 1)
+    data = KinematicData(omega_base, omega_dot, force_base, q, qd, qdd)
+    measured = np.asarray(record.imu[:, list(layout.imus)], dtype=float)
+    return layout, data, measured, weights
+
+
+def identify_kinematics(
+    record: RunRecord,
+    *,
+    max_fit_samples: int = _FIT_SAMPLES,
+    max_iterations: int = 100,
+    with_truth: bool = True,
+) -> KinematicIdentification:
+    """Identify an Aaria arm's structure, DH table and IMU mounts from a DH run's signals.
+
+    Uses only ``time``, ``q`` (encoders), ``imu`` and each IMU's ``parent`` (module docstring:
+    what is measured, what is defined, the steps).
+
+    Args:
+        record: a DH run's record (``read_run``, ``DatasetReader(...).record(k)``,
+            ``simulate_run``): 6 joint columns by module, a base, a tool and link IMUs
+        max_fit_samples: at most this many samples, evenly spread over the run, enter the
+            nonlinear fit (residual RMS and truth errors use every sample)
+        max_iterations: most Levenberg–Marquardt iterations of the nonlinear fit
+        with_truth: compare with the truth the record holds (``senSenDH``), if any
+
+    Returns:
+        The identification.
+
+    Raises:
+        ParameterError: not a DH run with base and tool IMUs, a moving module without an IMU
+            on its link, no moving module, or fewer than 20 samples.
+    """
+    started = _time.perf_counter()
+    if record.n_samples < _MIN_SAMPLES:
+        raise ParameterError(
+            f"record has {record.n_samples} samples; allowed: at least {_MIN_SAMPLES}",
+            parameter="record",
+            value=record.n_samples,
+            allowed=f"at least {_MIN_SAMPLES} samples",
+        )
+    layout, base = arm_layout(record)
+    layout, data, measured, weights = _measured_data(record, layout, base)
+    n_samples = data.q.shape[0]
+
+    def spread(count: int) -> Array:
+        return np.unique(np.linspace(0, n_samples - 1, min(count, n_samples)).astype(int))
+
+    start = spread(INIT_SAMPLES)
+    lengths = length_indices(layout)
+    problem = WeightedFit(layout, data, measured, weights, lengths)
+    # The walk along equivalent tables takes many short steps and does not need many
+    # samples: it runs on the start's few, then the fit ends on more.
+    walk_index, fit_index = spread(_WALK_SAMPLES), spread(max_fit_samples)
+    # the weights are 1 / the noise level: a fit at the noise floor has a weighted RMS near 1
+    floor = _AT_FLOOR * (1.0 if record.attributes.get("noise") else _EXACT_FLOOR)
+    x0 = start_parameters(layout, data.subsample(start), measured[start], weights, lengths)
+    x, fun, _, walk = problem.fit(x0, x0, walk_index, max_iterations)
+    start_rms = _rms(fun)
+    x, fun, jac, iterations = problem.fit(x, x0, fit_index, max_iterations)
+    starts = 1
+    if _rms(fun) > floor:
+        # a local minimum: other starts (the quarter turns of prismatic thetas the gyroscopes
+        # cannot give, a start from more samples), each walked on few samples; the best few
+        # walks fitted on all, the smallest residual kept, stopping at the noise floor
+        walked: list[tuple[float, int, Array, Array, int]] = []
+        for other in other_starts(layout, data, measured, weights, spread, x0):
+            z, z_fun, _, z_walk = problem.fit(other, other, walk_index, max_iterations)
+            walked.append((_rms(z_fun), len(walked), z, other, z_walk))
+        for z_rms, _, z, other, z_walk in sorted(walked, key=lambda item: item[:2])[:_REFITS]:
+            z, z_fun, z_jac, z_iterations = problem.fit(z, other, fit_index, max_iterations)
+            starts += 1
+            if _rms(z_fun) < _rms(fun):
+                x, fun, jac, iterations, walk, start_rms, x0 = (
+                    z,
+                    z_fun,
+                    z_jac,
+                    z_iterations,
+                    z_walk,
+                    z_rms,
+                    other,
+                )
+            if _rms(fun) <= floor:
+                break
+    names = layout.parameter_names(record.imu_names)
+    found, sigmas, basis = deficiencies(jac, names, layout.n_dh)
+    moved = non_negative_lengths(x, basis, lengths)
+    # a null direction is a symmetry to first order only: keep the move if the signals stay
+    # as well fitted
+    if not np.array_equal(moved, x):
+        if problem.cost(moved, fit_index) <= 1.01 * problem.cost(x, fit_index) + 1e-9 * fun.size:
+            x = moved
+    dof = max(fun.size - int(np.isfinite(sigmas).sum()), 1)
+    sigmas = sigmas * np.sqrt(float(fun @ fun) / dof)
+    predicted, _ = predict_signals(x, layout, data)
+    error = predicted - measured
+    residual_rms = {
+        record.imu_names[imu]: {
+            "gyro_rad_s": float(np.sqrt(np.mean(error[:, slot, :3] ** 2))),
+            "accel_m_s2": float(np.sqrt(np.mean(error[:, slot, 3:] ** 2))),
+        }
+        for slot, imu in enumerate(layout.imus)
+    }
+    table = table_of(layout, x, data.q)
+    fit_summary = {
+        "samples": int(fit_index.size),
+        "iterations": iterations,
+        "walk_iterations": walk,
+        "starts": starts,
+        "walk_rms_weighted": start_rms,
+        "end_rms_weighted": float(np.sqrt(np.mean(fun**2))),
+        "seconds": _time.perf_counter() - started,
+        "valid_table": bool(np.all(table[table_lengths(layout)] >= 0.0)),
+        "defined": "base IMU frame = base frame; tool IMU frame = tool-tip frame",
+    }
+    return KinematicIdentification(
+        table,
+        tuple(int(t) for t in table[:6, 4]),
+        estimated_mounts(record, layout, x),
+        names,
+        x,
+        sigmas,
+        residual_rms,
+        found,
+        truth_errors(record, table) if with_truth else None,
+        fit_summary,
+    )

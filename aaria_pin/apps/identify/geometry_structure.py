@@ -1,0 +1,182 @@
+"""The arm's structure from a record, and the DH table and IMU mounts of a parameter vector.
+
+What the set-up defines rather than measures: the base IMU's frame is the base frame and the
+tool IMU's frame is the tool-tip frame (``imu_base`` at the base origin, ``imu_tool`` at the
+tool tip, both unrotated), so their mounts are identity. A revolute module's ``theta`` and a
+prismatic module's rail length ``d`` do not act on the kinematics; the table gives 0 and the
+shortest rail the encoder's range fits in. The base row (row 8) is zeros; the tool row is
+``[0, a7, 0, 0, 1]``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from aaria_pin.apps.identify.geometry_model import ArmLayout, rotation_from_vector, wrap_angle
+from aaria_pin.apps.identify.geometry_start import detect_kind
+from aaria_pin.core.record import ImuMount, RunRecord
+from aaria_pin.core.se3 import Array
+from aaria_pin.errors import ParameterError
+
+__all__ = [
+    "BASE_PARENT",
+    "TOOL_PARENT",
+    "arm_layout",
+    "estimated_mounts",
+    "joint_kinds",
+    "length_indices",
+    "table_lengths",
+    "table_of",
+]
+
+BASE_PARENT = "base"
+
+
+TOOL_PARENT = "tool_tip"
+
+
+_MOVING = 1e-9  # [rad or m] an encoder whose range is below this does not move
+
+
+_ROUND_UP = 1e-3  # [m] a length this close below 0 is 0
+
+
+def arm_layout(record: RunRecord) -> tuple[ArmLayout, int]:
+    """The arm's structure from the encoders and the IMUs' parents.
+
+    Args:
+        record: a DH run's record: 6 joint columns by module, a base, a tool and link IMUs
+
+    Returns:
+        The layout (joint kinds still unknown: ``""``) and the base IMU's record index.
+
+    Raises:
+        ParameterError: no base or tool IMU, not 6 joint columns, a moving module without an
+            IMU on its link (or one with IMUs that never moves), no moving module.
+    """
+    parents = [mount.parent for mount in record.imu_mounts]
+    for needed in (BASE_PARENT, TOOL_PARENT):
+        if needed not in parents:
+            raise ParameterError(
+                f"record has no IMU on {needed!r}; allowed: a DH run with base and tool IMUs",
+                parameter="record",
+                value=needed,
+                allowed="base and tool IMUs",
+            )
+    base, tool = parents.index(BASE_PARENT), parents.index(TOOL_PARENT)
+    if record.q.shape[1] != 6:
+        raise ParameterError(
+            f"record has {record.q.shape[1]} joint columns; allowed: 6 (a DH run by module)",
+            parameter="record",
+            value=record.q.shape[1],
+            allowed="6 joint columns",
+        )
+    modules, link_imus = [], []
+    for module in range(1, 7):
+        on_link = tuple(i for i, p in enumerate(parents) if p == f"link{module}")
+        moving = float(np.ptp(record.q[:, module - 1])) > _MOVING
+        if not moving and not on_link:
+            continue
+        if not on_link or not moving:
+            problem = "moves but no IMU is on its link" if moving else "has IMUs but never moves"
+            raise ParameterError(
+                f"module {module} {problem}; allowed: a moving joint with an IMU on its link, "
+                "or an empty module",
+                parameter="record",
+                value=f"module {module}",
+                allowed="a moving joint with an IMU on its link, or an empty module",
+            )
+        modules.append(module)
+        link_imus.append(on_link)
+    if not modules:
+        raise ParameterError(
+            "no module moves; allowed: at least one moving joint",
+            parameter="record",
+            allowed="at least one moving joint",
+        )
+    return ArmLayout(tuple(modules), ("",) * len(modules), tuple(link_imus), tool), base
+
+
+def joint_kinds(record: RunRecord, layout: ArmLayout, base: int, qd: Array) -> tuple[str, ...]:
+    """Each module's joint kind from the gyroscopes on either side of it (``detect_kind``).
+
+    Args:
+        record: the run
+        layout: its layout (:func:`arm_layout`)
+        base: the base IMU's record index
+        qd: the layout's joint velocities, T × m
+
+    Returns:
+        ``"revolute"`` or ``"prismatic"`` per module of the layout.
+    """
+    kinds = []
+    for index, group in enumerate(layout.link_imus):
+        parent = base if index == 0 else layout.link_imus[index - 1][0]
+        kind, _ = detect_kind(record.imu[:, group[0], :3], record.imu[:, parent, :3], qd[:, index])
+        kinds.append(kind)
+    return tuple(kinds)
+
+
+def length_indices(layout: ArmLayout) -> list[int]:
+    """Indices of the DH lengths that must not be negative: d (revolute), every a, a7."""
+    out = []
+    for index, kind in enumerate(layout.kinds):
+        if kind == "revolute":
+            out.append(3 * index + 1)
+        out.append(3 * index + 2)
+    out.append(layout.n_dh - 1)
+    return out
+
+
+def table_lengths(layout: ArmLayout) -> tuple[list[int], list[int]]:
+    """Rows and columns of the table's lengths that must not be negative."""
+    rows, columns = [6], [1]
+    for module, kind in zip(layout.modules, layout.kinds, strict=True):
+        rows.append(module - 1)
+        columns.append(1)
+        if kind == "revolute":
+            rows.append(module - 1)
+            columns.append(3)
+    return rows, columns
+
+
+def table_of(layout: ArmLayout, x: Array, q: Array) -> Array:
+    """The 8 × 5 table of a parameter vector (lengths within a millimetre below 0 set to 0)."""
+    x = x.copy()
+    lengths = length_indices(layout)
+    x[lengths] = np.where((x[lengths] < 0) & (x[lengths] > -_ROUND_UP), 0.0, x[lengths])
+    table = np.zeros((8, 5))
+    for index, (module, kind) in enumerate(zip(layout.modules, layout.kinds, strict=True)):
+        alpha, second, a = x[3 * index : 3 * index + 3]
+        if kind == "revolute":
+            table[module - 1] = [wrap_angle(alpha), a, 0.0, second, 1]
+        else:
+            rail = 2.0 * float(np.max(np.abs(q[:, index]))) * (1 + 1e-9)
+            table[module - 1] = [wrap_angle(alpha), a, wrap_angle(second), rail, 2]
+    table[6] = [0.0, x[layout.n_dh - 1], 0.0, 0.0, 1]
+    return table
+
+
+def estimated_mounts(record: RunRecord, layout: ArmLayout, x: Array) -> tuple[ImuMount, ...]:
+    """Every IMU's mount of a parameter vector, in record order.
+
+    The base and tool IMUs are identity (as defined); slots with no predicted IMU get a zero
+    pose and parent ``""``.
+    """
+    poses: dict[int, Array] = {}
+    for index, group in enumerate(layout.link_imus):
+        for position, imu in enumerate(group):
+            offset = layout.mount_offset(index, position)
+            T = np.eye(4)
+            T[:3, :3] = rotation_from_vector(x[offset : offset + 3])
+            T[:3, 3] = x[offset + 3 : offset + 6]
+            poses[imu] = T
+    out = []
+    for i, mount in enumerate(record.imu_mounts):
+        if mount.parent in (BASE_PARENT, TOOL_PARENT):
+            out.append(ImuMount(mount.name, mount.parent, np.eye(4)))
+        elif i in poses:
+            out.append(ImuMount(mount.name, mount.parent, poses[i]))
+        else:
+            out.append(ImuMount(mount.name, "", np.zeros((4, 4))))
+    return tuple(out)

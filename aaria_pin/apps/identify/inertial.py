@@ -1,0 +1,282 @@
+"""Dynamic identification: the inertial base parameters of any robot from a run's torques.
+
+Any :class:`~aaria_pin.core.record.RunRecord` (an Aaria DH arm, a URDF robot; the model is
+rebuilt from the record, :mod:`aaria_pin.apps.record_model`) is identified the same way:
+
+1. **Regressor** (:mod:`~aaria_pin.apps.identify.inertial_regressor`): the torques are linear in
+   the standard inertial parameters, ten per body, ``tau = Y(q, v, a)·pi``, ``Y`` computed for
+   the whole trajectory in two compiled passes. A whole identification of a 30 s run at
+   200 Hz (ur5, ``aaria-fig2``, moving base) takes 0.13 s, most of it the QR. On a moving base
+   (or a fixed one whose mount load was recorded) the free-flyer's six rows are the base
+   wrench: they see every body, the base link included, so the total moving mass and its
+   centre of mass become identifiable.
+2. **Base parameters** (:mod:`~aaria_pin.apps.identify.inertial_base`): QR with column pivoting
+   of the stacked regressor; each base parameter is named after its leading standard
+   parameter and written out as the combination.
+3. **Fit.** Weighted least squares on the training samples (each signal divided by its RMS,
+   so a joint with small torques weighs as much as the base force), standard deviations from
+   the residual variance, and on the held-out samples (the last ``holdout`` fraction of the
+   run) the relative RMS prediction error of each signal
+   (:class:`~aaria_pin.apps.identify.inertial_result.DynamicIdentification`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import fields
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from aaria_pin.apps.identify.inertial_base import (
+    DEFAULT_TOLERANCE,
+    base_parameters,
+    triangular_factor,
+)
+from aaria_pin.apps.identify.inertial_regressor import (
+    body_frames,
+    standard_parameters,
+    torque_regressor,
+)
+from aaria_pin.apps.identify.inertial_result import DynamicIdentification
+from aaria_pin.apps.record_model import record_base, record_columns, record_model
+from aaria_pin.core.record import RunRecord
+from aaria_pin.core.se3 import Array
+from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
+from aaria_pin.errors import ParameterError
+
+if TYPE_CHECKING:  # Pinocchio loads only where a model is used
+    from aaria_pin.core.model import RobotModel
+
+__all__ = ["BASE_WRENCH_SIGNALS", "IDENTIFY_CHUNK", "identify_dynamics"]
+
+BASE_WRENCH_SIGNALS = ("base_fx", "base_fy", "base_fz", "base_mx", "base_my", "base_mz")
+"""The signals of the base wrench rows, base axes about the base origin [N, N·m]."""
+
+IDENTIFY_CHUNK = 2048
+"""Samples per piece of :func:`identify_dynamics` (a piece's regressor of a 6-joint robot on a
+moving base: 2048 × 12 × 70 numbers, 14 MB)."""
+
+
+def _centre_of_mass_rows(robot: RobotModel, trajectory: JointTrajectory) -> Array:
+    """Rows mapping the standard parameters to the robot's first moment, (T, 3, p).
+
+    ``sum_i m_i·p_i``: the whole robot's mass times its centre of mass, about the base origin,
+    base axes.
+    """
+    from aaria_pin.core.kinematics import frame_poses
+
+    joints, _ = body_frames(robot)
+    import pinocchio as pin
+
+    model = pin.Model(robot.model)
+    frames = []
+    for j in joints:
+        name = f"__com_origin_{j}"
+        model.addFrame(pin.Frame(name, j, 0, pin.SE3.Identity(), pin.FrameType.OP_FRAME), False)
+        frames.append(name)
+    from dataclasses import replace
+
+    probe = replace(robot, model=model, sensor_frames=())
+    resting = BaseMotion.resting(trajectory.q.shape[0])  # poses in the base frame
+    poses = frame_poses(probe, resting, trajectory, frames)
+    rows = np.zeros((trajectory.q.shape[0], 3, 10 * len(joints)))
+    for b in range(len(joints)):
+        rows[:, :, 10 * b] = poses[:, b, :3, 3]
+        rows[:, :, 10 * b + 1 : 10 * b + 4] = poses[:, b, :3, :3]
+    return rows
+
+
+def _measured(record: RunRecord, base: BaseMotion, columns: list[int], wrench: bool) -> Array:
+    """The measured generalized forces, (T, nv): base wrench in base axes, then the joints."""
+    tau = np.asarray(record.tau, dtype=float)[:, columns]
+    if not wrench:
+        return tau
+    w = np.asarray(record.base_wrench, dtype=float)
+    force = np.einsum("tji,tj->ti", base.rotation, w[:, :3])  # R_world_baseᵀ · f_world
+    moment = np.einsum("tji,tj->ti", base.rotation, w[:, 3:])
+    return np.hstack([force, moment, tau])
+
+
+def _piece(
+    base: BaseMotion, trajectory: JointTrajectory, start: int, stop: int
+) -> tuple[BaseMotion, JointTrajectory]:
+    """Samples ``start:stop`` of a base motion and a trajectory."""
+    rows = slice(start, stop)
+    return (
+        BaseMotion(*(getattr(base, f.name)[rows] for f in fields(BaseMotion))),
+        JointTrajectory(*(getattr(trajectory, f.name)[rows] for f in fields(JointTrajectory))),
+    )
+
+
+class _Sums:
+    """Running sums of squares per signal, for RMS values over pieces."""
+
+    def __init__(self, n_signals: int) -> None:
+        self.error = np.zeros(n_signals)
+        self.signal = np.zeros(n_signals)
+        self.samples = 0
+
+    def add(self, error: Array, signal: Array) -> None:
+        self.error += np.sum(np.square(error), axis=0)
+        self.signal += np.sum(np.square(signal), axis=0)
+        self.samples += error.shape[0]
+
+    def rms(self) -> tuple[Array, Array]:
+        """Relative and absolute RMS error per signal (NaN without samples or signal)."""
+        if self.samples == 0:
+            nan = np.full(self.error.shape, np.nan)
+            return nan, nan.copy()
+        error = np.sqrt(self.error / self.samples)
+        signal = np.sqrt(self.signal / self.samples)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return error / np.where(signal > 0, signal, np.nan), error
+
+
+def identify_dynamics(
+    record: RunRecord,
+    *,
+    holdout: float = 0.2,
+    tolerance: float = DEFAULT_TOLERANCE,
+    use_base_wrench: bool = True,
+    chunk: int = IDENTIFY_CHUNK,
+) -> DynamicIdentification:
+    """Identify the inertial base parameters of a run's robot from its q, qd, qdd, tau.
+
+    The model (joints, kinematics; its inertias only as the truth reported beside the
+    estimates) and the base motion come from the record. The base wrench enters when the
+    record has one (a moving base, or a fixed base whose mount load was recorded) and
+    ``use_base_wrench``: the free-flyer's rows then identify the total mass and centre of mass.
+
+    The run is processed in pieces of ``chunk`` samples, so memory does not grow with its
+    length: a first pass folds each piece's weighted regressor and measurements ``[W | y]``
+    into the triangular factor R of their QR (``[R; piece] = Q'·R'``), which holds everything
+    the base parameters and the fit need; a second pass computes the prediction errors and the
+    centre of mass.
+
+    Args:
+        record: the run (any robot whose joints are revolute or prismatic)
+        holdout: fraction of the run, at its end, held out of the fit to test the prediction,
+            0 <= holdout <= 0.9
+        tolerance: relative rank tolerance (:func:`base_parameters`)
+        use_base_wrench: use the base wrench rows when the record has a base wrench
+        chunk: samples per piece, >= 1
+
+    Returns:
+        The identification.
+
+    Raises:
+        ParameterError: a holdout outside [0, 0.9], or too few training samples for the
+            parameters.
+        InputFileError: a record whose model cannot be rebuilt.
+    """
+    import scipy.linalg
+
+    from aaria_pin.core.run import chunk_bounds
+
+    if not (np.isfinite(holdout) and 0 <= holdout <= 0.9):
+        raise ParameterError(parameter="holdout", value=holdout, allowed="0 <= holdout <= 0.9")
+    n = record.n_samples
+    motion = record_base(record)
+    wrench = use_base_wrench and (
+        motion is not None or bool(np.any(np.asarray(record.base_wrench) != 0))
+    )
+    # a moving base needs its free flyer for the joint torques, used rows or not
+    robot = record_model(record, moving_base=wrench or motion is not None)
+    columns = record_columns(record, robot)
+    base = motion if motion is not None else BaseMotion.resting(n)
+    time = np.asarray(record.time, dtype=float)
+    trajectory = JointTrajectory(
+        time,
+        *(
+            np.ascontiguousarray(np.asarray(x, dtype=float)[:, columns])
+            for x in (record.q, record.qd, record.qdd)
+        ),
+    )
+    measured = _measured(record, base, columns, wrench)
+    signals = (*(BASE_WRENCH_SIGNALS if wrench else ()), *robot.joint_names)
+    names, truth = standard_parameters(robot)
+    p, n_signals = len(names), len(signals)
+    n_train = n - round(holdout * n)
+    if n_train * n_signals < p or n_train < 2:
+        raise ParameterError(
+            parameter="holdout",
+            value=holdout,
+            allowed=f"a training part of at least {-(-p // n_signals)} samples (the run has {n})",
+        )
+    skip = 6 if robot.moving_base and not wrench else 0  # the free flyer's rows, unused
+
+    def regressor(start: int, stop: int) -> Array:
+        return torque_regressor(robot, *_piece(base, trajectory, start, stop))[:, skip:]
+
+    signal_rms = np.sqrt(np.mean(np.square(measured[:n_train]), axis=0))
+    weight = 1.0 / np.where(signal_rms > 0, signal_rms, 1.0)
+    R = np.zeros((0, p + 1))
+    for start, stop in chunk_bounds(n_train, chunk):
+        A = np.empty((stop - start, n_signals, p + 1))
+        np.multiply(regressor(start, stop), weight[:, None], out=A[..., :p])
+        np.multiply(measured[start:stop], weight, out=A[..., p])
+        R = triangular_factor(np.vstack([R, A.reshape(-1, p + 1)]))
+    # [W | y] = Q·R: the least squares of any columns of W against y is the same problem on
+    # the columns of R (solved on unit columns, so that it does not depend on units).
+    base_set = base_parameters(R[:, :p], names, tolerance=tolerance)
+    independent = list(base_set.independent)
+    norms = np.linalg.norm(R[:, independent], axis=0)
+    scale = np.where(norms > 0, norms, 1.0)
+    R1 = R[:, independent] / scale
+    estimate_scaled, *_ = np.linalg.lstsq(R1, R[:, p], rcond=None)
+    estimate = estimate_scaled / scale
+    residual = R1 @ estimate_scaled - R[:, p]
+    dof = max(n_train * n_signals - base_set.rank, 1)
+    variance = float(residual @ residual) / dof
+    R11 = np.linalg.qr(R1, mode="r")
+    R_inverse = scipy.linalg.solve_triangular(R11, np.eye(base_set.rank))
+    std = np.sqrt(variance * np.sum(np.square(R_inverse), axis=1)) / scale
+    standard_estimate = np.zeros(p)
+    standard_estimate[independent] = estimate  # any pi with K·pi = estimate
+    mass_row = np.zeros(p)
+    mass_row[0::10] = 1.0
+    mass_model = float(mass_row @ truth)
+    total_mass = float(mass_row @ standard_estimate) if base_set.identifiable(mass_row) else np.nan
+    with_com = bool(np.isfinite(total_mass) and total_mass > 0)
+    train, held_out = _Sums(n_signals), _Sums(n_signals)
+    com_sum, com_max, com_start = 0.0, 0.0, {}
+    for start, stop in chunk_bounds(n, chunk):
+        prediction = regressor(start, stop) @ standard_estimate
+        split = min(max(n_train - start, 0), stop - start)
+        error, signal = prediction - measured[start:stop], measured[start:stop]
+        train.add(error[:split], signal[:split])
+        held_out.add(error[split:], signal[split:])
+        if not with_com:
+            continue
+        rows = _centre_of_mass_rows(robot, _piece(base, trajectory, start, stop)[1])
+        with_com = base_set.identifiable(rows[:: max(n // 20, 1)].reshape(-1, p))
+        com_estimate = (rows @ standard_estimate) / total_mass
+        com_model = (rows @ truth) / mass_model
+        distance = np.linalg.norm(com_estimate - com_model, axis=1)
+        com_sum += float(np.sum(np.square(distance)))
+        com_max = max(com_max, float(np.max(distance)))
+        if start == 0:
+            com_start = {
+                "estimate_start": com_estimate[0].tolist(),
+                "model_start": com_model[0].tolist(),
+            }
+    com_error = {"rms": float(np.sqrt(com_sum / n)), "max": com_max} if with_com else {}
+    train_relative, _ = train.rms()
+    holdout_relative, holdout_rms = held_out.rms()
+    return DynamicIdentification(
+        signals=signals,
+        base=base_set,
+        estimate=estimate,
+        std=std,
+        model_values=base_set.combination @ truth,
+        samples_train=n_train,
+        samples_holdout=n - n_train,
+        holdout_relative_rms=holdout_relative,
+        holdout_rms=holdout_rms,
+        train_relative_rms=train_relative,
+        total_mass=total_mass,
+        total_mass_model=mass_model,
+        com_error=com_error,
+        com_start=com_start if with_com else {},
+        extras={"regressor_rows": n_train * n_signals, "moving_base": bool(wrench)},
+    )

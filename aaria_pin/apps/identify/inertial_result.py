@@ -1,0 +1,164 @@
+"""What the dynamic identification found: the base parameters' estimates and the held-out errors."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from aaria_pin.apps.identify._json import json_number
+from aaria_pin.apps.identify.inertial_base import BaseParameterSet
+from aaria_pin.core.se3 import Array
+
+__all__ = ["DynamicIdentification", "dynamics_summary"]
+
+
+@dataclass(frozen=True)
+class DynamicIdentification:
+    """What :func:`~aaria_pin.apps.identify.inertial.identify_dynamics` found.
+
+    Attributes:
+        signals: the identified signals: the base wrench (:data:`BASE_WRENCH_SIGNALS`) when it
+            was used, then the joints in model order
+        base: the base parameter set (names and combinations)
+        estimate: the base parameters' least-squares estimate, (r,)
+        std: their standard deviations from the fit, (r,)
+        model_values: their values in the record's model (the truth for a simulated run), (r,)
+        samples_train: samples fitted (the first part of the run)
+        samples_holdout: samples held out (the last part)
+        holdout_relative_rms: per signal, RMS of the held-out prediction error over the RMS of
+            the measured signal (NaN for a signal that is zero throughout)
+        holdout_rms: per signal, RMS of the held-out prediction error [N·m, N]
+        train_relative_rms: per signal, the same on the training samples
+        total_mass: the estimated total moving mass [kg] (NaN when the data cannot determine
+            it: a fixed base without the mount's wrench)
+        total_mass_model: the model's total mass [kg]
+        com_error: RMS and max over the run of the distance between the estimated and the
+            model's centre of mass of the whole robot, base frame [m] (empty when not
+            determined)
+        com_start: estimated and model centre of mass at the first sample, base frame [m]
+        extras: anything else reported (rank tolerance, regressor size)
+    """
+
+    signals: tuple[str, ...]
+    base: BaseParameterSet
+    estimate: Array
+    std: Array
+    model_values: Array
+    samples_train: int
+    samples_holdout: int
+    holdout_relative_rms: Array
+    holdout_rms: Array
+    train_relative_rms: Array
+    total_mass: float
+    total_mass_model: float
+    com_error: dict[str, float] = field(default_factory=dict)
+    com_start: dict[str, list[float]] = field(default_factory=dict)
+    extras: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def worst_holdout_relative_rms(self) -> float:
+        """The largest held-out relative RMS error over the signals (NaNs skipped)."""
+        finite = self.holdout_relative_rms[np.isfinite(self.holdout_relative_rms)]
+        return float(finite.max()) if finite.size else float("nan")
+
+    def to_json(self) -> dict[str, Any]:
+        """The result as plain JSON types (NaN as None)."""
+        return {
+            "signals": list(self.signals),
+            "n_standard": len(self.base.standard_names),
+            "n_base": self.base.rank,
+            "rank_tolerance": self.base.tolerance,
+            "samples_train": self.samples_train,
+            "samples_holdout": self.samples_holdout,
+            "holdout_relative_rms": {
+                s: json_number(x)
+                for s, x in zip(self.signals, self.holdout_relative_rms, strict=True)
+            },
+            "holdout_rms": {
+                s: json_number(x) for s, x in zip(self.signals, self.holdout_rms, strict=True)
+            },
+            "train_relative_rms": {
+                s: json_number(x)
+                for s, x in zip(self.signals, self.train_relative_rms, strict=True)
+            },
+            "worst_holdout_relative_rms": json_number(self.worst_holdout_relative_rms),
+            "total_mass": {
+                "estimate": json_number(self.total_mass),
+                "model": self.total_mass_model,
+                "error": json_number(self.total_mass - self.total_mass_model),
+            },
+            "centre_of_mass": {"error": self.com_error, **self.com_start},
+            "base_parameters": [
+                {
+                    "name": name,
+                    "combination": expression,
+                    "estimate": float(value),
+                    "std": json_number(float(std)),
+                    "model": float(truth),
+                }
+                for name, expression, value, std, truth in zip(
+                    self.base.names,
+                    self.base.expressions,
+                    self.estimate,
+                    self.std,
+                    self.model_values,
+                    strict=True,
+                )
+            ],
+            **self.extras,
+        }
+
+
+def _shown(value: float | None, spec: str = ".3g") -> str:
+    return "n/a" if value is None else format(value, spec)
+
+
+def dynamics_summary(report: dict[str, Any], show_parameters: bool = False) -> list[str]:
+    """A :meth:`DynamicIdentification.to_json` report as a few lines of text.
+
+    Args:
+        report: the report
+        show_parameters: a line for every base parameter (its combination, estimate, std,
+            model value)
+
+    Returns:
+        The lines: counts, held-out errors per signal, total mass, centre of mass.
+    """
+    lines = [
+        f"base parameters: {report['n_base']} of {report['n_standard']} standard "
+        f"(rank tolerance {report['rank_tolerance']:g}); fitted on "
+        f"{report['samples_train']} samples, tested on {report['samples_holdout']}"
+    ]
+    width = max(len(name) for name in report["signals"])
+    lines.append(f"{'signal':<{width}} {'held-out rel. RMS':>18} {'held-out RMS':>13}")
+    for name in report["signals"]:
+        lines.append(
+            f"{name:<{width}} {_shown(report['holdout_relative_rms'][name]):>18} "
+            f"{_shown(report['holdout_rms'][name]):>13}"
+        )
+    mass = report["total_mass"]
+    if mass["estimate"] is None:
+        lines.append(f"total mass: not determined by the data (model {mass['model']:.6g} kg)")
+    else:
+        lines.append(
+            f"total mass: {mass['estimate']:.6g} kg (model {mass['model']:.6g} kg, "
+            f"error {mass['error']:.3g} kg)"
+        )
+    com = report["centre_of_mass"]
+    if com["error"]:
+        lines.append(
+            f"centre of mass error over the run: RMS {com['error']['rms']:.3g} m, "
+            f"max {com['error']['max']:.3g} m"
+        )
+    else:
+        lines.append("centre of mass: not determined by the data")
+    if show_parameters:
+        lines += [
+            f"{parameter['name']}: {parameter['estimate']:.6g} ± "
+            f"{_shown(parameter['std'])} (model {parameter['model']:.6g}) = "
+            f"{parameter['combination']}"
+            for parameter in report["base_parameters"]
+        ]
+    return lines

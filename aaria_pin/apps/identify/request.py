@@ -1,0 +1,242 @@
+"""``aaria identify`` as one library call: which identification, of which files, to which outputs.
+
+An :class:`IdentifyRequest` names the mode (the kinematics of one run, the dynamics of one run,
+or the benchmark over data sets) and the options; options of another mode are refused when the
+request is made (never silently ignored). :func:`identify_files` checks the outputs before any
+work, reads the run (a run file, or run K of a data set), identifies, writes the outputs and
+returns the report (JSON types) and its text.
+
+Example::
+
+    from pathlib import Path
+    from aaria_pin.apps.identify.request import IdentifyRequest, identify_files
+
+    outcome = identify_files(IdentifyRequest((Path("run.h5"),), dynamics=True, holdout=0.3))
+    for line in outcome.lines:
+        print(line)
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from aaria_pin.errors import OutputFileError, ParameterError
+
+if TYPE_CHECKING:
+    from aaria_pin.apps.identify.benchmark import RunAccuracy
+    from aaria_pin.apps.identify.geometry_result import KinematicIdentification
+    from aaria_pin.core.record import RunRecord
+
+__all__ = ["DEFAULT_HOLDOUT", "IdentifyOutcome", "IdentifyRequest", "identify_files"]
+
+DEFAULT_HOLDOUT = 0.2
+"""Share of a run, at its end, held out of the dynamic fit when the request gives none."""
+
+_TABLE_HEADER = (
+    "estimated Aaria DH table (aaria identify): alpha [rad], a [m], theta [rad], d [m], "
+    "link type; rows 1-6 modules, 7 tool, 8 base"
+)
+
+
+@dataclass(frozen=True)
+class IdentifyRequest:
+    """What to identify and where the results go.
+
+    Attributes:
+        files: one run file or data set; in the data-set mode, data sets of DH arms
+        dynamics: the inertial base parameters from the torques (with ``dataset``: as well)
+        dataset: the benchmark: identify every run of the data sets ``files``
+        run: the run of a data set (one-run modes)
+        output: the estimated 8 × 5 DH table (``.csv``; kinematics), else the JSON report
+        urdf: the estimated arm with its IMUs at their estimated mounts (``.urdf``; kinematics)
+        holdout: share of each run held out of the dynamic fit (dynamics; default
+            :data:`DEFAULT_HOLDOUT`)
+        parameters: a text line for every base parameter (dynamics of one run)
+        workers: processes (data-set mode; default 1)
+        limit: at most this many runs of each data set (data-set mode)
+        plot: where the caller draws the tool-tip error CDF (data-set mode; only checked here,
+            :func:`~aaria_pin.apps.identify.benchmark.tool_tip_cdf` gives its curves)
+
+    Raises:
+        ParameterError: no file, several files outside the data-set mode, or an option of
+            another mode (its ``parameter`` names it).
+    """
+
+    files: tuple[Path, ...]
+    dynamics: bool = False
+    dataset: bool = False
+    run: int | None = None
+    output: Path | None = None
+    urdf: Path | None = None
+    holdout: float | None = None
+    parameters: bool = False
+    workers: int | None = None
+    limit: int | None = None
+    plot: Path | None = None
+
+    def __post_init__(self) -> None:
+        files = len(self.files)
+        if files == 0:
+            raise ParameterError(
+                "no FILE given; allowed: a run file, or data sets in the data-set mode",
+                parameter="files",
+                value=0,
+                allowed="a run file, or data sets in the data-set mode",
+            )
+        if not self.dataset and files > 1:
+            raise ParameterError(
+                f"{files} files given; allowed: one run file, or data sets in the data-set mode",
+                parameter="files",
+                value=files,
+                allowed="one run file, or data sets in the data-set mode",
+            )
+        one_run = "one run's identification, not the data-set mode"
+        data_set = "the data-set mode only"
+        for parameter, given, allowed in (
+            ("run", self.dataset and self.run is not None, one_run + " (it takes every run)"),
+            ("urdf", self.urdf is not None and (self.dynamics or self.dataset), "kinematics"),
+            ("holdout", self.holdout is not None and not self.dynamics, "the dynamics only"),
+            ("parameters", self.parameters and (self.dataset or not self.dynamics), one_run),
+            ("workers", self.workers is not None and not self.dataset, data_set),
+            ("limit", self.limit is not None and not self.dataset, data_set),
+            ("plot", self.plot is not None and not self.dataset, data_set),
+        ):
+            if given:
+                value = getattr(self, parameter)
+                value = str(value) if isinstance(value, Path) else value
+                raise ParameterError(parameter=parameter, value=value, allowed=allowed)
+
+
+@dataclass(frozen=True)
+class IdentifyOutcome:
+    """What :func:`identify_files` found.
+
+    Attributes:
+        report: the report, JSON types (what ``--json`` prints and ``-o`` holds in the
+            dynamics and data-set modes)
+        lines: the report as text lines
+        runs: the data-set mode's per-run results (else empty)
+        groups: the data-set mode's accuracy table (else empty)
+    """
+
+    report: dict[str, Any]
+    lines: tuple[str, ...]
+    runs: tuple[RunAccuracy, ...] = ()
+    groups: tuple[dict[str, Any], ...] = field(default=())
+
+
+def _check_output(path: Path | None, parameter: str, what: str, suffix: str) -> None:
+    """Refuse an output of another type, or one that cannot be written (nothing touched)."""
+    if path is None:
+        return
+    from aaria_pin.files.paths import check_output
+
+    if path.suffix.lower() != suffix:
+        raise OutputFileError(parameter=parameter, value=str(path), allowed=f"a {what} ({suffix})")
+    check_output(path, suffixes=(suffix,))
+
+
+def _record(path: Path, run: int | None) -> RunRecord:
+    """A run file's record, or run ``run`` of a data set."""
+    from aaria_pin.files.dataset_file import is_dataset_file
+
+    if is_dataset_file(path):
+        if run is None:
+            raise ParameterError(parameter="run", value=None, allowed="a run index for a data set")
+        from aaria_pin.files.dataset_reader import DatasetReader
+
+        with DatasetReader(path) as reader:
+            return reader.record(run)
+    if run is not None:
+        raise ParameterError(parameter="run", value=run, allowed="None for a run file (one run)")
+    from aaria_pin.files.runfile import read_run
+
+    return read_run(path)
+
+
+def _write_json(path: Path | None, report: dict[str, Any]) -> None:
+    if path is not None:
+        from aaria_pin.files.io import write_text_atomic
+
+        write_text_atomic(path, json.dumps(report) + "\n")
+
+
+def _write_kinematics(result: KinematicIdentification, request: IdentifyRequest) -> None:
+    from aaria_pin.files.io import atomic_output, write_text_atomic
+
+    if request.output is not None:
+        import numpy as np
+
+        with atomic_output(request.output) as temporary:
+            np.savetxt(temporary, result.table, delimiter=",", fmt="%.17g", header=_TABLE_HEADER)
+    if request.urdf is not None:
+        from aaria_pin.aaria.dh_robot import build_dh_robot
+
+        poses = [mount.T_parent_imu for mount in result.mounts]
+        robot = build_dh_robot(result.table, imu_mount=poses, name="aaria_identified")
+        write_text_atomic(request.urdf, robot.urdf)
+
+
+def _benchmark(request: IdentifyRequest) -> IdentifyOutcome:
+    from aaria_pin.apps.identify.benchmark import (
+        accuracy_lines,
+        accuracy_table,
+        benchmark_datasets,
+    )
+
+    runs = benchmark_datasets(
+        request.files,
+        workers=request.workers or 1,
+        dynamics=request.dynamics,
+        limit=request.limit,
+        holdout=DEFAULT_HOLDOUT if request.holdout is None else request.holdout,
+    )
+    groups = accuracy_table(runs)
+    report = {"groups": groups, "runs": [r.to_json() for r in runs]}
+    _write_json(request.output, report)
+    lines = accuracy_lines(groups) + [
+        f"{r.dataset} run {r.run}: {r.error}" for r in runs if r.error is not None
+    ]
+    return IdentifyOutcome(report, tuple(lines), tuple(runs), tuple(groups))
+
+
+def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
+    """Identify what the request asks, write its outputs, and return the report and its text.
+
+    Args:
+        request: the mode, the files and the outputs
+
+    Returns:
+        The report and its text lines.
+
+    Raises:
+        ParameterError: ``run`` missing for a data set or given for a run file, a holdout
+            outside [0, 0.9], a record the identification cannot take.
+        InputFileError: an unreadable file, a run whose model cannot be rebuilt.
+        OutputFileError: an output of another type, or one that cannot be written.
+    """
+    kinematics = not (request.dynamics or request.dataset)
+    if kinematics:
+        _check_output(request.output, "output", "CSV table", ".csv")
+        _check_output(request.urdf, "urdf", "URDF", ".urdf")
+    else:
+        _check_output(request.output, "output", "JSON report", ".json")
+    if request.dataset:
+        return _benchmark(request)
+    record = _record(request.files[0], request.run)
+    if kinematics:
+        from aaria_pin.apps.identify.geometry import identify_kinematics
+
+        result = identify_kinematics(record)
+        _write_kinematics(result, request)
+        return IdentifyOutcome(result.to_json(), tuple(result.summary()))
+    from aaria_pin.apps.identify.inertial import identify_dynamics
+    from aaria_pin.apps.identify.inertial_result import dynamics_summary
+
+    holdout = DEFAULT_HOLDOUT if request.holdout is None else request.holdout
+    report = identify_dynamics(record, holdout=holdout).to_json()
+    _write_json(request.output, report)
+    return IdentifyOutcome(report, tuple(dynamics_summary(report, request.parameters)))
