@@ -90,8 +90,8 @@ def spec_from_sources(sources: DatasetSources) -> DatasetSpec:
     Raises:
         ParameterError: a convention other than ``aaria``; a DH arm and a URDF robot both given,
             or a preset and a DH table; URDF options without a robot; a part both fixed and
-            varied; a fixed structure without a DH table; a preset that is not an Aaria table;
-            settings the spec refuses.
+            varied; a preset that is not an Aaria table; settings the spec refuses (a
+            structure neither varied nor given among them).
         InputFileError: a table, layout, robot or config file that cannot be read.
         ModelError: a URDF robot that cannot be loaded.
 
