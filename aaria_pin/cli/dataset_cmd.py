@@ -1,6 +1,6 @@
 """``aaria dataset``: many random runs into one HDF5 data set, in parallel.
 
-Flags in; the spec from its sources (:meth:`~aaria_pin.apps.dataset.spec.DatasetSpec.from_sources`)
+Flags in; the spec from its sources (:meth:`~aaria_pin.apps.dataset.sources.DatasetSources.spec`)
 and the job (:func:`~aaria_pin.apps.dataset.engine.generate_dataset`); its reports out.
 """
 
@@ -55,13 +55,20 @@ def _bar() -> Callable[[int, int, float], None]:
 
     def show(done: int, total: int, seconds: float) -> None:
         if not bars:
-            options = {"label": "runs", "show_pos": True, "item_show_func": lambda rate: rate}
-            bars.append(click.progressbar(length=total, file=sys.stderr, **options).__enter__())
+            bar = click.progressbar(
+                length=total, label="runs", show_pos=True, item_show_func=_shown, file=sys.stderr
+            )
+            bars.append(bar.__enter__())
         bars[0].update(done - bars[0].pos, f"{done / seconds if seconds > 0 else 0:.1f} runs/s")
         if done >= total:
             bars[0].__exit__(None, None, None)
 
     return show
+
+
+def _shown(rate: str | None) -> str | None:
+    """The bar's text after the count: the rate (none before the first run)."""
+    return rate
 
 
 def _estimate(quiet: bool) -> Callable[[DatasetEstimate], None] | None:
@@ -195,24 +202,22 @@ def dataset(output: Path, quiet: bool, progress_every: float, **flags: Any) -> N
     """
     import warnings
 
-    from aaria_pin.apps.dataset.engine import (
-        DatasetJob,
-        DatasetJobStoppedError,
-        DatasetSpec,
-        generate_dataset,
-    )
+    from aaria_pin.apps.dataset.engine import DatasetJob, DatasetJobStoppedError, generate_dataset
     from aaria_pin.apps.dataset.sources import DatasetSources
-    from aaria_pin.errors import MeshWarning
+    from aaria_pin.errors import MeshWarning, ParameterError
 
-    job = DatasetJob(
-        **{name: flags.pop(name) for name in _JOB_FLAGS},
-        progress=_progress(quiet, progress_every),
-        estimate=_estimate(quiet),
-        command=shlex.join(["aaria", *sys.argv[1:]]),
-    )
+    try:  # a usage error (exit 2) even when the command runs outside the aaria group
+        job = DatasetJob(
+            **{name: flags.pop(name) for name in _JOB_FLAGS},
+            progress=_progress(quiet, progress_every),
+            estimate=_estimate(quiet),
+            command=shlex.join(["aaria", *sys.argv[1:]]),
+        )
+    except ParameterError as exc:
+        raise click.UsageError(exc.for_flag({name: f"--{name}" for name in _JOB_FLAGS})) from None
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", MeshWarning)
-        spec = DatasetSpec.from_sources(DatasetSources(**flags))
+        spec = DatasetSources(**flags).spec()
     for warning in caught:  # missing meshes told once, as a line; others as they came
         if issubclass(warning.category, MeshWarning):
             click.echo(f"aaria: warning: {warning.message}", err=True)

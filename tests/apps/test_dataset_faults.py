@@ -83,6 +83,19 @@ def _interrupted(path: Path, runs: int) -> None:
         generate_dataset(path, DhDatasetSpec(**SETTINGS), workers=2, progress=_stop_after(runs))
 
 
+def test_a_stopped_job_is_an_output_error_naming_the_file(tmp_path: Path) -> None:
+    from aaria_pin.errors import AariaError, OutputFileError
+
+    path = tmp_path / "stopped.h5"
+    with pytest.raises(DatasetJobStoppedError) as stopped:
+        generate_dataset(path, DhDatasetSpec(**SETTINGS), workers=1, progress=_stop_after(3))
+    error = stopped.value
+    assert isinstance(error, OutputFileError) and isinstance(error, OSError)  # in the family
+    assert isinstance(error, AariaError) and error.parameter == "path"
+    assert error.value == str(path) and (error.saved, error.total) == (3, 24)
+    assert error.exit_status == 130
+
+
 def test_a_resumed_file_equals_an_uninterrupted_one(reference: Path, tmp_path: Path) -> None:
     path = tmp_path / "resumed.h5"
     _interrupted(path, 9)

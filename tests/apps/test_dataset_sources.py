@@ -1,4 +1,4 @@
-"""DatasetSpec.from_sources: the rules of ``aaria dataset`` in the library (sources.py)."""
+"""DatasetSources.spec(): the rules of ``aaria dataset`` in the library (sources.py)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,6 @@ import pytest
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.apps.dataset.sources import DatasetSources, spec_from_sources
-from aaria_pin.apps.dataset.spec import DatasetSpec
 from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec
 from aaria_pin.errors import ParameterError
 
@@ -18,7 +17,7 @@ SHORT = {"n_runs": 2, "duration": 0.2, "seed": 3}
 
 
 def test_nothing_given_varies_every_part_of_a_random_arm() -> None:
-    spec = DatasetSpec.from_sources(DatasetSources(**SHORT))
+    spec = DatasetSources(**SHORT).spec()
     assert isinstance(spec, DhDatasetSpec)
     assert spec.vary == ("structure", "joints", "base") and spec.dh_table is None
     assert spec.joint_table is None and spec.base_table is None and spec.name == ""
@@ -26,15 +25,13 @@ def test_nothing_given_varies_every_part_of_a_random_arm() -> None:
 
 def test_a_preset_fixes_the_structure_and_gives_its_tables() -> None:
     fig2 = get_preset("aaria-fig2")
-    spec = DatasetSpec.from_sources(DatasetSources(**SHORT, preset="aaria-fig2"))
+    spec = DatasetSources(**SHORT, preset="aaria-fig2").spec()
     assert isinstance(spec, DhDatasetSpec)
     assert spec.vary == ("joints", "base") and spec.name == "aaria-fig2"
     np.testing.assert_array_equal(spec.dh_table, fig2.table)
     np.testing.assert_array_equal(spec.joint_table, fig2.joint_table)
     np.testing.assert_array_equal(spec.base_table, fig2.base_table)
-    fourier = DatasetSpec.from_sources(
-        DatasetSources(**SHORT, preset="aaria-fig2", motion="fourier")
-    )
+    fourier = DatasetSources(**SHORT, preset="aaria-fig2", motion="fourier").spec()
     assert fourier.joint_table is None  # the excitation replaces the preset's sines
     np.testing.assert_array_equal(fourier.base_table, fig2.base_table)
 
@@ -59,7 +56,7 @@ def test_table_files_fix_their_parts(tmp_path: Path) -> None:
 
 def test_the_spec_of_sources_makes_the_runs_of_the_spec_written_out() -> None:
     fig2 = get_preset("aaria-fig2")
-    made = DatasetSpec.from_sources(DatasetSources(**SHORT, preset="aaria-fig2"))
+    made = DatasetSources(**SHORT, preset="aaria-fig2").spec()
     direct = DhDatasetSpec(
         **SHORT,
         vary=("joints", "base"),

@@ -5,6 +5,9 @@ and hands them to :func:`simulate_inputs`, which calls the producer of the spec'
 :func:`~aaria_pin.aaria.simulate.simulate_run` for an Aaria DH arm,
 :func:`~aaria_pin.core.urdf_run.simulate_loaded_robot` for a URDF robot. Switching the data sets
 to another engine entry point is a change of this module only.
+
+The specs are typed ``Any`` here: this module imports no other module of the data sets (the spec
+calls it), so it adds no import cycle.
 """
 
 from __future__ import annotations
@@ -15,20 +18,18 @@ from typing import TYPE_CHECKING, Any
 from aaria_pin.errors import ParameterError
 
 if TYPE_CHECKING:
-    from aaria_pin.apps.dataset.dh import DhDatasetSpec
-    from aaria_pin.apps.dataset.spec import DatasetSpec, RunInputs
-    from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec
     from aaria_pin.core.record import RunRecord
 
 __all__ = ["simulate_inputs"]
 
 
-def simulate_inputs(spec: DatasetSpec, inputs: RunInputs) -> RunRecord:
+def simulate_inputs(spec: Any, inputs: Any) -> RunRecord:
     """The run made from its inputs by the producer of the spec's robot kind.
 
     Args:
-        spec: the data set (its sampling, noise and motion settings, its robot)
-        inputs: the run's input tables and noise seed (:meth:`~.spec.DatasetSpec.inputs`)
+        spec: the data set (a :class:`~.spec.DatasetSpec`: its sampling, noise and motion
+            settings, its robot)
+        inputs: the run's input tables and noise seed (a :class:`~.spec.RunInputs`)
 
     Returns:
         The run as a record (every series in float64).
@@ -42,7 +43,8 @@ def simulate_inputs(spec: DatasetSpec, inputs: RunInputs) -> RunRecord:
     return producer(spec, inputs)
 
 
-def _dh_run(spec: DhDatasetSpec, inputs: RunInputs) -> RunRecord:
+def _dh_run(spec: Any, inputs: Any) -> RunRecord:
+    """An Aaria DH arm's run: :func:`~aaria_pin.aaria.simulate.simulate_run`."""
     from aaria_pin.aaria.simulate import simulate_run
 
     return simulate_run(
@@ -55,7 +57,8 @@ def _dh_run(spec: DhDatasetSpec, inputs: RunInputs) -> RunRecord:
     )
 
 
-def _urdf_run(spec: UrdfDatasetSpec, inputs: RunInputs) -> RunRecord:
+def _urdf_run(spec: Any, inputs: Any) -> RunRecord:
+    """A URDF robot's run: :func:`~aaria_pin.core.urdf_run.simulate_loaded_robot`."""
     from aaria_pin.core.urdf_run import simulate_loaded_robot
 
     return simulate_loaded_robot(
@@ -68,7 +71,7 @@ def _urdf_run(spec: UrdfDatasetSpec, inputs: RunInputs) -> RunRecord:
     )
 
 
-def _settings(spec: DatasetSpec, inputs: RunInputs) -> dict[str, Any]:
+def _settings(spec: Any, inputs: Any) -> dict[str, Any]:
     """The producers' common keywords: sampling, noise (seed and model), motion."""
     return {
         "duration": spec.duration,
@@ -80,5 +83,5 @@ def _settings(spec: DatasetSpec, inputs: RunInputs) -> dict[str, Any]:
     }
 
 
-_PRODUCERS: dict[str, Callable[[Any, RunInputs], RunRecord]] = {"dh": _dh_run, "urdf": _urdf_run}
+_PRODUCERS: dict[str, Callable[[Any, Any], RunRecord]] = {"dh": _dh_run, "urdf": _urdf_run}
 """The producer of each robot kind (:attr:`~.spec.DatasetSpec.kind`)."""

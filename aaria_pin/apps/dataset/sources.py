@@ -1,8 +1,7 @@
 """A data set's spec from where its parts come from: presets, table files, a robot, a config file.
 
 :class:`DatasetSources` holds what ``aaria dataset`` takes (names and paths, not yet read);
-:func:`spec_from_sources` (also :meth:`DatasetSpec.from_sources
-<aaria_pin.apps.dataset.spec.DatasetSpec.from_sources>`) resolves them into a checked
+:meth:`DatasetSources.spec` (:func:`spec_from_sources`) resolves them into a checked
 :class:`~.spec.DatasetSpec`, the same for a Python caller as for the command line:
 
 - the robot: an Aaria DH arm (random, a preset or a ``senSenDH`` table file) or a URDF robot
@@ -25,12 +24,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from aaria_pin.aaria.randomize import PARTS
+from aaria_pin.apps.dataset.config import load_dataset_config
+from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.apps.dataset.spec import DatasetSettings
+from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
 from aaria_pin.errors import ParameterError
 
 if TYPE_CHECKING:
     from aaria_pin.apps.dataset.spec import DatasetSpec
-    from aaria_pin.apps.dataset.urdf import UrdfSource
 
 __all__ = ["DatasetSources", "spec_from_sources"]
 
@@ -72,6 +73,10 @@ class DatasetSources(DatasetSettings):
     joints_file: str | Path | None = None
     base_file: str | Path | None = None
 
+    def spec(self) -> DatasetSpec:
+        """The checked spec of the data set (:func:`spec_from_sources`)."""
+        return spec_from_sources(self)
+
 
 def spec_from_sources(sources: DatasetSources) -> DatasetSpec:
     """The checked spec of a data set (the rules: see the module docstring).
@@ -85,18 +90,14 @@ def spec_from_sources(sources: DatasetSources) -> DatasetSpec:
     Raises:
         ParameterError: a convention other than ``aaria``; a DH arm and a URDF robot both given,
             or a preset and a DH table; URDF options without a robot; a part both fixed and
-            varied; a fixed structure without a DH table; a preset that is not an Aaria table;
-            settings the spec refuses.
+            varied; a preset that is not an Aaria table; settings the spec refuses (a
+            structure neither varied nor given among them).
         InputFileError: a table, layout, robot or config file that cannot be read.
         ModelError: a URDF robot that cannot be loaded.
 
     Warns:
         MeshWarning: meshes the URDF robot refers to that cannot be found (it still simulates).
     """
-    from aaria_pin.apps.dataset.config import load_dataset_config
-    from aaria_pin.apps.dataset.dh import DhDatasetSpec
-    from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec
-
     if sources.convention != "aaria":
         raise ParameterError(
             parameter="convention",
@@ -262,7 +263,6 @@ def _urdf_robot(sources: DatasetSources) -> UrdfSource | None:
         return None
     import warnings
 
-    from aaria_pin.apps.dataset.urdf import UrdfSource
     from aaria_pin.core.urdf_robot import missing_meshes_message
     from aaria_pin.errors import MeshWarning
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -30,9 +30,6 @@ from aaria_pin.core.seeds import DATASET_STREAMS, RunSeeds, check_seed
 from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE
 from aaria_pin.errors import AariaError, OutputFileError, ParameterError
 from aaria_pin.files.dataset_file import DatasetLayout, EncodedRun, encode_run, run_arrays
-
-if TYPE_CHECKING:
-    from aaria_pin.apps.dataset.sources import DatasetSources
 
 __all__ = [
     "MAX_RUNS",
@@ -132,24 +129,6 @@ class DatasetSpec(DatasetSettings, ABC):
     joint_table: Array | None = None
     base_table: Array | None = None
     noise_model: ImuNoiseModel = ADIS16485
-
-    @classmethod
-    def from_sources(cls, sources: DatasetSources) -> DatasetSpec:
-        """The checked spec of a data set from where its parts come from.
-
-        The rules of ``aaria dataset`` (which parts vary, presets, table files, a URDF robot,
-        the config file): :func:`~.sources.spec_from_sources`. The robot decides the subclass,
-        whichever class this is called on.
-
-        Args:
-            sources: presets, file paths and settings (:class:`~.sources.DatasetSources`)
-
-        Returns:
-            A :class:`~.dh.DhDatasetSpec` or a :class:`~.urdf.UrdfDatasetSpec`.
-        """
-        from aaria_pin.apps.dataset.sources import spec_from_sources
-
-        return spec_from_sources(sources)
 
     def __post_init__(self) -> None:
         from aaria_pin.core.trajectory import sample_times
