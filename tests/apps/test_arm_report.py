@@ -17,7 +17,10 @@ from aaria_pin.errors import ParameterError
 def _run(tau: np.ndarray, tau_free: np.ndarray) -> Any:
     boundaries = np.arange(14.0).reshape(7, 2) / 2  # 0-0.5, 1-1.5, … 6-6.5 s
     return SimpleNamespace(
-        tau=tau, tau_free=tau_free, dims=ArmDimensions(), path=SimpleNamespace(boundaries=boundaries)
+        tau=tau,
+        tau_free=tau_free,
+        dims=ArmDimensions(),
+        path=SimpleNamespace(boundaries=boundaries),
     )
 
 

@@ -24,7 +24,9 @@ def test_a_run_file_summary_and_its_text() -> None:
     assert summary["samples"] == samples and len(summary["joints"]) == joints
     lines = text.splitlines()
     assert lines[0] == f"{path}: dh run of aaria-fig2, {samples} samples at 100 Hz"
-    assert lines[2].startswith(f"joints ({joints}: joint1,") and lines[3].startswith(f"IMUs ({imus}:")
+    assert lines[2].startswith(f"joints ({joints}: joint1,") and lines[3].startswith(
+        f"IMUs ({imus}:"
+    )
     assert f"  q             {samples} × {joints}" in lines and text.endswith("\n")
 
 
