@@ -42,7 +42,9 @@ def dh_table_source(
     from aaria_pin.files.io import read_table
 
     if (preset is None) == (dh_file is None):
-        raise ParameterError(parameter="preset", value=preset, allowed="exactly one of it, dh_file")
+        raise ParameterError(
+            parameter="preset", value=preset, allowed="exactly one of preset and dh_file"
+        )
     if preset is not None:
         chosen = get_preset(preset)
         return chosen.table, chosen.convention, chosen.name
@@ -68,7 +70,9 @@ def urdf_source(
     from aaria_pin.files.paths import existing_input
 
     if (robot is None) == (urdf_file is None):
-        raise ParameterError(parameter="robot", value=robot, allowed="exactly one of it, urdf_file")
+        raise ParameterError(
+            parameter="robot", value=robot, allowed="exactly one of robot and urdf_file"
+        )
     if robot is not None:
         entry = find_robot(robot)
         return read_urdf_file(entry.urdf), entry.urdf.parent, entry.name

@@ -26,9 +26,8 @@ class FiniteFloat(click.ParamType):
         number = click.FLOAT.convert(value, param, ctx)
         if not math.isfinite(number):
             if isinstance(param, click.Argument):
-                raise ParameterError(
-                    f"{param.human_readable_name} holds {number}; allowed: finite numbers"
-                )
+                message = f"{param.human_readable_name} holds {number}; allowed: finite numbers"
+                raise ParameterError(message, parameter=param.name)
             name = param.name if param is not None else None
             raise ParameterError(parameter=name, value=number, allowed="a finite number")
         return number
@@ -62,19 +61,11 @@ def table_source(preset_help: str = PRESET_HELP) -> Callable[[F], F]:
     """``--preset NAME | --dh FILE [--convention ...]``, ``--preset`` with its own help."""
     return stacked(
         click.option("--preset", help=preset_help),
-        click.option(
-            "--dh",
-            "dh_file",
-            type=_FILE,
-            help="DH table file: CSV, .npy, or .mat holding senSenDH.",
-        ),
-        shown(
-            "--convention",
-            default="aaria",
-            type=click.Choice(["aaria", "standard", "modified"]),
-            help="Convention of the --dh table.",
-        ),
-    )
+        click.option("--dh", "dh_file", type=_FILE,
+                     help="DH table file: CSV, .npy, or .mat holding senSenDH."),
+        shown("--convention", default="aaria", type=click.Choice(["aaria", "standard", "modified"]),
+              help="Convention of the --dh table."),
+    )  # fmt: skip
 
 
 def stacked(*options: Callable[[F], F]) -> Callable[[F], F]:
@@ -105,38 +96,25 @@ def robot_name(stem: str) -> str:
 
 
 fourier_options = stacked(
-    click.option(
-        "--harmonics",
-        type=click.IntRange(1, 1000),
-        help="Harmonics per joint of --motion fourier (default 5).",
-    ),
-    click.option(
-        "--base-frequency",
-        type=FINITE_FLOAT,
-        help="Base frequency of --motion fourier [Hz] (default: the lowest >= 0.1 Hz that fits a "
-        "whole number of periods into a run).",
-    ),
-)
+    click.option("--harmonics", type=click.IntRange(1, 1000),
+                 help="Harmonics per joint of --motion fourier (default 5)."),
+    click.option("--base-frequency", type=FINITE_FLOAT,
+                 help="Base frequency of --motion fourier [Hz] (default: the lowest >= 0.1 Hz that"
+                 " fits a whole number of periods into a run)."),
+)  # fmt: skip
 """``--harmonics`` and ``--base-frequency``, the settings of ``--motion fourier``."""
 
 robot_source_options = stacked(
-    click.option(
-        "--robot", help="A robot of example-robot-data (see 'aaria robots'), e.g. ur5, panda."
-    ),
-    click.option(
-        "--urdf", "urdf_file", type=_FILE, help="A URDF file to simulate instead of a DH arm."
-    ),
+    click.option("--robot",
+                 help="A robot of example-robot-data (see 'aaria robots'), e.g. ur5, panda."),
+    click.option("--urdf", "urdf_file", type=_FILE,
+                 help="A URDF file to simulate instead of a DH arm."),
     click.option("--tool", "tool_frame", help="URDF robot: the tool frame."),
-    click.option(
-        "--imu-layout",
-        "imu_layout_file",
-        type=_FILE,
-        help="URDF robot: IMU layout file (TOML, [[imu]] name, parent, xyz, rpy).",
-    ),
-    click.option(
-        "--fixed-base", is_flag=True, help="URDF robot: keep the root link fixed at the origin."
-    ),
-)
+    click.option("--imu-layout", "imu_layout_file", type=_FILE,
+                 help="URDF robot: IMU layout file (TOML, [[imu]] name, parent, xyz, rpy)."),
+    click.option("--fixed-base", is_flag=True,
+                 help="URDF robot: keep the root link fixed at the origin."),
+)  # fmt: skip
 """``--robot NAME | --urdf FILE`` and the URDF robot's tool, IMU and base options."""
 
 

@@ -8,7 +8,7 @@ from typing import Any
 import click
 
 from aaria_pin.cli._app import AariaGroup
-from aaria_pin.cli._options import shown
+from aaria_pin.cli._options import shown, stacked
 from aaria_pin.cli._viz_options import output_option
 
 
@@ -29,6 +29,10 @@ def _within(bounds: str, unit: str) -> Any:
 
 
 _PRESET = shown("--preset", default="pick-place-arm", help="Arm preset.")
+_CYLINDER = stacked(
+    shown("--radius", default=0.03, help="Gripped cylinder's radius [m]."),
+    shown("--height", default=0.12, help="Gripped cylinder's height [m]."),
+)
 
 
 @click.group(
@@ -55,8 +59,7 @@ Examples:
     help="Folder: writes pick_place_arm.urdf and meshes/*.stl.",
 )  # fmt: skip
 @_PRESET
-@shown("--radius", default=0.03, help="Gripped cylinder's radius [m].")
-@shown("--height", default=0.12, help="Gripped cylinder's height [m].")
+@_CYLINDER
 def urdf(folder: Path, preset: str, radius: float, height: float) -> None:
     """Write the arm's URDF and the STL meshes of its parts.
 
@@ -85,8 +88,7 @@ Examples:
     help="Where to put it down [m].",
 )  # fmt: skip
 @shown("--mass", default=0.5, help="Cylinder mass [kg].")
-@shown("--radius", default=0.03, help="Radius [m].")
-@shown("--height", default=0.12, help="Height [m].")
+@_CYLINDER
 @shown(
     "--branch",
     default="nearest",

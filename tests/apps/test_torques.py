@@ -13,7 +13,7 @@ from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.apps.dataset.engine import generate_dataset
-from aaria_pin.apps.torques import record_torque_report, torque_split
+from aaria_pin.apps.torques import record_torque_report, torque_split, torque_text
 from aaria_pin.cli import main
 from aaria_pin.core.trajectory import sample_times
 from aaria_pin.files.runfile import write_run
@@ -95,3 +95,22 @@ def test_cli_on_a_run_file_and_a_dataset(tmp_path: Path) -> None:
     assert one.exit_code == 0 and "base wrench peaks" in one.stdout
     bad = CliRunner().invoke(main, ["torques", str(tmp_path / "run.h5"), "--run", "1"])
     assert bad.exit_code == 2 and "--run is for a data set" in bad.stderr
+
+
+def test_torque_text_of_a_run_and_of_a_data_set() -> None:
+    joint = {"module": 2, "joint": "joint2", "type": "prismatic", "unit": "N", "peak_abs": 12.5}
+    joint |= {"rms": 3.0, "energy_net_J": 1.5, "energy_abs_J": 2.0}
+    joint["rms_terms"] = {"gravity": 2.0, "coriolis": 0.5, "inertial": 1.0}
+    report = {"joints": [joint], "base_wrench_peak": {"fx": 4.0, "mz": 0.25}}
+    lines = torque_text(report).splitlines()
+    assert len(lines) == 3 and lines[0].split()[:3] == ["module", "joint", "type"]
+    assert lines[1].split() == "2 joint2 prismatic 12.5 N 3 2 0.5 1 1.5 J 2 J".split()
+    assert lines[2] == "base wrench peaks: fx 4 N, mz 0.25 N*m"
+    summary = {"joints": {"3": "joint3"}, "by_module": {"3": {"revolute": {"runs": 4}}}}
+    summary["by_module"]["3"]["revolute"] |= {"median": 1.0, "p95": 2.0, "max": 3.0}
+    summary["largest"] = [{"run": 7, "module": 3, "type": "revolute", "peak_abs": 3.0}]
+    text = torque_text(summary, one_run=False).splitlines()
+    assert text[0].split() == (
+        "module 3 (joint3) revolute runs 4 peak |tau| median 1 N*m p95 2 N*m max 3 N*m".split()
+    )
+    assert text[1] == "largest peaks: run 7 module 3 (revolute) 3 N*m"

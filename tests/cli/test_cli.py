@@ -331,3 +331,40 @@ def test_simulate_from_reads_only_the_inputs_of_the_run(tmp_path: Path) -> None:
     remade = read_run(again)
     for name in ("time", "q", "imu", "tau", "base_wrench"):
         np.testing.assert_array_equal(getattr(remade, name), getattr(original, name), err_msg=name)
+
+
+def test_a_library_parameter_is_named_by_the_running_command_s_flag() -> None:
+    import click
+
+    from aaria_pin.cli._app import COMMAND_FLAGS, flag_message
+    from aaria_pin.errors import ParameterError
+
+    @click.command("demo")
+    @click.option("--run", "run_index", type=int)
+    @click.option("--imu-layout", "imu_layout_file")
+    @click.option("--width", type=int)
+    def demo(run_index: int, imu_layout_file: str, width: int) -> None:
+        """A command with options named otherwise than their flags."""
+
+    def message(error: ParameterError) -> str:
+        return flag_message(error, demo)
+
+    assert message(ParameterError(parameter="run_index", value=3, allowed="0")) == (
+        "--run is 3; allowed: 0"
+    )
+    assert message(ParameterError(parameter="imu_layout", value="x", allowed="TOML")) == (
+        "--imu-layout is 'x'; allowed: TOML"
+    )
+    assert message(ParameterError("width 5 px; allowed: 100 to 4000 px", parameter="width")) == (
+        "--width 5 px; allowed: 100 to 4000 px"
+    )
+    assert message(ParameterError(parameter="joint_table", value=1, allowed="a table")) == (
+        "--joints is 1; allowed: a table"
+    )
+    unknown = ParameterError(parameter="density", value=-1, allowed="> 0")
+    assert message(unknown) == "density is -1; allowed: > 0"  # no such flag: as the library says
+    COMMAND_FLAGS["demo"] = {"density": "--rho"}
+    try:
+        assert message(unknown) == "--rho is -1; allowed: > 0"
+    finally:
+        del COMMAND_FLAGS["demo"]

@@ -256,3 +256,16 @@ def test_panels_of_the_wrong_length_are_refused() -> None:
         viewer_html(
             Scene("x", ("world",)), np.zeros(2), np.stack([np.eye(4)[None]] * 2), "t", [panel]
         )
+
+
+def test_write_run_viewer_decimates_the_run(tmp_path: Path) -> None:
+    from aaria_pin.viz.html import write_run_viewer
+
+    record = simulate_run(get_preset("aaria-fig2").table, duration=1.0, rate=50.0)
+    run = write_run(tmp_path / "run.h5", record)
+    shown, samples = write_run_viewer(run, tmp_path / "v.html", max_samples=20)
+    assert (shown, samples) == (20, 51) and "<canvas" in (tmp_path / "v.html").read_text()
+    assert write_run_viewer(run, tmp_path / "all.html", max_samples=100) == (51, 51)
+    with pytest.raises(ParameterError) as caught:
+        write_run_viewer(run, tmp_path / "x.html", max_samples=1)
+    assert caught.value.parameter == "max_samples"

@@ -220,3 +220,45 @@ def test_legend_check_catches_a_legend_inside_the_axes(
         assert overlaps(ax.get_legend().get_window_extent(renderer), ax.get_window_extent(renderer))
     finally:
         plt.close(figure)
+
+
+def test_render_picture_of_a_preset_a_table_file_and_a_run(tmp_path: Path, run_file: Path) -> None:
+    from aaria_pin.viz.render import PictureSettings, render_picture
+
+    settings = PictureSettings(width=320, height=240)
+    title = render_picture(tmp_path / "p.png", preset="aaria-fig2", settings=settings)
+    assert title == "aaria-fig2" and read_png(tmp_path / "p.png").shape == (240, 320, 3)
+    table = tmp_path / "arm.csv"
+    np.savetxt(table, get_preset("aaria-fig3").table, delimiter=",")
+    title = render_picture(tmp_path / "t.png", dh_file=table, settings=settings)
+    assert title == "arm.csv" and (tmp_path / "t.png").is_file()
+    title = render_picture(tmp_path / "r.png", run_file=run_file, time=1.01, settings=settings)
+    assert title == "run.h5, t = 1.000 s"  # the sample nearest 1.01 s at 50 Hz
+
+
+@pytest.mark.parametrize(
+    ("given", "parameter"),
+    [({}, "preset"), ({"preset": "aaria-fig2", "dh_file": "x.csv"}, "preset"),
+     ({"preset": "aaria-fig2", "time": 1.0}, "time"), ({"preset": "aaria-fig2", "run": 0}, "run")],
+)  # fmt: skip
+def test_render_picture_refuses_sources_that_do_not_fit(
+    tmp_path: Path, given: dict[str, Any], parameter: str
+) -> None:
+    from aaria_pin.viz.render import render_picture
+
+    with pytest.raises(ParameterError) as caught:
+        render_picture(tmp_path / "p.png", **given)
+    assert caught.value.parameter == parameter and list(tmp_path.iterdir()) == []
+
+
+def test_plot_run_counts_panels_and_samples(tmp_path: Path, run_file: Path) -> None:
+    from aaria_pin.viz.plot import plot_run
+
+    view = load_run_view(run_file)
+    panels, samples = plot_run(run_file, tmp_path / "p.png", width=800)
+    assert samples == 101 and panels == len(signal_panels(view.signals))  # 2 s at 50 Hz
+    assert read_png(tmp_path / "p.png").shape[1] == 800
+    assert plot_run(run_file, tmp_path / "i.png", imu="imu_tool")[0] < panels
+    with pytest.raises(ParameterError, match="width 10 px") as caught:
+        plot_run(run_file, tmp_path / "w.png", width=10)
+    assert caught.value.parameter == "width"

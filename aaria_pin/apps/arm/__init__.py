@@ -8,7 +8,8 @@ where a gripped cylinder sits), :mod:`~aaria_pin.apps.arm.preset` (the ``pick-pl
 pick-and-place
 trajectory), :mod:`~aaria_pin.apps.arm.payload` (payload torques, mount
 wrench),
-:mod:`~aaria_pin.apps.arm.run` (the run and its file),
+:mod:`~aaria_pin.apps.arm.run` (the run and its file), :mod:`~aaria_pin.apps.arm.report` (what
+a run reports; the URDF folder),
 :mod:`~aaria_pin.viz.arm_pictures` (PNG, GIF),
 :mod:`~aaria_pin.viz._arm_source` (the viewers' plug-in; imports the viz package).
 """
