@@ -47,8 +47,8 @@ if TYPE_CHECKING:
     from aaria_pin.core.urdf import RobotDescription, emit_urdf
     from aaria_pin.core.urdf_robot import UrdfRobot, load_urdf_robot
     from aaria_pin.core.urdf_run import simulate_urdf_run
+    from aaria_pin.files.dataset.reader import DatasetReader
     from aaria_pin.files.dataset.windows import WindowDataset
-    from aaria_pin.files.dataset_reader import DatasetReader
     from aaria_pin.files.io import read_table
     from aaria_pin.files.runfile import read_run, read_run_inputs, write_run
 
@@ -77,7 +77,7 @@ _LAZY = {
     # files
     "read_run": "aaria_pin.files.runfile",
     "write_run": "aaria_pin.files.runfile",
-    "DatasetReader": "aaria_pin.files.dataset_reader",
+    "DatasetReader": "aaria_pin.files.dataset.reader",
     "read_table": "aaria_pin.files.io",
     "read_run_inputs": "aaria_pin.files.runfile",
     "WindowDataset": "aaria_pin.files.dataset.windows",

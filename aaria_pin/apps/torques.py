@@ -225,7 +225,7 @@ def dataset_torque_report(path: str | os.PathLike[str], top: int = 5) -> dict[st
         of the runs' peak |tau|), ``joints`` (column → joint name, where every run names it
         alike) and ``largest`` (run, module, joint, type, peak), largest first.
     """
-    from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.dataset.reader import DatasetReader
 
     peaks: dict[tuple[int, str], list[float]] = {}
     names: dict[int, set[str]] = {}
@@ -279,12 +279,12 @@ def run_torque_report(
         ParameterError: ``run`` given for a run file.
         InputFileError: an unreadable file, or a run whose model cannot be rebuilt.
     """
-    from aaria_pin.files.dataset_file import is_dataset_file
+    from aaria_pin.files.dataset.store import is_dataset_file
 
     if is_dataset_file(path):
         if run is None:
             return dataset_torque_report(path), False
-        from aaria_pin.files.dataset_reader import DatasetReader
+        from aaria_pin.files.dataset.reader import DatasetReader
 
         with DatasetReader(path) as reader:
             record = reader.record(run)

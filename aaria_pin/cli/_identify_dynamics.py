@@ -94,10 +94,10 @@ def dynamics_command(
     """
     from aaria_pin.apps.identify.dynamics import identify_dynamics
     from aaria_pin.errors import ParameterError
-    from aaria_pin.files.dataset_file import is_dataset_file
+    from aaria_pin.files.dataset.store import is_dataset_file
 
     if is_dataset_file(file):
-        from aaria_pin.files.dataset_reader import DatasetReader
+        from aaria_pin.files.dataset.reader import DatasetReader
 
         if run_index is None:
             raise ParameterError(

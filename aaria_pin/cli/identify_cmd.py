@@ -65,12 +65,12 @@ def identify_kinematics_command(
     """Identify the run, write the outputs, print the result (or return it for ``--json``)."""
     from aaria_pin.apps.identify.kinematics import identify_kinematics
     from aaria_pin.errors import ParameterError
-    from aaria_pin.files.dataset_file import is_dataset_file
+    from aaria_pin.files.dataset.store import is_dataset_file
 
     if is_dataset_file(file):
         if run_index is None:
             raise ParameterError(parameter="run", value=None, allowed="a run index for a data set")
-        from aaria_pin.files.dataset_reader import DatasetReader
+        from aaria_pin.files.dataset.reader import DatasetReader
 
         with DatasetReader(file) as reader:
             record = reader.record(run_index)

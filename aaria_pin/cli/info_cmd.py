@@ -39,8 +39,8 @@ def info(file: Path, as_json: bool, card: bool) -> None:
 
     With --card, a data set's data card instead (the stored one when current).
     """
-    from aaria_pin.files.dataset_file import is_dataset_file
-    from aaria_pin.files.dataset_reader import dataset_summary
+    from aaria_pin.files.dataset.reader import dataset_summary
+    from aaria_pin.files.dataset.store import is_dataset_file
     from aaria_pin.files.runfile import run_file_summary
 
     is_dataset = is_dataset_file(file)
@@ -119,7 +119,7 @@ def _echo_run(file: Path, summary: Mapping[str, Any]) -> None:
 
 
 def _echo_dataset(file: Path, summary: Mapping[str, Any]) -> None:
-    """A data set's summary (keys of :func:`aaria_pin.files.dataset_reader.dataset_summary`)."""
+    """A data set's summary (keys of :func:`aaria_pin.files.dataset.reader.dataset_summary`)."""
     get = summary.get
     robot = get("robot")
     robot_name = robot.get("name") if isinstance(robot, Mapping) else robot

@@ -66,7 +66,7 @@ def dataset_stats(
     import numpy as np
 
     from aaria_pin.errors import ParameterError
-    from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.dataset.reader import DatasetReader
     from aaria_pin.files.io import existing_input
 
     try:

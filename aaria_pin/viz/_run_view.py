@@ -271,7 +271,7 @@ class RunFile:
 def _read_record(path: Path, run: int | None) -> RunRecord | None:
     """A run file's record (None if it is not one), or run ``run`` of a data set."""
     if run is not None:
-        from aaria_pin.files.dataset_reader import DatasetReader
+        from aaria_pin.files.dataset.reader import DatasetReader
 
         with DatasetReader(path) as reader:
             return reader.record(run)

@@ -279,7 +279,7 @@ def dataset_card(path: str | os.PathLike[str]) -> DatasetCard:
     """
     import h5py
 
-    from aaria_pin.files.dataset_reader import DatasetReader, dataset_summary
+    from aaria_pin.files.dataset.reader import DatasetReader, dataset_summary
 
     summary = dataset_summary(path)
     with DatasetReader(path) as reader, h5py.File(path, "r") as handle:
@@ -544,7 +544,7 @@ def read_stored_card(path: str | os.PathLike[str]) -> DatasetCard | None:
     Raises:
         InputFileError: missing, unreadable, or not a data set.
     """
-    from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.dataset.reader import DatasetReader
 
     with DatasetReader(path) as reader:
         attributes = reader.attributes

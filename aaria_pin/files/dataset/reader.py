@@ -2,7 +2,7 @@
 
 Example::
 
-    from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.dataset.reader import DatasetReader
 
     with DatasetReader("ds.h5") as ds:
         print(len(ds), ds.samples, ds.attributes["seed"])
