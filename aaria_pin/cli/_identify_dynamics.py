@@ -93,24 +93,9 @@ def dynamics_command(
         OutputFileError: an output that cannot be written.
     """
     from aaria_pin.apps.identify.dynamics import identify_dynamics
-    from aaria_pin.errors import ParameterError
-    from aaria_pin.files.dataset.store import is_dataset_file
+    from aaria_pin.files.source import open_record
 
-    if is_dataset_file(file):
-        from aaria_pin.files.dataset.reader import DatasetReader
-
-        if run_index is None:
-            raise ParameterError(
-                parameter="run", value=None, allowed="a run index for a data set (--run K)"
-            )
-        with DatasetReader(file) as reader:
-            record = reader.record(run_index)
-    elif run_index is not None:
-        raise ParameterError(parameter="run", value=run_index, allowed="None for a run file")
-    else:
-        from aaria_pin.files.runfile import read_run
-
-        record = read_run(file)
+    record = open_record(file, run_index)
     report = identify_dynamics(record, holdout=holdout).to_json()
     text = json.dumps(report)
     if output is not None:

@@ -64,20 +64,9 @@ def identify_kinematics_command(
 ) -> dict[str, Any] | None:
     """Identify the run, write the outputs, print the result (or return it for ``--json``)."""
     from aaria_pin.apps.identify.kinematics import identify_kinematics
-    from aaria_pin.errors import ParameterError
-    from aaria_pin.files.dataset.store import is_dataset_file
+    from aaria_pin.files.source import open_record
 
-    if is_dataset_file(file):
-        if run_index is None:
-            raise ParameterError(parameter="run", value=None, allowed="a run index for a data set")
-        from aaria_pin.files.dataset.reader import DatasetReader
-
-        with DatasetReader(file) as reader:
-            record = reader.record(run_index)
-    else:
-        from aaria_pin.files.runfile import read_run
-
-        record = read_run(file)
+    record = open_record(file, run_index)
     result = identify_kinematics(record)
     _write_outputs(result, table, urdf)
     if as_json:

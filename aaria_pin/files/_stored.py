@@ -404,4 +404,8 @@ def read_errors(file: str | os.PathLike[str], what: str) -> Iterator[None]:
     except InputFileError:
         raise
     except (OSError, ValueError, TypeError, KeyError) as exc:
-        raise InputFileError(f"{file}: cannot be read as {what} ({first_line(exc)})") from None
+        raise InputFileError(
+            f"{file}: cannot be read as {what} ({first_line(exc)})",
+            parameter="path",
+            value=str(file),
+        ) from None

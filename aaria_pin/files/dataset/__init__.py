@@ -53,7 +53,6 @@ from aaria_pin.files.dataset.store import (
     DatasetFile,
     check_dataset_path,
     decode_attributes,
-    is_dataset_file,
     read_dataset_attributes,
 )
 
@@ -68,7 +67,6 @@ __all__ = [
     "dataset_summary",
     "decode_attributes",
     "encode_run",
-    "is_dataset_file",
     "missing_shards",
     "read_dataset_attributes",
     "run_arrays",

@@ -140,9 +140,19 @@ class DatasetReader:
 
     def _check_run(self, index: int) -> None:
         if not 0 <= index < len(self):
-            raise ParameterError(f"run {index}; allowed: 0 to {len(self) - 1}")
+            raise ParameterError(
+                f"run {index}; allowed: 0 to {len(self) - 1}",
+                parameter="run",
+                value=index,
+                allowed=f"0 to {len(self) - 1}",
+            )
         if not self.complete[index]:
-            raise ParameterError(f"run {index} is not complete in {self.path}")
+            raise ParameterError(
+                f"run {index} is not complete in {self.path}",
+                parameter="run",
+                value=index,
+                allowed=f"a complete run of {self.path}",
+            )
 
     def run(self, index: int, names: Sequence[str] | None = None) -> dict[str, Array]:
         """Arrays of one complete run as stored (by default every stored array, in file order).

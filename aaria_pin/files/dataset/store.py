@@ -40,7 +40,6 @@ __all__ = [
     "check_dataset_path",
     "dataset_progress",
     "decode_attributes",
-    "is_dataset_file",
     "read_dataset_attributes",
     "read_layout",
 ]
@@ -364,24 +363,6 @@ def _open_dataset_read_only(file: Path) -> Any:
         handle.close()
         raise InputFileError(f"{file}: not a complete aaria_pin data set; cannot resume it")
     return handle
-
-
-def is_dataset_file(path: str | os.PathLike[str]) -> bool:
-    """Whether a file is an aaria_pin data set of any format version (HDF5, its ``format``).
-
-    Raises:
-        InputFileError: an ``.h5`` file that HDF5 cannot read.
-    """
-    import h5py
-
-    file = Path(path)
-    if file.suffix.lower() not in (".h5", ".hdf5") or not file.is_file():
-        return False
-    try:
-        with h5py.File(file, "r") as handle:
-            return bool(handle.attrs.get("format") == DATASET_FORMAT)
-    except OSError as exc:
-        raise InputFileError(f"{file}: cannot be read as HDF5 ({exc})") from None
 
 
 def read_dataset_attributes(path: str | os.PathLike[str]) -> dict[str, Any]:
