@@ -279,7 +279,7 @@ def run_torque_report(
         ParameterError: ``run`` given for a run file.
         InputFileError: an unreadable file, or a run whose model cannot be rebuilt.
     """
-    from aaria_pin.files.source import is_dataset_file
+    from aaria_pin.files.detection import is_dataset_file
 
     if run is None and is_dataset_file(path):
         return dataset_torque_report(path), False

@@ -91,7 +91,7 @@ def check_run_option(path: Path, run_index: int | None) -> None:
     """
     if run_index is None or not path.is_file():
         return
-    from aaria_pin.files.source import is_dataset_file
+    from aaria_pin.files.detection import is_dataset_file
 
     if not is_dataset_file(path):
         raise click.UsageError("--run is for a data set; this is a run file")

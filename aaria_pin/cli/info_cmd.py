@@ -40,8 +40,8 @@ def info(file: Path, as_json: bool, card: bool) -> None:
     With --card, a data set's data card instead (the stored one when current).
     """
     from aaria_pin.files.dataset.reader import dataset_summary
+    from aaria_pin.files.detection import is_dataset_file
     from aaria_pin.files.runfile import run_file_summary
-    from aaria_pin.files.source import is_dataset_file
 
     is_dataset = is_dataset_file(file)
     with _damaged_data_set(file, is_dataset):

@@ -1,102 +1,28 @@
-"""What a file is, and the one reader of "a run file, or run K of a data set".
+"""The one reader of "a run file, or run K of a data set".
 
-:func:`file_format` is the one format detection of the files layer: an ``.h5``/``.hdf5`` file
-is a data set when its ``format`` attribute says so (any format version), else an HDF5 run
-file; a ``.mat`` file is a MAT-file v7.3 when its 128-byte header says so (it is HDF5), else a
-MAT-file v5. :func:`open_record` reads one run as a :class:`~aaria_pin.core.record.RunRecord`
-from either kind of file, with one rule for ``run``: required for a data set, refused for a
-run file.
+:func:`open_record` reads one run as a :class:`~aaria_pin.core.record.RunRecord` from either
+kind of file (told apart by :func:`~aaria_pin.files.detection.file_format`), with one rule for
+``run``: required for a data set, refused for a run file.
 
 Example::
 
     from aaria_pin.files.source import open_record
 
     record = open_record("run.h5")            # a run file
-    third = open_record("ds.h5", run=2)       # run 2 of a data set
+    second = open_record("ds.h5", run=1)      # run 1 of a data set
 """
 
 from __future__ import annotations
 
 import os
-from pathlib import Path
-from typing import Literal
 
 from aaria_pin.core.record import RunRecord
-from aaria_pin.errors import InputFileError, ParameterError
-from aaria_pin.files.paths import existing_input
+from aaria_pin.errors import ParameterError
+from aaria_pin.files.dataset.reader import DatasetReader
+from aaria_pin.files.detection import existing_run_source, file_format
+from aaria_pin.files.runfile import read_run
 
-__all__ = [
-    "FILE_FORMATS",
-    "MAT73_HEADER",
-    "RUN_SUFFIXES",
-    "FileFormat",
-    "file_format",
-    "is_dataset_file",
-    "is_mat73",
-    "open_record",
-]
-
-FileFormat = Literal["hdf5", "mat5", "mat73", "dataset"]
-"""A file's format: an HDF5 run file, a MAT-file v5 or v7.3 run file, or a data set."""
-
-FILE_FORMATS: tuple[FileFormat, ...] = ("hdf5", "mat5", "mat73", "dataset")
-"""Every :data:`FileFormat`."""
-
-RUN_SUFFIXES = (".h5", ".hdf5", ".mat")
-"""File suffixes of run files and data sets (case-insensitive)."""
-
-MAT73_HEADER = b"MATLAB 7.3 MAT-file"
-"""How the text of a MAT-file v7.3's header starts."""
-
-
-def file_format(path: str | os.PathLike[str]) -> FileFormat:
-    """The format of an existing run file or data set, from its suffix and marks only.
-
-    Args:
-        path: a ``.h5``, ``.hdf5`` or ``.mat`` file
-
-    Returns:
-        ``"dataset"`` (an HDF5 file whose ``format`` is the data set's), ``"hdf5"`` (another
-        HDF5 file), ``"mat73"`` (a ``.mat`` whose header is a v7.3 one) or ``"mat5"``.
-
-    Raises:
-        InputFileError: another suffix, a missing or unreadable file, or an ``.h5`` file HDF5
-            cannot open (``parameter="path"``).
-    """
-    file = _existing(path)
-    if file.suffix.lower() == ".mat":
-        return "mat73" if is_mat73(file) else "mat5"
-    import h5py
-
-    from aaria_pin.files._stored import read_errors
-    from aaria_pin.files.dataset.layout import DATASET_FORMAT
-
-    with read_errors(file, "an HDF5 run file or data set"), h5py.File(file, "r") as handle:
-        mark = handle.attrs.get("format")
-    return "dataset" if mark == DATASET_FORMAT else "hdf5"
-
-
-def is_mat73(file: Path) -> bool:
-    """Whether a ``.mat`` file is a MAT-file v7.3 (its header says so); False if unreadable."""
-    try:
-        with file.open("rb") as stream:
-            return stream.read(len(MAT73_HEADER)) == MAT73_HEADER
-    except OSError:
-        return False
-
-
-def is_dataset_file(path: str | os.PathLike[str]) -> bool:
-    """Whether a file is an aaria_pin data set of any format version (HDF5, its ``format``).
-
-    A missing file, a folder or another suffix is not one (False).
-
-    Raises:
-        InputFileError: an ``.h5`` file that HDF5 cannot read.
-    """
-    file = Path(path)
-    if file.suffix.lower() not in (".h5", ".hdf5") or not file.is_file():
-        return False
-    return file_format(file) == "dataset"
+__all__ = ["open_record"]
 
 
 def open_record(path: str | os.PathLike[str], run: int | None = None) -> RunRecord:
@@ -114,25 +40,13 @@ def open_record(path: str | os.PathLike[str], run: int | None = None) -> RunReco
         ParameterError: ``run`` None for a data set, given for a run file, outside the data
             set or not complete (``parameter="run"``).
     """
-    file = _existing(path)
+    file = existing_run_source(path)
     kind = file_format(file)
     if kind == "dataset":
         if run is None:
             raise ParameterError(parameter="run", value=None, allowed="a run index for a data set")
-        from aaria_pin.files.dataset.reader import DatasetReader
-
         with DatasetReader(file) as reader:
             return reader.record(run)
     if run is not None:
         raise ParameterError(parameter="run", value=run, allowed="None for a run file")
-    from aaria_pin.files.runfile import read_run
-
     return read_run(file)
-
-
-def _existing(path: str | os.PathLike[str]) -> Path:
-    """The existing run file or data set ``path`` (InputFileError naming ``path``)."""
-    try:
-        return existing_input(path, RUN_SUFFIXES, "run")
-    except InputFileError as exc:
-        raise InputFileError(str(exc), parameter="path", value=str(path)) from None

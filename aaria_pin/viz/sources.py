@@ -216,8 +216,8 @@ def load_run_view(path: str | os.PathLike[str], run: int | None = None) -> RunVi
         InputFileError: as :func:`run_kind`, or an unreadable file.
         ParameterError: ``run`` given for a run file, or not a run of the data set.
     """
+    from aaria_pin.files.detection import is_dataset_file
     from aaria_pin.files.paths import existing_input
-    from aaria_pin.files.source import is_dataset_file
 
     file = existing_input(path, None, "run")  # not a FIFO, which a reader could wait on
     if is_dataset_file(file):

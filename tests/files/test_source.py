@@ -1,4 +1,4 @@
-"""The one format detection and the one reader of "a run file, or run K of a data set"."""
+"""The one reader of "a run file, or run K of a data set"."""
 
 from __future__ import annotations
 
@@ -9,26 +9,9 @@ import numpy as np
 import pytest
 
 from aaria_pin.errors import InputFileError, ParameterError
-from aaria_pin.files.runfile import write_run
-from aaria_pin.files.source import file_format, is_dataset_file, open_record
+from aaria_pin.files.source import open_record
 
 FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "v0_3_0"
-
-
-def test_every_format_is_told_from_its_marks(tmp_path: Path) -> None:
-    assert file_format(FIXTURES / "dh_run.h5") == "hdf5"
-    assert file_format(FIXTURES / "dh_run.mat") == "mat5"
-    assert file_format(FIXTURES / "ur5_dataset.h5") == "dataset"
-    record = open_record(FIXTURES / "ur5_run.h5")
-    long = tmp_path / "run.mat"
-    write_run(long, record, mat_version="7.3")
-    assert long.read_bytes().startswith(b"MATLAB 7.3 MAT-file")
-    assert file_format(long) == "mat73"
-    renamed = tmp_path / "RUN.HDF5"
-    renamed.write_bytes((FIXTURES / "ur5_dataset.h5").read_bytes())
-    assert file_format(renamed) == "dataset" and is_dataset_file(renamed)
-    assert not is_dataset_file(FIXTURES / "dh_run.h5")
-    assert not is_dataset_file(tmp_path / "missing.h5")
 
 
 def test_a_run_file_and_a_data_set_run_read_as_stored() -> None:
@@ -61,5 +44,3 @@ def test_the_run_rule_and_the_file_errors_name_their_parameter(tmp_path: Path) -
     with pytest.raises(InputFileError, match="cannot be read as an HDF5 run file") as bad_file:
         open_record(garbage)
     assert bad_file.value.parameter == "path"
-    with pytest.raises(InputFileError, match=r"unknown run file type '\.csv'"):
-        file_format(FIXTURES / "traj.csv")

@@ -62,6 +62,7 @@ whole record (which is the one-piece case of the same writer). So is a ``.mat`` 
 """
 
 from aaria_pin.files._stored import JSON_SUFFIX
+from aaria_pin.files.detection import RUN_SUFFIXES
 from aaria_pin.files.runfile._attributes import RUN_FORMAT, RUN_FORMAT_VERSION
 from aaria_pin.files.runfile._layout import column_source, view_from_columns
 from aaria_pin.files.runfile._legacy import URDF_V1_FORMAT
@@ -75,7 +76,6 @@ from aaria_pin.files.runfile._write import (
     write_run_chunks,
     write_run_pieces,
 )
-from aaria_pin.files.source import RUN_SUFFIXES
 
 __all__ = [
     "COMPRESSIONS",

@@ -123,8 +123,8 @@ def load_mat(file: Path, names: list[str] | None = None) -> dict[str, Any]:
     A v7.3 file (HDF5) is read by :func:`~aaria_pin.files.runfile._mat73.load_mat73` into
     the same forms as scipy gives a v5 file's variables.
     """
+    from aaria_pin.files.detection import is_mat73
     from aaria_pin.files.runfile._mat73 import load_mat73
-    from aaria_pin.files.source import is_mat73
 
     if is_mat73(file):
         return load_mat73(file, names)
@@ -138,8 +138,8 @@ def load_mat(file: Path, names: list[str] | None = None) -> dict[str, Any]:
 
 def mat_variables(file: Path) -> dict[str, tuple[int, ...]]:
     """The names and shapes of a MATLAB v5 or v7.3 file's variables, without reading them."""
+    from aaria_pin.files.detection import is_mat73
     from aaria_pin.files.runfile._mat73 import mat73_variables
-    from aaria_pin.files.source import is_mat73
 
     if is_mat73(file):
         return mat73_variables(file)

@@ -18,6 +18,7 @@ import numpy as np
 from aaria_pin.core.record import SERIES, RunRecord
 from aaria_pin.errors import InputFileError
 from aaria_pin.files._stored import NAME_LISTS
+from aaria_pin.files.detection import RUN_SUFFIXES, file_format
 from aaria_pin.files.paths import existing_input
 from aaria_pin.files.runfile._attributes import RUN_FORMAT_VERSION
 from aaria_pin.files.runfile._hdf5 import _hdf5_errors, _read_hdf5_v2, _summarise_hdf5_v2
@@ -36,7 +37,6 @@ from aaria_pin.files.runfile._mat import (
     load_mat,
     mat_variables,
 )
-from aaria_pin.files.source import RUN_SUFFIXES, file_format
 
 
 def read_run(path: str | os.PathLike[str]) -> RunRecord:
