@@ -39,7 +39,7 @@ def info(file: Path, as_json: bool, card: bool) -> None:
 
     With --card, a data set's data card instead (the stored one when current).
     """
-    from aaria_pin.files.dataset.reader import dataset_summary
+    from aaria_pin.files.dataset.summary import dataset_summary
     from aaria_pin.files.detection import is_dataset_file
     from aaria_pin.files.runfile import run_file_summary
 
@@ -119,7 +119,7 @@ def _echo_run(file: Path, summary: Mapping[str, Any]) -> None:
 
 
 def _echo_dataset(file: Path, summary: Mapping[str, Any]) -> None:
-    """A data set's summary (keys of :func:`aaria_pin.files.dataset.reader.dataset_summary`)."""
+    """A data set's summary (keys of :func:`aaria_pin.files.dataset.summary.dataset_summary`)."""
     get = summary.get
     robot = get("robot")
     robot_name = robot.get("name") if isinstance(robot, Mapping) else robot
@@ -166,7 +166,8 @@ def _echo_card(file: Path, is_dataset: bool, as_json: bool) -> None:
         ParameterError: ``file`` is a run file.
         InputFileError: ``file`` is missing or neither a run file nor a data set.
     """
-    from aaria_pin.apps.dataset.card import card_text, current_card
+    from aaria_pin.apps.dataset.card_file import current_card
+    from aaria_pin.apps.dataset.card_text import card_text
     from aaria_pin.errors import ParameterError
     from aaria_pin.files.runfile import run_file_summary
 

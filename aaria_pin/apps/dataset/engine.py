@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from aaria_pin._version import __version__
-from aaria_pin.apps.dataset.card import store_card
+from aaria_pin.apps.dataset.card_file import store_card
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.apps.dataset.shards import (
     DatasetEstimate,

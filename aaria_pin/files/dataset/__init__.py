@@ -47,7 +47,7 @@ from aaria_pin.files.dataset.layout import (
     run_arrays,
     signals_view,
 )
-from aaria_pin.files.dataset.reader import DatasetReader, dataset_summary
+from aaria_pin.files.dataset.reader import DatasetReader
 from aaria_pin.files.dataset.shards import missing_shards, shard_files
 from aaria_pin.files.dataset.store import (
     DatasetFile,
@@ -55,6 +55,7 @@ from aaria_pin.files.dataset.store import (
     decode_attributes,
     read_dataset_attributes,
 )
+from aaria_pin.files.dataset.summary import dataset_summary
 
 __all__ = [
     "DATASET_FORMAT",

@@ -39,7 +39,7 @@ from aaria_pin.files.dataset.layout import (
     record_attributes,
 )
 from aaria_pin.files.dataset.legacy import LEGACY_VERSION, legacy_names, legacy_record
-from aaria_pin.files.dataset.shards import missing_shards, shard_files
+from aaria_pin.files.dataset.shards import missing_shards
 from aaria_pin.files.dataset.statistics import (
     channel_statistics,
     read_statistics,
@@ -55,7 +55,7 @@ from aaria_pin.files.dataset.windows import (
     view_sources,
 )
 
-__all__ = ["DatasetReader", "dataset_summary"]
+__all__ = ["DatasetReader"]
 
 _NOISE_STREAM = 3
 """The noise stream of a run when the file records none (as the engine draws it)."""
@@ -122,6 +122,11 @@ class DatasetReader:
 
     def __len__(self) -> int:
         return int(self._handle.attrs["N"])
+
+    @property
+    def handle(self) -> Any:
+        """The open ``h5py.File`` (read-only), for what the reader's methods do not cover."""
+        return self._handle
 
     @property
     def samples(self) -> int:
@@ -422,51 +427,3 @@ class DatasetReader:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
-
-
-def dataset_summary(path: str | os.PathLike[str]) -> dict[str, Any]:
-    """Runs, shapes, sizes, seed, config and completeness of a data set (for ``aaria info``).
-
-    Returns:
-        ``path``, ``format_version``, ``kind`` (``"dh"`` or ``"urdf"``), ``runs``,
-        ``complete``, ``failed``, ``samples``, ``dtype``, ``seed``, ``vary``, ``rate``,
-        ``duration``, ``noise``, ``arrays`` (stored name → shape), ``views`` (name → shape),
-        ``file_bytes`` (with its shards), ``shards`` (how many files), ``data_bytes`` (the stored
-        arrays uncompressed), ``config``, and for a
-        URDF robot ``robot`` (its name, source, frames, joint and IMU names, base mode).
-    """
-    with DatasetReader(path) as reader:
-        handle = reader._handle
-        attributes = reader.attributes
-        stored = reader.stored_names
-        views = tuple(reader.layout.views) if reader.layout is not None else ()
-        shards = shard_files(handle, reader.path) if reader.layout is not None else []
-        robot = attributes.get("robot_info") if reader.layout is not None else None
-        if reader.layout is None and isinstance(attributes.get("robot"), dict):
-            robot = attributes["robot"]
-        kind = attributes.get("kind") or ("urdf" if robot else "dh")
-        return {
-            "path": str(reader.path),
-            "format_version": reader.version,
-            "kind": kind,
-            "runs": len(reader),
-            "complete": int(reader.complete.sum()),
-            "failed": sorted(int(k) for k in attributes.get("failures", {})),
-            "samples": reader.samples,
-            "dtype": attributes.get("dtype"),
-            "seed": attributes.get("seed"),
-            "vary": attributes.get("vary"),
-            "rate": attributes.get("rate"),
-            "duration": attributes.get("duration"),
-            "noise": attributes.get("noise"),
-            "arrays": {name: list(handle[name].shape) for name in stored},
-            "views": {name: list(handle[name].shape) for name in views},
-            "file_bytes": reader.path.stat().st_size
-            + sum(p.stat().st_size for p in shards if p.is_file()),
-            "shards": len(shards),
-            "data_bytes": int(
-                sum(handle[name].size * handle[name].dtype.itemsize for name in stored)
-            ),
-            "config": attributes.get("config"),
-            **({"robot": robot} if robot else {}),
-        }
