@@ -54,13 +54,9 @@ from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
 from aaria_pin.core._malloc import tune_malloc
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
+from aaria_pin.files.dataset.resume import dataset_progress, read_dataset_attributes
 from aaria_pin.files.dataset.shards import read_manifest_shards, remove_unused_shards
-from aaria_pin.files.dataset.store import (
-    DatasetFile,
-    check_dataset_path,
-    dataset_progress,
-    read_dataset_attributes,
-)
+from aaria_pin.files.dataset.store import DatasetFile, check_dataset_path
 from aaria_pin.files.paths import no_space
 
 __all__ = [

@@ -38,6 +38,7 @@ the manifest's folder; attributes ``shard_dir`` and ``shard_prefix``). Every dat
 Version 1 files (aaria_pin 0.1) still read (:mod:`.legacy`); they cannot be resumed.
 """
 
+from aaria_pin.files._stored import decode_attributes
 from aaria_pin.files.dataset.layout import (
     DATASET_FORMAT,
     DATASET_FORMAT_VERSION,
@@ -48,13 +49,9 @@ from aaria_pin.files.dataset.layout import (
     signals_view,
 )
 from aaria_pin.files.dataset.reader import DatasetReader
+from aaria_pin.files.dataset.resume import read_dataset_attributes
 from aaria_pin.files.dataset.shards import missing_shards, shard_files
-from aaria_pin.files.dataset.store import (
-    DatasetFile,
-    check_dataset_path,
-    decode_attributes,
-    read_dataset_attributes,
-)
+from aaria_pin.files.dataset.store import DatasetFile, check_dataset_path
 from aaria_pin.files.dataset.summary import dataset_summary
 
 __all__ = [

@@ -46,6 +46,7 @@ __all__ = [
     "DatasetLayout",
     "EncodedRun",
     "encode_run",
+    "read_layout",
     "signals_view",
 ]
 
@@ -382,3 +383,10 @@ def record_attributes(
     attributes["noise_spawn_key"] = [int(run), int(noise_stream)]
     attributes["run"] = int(run)
     return attributes
+
+
+def read_layout(handle: Any) -> DatasetLayout:
+    """The layout of an open version 2 data set file."""
+    names = {name: tuple(handle[name].asstr()[()]) for name in NAME_LISTS}
+    urdf = handle["urdf"].asstr()[()] if "urdf" in handle else ""
+    return DatasetLayout.from_json(handle.attrs["layout_json"], names, urdf)

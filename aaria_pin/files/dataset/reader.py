@@ -36,6 +36,7 @@ from aaria_pin.files.dataset.layout import (
     DATASET_FORMAT,
     DATASET_FORMAT_VERSION,
     DatasetLayout,
+    read_layout,
     record_attributes,
 )
 from aaria_pin.files.dataset.legacy import LEGACY_VERSION, legacy_names, legacy_record
@@ -46,7 +47,6 @@ from aaria_pin.files.dataset.statistics import (
     store_statistics,
     view_statistics,
 )
-from aaria_pin.files.dataset.store import read_layout
 from aaria_pin.files.dataset.windows import (
     DEFAULT_FRACTIONS,
     WindowDataset,

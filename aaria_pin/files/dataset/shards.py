@@ -37,7 +37,8 @@ import numpy as np
 from aaria_pin.errors import OutputFileError
 from aaria_pin.files._stored import first_line
 from aaria_pin.files.dataset.layout import DatasetLayout, EncodedRun, chunk_origins
-from aaria_pin.files.dataset.store import _new_file, read_run_chunks
+from aaria_pin.files.dataset.resume import read_run_chunks
+from aaria_pin.files.dataset.store import _new_file
 from aaria_pin.files.io import atomic_output
 
 __all__ = [
