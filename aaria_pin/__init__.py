@@ -20,6 +20,8 @@ from __future__ import annotations
 from importlib import import_module
 from typing import TYPE_CHECKING, Any
 
+# The Aaria layer registers the arm of 0.1.0's DH files with the files layer's readers.
+import aaria_pin.aaria.legacy_v0_1  # noqa: F401
 from aaria_pin._version import __version__
 from aaria_pin.errors import (
     AariaError,

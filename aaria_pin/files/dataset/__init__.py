@@ -35,7 +35,7 @@ the manifest's folder; attributes ``shard_dir`` and ``shard_prefix``). Every dat
 ``command`` (the command line that made it, ``""`` from the library) and ``versions_json``
 (aaria_pin, Pinocchio, NumPy, h5py, HDF5, Python).
 
-Version 1 files (aaria_pin 0.1) still read (:mod:`.legacy`); they cannot be resumed.
+Version 1 files (aaria_pin 0.1) still read (:mod:`.legacy_datasets`); they cannot be resumed.
 """
 
 from aaria_pin.files._stored import decode_attributes

@@ -15,8 +15,9 @@ Example::
     train[0]["senSen"]                            # a map-style dataset (any DataLoader)
 
 Data sets of both format versions read: version 2 (one layout for every robot, views as HDF5
-virtual datasets) and version 1, written by aaria_pin 0.1 (:mod:`.legacy`). Only complete runs
-are read; each run is one chunk (a few for poses) on disk, so a window costs one run's read.
+virtual datasets) and version 1, written by aaria_pin 0.1 (:mod:`.legacy_datasets`). Only
+complete runs are read; each run is one chunk (a few for poses) on disk, so a window costs one
+run's read.
 """
 
 from __future__ import annotations
@@ -39,7 +40,7 @@ from aaria_pin.files.dataset.layout import (
     read_layout,
     record_attributes,
 )
-from aaria_pin.files.dataset.legacy import LEGACY_VERSION, legacy_names, legacy_record
+from aaria_pin.files.dataset.legacy_datasets import LEGACY_VERSION, legacy_names, legacy_record
 from aaria_pin.files.dataset.shards import missing_shards
 from aaria_pin.files.dataset.statistics import (
     channel_statistics,

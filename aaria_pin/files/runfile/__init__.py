@@ -57,7 +57,7 @@ does not grow with the run's length; the file is the same as :func:`write_run` m
 whole record (which is the one-piece case of the same writer). So is a ``.mat`` v7.3 file; a
 ``.mat`` v5 file is written whole.
 
-:func:`read_run` also reads every run file aaria_pin 0.1.0 wrote (:mod:`._legacy`: Aaria DH
+:func:`read_run` also reads every run file aaria_pin 0.1.0 wrote (:mod:`._legacy_runs`: Aaria DH
 ``.h5``/``.mat``, URDF robot and pick-place ``.h5``, wrist ``.h5``/``.mat``).
 """
 
@@ -65,7 +65,7 @@ from aaria_pin.files._stored import JSON_SUFFIX
 from aaria_pin.files.detection import RUN_SUFFIXES
 from aaria_pin.files.runfile._attributes import RUN_FORMAT, RUN_FORMAT_VERSION
 from aaria_pin.files.runfile._layout import column_source, view_from_columns
-from aaria_pin.files.runfile._legacy import URDF_V1_FORMAT
+from aaria_pin.files.runfile._legacy_runs import URDF_V1_FORMAT
 from aaria_pin.files.runfile._read import is_run_file, read_run, read_run_inputs, run_file_summary
 from aaria_pin.files.runfile._write import (
     COMPRESSIONS,

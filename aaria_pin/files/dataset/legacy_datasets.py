@@ -16,6 +16,7 @@ base), as the run computed it. The IMU signals are the columns of ``senSen``/``s
 from __future__ import annotations
 
 import json
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -27,14 +28,8 @@ from aaria_pin.core.record import (
     mounts_from_poses,
     signals_view,
 )
-from aaria_pin.files._v0_1 import (
-    AARIA_JOINTS,
-    AARIA_MODULES,
-    AARIA_ROBOT,
-    aaria_mounts,
-    base_pose_from_table,
-)
 from aaria_pin.files.dataset.layout import record_attributes
+from aaria_pin.files.legacy_arm import base_pose_from_table, legacy_arm
 
 __all__ = ["LEGACY_VERSION", "legacy_names", "legacy_record"]
 
@@ -86,13 +81,14 @@ def legacy_record(handle: Any, run: int, file_attributes: dict[str, Any]) -> Run
     attributes = record_attributes(file_attributes, run, _NOISE_STREAM)
     mounts = np.asarray(handle["imu_mount"][run], float)
     if aaria:
-        joints = AARIA_JOINTS
-        imus = tuple(name[: -len("_wx")] for name in columns[1 + AARIA_MODULES :: 6])
-        imu_mounts = aaria_mounts(imus, mounts)
+        arm = legacy_arm(Path(handle.filename))
+        joints = arm.joints
+        imus = tuple(name[: -len("_wx")] for name in columns[1 + arm.modules :: 6])
+        imu_mounts = arm.mounts(imus, mounts)
         tables = {name: np.asarray(handle[name][run], float) for name in _AARIA_ARRAYS[1:4]}
         base_table: np.ndarray | None = tables["senSenB"]
         urdf = ""
-        attributes.update(kind="dh", robot=AARIA_ROBOT)
+        attributes.update(kind="dh", robot=arm.robot)
     else:
         robot = file_attributes["robot"]
         joints = tuple(robot["joint_names"])
