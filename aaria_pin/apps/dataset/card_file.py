@@ -1,7 +1,7 @@
 """A data set's card from its file: computed through one open reader, stored, read back.
 
 The card's contents are described in :mod:`.card`. Everything is read through one
-:class:`~aaria_pin.files.dataset.reader.DatasetReader`: its summary, attributes, stored arrays'
+:class:`~aaria_pin.files.dataset.reader.DatasetReader`: its header, stored arrays'
 shapes and units, and every run's ``senSenDH`` (read as one array for the structure counts).
 """
 
@@ -10,7 +10,6 @@ from __future__ import annotations
 import json
 import os
 import re
-import shlex
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import Any
@@ -32,9 +31,9 @@ from aaria_pin.apps.dataset.card import (
 from aaria_pin.apps.dataset.spec import NOISE_STREAM
 from aaria_pin.core.record import IMU_SIGNALS, SERIES, ColumnView
 from aaria_pin.errors import InputFileError
-from aaria_pin.files._stored import JSON_SUFFIX, units_of
+from aaria_pin.files._stored import units_of
+from aaria_pin.files.dataset.header import DatasetHeader
 from aaria_pin.files.dataset.reader import DatasetReader
-from aaria_pin.files.dataset.summary import reader_summary
 
 __all__ = ["current_card", "dataset_card", "read_stored_card", "reader_card", "store_card"]
 
@@ -94,9 +93,8 @@ def reader_card(reader: DatasetReader) -> DatasetCard:
     Args:
         reader: the data set, open (format version 1 or 2)
     """
-    summary = reader_summary(reader)
+    header = reader.header
     handle = reader.handle
-    attributes = reader.attributes
     complete = reader.complete
     views = _views(reader)
     columns = tuple(
@@ -108,45 +106,41 @@ def reader_card(reader: DatasetReader) -> DatasetCard:
         if "senSenDH" in handle
         else None  # a URDF robot: one structure
     )
-    kind = str(summary["kind"])
-    failures = {int(k): str(v) for k, v in (attributes.get("failures") or {}).items()}
+    kind = header.kind
+    failures = header.failures
     n_complete = int(complete.sum())
-    vary = tuple(attributes.get("vary") or ())
+    vary = tuple(header.vary or ())
     structures, active, per_module = _structure_counts(link_types, complete)
-    parameters = dict(attributes.get("noise_parameters") or {})
-    command = attributes.get("command") or None  # "": a job started from Python
-    if isinstance(command, list):
-        command = shlex.join(str(part) for part in command)
-    versions = attributes.get("versions")
+    parameters = header.noise_parameters
     return DatasetCard(
         path=str(reader.path),
-        format_version=int(summary["format_version"]),
-        written_by=str(attributes.get("version", "unknown")),
-        command=None if command is None else str(command),
-        versions=versions if isinstance(versions, dict) or versions is None else {"": versions},
+        format_version=header.format_version,
+        written_by=header.written_by or "unknown",
+        command=header.command,
+        versions=header.versions,
         kind=kind,
-        robot=_robot_name(kind, attributes, summary),
-        robot_description=_robot_description(kind, vary, attributes, summary),
-        n_runs=int(summary["runs"]),
+        robot=_robot_name(header),
+        robot_description=_robot_description(header, vary),
+        n_runs=header.n_runs,
         complete=n_complete,
         failed=len(failures),
-        not_done=int(summary["runs"]) - n_complete - len(failures),
-        samples=int(summary["samples"]),
-        rate=_number(summary.get("rate")),
-        duration=_number(summary.get("duration")),
-        dtype=str(summary.get("dtype")),
-        seed=None if summary.get("seed") is None else int(summary["seed"]),
+        not_done=header.n_runs - n_complete - len(failures),
+        samples=header.samples,
+        rate=_number(header.rate),
+        duration=_number(header.duration),
+        dtype=str(header.dtype),
+        seed=None if header.seed is None else int(header.seed),
         vary=vary,
-        ranges=_ranges(attributes.get("config") or {}, vary, kind),
+        ranges=_ranges(header.config or {}, vary, kind),
         fixed_tables={
             name: table
-            for name, table in (attributes.get("fixed_tables") or {}).items()
+            for name, table in header.fixed_tables.items()
             if _FIXED_PART.get(name) not in vary  # a preset's tables of a varied part: unused
         },
-        noise=None if attributes.get("noise") is None else bool(attributes["noise"]),
+        noise=None if header.noise is None else bool(header.noise),
         noise_parameters={k: float(v) for k, v in parameters.items()},
         noise_model=_noise_model(parameters),
-        noise_stream=_noise_stream(attributes),
+        noise_stream=NOISE_STREAM if header.noise_stream is None else header.noise_stream,
         columns=columns,
         structures=structures,
         active_modules=active,
@@ -159,30 +153,28 @@ def _number(value: Any) -> float | None:
     return None if value is None else float(value)
 
 
-def _robot_name(kind: str, attributes: Mapping[str, Any], summary: Mapping[str, Any]) -> str:
-    """The robot's name: the ``robot`` attribute, a URDF robot's name, or the DH default."""
-    robot = summary.get("robot")
+def _robot_name(header: DatasetHeader) -> str:
+    """The robot's name: a URDF robot's name, the ``robot`` attribute, or the DH default."""
+    robot = header.robot_info
     if isinstance(robot, Mapping) and robot.get("name"):
         return str(robot["name"])
-    if isinstance(attributes.get("robot"), str) and attributes["robot"]:
-        return str(attributes["robot"])
-    if kind == "dh":
+    if header.robot:
+        return header.robot
+    if header.kind == "dh":
         from aaria_pin.aaria.simulate import DH_ROBOT
 
         return DH_ROBOT  # 0.1 did not record it
     return "unknown"
 
 
-def _robot_description(
-    kind: str, vary: Sequence[str], attributes: Mapping[str, Any], summary: Mapping[str, Any]
-) -> str:
+def _robot_description(header: DatasetHeader, vary: Sequence[str]) -> str:
     """The robot in words: random Aaria DH arms, one Aaria DH arm, or a URDF robot."""
-    name = _robot_name(kind, attributes, summary)
-    if kind == "dh":
+    name = _robot_name(header)
+    if header.kind == "dh":
         if "structure" in vary:
             return f"random Aaria DH arms ({name}), {N_MODULES} modules, one structure a run"
         return f"one Aaria DH arm ({name}), its table fixed"
-    robot = summary.get("robot")
+    robot = header.robot_info
     if isinstance(robot, Mapping):
         base = "moving" if robot.get("moving_base", True) else "fixed"
         return (
@@ -217,13 +209,6 @@ def _noise_model(parameters: Mapping[str, Any]) -> str:
         if all(np.isclose(float(parameters[k]), v, rtol=1e-12) for k, v in known.items()):
             return "ADIS16485"
     return ""
-
-
-def _noise_stream(attributes: Mapping[str, Any]) -> int | None:
-    """The noise stream (0.1 did not record it: it used stream 3, as the reader assumes)."""
-    if attributes.get("noise_stream") is not None:
-        return int(attributes["noise_stream"])
-    return NOISE_STREAM
 
 
 def _views(reader: DatasetReader) -> dict[str, ColumnView]:
@@ -363,8 +348,7 @@ def read_stored_card(path: str | os.PathLike[str]) -> DatasetCard | None:
 
 def _stored_card(reader: DatasetReader) -> DatasetCard | None:
     """:func:`read_stored_card` of an open data set."""
-    attributes = reader.attributes
-    text = attributes.get(CARD_ATTRIBUTE.removesuffix(JSON_SUFFIX))
+    text = reader.header.stored_card
     if text is None:
         return None
     try:
@@ -373,7 +357,7 @@ def _stored_card(reader: DatasetReader) -> DatasetCard | None:
         card = DatasetCard.from_dict(text)
     except (AttributeError, TypeError, KeyError):
         return None  # of an unknown layout: computed again
-    failed = len(attributes.get("failures") or {})
+    failed = len(reader.header.failures)
     current = (card.n_runs, card.complete, card.failed) == (
         len(reader),
         int(reader.complete.sum()),

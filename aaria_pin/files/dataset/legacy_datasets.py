@@ -28,6 +28,7 @@ from aaria_pin.core.record import (
     mounts_from_poses,
     signals_view,
 )
+from aaria_pin.files.dataset.header import DatasetHeader
 from aaria_pin.files.dataset.layout import record_attributes
 from aaria_pin.files.legacy_arm import base_pose_from_table, legacy_arm
 
@@ -65,20 +66,20 @@ def _columns(dataset: Any) -> tuple[str, ...]:
     return tuple(c.decode() if isinstance(c, bytes) else str(c) for c in dataset.attrs["columns"])
 
 
-def legacy_record(handle: Any, run: int, file_attributes: dict[str, Any]) -> RunRecord:
+def legacy_record(handle: Any, run: int, header: DatasetHeader) -> RunRecord:
     """Run ``run`` of an open version 1 data set as a run record (arrays in float64).
 
     Args:
         handle: the open h5py file
         run: the run index (a complete run)
-        file_attributes: its decoded attributes
+        header: its header
     """
     aaria = "layout_json" not in handle.attrs
     flat = np.asarray(handle["senSen" if aaria else "signals"][run], dtype=float)
     columns = _columns(handle["senSen" if aaria else "signals"])
     samples = flat.shape[0]
     time = flat[:, 0]
-    attributes = record_attributes(file_attributes, run, _NOISE_STREAM)
+    attributes = record_attributes(header.attributes, run, _NOISE_STREAM)
     mounts = np.asarray(handle["imu_mount"][run], float)
     if aaria:
         arm = legacy_arm(Path(handle.filename))
@@ -90,7 +91,7 @@ def legacy_record(handle: Any, run: int, file_attributes: dict[str, Any]) -> Run
         urdf = ""
         attributes.update(kind="dh", robot=arm.robot)
     else:
-        robot = file_attributes["robot"]
+        robot = header.robot_info or {}
         joints = tuple(robot["joint_names"])
         imus = tuple(robot["imu_names"])
         imu_mounts = mounts_from_poses(imus, robot["imu_parents"], mounts)

@@ -22,6 +22,7 @@ run's read.
 
 from __future__ import annotations
 
+import copy
 import os
 from collections.abc import Sequence
 from pathlib import Path
@@ -33,6 +34,7 @@ from aaria_pin.core.record import SERIES, ColumnView, RunRecord, mounts_from_pos
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, ParameterError
 from aaria_pin.files._stored import decode_attributes
+from aaria_pin.files.dataset.header import DatasetHeader
 from aaria_pin.files.dataset.layout import (
     DATASET_FORMAT,
     DATASET_FORMAT_VERSION,
@@ -71,6 +73,7 @@ class DatasetReader:
     Attributes:
         path: the file
         version: its format version
+        header: its attributes, read once (:class:`~aaria_pin.files.dataset.header.DatasetHeader`)
         complete: which runs are complete (N booleans)
         names: what :meth:`run` reads, in file order: the stored per-run arrays, then (version
             2) the views
@@ -113,6 +116,9 @@ class DatasetReader:
                 f"{self.path}: a damaged data set: no 'complete' array; "
                 "allowed: a complete aaria_pin data set (make it again)"
             )
+        self.header = DatasetHeader.from_attributes(
+            decode_attributes(attrs, self.path), self.version, self.path
+        )
         self.complete = self._handle["complete"][()].astype(bool)
         self.layout: DatasetLayout | None = None
         if self.version == LEGACY_VERSION:
@@ -122,7 +128,7 @@ class DatasetReader:
             self.names = (*self.layout.names, *self.layout.views)
 
     def __len__(self) -> int:
-        return int(self._handle.attrs["N"])
+        return self.header.n_runs
 
     @property
     def handle(self) -> Any:
@@ -132,12 +138,12 @@ class DatasetReader:
     @property
     def samples(self) -> int:
         """Samples per run T."""
-        return int(self._handle.attrs["samples"])
+        return self.header.samples
 
     @property
     def attributes(self) -> dict[str, Any]:
-        """File attributes, JSON ones decoded (keys without the ``_json`` suffix)."""
-        return decode_attributes(self._handle.attrs, self.path)
+        """File attributes, JSON ones decoded (keys without the ``_json`` suffix); a copy."""
+        return copy.deepcopy(self.header.attributes)
 
     @property
     def stored_names(self) -> tuple[str, ...]:
@@ -187,9 +193,9 @@ class DatasetReader:
             ParameterError: index out of range, or a run that is not complete.
         """
         self._check_run(index)
-        attributes = self.attributes
+        header = self.header
         if self.layout is None:
-            return legacy_record(self._handle, index, attributes)
+            return legacy_record(self._handle, index, header)
         layout = self.layout
         arrays = {name: np.asarray(self._handle[name][index], dtype=float) for name in layout.names}
         mounts = mounts_from_poses(layout.imu_names, layout.imu_parents, arrays["imu_mount"])
@@ -209,7 +215,9 @@ class DatasetReader:
             tables={name: arrays[name] for name in layout.tables},
             views=dict(layout.views),
             attributes=record_attributes(
-                attributes, index, int(attributes.get("noise_stream", _NOISE_STREAM))
+                header.attributes,
+                index,
+                _NOISE_STREAM if header.noise_stream is None else header.noise_stream,
             ),
         )
 

@@ -33,34 +33,31 @@ def reader_summary(reader: DatasetReader) -> dict[str, Any]:
         URDF robot ``robot`` (its name, source, frames, joint and IMU names, base mode).
     """
     handle = reader.handle
-    attributes = reader.attributes
+    header = reader.header
     stored = reader.stored_names
     views = tuple(reader.layout.views) if reader.layout is not None else ()
     shards = shard_files(handle, reader.path) if reader.layout is not None else []
-    robot = attributes.get("robot_info") if reader.layout is not None else None
-    if reader.layout is None and isinstance(attributes.get("robot"), dict):
-        robot = attributes["robot"]
-    kind = attributes.get("kind") or ("urdf" if robot else "dh")
+    robot = header.robot_info
     return {
         "path": str(reader.path),
         "format_version": reader.version,
-        "kind": kind,
+        "kind": header.kind,
         "runs": len(reader),
         "complete": int(reader.complete.sum()),
-        "failed": sorted(int(k) for k in attributes.get("failures", {})),
+        "failed": sorted(header.failures),
         "samples": reader.samples,
-        "dtype": attributes.get("dtype"),
-        "seed": attributes.get("seed"),
-        "vary": attributes.get("vary"),
-        "rate": attributes.get("rate"),
-        "duration": attributes.get("duration"),
-        "noise": attributes.get("noise"),
+        "dtype": header.dtype,
+        "seed": header.seed,
+        "vary": header.vary,
+        "rate": header.rate,
+        "duration": header.duration,
+        "noise": header.noise,
         "arrays": {name: list(handle[name].shape) for name in stored},
         "views": {name: list(handle[name].shape) for name in views},
         "file_bytes": reader.path.stat().st_size
         + sum(p.stat().st_size for p in shards if p.is_file()),
         "shards": len(shards),
         "data_bytes": int(sum(handle[name].size * handle[name].dtype.itemsize for name in stored)),
-        "config": attributes.get("config"),
+        "config": header.config,
         **({"robot": robot} if robot else {}),
     }
