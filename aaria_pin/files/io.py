@@ -37,6 +37,7 @@ __all__ = [
     "check_outputs",
     "existing_input",
     "output_lock",
+    "read_csv_table",
     "read_table",
     "write_text_atomic",
 ]
@@ -161,6 +162,30 @@ def _is_number(text: str) -> bool:
 
 def _read_csv(file: Path, names: Sequence[str] | None) -> Array:
     """A CSV table, its optional header row checked against ``names`` (see :func:`read_table`)."""
+    table, header = read_csv_table(file)
+    if header is not None and names is not None:
+        table = _ordered_by_header(file, table, header, names)
+    return table
+
+
+def read_csv_table(file: Path) -> tuple[Array, list[str] | None]:
+    """The numbers of a CSV table and its header row's cells, if it has one.
+
+    Comma separated, ``#`` comments (whole lines or the rest of a line); the header is the
+    first row that is not a comment when none of its cells is a number. The numbers are parsed
+    as Python's ``float`` parses them.
+
+    Args:
+        file: the CSV file (UTF-8, a byte-order mark allowed)
+
+    Returns:
+        The numbers, rows × columns (at least 2-D), and the header's cells (None: no header).
+
+    Raises:
+        InputFileError: no numbers, a cell that is not a number or a row of another width
+            (naming the row and column), in one line naming the file.
+        OSError, ValueError: the file cannot be read or decoded.
+    """
     text = file.read_text(encoding="utf-8-sig")
     lines = text.splitlines()
     header_at, header = None, None
@@ -184,9 +209,7 @@ def _read_csv(file: Path, names: Sequence[str] | None) -> Array:
         ) from None
     except ValueError:
         raise _bad_cell(file, lines, start) from None
-    if header is not None and names is not None:
-        table = _ordered_by_header(file, table, header, names)
-    return table
+    return table, header
 
 
 def _bad_cell(file: Path, lines: list[str], start: int) -> InputFileError:
