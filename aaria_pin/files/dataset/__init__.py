@@ -29,7 +29,7 @@ File attributes: ``format``, ``format_version``, ``N``, ``samples``, ``dtype``, 
 attributes are (:func:`aaria_pin.files._stored.encode_attributes`: a dict or a list that is not
 of two or more numbers is a JSON string under its name plus ``_json``).
 
-A data set made on a Dask cluster is a **manifest** (:mod:`.shards`): the same file, whose
+A data set made on a Dask cluster is a **manifest** (:mod:`.manifest`): the same file, whose
 per-run arrays are virtual datasets over shard files written by the workers (paths relative to
 the manifest's folder; attributes ``shard_dir`` and ``shard_prefix``). Every data set records
 ``command`` (the command line that made it, ``""`` from the library) and ``versions_json``
@@ -48,9 +48,9 @@ from aaria_pin.files.dataset.layout import (
     run_arrays,
     signals_view,
 )
+from aaria_pin.files.dataset.manifest import missing_shards, shard_files
 from aaria_pin.files.dataset.reader import DatasetReader
 from aaria_pin.files.dataset.resume import read_dataset_attributes
-from aaria_pin.files.dataset.shards import missing_shards, shard_files
 from aaria_pin.files.dataset.store import DatasetFile, check_dataset_path
 from aaria_pin.files.dataset.summary import dataset_summary
 

@@ -43,7 +43,7 @@ from aaria_pin.files.dataset.layout import (
     record_attributes,
 )
 from aaria_pin.files.dataset.legacy_datasets import LEGACY_VERSION, legacy_names, legacy_record
-from aaria_pin.files.dataset.shards import missing_shards
+from aaria_pin.files.dataset.manifest import missing_shards
 from aaria_pin.files.dataset.statistics import (
     channel_statistics,
     read_statistics,

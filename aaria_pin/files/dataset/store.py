@@ -268,7 +268,7 @@ def _new_file(
     """Write the empty layout of a data set into ``path`` and return the open h5py file.
 
     ``virtual`` maps per-run arrays to ``h5py.VirtualLayout`` objects: those arrays are virtual
-    datasets over other files (a sharded data set's manifest, :mod:`.shards`), the others
+    datasets over other files (a sharded data set's manifest, :mod:`.manifest`), the others
     chunked datasets of this file.
     """
     import h5py

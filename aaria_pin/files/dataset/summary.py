@@ -5,8 +5,8 @@ from __future__ import annotations
 import os
 from typing import Any
 
+from aaria_pin.files.dataset.manifest import shard_files
 from aaria_pin.files.dataset.reader import DatasetReader
-from aaria_pin.files.dataset.shards import shard_files
 
 __all__ = ["dataset_summary", "reader_summary"]
 

@@ -64,7 +64,7 @@ whole record (which is the one-piece case of the same writer). So is a ``.mat`` 
 from aaria_pin.files._stored import JSON_SUFFIX
 from aaria_pin.files.detection import RUN_SUFFIXES
 from aaria_pin.files.runfile._attributes import RUN_FORMAT, RUN_FORMAT_VERSION
-from aaria_pin.files.runfile._layout import column_source, view_from_columns
+from aaria_pin.files.runfile._columns import column_source, view_from_columns
 from aaria_pin.files.runfile._legacy_runs import URDF_V1_FORMAT
 from aaria_pin.files.runfile._read import is_run_file, read_run, read_run_inputs, run_file_summary
 from aaria_pin.files.runfile._write import (

@@ -46,8 +46,8 @@ from aaria_pin.errors import AariaError, InputFileError, ParameterError
 from aaria_pin.files._stored import decode_attribute
 from aaria_pin.files.legacy_arm import base_pose_from_table, legacy_arm
 from aaria_pin.files.runfile._attributes import RUN_FORMAT, _check_format
+from aaria_pin.files.runfile._columns import fitted, read_view
 from aaria_pin.files.runfile._hdf5 import _hdf5_attributes, _strings
-from aaria_pin.files.runfile._layout import fitted, read_view
 from aaria_pin.files.runfile._mat import (
     mat_attributes,
     mat_format,

@@ -24,7 +24,7 @@ from aaria_pin.files.runfile._attributes import (
     RUN_FORMAT,
     RUN_FORMAT_VERSION,
 )
-from aaria_pin.files.runfile._layout import (
+from aaria_pin.files.runfile._columns import (
     COLUMNS_SUFFIX,
     check_names,
     fitted,

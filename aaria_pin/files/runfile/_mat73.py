@@ -45,7 +45,7 @@ from aaria_pin.core.record import SERIES, ColumnView, RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import OutputFileError
 from aaria_pin.files._stored import read_errors
-from aaria_pin.files.runfile._layout import COLUMNS_SUFFIX
+from aaria_pin.files.runfile._columns import COLUMNS_SUFFIX
 
 USER_BLOCK = 512
 """Bytes of the HDF5 user block that holds the MAT-file header."""

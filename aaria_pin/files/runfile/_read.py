@@ -21,8 +21,8 @@ from aaria_pin.files._stored import NAME_LISTS
 from aaria_pin.files.detection import RUN_SUFFIXES, file_format
 from aaria_pin.files.paths import existing_input
 from aaria_pin.files.runfile._attributes import RUN_FORMAT_VERSION
+from aaria_pin.files.runfile._columns import COLUMNS_SUFFIX
 from aaria_pin.files.runfile._hdf5 import _hdf5_errors, _read_hdf5_v2, _summarise_hdf5_v2
-from aaria_pin.files.runfile._layout import COLUMNS_SUFFIX
 from aaria_pin.files.runfile._legacy_runs import (
     LAYOUT_V2,
     hdf5_layout,

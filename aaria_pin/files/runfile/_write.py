@@ -20,8 +20,8 @@ from aaria_pin.errors import OutputFileError
 from aaria_pin.files._stored import encode_attributes, first_line
 from aaria_pin.files.detection import RUN_SUFFIXES
 from aaria_pin.files.paths import atomic_output
+from aaria_pin.files.runfile._columns import checked_arrays
 from aaria_pin.files.runfile._hdf5 import _Hdf5Stream
-from aaria_pin.files.runfile._layout import checked_arrays
 from aaria_pin.files.runfile._mat import _mat_contents, _write_mat, mat_attribute_variables
 from aaria_pin.files.runfile._mat73 import _Mat73Stream, check_mat73_compression
 

@@ -11,8 +11,7 @@ import pytest
 
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.apps.dataset.spec import run_result
-from aaria_pin.files.dataset.reader import DatasetReader
-from aaria_pin.files.dataset.shards import (
+from aaria_pin.files.dataset.manifest import (
     RunLocation,
     ShardWriter,
     list_shards,
@@ -21,6 +20,7 @@ from aaria_pin.files.dataset.shards import (
     verify_shard,
     write_manifest,
 )
+from aaria_pin.files.dataset.reader import DatasetReader
 from aaria_pin.files.dataset.store import DatasetFile
 
 SPEC = DhDatasetSpec(n_runs=7, seed=3, duration=0.3)
