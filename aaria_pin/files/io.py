@@ -94,7 +94,9 @@ def read_table(
     suffix = file.suffix.lower()
     names = tuple(columns) if columns is not None else _KNOWN_COLUMNS.get(mat_name)
     if file.stat().st_size == 0:
-        raise InputFileError(f"{file}: is empty (0 bytes); allowed: a numeric table")
+        raise InputFileError(
+            f"{file}: is empty (0 bytes); allowed: a numeric table", parameter="path"
+        )
     try:
         if suffix == ".npy":
             data = np.load(file, allow_pickle=False)
@@ -105,13 +107,15 @@ def read_table(
         else:
             data = _read_csv(file, names)
         if np.iscomplexobj(data):
-            raise InputFileError(f"{file}: holds complex numbers; allowed: a real table")
+            raise InputFileError(
+                f"{file}: holds complex numbers; allowed: a real table", parameter="path"
+            )
         table = np.asarray(data, dtype=float)
     except InputFileError:
         raise
     except (OSError, ValueError, TypeError, EOFError) as exc:
         raise InputFileError(
-            f"{file}: cannot be read as a numeric table ({first_line(exc)})"
+            f"{file}: cannot be read as a numeric table ({first_line(exc)})", parameter="path"
         ) from None
     if table.size == 0:
         shape = " × ".join(str(n) for n in table.shape)
@@ -124,7 +128,9 @@ def read_table(
     if table.ndim == 1:
         table = table.reshape(1, -1)
     if table.ndim != 2:
-        raise InputFileError(f"{file}: holds a {table.ndim}-D array; expected a 2-D table")
+        raise InputFileError(
+            f"{file}: holds a {table.ndim}-D array; expected a 2-D table", parameter="path"
+        )
     _check_finite(file, table, names)
     return table
 
@@ -205,7 +211,8 @@ def read_csv_table(file: Path) -> tuple[Array, list[str] | None]:
     except UserWarning:
         raise InputFileError(
             f"{file}: is empty; allowed: a numeric table"
-            + (" (it has a header row and no numbers)" if header is not None else "")
+            + (" (it has a header row and no numbers)" if header is not None else ""),
+            parameter="path",
         ) from None
     except ValueError:
         raise _bad_cell(file, lines, start) from None
@@ -240,7 +247,7 @@ def _bad_cell(file: Path, lines: list[str], start: int) -> InputFileError:
                 element=f"row {row}",
             )
         width = len(cells)
-    return InputFileError(f"{file}: cannot be read as a numeric table")
+    return InputFileError(f"{file}: cannot be read as a numeric table", parameter="path")
 
 
 def _ordered_by_header(
@@ -295,12 +302,15 @@ def _read_mat_array(file: Path, name: str) -> Array:
         with h5py.File(file, "r") as handle:
             if name not in handle:
                 raise InputFileError(
-                    f"{file}: no array {name!r} in the .mat file; has {sorted(handle)}"
+                    f"{file}: no array {name!r} in the .mat file; has {sorted(handle)}",
+                    parameter="mat_name",
                 ) from None
             return np.asarray(handle[name][()], dtype=float).T
     except MatReadError as exc:
         raise ValueError(str(exc)) from None
     if name not in contents:
         names = sorted(k for k in contents if not k.startswith("__"))
-        raise InputFileError(f"{file}: no array {name!r} in the .mat file; has {names}")
+        raise InputFileError(
+            f"{file}: no array {name!r} in the .mat file; has {names}", parameter="mat_name"
+        )
     return np.asarray(contents[name], dtype=float)

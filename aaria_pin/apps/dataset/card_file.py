@@ -329,7 +329,7 @@ def store_card(path: str | os.PathLike[str]) -> DatasetCard:
             stored = {**card.to_dict(), "path": ""}
             handle.attrs[CARD_ATTRIBUTE] = json.dumps(stored, ensure_ascii=False)
     except OSError as exc:
-        raise InputFileError(f"{path}: cannot store its card ({exc})") from None
+        raise InputFileError(f"{path}: cannot store its card ({exc})", parameter="path") from None
     return card
 
 

@@ -201,7 +201,9 @@ def _shard_errors(path: Path) -> Iterator[None]:
         raise
     except Exception as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else first_line(exc)
-        raise OutputFileError(f"shard {path}: cannot be written ({reason})") from None
+        raise OutputFileError(
+            f"shard {path}: cannot be written ({reason})", parameter="path"
+        ) from None
 
 
 @dataclass(frozen=True)

@@ -90,17 +90,20 @@ class DatasetReader:
         try:
             self._handle = h5py.File(self.path, "r")
         except OSError as exc:
-            raise InputFileError(f"{self.path}: cannot be read as a data set ({exc})") from None
+            raise InputFileError(
+                f"{self.path}: cannot be read as a data set ({exc})", parameter="path"
+            ) from None
         attrs = self._handle.attrs
         if attrs.get("format") != DATASET_FORMAT:
             self._handle.close()
-            raise InputFileError(f"{self.path}: not an aaria_pin data set")
+            raise InputFileError(f"{self.path}: not an aaria_pin data set", parameter="path")
         self.version = int(attrs.get("format_version", LEGACY_VERSION))
         if self.version not in (LEGACY_VERSION, DATASET_FORMAT_VERSION):
             self._handle.close()
             raise InputFileError(
                 f"{self.path}: data set format version is {self.version}; allowed: "
-                f"{LEGACY_VERSION}, {DATASET_FORMAT_VERSION} (a newer aaria_pin wrote it)"
+                f"{LEGACY_VERSION}, {DATASET_FORMAT_VERSION} (a newer aaria_pin wrote it)",
+                parameter="path",
             )
         if self.version == DATASET_FORMAT_VERSION:
             missing = missing_shards(self._handle, self.path)
@@ -108,13 +111,15 @@ class DatasetReader:
                 self._handle.close()
                 raise InputFileError(
                     f"{self.path}: its shard {missing[0]} is missing ({len(missing)} missing); "
-                    "allowed: the data set's folder with all its shards"
+                    "allowed: the data set's folder with all its shards",
+                    parameter="path",
                 )
         if "complete" not in self._handle:
             self._handle.close()
             raise InputFileError(
                 f"{self.path}: a damaged data set: no 'complete' array; "
-                "allowed: a complete aaria_pin data set (make it again)"
+                "allowed: a complete aaria_pin data set (make it again)",
+                parameter="path",
             )
         self.header = DatasetHeader.from_attributes(
             decode_attributes(attrs, self.path), self.version, self.path
@@ -180,7 +185,9 @@ class DatasetReader:
         names = self.stored_names if names is None else names
         unknown = [name for name in names if name not in self.names]
         if unknown:
-            raise ParameterError(f"array {unknown[0]!r}; allowed: {', '.join(self.names)}")
+            raise ParameterError(
+                f"array {unknown[0]!r}; allowed: {', '.join(self.names)}", parameter="names"
+            )
         return {name: self._handle[name][index] for name in names}
 
     def record(self, index: int) -> RunRecord:
@@ -417,13 +424,15 @@ class DatasetReader:
             raise InputFileError(
                 f"{self.path}: statistics stored for split seed {attributes['seed']}, fractions "
                 f"{attributes['fractions']}; allowed: those of the windows (seed {wanted[0]}, "
-                f"fractions {wanted[1]}): store them again with these"
+                f"fractions {wanted[1]}): store them again with these",
+                parameter="normalise",
             )
         missing = [name for name in names if name not in values]
         if missing:
             raise InputFileError(
                 f"{self.path}: no training statistics stored for {missing[0]!r}; allowed: "
-                f"{', '.join(values)} (store them with DatasetReader.statistics)"
+                f"{', '.join(values)} (store them with DatasetReader.statistics)",
+                parameter="normalise",
             )
         return {name: values[name] for name in names}
 

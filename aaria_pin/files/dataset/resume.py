@@ -42,7 +42,7 @@ def open_read_only(file: Path) -> Any:
     import h5py
 
     if not file.is_file():
-        raise InputFileError(f"{file}: no such file to resume")
+        raise InputFileError(f"{file}: no such file to resume", parameter="path")
     try:
         handle = h5py.File(file, "r")
     except OSError as exc:
@@ -53,7 +53,9 @@ def open_read_only(file: Path) -> Any:
         ) from None
     if handle.attrs.get("format") != DATASET_FORMAT:
         handle.close()
-        raise InputFileError(f"{file}: not a complete aaria_pin data set; cannot resume it")
+        raise InputFileError(
+            f"{file}: not a complete aaria_pin data set; cannot resume it", parameter="path"
+        )
     version = int(handle.attrs.get("format_version", 1))
     if version != DATASET_FORMAT_VERSION:
         handle.close()
@@ -70,7 +72,9 @@ def open_read_only(file: Path) -> Any:
     missing = not complete or any(name not in handle for name in read_layout(handle).names)
     if missing:
         handle.close()
-        raise InputFileError(f"{file}: not a complete aaria_pin data set; cannot resume it")
+        raise InputFileError(
+            f"{file}: not a complete aaria_pin data set; cannot resume it", parameter="path"
+        )
     return handle
 
 

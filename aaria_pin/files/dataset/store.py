@@ -109,7 +109,7 @@ class DatasetFile:
         try:
             handle = h5py.File(file, "r+")
         except OSError as exc:
-            raise InputFileError(f"{file}: cannot be opened ({exc})") from None
+            raise InputFileError(f"{file}: cannot be opened ({exc})", parameter="path") from None
         return cls(handle, file)
 
     @classmethod
@@ -276,7 +276,7 @@ def _new_file(
     try:
         handle = h5py.File(path, "w", track_order=True)
     except OSError as exc:
-        raise OutputFileError(f"{path}: cannot be created ({exc})") from None
+        raise OutputFileError(f"{path}: cannot be created ({exc})", parameter="path") from None
     handle.attrs["format"] = DATASET_FORMAT
     handle.attrs["format_version"] = DATASET_FORMAT_VERSION
     handle.attrs["N"] = n_runs
@@ -343,10 +343,13 @@ def check_dataset_path(path: Path, resume: bool, overwrite: bool, exists: bool =
     if path.exists() and not path.is_file():
         raise OutputFileError(
             f"{path}: is not a regular file; allowed: a regular .h5 file (a data set is read "
-            "again while it is written)"
+            "again while it is written)",
+            parameter="path",
         )
     if path.suffix.lower() not in (".h5", ".hdf5"):
-        raise OutputFileError(f"{path}: unknown data set type {path.suffix!r}; allowed: .h5, .hdf5")
+        raise OutputFileError(
+            f"{path}: unknown data set type {path.suffix!r}; allowed: .h5, .hdf5", parameter="path"
+        )
     if not exists:
         return
     if path.exists() and not (resume or overwrite):
@@ -356,4 +359,4 @@ def check_dataset_path(path: Path, resume: bool, overwrite: bool, exists: bool =
             allowed=f"True to continue {path}, which exists (or overwrite it)",
         )
     if resume and not path.is_file():
-        raise InputFileError(f"{path}: no such file to resume")
+        raise InputFileError(f"{path}: no such file to resume", parameter="path")

@@ -233,7 +233,9 @@ def _v2_parts(
     for name in STORED_NAMES:
         item = handle.get(name)
         if not isinstance(item, h5py.Dataset):
-            raise InputFileError(f"{file}: not an aaria_pin run file (no dataset {name!r})")
+            raise InputFileError(
+                f"{file}: not an aaria_pin run file (no dataset {name!r})", parameter="path"
+            )
         datasets[name] = item
     names = {name: _strings(datasets[name]) for name in NAME_LISTS}
     others = {

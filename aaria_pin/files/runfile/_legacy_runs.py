@@ -84,7 +84,9 @@ def _layout_of(
     if fmt is None:
         if all(name in arrays for name in _WRIST_ARRAYS) and "targets_rad" in attributes:
             return LAYOUT_WRIST
-        raise InputFileError(f"{file}: not an aaria_pin run file (no 'format' attribute)")
+        raise InputFileError(
+            f"{file}: not an aaria_pin run file (no 'format' attribute)", parameter="path"
+        )
     if fmt == URDF_V1_FORMAT:
         _check_format(file, fmt, version, URDF_V1_FORMAT, 1)
         return LAYOUT_URDF
@@ -121,7 +123,9 @@ def read_legacy_hdf5(file: Path, handle: Any, layout: str) -> RunRecord:
     )
     for name in names:
         if not isinstance(handle.get(name), h5py.Dataset):
-            raise InputFileError(f"{file}: not an aaria_pin run file (no dataset {name!r})")
+            raise InputFileError(
+                f"{file}: not an aaria_pin run file (no dataset {name!r})", parameter="path"
+            )
     attributes = _hdf5_attributes(file, handle.attrs)
     if layout == LAYOUT_DH:
         arrays = {name: handle[name][()] for name in names}
@@ -142,7 +146,9 @@ def read_legacy_mat(file: Path, contents: Mapping[str, Any], layout: str) -> Run
         return _wrist_record(file, contents, attributes)
     for name in ("senSen", "senSen_columns", *_DH_SHAPES, *_DH_SERIES):
         if name not in contents:
-            raise InputFileError(f"{file}: not an aaria_pin run file (no array {name!r})")
+            raise InputFileError(
+                f"{file}: not an aaria_pin run file (no array {name!r})", parameter="path"
+            )
     return _dh_record(
         file, contents, mat_strings(contents["senSen_columns"]), mat_attributes(file, contents)
     )
@@ -206,7 +212,7 @@ def _dh_base_pose(file: Path, table: Array, time: Array) -> Array:
     try:
         return base_pose_from_table(table, time)
     except AariaError as exc:
-        raise InputFileError(f"{file}: senSenB: {exc}") from None
+        raise InputFileError(f"{file}: senSenB: {exc}", parameter="path") from None
 
 
 def _urdf_record(file: Path, handle: Any, attributes: dict[str, Any]) -> RunRecord:
@@ -221,7 +227,8 @@ def _urdf_record(file: Path, handle: Any, attributes: dict[str, Any]) -> RunReco
     if columns != list(signal_columns(joint_names, imu_names)):
         raise InputFileError(
             f"{file}: signals columns do not match its joint and IMU names; expected time, "
-            "q:<joint> per joint, <imu>_<signal> per IMU"
+            "q:<joint> per joint, <imu>_<signal> per IMU",
+            parameter="path",
         )
     samples = signals.shape[0]
     shapes = record_shapes(samples, len(joint_names), len(imu_names))
@@ -232,7 +239,8 @@ def _urdf_record(file: Path, handle: Any, attributes: dict[str, Any]) -> RunReco
     }
     if len(parents) != len(imu_names):
         raise InputFileError(
-            f"{file}: imu_parents holds {len(parents)} names; expected {len(imu_names)}"
+            f"{file}: imu_parents holds {len(parents)} names; expected {len(imu_names)}",
+            parameter="path",
         )
     mounts = tuple(
         ImuMount(name, parent, pose)
@@ -293,4 +301,4 @@ def _record(file: Path, **fields: Any) -> RunRecord:
     try:
         return RunRecord(**fields)
     except ParameterError as exc:
-        raise InputFileError(f"{file}: {exc}") from None
+        raise InputFileError(f"{file}: {exc}", parameter="path") from None

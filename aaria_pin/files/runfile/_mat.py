@@ -50,7 +50,8 @@ def mat_attribute_variables(
             raise OutputFileError(
                 f"{final}: attribute {key!r} cannot be a MATLAB variable "
                 f"{MAT_ATTRIBUTE_PREFIX}{key}; allowed: letters, digits and _, at most "
-                f"{63 - len(MAT_ATTRIBUTE_PREFIX)} characters"
+                f"{63 - len(MAT_ATTRIBUTE_PREFIX)} characters",
+                parameter="attributes",
             )
     return [
         (MAT_ATTRIBUTE_PREFIX + "format", RUN_FORMAT),
@@ -79,7 +80,8 @@ def _mat_contents(
         if isinstance(data, np.ndarray) and data.nbytes > _MAT_MAX_ARRAY_BYTES:
             raise OutputFileError(
                 f"{final}: array {name!r} is {data.nbytes / 2**30:.1f} GiB; a .mat v5 file "
-                "holds at most 2 GiB per array, write it as v7.3 (mat_version='7.3') or .h5"
+                "holds at most 2 GiB per array, write it as v7.3 (mat_version='7.3') or .h5",
+                parameter="record",
             )
     contents.update(variables)
     return contents
@@ -109,11 +111,12 @@ def _mat_errors(file: Path) -> Iterator[None]:
         yield
     except NotImplementedError:
         raise InputFileError(
-            f"{file}: is a MATLAB v7.3 file; allowed: MATLAB v5 .mat run files or .h5"
+            f"{file}: is a MATLAB v7.3 file; allowed: MATLAB v5 .mat run files or .h5",
+            parameter="path",
         ) from None
     except (MatReadError, OSError, ValueError, TypeError, EOFError) as exc:
         raise InputFileError(
-            f"{file}: cannot be read as a .mat run file ({first_line(exc)})"
+            f"{file}: cannot be read as a .mat run file ({first_line(exc)})", parameter="path"
         ) from None
 
 
@@ -197,7 +200,9 @@ def _mat_names(
     """The string lists of a version 2 ``.mat`` file; InputFileError if a variable is missing."""
     for name in STORED_NAMES:
         if name not in present:
-            raise InputFileError(f"{file}: not an aaria_pin run file (no array {name!r})")
+            raise InputFileError(
+                f"{file}: not an aaria_pin run file (no array {name!r})", parameter="path"
+            )
     return {name: mat_strings(contents[name]) for name in NAME_LISTS}
 
 

@@ -56,11 +56,13 @@ def _check_output(final: Path, compression: str | None, mat_version: str | None 
     suffix = final.suffix.lower()
     if compression not in COMPRESSIONS:
         raise OutputFileError(
-            f"compression {compression!r} is not allowed; allowed: None, 'gzip', 'lzf'"
+            f"compression {compression!r} is not allowed; allowed: None, 'gzip', 'lzf'",
+            parameter="compression",
         )
     if suffix not in RUN_SUFFIXES:
         raise OutputFileError(
-            f"{final}: unknown run file type {suffix!r}; allowed: {', '.join(RUN_SUFFIXES)}"
+            f"{final}: unknown run file type {suffix!r}; allowed: {', '.join(RUN_SUFFIXES)}",
+            parameter="path",
         )
     if mat_version is not None and mat_version not in MAT_VERSIONS:
         raise OutputFileError(
@@ -116,7 +118,9 @@ def write_run(
         try:
             _write_mat(temporary, contents)
         except OSError as exc:
-            raise OutputFileError(f"{final}: cannot be written ({first_line(exc)})") from None
+            raise OutputFileError(
+                f"{final}: cannot be written ({first_line(exc)})", parameter="path"
+            ) from None
     return final
 
 
@@ -156,7 +160,9 @@ def write_run_chunks(
     pieces = iter(chunks)
     first = next(pieces, None)
     if first is None:
-        raise OutputFileError(f"{final}: a run of no piece; allowed: one piece or more")
+        raise OutputFileError(
+            f"{final}: a run of no piece; allowed: one piece or more", parameter="chunks"
+        )
     version = mat_version or mat_version_for(samples)
     if suffix == ".mat" and version == "5":
         return write_run(final, join_chunks([first, *pieces]), compression, "5")
@@ -215,14 +221,16 @@ class RunFileWriter:
         if self._mat and (mat_version or mat_version_for(self.samples)) != "7.3":
             raise OutputFileError(
                 f"{self.final}: a MATLAB v5 file is written whole; allowed: .h5, .hdf5, "
-                ".mat v7.3 (write_run writes .mat v5)"
+                ".mat v7.3 (write_run writes .mat v5)",
+                parameter="mat_version",
             )
         if self._mat:
             check_mat73_compression(self.final, compression)
         if self.samples < first.n_samples:
             raise OutputFileError(
                 f"{self.final}: a run of {self.samples} samples; allowed: at least the first "
-                f"piece's {first.n_samples}"
+                f"piece's {first.n_samples}",
+                parameter="samples",
             )
         self._first = first
         self._arrays = checked_arrays(self.final, first)
@@ -250,7 +258,7 @@ class RunFileWriter:
             stack.__exit__(type(exc), exc, exc.__traceback__)
             if isinstance(exc, OSError):
                 raise OutputFileError(
-                    f"{self.final}: cannot be written ({first_line(exc)})"
+                    f"{self.final}: cannot be written ({first_line(exc)})", parameter="path"
                 ) from None
             raise
         self._stack = stack
@@ -270,12 +278,15 @@ class RunFileWriter:
                 end, of other joints or IMUs, or a write failure.
         """
         if self._stream is None:
-            raise OutputFileError(f"{self.final}: the writer is not open; allowed: inside with")
+            raise OutputFileError(
+                f"{self.final}: the writer is not open; allowed: inside with", parameter="start"
+            )
         n = chunk.n_samples
         if start != self._written or start + n > self.samples:
             raise OutputFileError(
                 f"{self.final}: piece of {n} samples at sample {start}; allowed: the next "
-                f"piece, at sample {self._written}, ending by sample {self.samples}"
+                f"piece, at sample {self._written}, ending by sample {self.samples}",
+                parameter="start",
             )
         expected = record_shapes(n, len(self._first.joint_names), len(self._first.imu_mounts))
         arrays = {}
@@ -284,13 +295,16 @@ class RunFileWriter:
             if data.shape != expected[name]:
                 raise OutputFileError(
                     f"{self.final}: piece array {name!r} has shape {data.shape}; "
-                    f"allowed: {expected[name]} (the first piece's joints and IMUs)"
+                    f"allowed: {expected[name]} (the first piece's joints and IMUs)",
+                    parameter="chunk",
                 )
             arrays[name] = data
         try:
             self._stream.write(start, arrays)
         except OSError as exc:
-            raise OutputFileError(f"{self.final}: cannot be written ({first_line(exc)})") from None
+            raise OutputFileError(
+                f"{self.final}: cannot be written ({first_line(exc)})", parameter="path"
+            ) from None
         self._written += n
         self._attributes = chunk.attributes
 
@@ -363,7 +377,8 @@ def write_run_pieces(
         if next(pieces, None) is not None:
             raise OutputFileError(
                 f"{output}: the run's attributes give {samples} samples but it came in more "
-                f"than one piece; allowed: pieces whose 'duration' and 'rate' cover the run"
+                f"than one piece; allowed: pieces whose 'duration' and 'rate' cover the run",
+                parameter="chunks",
             )
         if announce is not None:
             announce(first)
