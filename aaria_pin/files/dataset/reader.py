@@ -52,7 +52,9 @@ from aaria_pin.files.dataset.statistics import (
 )
 from aaria_pin.files.dataset.windows import (
     DEFAULT_FRACTIONS,
+    WindowCut,
     WindowDataset,
+    WindowSplit,
     check_fractions,
     split_runs,
     view_sources,
@@ -330,19 +332,9 @@ class DatasetReader:
         chosen = self._chosen_names(names)
         runs = self.split_runs(split, seed, fractions)
         statistics = self._normalisation(chosen, seed, fractions) if normalise else None
+        cut = WindowCut(length, stride, chosen, self._views, self._constants, self.samples)
         return WindowDataset(
-            self.path,
-            length,
-            stride,
-            chosen,
-            self._views,
-            self._constants,
-            self.samples,
-            runs,
-            split=split,
-            seed=seed,
-            fractions=fractions,
-            statistics=statistics,
+            self.path, cut, WindowSplit(runs, split, seed, tuple(fractions)), statistics
         )
 
     def statistics(
