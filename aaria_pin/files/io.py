@@ -291,12 +291,9 @@ def _read_run_table(file: Path, name: str) -> Array:
 
 def _read_mat_array(file: Path, name: str) -> Array:
     """One array of a MATLAB file: v4–v7 through scipy, v7.3 (HDF5) through h5py."""
-    from scipy.io import loadmat
-    from scipy.io.matlab import MatReadError
+    from aaria_pin.files.detection import is_mat73
 
-    try:
-        contents = loadmat(file)
-    except NotImplementedError:  # a v7.3 file is HDF5, stored column-major
+    if is_mat73(file):  # HDF5, stored column-major
         import h5py
 
         with h5py.File(file, "r") as handle:
@@ -304,8 +301,13 @@ def _read_mat_array(file: Path, name: str) -> Array:
                 raise InputFileError(
                     f"{file}: no array {name!r} in the .mat file; has {sorted(handle)}",
                     parameter="mat_name",
-                ) from None
+                )
             return np.asarray(handle[name][()], dtype=float).T
+    from scipy.io import loadmat
+    from scipy.io.matlab import MatReadError
+
+    try:
+        contents = loadmat(file)
     except MatReadError as exc:
         raise ValueError(str(exc)) from None
     if name not in contents:

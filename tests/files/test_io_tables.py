@@ -166,3 +166,14 @@ def test_read_csv_table_gives_the_numbers_as_float_parses_them_and_the_header(
     bare.write_text("1,2\n3,4  # a note\n")
     table, header = read_csv_table(bare)
     assert header is None and table.tolist() == [[1.0, 2.0], [3.0, 4.0]]
+
+
+def test_a_table_of_a_mat_v73_run_file_reads_as_the_stored_table(tmp_path: Path) -> None:
+    from aaria_pin.files.detection import file_format
+    from aaria_pin.files.runfile import read_run, write_run
+
+    record = read_run(Path(__file__).parents[1] / "fixtures" / "v0_3_0" / "dh_run.h5")
+    path = write_run(tmp_path / "run.mat", record, mat_version="7.3")
+    assert file_format(path) == "mat73"
+    for name in ("senSenDH", "senSenJ", "senSenB"):
+        np.testing.assert_array_equal(read_table(path, name), record.tables[name])
