@@ -20,6 +20,8 @@ from __future__ import annotations
 from importlib import import_module
 from typing import TYPE_CHECKING, Any
 
+# The Aaria layer registers the arm of 0.1.0's DH files with the files layer's readers.
+import aaria_pin.aaria.legacy_v0_1  # noqa: F401
 from aaria_pin._version import __version__
 from aaria_pin.errors import (
     AariaError,
@@ -47,8 +49,8 @@ if TYPE_CHECKING:
     from aaria_pin.core.urdf_emitter import emit_urdf
     from aaria_pin.core.urdf_robot import UrdfRobot, load_urdf_robot
     from aaria_pin.core.urdf_run import simulate_urdf_run
+    from aaria_pin.files.dataset.reader import DatasetReader
     from aaria_pin.files.dataset.windows import WindowDataset
-    from aaria_pin.files.dataset_reader import DatasetReader
     from aaria_pin.files.io import read_table
     from aaria_pin.files.runfile import read_run, read_run_inputs, write_run
 
@@ -77,7 +79,7 @@ _LAZY = {
     # files
     "read_run": "aaria_pin.files.runfile",
     "write_run": "aaria_pin.files.runfile",
-    "DatasetReader": "aaria_pin.files.dataset_reader",
+    "DatasetReader": "aaria_pin.files.dataset.reader",
     "read_table": "aaria_pin.files.io",
     "read_run_inputs": "aaria_pin.files.runfile",
     "WindowDataset": "aaria_pin.files.dataset.windows",

@@ -29,15 +29,15 @@ def describe_file(path: str | os.PathLike[str], card: bool = False) -> tuple[dic
 
     Returns:
         The summary (:func:`aaria_pin.files.runfile.run_file_summary`,
-        :func:`aaria_pin.files.dataset_reader.dataset_summary`) or the card's dictionary, and
+        :func:`aaria_pin.files.dataset.summary.dataset_summary`) or the card's dictionary, and
         the text that says it (ending in a newline).
 
     Raises:
         ParameterError: ``card`` for a run file.
         InputFileError: a missing or unreadable file, or a damaged data set.
     """
-    from aaria_pin.files.dataset_file import is_dataset_file
-    from aaria_pin.files.dataset_reader import dataset_summary
+    from aaria_pin.files.dataset.summary import dataset_summary
+    from aaria_pin.files.detection import is_dataset_file
     from aaria_pin.files.runfile import run_file_summary
 
     file = Path(path)
@@ -116,7 +116,7 @@ def _run_text(file: Path, summary: Mapping[str, Any]) -> str:
 
 
 def _dataset_text(file: Path, summary: Mapping[str, Any]) -> str:
-    """A data set's summary (keys of :func:`aaria_pin.files.dataset_reader.dataset_summary`)."""
+    """A data set's summary (keys of :func:`aaria_pin.files.dataset.summary.dataset_summary`)."""
     get = summary.get
     lines: list[str] = []
     robot = get("robot")
@@ -165,7 +165,8 @@ def _card(file: Path, is_dataset: bool) -> tuple[dict[str, Any], str]:
         ParameterError: ``file`` is a run file.
         InputFileError: ``file`` is missing or neither a run file nor a data set.
     """
-    from aaria_pin.apps.dataset.card import card_text, current_card
+    from aaria_pin.apps.dataset.card_file import current_card
+    from aaria_pin.apps.dataset.card_text import card_text
     from aaria_pin.errors import ParameterError
     from aaria_pin.files.runfile import run_file_summary
 
@@ -213,7 +214,7 @@ def statistics_report(
     """
     import numpy as np
 
-    from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.dataset.reader import DatasetReader
     from aaria_pin.files.io import existing_input
 
     chosen = None if split == "all" else split

@@ -33,7 +33,7 @@ from aaria_pin.apps.record_model import (
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
-from aaria_pin.errors import InputFileError, ParameterError
+from aaria_pin.errors import InputFileError
 
 if TYPE_CHECKING:  # Pinocchio loads only where a model is used
     from aaria_pin.core.model import RobotModel
@@ -231,7 +231,7 @@ def dataset_torque_report(path: str | os.PathLike[str], top: int = 5) -> dict[st
         of the runs' peak |tau|), ``joints`` (column → joint name, where every run names it
         alike) and ``largest`` (run, module, joint, type, peak), largest first.
     """
-    from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.dataset.reader import DatasetReader
 
     peaks: dict[tuple[int, str], list[float]] = {}
     names: dict[int, set[str]] = {}
@@ -338,19 +338,10 @@ def run_torque_report(
         ParameterError: ``run`` given for a run file.
         InputFileError: an unreadable file, or a run whose model cannot be rebuilt.
     """
-    from aaria_pin.files.dataset_file import is_dataset_file
+    from aaria_pin.files.detection import is_dataset_file
 
-    if is_dataset_file(path):
-        if run is None:
-            return dataset_torque_report(path), False
-        from aaria_pin.files.dataset_reader import DatasetReader
+    if run is None and is_dataset_file(path):
+        return dataset_torque_report(path), False
+    from aaria_pin.files.source import open_record
 
-        with DatasetReader(path) as reader:
-            record = reader.record(run)
-    elif run is not None:
-        raise ParameterError(parameter="run", value=run, allowed="None for a run file")
-    else:
-        from aaria_pin.files.runfile import read_run
-
-        record = read_run(path)
-    return record_torque_report(record), True
+    return record_torque_report(open_record(path, run)), True

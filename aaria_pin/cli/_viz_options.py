@@ -84,7 +84,7 @@ def check_run_option(path: Path, run_index: int | None) -> None:
     Raises:
         click.UsageError: ``--run`` given with a run file.
     """
-    from aaria_pin.files.dataset_file import is_dataset_file
+    from aaria_pin.files.detection import is_dataset_file
 
     if run_index is not None and path.is_file() and not is_dataset_file(path):
         raise click.UsageError("--run is for a data set; this is a run file")

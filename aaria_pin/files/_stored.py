@@ -292,11 +292,13 @@ def encode_attributes(
     for key, value in attributes.items():
         if not isinstance(key, str) or not key:
             raise OutputFileError(
-                f"{final}: attribute name {key!r} is not allowed; expected a non-empty string"
+                f"{final}: attribute name {key!r} is not allowed; expected a non-empty string",
+                parameter="attributes",
             )
         if key in reserved:
             raise OutputFileError(
-                f"{final}: attribute name {key!r} is reserved; not allowed: {', '.join(reserved)}"
+                f"{final}: attribute name {key!r} is reserved; not allowed: {', '.join(reserved)}",
+                parameter="attributes",
             )
         plain = None if key.endswith(JSON_SUFFIX) else _plain_value(value)
         if plain is not None:
@@ -307,7 +309,8 @@ def encode_attributes(
         except (TypeError, ValueError) as exc:
             raise OutputFileError(
                 f"{final}: attribute {key!r} cannot be stored ({first_line(exc)}); allowed: str, "
-                "int, float, bool, lists of numbers, or JSON-serialisable lists and dicts"
+                "int, float, bool, lists of numbers, or JSON-serialisable lists and dicts",
+                parameter="attributes",
             ) from None
         encoded.append((key + JSON_SUFFIX, text))
     return encoded
@@ -363,13 +366,15 @@ def decode_attribute(file: str | os.PathLike[str], name: str, value: Any) -> tup
     if name.endswith(JSON_SUFFIX):
         if not isinstance(value, str):
             raise InputFileError(
-                f"{file}: attribute {name!r} is a {type(value).__name__}; expected a JSON string"
+                f"{file}: attribute {name!r} is a {type(value).__name__}; expected a JSON string",
+                parameter="path",
             )
         try:
             return name[: -len(JSON_SUFFIX)], json.loads(value)
         except ValueError as exc:
             raise InputFileError(
-                f"{file}: attribute {name!r} is not valid JSON ({first_line(exc)})"
+                f"{file}: attribute {name!r} is not valid JSON ({first_line(exc)})",
+                parameter="path",
             ) from None
     if isinstance(value, np.ndarray):
         return name, value.tolist()
@@ -404,4 +409,8 @@ def read_errors(file: str | os.PathLike[str], what: str) -> Iterator[None]:
     except InputFileError:
         raise
     except (OSError, ValueError, TypeError, KeyError) as exc:
-        raise InputFileError(f"{file}: cannot be read as {what} ({first_line(exc)})") from None
+        raise InputFileError(
+            f"{file}: cannot be read as {what} ({first_line(exc)})",
+            parameter="path",
+            value=str(file),
+        ) from None

@@ -37,6 +37,7 @@ __all__ = [
     "check_outputs",
     "existing_input",
     "output_lock",
+    "read_csv_table",
     "read_table",
     "write_text_atomic",
 ]
@@ -93,7 +94,9 @@ def read_table(
     suffix = file.suffix.lower()
     names = tuple(columns) if columns is not None else _KNOWN_COLUMNS.get(mat_name)
     if file.stat().st_size == 0:
-        raise InputFileError(f"{file}: is empty (0 bytes); allowed: a numeric table")
+        raise InputFileError(
+            f"{file}: is empty (0 bytes); allowed: a numeric table", parameter="path"
+        )
     try:
         if suffix == ".npy":
             data = np.load(file, allow_pickle=False)
@@ -104,13 +107,15 @@ def read_table(
         else:
             data = _read_csv(file, names)
         if np.iscomplexobj(data):
-            raise InputFileError(f"{file}: holds complex numbers; allowed: a real table")
+            raise InputFileError(
+                f"{file}: holds complex numbers; allowed: a real table", parameter="path"
+            )
         table = np.asarray(data, dtype=float)
     except InputFileError:
         raise
     except (OSError, ValueError, TypeError, EOFError) as exc:
         raise InputFileError(
-            f"{file}: cannot be read as a numeric table ({first_line(exc)})"
+            f"{file}: cannot be read as a numeric table ({first_line(exc)})", parameter="path"
         ) from None
     if table.size == 0:
         shape = " × ".join(str(n) for n in table.shape)
@@ -123,7 +128,9 @@ def read_table(
     if table.ndim == 1:
         table = table.reshape(1, -1)
     if table.ndim != 2:
-        raise InputFileError(f"{file}: holds a {table.ndim}-D array; expected a 2-D table")
+        raise InputFileError(
+            f"{file}: holds a {table.ndim}-D array; expected a 2-D table", parameter="path"
+        )
     _check_finite(file, table, names)
     return table
 
@@ -161,6 +168,30 @@ def _is_number(text: str) -> bool:
 
 def _read_csv(file: Path, names: Sequence[str] | None) -> Array:
     """A CSV table, its optional header row checked against ``names`` (see :func:`read_table`)."""
+    table, header = read_csv_table(file)
+    if header is not None and names is not None:
+        table = _ordered_by_header(file, table, header, names)
+    return table
+
+
+def read_csv_table(file: Path) -> tuple[Array, list[str] | None]:
+    """The numbers of a CSV table and its header row's cells, if it has one.
+
+    Comma separated, ``#`` comments (whole lines or the rest of a line); the header is the
+    first row that is not a comment when none of its cells is a number. The numbers are parsed
+    as Python's ``float`` parses them.
+
+    Args:
+        file: the CSV file (UTF-8, a byte-order mark allowed)
+
+    Returns:
+        The numbers, rows × columns (at least 2-D), and the header's cells (None: no header).
+
+    Raises:
+        InputFileError: no numbers, a cell that is not a number or a row of another width
+            (naming the row and column), in one line naming the file.
+        OSError, ValueError: the file cannot be read or decoded.
+    """
     text = file.read_text(encoding="utf-8-sig")
     lines = text.splitlines()
     header_at, header = None, None
@@ -180,13 +211,12 @@ def _read_csv(file: Path, names: Sequence[str] | None) -> Array:
     except UserWarning:
         raise InputFileError(
             f"{file}: is empty; allowed: a numeric table"
-            + (" (it has a header row and no numbers)" if header is not None else "")
+            + (" (it has a header row and no numbers)" if header is not None else ""),
+            parameter="path",
         ) from None
     except ValueError:
         raise _bad_cell(file, lines, start) from None
-    if header is not None and names is not None:
-        table = _ordered_by_header(file, table, header, names)
-    return table
+    return table, header
 
 
 def _bad_cell(file: Path, lines: list[str], start: int) -> InputFileError:
@@ -217,7 +247,7 @@ def _bad_cell(file: Path, lines: list[str], start: int) -> InputFileError:
                 element=f"row {row}",
             )
         width = len(cells)
-    return InputFileError(f"{file}: cannot be read as a numeric table")
+    return InputFileError(f"{file}: cannot be read as a numeric table", parameter="path")
 
 
 def _ordered_by_header(
@@ -261,23 +291,28 @@ def _read_run_table(file: Path, name: str) -> Array:
 
 def _read_mat_array(file: Path, name: str) -> Array:
     """One array of a MATLAB file: v4–v7 through scipy, v7.3 (HDF5) through h5py."""
-    from scipy.io import loadmat
-    from scipy.io.matlab import MatReadError
+    from aaria_pin.files.detection import is_mat73
 
-    try:
-        contents = loadmat(file)
-    except NotImplementedError:  # a v7.3 file is HDF5, stored column-major
+    if is_mat73(file):  # HDF5, stored column-major
         import h5py
 
         with h5py.File(file, "r") as handle:
             if name not in handle:
                 raise InputFileError(
-                    f"{file}: no array {name!r} in the .mat file; has {sorted(handle)}"
-                ) from None
+                    f"{file}: no array {name!r} in the .mat file; has {sorted(handle)}",
+                    parameter="mat_name",
+                )
             return np.asarray(handle[name][()], dtype=float).T
+    from scipy.io import loadmat
+    from scipy.io.matlab import MatReadError
+
+    try:
+        contents = loadmat(file)
     except MatReadError as exc:
         raise ValueError(str(exc)) from None
     if name not in contents:
         names = sorted(k for k in contents if not k.startswith("__"))
-        raise InputFileError(f"{file}: no array {name!r} in the .mat file; has {names}")
+        raise InputFileError(
+            f"{file}: no array {name!r} in the .mat file; has {names}", parameter="mat_name"
+        )
     return np.asarray(contents[name], dtype=float)

@@ -69,20 +69,22 @@ def existing_input(path: str | os.PathLike[str], suffixes: Sequence[str] | None,
     suffix = file.suffix.lower()
     if suffixes is not None and suffix not in suffixes:
         raise InputFileError(
-            f"{file}: unknown {kind} file type {suffix!r}; allowed: {', '.join(suffixes)}"
+            f"{file}: unknown {kind} file type {suffix!r}; allowed: {', '.join(suffixes)}",
+            parameter="path",
         )
     try:
         mode = file.stat().st_mode
     except OSError:
-        raise InputFileError(f"{file}: no such file") from None
+        raise InputFileError(f"{file}: no such file", parameter="path") from None
     if stat.S_ISDIR(mode):
-        raise InputFileError(f"{file}: is a folder; allowed: a {kind} file")
+        raise InputFileError(f"{file}: is a folder; allowed: a {kind} file", parameter="path")
     if not stat.S_ISREG(mode):
         raise InputFileError(
-            f"{file}: is a {_kind_of(mode)}; allowed: a regular {kind} file (copy it to one)"
+            f"{file}: is a {_kind_of(mode)}; allowed: a regular {kind} file (copy it to one)",
+            parameter="path",
         )
     if not os.access(file, os.R_OK):
-        raise InputFileError(f"{file}: cannot be read (permission denied)")
+        raise InputFileError(f"{file}: cannot be read (permission denied)", parameter="path")
     return file
 
 

@@ -24,7 +24,8 @@ import numpy as np
 
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError
-from aaria_pin.files.io import existing_input
+from aaria_pin.files._stored import first_line
+from aaria_pin.files.io import existing_input, read_csv_table, read_table
 
 __all__ = ["TRAJECTORY_SUFFIXES", "TrajectorySamples", "read_trajectory_file"]
 
@@ -40,19 +41,23 @@ def _fail(file: Path, what: str, allowed: str) -> InputFileError:
 
 
 def _read_csv(file: Path) -> TrajectorySamples:
-    try:
-        lines = file.read_text(encoding="utf-8").splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise _fail(file, f"cannot be read ({exc})", "a UTF-8 CSV file") from None
-    rows = [(n + 1, line) for n, line in enumerate(lines) if line.strip() and line[0] != "#"]
+    """A CSV trajectory: the table reader's numbers, its columns taken by the header's names."""
     allowed_header = "a header line time,<joint>,... (optionally qd_<joint>, qdd_<joint>)"
-    if not rows:
+    try:
+        table, cells = read_csv_table(file)
+    except InputFileError:
+        raise
+    except (OSError, ValueError) as exc:
+        raise _fail(file, f"cannot be read ({first_line(exc)})", "a UTF-8 CSV file") from None
+    if cells is None:
         raise _fail(file, "has no header line", allowed_header)
-    header = [name.strip() for name in rows[0][1].split(",")]
+    header = [name.strip() for name in cells]
     if header[0] != "time" or len(header) < 2 or any(not name for name in header):
-        raise _fail(file, f"header is {rows[0][1].strip()!r}", allowed_header)
+        raise _fail(file, f"header is {','.join(cells)!r}", allowed_header)
     if len(set(header)) != len(header):
         raise _fail(file, "header repeats a column", "each column named once")
+    if table.shape[1] != len(header):
+        raise _fail(file, f"rows have {table.shape[1]} values", f"{len(header)} per row")
     joints = [n for n in header[1:] if not n.startswith(("qd_", "qdd_"))]
     if not joints:
         raise _fail(file, "header names no joint", allowed_header)
@@ -69,17 +74,6 @@ def _read_csv(file: Path) -> TrajectorySamples:
                 f"none, or one for every joint ({', '.join(prefix + j for j in joints)})",
             )
         derivative_columns[prefix] = [header.index(prefix + j) for j in joints]
-    table = np.empty((len(rows) - 1, len(header)))
-    for index, (line_number, line) in enumerate(rows[1:]):
-        fields = line.split(",")
-        if len(fields) != len(header):
-            raise _fail(
-                file, f"line {line_number} has {len(fields)} values", f"{len(header)} per row"
-            )
-        try:
-            table[index] = [float(x) for x in fields]
-        except ValueError:
-            raise _fail(file, f"line {line_number} is {line.strip()!r}", "numbers") from None
     q = table[:, [header.index(j) for j in joints]]
     qd, qdd = (
         None if columns is None else table[:, columns]
@@ -89,15 +83,12 @@ def _read_csv(file: Path) -> TrajectorySamples:
 
 
 def _read_npy(file: Path) -> TrajectorySamples:
-    try:
-        array = np.load(file, allow_pickle=False)
-    except (OSError, ValueError) as exc:
-        raise _fail(file, f"cannot be read ({exc})", "a .npy array") from None
-    if array.ndim != 2 or array.shape[1] < 2 or not np.issubdtype(array.dtype, np.number):
+    """An NPY trajectory: the table reader's T × (1 + n) table, time in column 0."""
+    array = read_table(file)
+    if array.shape[1] < 2:
         raise _fail(
             file, f"holds an array of shape {array.shape}", "a numeric T × (1 + n) array, n >= 1"
         )
-    array = np.asarray(array, dtype=float)
     return array[:, 0].copy(), array[:, 1:].copy(), None, None, None
 
 

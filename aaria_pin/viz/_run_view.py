@@ -270,16 +270,12 @@ class RunFile:
 
 def _read_record(path: Path, run: int | None) -> RunRecord | None:
     """A run file's record (None if it is not one), or run ``run`` of a data set."""
-    if run is not None:
-        from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.runfile import is_run_file
+    from aaria_pin.files.source import open_record
 
-        with DatasetReader(path) as reader:
-            return reader.record(run)
-    from aaria_pin.files.runfile import is_run_file, read_run
-
-    if not path.is_file() or not is_run_file(path):
+    if run is None and (not path.is_file() or not is_run_file(path)):
         return None
-    return read_run(path)
+    return open_record(path, run)
 
 
 def run_file(file: str | os.PathLike[str]) -> RunFile:

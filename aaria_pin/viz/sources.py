@@ -4,7 +4,7 @@ A DH table (a preset or a file) gives one pose: every joint at zero, the base at
 origin. A run (a run file of any robot and any version, or one run of a data set) gives the
 run: its one record (:class:`~aaria_pin.core.record.RunRecord`, read by
 :func:`aaria_pin.files.runfile.read_run` or by
-:meth:`aaria_pin.files.dataset_reader.DatasetReader.record`), the model rebuilt from it, its
+:meth:`aaria_pin.files.dataset.reader.DatasetReader.record`), the model rebuilt from it, its
 frame poses over time computed by Pinocchio from the stored joint values and base motion, and
 its signals.
 
@@ -217,7 +217,7 @@ def load_run_view(path: str | os.PathLike[str], run: int | None = None) -> RunVi
         InputFileError: as :func:`run_kind`, or an unreadable file.
         ParameterError: ``run`` given for a run file, or not a run of the data set.
     """
-    from aaria_pin.files.dataset_file import is_dataset_file
+    from aaria_pin.files.detection import is_dataset_file
     from aaria_pin.files.paths import existing_input
 
     file = existing_input(path, None, "run")  # not a FIFO, which a reader could wait on

@@ -20,7 +20,7 @@ from aaria_pin.apps.remake import remake_record
 from aaria_pin.cli import main
 from aaria_pin.core.record import RunRecord
 from aaria_pin.errors import ParameterError
-from aaria_pin.files.dataset_reader import DatasetReader
+from aaria_pin.files.dataset.reader import DatasetReader
 
 SHORT = {"duration": 0.5, "rate": 100.0}
 

@@ -16,16 +16,14 @@ import numpy as np
 import pytest
 
 from aaria_pin.aaria.presets import get_preset
-from aaria_pin.apps.dataset.card import (
-    CARD_ATTRIBUTE,
-    MAX_LISTED_STRUCTURES,
-    DatasetCard,
-    card_text,
+from aaria_pin.apps.dataset.card import CARD_ATTRIBUTE, MAX_LISTED_STRUCTURES, DatasetCard
+from aaria_pin.apps.dataset.card_file import (
     current_card,
     dataset_card,
     read_stored_card,
     store_card,
 )
+from aaria_pin.apps.dataset.card_text import card_text
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.apps.dataset.engine import generate_dataset
 
@@ -98,7 +96,7 @@ def test_counts_per_module_equal_a_count_over_the_stored_tables(random_arms: Pat
 def test_a_long_list_of_structures_is_cut_in_the_text(
     random_arms: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from aaria_pin.apps.dataset import card as card_module
+    from aaria_pin.apps.dataset import card_text as card_module
 
     monkeypatch.setattr(card_module, "MAX_LISTED_STRUCTURES", 3)
     card = dataset_card(random_arms)
@@ -259,6 +257,28 @@ def test_a_stored_card_is_what_the_card_shows(random_arms: Path, tmp_path: Path)
     path.rename(moved)
     assert current_card(moved).path == str(moved)  # the file as it is named now
     assert current_card(moved).robot_description == "from the stored card"
+
+
+def test_a_card_is_computed_through_one_open_file(
+    random_arms: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = tmp_path / "once.h5"
+    shutil.copy(random_arms, path)
+    with h5py.File(path, "r+") as handle:  # no stored card: current_card computes one
+        del handle.attrs[CARD_ATTRIBUTE]
+        link_types = handle["senSenDH"][:, :6, 4][handle["complete"][()].astype(bool)]
+    opened: list[str] = []
+    real_file = h5py.File
+
+    def counted(name: object, *args: object, **kwargs: object) -> h5py.File:
+        opened.append(str(name))
+        return real_file(name, *args, **kwargs)
+
+    monkeypatch.setattr(h5py, "File", counted)
+    card = current_card(path)
+    assert opened == [str(path)]
+    assert card.complete == len(link_types)
+    assert sum(card.structures.values()) == len(link_types)
 
 
 def test_format_1_fixtures_have_cards() -> None:

@@ -27,8 +27,8 @@ from aaria_pin.apps.dataset.shards import write_shard_task
 from aaria_pin.cli.dataset_cmd import dataset
 from aaria_pin.core.record import RunRecord
 from aaria_pin.errors import ParameterError
-from aaria_pin.files.dataset.shards import missing_shards, shard_files
-from aaria_pin.files.dataset_reader import DatasetReader
+from aaria_pin.files.dataset.manifest import missing_shards, shard_files
+from aaria_pin.files.dataset.reader import DatasetReader
 
 pytest.importorskip("distributed")
 pytestmark = pytest.mark.slow

@@ -348,7 +348,7 @@ def test_noise_model_from_the_config(tmp_path: Path) -> None:
                "-o", str(path)],
     )  # fmt: skip
     assert result.exit_code == 0, result.output
-    from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.dataset.reader import DatasetReader
 
     with DatasetReader(path) as reader:
         stored = reader.attributes["noise_parameters"]

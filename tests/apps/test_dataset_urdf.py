@@ -17,7 +17,7 @@ from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.urdf_robot import load_urdf_robot, read_urdf_file, urdf_joint_trajectory
 from aaria_pin.core.urdf_run import simulate_urdf_run
 from aaria_pin.errors import ParameterError
-from aaria_pin.files.dataset_reader import DatasetReader
+from aaria_pin.files.dataset.reader import DatasetReader
 
 
 def _panda() -> UrdfSource:

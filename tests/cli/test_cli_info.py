@@ -62,7 +62,7 @@ def test_card_of_a_dh_data_set_with_failures(failing: Path) -> None:
 
 
 def test_card_as_json_is_the_card(failing: Path) -> None:
-    from aaria_pin.apps.dataset.card import dataset_card
+    from aaria_pin.apps.dataset.card_file import dataset_card
 
     code, out, _ = run_cli("info", "--card", "--json", str(failing))
     assert code == 0
@@ -96,7 +96,8 @@ def test_card_of_a_format_1_data_set() -> None:
 def test_stored_card_is_printed_when_current(failing: Path, tmp_path: Path) -> None:
     import shutil
 
-    from aaria_pin.apps.dataset.card import CARD_ATTRIBUTE, store_card
+    from aaria_pin.apps.dataset.card import CARD_ATTRIBUTE
+    from aaria_pin.apps.dataset.card_file import store_card
 
     path = tmp_path / "stored.h5"
     shutil.copy(failing, path)

@@ -151,7 +151,7 @@ def test_fixed_base_data_set_varies_the_joints_only(tmp_path: Path) -> None:
         "--workers", "1", "--quiet", "-o", str(out),
     )  # fmt: skip
     assert code == 0, err
-    from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.dataset.reader import DatasetReader
 
     with DatasetReader(out) as reader:
         assert reader.attributes["vary"] == ["joints"]

@@ -8,7 +8,7 @@ import numpy as np
 
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.files.dataset import layout as layout_module
-from aaria_pin.files.dataset_file import encode_run, run_arrays
+from aaria_pin.files.dataset.layout import encode_run, run_arrays
 
 
 def _unshuffle(data: bytes, dtype: np.dtype, shape: tuple[int, ...]) -> np.ndarray:

@@ -16,7 +16,7 @@ from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
 from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.record import SERIES
 from aaria_pin.core.urdf_robot import read_urdf_file
-from aaria_pin.files.dataset_reader import DatasetReader
+from aaria_pin.files.dataset.reader import DatasetReader
 
 SHARED = (*SERIES, "imu_mount", "joint_names", "imu_names", "imu_parents", "urdf", "signals")
 """What every data set holds, whatever the robot (besides its bookkeeping)."""

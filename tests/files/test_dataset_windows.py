@@ -22,8 +22,9 @@ import pytest
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.apps.dataset.engine import generate_dataset
 from aaria_pin.errors import InputFileError, OutputFileError, ParameterError
+from aaria_pin.files.dataset.reader import DatasetReader
 from aaria_pin.files.dataset.statistics import channel_statistics
-from aaria_pin.files.dataset_reader import DatasetReader, WindowDataset, split_runs
+from aaria_pin.files.dataset.windows import WindowDataset, split_runs
 
 N_RUNS, SAMPLES, INCOMPLETE = 12, 51, 5
 FIXTURES = Path(__file__).resolve().parent.parent / "fixtures" / "v0_1_0"

@@ -149,3 +149,31 @@ def test_a_fifo_or_folder_is_refused_without_waiting(tmp_path: Path) -> None:
     (tmp_path / "folder.csv").mkdir()
     with pytest.raises(InputFileError, match="is a folder"):
         read_table(tmp_path / "folder.csv")
+
+
+def test_read_csv_table_gives_the_numbers_as_float_parses_them_and_the_header(
+    tmp_path: Path,
+) -> None:
+    from aaria_pin.files.io import read_csv_table
+
+    rows = [["0.1", "1e-3", "-2.5"], ["0.30000000000000004", "7", "0.1234567890123456789"]]
+    path = tmp_path / "t.csv"
+    path.write_text("# made by hand\ntime, a ,b\n" + "\n".join(",".join(r) for r in rows) + "\n")
+    table, header = read_csv_table(path)
+    assert header == ["time", "a", "b"]
+    assert table.tolist() == [[float(x) for x in row] for row in rows]
+    bare = tmp_path / "bare.csv"
+    bare.write_text("1,2\n3,4  # a note\n")
+    table, header = read_csv_table(bare)
+    assert header is None and table.tolist() == [[1.0, 2.0], [3.0, 4.0]]
+
+
+def test_a_table_of_a_mat_v73_run_file_reads_as_the_stored_table(tmp_path: Path) -> None:
+    from aaria_pin.files.detection import file_format
+    from aaria_pin.files.runfile import read_run, write_run
+
+    record = read_run(Path(__file__).parents[1] / "fixtures" / "v0_3_0" / "dh_run.h5")
+    path = write_run(tmp_path / "run.mat", record, mat_version="7.3")
+    assert file_format(path) == "mat73"
+    for name in ("senSenDH", "senSenJ", "senSenB"):
+        np.testing.assert_array_equal(read_table(path, name), record.tables[name])

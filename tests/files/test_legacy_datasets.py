@@ -24,8 +24,9 @@ from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.seeds import stored_seed
 from aaria_pin.core.urdf_robot import read_urdf_file
 from aaria_pin.errors import InputFileError
-from aaria_pin.files.dataset_file import is_dataset_file
-from aaria_pin.files.dataset_reader import DatasetReader, dataset_summary
+from aaria_pin.files.dataset.reader import DatasetReader
+from aaria_pin.files.dataset.summary import dataset_summary
+from aaria_pin.files.detection import is_dataset_file
 
 FIXTURES = Path(__file__).resolve().parent.parent / "fixtures" / "v0_1_0"
 DH_SET = FIXTURES / "dh_dataset.h5"

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from aaria_pin.apps.remake import remake_record
-from aaria_pin.files.dataset_reader import DatasetReader
+from aaria_pin.files.dataset.reader import DatasetReader
 from aaria_pin.files.runfile import read_run
 
 FIXTURES = Path(__file__).resolve().parent.parent / "fixtures" / "v0_2_0"

@@ -26,7 +26,7 @@ from aaria_pin.apps.dataset.spec import DatasetSpec, RunInputs
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.seeds import RunSeeds
 from aaria_pin.errors import ParameterError
-from aaria_pin.files.dataset_file import DatasetLayout
+from aaria_pin.files.dataset.layout import DatasetLayout
 
 __all__ = ["DhDatasetSpec", "dh_layout"]
 

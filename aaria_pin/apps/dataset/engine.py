@@ -9,7 +9,7 @@ the writer only call it, so the file is the same, array for array, whatever the 
 number of workers, the scheduler or the order in which runs finish. With local workers the main
 process is the only writer: it writes each run as it arrives, marks it complete and flushes, so
 a killed job loses at most the runs in flight, and ``resume`` redoes exactly those. On a Dask
-cluster the workers write shards and the client a manifest over them (:mod:`.shards`).
+cluster the workers write shards and the client a manifest over them (:mod:`.manifest`).
 
 Faults: the output's lock is held for the whole job (a second job on it is refused at once);
 run 0 is made before the output is touched, so a fixed input no run can use is refused in one
@@ -30,7 +30,7 @@ from typing import Any, Unpack
 
 import numpy as np
 
-from aaria_pin.apps.dataset.card import store_card
+from aaria_pin.apps.dataset.card_file import store_card
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.apps.dataset.job import (
     DatasetEstimate,
@@ -54,13 +54,9 @@ from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
 from aaria_pin.core._malloc import tune_malloc
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
-from aaria_pin.files.dataset.shards import read_manifest_shards, remove_unused_shards
-from aaria_pin.files.dataset.store import (
-    DatasetFile,
-    check_dataset_path,
-    dataset_progress,
-    read_dataset_attributes,
-)
+from aaria_pin.files.dataset.manifest import read_manifest_shards, remove_unused_shards
+from aaria_pin.files.dataset.resume import dataset_progress, read_dataset_attributes
+from aaria_pin.files.dataset.store import DatasetFile, check_dataset_path
 from aaria_pin.files.paths import no_space
 
 __all__ = [
@@ -119,7 +115,7 @@ def generate_dataset(
 
     With local workers the file holds every run. With a Dask ``scheduler`` the workers write
     the runs into shard files (in ``shards``, default the output's folder) and the file is a
-    manifest of virtual datasets over them that reads as one file (:mod:`.shards`); the arrays
+    manifest of virtual datasets over them that reads as one file (:mod:`.manifest`); the arrays
     are the same either way.
 
     The output's lock (:func:`~aaria_pin.files.io.output_lock`) is held for the whole job: a

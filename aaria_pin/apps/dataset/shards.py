@@ -3,10 +3,10 @@
 The client connects to an existing Dask distributed scheduler, cuts the runs to make into
 batches of consecutive runs (:func:`shard_runs`) and submits one task per batch
 (:func:`write_shard_task`): the worker makes each run, writes it into the batch's shard beside
-the output (:class:`~aaria_pin.files.dataset.shards.ShardWriter`: temporary name, then renamed)
+the output (:class:`~aaria_pin.files.dataset.manifest.ShardWriter`: temporary name, then renamed)
 and returns a small :class:`ShardAck` (the shard's name, each run's row and CRC-32s, the runs
 that failed). No run's arrays pass through the client: it writes the output as a manifest of
-virtual datasets over the shards (:func:`~aaria_pin.files.dataset.shards.write_manifest`) once
+virtual datasets over the shards (:func:`~aaria_pin.files.dataset.manifest.write_manifest`) once
 every task has answered, the empty manifest being laid out first, so ``--resume`` finds the
 job's settings and shard prefix.
 
@@ -15,7 +15,7 @@ Faults: a worker that dies mid-task loses that task only; Dask runs it again on 
 that still fails, or a shard that cannot be written (no space, no permission: one
 :class:`~aaria_pin.errors.OutputFileError` line naming the shard), fails the runs of that shard
 alone. ``resume`` checks every shard of the job on the workers
-(:func:`~aaria_pin.files.dataset.shards.verify_shard`: chunk CRC-32s against the stored ones),
+(:func:`~aaria_pin.files.dataset.manifest.verify_shard`: chunk CRC-32s against the stored ones),
 keeps the intact rows and makes the rest.
 """
 
@@ -32,7 +32,7 @@ from aaria_pin.apps.dataset.job import DatasetEstimate, DatasetJob
 from aaria_pin.apps.dataset.spec import DatasetJobStoppedError, DatasetSpec, Result, run_result
 from aaria_pin.errors import OutputFileError, ParameterError
 from aaria_pin.files._stored import first_line
-from aaria_pin.files.dataset.shards import (
+from aaria_pin.files.dataset.manifest import (
     RunLocation,
     ShardContents,
     ShardWriter,

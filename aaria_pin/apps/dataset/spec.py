@@ -29,7 +29,7 @@ from aaria_pin.core.se3 import Array
 from aaria_pin.core.seeds import DATASET_STREAMS, RunSeeds, check_seed
 from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE
 from aaria_pin.errors import AariaError, OutputFileError, ParameterError
-from aaria_pin.files.dataset_file import DatasetLayout, EncodedRun, encode_run, run_arrays
+from aaria_pin.files.dataset.layout import DatasetLayout, EncodedRun, encode_run, run_arrays
 
 __all__ = [
     "MAX_RUNS",

@@ -25,7 +25,7 @@ import numpy as np
 from aaria_pin.apps.dataset.spec import DatasetSpec, RunInputs
 from aaria_pin.core.record import ImuMount
 from aaria_pin.errors import ParameterError
-from aaria_pin.files.dataset_file import DatasetLayout
+from aaria_pin.files.dataset.layout import DatasetLayout
 
 if TYPE_CHECKING:
     from aaria_pin.core.urdf_robot import UrdfRobot

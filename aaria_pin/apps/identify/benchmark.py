@@ -110,7 +110,7 @@ def identify_dataset_run(
     """
     from aaria_pin.apps.identify.geometry import identify_kinematics
     from aaria_pin.errors import AariaError
-    from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.dataset.reader import DatasetReader
 
     with DatasetReader(path) as reader:
         record = reader.record(run)
@@ -197,7 +197,7 @@ def benchmark_datasets(
         ParameterError: a data set of URDF robots, a limit below 1.
     """
     from aaria_pin.errors import ParameterError
-    from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.dataset.reader import DatasetReader
 
     if limit is not None and limit < 1:
         raise ParameterError(

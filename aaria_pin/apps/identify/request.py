@@ -28,7 +28,6 @@ from aaria_pin.errors import OutputFileError, ParameterError
 if TYPE_CHECKING:
     from aaria_pin.apps.identify.benchmark import RunAccuracy
     from aaria_pin.apps.identify.geometry_result import KinematicIdentification
-    from aaria_pin.core.record import RunRecord
 
 __all__ = ["DEFAULT_HOLDOUT", "IdentifyOutcome", "IdentifyRequest", "identify_files"]
 
@@ -139,24 +138,6 @@ def _check_output(path: Path | None, parameter: str, what: str, suffix: str) -> 
     check_output(path, suffixes=(suffix,))
 
 
-def _record(path: Path, run: int | None) -> RunRecord:
-    """A run file's record, or run ``run`` of a data set."""
-    from aaria_pin.files.dataset_file import is_dataset_file
-
-    if is_dataset_file(path):
-        if run is None:
-            raise ParameterError(parameter="run", value=None, allowed="a run index for a data set")
-        from aaria_pin.files.dataset_reader import DatasetReader
-
-        with DatasetReader(path) as reader:
-            return reader.record(run)
-    if run is not None:
-        raise ParameterError(parameter="run", value=run, allowed="None for a run file (one run)")
-    from aaria_pin.files.runfile import read_run
-
-    return read_run(path)
-
-
 def _write_json(path: Path | None, report: dict[str, Any]) -> None:
     if path is not None:
         from aaria_pin.files.io import write_text_atomic
@@ -226,7 +207,9 @@ def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
         _check_output(request.output, "output", "JSON report", ".json")
     if request.dataset:
         return _benchmark(request)
-    record = _record(request.files[0], request.run)
+    from aaria_pin.files.source import open_record
+
+    record = open_record(request.files[0], request.run)
     if kinematics:
         from aaria_pin.apps.identify.geometry import identify_kinematics
 

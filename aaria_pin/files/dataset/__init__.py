@@ -29,15 +29,16 @@ File attributes: ``format``, ``format_version``, ``N``, ``samples``, ``dtype``, 
 attributes are (:func:`aaria_pin.files._stored.encode_attributes`: a dict or a list that is not
 of two or more numbers is a JSON string under its name plus ``_json``).
 
-A data set made on a Dask cluster is a **manifest** (:mod:`.shards`): the same file, whose
+A data set made on a Dask cluster is a **manifest** (:mod:`.manifest`): the same file, whose
 per-run arrays are virtual datasets over shard files written by the workers (paths relative to
 the manifest's folder; attributes ``shard_dir`` and ``shard_prefix``). Every data set records
 ``command`` (the command line that made it, ``""`` from the library) and ``versions_json``
 (aaria_pin, Pinocchio, NumPy, h5py, HDF5, Python).
 
-Version 1 files (aaria_pin 0.1) still read (:mod:`.legacy`); they cannot be resumed.
+Version 1 files (aaria_pin 0.1) still read (:mod:`.legacy_datasets`); they cannot be resumed.
 """
 
+from aaria_pin.files._stored import decode_attributes
 from aaria_pin.files.dataset.layout import (
     DATASET_FORMAT,
     DATASET_FORMAT_VERSION,
@@ -47,15 +48,11 @@ from aaria_pin.files.dataset.layout import (
     run_arrays,
     signals_view,
 )
-from aaria_pin.files.dataset.reader import DatasetReader, dataset_summary
-from aaria_pin.files.dataset.shards import missing_shards, shard_files
-from aaria_pin.files.dataset.store import (
-    DatasetFile,
-    check_dataset_path,
-    decode_attributes,
-    is_dataset_file,
-    read_dataset_attributes,
-)
+from aaria_pin.files.dataset.manifest import missing_shards, shard_files
+from aaria_pin.files.dataset.reader import DatasetReader
+from aaria_pin.files.dataset.resume import read_dataset_attributes
+from aaria_pin.files.dataset.store import DatasetFile, check_dataset_path
+from aaria_pin.files.dataset.summary import dataset_summary
 
 __all__ = [
     "DATASET_FORMAT",
@@ -68,7 +65,6 @@ __all__ = [
     "dataset_summary",
     "decode_attributes",
     "encode_run",
-    "is_dataset_file",
     "missing_shards",
     "read_dataset_attributes",
     "run_arrays",

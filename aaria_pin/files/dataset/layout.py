@@ -46,6 +46,7 @@ __all__ = [
     "DatasetLayout",
     "EncodedRun",
     "encode_run",
+    "read_layout",
     "signals_view",
 ]
 
@@ -95,14 +96,16 @@ class DatasetLayout:
         if len(self.imu_parents) != len(self.imu_names):
             raise ParameterError(
                 f"layout has {len(self.imu_names)} IMU names and {len(self.imu_parents)} "
-                "parents; allowed: one parent per IMU"
+                "parents; allowed: one parent per IMU",
+                parameter="layout",
             )
         clash = [name for name in (*self.tables, *self.views) if name in self.reserved_names()]
         if clash or set(self.tables) & set(self.views):
             bad = clash[0] if clash else sorted(set(self.tables) & set(self.views))[0]
             raise ParameterError(
                 f"layout name {bad!r} is taken; allowed: a name not among the series, "
-                "imu_mount, the name lists, urdf and the bookkeeping datasets"
+                "imu_mount, the name lists, urdf and the bookkeeping datasets",
+                parameter="layout",
             )
 
     @staticmethod
@@ -154,12 +157,15 @@ class DatasetLayout:
         for what, expected in mine.items():
             if theirs[what] != expected:
                 raise ParameterError(
-                    f"run {what} are {list(theirs[what])}; allowed: the data set's {list(expected)}"
+                    f"run {what} are {list(theirs[what])}; "
+                    f"allowed: the data set's {list(expected)}",
+                    parameter="record",
                 )
         for name, shape in self.tables.items():
             if np.shape(record.tables[name]) != shape:
                 raise ParameterError(
-                    f"run table {name} has shape {np.shape(record.tables[name])}; allowed: {shape}"
+                    f"run table {name} has shape {np.shape(record.tables[name])}; allowed: {shape}",
+                    parameter="record",
                 )
 
     def to_json(self) -> str:
@@ -382,3 +388,10 @@ def record_attributes(
     attributes["noise_spawn_key"] = [int(run), int(noise_stream)]
     attributes["run"] = int(run)
     return attributes
+
+
+def read_layout(handle: Any) -> DatasetLayout:
+    """The layout of an open version 2 data set file."""
+    names = {name: tuple(handle[name].asstr()[()]) for name in NAME_LISTS}
+    urdf = handle["urdf"].asstr()[()] if "urdf" in handle else ""
+    return DatasetLayout.from_json(handle.attrs["layout_json"], names, urdf)

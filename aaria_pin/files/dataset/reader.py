@@ -2,7 +2,7 @@
 
 Example::
 
-    from aaria_pin.files.dataset_reader import DatasetReader
+    from aaria_pin.files.dataset.reader import DatasetReader
 
     with DatasetReader("ds.h5") as ds:
         print(len(ds), ds.samples, ds.attributes["seed"])
@@ -15,12 +15,14 @@ Example::
     train[0]["senSen"]                            # a map-style dataset (any DataLoader)
 
 Data sets of both format versions read: version 2 (one layout for every robot, views as HDF5
-virtual datasets) and version 1, written by aaria_pin 0.1 (:mod:`.legacy`). Only complete runs
-are read; each run is one chunk (a few for poses) on disk, so a window costs one run's read.
+virtual datasets) and version 1, written by aaria_pin 0.1 (:mod:`.legacy_datasets`). Only
+complete runs are read; each run is one chunk (a few for poses) on disk, so a window costs one
+run's read.
 """
 
 from __future__ import annotations
 
+import copy
 import os
 from collections.abc import Sequence
 from pathlib import Path
@@ -32,30 +34,33 @@ from aaria_pin.core.record import SERIES, ColumnView, RunRecord, mounts_from_pos
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, ParameterError
 from aaria_pin.files._stored import decode_attributes
+from aaria_pin.files.dataset.header import DatasetHeader
 from aaria_pin.files.dataset.layout import (
     DATASET_FORMAT,
     DATASET_FORMAT_VERSION,
     DatasetLayout,
+    read_layout,
     record_attributes,
 )
-from aaria_pin.files.dataset.legacy import LEGACY_VERSION, legacy_names, legacy_record
-from aaria_pin.files.dataset.shards import missing_shards, shard_files
+from aaria_pin.files.dataset.legacy_datasets import LEGACY_VERSION, legacy_names, legacy_record
+from aaria_pin.files.dataset.manifest import missing_shards
 from aaria_pin.files.dataset.statistics import (
     channel_statistics,
     read_statistics,
     store_statistics,
     view_statistics,
 )
-from aaria_pin.files.dataset.store import read_layout
 from aaria_pin.files.dataset.windows import (
     DEFAULT_FRACTIONS,
+    WindowCut,
     WindowDataset,
+    WindowSplit,
     check_fractions,
     split_runs,
     view_sources,
 )
 
-__all__ = ["DatasetReader", "dataset_summary"]
+__all__ = ["DatasetReader"]
 
 _NOISE_STREAM = 3
 """The noise stream of a run when the file records none (as the engine draws it)."""
@@ -70,6 +75,7 @@ class DatasetReader:
     Attributes:
         path: the file
         version: its format version
+        header: its attributes, read once (:class:`~aaria_pin.files.dataset.header.DatasetHeader`)
         complete: which runs are complete (N booleans)
         names: what :meth:`run` reads, in file order: the stored per-run arrays, then (version
             2) the views
@@ -86,17 +92,20 @@ class DatasetReader:
         try:
             self._handle = h5py.File(self.path, "r")
         except OSError as exc:
-            raise InputFileError(f"{self.path}: cannot be read as a data set ({exc})") from None
+            raise InputFileError(
+                f"{self.path}: cannot be read as a data set ({exc})", parameter="path"
+            ) from None
         attrs = self._handle.attrs
         if attrs.get("format") != DATASET_FORMAT:
             self._handle.close()
-            raise InputFileError(f"{self.path}: not an aaria_pin data set")
+            raise InputFileError(f"{self.path}: not an aaria_pin data set", parameter="path")
         self.version = int(attrs.get("format_version", LEGACY_VERSION))
         if self.version not in (LEGACY_VERSION, DATASET_FORMAT_VERSION):
             self._handle.close()
             raise InputFileError(
                 f"{self.path}: data set format version is {self.version}; allowed: "
-                f"{LEGACY_VERSION}, {DATASET_FORMAT_VERSION} (a newer aaria_pin wrote it)"
+                f"{LEGACY_VERSION}, {DATASET_FORMAT_VERSION} (a newer aaria_pin wrote it)",
+                parameter="path",
             )
         if self.version == DATASET_FORMAT_VERSION:
             missing = missing_shards(self._handle, self.path)
@@ -104,14 +113,19 @@ class DatasetReader:
                 self._handle.close()
                 raise InputFileError(
                     f"{self.path}: its shard {missing[0]} is missing ({len(missing)} missing); "
-                    "allowed: the data set's folder with all its shards"
+                    "allowed: the data set's folder with all its shards",
+                    parameter="path",
                 )
         if "complete" not in self._handle:
             self._handle.close()
             raise InputFileError(
                 f"{self.path}: a damaged data set: no 'complete' array; "
-                "allowed: a complete aaria_pin data set (make it again)"
+                "allowed: a complete aaria_pin data set (make it again)",
+                parameter="path",
             )
+        self.header = DatasetHeader.from_attributes(
+            decode_attributes(attrs, self.path), self.version, self.path
+        )
         self.complete = self._handle["complete"][()].astype(bool)
         self.layout: DatasetLayout | None = None
         if self.version == LEGACY_VERSION:
@@ -121,17 +135,22 @@ class DatasetReader:
             self.names = (*self.layout.names, *self.layout.views)
 
     def __len__(self) -> int:
-        return int(self._handle.attrs["N"])
+        return self.header.n_runs
+
+    @property
+    def handle(self) -> Any:
+        """The open ``h5py.File`` (read-only), for what the reader's methods do not cover."""
+        return self._handle
 
     @property
     def samples(self) -> int:
         """Samples per run T."""
-        return int(self._handle.attrs["samples"])
+        return self.header.samples
 
     @property
     def attributes(self) -> dict[str, Any]:
-        """File attributes, JSON ones decoded (keys without the ``_json`` suffix)."""
-        return decode_attributes(self._handle.attrs, self.path)
+        """File attributes, JSON ones decoded (keys without the ``_json`` suffix); a copy."""
+        return copy.deepcopy(self.header.attributes)
 
     @property
     def stored_names(self) -> tuple[str, ...]:
@@ -140,9 +159,19 @@ class DatasetReader:
 
     def _check_run(self, index: int) -> None:
         if not 0 <= index < len(self):
-            raise ParameterError(f"run {index}; allowed: 0 to {len(self) - 1}")
+            raise ParameterError(
+                f"run {index}; allowed: 0 to {len(self) - 1}",
+                parameter="run",
+                value=index,
+                allowed=f"0 to {len(self) - 1}",
+            )
         if not self.complete[index]:
-            raise ParameterError(f"run {index} is not complete in {self.path}")
+            raise ParameterError(
+                f"run {index} is not complete in {self.path}",
+                parameter="run",
+                value=index,
+                allowed=f"a complete run of {self.path}",
+            )
 
     def run(self, index: int, names: Sequence[str] | None = None) -> dict[str, Array]:
         """Arrays of one complete run as stored (by default every stored array, in file order).
@@ -158,7 +187,9 @@ class DatasetReader:
         names = self.stored_names if names is None else names
         unknown = [name for name in names if name not in self.names]
         if unknown:
-            raise ParameterError(f"array {unknown[0]!r}; allowed: {', '.join(self.names)}")
+            raise ParameterError(
+                f"array {unknown[0]!r}; allowed: {', '.join(self.names)}", parameter="names"
+            )
         return {name: self._handle[name][index] for name in names}
 
     def record(self, index: int) -> RunRecord:
@@ -171,9 +202,9 @@ class DatasetReader:
             ParameterError: index out of range, or a run that is not complete.
         """
         self._check_run(index)
-        attributes = self.attributes
+        header = self.header
         if self.layout is None:
-            return legacy_record(self._handle, index, attributes)
+            return legacy_record(self._handle, index, header)
         layout = self.layout
         arrays = {name: np.asarray(self._handle[name][index], dtype=float) for name in layout.names}
         mounts = mounts_from_poses(layout.imu_names, layout.imu_parents, arrays["imu_mount"])
@@ -193,7 +224,9 @@ class DatasetReader:
             tables={name: arrays[name] for name in layout.tables},
             views=dict(layout.views),
             attributes=record_attributes(
-                attributes, index, int(attributes.get("noise_stream", _NOISE_STREAM))
+                header.attributes,
+                index,
+                _NOISE_STREAM if header.noise_stream is None else header.noise_stream,
             ),
         )
 
@@ -299,19 +332,9 @@ class DatasetReader:
         chosen = self._chosen_names(names)
         runs = self.split_runs(split, seed, fractions)
         statistics = self._normalisation(chosen, seed, fractions) if normalise else None
+        cut = WindowCut(length, stride, chosen, self._views, self._constants, self.samples)
         return WindowDataset(
-            self.path,
-            length,
-            stride,
-            chosen,
-            self._views,
-            self._constants,
-            self.samples,
-            runs,
-            split=split,
-            seed=seed,
-            fractions=fractions,
-            statistics=statistics,
+            self.path, cut, WindowSplit(runs, split, seed, tuple(fractions)), statistics
         )
 
     def statistics(
@@ -393,13 +416,15 @@ class DatasetReader:
             raise InputFileError(
                 f"{self.path}: statistics stored for split seed {attributes['seed']}, fractions "
                 f"{attributes['fractions']}; allowed: those of the windows (seed {wanted[0]}, "
-                f"fractions {wanted[1]}): store them again with these"
+                f"fractions {wanted[1]}): store them again with these",
+                parameter="normalise",
             )
         missing = [name for name in names if name not in values]
         if missing:
             raise InputFileError(
                 f"{self.path}: no training statistics stored for {missing[0]!r}; allowed: "
-                f"{', '.join(values)} (store them with DatasetReader.statistics)"
+                f"{', '.join(values)} (store them with DatasetReader.statistics)",
+                parameter="normalise",
             )
         return {name: values[name] for name in names}
 
@@ -412,51 +437,3 @@ class DatasetReader:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
-
-
-def dataset_summary(path: str | os.PathLike[str]) -> dict[str, Any]:
-    """Runs, shapes, sizes, seed, config and completeness of a data set (for ``aaria info``).
-
-    Returns:
-        ``path``, ``format_version``, ``kind`` (``"dh"`` or ``"urdf"``), ``runs``,
-        ``complete``, ``failed``, ``samples``, ``dtype``, ``seed``, ``vary``, ``rate``,
-        ``duration``, ``noise``, ``arrays`` (stored name → shape), ``views`` (name → shape),
-        ``file_bytes`` (with its shards), ``shards`` (how many files), ``data_bytes`` (the stored
-        arrays uncompressed), ``config``, and for a
-        URDF robot ``robot`` (its name, source, frames, joint and IMU names, base mode).
-    """
-    with DatasetReader(path) as reader:
-        handle = reader._handle
-        attributes = reader.attributes
-        stored = reader.stored_names
-        views = tuple(reader.layout.views) if reader.layout is not None else ()
-        shards = shard_files(handle, reader.path) if reader.layout is not None else []
-        robot = attributes.get("robot_info") if reader.layout is not None else None
-        if reader.layout is None and isinstance(attributes.get("robot"), dict):
-            robot = attributes["robot"]
-        kind = attributes.get("kind") or ("urdf" if robot else "dh")
-        return {
-            "path": str(reader.path),
-            "format_version": reader.version,
-            "kind": kind,
-            "runs": len(reader),
-            "complete": int(reader.complete.sum()),
-            "failed": sorted(int(k) for k in attributes.get("failures", {})),
-            "samples": reader.samples,
-            "dtype": attributes.get("dtype"),
-            "seed": attributes.get("seed"),
-            "vary": attributes.get("vary"),
-            "rate": attributes.get("rate"),
-            "duration": attributes.get("duration"),
-            "noise": attributes.get("noise"),
-            "arrays": {name: list(handle[name].shape) for name in stored},
-            "views": {name: list(handle[name].shape) for name in views},
-            "file_bytes": reader.path.stat().st_size
-            + sum(p.stat().st_size for p in shards if p.is_file()),
-            "shards": len(shards),
-            "data_bytes": int(
-                sum(handle[name].size * handle[name].dtype.itemsize for name in stored)
-            ),
-            "config": attributes.get("config"),
-            **({"robot": robot} if robot else {}),
-        }

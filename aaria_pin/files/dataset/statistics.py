@@ -155,7 +155,8 @@ def store_statistics(
     except OSError as exc:
         raise OutputFileError(
             f"{path}: cannot store statistics in it ({exc}); allowed: a writable data set "
-            "that no other handle in this process has open"
+            "that no other handle in this process has open",
+            parameter="path",
         ) from None
     with handle:
         if partial in handle:
@@ -199,7 +200,8 @@ def read_statistics(
     if group_name not in handle:
         raise InputFileError(
             f"{path}: no statistics stored for split {split or _ALL_RUNS!r}; allowed: a split "
-            "whose statistics were stored (DatasetReader.statistics(..., store=True))"
+            "whose statistics were stored (DatasetReader.statistics(..., store=True))",
+            parameter="split",
         )
     group = handle[group_name]
     attributes = {

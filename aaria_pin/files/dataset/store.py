@@ -11,7 +11,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -31,18 +31,14 @@ from aaria_pin.files.dataset.layout import (
     DatasetLayout,
     EncodedRun,
     chunk_origins,
-    codec,
+    read_layout,
 )
+from aaria_pin.files.dataset.resume import copy_intact_runs, open_read_only, unflag_damaged_runs
 from aaria_pin.files.io import atomic_output
 
 __all__ = [
     "DatasetFile",
     "check_dataset_path",
-    "dataset_progress",
-    "decode_attributes",
-    "is_dataset_file",
-    "read_dataset_attributes",
-    "read_layout",
 ]
 
 
@@ -58,13 +54,6 @@ _DATASET_MARKS = (
     "shard_prefix",
 )
 """Attributes a data set file sets itself (a spec's attributes cannot take these names)."""
-
-
-def read_layout(handle: Any) -> DatasetLayout:
-    """The layout of an open version 2 data set file."""
-    names = {name: tuple(handle[name].asstr()[()]) for name in NAME_LISTS}
-    urdf = handle["urdf"].asstr()[()] if "urdf" in handle else ""
-    return DatasetLayout.from_json(handle.attrs["layout_json"], names, urdf)
 
 
 class DatasetFile:
@@ -120,7 +109,7 @@ class DatasetFile:
         try:
             handle = h5py.File(file, "r+")
         except OSError as exc:
-            raise InputFileError(f"{file}: cannot be opened ({exc})") from None
+            raise InputFileError(f"{file}: cannot be opened ({exc})", parameter="path") from None
         return cls(handle, file)
 
     @classmethod
@@ -144,14 +133,14 @@ class DatasetFile:
             cls._copy_for_resume(file)
         except NoSpaceError:  # no room for a second copy: continue the file in place
             resumed = cls._open(file)
-            _unflag_damaged_runs(resumed._handle, resumed.layout)
+            unflag_damaged_runs(resumed._handle, resumed.layout)
             return resumed
         return cls._open(file)
 
     @classmethod
     def _copy_for_resume(cls, file: Path) -> None:
         """Replace ``file`` by a fresh copy of its intact runs (see :meth:`open_for_resume`)."""
-        old = _open_dataset_read_only(file)
+        old = open_read_only(file)
         try:
             attrs = dict(old.attrs)
             n_runs, samples = int(attrs.pop("N")), int(attrs.pop("samples"))
@@ -161,7 +150,7 @@ class DatasetFile:
             layout = read_layout(old)
             with atomic_output(file) as temporary:
                 new = _new_file(temporary, n_runs, samples, dtype, {}, layout, raw_attributes=attrs)
-                _copy_intact_runs(old, new, layout)
+                copy_intact_runs(old, new, layout)
                 new.close()
         finally:
             old.close()
@@ -279,7 +268,7 @@ def _new_file(
     """Write the empty layout of a data set into ``path`` and return the open h5py file.
 
     ``virtual`` maps per-run arrays to ``h5py.VirtualLayout`` objects: those arrays are virtual
-    datasets over other files (a sharded data set's manifest, :mod:`.shards`), the others
+    datasets over other files (a sharded data set's manifest, :mod:`.manifest`), the others
     chunked datasets of this file.
     """
     import h5py
@@ -287,7 +276,7 @@ def _new_file(
     try:
         handle = h5py.File(path, "w", track_order=True)
     except OSError as exc:
-        raise OutputFileError(f"{path}: cannot be created ({exc})") from None
+        raise OutputFileError(f"{path}: cannot be created ({exc})", parameter="path") from None
     handle.attrs["format"] = DATASET_FORMAT
     handle.attrs["format_version"] = DATASET_FORMAT_VERSION
     handle.attrs["N"] = n_runs
@@ -329,197 +318,6 @@ def _new_file(
     return handle
 
 
-def _open_dataset_read_only(file: Path) -> Any:
-    """Open a data set to resume it, refusing anything but a complete version 2 layout."""
-    import h5py
-
-    if not file.is_file():
-        raise InputFileError(f"{file}: no such file to resume")
-    try:
-        handle = h5py.File(file, "r")
-    except OSError as exc:
-        raise InputFileError(
-            parameter="resume",
-            value=True,
-            allowed=f"False ({file} cannot be opened: {exc}; overwrite it to start again)",
-        ) from None
-    if handle.attrs.get("format") != DATASET_FORMAT:
-        handle.close()
-        raise InputFileError(f"{file}: not a complete aaria_pin data set; cannot resume it")
-    version = int(handle.attrs.get("format_version", 1))
-    if version != DATASET_FORMAT_VERSION:
-        handle.close()
-        raise InputFileError(
-            f"{file}: is a format version {version} data set (aaria_pin 0.1), which cannot be "
-            "resumed; allowed: make it again, or write the rest to a new output file",
-            value=version,
-            allowed=f"format version {DATASET_FORMAT_VERSION}",
-            element=str(file),
-        )
-    complete = "layout_json" in handle.attrs and all(
-        name in handle for name in (*NAME_LISTS, "checksum", "complete")
-    )
-    missing = not complete or any(name not in handle for name in read_layout(handle).names)
-    if missing:
-        handle.close()
-        raise InputFileError(f"{file}: not a complete aaria_pin data set; cannot resume it")
-    return handle
-
-
-def is_dataset_file(path: str | os.PathLike[str]) -> bool:
-    """Whether a file is an aaria_pin data set of any format version (HDF5, its ``format``).
-
-    Raises:
-        InputFileError: an ``.h5`` file that HDF5 cannot read.
-    """
-    import h5py
-
-    file = Path(path)
-    if file.suffix.lower() not in (".h5", ".hdf5") or not file.is_file():
-        return False
-    try:
-        with h5py.File(file, "r") as handle:
-            return bool(handle.attrs.get("format") == DATASET_FORMAT)
-    except OSError as exc:
-        raise InputFileError(f"{file}: cannot be read as HDF5 ({exc})") from None
-
-
-def read_dataset_attributes(path: str | os.PathLike[str]) -> dict[str, Any]:
-    """A resumable data set's attributes (decoded), opening it read-only.
-
-    Raises:
-        InputFileError: as :meth:`DatasetFile.open_for_resume`.
-    """
-    handle = _open_dataset_read_only(Path(path))
-    try:
-        return decode_attributes(handle.attrs, path)
-    finally:
-        handle.close()
-
-
-COPY_BLOCK_RUNS = 4096
-"""Runs whose flags and checksums a resumed copy reads at once (its memory stays flat in N)."""
-
-
-def _verified_runs(
-    handle: Any, layout: DatasetLayout
-) -> Iterator[
-    tuple[list[tuple[int, list[tuple[str, tuple[int, ...], bytes]], list[int]]], list[int]]
-]:
-    """Per block of runs flagged complete, the intact ones and the damaged ones.
-
-    Intact runs come as (run, chunks, plain CRC-32s). A run whose chunks cannot be read (a
-    ``complete`` flag set on a run never written: HDF5 has no chunk there, "Can't get storage
-    size of chunk") is damaged, as is one whose CRC-32 differs. The flags and checksums are
-    read :data:`COPY_BLOCK_RUNS` runs at a time.
-    """
-    n_runs = int(handle["complete"].shape[0])
-    for begin in range(0, n_runs, COPY_BLOCK_RUNS):
-        end = min(n_runs, begin + COPY_BLOCK_RUNS)
-        complete = np.asarray(handle["complete"][begin:end], dtype=bool)
-        if not complete.any():
-            continue
-        checksums = handle["checksum"][begin:end]
-        intact = []
-        damaged: list[int] = []
-        for offset in np.flatnonzero(complete):
-            run = begin + int(offset)
-            try:
-                chunks, plain, stored = read_run_chunks(handle, layout.names, run)
-            except (OSError, ValueError, KeyError, RuntimeError):
-                damaged.append(run)
-                continue
-            if [int(c) for c in checksums[offset]] not in (plain, stored):
-                damaged.append(run)
-                continue
-            intact.append((run, chunks, plain))
-        yield intact, damaged
-
-
-def _copy_intact_runs(old: Any, new: Any, layout: DatasetLayout) -> None:
-    """Copy the chunk bytes of every complete run whose CRC-32 matches into ``new``."""
-    for intact, _ in _verified_runs(old, layout):
-        for _, chunks, _ in intact:
-            for name, where, data in chunks:
-                new[name].id.write_direct_chunk(where, data)
-        if intact:
-            runs = [run for run, _, _ in intact]
-            new["checksum"][runs] = np.array([plain for _, _, plain in intact], dtype="u4")
-            new["complete"][runs] = 1
-    new.flush()
-
-
-def _unflag_damaged_runs(handle: Any, layout: DatasetLayout) -> None:
-    """In place, clear the flag of every damaged complete run (to redo).
-
-    The intact ones get their plain CRC-32s, as a copy would store them.
-    """
-    for intact, damaged in _verified_runs(handle, layout):
-        if damaged:
-            handle["complete"][damaged] = 0
-            handle["failed"][damaged] = 0
-        if intact:
-            runs = [run for run, _, _ in intact]
-            handle["checksum"][runs] = np.array([plain for _, _, plain in intact], dtype="u4")
-    handle.flush()
-
-
-def read_run_chunks(
-    handle: Any, names: Sequence[str], row: int
-) -> tuple[list[tuple[str, tuple[int, ...], bytes]], list[int], list[int]]:
-    """The stored chunk bytes of one run (row ``row`` of each array) and each array's CRC-32s.
-
-    Returns:
-        ``(name, chunk origin with the row, bytes)`` of every chunk in storage order; the
-        CRC-32 of each array's chunks once inflated, in ``names`` order (what ``checksum``
-        records, :func:`~.layout.encode_run`); and the CRC-32 of their stored (deflated) bytes
-        (what files written before the checksums were of uncompressed bytes recorded).
-
-    Raises:
-        OSError, KeyError, RuntimeError, zlib.error: a chunk or an array cannot be read or
-            inflated.
-    """
-    _, decompress, crc32 = codec()  # ISA-L's CRC-32: 4 µs a 200 kB chunk against zlib's 49
-    chunks, plain, stored = [], [], []
-    for name in names:
-        dataset = handle[name]
-        plain_crc = stored_crc = 0
-        for origin in chunk_origins(dataset.shape[1:], dataset.chunks[1:]):
-            where = (row, *origin)
-            _, data = dataset.id.read_direct_chunk(where)
-            stored_crc = crc32(data, stored_crc)
-            try:
-                plain_crc = crc32(decompress(data), plain_crc)
-            except Exception as exc:  # isal's and zlib's own error classes
-                raise OSError(f"chunk {where} of {name} cannot be inflated ({exc})") from None
-            chunks.append((name, where, data))
-        plain.append(plain_crc)
-        stored.append(stored_crc)
-    return chunks, plain, stored
-
-
-def dataset_progress(path: str | os.PathLike[str]) -> tuple[int, int, bool]:
-    """A resumable data set's complete runs, its N, and whether it holds no failed run.
-
-    Reads the ``complete`` flags :data:`COPY_BLOCK_RUNS` at a time, read-only.
-
-    Raises:
-        InputFileError: as :meth:`DatasetFile.open_for_resume`.
-    """
-    handle = _open_dataset_read_only(Path(path))
-    try:
-        flags = handle["complete"]
-        total = int(flags.shape[0])
-        complete = sum(
-            int(np.count_nonzero(flags[begin : begin + COPY_BLOCK_RUNS]))
-            for begin in range(0, total, COPY_BLOCK_RUNS)
-        )
-        failed = "failed" in handle and bool(np.any(handle["failed"][()]))
-        return complete, total, not failed
-    finally:
-        handle.close()
-
-
 def check_dataset_path(path: Path, resume: bool, overwrite: bool, exists: bool = True) -> None:
     """Refuse an output that exists without ``resume``/``overwrite``, or a missing folder.
 
@@ -545,10 +343,13 @@ def check_dataset_path(path: Path, resume: bool, overwrite: bool, exists: bool =
     if path.exists() and not path.is_file():
         raise OutputFileError(
             f"{path}: is not a regular file; allowed: a regular .h5 file (a data set is read "
-            "again while it is written)"
+            "again while it is written)",
+            parameter="path",
         )
     if path.suffix.lower() not in (".h5", ".hdf5"):
-        raise OutputFileError(f"{path}: unknown data set type {path.suffix!r}; allowed: .h5, .hdf5")
+        raise OutputFileError(
+            f"{path}: unknown data set type {path.suffix!r}; allowed: .h5, .hdf5", parameter="path"
+        )
     if not exists:
         return
     if path.exists() and not (resume or overwrite):
@@ -558,4 +359,4 @@ def check_dataset_path(path: Path, resume: bool, overwrite: bool, exists: bool =
             allowed=f"True to continue {path}, which exists (or overwrite it)",
         )
     if resume and not path.is_file():
-        raise InputFileError(f"{path}: no such file to resume")
+        raise InputFileError(f"{path}: no such file to resume", parameter="path")

@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Collection, Iterator, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -39,7 +40,9 @@ from aaria_pin.errors import ParameterError
 __all__ = [
     "DEFAULT_FRACTIONS",
     "SPLITS",
+    "WindowCut",
     "WindowDataset",
+    "WindowSplit",
     "check_fractions",
     "normalised",
     "split_runs",
@@ -133,6 +136,44 @@ def view_sources(names: Sequence[str], views: Mapping[str, ColumnView]) -> tuple
     return tuple(needed)
 
 
+@dataclass(frozen=True)
+class WindowCut:
+    """How a data set's runs are cut into windows.
+
+    Attributes:
+        length: samples per window
+        stride: samples between window starts
+        names: arrays or views to give
+        views: the file's views, by name (those among the names are assembled from their series)
+        constants: the stored arrays without a time axis (per-run constants)
+        samples: samples per run T
+    """
+
+    length: int
+    stride: int
+    names: Sequence[str]
+    views: Mapping[str, ColumnView]
+    constants: Collection[str]
+    samples: int
+
+
+@dataclass(frozen=True)
+class WindowSplit:
+    """The runs a window dataset cuts, and the split they are.
+
+    Attributes:
+        runs: the runs to cut (complete, increasing)
+        split: the split they are (None: every complete run)
+        seed: the split's seed
+        fractions: the split's fractions
+    """
+
+    runs: np.ndarray
+    split: str | None = None
+    seed: int = 0
+    fractions: Sequence[float] = DEFAULT_FRACTIONS
+
+
 class WindowDataset:
     """Fixed-length windows over the complete runs of a data set (or of one split of its runs).
 
@@ -153,16 +194,9 @@ class WindowDataset:
 
     Args:
         path: the data set file
-        length: samples per window
-        stride: samples between window starts
-        names: arrays or views to give
-        views: the views among the names, by name (assembled from their series)
-        constants: the stored arrays without a time axis (per-run constants)
-        samples: samples per run T
-        runs: the runs to cut (complete, increasing)
-        split: the split they are (None: every complete run)
-        seed: the split's seed
-        fractions: the split's fractions
+        cut: how the runs are cut (window length, stride, names; the file's views, constants
+            and samples per run)
+        split: the runs to cut and the split they are
         statistics: per-channel ``(mean, std)`` by name to normalise with, or None
 
     Attributes:
@@ -173,30 +207,22 @@ class WindowDataset:
     def __init__(
         self,
         path: str | os.PathLike[str],
-        length: int,
-        stride: int,
-        names: Sequence[str],
-        views: Mapping[str, ColumnView],
-        constants: Collection[str],
-        samples: int,
-        runs: np.ndarray,
-        split: str | None = None,
-        seed: int = 0,
-        fractions: Sequence[float] = DEFAULT_FRACTIONS,
+        cut: WindowCut,
+        split: WindowSplit,
         statistics: Statistics | None = None,
     ) -> None:
         self.path = Path(path).resolve()  # a pickled copy may run in another folder
-        self.length = int(length)
-        self.stride = int(stride)
-        self.names = tuple(names)
-        self._views = {name: views[name] for name in self.names if name in views}
+        self.length = int(cut.length)
+        self.stride = int(cut.stride)
+        self.names = tuple(cut.names)
+        self._views = {name: cut.views[name] for name in self.names if name in cut.views}
         self._sources = view_sources(self.names, self._views)
-        self._constant = tuple(name in constants for name in self._sources)
-        self.samples = int(samples)
-        self.runs = np.asarray(runs, dtype=np.int64)
-        self.split = split
-        self.seed = int(seed)
-        self.fractions = tuple(float(f) for f in fractions)
+        self._constant = tuple(name in cut.constants for name in self._sources)
+        self.samples = int(cut.samples)
+        self.runs = np.asarray(split.runs, dtype=np.int64)
+        self.split = split.split
+        self.seed = int(split.seed)
+        self.fractions = tuple(float(f) for f in split.fractions)
         self.statistics = dict(statistics) if statistics is not None else None
         self.windows_per_run = (self.samples - self.length) // self.stride + 1
         self._handle: Any = None

@@ -31,7 +31,7 @@ from aaria_pin.files.runfile._attributes import (
     RUN_FORMAT,
     RUN_FORMAT_VERSION,
 )
-from aaria_pin.files.runfile._layout import (
+from aaria_pin.files.runfile._columns import (
     check_names,
     fitted,
     read_view,
@@ -233,7 +233,9 @@ def _v2_parts(
     for name in STORED_NAMES:
         item = handle.get(name)
         if not isinstance(item, h5py.Dataset):
-            raise InputFileError(f"{file}: not an aaria_pin run file (no dataset {name!r})")
+            raise InputFileError(
+                f"{file}: not an aaria_pin run file (no dataset {name!r})", parameter="path"
+            )
         datasets[name] = item
     names = {name: _strings(datasets[name]) for name in NAME_LISTS}
     others = {

@@ -24,7 +24,7 @@ from aaria_pin.files.runfile._attributes import (
     RUN_FORMAT,
     RUN_FORMAT_VERSION,
 )
-from aaria_pin.files.runfile._layout import (
+from aaria_pin.files.runfile._columns import (
     COLUMNS_SUFFIX,
     check_names,
     fitted,
@@ -50,7 +50,8 @@ def mat_attribute_variables(
             raise OutputFileError(
                 f"{final}: attribute {key!r} cannot be a MATLAB variable "
                 f"{MAT_ATTRIBUTE_PREFIX}{key}; allowed: letters, digits and _, at most "
-                f"{63 - len(MAT_ATTRIBUTE_PREFIX)} characters"
+                f"{63 - len(MAT_ATTRIBUTE_PREFIX)} characters",
+                parameter="attributes",
             )
     return [
         (MAT_ATTRIBUTE_PREFIX + "format", RUN_FORMAT),
@@ -79,7 +80,8 @@ def _mat_contents(
         if isinstance(data, np.ndarray) and data.nbytes > _MAT_MAX_ARRAY_BYTES:
             raise OutputFileError(
                 f"{final}: array {name!r} is {data.nbytes / 2**30:.1f} GiB; a .mat v5 file "
-                "holds at most 2 GiB per array, write it as v7.3 (mat_version='7.3') or .h5"
+                "holds at most 2 GiB per array, write it as v7.3 (mat_version='7.3') or .h5",
+                parameter="record",
             )
     contents.update(variables)
     return contents
@@ -109,11 +111,12 @@ def _mat_errors(file: Path) -> Iterator[None]:
         yield
     except NotImplementedError:
         raise InputFileError(
-            f"{file}: is a MATLAB v7.3 file; allowed: MATLAB v5 .mat run files or .h5"
+            f"{file}: is a MATLAB v7.3 file; allowed: MATLAB v5 .mat run files or .h5",
+            parameter="path",
         ) from None
     except (MatReadError, OSError, ValueError, TypeError, EOFError) as exc:
         raise InputFileError(
-            f"{file}: cannot be read as a .mat run file ({first_line(exc)})"
+            f"{file}: cannot be read as a .mat run file ({first_line(exc)})", parameter="path"
         ) from None
 
 
@@ -123,7 +126,8 @@ def load_mat(file: Path, names: list[str] | None = None) -> dict[str, Any]:
     A v7.3 file (HDF5) is read by :func:`~aaria_pin.files.runfile._mat73.load_mat73` into
     the same forms as scipy gives a v5 file's variables.
     """
-    from aaria_pin.files.runfile._mat73 import is_mat73, load_mat73
+    from aaria_pin.files.detection import is_mat73
+    from aaria_pin.files.runfile._mat73 import load_mat73
 
     if is_mat73(file):
         return load_mat73(file, names)
@@ -137,7 +141,8 @@ def load_mat(file: Path, names: list[str] | None = None) -> dict[str, Any]:
 
 def mat_variables(file: Path) -> dict[str, tuple[int, ...]]:
     """The names and shapes of a MATLAB v5 or v7.3 file's variables, without reading them."""
-    from aaria_pin.files.runfile._mat73 import is_mat73, mat73_variables
+    from aaria_pin.files.detection import is_mat73
+    from aaria_pin.files.runfile._mat73 import mat73_variables
 
     if is_mat73(file):
         return mat73_variables(file)
@@ -195,7 +200,9 @@ def _mat_names(
     """The string lists of a version 2 ``.mat`` file; InputFileError if a variable is missing."""
     for name in STORED_NAMES:
         if name not in present:
-            raise InputFileError(f"{file}: not an aaria_pin run file (no array {name!r})")
+            raise InputFileError(
+                f"{file}: not an aaria_pin run file (no array {name!r})", parameter="path"
+            )
     return {name: mat_strings(contents[name]) for name in NAME_LISTS}
 
 

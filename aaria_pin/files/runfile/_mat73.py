@@ -45,10 +45,7 @@ from aaria_pin.core.record import SERIES, ColumnView, RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import OutputFileError
 from aaria_pin.files._stored import read_errors
-from aaria_pin.files.runfile._layout import COLUMNS_SUFFIX
-
-MAT73_HEADER = b"MATLAB 7.3 MAT-file"
-"""How the text of a MAT-file v7.3's header starts."""
+from aaria_pin.files.runfile._columns import COLUMNS_SUFFIX
 
 USER_BLOCK = 512
 """Bytes of the HDF5 user block that holds the MAT-file header."""
@@ -91,15 +88,6 @@ def mat73_header(platform: str | None = None, created: str | None = None) -> byt
         f"{created or time.strftime('%a %b %d %H:%M:%S %Y')} HDF5 schema 1.00 ."
     ).encode("ascii")[:_HEADER_TEXT]
     return text.ljust(_HEADER_TEXT, b" ") + bytes(8) + (0x0200).to_bytes(2, "little") + b"IM"
-
-
-def is_mat73(file: Path) -> bool:
-    """Whether a ``.mat`` file is a MAT-file v7.3 (its header says so)."""
-    try:
-        with file.open("rb") as stream:
-            return stream.read(len(MAT73_HEADER)) == MAT73_HEADER
-    except OSError:
-        return False
 
 
 # --- writing -------------------------------------------------------------------------------------

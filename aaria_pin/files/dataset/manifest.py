@@ -37,7 +37,8 @@ import numpy as np
 from aaria_pin.errors import OutputFileError
 from aaria_pin.files._stored import first_line
 from aaria_pin.files.dataset.layout import DatasetLayout, EncodedRun, chunk_origins
-from aaria_pin.files.dataset.store import _new_file, read_run_chunks
+from aaria_pin.files.dataset.resume import read_run_chunks
+from aaria_pin.files.dataset.store import _new_file
 from aaria_pin.files.io import atomic_output
 
 __all__ = [
@@ -200,7 +201,9 @@ def _shard_errors(path: Path) -> Iterator[None]:
         raise
     except Exception as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else first_line(exc)
-        raise OutputFileError(f"shard {path}: cannot be written ({reason})") from None
+        raise OutputFileError(
+            f"shard {path}: cannot be written ({reason})", parameter="path"
+        ) from None
 
 
 @dataclass(frozen=True)

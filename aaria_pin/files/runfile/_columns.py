@@ -74,13 +74,14 @@ def fitted(file: Path, name: str, data: Array, expected: tuple[int, ...]) -> Arr
         array = np.asarray(data, dtype=np.float64)
     except (TypeError, ValueError):
         raise InputFileError(
-            f"{file}: array {name!r} is not numeric; expected float values"
+            f"{file}: array {name!r} is not numeric; expected float values", parameter="path"
         ) from None
     full = fit_shape(array.shape, expected)
     if full is None:
         wanted = describe_shape(expected).replace("-1", "T")
         raise InputFileError(
-            f"{file}: array {name!r} has shape {describe_shape(array.shape)}; expected {wanted}"
+            f"{file}: array {name!r} has shape {describe_shape(array.shape)}; expected {wanted}",
+            parameter="path",
         )
     return array.reshape(full)
 
@@ -126,7 +127,8 @@ def view_from_columns(
         source = column_source(column, joint_names, imu_names)
         if source is None:
             raise ParameterError(
-                f"view column {column!r} names no column of the run; allowed: {_COLUMN_RULE}"
+                f"view column {column!r} names no column of the run; allowed: {_COLUMN_RULE}",
+                parameter="columns",
             )
         sources.append(source)
     return ColumnView(tuple(columns), tuple(sources), units)
@@ -140,7 +142,7 @@ def read_view(
     try:
         return view_from_columns(list(columns), joint_names, imu_names)
     except ParameterError as exc:
-        raise InputFileError(f"{file}: view {name!r}: {exc}") from None
+        raise InputFileError(f"{file}: view {name!r}: {exc}", parameter="path") from None
 
 
 # --- writing -------------------------------------------------------------------------------------
@@ -164,7 +166,8 @@ def checked_arrays(final: Path, record: RunRecord) -> dict[str, Array]:
                 raise OutputFileError(
                     f"{final}: {kind} name {name!r} is not allowed; allowed: letters, digits "
                     "and _ (a letter first, at most 63 characters), none of "
-                    + ", ".join(sorted(taken))
+                    + ", ".join(sorted(taken)),
+                    parameter="record",
                 )
             taken.add(name)
             if kind == "view":
@@ -179,12 +182,13 @@ def checked_arrays(final: Path, record: RunRecord) -> dict[str, Array]:
             arrays[name] = data if name in expected else np.atleast_2d(data)
         except (TypeError, ValueError):
             raise OutputFileError(
-                f"{final}: array {name!r} is not numeric; expected float values"
+                f"{final}: array {name!r} is not numeric; expected float values", parameter="record"
             ) from None
         if name in expected and arrays[name].shape != expected[name]:
             raise OutputFileError(
                 f"{final}: array {name!r} has shape {describe_shape(arrays[name].shape)}; "
-                f"expected {describe_shape(expected[name])}"
+                f"expected {describe_shape(expected[name])}",
+                parameter="record",
             )
     joint_names, imu_names = record.joint_names, record.imu_names  # built once, not per column
     for name, view in record.views.items():
@@ -195,7 +199,8 @@ def checked_arrays(final: Path, record: RunRecord) -> dict[str, Array]:
                     f"{final}: view {name!r} column {column!r} is {source.array}"
                     f"{list(source.index)} but its name reads back as "
                     f"{'nothing' if read is None else f'{read.array}{list(read.index)}'}; "
-                    f"allowed names: {_COLUMN_RULE}"
+                    f"allowed names: {_COLUMN_RULE}",
+                    parameter="record",
                 )
     return arrays
 
@@ -228,7 +233,7 @@ def record_from_arrays(
             attributes=attributes,
         )
     except ParameterError as exc:
-        raise InputFileError(f"{file}: {exc}") from None
+        raise InputFileError(f"{file}: {exc}", parameter="path") from None
 
 
 def check_names(file: Path, names: Mapping[str, Sequence[str]], imus: int) -> None:
@@ -236,5 +241,6 @@ def check_names(file: Path, names: Mapping[str, Sequence[str]], imus: int) -> No
     for key in ("imu_names", "imu_parents"):
         if len(names[key]) != imus:
             raise InputFileError(
-                f"{file}: {key} holds {len(names[key])} names; expected {imus}, one per imu_mount"
+                f"{file}: {key} holds {len(names[key])} names; expected {imus}, one per imu_mount",
+                parameter="path",
             )

@@ -11,7 +11,7 @@ import pytest
 
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.apps.dataset.spec import run_result
-from aaria_pin.files.dataset.shards import (
+from aaria_pin.files.dataset.manifest import (
     RunLocation,
     ShardWriter,
     list_shards,
@@ -20,8 +20,8 @@ from aaria_pin.files.dataset.shards import (
     verify_shard,
     write_manifest,
 )
+from aaria_pin.files.dataset.reader import DatasetReader
 from aaria_pin.files.dataset.store import DatasetFile
-from aaria_pin.files.dataset_reader import DatasetReader
 
 SPEC = DhDatasetSpec(n_runs=7, seed=3, duration=0.3)
 SHARDS = ([0, 1, 2], [5, 3, 4])  # run 6 is in no shard (never made)

@@ -44,17 +44,10 @@ from aaria_pin.core.record import (
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import AariaError, InputFileError, ParameterError
 from aaria_pin.files._stored import decode_attribute
-from aaria_pin.files._v0_1 import (
-    AARIA_JOINTS,
-    AARIA_MODULES,
-    AARIA_ROBOT,
-    AARIA_SLOTS,
-    aaria_mounts,
-    base_pose_from_table,
-)
+from aaria_pin.files.legacy_arm import base_pose_from_table, legacy_arm
 from aaria_pin.files.runfile._attributes import RUN_FORMAT, _check_format
+from aaria_pin.files.runfile._columns import fitted, read_view
 from aaria_pin.files.runfile._hdf5 import _hdf5_attributes, _strings
-from aaria_pin.files.runfile._layout import fitted, read_view
 from aaria_pin.files.runfile._mat import (
     mat_attributes,
     mat_format,
@@ -71,14 +64,9 @@ LAYOUT_URDF = "0.1.0 URDF run"
 LAYOUT_WRIST = "0.1.0 wrist run"
 """The layouts :func:`aaria_pin.files.runfile.run_file_summary` names."""
 
-_DH_SHAPES: dict[str, tuple[int, ...]] = {
-    "senSenDH": (8, 5),
-    "senSenJ": (8, 5),
-    "senSenB": (-1, 4),
-    "imu_mount": (14, 4, 4),
-}
+_DH_TABLES: dict[str, tuple[int, ...]] = {"senSenDH": (8, 5), "senSenJ": (8, 5), "senSenB": (-1, 4)}
+_DH_SHAPES = (*_DH_TABLES, "imu_mount")
 _DH_SERIES = ("q", "qd", "qdd", "tau", "base_wrench", "tool_pose")
-_DH_COLUMNS = 1 + AARIA_MODULES + len(IMU_SIGNALS) * AARIA_SLOTS
 _URDF_SERIES = ("signals", "q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pose")
 _WRIST_ARRAYS = ("time", "q", "qd", "qdd", "tau", "tool_pose")
 _WRIST_ATTRIBUTES = ("targets_rad", "speed_rad_s", "acceleration_rad_s2", "profile")
@@ -96,7 +84,9 @@ def _layout_of(
     if fmt is None:
         if all(name in arrays for name in _WRIST_ARRAYS) and "targets_rad" in attributes:
             return LAYOUT_WRIST
-        raise InputFileError(f"{file}: not an aaria_pin run file (no 'format' attribute)")
+        raise InputFileError(
+            f"{file}: not an aaria_pin run file (no 'format' attribute)", parameter="path"
+        )
     if fmt == URDF_V1_FORMAT:
         _check_format(file, fmt, version, URDF_V1_FORMAT, 1)
         return LAYOUT_URDF
@@ -133,7 +123,9 @@ def read_legacy_hdf5(file: Path, handle: Any, layout: str) -> RunRecord:
     )
     for name in names:
         if not isinstance(handle.get(name), h5py.Dataset):
-            raise InputFileError(f"{file}: not an aaria_pin run file (no dataset {name!r})")
+            raise InputFileError(
+                f"{file}: not an aaria_pin run file (no dataset {name!r})", parameter="path"
+            )
     attributes = _hdf5_attributes(file, handle.attrs)
     if layout == LAYOUT_DH:
         arrays = {name: handle[name][()] for name in names}
@@ -154,7 +146,9 @@ def read_legacy_mat(file: Path, contents: Mapping[str, Any], layout: str) -> Run
         return _wrist_record(file, contents, attributes)
     for name in ("senSen", "senSen_columns", *_DH_SHAPES, *_DH_SERIES):
         if name not in contents:
-            raise InputFileError(f"{file}: not an aaria_pin run file (no array {name!r})")
+            raise InputFileError(
+                f"{file}: not an aaria_pin run file (no array {name!r})", parameter="path"
+            )
     return _dh_record(
         file, contents, mat_strings(contents["senSen_columns"]), mat_attributes(file, contents)
     )
@@ -163,17 +157,24 @@ def read_legacy_mat(file: Path, contents: Mapping[str, Any], layout: str) -> Run
 def _dh_record(
     file: Path, stored: Mapping[str, Any], columns: Sequence[str], attributes: dict[str, Any]
 ) -> RunRecord:
-    """An Aaria DH run's record from the 0.1.0 arrays (see the module docstring)."""
-    sensen = fitted(file, "senSen", stored["senSen"], (-1, _DH_COLUMNS))
+    """A DH arm's run record from the 0.1.0 arrays (see the module docstring).
+
+    The arm (its joints, slots and their parents, its name) is the registered
+    :class:`~aaria_pin.files.legacy_arm.LegacyArm`.
+    """
+    arm = legacy_arm(file)
+    width = 1 + arm.modules + len(IMU_SIGNALS) * arm.slots
+    sensen = fitted(file, "senSen", stored["senSen"], (-1, width))
     samples = sensen.shape[0]
-    arrays = {name: fitted(file, name, stored[name], shape) for name, shape in _DH_SHAPES.items()}
-    shapes = record_shapes(samples, AARIA_MODULES, AARIA_SLOTS)
-    arrays.update({name: fitted(file, name, stored[name], shapes[name]) for name in _DH_SERIES})
-    joint_names = AARIA_JOINTS
-    slots = _dh_slot_names(file, columns)
-    mounts = aaria_mounts(slots, arrays["imu_mount"])
+    arrays = {name: fitted(file, name, stored[name], shape) for name, shape in _DH_TABLES.items()}
+    shapes = record_shapes(samples, arm.modules, arm.slots)
+    for name in ("imu_mount", *_DH_SERIES):
+        arrays[name] = fitted(file, name, stored[name], shapes[name])
+    joint_names = arm.joints
+    slots = _dh_slot_names(file, columns, arm.modules, arm.slots)
+    mounts = arm.mounts(slots, arrays["imu_mount"])
     time = np.ascontiguousarray(sensen[:, 0])
-    imu = np.ascontiguousarray(sensen[:, 1 + AARIA_MODULES :]).reshape(samples, AARIA_SLOTS, 6)
+    imu = np.ascontiguousarray(sensen[:, 1 + arm.modules :]).reshape(samples, arm.slots, 6)
     view = read_view(file, "senSen", columns, (joint_names, slots))
     return _record(
         file,
@@ -185,21 +186,23 @@ def _dh_record(
         imu_mounts=mounts,
         tables={name: arrays[name] for name in ("senSenDH", "senSenJ", "senSenB")},
         views={"senSen": view},
-        attributes={**attributes, "kind": "dh", "robot": attributes.get("robot", AARIA_ROBOT)},
+        attributes={**attributes, "kind": "dh", "robot": attributes.get("robot", arm.robot)},
     )
 
 
-def _dh_slot_names(file: Path, columns: Sequence[str]) -> tuple[str, ...]:
-    """The 14 slot names of a 0.1.0 ``senSen``'s column names."""
-    expected_head = ["time", *(f"q{module}" for module in range(1, AARIA_MODULES + 1))]
-    slots = tuple(
-        str(column)[: -len("_wx")] for column in columns[1 + AARIA_MODULES :: len(IMU_SIGNALS)]
-    )
+def _dh_slot_names(
+    file: Path, columns: Sequence[str], modules: int, n_slots: int
+) -> tuple[str, ...]:
+    """The ``n_slots`` slot names of a 0.1.0 ``senSen``'s column names."""
+    expected_head = ["time", *(f"q{module}" for module in range(1, modules + 1))]
+    slots = tuple(str(column)[: -len("_wx")] for column in columns[1 + modules :: len(IMU_SIGNALS)])
     expected = [*expected_head, *(f"{s}_{signal}" for s in slots for signal in IMU_SIGNALS)]
-    if len(columns) != _DH_COLUMNS or list(columns) != expected:
+    if len(columns) != 1 + modules + len(IMU_SIGNALS) * n_slots or list(columns) != expected:
         raise InputFileError(
-            f"{file}: senSen columns are not the 0.1.0 layout; expected time, q1..q6 and 14 × "
-            "<slot>_<wx wy wz fx fy fz>"
+            f"{file}: senSen columns are not the 0.1.0 layout; expected time, q1..q{modules} "
+            f"and {n_slots} × <slot>_<wx wy wz fx fy fz>",
+            parameter="path",
+            value=str(file),
         )
     return slots
 
@@ -209,7 +212,7 @@ def _dh_base_pose(file: Path, table: Array, time: Array) -> Array:
     try:
         return base_pose_from_table(table, time)
     except AariaError as exc:
-        raise InputFileError(f"{file}: senSenB: {exc}") from None
+        raise InputFileError(f"{file}: senSenB: {exc}", parameter="path") from None
 
 
 def _urdf_record(file: Path, handle: Any, attributes: dict[str, Any]) -> RunRecord:
@@ -224,7 +227,8 @@ def _urdf_record(file: Path, handle: Any, attributes: dict[str, Any]) -> RunReco
     if columns != list(signal_columns(joint_names, imu_names)):
         raise InputFileError(
             f"{file}: signals columns do not match its joint and IMU names; expected time, "
-            "q:<joint> per joint, <imu>_<signal> per IMU"
+            "q:<joint> per joint, <imu>_<signal> per IMU",
+            parameter="path",
         )
     samples = signals.shape[0]
     shapes = record_shapes(samples, len(joint_names), len(imu_names))
@@ -235,7 +239,8 @@ def _urdf_record(file: Path, handle: Any, attributes: dict[str, Any]) -> RunReco
     }
     if len(parents) != len(imu_names):
         raise InputFileError(
-            f"{file}: imu_parents holds {len(parents)} names; expected {len(imu_names)}"
+            f"{file}: imu_parents holds {len(parents)} names; expected {len(imu_names)}",
+            parameter="path",
         )
     mounts = tuple(
         ImuMount(name, parent, pose)
@@ -296,4 +301,4 @@ def _record(file: Path, **fields: Any) -> RunRecord:
     try:
         return RunRecord(**fields)
     except ParameterError as exc:
-        raise InputFileError(f"{file}: {exc}") from None
+        raise InputFileError(f"{file}: {exc}", parameter="path") from None

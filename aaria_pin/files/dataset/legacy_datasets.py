@@ -16,6 +16,7 @@ base), as the run computed it. The IMU signals are the columns of ``senSen``/``s
 from __future__ import annotations
 
 import json
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -27,14 +28,9 @@ from aaria_pin.core.record import (
     mounts_from_poses,
     signals_view,
 )
-from aaria_pin.files._v0_1 import (
-    AARIA_JOINTS,
-    AARIA_MODULES,
-    AARIA_ROBOT,
-    aaria_mounts,
-    base_pose_from_table,
-)
+from aaria_pin.files.dataset.header import DatasetHeader
 from aaria_pin.files.dataset.layout import record_attributes
+from aaria_pin.files.legacy_arm import base_pose_from_table, legacy_arm
 
 __all__ = ["LEGACY_VERSION", "legacy_names", "legacy_record"]
 
@@ -70,31 +66,32 @@ def _columns(dataset: Any) -> tuple[str, ...]:
     return tuple(c.decode() if isinstance(c, bytes) else str(c) for c in dataset.attrs["columns"])
 
 
-def legacy_record(handle: Any, run: int, file_attributes: dict[str, Any]) -> RunRecord:
+def legacy_record(handle: Any, run: int, header: DatasetHeader) -> RunRecord:
     """Run ``run`` of an open version 1 data set as a run record (arrays in float64).
 
     Args:
         handle: the open h5py file
         run: the run index (a complete run)
-        file_attributes: its decoded attributes
+        header: its header
     """
     aaria = "layout_json" not in handle.attrs
     flat = np.asarray(handle["senSen" if aaria else "signals"][run], dtype=float)
     columns = _columns(handle["senSen" if aaria else "signals"])
     samples = flat.shape[0]
     time = flat[:, 0]
-    attributes = record_attributes(file_attributes, run, _NOISE_STREAM)
+    attributes = record_attributes(header.attributes, run, _NOISE_STREAM)
     mounts = np.asarray(handle["imu_mount"][run], float)
     if aaria:
-        joints = AARIA_JOINTS
-        imus = tuple(name[: -len("_wx")] for name in columns[1 + AARIA_MODULES :: 6])
-        imu_mounts = aaria_mounts(imus, mounts)
+        arm = legacy_arm(Path(handle.filename))
+        joints = arm.joints
+        imus = tuple(name[: -len("_wx")] for name in columns[1 + arm.modules :: 6])
+        imu_mounts = arm.mounts(imus, mounts)
         tables = {name: np.asarray(handle[name][run], float) for name in _AARIA_ARRAYS[1:4]}
         base_table: np.ndarray | None = tables["senSenB"]
         urdf = ""
-        attributes.update(kind="dh", robot=AARIA_ROBOT)
+        attributes.update(kind="dh", robot=arm.robot)
     else:
-        robot = file_attributes["robot"]
+        robot = header.robot_info or {}
         joints = tuple(robot["joint_names"])
         imus = tuple(robot["imu_names"])
         imu_mounts = mounts_from_poses(imus, robot["imu_parents"], mounts)

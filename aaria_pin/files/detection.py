@@ -1,0 +1,100 @@
+"""What a run file or data set is: the one format detection of the files layer.
+
+:func:`file_format`: an ``.h5``/``.hdf5`` file is a data set when its ``format`` attribute says
+so (any format version), else an HDF5 run file; a ``.mat`` file is a MAT-file v7.3 when its
+128-byte header says so (it is HDF5), else a MAT-file v5. Only marks are read, never arrays.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Literal
+
+from aaria_pin.errors import InputFileError
+from aaria_pin.files.paths import existing_input
+
+__all__ = [
+    "FILE_FORMATS",
+    "MAT73_HEADER",
+    "RUN_SUFFIXES",
+    "FileFormat",
+    "existing_run_source",
+    "file_format",
+    "is_dataset_file",
+    "is_mat73",
+]
+
+FileFormat = Literal["hdf5", "mat5", "mat73", "dataset"]
+"""A file's format: an HDF5 run file, a MAT-file v5 or v7.3 run file, or a data set."""
+
+FILE_FORMATS: tuple[FileFormat, ...] = ("hdf5", "mat5", "mat73", "dataset")
+"""Every :data:`FileFormat`."""
+
+RUN_SUFFIXES = (".h5", ".hdf5", ".mat")
+"""File suffixes of run files and data sets (case-insensitive)."""
+
+MAT73_HEADER = b"MATLAB 7.3 MAT-file"
+"""How the text of a MAT-file v7.3's header starts."""
+
+
+def file_format(path: str | os.PathLike[str]) -> FileFormat:
+    """The format of an existing run file or data set, from its suffix and marks only.
+
+    Args:
+        path: a ``.h5``, ``.hdf5`` or ``.mat`` file
+
+    Returns:
+        ``"dataset"`` (an HDF5 file whose ``format`` is the data set's), ``"hdf5"`` (another
+        HDF5 file), ``"mat73"`` (a ``.mat`` whose header is a v7.3 one) or ``"mat5"``.
+
+    Raises:
+        InputFileError: another suffix, a missing or unreadable file, or an ``.h5`` file HDF5
+            cannot open (``parameter="path"``).
+    """
+    file = existing_run_source(path)
+    if file.suffix.lower() == ".mat":
+        return "mat73" if is_mat73(file) else "mat5"
+    import h5py
+
+    from aaria_pin.files._stored import read_errors
+    from aaria_pin.files.dataset.layout import DATASET_FORMAT
+
+    with read_errors(file, "an HDF5 run file or data set"), h5py.File(file, "r") as handle:
+        mark = handle.attrs.get("format")
+    return "dataset" if mark == DATASET_FORMAT else "hdf5"
+
+
+def is_mat73(file: Path) -> bool:
+    """Whether a ``.mat`` file is a MAT-file v7.3 (its header says so); False if unreadable."""
+    try:
+        with file.open("rb") as stream:
+            return stream.read(len(MAT73_HEADER)) == MAT73_HEADER
+    except OSError:
+        return False
+
+
+def is_dataset_file(path: str | os.PathLike[str]) -> bool:
+    """Whether a file is an aaria_pin data set of any format version (HDF5, its ``format``).
+
+    A missing file, a folder or another suffix is not one (False).
+
+    Raises:
+        InputFileError: an ``.h5`` file that HDF5 cannot read.
+    """
+    file = Path(path)
+    if file.suffix.lower() not in (".h5", ".hdf5") or not file.is_file():
+        return False
+    return file_format(file) == "dataset"
+
+
+def existing_run_source(path: str | os.PathLike[str]) -> Path:
+    """The existing run file or data set ``path``.
+
+    Raises:
+        InputFileError: another suffix, or a missing or unreadable file (``parameter="path"``).
+    """
+    try:
+        return existing_input(path, RUN_SUFFIXES, "run")
+    except InputFileError as exc:
+        raise InputFileError(str(exc), parameter="path", value=str(path)) from None

@@ -1,0 +1,40 @@
+"""The one format detection of the files layer: run file (HDF5, MAT v5, MAT v7.3) or data set."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from aaria_pin.errors import InputFileError
+from aaria_pin.files.detection import file_format, is_dataset_file
+from aaria_pin.files.runfile import read_run, write_run
+
+FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "v0_3_0"
+
+
+def test_every_format_is_told_from_its_marks(tmp_path: Path) -> None:
+    assert file_format(FIXTURES / "dh_run.h5") == "hdf5"
+    assert file_format(FIXTURES / "dh_run.mat") == "mat5"
+    assert file_format(FIXTURES / "ur5_dataset.h5") == "dataset"
+    record = read_run(FIXTURES / "ur5_run.h5")
+    long = tmp_path / "run.mat"
+    write_run(long, record, mat_version="7.3")
+    assert long.read_bytes().startswith(b"MATLAB 7.3 MAT-file")
+    assert file_format(long) == "mat73"
+    renamed = tmp_path / "RUN.HDF5"
+    renamed.write_bytes((FIXTURES / "ur5_dataset.h5").read_bytes())
+    assert file_format(renamed) == "dataset" and is_dataset_file(renamed)
+    assert not is_dataset_file(FIXTURES / "dh_run.h5")
+    assert not is_dataset_file(tmp_path / "missing.h5")
+
+
+def test_a_file_of_another_kind_is_refused_naming_path(tmp_path: Path) -> None:
+    with pytest.raises(InputFileError, match=r"unknown run file type '\.csv'") as bad:
+        file_format(FIXTURES / "traj.csv")
+    assert bad.value.parameter == "path"
+    garbage = tmp_path / "garbage.h5"
+    garbage.write_bytes(b"not HDF5")
+    with pytest.raises(InputFileError, match="cannot be read as an HDF5 run file") as bad:
+        file_format(garbage)
+    assert bad.value.parameter == "path"
