@@ -15,56 +15,48 @@ import os
 import threading
 from collections import OrderedDict
 from collections.abc import Iterator
-from dataclasses import asdict, fields, replace
-from typing import Any
+from dataclasses import asdict, dataclass, fields, replace
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from aaria_pin._version import __version__
 from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
 from aaria_pin.aaria.oscillation import (
-    base_motion,
-    default_base_table,
     default_joint_table,
     joint_trajectory,
-    validate_base_table,
     validate_joint_table,
 )
 from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, sensen_view
-from aaria_pin.core.excitation import (
-    FourierExcitation,
-    check_trajectory,
-    fourier_excitation,
-    motion_attributes,
-    motion_slice,
-    stored_motion,
-)
+from aaria_pin.core.excitation import FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.model import RobotModel
-from aaria_pin.core.record import ImuMount, RunRecord
+from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
+from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
 from aaria_pin.core.run import (
     CHUNK_SAMPLES,
     UNITS,
+    Motion,
+    RunKind,
     RunSeries,
-    chunk_bounds,
+    RunSettings,
+    TorqueDrive,
+    as_motion,
     join_chunks,
-    noise_stream,
+    motion_from_record,
+    register_kind,
     sampling_attributes,
+    simulate_pieces,
     simulate_series,
     stored_sampling,
 )
 from aaria_pin.core.se3 import Array
-from aaria_pin.core.seeds import check_seed
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
     DEFAULT_RATE,
     MAX_SAMPLES,
-    MAX_STREAMED_SAMPLES,
     BaseMotion,
     JointTrajectory,
-    piece_times,
-    sample_count,
 )
 from aaria_pin.errors import InputFileError
 
@@ -269,6 +261,161 @@ def cached_arm(
     return arm
 
 
+@dataclass(frozen=True)
+class DHArmRun:
+    """An Aaria DH arm as the run engine's robot (:class:`~aaria_pin.core.run.RunRobot`).
+
+    Made by :func:`dh_arm`. The record's columns are the six modules ``joint1`` … ``joint6``
+    (zero columns for an empty module), its IMUs the 14 slots in ``senSen`` order (an empty
+    module's slots have parent ``""``); it keeps the tables ``senSenDH``, ``senSenJ``,
+    ``senSenB`` and the view ``senSen``.
+
+    Attributes:
+        arm: the DH arm
+        model: its Pinocchio model on a moving base
+        joint_table: 8 × 5 joint oscillation table (``senSenJ``), checked
+        base_table: base oscillation table (``senSenB``), checked
+        robot_name: the ``robot`` attribute
+        keep_urdf: keep the arm's URDF text in the record
+    """
+
+    arm: DHRobot
+    model: RobotModel
+    joint_table: Array
+    base_table: Array
+    robot_name: str = DH_ROBOT
+    keep_urdf: bool = True
+    kind: ClassVar[str] = "dh"
+    joint_names: ClassVar[tuple[str, ...]] = JOINT_NAMES
+    torque_name: ClassVar[str] = "torque table"
+
+    @property
+    def columns(self) -> list[int]:
+        """The module column (0 … 5) of each of the arm's joints."""
+        return [module - 1 for module in self.arm.chain.modules]
+
+    @property
+    def limits(self) -> tuple[Array, Array]:
+        """Joint limits by module (±inf for an empty module) [rad or m]."""
+        lower, upper = np.full(N_MODULES, -np.inf), np.full(N_MODULES, np.inf)
+        for joint in self.arm.chain.joints:
+            lower[joint.module - 1], upper[joint.module - 1] = joint.lower, joint.upper
+        return lower, upper
+
+    @property
+    def imu_slots(self) -> list[int]:
+        """The slots of the IMUs that exist (not of an empty module)."""
+        return [k for k, slot in enumerate(self.arm.imu_slots) if slot.parent is not None]
+
+    @property
+    def imu_frames(self) -> list[str]:
+        """The model frames of the IMUs that exist."""
+        return [self.arm.imu_slots[k].name for k in self.imu_slots]
+
+    @property
+    def n_slots(self) -> int:
+        """The 14 IMU slots."""
+        return len(self.arm.imu_slots)
+
+    @property
+    def imu_mounts(self) -> tuple[ImuMount, ...]:
+        """The slots as the record's mounts (:func:`dh_imu_mounts`)."""
+        return dh_imu_mounts(self.arm)
+
+    @property
+    def urdf(self) -> str:
+        """The arm's URDF text, or "" (not kept)."""
+        return self.arm.urdf if self.keep_urdf else ""
+
+    @property
+    def tables(self) -> dict[str, Array]:
+        """``senSenDH``, ``senSenJ``, ``senSenB``."""
+        return {
+            "senSenDH": self.arm.chain.table.copy(),
+            "senSenJ": self.joint_table,
+            "senSenB": self.base_table,
+        }
+
+    @property
+    def views(self) -> dict[str, ColumnView]:
+        """The paper's 91-column ``senSen``."""
+        return {"senSen": sensen_view()}
+
+    def sines(self, times: Array) -> JointTrajectory:
+        """``senSenJ``'s sines at ``times``."""
+        return joint_trajectory(self.joint_table, self.arm.chain, times)
+
+    def base(self, times: Array) -> BaseMotion:
+        """``senSenB``'s motion at ``times``."""
+        return base_motion(self.base_table, times)
+
+    def record_columns(self, values: Array) -> Array:
+        """The six module columns (:func:`_module_columns`)."""
+        return _module_columns(self.columns, values)
+
+    def attributes(self, peaks: Array) -> dict[str, Any]:
+        """``robot``, ``body_dimensions``, ``base_frame``, ``tool_frame``."""
+        return {
+            "robot": self.robot_name,
+            "body_dimensions": {
+                **asdict(self.arm.dims),
+                "density_overrides": dict(self.arm.dims.density_overrides),
+            },
+            "base_frame": self.model.base_frame,
+            "tool_frame": self.model.tool_frame,
+        }
+
+
+@dataclass(frozen=True)
+class DHArmSpec:
+    """The inputs of a DH arm beside its DH table (what :func:`dh_arm` builds it from).
+
+    Attributes:
+        joint_table: 8 × 5 joint oscillation table (``senSenJ``); None moves every module
+        base_table: 2 × 4 or 6 × 4 base oscillation table (``senSenB``); None a gentle motion
+        dims: body dimensions and densities (None: :class:`BodyDimensions`)
+        imu_mount: 14 × 4 × 4 pose of each IMU slot in its parent frame (None: the default
+            slots)
+        robot_name: the ``robot`` attribute (a preset's name, or the table's)
+        keep_urdf: keep the arm's URDF text in the record
+    """
+
+    joint_table: ArrayLike | None = None
+    base_table: ArrayLike | None = None
+    dims: BodyDimensions | None = None
+    imu_mount: ArrayLike | None = None
+    robot_name: str = DH_ROBOT
+    keep_urdf: bool = True
+
+
+def dh_arm(dh_table: ArrayLike, spec: DHArmSpec | None = None) -> DHArmRun:
+    """An Aaria arm of a DH table as the run engine's robot, its tables checked.
+
+    Args:
+        dh_table: 8 × 5 extended DH table (``senSenDH``)
+        spec: the joint and base tables, body dimensions, IMU mounts, name (default
+            :class:`DHArmSpec`)
+
+    Returns:
+        The robot (the arm is built once per table: :func:`cached_arm`).
+
+    Raises:
+        TableError, ParameterError: a bad table.
+    """
+    spec = DHArmSpec() if spec is None else spec
+    arm, model = cached_arm(dh_table, spec.dims, spec.imu_mount)
+    senSenJ = (
+        default_joint_table(arm.chain)
+        if spec.joint_table is None
+        else np.array(spec.joint_table, float)
+    )
+    validate_joint_table(senSenJ, arm.chain)
+    senSenB = (
+        default_base_table() if spec.base_table is None else validate_base_table(spec.base_table)
+    )
+    return DHArmRun(arm, model, senSenJ, senSenB, spec.robot_name, spec.keep_urdf)
+
+
 def dh_series(
     robot: DHRobot,
     model: RobotModel,
@@ -314,7 +461,7 @@ def simulate_run(
     dims: BodyDimensions | None = None,
     imu_mount: ArrayLike | None = None,
     torques: ArrayLike | None = None,
-    motion: JointTrajectory | FourierExcitation | None = None,
+    motion: Motion | JointTrajectory | FourierExcitation | None = None,
     threads: int = 1,
     robot_name: str = DH_ROBOT,
     keep_urdf: bool = True,
@@ -393,7 +540,7 @@ def simulate_run_chunks(
     dims: BodyDimensions | None = None,
     imu_mount: ArrayLike | None = None,
     torques: ArrayLike | None = None,
-    motion: JointTrajectory | FourierExcitation | None = None,
+    motion: Motion | JointTrajectory | FourierExcitation | None = None,
     threads: int = 1,
     robot_name: str = DH_ROBOT,
     keep_urdf: bool = True,
@@ -434,94 +581,14 @@ def simulate_run_chunks(
     Yields:
         The run record of each piece (kind ``"dh"``), ``time`` the piece's sample times.
     """
-    check_seed(seed)
-    robot, model = cached_arm(dh_table, dims, imu_mount)
-    streamed = chunk is not None and torques is None
-    samples = sample_count(duration, rate, MAX_STREAMED_SAMPLES if streamed else MAX_SAMPLES)
-    senSenJ = (
-        default_joint_table(robot.chain) if joint_table is None else np.array(joint_table, float)
+    settings = RunSettings(duration, rate, chunk, noise, noise_model, threads)
+    robot = dh_arm(
+        dh_table, DHArmSpec(joint_table, base_table, dims, imu_mount, robot_name, keep_urdf)
     )
-    validate_joint_table(senSenJ, robot.chain)  # errors before any work
-    senSenB = default_base_table() if base_table is None else validate_base_table(base_table)
-    columns = [module - 1 for module in robot.chain.modules]  # module order → senSen columns
-    tables = {"senSenDH": robot.chain.table.copy(), "senSenJ": senSenJ, "senSenB": senSenB}
-    if isinstance(motion, JointTrajectory):
-        lower, upper = np.full(N_MODULES, -np.inf), np.full(N_MODULES, np.inf)
-        for joint in robot.chain.joints:
-            lower[joint.module - 1], upper[joint.module - 1] = joint.lower, joint.upper
-        motion = check_trajectory(motion, samples, rate, lower, upper, JOINT_NAMES)
-    motion_tables, motion_attrs = motion_attributes(motion, N_MODULES)
-    tables.update(motion_tables)
-    by_module = None
+    run_motion = as_motion(motion)
     if torques is not None:
-        from aaria_pin.core.forward import check_torques
-
-        by_module = check_torques(torques, samples, N_MODULES, "torque table")
-        tables["torque_table"] = by_module
-        chunk = None
-    pieces = chunk_bounds(samples, chunk)
-    present = sum(slot.parent is not None for slot in robot.imu_slots)
-    stream = noise_stream(samples, present, rate, seed, noise, noise_model, len(pieces))
-    attributes: dict[str, Any] = {
-        "kind": "dh",
-        "robot": robot_name,
-        **sampling_attributes(rate, duration, seed, noise, noise_model),
-        "body_dimensions": {
-            **asdict(robot.dims),
-            "density_overrides": dict(robot.dims.density_overrides),
-        },
-        "drive": "motion" if torques is None else "torque",
-        **motion_attrs,
-        "base_frame": model.base_frame,
-        "tool_frame": model.tool_frame,
-        "version": __version__,
-    }
-    mounts = dh_imu_mounts(robot)
-    urdf = robot.urdf if keep_urdf else ""
-    views = {"senSen": sensen_view()}
-    for start, stop in pieces:
-        times = piece_times(start, stop, rate)
-        if motion is None:
-            trajectory = joint_trajectory(senSenJ, robot.chain, times)
-        else:
-            trajectory = motion_slice(motion, start, stop, times, columns)
-        base = base_motion(senSenB, times)
-        if by_module is not None:  # one piece: the whole run
-            from aaria_pin.core.forward import forward_simulate
-
-            trajectory = forward_simulate(
-                model, base, by_module[:, columns], times, trajectory.q[0], trajectory.qd[0]
-            )
-        series = dh_series(
-            robot,
-            model,
-            base,
-            trajectory,
-            rate=rate,
-            seed=seed,
-            noise=noise,
-            noise_model=noise_model,
-            threads=threads,
-            noise_stream=stream,
-            start=start,
-        )
-        yield RunRecord(
-            time=times,
-            joint_names=JOINT_NAMES,
-            q=_module_columns(columns, trajectory.q),
-            qd=_module_columns(columns, trajectory.qd),
-            qdd=_module_columns(columns, trajectory.qdd),
-            tau=_module_columns(columns, series.tau),
-            base_pose=series.base_pose,
-            base_wrench=series.base_wrench,
-            tool_pose=series.tool_pose,
-            imu=series.imu,
-            imu_mounts=mounts,
-            urdf=urdf,
-            tables=tables,
-            views=views,
-            attributes=attributes,
-        )
+        run_motion = TorqueDrive(torques, run_motion)
+    return simulate_pieces(robot, run_motion, settings, seed)
 
 
 def simulate_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
@@ -586,14 +653,14 @@ def _stored_settings(stored: RunRecord, overrides: dict[str, Any]) -> dict[str, 
     }
     if "torque_table" in stored.tables:
         settings["torques"] = stored.tables["torque_table"]
-    motion = stored_motion(stored.tables, attributes)
-    if motion is not None:
-        settings["motion"] = motion
+    settings["motion"] = motion_from_record(stored.tables, attributes, drive=False)
     if "body_dimensions" in attributes:
         try:
             settings["dims"] = BodyDimensions(**attributes["body_dimensions"])
         except TypeError as exc:
-            raise InputFileError(f"body_dimensions cannot be used ({exc})") from None
+            raise InputFileError(
+                f"body_dimensions cannot be used ({exc})", parameter="body_dimensions"
+            ) from None
     settings.update(overrides)
     return settings
 
@@ -622,3 +689,6 @@ def simulate_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> Ru
         return simulate_from_record(read_run_inputs(path), **overrides)
     except InputFileError as exc:
         raise InputFileError(f"{path}: {exc}", element=str(path)) from None
+
+
+register_kind(RunKind("dh", simulate_from_record, lambda record: "senSenDH" in record.tables))

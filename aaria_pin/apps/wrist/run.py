@@ -31,7 +31,7 @@ from aaria_pin.aaria.simulate import dh_imu_mounts, dh_series
 from aaria_pin.core.imu_noise import ADIS16485
 from aaria_pin.core.profiles import ramp_profile, trapezoid_profile
 from aaria_pin.core.record import ImuMount, RunRecord
-from aaria_pin.core.run import sampling_attributes
+from aaria_pin.core.run import RunKind, register_kind, sampling_attributes
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import MAX_DURATION, BaseMotion, JointTrajectory, sample_times
 from aaria_pin.errors import ParameterError
@@ -290,3 +290,17 @@ def write_wrist_run(path: str | os.PathLike[str], run: WristRun) -> Path:
     from aaria_pin.files.runfile import write_run
 
     return write_run(path, wrist_record(run))
+
+
+def _remake_wrist(stored: RunRecord, **overrides: Any) -> RunRecord:
+    """The wrist kind's re-make: :func:`simulate_wrist_from_record` as a record."""
+    return wrist_record(simulate_wrist_from_record(stored, **overrides))
+
+
+register_kind(
+    RunKind(
+        "wrist",
+        _remake_wrist,
+        lambda record: "targets" in record.tables or "targets_rad" in record.attributes,
+    )
+)
