@@ -489,7 +489,7 @@ def simulate_run(
         motion: the joint motion instead of the joint table's sines, by module (six columns
             or rows; those of empty modules are ignored): a
             :class:`~aaria_pin.core.trajectory.JointTrajectory` of the run's samples (T × 6,
-            e.g. :func:`~aaria_pin.core.excitation.trajectory_from_samples`; stored as the
+            e.g. :func:`~aaria_pin.core.sampled_motion.trajectory_from_samples`; stored as the
             table ``joint_trajectory``, T × 19: time, q, qd, qdd) or a
             :class:`~aaria_pin.core.excitation.FourierExcitation`
             (:func:`dh_fourier_excitation`; stored as the table ``fourier_coefficients`` and

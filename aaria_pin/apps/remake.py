@@ -6,7 +6,7 @@ IMU layout; a wrist run its ``targets`` and motion settings; a pick-and-place ru
 place, preset, rate and IK branch; every run its rate, duration, seed and noise setting (and a
 run driven by torques its ``torque_table``; a DH or URDF run that follows a Fourier excitation
 its ``fourier_coefficients`` and ``fourier`` attribute, one that follows a given trajectory its
-``joint_trajectory``: :func:`~aaria_pin.core.excitation.stored_motion`; a run without a
+``joint_trajectory``: :func:`~aaria_pin.core.run.motion_from_record`; a run without a
 ``motion`` attribute, written before, follows its joint table's sines). :func:`remake_record`
 simulates the run again from them, by the kind registered for it (``attributes["kind"]``:
 :func:`~aaria_pin.core.run.kind_of`), so

@@ -137,7 +137,7 @@ def _trajectory_overrides(
     """``motion``, duration and rate from ``--trajectory FILE`` (:func:`motion_overrides`)."""
     import numpy as np
 
-    from aaria_pin.core.excitation import trajectory_from_samples
+    from aaria_pin.core.sampled_motion import trajectory_from_samples
     from aaria_pin.core.trajectory import JointTrajectory, sample_count
     from aaria_pin.errors import InputFileError, ParameterError
     from aaria_pin.files.trajectory_file import read_trajectory_file

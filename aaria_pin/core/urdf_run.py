@@ -185,7 +185,7 @@ def simulate_urdf_run(
         motion: the joint motion instead of the joint table's sines, one column (or row) per
             actuated joint in model order: a
             :class:`~aaria_pin.core.trajectory.JointTrajectory` of the run's samples (e.g.
-            :func:`~aaria_pin.core.excitation.trajectory_from_samples`; stored as the table
+            :func:`~aaria_pin.core.sampled_motion.trajectory_from_samples`; stored as the table
             ``joint_trajectory``: time, q, qd, qdd; checked against the URDF position limits;
             mimic columns used as given) or a
             :class:`~aaria_pin.core.excitation.FourierExcitation`

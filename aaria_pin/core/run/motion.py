@@ -19,8 +19,9 @@ from typing import Any, ClassVar, Protocol
 import numpy as np
 from numpy.typing import ArrayLike
 
-from aaria_pin.core.excitation import FourierExcitation, check_trajectory
+from aaria_pin.core.excitation import FourierExcitation
 from aaria_pin.core.run.robot import RunRobot
+from aaria_pin.core.sampled_motion import check_trajectory
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 from aaria_pin.errors import InputFileError, ParameterError
@@ -123,7 +124,8 @@ class SampledTrajectory:
     Stored as the table ``joint_trajectory`` (T × (1 + 3n): time, q, qd, qdd).
 
     Attributes:
-        samples: the trajectory (e.g. :func:`~aaria_pin.core.excitation.trajectory_from_samples`)
+        samples: the trajectory (e.g.
+            :func:`~aaria_pin.core.sampled_motion.trajectory_from_samples`)
     """
 
     samples: JointTrajectory
