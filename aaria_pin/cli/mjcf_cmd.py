@@ -108,9 +108,9 @@ def mjcf(**params: Any) -> None:
             name = str(record.attributes.get("robot", params["from_run"].stem))
             joints, imus = len(record.joint_names), record.imu_mounts
         elif source == "dh":
+            from aaria_pin.aaria.arm_run import dh_imu_mounts
             from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
             from aaria_pin.aaria.presets import get_preset
-            from aaria_pin.aaria.simulate import dh_imu_mounts
 
             table, convention, name = load_table_source(
                 params["preset"], params["dh_file"], params["convention"]

@@ -354,7 +354,7 @@ def _robot_name(kind: str, attributes: Mapping[str, Any], summary: Mapping[str, 
     if isinstance(attributes.get("robot"), str) and attributes["robot"]:
         return str(attributes["robot"])
     if kind == "dh":
-        from aaria_pin.aaria.simulate import DH_ROBOT
+        from aaria_pin.aaria.arm_run import DH_ROBOT
 
         return DH_ROBOT  # 0.1 did not record it
     return "unknown"
