@@ -25,7 +25,6 @@ __all__ = [
     "ADIS16485",
     "BIAS_KNOTS_PER_CORRELATION_TIME",
     "DATASHEET_ROWS",
-    "NOISE_BLOCK",
     "SKIP_BLOCK",
     "STANDARD_GRAVITY",
     "ImuNoiseModel",
@@ -38,9 +37,6 @@ __all__ = [
 
 BIAS_KNOTS_PER_CORRELATION_TIME = 200
 """Knots of the bias process per correlation time (see :func:`add_imu_noise`)."""
-
-NOISE_BLOCK = 4096
-"""Rows per block when the noise is applied (see ``_measure``)."""
 
 SKIP_BLOCK = 2**20
 """Standard normals per block when :class:`ImuNoiseStream` skips a run's white noise (8 MiB)."""
@@ -265,7 +261,7 @@ def _measure(
     ``k·step + r``), so a run measured in pieces is bit for bit the run measured whole. One
     compiled pass (``_kinematics_kernel.measure_noise``) does it: 0.9 ms against 4.3 ms for
     the array code it replaced (10,000 samples of 14 IMUs), whose operations it repeats in
-    order (:func:`_measure_arrays`, which the tests hold it equal to).
+    order (the tests hold it equal to that array code, ``tests/core/test_trajectory_kernels.py``).
     """
     from aaria_pin.core._kinematics_kernel import measure_noise
 
@@ -282,45 +278,6 @@ def _measure(
         np.tile(_per_axis(model, "range"), n_imu),
         np.tile(_per_axis(model, "lsb"), n_imu),
     )
-
-
-def _measure_arrays(
-    measured: Array,
-    exact: Array,
-    bias: Array,
-    start: int,
-    rate: float,
-    model: ImuNoiseModel,
-) -> None:
-    """:func:`_measure` as numpy array code, rows in blocks of :data:`NOISE_BLOCK`.
-
-    The reference of the compiled pass (a whole-row temporary of a 20,000-sample piece of
-    14 IMUs is 13 MB, a block's 2.8 MB).
-    """
-    n, columns = measured.shape
-    n_imu = columns // 6
-    flat = exact.reshape(n, -1)
-    white = np.tile(_per_axis(model, "noise_density"), n_imu) * np.sqrt(rate / 2.0)
-    full_scale = np.tile(_per_axis(model, "range"), n_imu)
-    lsb = np.tile(_per_axis(model, "lsb"), n_imu)
-    step = _bias_step(rate, model)
-    change = bias[1:] - bias[:-1]
-    for first in range(0, n, NOISE_BLOCK):
-        block = measured[first : first + NOISE_BLOCK]
-        block *= white
-        block += flat[first : first + NOISE_BLOCK]
-        # sample i = k·step + r: b[k] + (b[k+1] - b[k])·(r/step)
-        index = np.arange(start + first, start + first + block.shape[0])
-        knot = index // step
-        between = np.take(change, knot, axis=0)
-        between *= ((index - knot * step) / step)[:, None]
-        between += np.take(bias, knot, axis=0)  # b[k] + Δ·r (a sum is the same either way)
-        block += between
-        np.minimum(block, full_scale, out=block)
-        np.maximum(block, -full_scale, out=block)
-        block /= lsb
-        np.round(block, out=block)
-        block *= lsb
 
 
 def add_imu_noise(
