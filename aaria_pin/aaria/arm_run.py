@@ -36,6 +36,7 @@ __all__ = [
     "cached_arm",
     "dh_arm",
     "dh_imu_mounts",
+    "preset_arm",
 ]
 
 DH_ROBOT = "aaria-arm"
@@ -311,3 +312,31 @@ def dh_arm(dh_table: ArrayLike, spec: DHArmSpec | None = None) -> DHArmRun:
         default_base_table() if spec.base_table is None else validate_base_table(spec.base_table)
     )
     return DHArmRun(arm, model, senSenJ, senSenB, spec.robot_name, spec.keep_urdf)
+
+
+def preset_arm(name: str, spec: DHArmSpec | None = None) -> DHArmRun:
+    """An Aaria preset's arm as the run engine's robot: its table, joint and base tables.
+
+    Args:
+        name: an Aaria preset (e.g. ``aaria-fig2``)
+        spec: inputs that replace the preset's (its joint and base tables where given; the
+            ``robot_name`` is the preset's)
+
+    Raises:
+        ParameterError: an unknown preset, or one that is not an Aaria 8 × 5 table.
+    """
+    from aaria_pin.aaria.presets import get_preset
+    from aaria_pin.errors import ParameterError
+
+    preset = get_preset(name)
+    if preset.convention != "aaria":
+        raise ParameterError(
+            f"preset {name!r} is a {preset.convention} DH table; allowed: an Aaria 8 × 5 table",
+            parameter="preset",
+            value=name,
+            allowed="an Aaria preset",
+        )
+    spec = DHArmSpec() if spec is None else spec
+    joints = preset.joint_table if spec.joint_table is None else spec.joint_table
+    base = preset.base_table if spec.base_table is None else spec.base_table
+    return dh_arm(preset.table, replace(spec, joint_table=joints, base_table=base, robot_name=name))
