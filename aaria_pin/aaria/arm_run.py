@@ -23,7 +23,8 @@ from aaria_pin.aaria.oscillation import default_joint_table, joint_trajectory, v
 from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, sensen_view
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
-from aaria_pin.core.record import ColumnView, ImuMount
+from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
+from aaria_pin.core.run.robot import RunKind, register_kind
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 
@@ -340,3 +341,13 @@ def preset_arm(name: str, spec: DHArmSpec | None = None) -> DHArmRun:
     joints = preset.joint_table if spec.joint_table is None else spec.joint_table
     base = preset.base_table if spec.base_table is None else spec.base_table
     return dh_arm(preset.table, replace(spec, joint_table=joints, base_table=base, robot_name=name))
+
+
+def _remake_dh(stored: RunRecord, **overrides: Any) -> RunRecord:
+    """The DH kind's re-make (:func:`aaria_pin.aaria.simulate.simulate_from_record`)."""
+    from aaria_pin.aaria.simulate import simulate_from_record
+
+    return simulate_from_record(stored, **overrides)
+
+
+register_kind(RunKind("dh", _remake_dh, lambda record: "senSenDH" in record.tables))

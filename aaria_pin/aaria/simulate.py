@@ -28,13 +28,11 @@ from aaria_pin.core.run import (
     CHUNK_SAMPLES,
     UNITS,
     Motion,
-    RunKind,
     RunSettings,
     TorqueDrive,
     as_motion,
     join_chunks,
     motion_from_record,
-    register_kind,
     sampling_attributes,
     simulate_pieces,
     stored_sampling,
@@ -375,6 +373,3 @@ def simulate_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> Ru
         return simulate_from_record(read_run_inputs(path), **overrides)
     except InputFileError as exc:
         raise InputFileError(f"{path}: {exc}", element=str(path)) from None
-
-
-register_kind(RunKind("dh", simulate_from_record, lambda record: "senSenDH" in record.tables))

@@ -5,6 +5,7 @@
   run kinds (:func:`register_kind`, :func:`kind_of`)
 - :mod:`~aaria_pin.core.run.motion`: the motions (sine table, Fourier, sampled trajectory,
   torque drive) and how each stores and loads itself
+- :mod:`~aaria_pin.core.run.sensor`: the sensors (the IMU; any other registered one)
 - :mod:`~aaria_pin.core.run.series`: the series every run computes (IMUs, tool, torques, wrench)
 - :mod:`~aaria_pin.core.run.chunks`: a long run in time pieces
 - :mod:`~aaria_pin.core.run.engine`: :func:`simulate` and :func:`simulate_pieces`
@@ -22,6 +23,14 @@ from aaria_pin.core.run.motion import (
     motion_from_record,
 )
 from aaria_pin.core.run.robot import RunKind, RunRobot, kind_of, register_kind
+from aaria_pin.core.run.sensor import (
+    IMU,
+    ImuSensor,
+    Sensor,
+    SensorState,
+    register_sensor,
+    sensor,
+)
 from aaria_pin.core.run.series import RunSeries, noise_stream, simulate_series
 from aaria_pin.core.run.settings import (
     DEFAULT_DURATION,
@@ -36,8 +45,10 @@ __all__ = [
     "CHUNK_SAMPLES",
     "DEFAULT_DURATION",
     "DEFAULT_RATE",
+    "IMU",
     "UNITS",
     "FourierMotion",
+    "ImuSensor",
     "Motion",
     "RunKind",
     "RunRobot",
@@ -45,6 +56,8 @@ __all__ = [
     "RunSettings",
     "SampledTrajectory",
     "Seeds",
+    "Sensor",
+    "SensorState",
     "SineTable",
     "TorqueDrive",
     "as_motion",
@@ -54,8 +67,10 @@ __all__ = [
     "motion_from_record",
     "noise_stream",
     "register_kind",
+    "register_sensor",
     "run_length",
     "sampling_attributes",
+    "sensor",
     "simulate",
     "simulate_pieces",
     "simulate_series",

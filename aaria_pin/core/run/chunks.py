@@ -87,7 +87,8 @@ def join_chunks(chunks: Iterable[RunRecord]) -> RunRecord:
     """One record of a run from its pieces in time order (the last piece's other fields).
 
     A single piece is returned as it is; the attributes, tables, views and names come from
-    the last piece, whose attributes cover the whole run.
+    the last piece, whose attributes cover the whole run (the tables of extra sensors, which
+    hold each piece's signals, are put together as the series are).
     """
     from dataclasses import replace
 
@@ -97,4 +98,12 @@ def join_chunks(chunks: Iterable[RunRecord]) -> RunRecord:
     series: dict[str, Any] = {
         name: np.concatenate([getattr(p, name) for p in pieces]) for name in SERIES
     }
-    return replace(pieces[-1], **series)
+    last = pieces[-1]
+    sensors = last.attributes.get("sensors", {})  # a sensor's table is its piece's signals
+    if sensors:
+        tables = dict(last.tables)
+        for described in sensors.values():
+            name = described["table"]
+            tables[name] = np.concatenate([p.tables[name] for p in pieces])
+        series["tables"] = tables
+    return replace(last, **series)

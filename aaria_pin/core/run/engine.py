@@ -11,7 +11,7 @@ drive integrates the whole run in one piece), the series
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import replace
 
 import numpy as np
@@ -21,6 +21,7 @@ from aaria_pin.core.record import RunRecord
 from aaria_pin.core.run.chunks import chunk_bounds, join_chunks
 from aaria_pin.core.run.motion import Motion, SineTable
 from aaria_pin.core.run.robot import RunRobot
+from aaria_pin.core.run.sensor import Sensor, SensorState, measure, sensor_attributes
 from aaria_pin.core.run.series import noise_stream, simulate_series
 from aaria_pin.core.run.settings import RunSettings
 from aaria_pin.core.seeds import RunSeeds, check_seed
@@ -50,6 +51,7 @@ def simulate(
     motion: Motion | None = None,
     settings: RunSettings | None = None,
     seeds: Seeds = 0,
+    sensors: Sequence[Sensor] = (),
 ) -> RunRecord:
     """Simulate one run of a robot, held whole.
 
@@ -62,6 +64,8 @@ def simulate(
         settings: duration, rate, noise, threads (default :class:`RunSettings`); its
             ``chunk`` is not used
         seeds: the run's seeds (:data:`Seeds`)
+        sensors: sensors beside the IMUs (:mod:`~aaria_pin.core.run.sensor`), each recorded
+            as the table ``sensor_<name>`` and described in the attribute ``sensors``
 
     Returns:
         The run record.
@@ -71,7 +75,8 @@ def simulate(
             a motion the robot cannot follow.
     """
     settings = RunSettings() if settings is None else settings
-    return join_chunks(simulate_pieces(robot, motion, replace(settings, chunk=None), seeds))
+    whole = replace(settings, chunk=None)
+    return join_chunks(simulate_pieces(robot, motion, whole, seeds, sensors))
 
 
 def simulate_pieces(
@@ -79,6 +84,7 @@ def simulate_pieces(
     motion: Motion | None = None,
     settings: RunSettings | None = None,
     seeds: Seeds = 0,
+    sensors: Sequence[Sensor] = (),
 ) -> Iterator[RunRecord]:
     """:func:`simulate` in time pieces of ``settings.chunk`` samples: one record per piece.
 
@@ -97,6 +103,7 @@ def simulate_pieces(
         motion: as in :func:`simulate`
         settings: as in :func:`simulate`; ``chunk`` the samples per piece (None: one piece)
         seeds: as in :func:`simulate`
+        sensors: as in :func:`simulate` (each piece's table holds the piece's signals)
 
     Yields:
         The run record of each piece, ``time`` the piece's sample times [s].
@@ -121,7 +128,7 @@ def simulate_pieces(
         settings.noise_model,
         len(pieces),
     )
-    sampling = settings.attributes(seed)
+    sampling = {**settings.attributes(seed), **sensor_attributes(tuple(sensors))}
     model = robot.model
     peaks = np.zeros(model.n_joints)
     for start, stop in pieces:
@@ -145,6 +152,10 @@ def simulate_pieces(
         )
         if len(series.tau):
             np.maximum(peaks, np.abs(series.tau).max(axis=0), out=peaks)
+        piece_tables = tables
+        if sensors:
+            state = SensorState(times, trajectory, base, series)
+            piece_tables = {**tables, **measure(robot, state, tuple(sensors))}
         yield RunRecord(
             time=times,
             joint_names=robot.joint_names,
@@ -158,7 +169,7 @@ def simulate_pieces(
             imu=series.imu,
             imu_mounts=robot.imu_mounts,
             urdf=robot.urdf,
-            tables=tables,
+            tables=piece_tables,
             views=robot.views,
             attributes={
                 "kind": robot.kind,
