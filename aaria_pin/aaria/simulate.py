@@ -35,8 +35,8 @@ from aaria_pin.core.run import (
     motion_from_record,
     sampling_attributes,
     simulate_pieces,
-    stored_sampling,
 )
+from aaria_pin.core.run.metadata import RunMetadata
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
     DEFAULT_RATE,
@@ -328,19 +328,23 @@ def _stored_settings(stored: RunRecord, overrides: dict[str, Any]) -> dict[str, 
             parameter="stored",
             allowed="a DH run",
         )
+    meta = RunMetadata.from_attributes(attributes)
     settings: dict[str, Any] = {
         "joint_table": stored.tables["senSenJ"],
         "base_table": stored.tables["senSenB"],
-        **stored_sampling(attributes),
+        "duration": meta.duration,
+        "rate": meta.rate,
+        "seed": meta.seed,
+        "noise": meta.noise,
         "imu_mount": stored.imu_mount,
-        "robot_name": str(attributes.get("robot") or DH_ROBOT),
+        "robot_name": meta.robot or DH_ROBOT,
     }
     if "torque_table" in stored.tables:
         settings["torques"] = stored.tables["torque_table"]
     settings["motion"] = motion_from_record(stored.tables, attributes, drive=False)
-    if "body_dimensions" in attributes:
+    if "body_dimensions" in meta.extra:
         try:
-            settings["dims"] = BodyDimensions(**attributes["body_dimensions"])
+            settings["dims"] = BodyDimensions(**meta.extra["body_dimensions"])
         except TypeError as exc:
             raise InputFileError(
                 f"body_dimensions cannot be used ({exc})", parameter="body_dimensions"

@@ -34,12 +34,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
+
+if TYPE_CHECKING:
+    from aaria_pin.core.run.metadata import RunMetadata
 
 __all__ = [
     "IMU_SIGNALS",
@@ -287,6 +290,13 @@ class RunRecord:
     def n_samples(self) -> int:
         """T, the number of samples."""
         return int(np.shape(self.time)[0])
+
+    @property
+    def metadata(self) -> RunMetadata:
+        """The attributes as typed fields (:class:`~aaria_pin.core.run.RunMetadata`)."""
+        from aaria_pin.core.run.metadata import RunMetadata
+
+        return RunMetadata.from_attributes(self.attributes)
 
     @property
     def imu_names(self) -> tuple[str, ...]:

@@ -34,8 +34,8 @@ from aaria_pin.core.run import (
     register_kind,
     simulate,
     simulate_pieces,
-    stored_sampling,
 )
+from aaria_pin.core.run.metadata import RunMetadata
 from aaria_pin.core.run.urdf_kind import UrdfRunSpec, urdf_robot_run
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
@@ -369,20 +369,23 @@ def simulate_urdf_from_record_chunks(
 
 def _stored_settings(stored: RunRecord, overrides: dict[str, Any]) -> dict[str, Any]:
     """Keyword arguments of :func:`simulate_urdf_run` from a record, ``overrides`` applied."""
-    attributes = stored.attributes
+    meta = RunMetadata.from_attributes(stored.attributes)
     settings: dict[str, Any] = {
         "joint_table": stored.tables.get("joint_table"),
         "base_table": stored.tables.get("base_table"),
-        "source": attributes.get("source") or None,
-        "urdf_dir": Path(attributes["urdf_dir"]) if attributes.get("urdf_dir") else None,
-        "moving_base": bool(attributes.get("moving_base", True)),
-        "tool_frame": attributes.get("tool_frame"),
+        "source": meta.source or None,
+        "urdf_dir": Path(meta.urdf_dir) if meta.urdf_dir else None,
+        "moving_base": meta.moving_base is not False,
+        "tool_frame": meta.tool_frame or None,
         "imu_layout": stored.imu_mounts,
-        **stored_sampling(attributes),
+        "duration": meta.duration,
+        "rate": meta.rate,
+        "seed": meta.seed,
+        "noise": meta.noise,
     }
     if "torque_table" in stored.tables:
         settings["torques"] = stored.tables["torque_table"]
-    settings["motion"] = motion_from_record(stored.tables, attributes, drive=False)
+    settings["motion"] = motion_from_record(stored.tables, stored.attributes, drive=False)
     settings.update(overrides)
     return settings
 

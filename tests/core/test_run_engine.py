@@ -131,3 +131,20 @@ def test_a_record_finds_its_kind_in_the_registry():
     with pytest.raises(InputFileError) as error:
         kind_of(other)
     assert error.value.parameter == "kind"
+
+
+def test_run_metadata_reads_the_attributes_as_fields_and_writes_them_back():
+    from aaria_pin.core.run import RunMetadata
+
+    record = simulate(preset_arm("aaria-fig2"), None, RunSettings(duration=0.2, rate=50.0), 3)
+    meta = record.metadata
+    assert (meta.kind, meta.robot, meta.rate, meta.duration) == ("dh", "aaria-fig2", 50.0, 0.2)
+    assert meta.seed == 3 and meta.noise is True and meta.motion == "sine"
+    assert meta.extra["body_dimensions"] == record.attributes["body_dimensions"]
+    assert meta.to_attributes() == record.attributes
+    older = RunMetadata.from_attributes({"rate": 100.0, "duration": 1.0, "seed": 4.0})
+    assert older.kind is None and older.motion == "sine" and older.drive == "motion"
+    assert older.seed == 4 and isinstance(older.seed, int)  # MATLAB stores a double
+    with pytest.raises(InputFileError) as error:
+        RunMetadata.from_attributes({"rate": "fast"})
+    assert error.value.parameter == "rate"

@@ -3,6 +3,7 @@
 - :mod:`~aaria_pin.core.run.settings`: :class:`RunSettings` and the attributes every run records
 - :mod:`~aaria_pin.core.run.robot`: the :class:`RunRobot` adapter protocol and the registry of
   run kinds (:func:`register_kind`, :func:`kind_of`)
+- :mod:`~aaria_pin.core.run.metadata`: :class:`RunMetadata`, a record's attributes as fields
 - :mod:`~aaria_pin.core.run.motion`: the motions (sine table, Fourier, sampled trajectory,
   torque drive) and how each stores and loads itself
 - :mod:`~aaria_pin.core.run.sensor`: the sensors (the IMU; any other registered one)
@@ -13,6 +14,7 @@
 
 from aaria_pin.core.run.chunks import CHUNK_SAMPLES, chunk_bounds, join_chunks, run_length
 from aaria_pin.core.run.engine import Seeds, simulate, simulate_pieces
+from aaria_pin.core.run.metadata import RunMetadata
 from aaria_pin.core.run.motion import (
     FourierMotion,
     Motion,
@@ -51,6 +53,7 @@ __all__ = [
     "ImuSensor",
     "Motion",
     "RunKind",
+    "RunMetadata",
     "RunRobot",
     "RunSeries",
     "RunSettings",
