@@ -25,6 +25,7 @@ from aaria_pin.core.model import RobotModel
 from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
 from aaria_pin.core.run.robot import RunKind, register_kind
+from aaria_pin.core.sampled_motion import JointColumns
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 
@@ -37,6 +38,7 @@ __all__ = [
     "cached_arm",
     "dh_arm",
     "dh_imu_mounts",
+    "dh_joint_columns",
     "preset_arm",
 ]
 
@@ -341,6 +343,18 @@ def preset_arm(name: str, spec: DHArmSpec | None = None) -> DHArmRun:
     joints = preset.joint_table if spec.joint_table is None else spec.joint_table
     base = preset.base_table if spec.base_table is None else spec.base_table
     return dh_arm(preset.table, replace(spec, joint_table=joints, base_table=base, robot_name=name))
+
+
+def dh_joint_columns(dh_table: ArrayLike) -> JointColumns:
+    """An Aaria arm's motion columns: the six modules, those of its joints to be given.
+
+    Raises:
+        TableError: a bad DH table.
+    """
+    from aaria_pin.aaria.dh import chain_from_aaria
+
+    modules = tuple(joint.module - 1 for joint in chain_from_aaria(dh_table).joints)
+    return JointColumns(JOINT_NAMES, modules)
 
 
 def _remake_dh(stored: RunRecord, **overrides: Any) -> RunRecord:

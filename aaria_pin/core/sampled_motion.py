@@ -4,23 +4,37 @@
   qdd): derivatives by a spline through (or, with ``smoothing``, near) the samples, resampled
   on a run's time grid when the given times are not already one.
 - :func:`check_trajectory`: a trajectory checked against a run's time grid and joint limits.
+- :func:`fit_samples`: given samples (e.g. a trajectory file's) as a robot's joint motion:
+  columns matched by name or order, mimic joints following their leaders, the run's grid.
 """
 
 from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import (
+    DEFAULT_RATE,
     MAX_SAMPLES,
     JointTrajectory,
     piece_times,
+    sample_count,
     sample_times,
 )
-from aaria_pin.errors import ParameterError
+from aaria_pin.errors import InputFileError, ParameterError
 
-__all__ = ["check_trajectory", "trajectory_from_samples"]
+__all__ = [
+    "GivenSamples",
+    "JointColumns",
+    "check_trajectory",
+    "fit_samples",
+    "sample_columns",
+    "trajectory_from_samples",
+]
 
 
 def _column_matrix(values: ArrayLike, n_samples: int, name: str) -> Array:
@@ -194,3 +208,163 @@ def check_trajectory(
             element=joint_names[j],
         )
     return JointTrajectory(piece_times(0, samples, rate), arrays["q"], arrays["qd"], arrays["qdd"])
+
+
+_UNIFORM = 1e-9
+"""Relative spread of given time steps within which their rate is taken as the run's."""
+
+
+@dataclass(frozen=True)
+class JointColumns:
+    """The joint columns a robot's motion fills, for matching given samples to them.
+
+    Attributes:
+        names: the motion's columns (a DH arm's six modules, a URDF robot's joints)
+        given: the columns given samples must fill (the arm's modules; the joints no mimic)
+        followers: mimic columns, column → (leader column, multiplier, offset): filled from
+            their leader where the samples do not give them
+    """
+
+    names: tuple[str, ...]
+    given: tuple[int, ...]
+    followers: Mapping[int, tuple[int, float, float]] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class GivenSamples:
+    """A motion given as samples (e.g. read from a trajectory file).
+
+    Attributes:
+        source: where they come from (named in errors, e.g. the file's path)
+        time: sample times, T [s]
+        q: joint values, T × m [rad or m]
+        qd: joint velocities, T × m, or None (by a spline)
+        qdd: joint accelerations, T × m, or None (by a spline)
+        names: the joint of each column, or None (columns in order)
+    """
+
+    source: str
+    time: Array
+    q: Array
+    qd: Array | None = None
+    qdd: Array | None = None
+    names: tuple[str, ...] | None = None
+
+
+def fit_samples(
+    given: GivenSamples,
+    joints: JointColumns,
+    *,
+    rate: float | None = None,
+    duration: float | None = None,
+    fallback_rate: float = DEFAULT_RATE,
+    smoothing: float = 0.0,
+) -> tuple[JointTrajectory, float, float]:
+    """A robot's joint motion from given samples: columns matched, mimic joints filled.
+
+    Columns are matched by name when the samples name their joints, else taken in order
+    (:func:`sample_columns`); columns not given are zero, except a mimic joint, which follows
+    its leader (``multiplier·q_leader + offset``). The samples are put on the run's grid by
+    :func:`trajectory_from_samples`.
+
+    Args:
+        given: the samples
+        joints: the robot's joint columns
+        rate: the run's rate [Hz]; None: the samples' own if their steps are uniform, else
+            ``fallback_rate``
+        duration: the run's length [s] (at most the samples' span); None: their span
+        fallback_rate: the rate of samples of uneven steps when ``rate`` is None [Hz]
+        smoothing: RMS [rad or m] of the noise the spline may smooth away
+
+    Returns:
+        ``(trajectory, duration, rate)``: the motion (T × the robot's columns) and the run's
+        grid.
+
+    Raises:
+        InputFileError: samples that do not fit the robot (parameter ``given``).
+        ParameterError: a duration longer than the samples' span.
+    """
+    time = np.asarray(given.time, dtype=float)
+    columns = sample_columns(given.source, given.q.shape[1], given.names, joints)
+    if rate is None:
+        steps = np.diff(time)
+        uniform = np.ptp(steps) <= _UNIFORM * np.mean(steps)
+        rate = (time.size - 1) / float(time[-1] - time[0]) if uniform else fallback_rate
+    try:
+        fitted = trajectory_from_samples(
+            time, given.q, given.qd, given.qdd, rate=rate, smoothing=smoothing
+        )
+    except ParameterError as exc:
+        raise InputFileError(
+            f"{given.source}: {exc}", parameter="given", element=given.source
+        ) from None
+    samples = fitted.q.shape[0]
+    span = float(time[-1] - time[0])
+    if duration is not None:
+        wanted = sample_count(float(duration), rate, None)
+        if wanted > samples:
+            raise ParameterError(
+                parameter="duration",
+                value=duration,
+                allowed=f"at most {span:g} s, the span of {given.source}",
+            )
+        samples = wanted
+    full = [np.zeros((samples, len(joints.names))) for _ in range(3)]
+    for target, source in zip(full, (fitted.q, fitted.qd, fitted.qdd), strict=True):
+        target[:, columns] = source[:samples]
+    for column, (leader, multiplier, offset) in joints.followers.items():
+        if column not in columns:
+            for target in full:
+                target[:, column] = multiplier * target[:, leader]
+            full[0][:, column] += offset
+    trajectory = JointTrajectory(fitted.time[:samples], *full)
+    return trajectory, span if duration is None else float(duration), float(rate)
+
+
+def sample_columns(
+    source: str, n_columns: int, names: tuple[str, ...] | None, joints: JointColumns
+) -> list[int]:
+    """The robot's column of each column of given samples.
+
+    By name when the samples name their joints (every joint of ``joints.given`` named, no
+    other name); else all the robot's columns in order, or those of ``joints.given`` in order.
+
+    Raises:
+        InputFileError: the columns do not fit the robot, in one line (parameter ``given``:
+            the samples of :func:`fit_samples`).
+    """
+    joint_names = joints.names
+    wanted = ", ".join(joint_names[j] for j in joints.given)
+    if names is not None:
+        unknown = [name for name in names if name not in joint_names]
+        if unknown:
+            allowed = f"the robot's joints ({', '.join(joint_names)})"
+            raise InputFileError(
+                f"{source}: joint {unknown[0]!r} is not the robot's; allowed: {allowed}",
+                parameter="given",
+                allowed=allowed,
+                element=source,
+            )
+        columns = [joint_names.index(name) for name in names]
+        missing = [joint_names[j] for j in joints.given if j not in columns]
+        if missing:
+            raise InputFileError(
+                f"{source}: has no column for joint {missing[0]}; allowed: a column for each "
+                f"of {wanted}",
+                parameter="given",
+                allowed=wanted,
+                element=source,
+            )
+        return columns
+    if n_columns == len(joint_names):
+        return list(range(n_columns))
+    if n_columns == len(joints.given):
+        return list(joints.given)
+    counts = sorted({len(joint_names), len(joints.given)})
+    allowed = " or ".join(str(c) for c in counts) + f" joint columns ({wanted})"
+    raise InputFileError(
+        f"{source}: has {n_columns} joint columns; allowed: {allowed}",
+        parameter="given",
+        allowed=allowed,
+        element=source,
+    )

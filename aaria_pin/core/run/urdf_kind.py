@@ -16,17 +16,19 @@ from numpy.typing import ArrayLike
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.core.record import ColumnView, ImuMount
+from aaria_pin.core.sampled_motion import JointColumns
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 from aaria_pin.core.urdf_robot import (
     UrdfRobot,
     default_urdf_joint_table,
     effort_excess,
+    mimic_followers,
     urdf_joint_trajectory,
     validate_urdf_joint_table,
 )
 
-__all__ = ["UrdfRobotRun", "UrdfRunSpec", "urdf_robot_run"]
+__all__ = ["UrdfRobotRun", "UrdfRunSpec", "urdf_joint_columns", "urdf_robot_run"]
 
 
 @dataclass(frozen=True)
@@ -181,3 +183,10 @@ def urdf_robot_run(loaded: UrdfRobot, spec: UrdfRunSpec | None = None) -> UrdfRo
         )
     source = spec.source if spec.source is not None else ""
     return UrdfRobotRun(loaded, table, base_arr, source, spec.urdf_dir)
+
+
+def urdf_joint_columns(loaded: UrdfRobot) -> JointColumns:
+    """A URDF robot's motion columns: its joints; a mimic joint follows its leader."""
+    names = tuple(joint.name for joint in loaded.joints)
+    given = tuple(j for j, joint in enumerate(loaded.joints) if joint.mimic is None)
+    return JointColumns(names, given, mimic_followers(loaded.joints))
