@@ -63,3 +63,41 @@ def test_trajectory_from_samples_takes_given_derivatives_and_refuses_bad_input()
         with pytest.raises(ParameterError) as error:
             trajectory_from_samples(*args, **{"rate": 10.0, **extra})
         assert error.value.parameter == parameter and "\n" not in str(error.value)
+
+
+def test_fit_samples_matches_named_columns_and_fills_a_mimic_joint_from_its_leader():
+    from aaria_pin.core.sampled_motion import GivenSamples, JointColumns, fit_samples
+
+    joints = JointColumns(("a", "b", "finger"), (0, 1), {2: (1, -0.5, 0.01)})
+    time = np.arange(21) / 10.0
+    q = np.column_stack([0.1 * time, np.sin(time)])  # named b, a: the file's order
+    given = GivenSamples("motion.csv", time, q[:, ::-1].copy(), names=("b", "a"))
+    trajectory, duration, rate = fit_samples(given, joints)
+    assert (duration, rate) == (2.0, 10.0)  # the samples' own span and steps
+    np.testing.assert_array_equal(trajectory.q[:, 0], 0.1 * time)
+    np.testing.assert_array_equal(trajectory.q[:, 1], np.sin(time))
+    np.testing.assert_allclose(trajectory.q[:, 2], -0.5 * np.sin(time) + 0.01, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(trajectory.qd[:, 2], -0.5 * trajectory.qd[:, 1], rtol=0, atol=0)
+    shorter, duration, _ = fit_samples(given, joints, duration=1.0)
+    assert duration == 1.0 and shorter.q.shape == (11, 3)
+
+
+def test_fit_samples_refuses_columns_that_do_not_fit_the_robot_in_one_line():
+    from aaria_pin.core.sampled_motion import GivenSamples, JointColumns, fit_samples
+    from aaria_pin.errors import InputFileError
+
+    joints = JointColumns(("a", "b", "c"), (0, 2))
+    time = np.arange(11) / 10.0
+    cases = [
+        (GivenSamples("f", time, np.zeros((11, 4))), "has 4 joint columns; allowed: 2 or 3"),
+        (GivenSamples("f", time, np.zeros((11, 1)), names=("z",)), "joint 'z' is not"),
+        (GivenSamples("f", time, np.zeros((11, 1)), names=("a",)), "no column for joint c"),
+    ]
+    for given, message in cases:
+        with pytest.raises(InputFileError) as error:
+            fit_samples(given, joints)
+        assert message in str(error.value) and "\n" not in str(error.value)
+        assert error.value.parameter == "given"
+    with pytest.raises(ParameterError) as error:
+        fit_samples(GivenSamples("f", time, np.zeros((11, 3))), joints, duration=5.0)
+    assert error.value.parameter == "duration"
