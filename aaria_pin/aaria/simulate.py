@@ -1,8 +1,10 @@
 """One Aaria simulation run: a DH arm, sine joint and base motions, 14 IMUs, torques.
 
-:func:`simulate_run` validates the inputs, builds the arm on a moving base and runs the shared
-pipeline (:func:`~aaria_pin.core.run.simulate_series`: IMU kinematics as arrays over the whole
-time grid, ADIS16485-like noise if asked, torques by Pinocchio's batched RNEA). It returns the one
+:func:`simulate_run` and its chunked form are the keyword-argument producers of a DH run: they
+make the arm's engine adapter (:func:`~aaria_pin.aaria.arm_run.dh_arm`), the motion and the
+:class:`~aaria_pin.core.run.RunSettings`, and run the engine
+(:func:`~aaria_pin.core.run.simulate_pieces`: IMU kinematics as arrays over the whole time grid,
+ADIS16485-like noise if asked, torques by Pinocchio's batched RNEA). It returns the one
 :class:`~aaria_pin.core.record.RunRecord` in the paper's module order: joints ``joint1`` …
 ``joint6`` (zero columns for an empty module), the 14 IMU slots in ``senSen`` order (an empty
 module's slots have parent ``""``), the tables ``senSenDH``, ``senSenJ``, ``senSenB`` and the view

@@ -1,7 +1,8 @@
 """One simulation run of any URDF robot: sine joint motions, a fixed or moving base, IMUs, torques.
 
-The same pipeline as every run (:func:`~aaria_pin.core.run.simulate_series`): IMU kinematics over
-the whole time grid in one compiled pass, torques and the base wrench by Pinocchio's batched
+The producers of a URDF robot's run by keyword arguments: they make its engine adapter
+(:func:`~aaria_pin.core.run.urdf_kind.urdf_robot_run`) and run the engine every run shares
+(:func:`~aaria_pin.core.run.simulate_pieces`): IMU kinematics over the whole time grid in one compiled pass, torques and the base wrench by Pinocchio's batched
 RNEA, ADIS16485-like noise if asked. The joints follow their joint table, or move under given
 torques by forward dynamics (:func:`~aaria_pin.core.forward.forward_simulate`). The result is the
 one :class:`~aaria_pin.core.record.RunRecord` (kind ``"urdf"``) that stores its URDF, its
