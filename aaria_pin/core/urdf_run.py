@@ -2,10 +2,11 @@
 
 The producers of a URDF robot's run by keyword arguments: they make its engine adapter
 (:func:`~aaria_pin.core.run.urdf_kind.urdf_robot_run`) and run the engine every run shares
-(:func:`~aaria_pin.core.run.simulate_pieces`): IMU kinematics over the whole time grid in one compiled pass, torques and the base wrench by Pinocchio's batched
-RNEA, ADIS16485-like noise if asked. The joints follow their joint table, or move under given
-torques by forward dynamics (:func:`~aaria_pin.core.forward.forward_simulate`). The result is the
-one :class:`~aaria_pin.core.record.RunRecord` (kind ``"urdf"``) that stores its URDF, its
+(:func:`~aaria_pin.core.run.simulate_pieces`): IMU kinematics over the whole time grid in one
+compiled pass, torques and the base wrench by Pinocchio's batched RNEA, ADIS16485-like noise if
+asked. The joints follow their joint table, or move under given torques by forward dynamics
+(:func:`~aaria_pin.core.forward.forward_simulate`). The result is the one
+:class:`~aaria_pin.core.record.RunRecord` (kind ``"urdf"``) that stores its URDF, its
 ``joint_table`` and ``base_table`` and its IMU layout, so the run can be re-made from its record
 alone (:func:`simulate_urdf_from_record`; from a run file,
 :func:`aaria_pin.apps.remake.remake_run`).

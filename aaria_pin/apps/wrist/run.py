@@ -7,11 +7,11 @@ mass in mm and principal moments of inertia in kg·mm² as listed. Every joint w
 seconds, then moves to its target (the report's ramp at constant speed, or a trapezoid with an
 acceleration limit, for torques), then holds.
 
-The run is computed by the run engine every robot shares (:func:`~aaria_pin.core.run.simulate`:
-the adapter :class:`WristRobotRun`, the motion :class:`PointToPoint`) on a fixed mount (a free-flyer held at rest, so the base wrench is the mount's load), with the
-DH robot's IMUs (base, tool, two per link; noise-free), and becomes the one
-:class:`~aaria_pin.core.record.RunRecord` (:func:`wrist_record`, kind ``"wrist"``), written by
-:func:`write_wrist_run` as any run file.
+The run is computed by the run engine every robot shares (:func:`~aaria_pin.core.run.simulate`: the
+adapter :class:`WristRobotRun`, the motion :class:`PointToPoint`) on a fixed mount (a free-flyer
+held at rest, so the base wrench is the mount's load), with the DH robot's IMUs (base, tool, two per
+link; noise-free), and becomes the one :class:`~aaria_pin.core.record.RunRecord`
+(:func:`wrist_record`, kind ``"wrist"``), written by :func:`write_wrist_run` as any run file.
 """
 
 from __future__ import annotations
