@@ -23,8 +23,7 @@ from aaria_pin.aaria.oscillation import default_joint_table, joint_trajectory, v
 from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, sensen_view
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
-from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
-from aaria_pin.core.run.robot import RunKind, register_kind
+from aaria_pin.core.record import ColumnView, ImuMount
 from aaria_pin.core.sampled_motion import JointColumns
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
@@ -355,13 +354,3 @@ def dh_joint_columns(dh_table: ArrayLike) -> JointColumns:
 
     modules = tuple(joint.module - 1 for joint in chain_from_aaria(dh_table).joints)
     return JointColumns(JOINT_NAMES, modules)
-
-
-def _remake_dh(stored: RunRecord, **overrides: Any) -> RunRecord:
-    """The DH kind's re-make (:func:`aaria_pin.aaria.simulate.simulate_from_record`)."""
-    from aaria_pin.aaria.simulate import simulate_from_record
-
-    return simulate_from_record(stored, **overrides)
-
-
-register_kind(RunKind("dh", _remake_dh, lambda record: "senSenDH" in record.tables))

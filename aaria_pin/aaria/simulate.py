@@ -39,6 +39,7 @@ from aaria_pin.core.run import (
     simulate_pieces,
 )
 from aaria_pin.core.run.metadata import RunMetadata
+from aaria_pin.core.run.robot import RunKind, register_kind
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
     DEFAULT_RATE,
@@ -379,3 +380,6 @@ def simulate_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> Ru
         return simulate_from_record(read_run_inputs(path), **overrides)
     except InputFileError as exc:
         raise InputFileError(f"{path}: {exc}", element=str(path)) from None
+
+
+register_kind(RunKind("dh", simulate_from_record, lambda record: "senSenDH" in record.tables))

@@ -29,7 +29,7 @@ RUN_KINDS = ("dh", "urdf", "wrist", "pick-place")
 
 
 _KIND_MODULES = (
-    "aaria_pin.aaria.arm_run",
+    "aaria_pin.aaria.simulate",
     "aaria_pin.core.urdf_run",
     "aaria_pin.apps.wrist.run",
     "aaria_pin.apps.arm.run",

@@ -121,6 +121,7 @@ def test_a_fourier_motion_of_other_joints_is_refused_before_any_work():
 
 
 def test_a_record_finds_its_kind_in_the_registry():
+    import aaria_pin.aaria.simulate  # noqa: F401  (registers the DH kind)
     from aaria_pin.apps.remake import run_kind
 
     record = simulate(preset_arm("aaria-fig2"), None, RunSettings(duration=0.1, rate=50.0))
