@@ -379,7 +379,7 @@ def simulate_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> Ru
     try:
         return simulate_from_record(read_run_inputs(path), **overrides)
     except InputFileError as exc:
-        raise InputFileError(f"{path}: {exc}", element=str(path)) from None
+        raise InputFileError(f"{path}: {exc}", element=str(path), parameter="path") from None
 
 
 register_kind(RunKind("dh", simulate_from_record, lambda record: "senSenDH" in record.tables))

@@ -30,7 +30,9 @@ def _read_mounts(path: Path) -> Any:
         try:
             return np.load(path, allow_pickle=False)
         except (OSError, ValueError) as exc:
-            raise InputFileError(f"{path}: cannot be read as .npy ({exc})") from None
+            raise InputFileError(
+                f"{path}: cannot be read as .npy ({exc})", parameter="imu_mount"
+            ) from None
     from aaria_pin.files.runfile import read_run_inputs
 
     return read_run_inputs(path).imu_mount
@@ -201,7 +203,8 @@ def simulate(
         table, table_convention, name = load_table_source(preset, dh_file, convention)
         if table_convention != "aaria":
             raise ParameterError(
-                f"table {name!r} is a {table_convention} DH table; allowed: an Aaria 8 × 5 table"
+                f"table {name!r} is a {table_convention} DH table; allowed: an Aaria 8 × 5 table",
+                parameter="dh_table",
             )
         if preset is not None:
             chosen = get_preset(preset)

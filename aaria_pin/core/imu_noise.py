@@ -167,16 +167,19 @@ def _checked_signals(signals: Array) -> Array:
         exact = np.asarray(signals, dtype=np.float64)
     except (TypeError, ValueError):
         raise ParameterError(
-            f"IMU signals of type {type(signals).__name__} are not numeric; allowed: a real array"
+            f"IMU signals of type {type(signals).__name__} are not numeric; allowed: a real array",
+            parameter="signals",
         ) from None
     if exact.ndim != 3 or exact.shape[2] != 6 or 0 in exact.shape:
         raise ParameterError(
-            f"IMU signals have shape {exact.shape}; allowed: (T, n_imu, 6) with T, n_imu >= 1"
+            f"IMU signals have shape {exact.shape}; allowed: (T, n_imu, 6) with T, n_imu >= 1",
+            parameter="signals",
         )
     if not np.all(np.isfinite(exact)):
         index = tuple(int(i) for i in np.argwhere(~np.isfinite(exact))[0])
         raise ParameterError(
-            f"IMU signal at index {index} is {exact[index]!r}; allowed: finite values"
+            f"IMU signal at index {index} is {exact[index]!r}; allowed: finite values",
+            parameter="signals",
         )
     return exact
 
@@ -366,7 +369,8 @@ class ImuNoiseStream:
         _check_rate(rate)
         if samples < 1 or n_imu < 1:
             raise ParameterError(
-                f"noise stream of {samples} samples and {n_imu} IMUs; allowed: both >= 1"
+                f"noise stream of {samples} samples and {n_imu} IMUs; allowed: both >= 1",
+                parameter="samples",
             )
         self.samples, self.n_imu, self.rate, self.model = samples, n_imu, rate, model
         self._rng = rng
@@ -413,7 +417,8 @@ class ImuNoiseStream:
             raise ParameterError(
                 f"noise piece of {n} samples × {exact.shape[1]} IMUs at sample {start}; "
                 f"allowed: {self.n_imu} IMUs, starting at sample {self._next}, ending by "
-                f"sample {self.samples}"
+                f"sample {self.samples}",
+                parameter="start",
             )
         measured = self._rng.standard_normal(exact.shape).reshape(n, -1)
         bias, first = self._bias_window(start, start + n)
@@ -473,7 +478,8 @@ def allan_deviation(x: Array, rate: float, taus: Array) -> Array:
     signal = np.asarray(x, dtype=np.float64)
     if signal.ndim != 1 or not np.all(np.isfinite(signal)):
         raise ParameterError(
-            f"Allan deviation signal has shape {signal.shape}; allowed: a finite 1-D array"
+            f"Allan deviation signal has shape {signal.shape}; allowed: a finite 1-D array",
+            parameter="x",
         )
     n = signal.size
     theta = np.concatenate(([0.0], np.cumsum(signal) / rate))
@@ -484,7 +490,8 @@ def allan_deviation(x: Array, rate: float, taus: Array) -> Array:
         if m < 1 or 2 * m > n:
             raise ParameterError(
                 f"averaging time {tau!r} s is {m} samples; allowed: 1 to {n // 2} samples "
-                f"({1.0 / rate:g} to {(n // 2) / rate:g} s)"
+                f"({1.0 / rate:g} to {(n // 2) / rate:g} s)",
+                parameter="taus",
             )
         d = theta[2 * m :] - 2.0 * theta[m:-m] + theta[: -2 * m]
         out[index] = np.sqrt(np.mean(d * d) / 2.0) * rate / m
