@@ -283,8 +283,7 @@ def fourier_excitation(
         raise ParameterError(  # two parameters (and the rate): named in words, no one flag
             f"harmonics × base_frequency is {harmonics} × {base_frequency:g} Hz = "
             f"{harmonics * base_frequency:g} Hz; allowed: below half the rate ({rate / 2:g} Hz): "
-            "fewer harmonics, a lower base frequency or a higher rate",
-            parameter="harmonics",
+            "fewer harmonics, a lower base frequency or a higher rate"
         )
     lower, upper = _position_limits(q_limits, n_joints)
     qd_max = _per_joint(qd_limits, n_joints, "qd_limits", positive=True)
