@@ -33,7 +33,7 @@ from aaria_pin.core.run.sensor import (
     register_sensor,
     sensor,
 )
-from aaria_pin.core.run.series import RunSeries, noise_stream, simulate_series
+from aaria_pin.core.run.series import ImuSlots, RunSeries, noise_stream, simulate_series
 from aaria_pin.core.run.settings import (
     DEFAULT_DURATION,
     DEFAULT_RATE,
@@ -51,6 +51,7 @@ __all__ = [
     "UNITS",
     "FourierMotion",
     "ImuSensor",
+    "ImuSlots",
     "Motion",
     "RunKind",
     "RunMetadata",

@@ -22,7 +22,7 @@ from aaria_pin.core.run.chunks import chunk_bounds, join_chunks
 from aaria_pin.core.run.motion import Motion, SineTable
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.run.sensor import Sensor, SensorState, measure, sensor_attributes
-from aaria_pin.core.run.series import noise_stream, simulate_series
+from aaria_pin.core.run.series import ImuSlots, noise_stream, simulate_series
 from aaria_pin.core.run.settings import RunSettings
 from aaria_pin.core.seeds import RunSeeds, check_seed
 from aaria_pin.core.trajectory import piece_times
@@ -130,26 +130,13 @@ def simulate_pieces(
     )
     sampling = {**settings.attributes(seed), **sensor_attributes(tuple(sensors))}
     model = robot.model
+    imus = ImuSlots(robot.imu_frames, robot.imu_slots, robot.n_slots)
     peaks = np.zeros(model.n_joints)
     for start, stop in pieces:
         times = piece_times(start, stop, settings.rate)
         base = robot.base(times)
         trajectory = run_motion.trajectory(robot, (start, stop), times, base)
-        series = simulate_series(
-            model,
-            base,
-            trajectory,
-            imu_frames=robot.imu_frames,
-            imu_slots=robot.imu_slots,
-            n_slots=robot.n_slots,
-            rate=settings.rate,
-            seed=seed,
-            noise=settings.noise,
-            noise_model=settings.noise_model,
-            threads=settings.threads,
-            noise_stream=stream,
-            start=start,
-        )
+        series = simulate_series(model, base, trajectory, imus, settings, seed, stream, start)
         if len(series.tau):
             np.maximum(peaks, np.abs(series.tau).max(axis=0), out=peaks)
         piece_tables = tables

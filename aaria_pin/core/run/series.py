@@ -14,12 +14,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, ImuNoiseStream
+from aaria_pin.core.imu_noise import ImuNoiseModel, ImuNoiseStream
 from aaria_pin.core.model import RobotModel
+from aaria_pin.core.run.settings import RunSettings
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 
-__all__ = ["RunSeries", "noise_stream", "simulate_series"]
+__all__ = ["ImuSlots", "RunSeries", "noise_stream", "simulate_series"]
 
 
 def noise_stream(
@@ -57,19 +58,29 @@ class RunSeries:
     base_pose: Array
 
 
+@dataclass(frozen=True)
+class ImuSlots:
+    """The IMUs of a run's record.
+
+    Attributes:
+        frames: the model frames of the IMUs that exist
+        slots: the record slot each of ``frames`` fills (None: 0, 1, …); the other slots stay
+            zero (empty slots)
+        n_slots: S, the record's IMU slots (None: ``len(frames)``)
+    """
+
+    frames: Sequence[str]
+    slots: Sequence[int] | None = None
+    n_slots: int | None = None
+
+
 def simulate_series(
     robot: RobotModel,
     base: BaseMotion,
     trajectory: JointTrajectory,
-    *,
-    imu_frames: Sequence[str],
-    imu_slots: Sequence[int] | None = None,
-    n_slots: int | None = None,
-    rate: float,
+    imus: ImuSlots,
+    settings: RunSettings,
     seed: int | np.random.SeedSequence = 0,
-    noise: bool = True,
-    noise_model: ImuNoiseModel = ADIS16485,
-    threads: int = 1,
     noise_stream: ImuNoiseStream | None = None,
     start: int = 0,
 ) -> RunSeries:
@@ -80,15 +91,10 @@ def simulate_series(
             rest gives the fixed mount's load as the base wrench)
         base: the base motion at the sample times
         trajectory: the joint motion, columns in model order
-        imu_frames: the model frames of the IMUs that exist
-        imu_slots: the slot of ``imu`` each of ``imu_frames`` fills (default 0, 1, …); the
-            other slots stay zero (empty slots)
-        n_slots: S, the number of IMU slots (default ``len(imu_frames)``)
-        rate: sample rate [Hz] (for the noise)
+        imus: the IMUs that exist and the record slots they fill
+        settings: the run's ``rate`` [Hz] (for the noise), ``noise``, ``noise_model`` and
+            ``threads`` (of the batched RNEA)
         seed: seed of the IMU noise
-        noise: add IMU noise (``False`` gives the exact signals)
-        noise_model: IMU noise parameters
-        threads: worker threads of the batched RNEA
         noise_stream: for a piece of a longer run (:func:`chunk_bounds`), the run's noise
             (:class:`~aaria_pin.core.imu_noise.ImuNoiseStream`, over the existing IMUs); the
             piece's measurements are then those of the whole run (``seed`` is not used)
@@ -102,8 +108,9 @@ def simulate_series(
     from aaria_pin.core.kinematics import trajectory_signals
 
     samples = trajectory.q.shape[0]
-    slots = list(range(len(imu_frames))) if imu_slots is None else list(imu_slots)
-    n_imu_slots = len(imu_frames) if n_slots is None else n_slots
+    imu_frames, noise = list(imus.frames), settings.noise
+    slots = list(range(len(imu_frames))) if imus.slots is None else list(imus.slots)
+    n_imu_slots = len(imu_frames) if imus.n_slots is None else imus.n_slots
     # No empty slot: the noisy measurements are the record's array as they come (no zeros, no
     # scatter: a 6.7 MB copy and its page faults, 1–1.5 ms of a 10,000-sample run of 14 IMUs),
     # and no array is made for them beforehand.
@@ -127,12 +134,13 @@ def simulate_series(
         if noise_stream is not None:
             measured = noise_stream.measure(exact, start)
         else:
-            measured = add_imu_noise(exact, rate, np.random.default_rng(seed), noise_model)
+            rng = np.random.default_rng(seed)
+            measured = add_imu_noise(exact, settings.rate, rng, settings.noise_model)
         if record_imu is None:
             imu = measured  # a new (T, S, 6) array: the record's, without a copy
         else:
             record_imu[:, slots] = measured
-    tau, base_wrench = inverse_dynamics(robot, base, trajectory, threads)
+    tau, base_wrench = inverse_dynamics(robot, base, trajectory, settings.threads)
     if robot.moving_base:
         base_pose = base.T_world_base()
     else:
