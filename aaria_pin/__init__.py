@@ -1,11 +1,13 @@
 """aaria_pin: kinematics, dynamics and simulated sensor data of serial manipulators, on Pinocchio.
 
-The front door. Build a robot from a preset, a DH table or a URDF; simulate it into the one
-:class:`RunRecord`; write and read run files and data sets::
+The front door. Build a robot from a preset, a DH table or a URDF; simulate it (one
+:func:`simulate` for every robot kind and motion: :class:`SineTable`, :class:`FourierMotion`,
+:class:`SampledTrajectory`, :class:`TorqueDrive`) into the one :class:`RunRecord`; write and
+read run files and data sets::
 
     import aaria_pin as ap
 
-    record = ap.simulate_run(ap.get_preset("aaria-fig2").table, duration=2.0)
+    record = ap.simulate(ap.preset_arm("aaria-fig2"), settings=ap.RunSettings(duration=2.0))
     ap.write_run("run.h5", record)
     again = ap.read_run("run.h5")
     again.imu_signals("imu_tool")        # T × 6: wx wy wz [rad/s], fx fy fz [m/s²]
@@ -35,20 +37,33 @@ from aaria_pin.errors import (
 )
 
 if TYPE_CHECKING:
+    from aaria_pin.aaria.arm_run import DHArmSpec, dh_arm, preset_arm
     from aaria_pin.aaria.dh import KinematicChain, chain_from_table
     from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
     from aaria_pin.aaria.presets import Preset, get_preset
-    from aaria_pin.aaria.simulate import simulate_run
+    from aaria_pin.aaria.simulate import dh_fourier_excitation, simulate_run
     from aaria_pin.apps.identify import identify_dynamics, identify_kinematics
     from aaria_pin.apps.record_model import record_mjcf, replay_in_mujoco
     from aaria_pin.core.catalogue import find_robot
     from aaria_pin.core.excitation import fourier_motion
     from aaria_pin.core.model import RobotModel, build_model
     from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
+    from aaria_pin.core.run import (
+        FourierMotion,
+        RunSettings,
+        SampledTrajectory,
+        SineTable,
+        TorqueDrive,
+        simulate,
+        simulate_pieces,
+    )
+    from aaria_pin.core.run.urdf_kind import UrdfRunSpec, urdf_robot_run
+    from aaria_pin.core.sampled_motion import trajectory_from_samples
+    from aaria_pin.core.seeds import RunSeeds
     from aaria_pin.core.urdf import RobotDescription
     from aaria_pin.core.urdf_emitter import emit_urdf
     from aaria_pin.core.urdf_robot import UrdfRobot, load_urdf_robot
-    from aaria_pin.core.urdf_run import simulate_urdf_run
+    from aaria_pin.core.urdf_run import simulate_urdf_run, urdf_fourier_excitation
     from aaria_pin.files.dataset.reader import DatasetReader
     from aaria_pin.files.dataset.windows import WindowDataset
     from aaria_pin.files.io import read_table
@@ -71,6 +86,23 @@ _LAZY = {
     "RobotDescription": "aaria_pin.core.urdf",
     "emit_urdf": "aaria_pin.core.urdf_emitter",
     # runs
+    "simulate": "aaria_pin.core.run",
+    "simulate_pieces": "aaria_pin.core.run",
+    "RunSettings": "aaria_pin.core.run",
+    "RunSeeds": "aaria_pin.core.seeds",
+    "dh_arm": "aaria_pin.aaria.arm_run",
+    "DHArmSpec": "aaria_pin.aaria.arm_run",
+    "preset_arm": "aaria_pin.aaria.arm_run",
+    "urdf_robot_run": "aaria_pin.core.run.urdf_kind",
+    "UrdfRunSpec": "aaria_pin.core.run.urdf_kind",
+    # motions
+    "SineTable": "aaria_pin.core.run",
+    "FourierMotion": "aaria_pin.core.run",
+    "SampledTrajectory": "aaria_pin.core.run",
+    "TorqueDrive": "aaria_pin.core.run",
+    "dh_fourier_excitation": "aaria_pin.aaria.simulate",
+    "urdf_fourier_excitation": "aaria_pin.core.urdf_run",
+    "trajectory_from_samples": "aaria_pin.core.sampled_motion",
     "simulate_run": "aaria_pin.aaria.simulate",
     "simulate_urdf_run": "aaria_pin.core.urdf_run",
     "RunRecord": "aaria_pin.core.record",
@@ -94,8 +126,10 @@ __all__ = [
     "AariaError",
     "BodyDimensions",
     "ColumnView",
+    "DHArmSpec",
     "DHRobot",
     "DatasetReader",
+    "FourierMotion",
     "ImuMount",
     "InputFileError",
     "KinematicChain",
@@ -107,14 +141,22 @@ __all__ = [
     "RobotDescription",
     "RobotModel",
     "RunRecord",
+    "RunSeeds",
+    "RunSettings",
+    "SampledTrajectory",
+    "SineTable",
     "TableError",
+    "TorqueDrive",
     "UrdfError",
     "UrdfRobot",
+    "UrdfRunSpec",
     "WindowDataset",
     "__version__",
     "build_dh_robot",
     "build_model",
     "chain_from_table",
+    "dh_arm",
+    "dh_fourier_excitation",
     "emit_urdf",
     "find_robot",
     "fourier_motion",
@@ -122,13 +164,19 @@ __all__ = [
     "identify_dynamics",
     "identify_kinematics",
     "load_urdf_robot",
+    "preset_arm",
     "read_run",
     "read_run_inputs",
     "read_table",
     "record_mjcf",
     "replay_in_mujoco",
+    "simulate",
+    "simulate_pieces",
     "simulate_run",
     "simulate_urdf_run",
+    "trajectory_from_samples",
+    "urdf_fourier_excitation",
+    "urdf_robot_run",
     "write_run",
 ]
 

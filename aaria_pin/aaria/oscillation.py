@@ -68,7 +68,8 @@ def validate_joint_table(table: ArrayLike, chain: KinematicChain) -> Array:
         if arr[row, 3] < 0:
             raise TableError(
                 f"{what}: row {row + 1}, column 4 (frequency) is {arr[row, 3]:g} "
-                "rad/s; allowed: >= 0"
+                "rad/s; allowed: >= 0",
+                parameter="joint_table",
             )
         amplitude = arr[row, 0] if joint.kind == "revolute" else arr[row, 1]
         low, high = arr[row, 2] - abs(amplitude), arr[row, 2] + abs(amplitude)
@@ -77,7 +78,8 @@ def validate_joint_table(table: ArrayLike, chain: KinematicChain) -> Array:
             raise TableError(
                 f"{what}: row {row + 1} ({joint.kind} module {joint.module}) moves over "
                 f"[{low:.4g}, {high:.4g}] {unit}; allowed: within its range "
-                f"[{joint.lower:.4g}, {joint.upper:.4g}] {unit}"
+                f"[{joint.lower:.4g}, {joint.upper:.4g}] {unit}",
+                parameter="joint_table",
             )
     return arr
 

@@ -1,8 +1,10 @@
 """One Aaria simulation run: a DH arm, sine joint and base motions, 14 IMUs, torques.
 
-:func:`simulate_run` validates the inputs, builds the arm on a moving base and runs the shared
-pipeline (:func:`~aaria_pin.core.run.simulate_series`: IMU kinematics as arrays over the whole
-time grid, ADIS16485-like noise if asked, torques by Pinocchio's batched RNEA). It returns the one
+:func:`simulate_run` and its chunked form are the keyword-argument producers of a DH run: they
+make the arm's engine adapter (:func:`~aaria_pin.aaria.arm_run.dh_arm`), the motion and the
+:class:`~aaria_pin.core.run.RunSettings`, and run the engine
+(:func:`~aaria_pin.core.run.simulate_pieces`: IMU kinematics as arrays over the whole time grid,
+ADIS16485-like noise if asked, torques by Pinocchio's batched RNEA). It returns the one
 :class:`~aaria_pin.core.record.RunRecord` in the paper's module order: joints ``joint1`` …
 ``joint6`` (zero columns for an empty module), the 14 IMU slots in ``senSen`` order (an empty
 module's slots have parent ``""``), the tables ``senSenDH``, ``senSenJ``, ``senSenB`` and the view
@@ -12,72 +14,46 @@ module's slots have parent ``""``), the tables ``senSenDH``, ``senSenJ``, ``senS
 from __future__ import annotations
 
 import os
-import threading
-from collections import OrderedDict
 from collections.abc import Iterator
-from dataclasses import asdict, fields, replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from aaria_pin._version import __version__
-from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
-from aaria_pin.aaria.oscillation import (
-    base_motion,
-    default_base_table,
-    default_joint_table,
-    joint_trajectory,
-    validate_base_table,
-    validate_joint_table,
-)
-from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, sensen_view
-from aaria_pin.core.excitation import (
-    FourierExcitation,
-    check_trajectory,
-    fourier_excitation,
-    motion_attributes,
-    motion_slice,
-    stored_motion,
-)
+from aaria_pin.aaria.arm_run import DH_ROBOT, DHArmSpec, dh_arm
+from aaria_pin.aaria.dh_robot import BodyDimensions
+from aaria_pin.aaria.sensen import N_MODULES
+from aaria_pin.core.excitation import FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
-from aaria_pin.core.model import RobotModel
-from aaria_pin.core.record import ImuMount, RunRecord
+from aaria_pin.core.record import RunRecord
 from aaria_pin.core.run import (
     CHUNK_SAMPLES,
     UNITS,
-    RunSeries,
-    chunk_bounds,
+    Motion,
+    RunSettings,
+    TorqueDrive,
+    as_motion,
     join_chunks,
-    noise_stream,
+    motion_from_record,
     sampling_attributes,
-    simulate_series,
-    stored_sampling,
+    simulate_pieces,
 )
-from aaria_pin.core.se3 import Array
-from aaria_pin.core.seeds import check_seed
+from aaria_pin.core.run.metadata import RunMetadata
+from aaria_pin.core.run.robot import RunKind, register_kind
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
     DEFAULT_RATE,
     MAX_SAMPLES,
-    MAX_STREAMED_SAMPLES,
-    BaseMotion,
     JointTrajectory,
-    piece_times,
-    sample_count,
 )
 from aaria_pin.errors import InputFileError
 
 __all__ = [
-    "ARM_CACHE_SIZE",
     "DEFAULT_DURATION",
     "DEFAULT_RATE",
-    "DH_ROBOT",
     "FOURIER_LIMITS",
     "UNITS",
-    "cached_arm",
     "dh_fourier_excitation",
-    "dh_imu_mounts",
     "sampling_attributes",
     "simulate_from_record",
     "simulate_from_record_chunks",
@@ -85,10 +61,6 @@ __all__ = [
     "simulate_run",
     "simulate_run_chunks",
 ]
-
-DH_ROBOT = "aaria-arm"
-"""The ``robot`` attribute of a run whose DH table is not named (not a preset)."""
-
 
 FOURIER_LIMITS = {"revolute": (1.0, 1.5, 5.0), "prismatic": (None, 0.5, 2.0)}
 """Limits of a DH arm's Fourier excitation by joint kind: position [rad] (None: the rail,
@@ -163,144 +135,6 @@ def dh_fourier_excitation(
     return excitation
 
 
-def _module_columns(columns: list[int], values: Array) -> Array:
-    """Scatter per-joint columns into the six module columns (zeros for empty modules).
-
-    An arm with every module (``columns`` 0 … 5) keeps ``values`` as they are when they are a
-    C-ordered float array already (the run's fresh arrays): no copy.
-    """
-    if (
-        columns == list(range(N_MODULES))
-        and values.dtype == np.float64
-        and values.shape[1:] == (N_MODULES,)
-        and values.flags.c_contiguous
-    ):
-        return values
-    out = np.zeros((values.shape[0], N_MODULES))
-    out[:, columns] = values
-    return out
-
-
-def dh_imu_mounts(robot: DHRobot) -> tuple[ImuMount, ...]:
-    """A DH robot's IMU slots as the record's mounts (parent ``""``, zero pose: an empty slot).
-
-    Each pose is a copy: the record owns its arrays (the robot may be a cached one).
-    """
-    return tuple(
-        ImuMount(slot.name, slot.parent, np.array(slot.T_parent_imu, dtype=float))
-        if slot.parent
-        else ImuMount(slot.name, "", np.zeros((4, 4)))
-        for slot in robot.imu_slots
-    )
-
-
-ARM_CACHE_SIZE = 8
-"""DH arms kept by :func:`cached_arm` (the latest tables, dimensions and mounts used)."""
-
-_ARMS: OrderedDict[tuple[Any, ...], tuple[DHRobot, RobotModel]] = OrderedDict()
-_ARMS_LOCK = threading.Lock()
-
-
-def cached_arm(
-    dh_table: ArrayLike,
-    dims: BodyDimensions | None = None,
-    imu_mount: ArrayLike | None = None,
-) -> tuple[DHRobot, RobotModel]:
-    """The DH arm of an Aaria table and its moving-base Pinocchio model, built once per table.
-
-    Building the arm (bodies, inertias, IMU slots), its Pinocchio model and, when a record
-    keeps it, its URDF text cost 0.8 + 0.7 + 1.5 ms per run of ``aaria-fig2`` (measured
-    apart; a 10,000-sample record costs about 20 ms): about 3 ms, or 0.3× the floor of
-    ``benchmarks/bench_record.py``; a look-up costs 13 µs. The arm's URDF is written on first
-    use (:attr:`DHRobot.urdf`) and kept with it. The last :data:`ARM_CACHE_SIZE` arms are
-    kept, keyed by the exact values of the table, the mounts and the dimensions, so runs of
-    one table (a preset, a study, the chunks of a long run) build it once; a data set of
-    random tables builds each one (a miss costs the key). The arm and the model are only
-    read by the runs that share them; a record gets copies of the arrays it keeps.
-
-    Args:
-        dh_table: 8 × 5 extended DH table
-        dims: body dimensions and densities (default :class:`BodyDimensions`)
-        imu_mount: 14 × 4 × 4 IMU mounting poses, or None for the default slots
-
-    Returns:
-        The arm and its model on a moving base.
-
-    Raises:
-        TableError, ParameterError: as :func:`~aaria_pin.aaria.dh_robot.build_dh_robot`.
-    """
-    # A snapshot of the dimensions: the arm keeps it, so a caller changing its own
-    # density_overrides mapping afterwards changes neither the cached arm nor its key.
-    dims = dims or BodyDimensions()
-    overrides = dict(sorted(dims.density_overrides.items()))
-    dims = replace(dims, density_overrides=overrides)
-    try:
-        table = np.asarray(dh_table, dtype=float)
-        mount = None if imu_mount is None else np.asarray(imu_mount, dtype=float)
-        key: tuple[Any, ...] | None = (
-            table.shape,
-            table.tobytes(),
-            None if mount is None else (mount.shape, mount.tobytes()),
-            tuple(
-                (
-                    f.name,
-                    tuple(overrides.items())
-                    if f.name == "density_overrides"
-                    else getattr(dims, f.name),
-                )
-                for f in fields(dims)
-            ),
-        )
-        hash(key)
-    except (TypeError, ValueError):
-        key = None  # not numbers (the builder says what is wrong) or not hashable: no cache
-    if key is not None:
-        with _ARMS_LOCK:
-            if key in _ARMS:
-                _ARMS.move_to_end(key)
-                return _ARMS[key]
-    robot = build_dh_robot(dh_table, "aaria", dims, imu_mount=imu_mount)
-    arm = robot, robot.model(moving_base=True)
-    if key is not None:
-        with _ARMS_LOCK:
-            _ARMS[key] = arm
-            while len(_ARMS) > ARM_CACHE_SIZE:
-                _ARMS.popitem(last=False)
-    return arm
-
-
-def dh_series(
-    robot: DHRobot,
-    model: RobotModel,
-    base: BaseMotion,
-    trajectory: JointTrajectory,
-    **settings: Any,
-) -> RunSeries:
-    """The core pipeline's series of a DH arm, its IMUs in slot order (zeros for empty slots).
-
-    Args:
-        robot: the DH arm (its IMU slots; a slot without parent belongs to an empty module)
-        model: its Pinocchio model (fixed or moving base)
-        base: the base motion
-        trajectory: the joint motion
-        **settings: ``rate``, ``seed``, ``noise``, ``noise_model``, ``threads`` of
-            :func:`~aaria_pin.core.run.simulate_series`
-
-    Returns:
-        IMU signals (T × slots × 6), tool pose, torques, base wrench and base pose.
-    """
-    present = [k for k, slot in enumerate(robot.imu_slots) if slot.parent is not None]
-    return simulate_series(
-        model,
-        base,
-        trajectory,
-        imu_frames=[robot.imu_slots[k].name for k in present],
-        imu_slots=present,
-        n_slots=len(robot.imu_slots),
-        **settings,
-    )
-
-
 def simulate_run(
     dh_table: ArrayLike,
     joint_table: ArrayLike | None = None,
@@ -314,7 +148,7 @@ def simulate_run(
     dims: BodyDimensions | None = None,
     imu_mount: ArrayLike | None = None,
     torques: ArrayLike | None = None,
-    motion: JointTrajectory | FourierExcitation | None = None,
+    motion: Motion | JointTrajectory | FourierExcitation | None = None,
     threads: int = 1,
     robot_name: str = DH_ROBOT,
     keep_urdf: bool = True,
@@ -342,7 +176,7 @@ def simulate_run(
         motion: the joint motion instead of the joint table's sines, by module (six columns
             or rows; those of empty modules are ignored): a
             :class:`~aaria_pin.core.trajectory.JointTrajectory` of the run's samples (T × 6,
-            e.g. :func:`~aaria_pin.core.excitation.trajectory_from_samples`; stored as the
+            e.g. :func:`~aaria_pin.core.sampled_motion.trajectory_from_samples`; stored as the
             table ``joint_trajectory``, T × 19: time, q, qd, qdd) or a
             :class:`~aaria_pin.core.excitation.FourierExcitation`
             (:func:`dh_fourier_excitation`; stored as the table ``fourier_coefficients`` and
@@ -393,7 +227,7 @@ def simulate_run_chunks(
     dims: BodyDimensions | None = None,
     imu_mount: ArrayLike | None = None,
     torques: ArrayLike | None = None,
-    motion: JointTrajectory | FourierExcitation | None = None,
+    motion: Motion | JointTrajectory | FourierExcitation | None = None,
     threads: int = 1,
     robot_name: str = DH_ROBOT,
     keep_urdf: bool = True,
@@ -434,94 +268,14 @@ def simulate_run_chunks(
     Yields:
         The run record of each piece (kind ``"dh"``), ``time`` the piece's sample times.
     """
-    check_seed(seed)
-    robot, model = cached_arm(dh_table, dims, imu_mount)
-    streamed = chunk is not None and torques is None
-    samples = sample_count(duration, rate, MAX_STREAMED_SAMPLES if streamed else MAX_SAMPLES)
-    senSenJ = (
-        default_joint_table(robot.chain) if joint_table is None else np.array(joint_table, float)
+    settings = RunSettings(duration, rate, chunk, noise, noise_model, threads)
+    robot = dh_arm(
+        dh_table, DHArmSpec(joint_table, base_table, dims, imu_mount, robot_name, keep_urdf)
     )
-    validate_joint_table(senSenJ, robot.chain)  # errors before any work
-    senSenB = default_base_table() if base_table is None else validate_base_table(base_table)
-    columns = [module - 1 for module in robot.chain.modules]  # module order → senSen columns
-    tables = {"senSenDH": robot.chain.table.copy(), "senSenJ": senSenJ, "senSenB": senSenB}
-    if isinstance(motion, JointTrajectory):
-        lower, upper = np.full(N_MODULES, -np.inf), np.full(N_MODULES, np.inf)
-        for joint in robot.chain.joints:
-            lower[joint.module - 1], upper[joint.module - 1] = joint.lower, joint.upper
-        motion = check_trajectory(motion, samples, rate, lower, upper, JOINT_NAMES)
-    motion_tables, motion_attrs = motion_attributes(motion, N_MODULES)
-    tables.update(motion_tables)
-    by_module = None
+    run_motion = as_motion(motion)
     if torques is not None:
-        from aaria_pin.core.forward import check_torques
-
-        by_module = check_torques(torques, samples, N_MODULES, "torque table")
-        tables["torque_table"] = by_module
-        chunk = None
-    pieces = chunk_bounds(samples, chunk)
-    present = sum(slot.parent is not None for slot in robot.imu_slots)
-    stream = noise_stream(samples, present, rate, seed, noise, noise_model, len(pieces))
-    attributes: dict[str, Any] = {
-        "kind": "dh",
-        "robot": robot_name,
-        **sampling_attributes(rate, duration, seed, noise, noise_model),
-        "body_dimensions": {
-            **asdict(robot.dims),
-            "density_overrides": dict(robot.dims.density_overrides),
-        },
-        "drive": "motion" if torques is None else "torque",
-        **motion_attrs,
-        "base_frame": model.base_frame,
-        "tool_frame": model.tool_frame,
-        "version": __version__,
-    }
-    mounts = dh_imu_mounts(robot)
-    urdf = robot.urdf if keep_urdf else ""
-    views = {"senSen": sensen_view()}
-    for start, stop in pieces:
-        times = piece_times(start, stop, rate)
-        if motion is None:
-            trajectory = joint_trajectory(senSenJ, robot.chain, times)
-        else:
-            trajectory = motion_slice(motion, start, stop, times, columns)
-        base = base_motion(senSenB, times)
-        if by_module is not None:  # one piece: the whole run
-            from aaria_pin.core.forward import forward_simulate
-
-            trajectory = forward_simulate(
-                model, base, by_module[:, columns], times, trajectory.q[0], trajectory.qd[0]
-            )
-        series = dh_series(
-            robot,
-            model,
-            base,
-            trajectory,
-            rate=rate,
-            seed=seed,
-            noise=noise,
-            noise_model=noise_model,
-            threads=threads,
-            noise_stream=stream,
-            start=start,
-        )
-        yield RunRecord(
-            time=times,
-            joint_names=JOINT_NAMES,
-            q=_module_columns(columns, trajectory.q),
-            qd=_module_columns(columns, trajectory.qd),
-            qdd=_module_columns(columns, trajectory.qdd),
-            tau=_module_columns(columns, series.tau),
-            base_pose=series.base_pose,
-            base_wrench=series.base_wrench,
-            tool_pose=series.tool_pose,
-            imu=series.imu,
-            imu_mounts=mounts,
-            urdf=urdf,
-            tables=tables,
-            views=views,
-            attributes=attributes,
-        )
+        run_motion = TorqueDrive(torques, run_motion)
+    return simulate_pieces(robot, run_motion, settings, seed)
 
 
 def simulate_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
@@ -577,23 +331,27 @@ def _stored_settings(stored: RunRecord, overrides: dict[str, Any]) -> dict[str, 
             parameter="stored",
             allowed="a DH run",
         )
+    meta = RunMetadata.from_attributes(attributes)
     settings: dict[str, Any] = {
         "joint_table": stored.tables["senSenJ"],
         "base_table": stored.tables["senSenB"],
-        **stored_sampling(attributes),
+        "duration": meta.duration,
+        "rate": meta.rate,
+        "seed": meta.seed,
+        "noise": meta.noise,
         "imu_mount": stored.imu_mount,
-        "robot_name": str(attributes.get("robot") or DH_ROBOT),
+        "robot_name": meta.robot or DH_ROBOT,
     }
     if "torque_table" in stored.tables:
         settings["torques"] = stored.tables["torque_table"]
-    motion = stored_motion(stored.tables, attributes)
-    if motion is not None:
-        settings["motion"] = motion
-    if "body_dimensions" in attributes:
+    settings["motion"] = motion_from_record(stored.tables, attributes, drive=False)
+    if "body_dimensions" in meta.extra:
         try:
-            settings["dims"] = BodyDimensions(**attributes["body_dimensions"])
+            settings["dims"] = BodyDimensions(**meta.extra["body_dimensions"])
         except TypeError as exc:
-            raise InputFileError(f"body_dimensions cannot be used ({exc})") from None
+            raise InputFileError(
+                f"body_dimensions cannot be used ({exc})", parameter="body_dimensions"
+            ) from None
     settings.update(overrides)
     return settings
 
@@ -621,4 +379,7 @@ def simulate_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> Ru
     try:
         return simulate_from_record(read_run_inputs(path), **overrides)
     except InputFileError as exc:
-        raise InputFileError(f"{path}: {exc}", element=str(path)) from None
+        raise InputFileError(f"{path}: {exc}", element=str(path), parameter="path") from None
+
+
+register_kind(RunKind("dh", simulate_from_record, lambda record: "senSenDH" in record.tables))

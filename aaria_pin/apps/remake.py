@@ -6,9 +6,10 @@ IMU layout; a wrist run its ``targets`` and motion settings; a pick-and-place ru
 place, preset, rate and IK branch; every run its rate, duration, seed and noise setting (and a
 run driven by torques its ``torque_table``; a DH or URDF run that follows a Fourier excitation
 its ``fourier_coefficients`` and ``fourier`` attribute, one that follows a given trajectory its
-``joint_trajectory``: :func:`~aaria_pin.core.excitation.stored_motion`; a run without a
+``joint_trajectory``: :func:`~aaria_pin.core.run.motion_from_record`; a run without a
 ``motion`` attribute, written before, follows its joint table's sines). :func:`remake_record`
-simulates the run again from them, by the producer of its kind (``attributes["kind"]``), so
+simulates the run again from them, by the kind registered for it (``attributes["kind"]``:
+:func:`~aaria_pin.core.run.kind_of`), so
 that with no overrides the re-made run equals the stored one; :func:`remake_run` does the same
 from a run file.
 """
@@ -24,34 +25,40 @@ from aaria_pin.errors import InputFileError
 __all__ = ["RUN_KINDS", "remake_record", "remake_run", "run_kind", "simulate_urdf_from_run_file"]
 
 RUN_KINDS = ("dh", "urdf", "wrist", "pick-place")
-"""The kinds of run (``attributes["kind"]``) that can be re-made."""
+"""The kinds of run (``attributes["kind"]``) that can be re-made, registered by their modules."""
+
+
+_KIND_MODULES = (
+    "aaria_pin.aaria.simulate",
+    "aaria_pin.core.urdf_run",
+    "aaria_pin.apps.wrist.run",
+    "aaria_pin.apps.arm.run",
+)
+"""The modules that define the kinds of :data:`RUN_KINDS`, in that order."""
+
+
+def _registered() -> None:
+    """Import the modules that define the kinds: each registers its kind on import."""
+    from importlib import import_module
+
+    for module in _KIND_MODULES:
+        import_module(module)
 
 
 def run_kind(record: RunRecord) -> str:
-    """The kind of a run: its ``kind`` attribute, else guessed from its tables.
+    """The kind of a run: its ``kind`` attribute, else recognised from its tables.
 
     Raises:
         InputFileError: no known kind.
     """
-    kind = record.attributes.get("kind")
-    if kind is None:
-        if "senSenDH" in record.tables:
-            kind = "dh"
-        elif "joint_table" in record.tables:
-            kind = "urdf"
-        elif "targets" in record.tables or "targets_rad" in record.attributes:
-            kind = "wrist"
-        elif "cylinder" in record.attributes:
-            kind = "pick-place"
-    if kind not in RUN_KINDS:
-        raise InputFileError(
-            parameter="kind", value=kind, allowed=", ".join(RUN_KINDS), element="run"
-        )
-    return str(kind)
+    from aaria_pin.core.run import kind_of
+
+    _registered()
+    return kind_of(record).name
 
 
 def remake_record(stored: RunRecord, **overrides: Any) -> RunRecord:
-    """Simulate a run again from the inputs its record holds.
+    """Simulate a run again from the inputs its record holds, by its registered kind.
 
     Args:
         stored: the run's record
@@ -67,28 +74,10 @@ def remake_record(stored: RunRecord, **overrides: Any) -> RunRecord:
     Raises:
         InputFileError: a run of no known kind, or one that lacks its inputs.
     """
-    kind = run_kind(stored)
-    if kind == "dh":
-        from aaria_pin.aaria.simulate import simulate_from_record
+    from aaria_pin.core.run import kind_of
 
-        return simulate_from_record(stored, **overrides)
-    if kind == "urdf":
-        from aaria_pin.core.urdf_run import simulate_urdf_from_record
-
-        return simulate_urdf_from_record(stored, **overrides)
-    if kind == "wrist":
-        from aaria_pin.apps.wrist.run import simulate_wrist_from_record, wrist_record
-
-        return wrist_record(simulate_wrist_from_record(stored, **overrides))
-    from aaria_pin.apps.arm.run import pick_place_record, simulate_pick_place_from_record
-
-    try:
-        return pick_place_record(simulate_pick_place_from_record(stored, **overrides))
-    except KeyError as exc:
-        raise InputFileError(
-            f"pick-place run has no attribute {exc}; allowed: a run written by this toolkit",
-            element="run",
-        ) from None
+    _registered()
+    return kind_of(stored).remake(stored, **overrides)
 
 
 def remake_run(path: str | os.PathLike[str], **overrides: Any) -> RunRecord:
@@ -112,7 +101,7 @@ def remake_run(path: str | os.PathLike[str], **overrides: Any) -> RunRecord:
     except InputFileError as exc:
         if str(path) in str(exc):
             raise
-        raise InputFileError(f"{path}: {exc}", element=str(path)) from None
+        raise InputFileError(f"{path}: {exc}", element=str(path), parameter="path") from None
 
 
 def simulate_urdf_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> RunRecord:

@@ -73,7 +73,7 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     def announce(record: RunRecord) -> None:
         for warning in caught:
             click.echo(f"aaria: warning: {warning.message}", err=True)
-        for joint, (peak, limit) in record.attributes["effort_exceeded"].items():
+        for joint, (peak, limit) in record.metadata.extra["effort_exceeded"].items():
             click.echo(
                 f"aaria: warning: joint {joint!r} reaches |tau| {peak:.4g}, beyond its URDF "
                 f"effort limit {limit:.4g} (N*m or N)",
@@ -121,9 +121,9 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
             output, chunks, None if compress == "none" else compress, announce
         )
     click.echo(
-        f"wrote {output}: {record.attributes['robot']}, {len(record.joint_names)} joints, "
+        f"wrote {output}: {record.metadata.robot}, {len(record.joint_names)} joints, "
         f"{len(record.imu_mounts)} IMUs, {samples} samples at "
-        f"{record.attributes['rate']:g} Hz, {motion_note(record)}"
-        f"noise {'on' if record.attributes['noise'] else 'off'}, "
+        f"{record.metadata.rate:g} Hz, {motion_note(record)}"
+        f"noise {'on' if record.metadata.noise else 'off'}, "
         f"peak |tau| {peak:.4g} (N*m, N for a prismatic joint)"
     )

@@ -41,7 +41,7 @@ def _robot(
 ) -> tuple[str, Path | None, str, Sequence[ImuMount], str, int]:
     """A DH arm's or URDF robot's URDF, folder, tool, IMU mounts, name and joint count."""
     if source == "dh":
-        from aaria_pin.aaria.simulate import dh_imu_mounts
+        from aaria_pin.aaria.arm_run import dh_imu_mounts
 
         density = 2700.0 if params["density"] is None else params["density"]
         arm, name = table_arm(params["preset"], params["dh_file"], params["convention"], density)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -29,7 +30,9 @@ def _read_mounts(path: Path) -> Any:
         try:
             return np.load(path, allow_pickle=False)
         except (OSError, ValueError) as exc:
-            raise InputFileError(f"{path}: cannot be read as .npy ({exc})") from None
+            raise InputFileError(
+                f"{path}: cannot be read as .npy ({exc})", parameter="imu_mount"
+            ) from None
     from aaria_pin.files.runfile import read_run_inputs
 
     return read_run_inputs(path).imu_mount
@@ -168,13 +171,11 @@ def simulate(
 
         stored = read_run_inputs(from_run)  # the inputs, not the stored series
         kind = run_kind(stored)
-    if robot is not None or urdf_file is not None or kind == "urdf":
-        from aaria_pin.cli._simulate_urdf import simulate_urdf_command
-
-        simulate_urdf_command(params, stored)
-        return
-    if kind in ("wrist", "pick-place"):
-        _remake_as_stored(params, stored, kind)
+    if robot is not None or urdf_file is not None:
+        kind = "urdf"
+    command = _BY_KIND.get(kind or "dh", _remake_as_stored)  # dh: below
+    if command is not None:
+        command(params, stored, kind)
         return
     for flag, value in (("--tool", tool_frame), ("--imu-layout", imu_layout_file)):
         if value is not None:
@@ -202,7 +203,8 @@ def simulate(
         table, table_convention, name = load_table_source(preset, dh_file, convention)
         if table_convention != "aaria":
             raise ParameterError(
-                f"table {name!r} is a {table_convention} DH table; allowed: an Aaria 8 × 5 table"
+                f"table {name!r} is a {table_convention} DH table; allowed: an Aaria 8 × 5 table",
+                parameter="dh_table",
             )
         if preset is not None:
             chosen = get_preset(preset)
@@ -212,9 +214,9 @@ def simulate(
         chunks = simulate_run_chunks(table, robot_name=name, **overrides)
     record, samples, peak = write_run_pieces(output, chunks, compression)
     click.echo(
-        f"wrote {output}: {samples} samples at {record.attributes['rate']:g} Hz, "
+        f"wrote {output}: {samples} samples at {record.metadata.rate:g} Hz, "
         f"{motion_note(record)}"
-        f"noise {'on' if record.attributes['noise'] else 'off'}, "
+        f"noise {'on' if record.metadata.noise else 'off'}, "
         f"peak |tau| {peak:.4g} (N*m, N for a prismatic joint)"
     )
 
@@ -223,7 +225,14 @@ _DEFAULTS = {"convention": "aaria", "drive": "motion", "fixed_base": False}
 """Options that have a value when not given (the rest are None)."""
 
 
-def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str) -> None:
+def _urdf_command(params: dict[str, Any], stored: Any, kind: str | None) -> None:
+    """``aaria simulate`` of a URDF robot (``--robot``, ``--urdf``, or ``--from`` its run)."""
+    from aaria_pin.cli._simulate_urdf import simulate_urdf_command
+
+    simulate_urdf_command(params, stored)
+
+
+def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str | None) -> None:
     """``aaria simulate --from`` a wrist or pick-and-place run: re-make it as it was.
 
     Raises:
@@ -249,3 +258,10 @@ def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str) -> None:
         f"{record.attributes['rate']:g} Hz, peak |tau| {abs(record.tau).max():.4g} "
         "(N*m, N for a prismatic joint)"
     )
+
+
+_BY_KIND: dict[str, Callable[[dict[str, Any], Any, str | None], None] | None] = {
+    "dh": None,  # the command's own path
+    "urdf": _urdf_command,
+}
+"""How ``aaria simulate`` runs a robot of each kind; any other kind is re-made as stored."""

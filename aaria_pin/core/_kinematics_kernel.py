@@ -276,6 +276,19 @@ def free_flyer_state(  # type: ignore[no-untyped-def]  # pragma: no cover
 
 
 @kernel(exact=True)
+def _sine(A, bias, w, phase, now):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """``A·sin(w·t + phase) + bias`` and its two derivatives at ``t = now``: the one formula.
+
+    The operations, their order and their roundings are those of the numpy expressions the
+    kernels replaced (``t·w + phase``; ``A·s + bias``; ``c·(A·w)``; ``s·((-A)·w·w)``).
+    """
+    angle = now * w + phase
+    s = np.sin(angle)
+    c = np.cos(angle)
+    return A * s + bias, c * (A * w), s * (-A * w * w)
+
+
+@kernel(exact=True)
 def sine_columns(  # type: ignore[no-untyped-def]  # pragma: no cover
     amplitude, bias, frequency, phase, time, value, velocity, acceleration
 ):
@@ -290,14 +303,9 @@ def sine_columns(  # type: ignore[no-untyped-def]  # pragma: no cover
     for t in range(time.shape[0]):
         now = time[t]
         for k in range(k_count):
-            A = amplitude[k]
-            w = frequency[k]
-            angle = now * w + phase[k]
-            s = np.sin(angle)
-            c = np.cos(angle)
-            value[t, k] = A * s + bias[k]
-            velocity[t, k] = c * (A * w)
-            acceleration[t, k] = s * (-A * w * w)
+            value[t, k], velocity[t, k], acceleration[t, k] = _sine(
+                amplitude[k], bias[k], frequency[k], phase[k], now
+            )
 
 
 @kernel(exact=True)
@@ -326,23 +334,13 @@ def base_kinematics(  # type: ignore[no-untyped-def]  # pragma: no cover
     for t in range(time.shape[0]):
         now = time[t]
         for k in range(3):
-            A = amplitude[k]
-            w = frequency[k]
-            angle = now * w + phase[k]
-            s = np.sin(angle)
-            c = np.cos(angle)
-            position[t, k] = A * s + bias[k]
-            velocity[t, k] = c * (A * w)
-            acceleration[t, k] = s * (-A * w * w)
+            position[t, k], velocity[t, k], acceleration[t, k] = _sine(
+                amplitude[k], bias[k], frequency[k], phase[k], now
+            )
         for k in range(3, 6):  # the gimbal angles, rates and accelerations
-            A = amplitude[k]
-            w = frequency[k]
-            angle = now * w + phase[k]
-            s = np.sin(angle)
-            c = np.cos(angle)
-            gimbal[k - 3] = A * s + bias[k]
-            gimbal[k] = c * (A * w)
-            gimbal[k + 3] = s * (-A * w * w)
+            gimbal[k - 3], gimbal[k], gimbal[k + 3] = _sine(
+                amplitude[k], bias[k], frequency[k], phase[k], now
+            )
         _gimbal(
             gimbal[0],
             gimbal[1],

@@ -25,7 +25,6 @@ __all__ = [
     "ADIS16485",
     "BIAS_KNOTS_PER_CORRELATION_TIME",
     "DATASHEET_ROWS",
-    "NOISE_BLOCK",
     "SKIP_BLOCK",
     "STANDARD_GRAVITY",
     "ImuNoiseModel",
@@ -38,9 +37,6 @@ __all__ = [
 
 BIAS_KNOTS_PER_CORRELATION_TIME = 200
 """Knots of the bias process per correlation time (see :func:`add_imu_noise`)."""
-
-NOISE_BLOCK = 4096
-"""Rows per block when the noise is applied (see ``_measure``)."""
 
 SKIP_BLOCK = 2**20
 """Standard normals per block when :class:`ImuNoiseStream` skips a run's white noise (8 MiB)."""
@@ -171,16 +167,19 @@ def _checked_signals(signals: Array) -> Array:
         exact = np.asarray(signals, dtype=np.float64)
     except (TypeError, ValueError):
         raise ParameterError(
-            f"IMU signals of type {type(signals).__name__} are not numeric; allowed: a real array"
+            f"IMU signals of type {type(signals).__name__} are not numeric; allowed: a real array",
+            parameter="signals",
         ) from None
     if exact.ndim != 3 or exact.shape[2] != 6 or 0 in exact.shape:
         raise ParameterError(
-            f"IMU signals have shape {exact.shape}; allowed: (T, n_imu, 6) with T, n_imu >= 1"
+            f"IMU signals have shape {exact.shape}; allowed: (T, n_imu, 6) with T, n_imu >= 1",
+            parameter="signals",
         )
     if not np.all(np.isfinite(exact)):
         index = tuple(int(i) for i in np.argwhere(~np.isfinite(exact))[0])
         raise ParameterError(
-            f"IMU signal at index {index} is {exact[index]!r}; allowed: finite values"
+            f"IMU signal at index {index} is {exact[index]!r}; allowed: finite values",
+            parameter="signals",
         )
     return exact
 
@@ -265,7 +264,7 @@ def _measure(
     ``k·step + r``), so a run measured in pieces is bit for bit the run measured whole. One
     compiled pass (``_kinematics_kernel.measure_noise``) does it: 0.9 ms against 4.3 ms for
     the array code it replaced (10,000 samples of 14 IMUs), whose operations it repeats in
-    order (:func:`_measure_arrays`, which the tests hold it equal to).
+    order (the tests hold it equal to that array code, ``tests/core/test_trajectory_kernels.py``).
     """
     from aaria_pin.core._kinematics_kernel import measure_noise
 
@@ -282,45 +281,6 @@ def _measure(
         np.tile(_per_axis(model, "range"), n_imu),
         np.tile(_per_axis(model, "lsb"), n_imu),
     )
-
-
-def _measure_arrays(
-    measured: Array,
-    exact: Array,
-    bias: Array,
-    start: int,
-    rate: float,
-    model: ImuNoiseModel,
-) -> None:
-    """:func:`_measure` as numpy array code, rows in blocks of :data:`NOISE_BLOCK`.
-
-    The reference of the compiled pass (a whole-row temporary of a 20,000-sample piece of
-    14 IMUs is 13 MB, a block's 2.8 MB).
-    """
-    n, columns = measured.shape
-    n_imu = columns // 6
-    flat = exact.reshape(n, -1)
-    white = np.tile(_per_axis(model, "noise_density"), n_imu) * np.sqrt(rate / 2.0)
-    full_scale = np.tile(_per_axis(model, "range"), n_imu)
-    lsb = np.tile(_per_axis(model, "lsb"), n_imu)
-    step = _bias_step(rate, model)
-    change = bias[1:] - bias[:-1]
-    for first in range(0, n, NOISE_BLOCK):
-        block = measured[first : first + NOISE_BLOCK]
-        block *= white
-        block += flat[first : first + NOISE_BLOCK]
-        # sample i = k·step + r: b[k] + (b[k+1] - b[k])·(r/step)
-        index = np.arange(start + first, start + first + block.shape[0])
-        knot = index // step
-        between = np.take(change, knot, axis=0)
-        between *= ((index - knot * step) / step)[:, None]
-        between += np.take(bias, knot, axis=0)  # b[k] + Δ·r (a sum is the same either way)
-        block += between
-        np.minimum(block, full_scale, out=block)
-        np.maximum(block, -full_scale, out=block)
-        block /= lsb
-        np.round(block, out=block)
-        block *= lsb
 
 
 def add_imu_noise(
@@ -409,7 +369,8 @@ class ImuNoiseStream:
         _check_rate(rate)
         if samples < 1 or n_imu < 1:
             raise ParameterError(
-                f"noise stream of {samples} samples and {n_imu} IMUs; allowed: both >= 1"
+                f"noise stream of {samples} samples and {n_imu} IMUs; allowed: both >= 1",
+                parameter="samples",
             )
         self.samples, self.n_imu, self.rate, self.model = samples, n_imu, rate, model
         self._rng = rng
@@ -456,7 +417,8 @@ class ImuNoiseStream:
             raise ParameterError(
                 f"noise piece of {n} samples × {exact.shape[1]} IMUs at sample {start}; "
                 f"allowed: {self.n_imu} IMUs, starting at sample {self._next}, ending by "
-                f"sample {self.samples}"
+                f"sample {self.samples}",
+                parameter="start",
             )
         measured = self._rng.standard_normal(exact.shape).reshape(n, -1)
         bias, first = self._bias_window(start, start + n)
@@ -516,7 +478,8 @@ def allan_deviation(x: Array, rate: float, taus: Array) -> Array:
     signal = np.asarray(x, dtype=np.float64)
     if signal.ndim != 1 or not np.all(np.isfinite(signal)):
         raise ParameterError(
-            f"Allan deviation signal has shape {signal.shape}; allowed: a finite 1-D array"
+            f"Allan deviation signal has shape {signal.shape}; allowed: a finite 1-D array",
+            parameter="x",
         )
     n = signal.size
     theta = np.concatenate(([0.0], np.cumsum(signal) / rate))
@@ -527,7 +490,8 @@ def allan_deviation(x: Array, rate: float, taus: Array) -> Array:
         if m < 1 or 2 * m > n:
             raise ParameterError(
                 f"averaging time {tau!r} s is {m} samples; allowed: 1 to {n // 2} samples "
-                f"({1.0 / rate:g} to {(n // 2) / rate:g} s)"
+                f"({1.0 / rate:g} to {(n // 2) / rate:g} s)",
+                parameter="taus",
             )
         d = theta[2 * m :] - 2.0 * theta[m:-m] + theta[: -2 * m]
         out[index] = np.sqrt(np.mean(d * d) / 2.0) * rate / m

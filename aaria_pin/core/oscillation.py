@@ -41,7 +41,8 @@ def validate_base_table(table: ArrayLike) -> Array:
     if negative.size:
         row = negative[0]
         raise TableError(
-            f"{what}: row {row + 1}, column 3 (frequency) is {arr[row, 2]:g} rad/s; allowed: >= 0"
+            f"{what}: row {row + 1}, column 3 (frequency) is {arr[row, 2]:g} rad/s; allowed: >= 0",
+            parameter="base_table",
         )
     return arr
 

@@ -34,12 +34,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
+
+if TYPE_CHECKING:
+    from aaria_pin.core.run.metadata import RunMetadata
 
 __all__ = [
     "IMU_SIGNALS",
@@ -146,7 +149,8 @@ class ColumnView:
         if len(self.columns) != len(self.sources):
             raise ParameterError(
                 f"view has {len(self.columns)} columns and {len(self.sources)} sources; "
-                "allowed: one source per column"
+                "allowed: one source per column",
+                parameter="columns",
             )
 
     def materialise(self, series: Mapping[str, Array]) -> Array:
@@ -273,20 +277,29 @@ class RunRecord:
             if np.shape(getattr(self, name)) != shapes[name]:
                 raise ParameterError(
                     f"run record {name} has shape {np.shape(getattr(self, name))}; "
-                    f"allowed: {shapes[name]}"
+                    f"allowed: {shapes[name]}",
+                    parameter=name,
                 )
         for name, view in self.views.items():
             for source in view.sources:
                 if source.array not in SERIES:
                     raise ParameterError(
                         f"view {name} column source is {source.array!r}; allowed: "
-                        + ", ".join(SERIES)
+                        + ", ".join(SERIES),
+                        parameter="views",
                     )
 
     @property
     def n_samples(self) -> int:
         """T, the number of samples."""
         return int(np.shape(self.time)[0])
+
+    @property
+    def metadata(self) -> RunMetadata:
+        """The attributes as typed fields (:class:`~aaria_pin.core.run.RunMetadata`)."""
+        from aaria_pin.core.run.metadata import RunMetadata
+
+        return RunMetadata.from_attributes(self.attributes)
 
     @property
     def imu_names(self) -> tuple[str, ...]:
@@ -321,7 +334,9 @@ class RunRecord:
         """
         names = self.imu_names
         if name not in names:
-            raise ParameterError(f"IMU {name!r} is not in this run; allowed: {', '.join(names)}")
+            raise ParameterError(
+                f"IMU {name!r} is not in this run; allowed: {', '.join(names)}", parameter="name"
+            )
         return self.imu[:, names.index(name)]
 
     def joint(self, name: str) -> int:
@@ -332,7 +347,8 @@ class RunRecord:
         """
         if name not in self.joint_names:
             raise ParameterError(
-                f"joint {name!r} is not in this run; allowed: {', '.join(self.joint_names)}"
+                f"joint {name!r} is not in this run; allowed: {', '.join(self.joint_names)}",
+                parameter="name",
             )
         return self.joint_names.index(name)
 
@@ -351,6 +367,7 @@ class RunRecord:
         """
         if name not in self.views:
             raise ParameterError(
-                f"view {name!r} is not in this run; allowed: {', '.join(self.views) or 'none'}"
+                f"view {name!r} is not in this run; allowed: {', '.join(self.views) or 'none'}",
+                parameter="name",
             )
         return self.views[name].materialise(self.series())

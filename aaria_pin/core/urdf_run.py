@@ -1,10 +1,12 @@
 """One simulation run of any URDF robot: sine joint motions, a fixed or moving base, IMUs, torques.
 
-The same pipeline as every run (:func:`~aaria_pin.core.run.simulate_series`): IMU kinematics over
-the whole time grid in one compiled pass, torques and the base wrench by Pinocchio's batched
-RNEA, ADIS16485-like noise if asked. The joints follow their joint table, or move under given
-torques by forward dynamics (:func:`~aaria_pin.core.forward.forward_simulate`). The result is the
-one :class:`~aaria_pin.core.record.RunRecord` (kind ``"urdf"``) that stores its URDF, its
+The producers of a URDF robot's run by keyword arguments: they make its engine adapter
+(:func:`~aaria_pin.core.run.urdf_kind.urdf_robot_run`) and run the engine every run shares
+(:func:`~aaria_pin.core.run.simulate_pieces`): IMU kinematics over the whole time grid in one
+compiled pass, torques and the base wrench by Pinocchio's batched RNEA, ADIS16485-like noise if
+asked. The joints follow their joint table, or move under given torques by forward dynamics
+(:func:`~aaria_pin.core.forward.forward_simulate`). The result is the one
+:class:`~aaria_pin.core.record.RunRecord` (kind ``"urdf"``) that stores its URDF, its
 ``joint_table`` and ``base_table`` and its IMU layout, so the run can be re-made from its record
 alone (:func:`simulate_urdf_from_record`; from a run file,
 :func:`aaria_pin.apps.remake.remake_run`).
@@ -19,48 +21,35 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from aaria_pin._version import __version__
-from aaria_pin.core.excitation import (
-    DEFAULT_HARMONICS,
-    FourierExcitation,
-    check_trajectory,
-    fourier_excitation,
-    motion_attributes,
-    motion_slice,
-    stored_motion,
-)
+from aaria_pin.core.excitation import DEFAULT_HARMONICS, FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
-from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.core.record import ImuMount, RunRecord
 from aaria_pin.core.run import (
     CHUNK_SAMPLES,
-    chunk_bounds,
+    Motion,
+    RunKind,
+    RunSettings,
+    TorqueDrive,
+    as_motion,
     join_chunks,
-    noise_stream,
-    sampling_attributes,
-    simulate_series,
-    stored_sampling,
+    motion_from_record,
+    register_kind,
+    simulate,
+    simulate_pieces,
 )
-from aaria_pin.core.seeds import check_seed
+from aaria_pin.core.run.metadata import RunMetadata
+from aaria_pin.core.run.urdf_kind import UrdfRunSpec, urdf_robot_run
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
     DEFAULT_RATE,
     MAX_SAMPLES,
-    MAX_STREAMED_SAMPLES,
-    BaseMotion,
     JointTrajectory,
-    piece_times,
-    sample_count,
 )
 from aaria_pin.core.urdf_robot import (
     UrdfRobot,
-    default_urdf_joint_table,
-    effort_excess,
     load_urdf_robot,
     mimic_followers,
-    urdf_joint_trajectory,
     usable_range,
-    validate_urdf_joint_table,
 )
 
 __all__ = [
@@ -77,8 +66,9 @@ FOURIER_SPEED = (1.5, 5.0)
 """|velocity| [rad/s or m/s] and |acceleration| [rad/s² or m/s²] of a URDF robot's Fourier
 excitation; the velocity is the URDF's limit where that is finite and lower."""
 
-Motion = JointTrajectory | FourierExcitation | None
-"""A run's joint motion beside its joint table: a given trajectory or a Fourier excitation."""
+MotionInput = Motion | JointTrajectory | FourierExcitation | None
+"""A run's joint motion: None (the joint table's sines), a motion, a given trajectory or a
+Fourier excitation."""
 
 
 def urdf_fourier_excitation(
@@ -145,6 +135,12 @@ def urdf_fourier_excitation(
     return excitation
 
 
+def _run_motion(torques: ArrayLike | None, motion: MotionInput) -> Motion:
+    """The engine's motion of the producers' ``motion`` and ``torques``."""
+    run_motion = as_motion(motion)
+    return run_motion if torques is None else TorqueDrive(torques, run_motion)
+
+
 def simulate_urdf_run(
     urdf: str,
     joint_table: ArrayLike | None = None,
@@ -162,7 +158,7 @@ def simulate_urdf_run(
     noise_model: ImuNoiseModel = ADIS16485,
     threads: int = 1,
     torques: ArrayLike | None = None,
-    motion: Motion = None,
+    motion: MotionInput = None,
 ) -> RunRecord:
     """Simulate one run of a URDF robot.
 
@@ -191,7 +187,7 @@ def simulate_urdf_run(
         motion: the joint motion instead of the joint table's sines, one column (or row) per
             actuated joint in model order: a
             :class:`~aaria_pin.core.trajectory.JointTrajectory` of the run's samples (e.g.
-            :func:`~aaria_pin.core.excitation.trajectory_from_samples`; stored as the table
+            :func:`~aaria_pin.core.sampled_motion.trajectory_from_samples`; stored as the table
             ``joint_trajectory``: time, q, qd, qdd; checked against the URDF position limits;
             mimic columns used as given) or a
             :class:`~aaria_pin.core.excitation.FourierExcitation`
@@ -242,7 +238,7 @@ def simulate_urdf_run_chunks(
     noise_model: ImuNoiseModel = ADIS16485,
     threads: int = 1,
     torques: ArrayLike | None = None,
-    motion: Motion = None,
+    motion: MotionInput = None,
     chunk: int | None = CHUNK_SAMPLES,
 ) -> Iterator[RunRecord]:
     """:func:`simulate_urdf_run` computed in time chunks: one record per piece, in order.
@@ -283,23 +279,18 @@ def simulate_urdf_run_chunks(
         tool_frame=tool_frame,
         imu_layout=imu_layout,
     )
-    yield from _loaded_pieces(
+    robot = urdf_robot_run(
         loaded,
-        joint_table,
-        base_table,
-        moving_base=moving_base,
-        source=source,
-        duration=duration,
-        rate=rate,
-        seed=seed,
-        noise=noise,
-        noise_model=noise_model,
-        threads=threads,
-        torques=torques,
-        motion=motion,
-        chunk=chunk,
-        extra={"urdf_dir": "" if urdf_dir is None else str(urdf_dir)},
+        UrdfRunSpec(
+            joint_table,
+            base_table,
+            moving_base,
+            source,
+            "" if urdf_dir is None else str(urdf_dir),
+        ),
     )
+    settings = RunSettings(duration, rate, chunk, noise, noise_model, threads)
+    return simulate_pieces(robot, _run_motion(torques, motion), settings, seed)
 
 
 def simulate_loaded_robot(
@@ -316,7 +307,7 @@ def simulate_loaded_robot(
     noise_model: ImuNoiseModel = ADIS16485,
     threads: int = 1,
     torques: ArrayLike | None = None,
-    motion: Motion = None,
+    motion: MotionInput = None,
 ) -> RunRecord:
     """The same as :func:`simulate_urdf_run` for a robot already loaded (a data set's runs).
 
@@ -340,146 +331,9 @@ def simulate_loaded_robot(
     Returns:
         The run record (kind ``"urdf"``).
     """
-    return join_chunks(
-        _loaded_pieces(
-            loaded,
-            joint_table,
-            base_table,
-            moving_base=moving_base,
-            source=source,
-            duration=duration,
-            rate=rate,
-            seed=seed,
-            noise=noise,
-            noise_model=noise_model,
-            threads=threads,
-            torques=torques,
-            motion=motion,
-            chunk=None,
-        )
-    )
-
-
-def _loaded_pieces(
-    loaded: UrdfRobot,
-    joint_table: ArrayLike | None,
-    base_table: ArrayLike | None,
-    *,
-    moving_base: bool | None,
-    source: str | None,
-    duration: float,
-    rate: float,
-    seed: int | np.random.SeedSequence,
-    noise: bool,
-    noise_model: ImuNoiseModel,
-    threads: int,
-    torques: ArrayLike | None,
-    motion: Motion,
-    chunk: int | None,
-    extra: dict[str, Any] | None = None,
-) -> Iterator[RunRecord]:
-    """The pieces of a loaded robot's run (:func:`simulate_urdf_run_chunks`).
-
-    Each piece's attributes cover the run up to its end (``effort_exceeded`` from the peaks
-    so far), so the last piece's are the whole run's; ``extra`` attributes are added last.
-    """
-    check_seed(seed)
-    robot = loaded.robot
-    moving_base = robot.moving_base if moving_base is None else moving_base and robot.moving_base
-    streamed = chunk is not None and torques is None
-    samples = sample_count(duration, rate, MAX_STREAMED_SAMPLES if streamed else MAX_SAMPLES)
-    table = (
-        default_urdf_joint_table(loaded) if joint_table is None else np.array(joint_table, float)
-    )
-    validate_urdf_joint_table(table, loaded)  # errors before any work
-    base_arr = None
-    if moving_base:
-        base_arr = default_base_table() if base_table is None else validate_base_table(base_table)
-    tau_in = None
-    if torques is not None:
-        from aaria_pin.core.forward import check_torques
-
-        tau_in = check_torques(torques, samples, robot.n_joints)
-        chunk = None
-    tables = {"joint_table": table}
-    if isinstance(motion, JointTrajectory):
-        lower = [-np.inf if j.mimic is not None else j.lower for j in loaded.joints]
-        upper = [np.inf if j.mimic is not None else j.upper for j in loaded.joints]
-        motion = check_trajectory(motion, samples, rate, lower, upper, robot.joint_names)
-    motion_tables, motion_attrs = motion_attributes(motion, robot.n_joints)
-    if base_arr is not None:
-        tables["base_table"] = base_arr
-    if tau_in is not None:
-        tables["torque_table"] = tau_in
-    tables.update(motion_tables)
-    pieces = chunk_bounds(samples, chunk)
-    stream = noise_stream(
-        samples, len(robot.sensor_frames), rate, seed, noise, noise_model, len(pieces)
-    )
-    peaks = np.zeros(robot.n_joints)
-    for start, stop in pieces:
-        times = piece_times(start, stop, rate)
-        if motion is None:
-            trajectory = urdf_joint_trajectory(table, loaded, times)
-        else:
-            trajectory = motion_slice(motion, start, stop, times)
-        base = (
-            base_motion(base_arr, times) if base_arr is not None else BaseMotion.resting(times.size)
-        )
-        if tau_in is not None:  # one piece: the whole run
-            from aaria_pin.core.forward import forward_simulate
-
-            trajectory = forward_simulate(
-                robot, base, tau_in, times, trajectory.q[0], trajectory.qd[0]
-            )
-        series = simulate_series(
-            robot,
-            base,
-            trajectory,
-            imu_frames=robot.sensor_frames,
-            rate=rate,
-            seed=seed,
-            noise=noise,
-            noise_model=noise_model,
-            threads=threads,
-            noise_stream=stream,
-            start=start,
-        )
-        tau = series.tau
-        if len(tau):
-            np.maximum(peaks, np.abs(tau).max(axis=0), out=peaks)
-        attributes: dict[str, Any] = {
-            "kind": "urdf",
-            "robot": loaded.summary.name,
-            "source": source if source is not None else "",
-            "moving_base": bool(moving_base),
-            "base_frame": robot.base_frame,
-            "tool_frame": robot.tool_frame,
-            "effort_exceeded": {
-                name: list(values) for name, values in effort_excess(loaded, peaks[None]).items()
-            },
-            **sampling_attributes(rate, duration, seed, noise, noise_model),
-            "drive": "motion" if torques is None else "torque",
-            **motion_attrs,
-            "version": __version__,
-            **(extra or {}),
-        }
-        yield RunRecord(
-            time=times,
-            joint_names=robot.joint_names,
-            q=np.ascontiguousarray(trajectory.q),
-            qd=np.ascontiguousarray(trajectory.qd),
-            qdd=np.ascontiguousarray(trajectory.qdd),
-            tau=tau,
-            base_pose=series.base_pose,
-            base_wrench=series.base_wrench,
-            tool_pose=series.tool_pose,
-            imu=series.imu,
-            imu_mounts=loaded.imu_mounts,
-            urdf=loaded.urdf,
-            tables=tables,
-            attributes=attributes,
-        )
+    robot = urdf_robot_run(loaded, UrdfRunSpec(joint_table, base_table, moving_base, source))
+    settings = RunSettings(duration, rate, None, noise, noise_model, threads)
+    return simulate(robot, _run_motion(torques, motion), settings, seed)
 
 
 def simulate_urdf_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
@@ -517,21 +371,27 @@ def simulate_urdf_from_record_chunks(
 
 def _stored_settings(stored: RunRecord, overrides: dict[str, Any]) -> dict[str, Any]:
     """Keyword arguments of :func:`simulate_urdf_run` from a record, ``overrides`` applied."""
-    attributes = stored.attributes
+    meta = RunMetadata.from_attributes(stored.attributes)
     settings: dict[str, Any] = {
         "joint_table": stored.tables.get("joint_table"),
         "base_table": stored.tables.get("base_table"),
-        "source": attributes.get("source") or None,
-        "urdf_dir": Path(attributes["urdf_dir"]) if attributes.get("urdf_dir") else None,
-        "moving_base": bool(attributes.get("moving_base", True)),
-        "tool_frame": attributes.get("tool_frame"),
+        "source": meta.source or None,
+        "urdf_dir": Path(meta.urdf_dir) if meta.urdf_dir else None,
+        "moving_base": meta.moving_base is not False,
+        "tool_frame": meta.tool_frame or None,
         "imu_layout": stored.imu_mounts,
-        **stored_sampling(attributes),
+        "duration": meta.duration,
+        "rate": meta.rate,
+        "seed": meta.seed,
+        "noise": meta.noise,
     }
     if "torque_table" in stored.tables:
         settings["torques"] = stored.tables["torque_table"]
-    motion = stored_motion(stored.tables, attributes)
-    if motion is not None:
-        settings["motion"] = motion
+    settings["motion"] = motion_from_record(stored.tables, stored.attributes, drive=False)
     settings.update(overrides)
     return settings
+
+
+register_kind(
+    RunKind("urdf", simulate_urdf_from_record, lambda record: "joint_table" in record.tables)
+)

@@ -22,9 +22,9 @@ from aaria_pin.aaria.simulate import (
 )
 from aaria_pin.apps.remake import remake_run
 from aaria_pin.core.catalogue import find_robot
-from aaria_pin.core.excitation import trajectory_from_samples
 from aaria_pin.core.record import SERIES, RunRecord
 from aaria_pin.core.run import join_chunks
+from aaria_pin.core.sampled_motion import trajectory_from_samples
 from aaria_pin.core.trajectory import JointTrajectory
 from aaria_pin.core.urdf_robot import load_urdf_robot, read_urdf_file
 from aaria_pin.core.urdf_run import (

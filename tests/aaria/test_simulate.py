@@ -200,8 +200,8 @@ def test_record_layout_the_sensen_view_over_q_and_imu_and_the_base_pose() -> Non
 
 
 def test_an_arm_is_built_once_per_table_and_records_own_their_arrays() -> None:
+    from aaria_pin.aaria.arm_run import ARM_CACHE_SIZE, cached_arm
     from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
-    from aaria_pin.aaria.simulate import ARM_CACHE_SIZE, cached_arm
 
     fig2, fig3 = get_preset("aaria-fig2"), get_preset("aaria-fig3")
     robot, model = cached_arm(fig2.table)

@@ -11,10 +11,71 @@ import numpy as np
 import pytest
 from gimbal_oracle import gimbal_xyz_motion
 
-from aaria_pin.core.imu_noise import ADIS16485, _bias_knots, _measure, _measure_arrays
+from aaria_pin.core.imu_noise import (
+    ADIS16485,
+    ImuNoiseModel,
+    _bias_knots,
+    _bias_step,
+    _measure,
+    _per_axis,
+)
 from aaria_pin.core.oscillation import base_motion
-from aaria_pin.core.trajectory import reference_sine_motion, sine_motion
+from aaria_pin.core.trajectory import sine_motion
 from aaria_pin.errors import ParameterError
+
+NOISE_BLOCK = 4096
+"""Rows per block of the array code of the noise."""
+
+
+def reference_sine_motion(
+    A: np.ndarray, bias: np.ndarray, w: np.ndarray, phase: np.ndarray, time: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """sine_motion as the numpy array expressions the compiled sine_columns replaced."""
+    angle = np.multiply.outer(time, w)
+    angle += phase
+    s = np.sin(angle)
+    c = np.cos(angle, out=angle)
+    value = A * s
+    value += bias
+    velocity = c
+    velocity *= A * w
+    s *= -A * w * w
+    return value, velocity, s
+
+
+def _measure_arrays(
+    measured: np.ndarray,
+    exact: np.ndarray,
+    bias: np.ndarray,
+    start: int,
+    rate: float,
+    model: ImuNoiseModel,
+) -> None:
+    """_measure as the numpy array code the compiled pass replaced, rows in blocks."""
+    n, columns = measured.shape
+    n_imu = columns // 6
+    flat = exact.reshape(n, -1)
+    white = np.tile(_per_axis(model, "noise_density"), n_imu) * np.sqrt(rate / 2.0)
+    full_scale = np.tile(_per_axis(model, "range"), n_imu)
+    lsb = np.tile(_per_axis(model, "lsb"), n_imu)
+    step = _bias_step(rate, model)
+    change = bias[1:] - bias[:-1]
+    for first in range(0, n, NOISE_BLOCK):
+        block = measured[first : first + NOISE_BLOCK]
+        block *= white
+        block += flat[first : first + NOISE_BLOCK]
+        # sample i = k·step + r: b[k] + (b[k+1] - b[k])·(r/step)
+        index = np.arange(start + first, start + first + block.shape[0])
+        knot = index // step
+        between = np.take(change, knot, axis=0)
+        between *= ((index - knot * step) / step)[:, None]
+        between += np.take(bias, knot, axis=0)  # b[k] + Δ·r (a sum is the same either way)
+        block += between
+        np.minimum(block, full_scale, out=block)
+        np.maximum(block, -full_scale, out=block)
+        block /= lsb
+        np.round(block, out=block)
+        block *= lsb
 
 
 def numpy_gimbal(angles, rates, accelerations):  # type: ignore[no-untyped-def]

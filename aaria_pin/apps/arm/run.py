@@ -32,6 +32,7 @@ from aaria_pin.apps.arm.preset import ARM_JOINTS, arm_joints, arm_parts, arm_urd
 from aaria_pin.apps.arm.task import PHASES, Cylinder, JointPath, plan_pick_place
 from aaria_pin.core.model import GRAVITY, RobotModel
 from aaria_pin.core.record import RunRecord
+from aaria_pin.core.run import RunKind, register_kind
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import JointTrajectory
 
@@ -317,3 +318,26 @@ def write_pick_place_run(path: str | os.PathLike[str], run: PickPlaceRun) -> Pat
     from aaria_pin.files.runfile import write_run
 
     return write_run(path, pick_place_record(run))
+
+
+def _remake_pick_place(stored: RunRecord, **overrides: Any) -> RunRecord:
+    """The pick-and-place kind's re-make: :func:`simulate_pick_place_from_record` as a record.
+
+    Raises:
+        InputFileError: a stored attribute is missing.
+    """
+    from aaria_pin.errors import InputFileError
+
+    try:
+        return pick_place_record(simulate_pick_place_from_record(stored, **overrides))
+    except KeyError as exc:
+        raise InputFileError(
+            f"pick-place run has no attribute {exc}; allowed: a run written by this toolkit",
+            parameter=str(exc.args[0]) if exc.args else "attributes",
+            element="run",
+        ) from None
+
+
+register_kind(
+    RunKind("pick-place", _remake_pick_place, lambda record: "cylinder" in record.attributes)
+)

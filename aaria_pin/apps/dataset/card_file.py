@@ -161,7 +161,7 @@ def _robot_name(header: DatasetHeader) -> str:
     if header.robot:
         return header.robot
     if header.kind == "dh":
-        from aaria_pin.aaria.simulate import DH_ROBOT
+        from aaria_pin.aaria.arm_run import DH_ROBOT
 
         return DH_ROBOT  # 0.1 did not record it
     return "unknown"

@@ -60,7 +60,7 @@ class DhDatasetSpec(DatasetSpec):
 
     def robot_name(self) -> str:
         """The preset's name, or :data:`~aaria_pin.aaria.simulate.DH_ROBOT`."""
-        from aaria_pin.aaria.simulate import DH_ROBOT
+        from aaria_pin.aaria.arm_run import DH_ROBOT
 
         return self.name or DH_ROBOT
 

@@ -7,11 +7,11 @@ mass in mm and principal moments of inertia in kg·mm² as listed. Every joint w
 seconds, then moves to its target (the report's ramp at constant speed, or a trapezoid with an
 acceleration limit, for torques), then holds.
 
-The run is computed by the pipeline every robot shares (:func:`~aaria_pin.core.run.simulate_series`)
-on a fixed mount (a free-flyer held at rest, so the base wrench is the mount's load), with the
-DH robot's IMUs (base, tool, two per link; noise-free), and becomes the one
-:class:`~aaria_pin.core.record.RunRecord` (:func:`wrist_record`, kind ``"wrist"``), written by
-:func:`write_wrist_run` as any run file.
+The run is computed by the run engine every robot shares (:func:`~aaria_pin.core.run.simulate`: the
+adapter :class:`WristRobotRun`, the motion :class:`PointToPoint`) on a fixed mount (a free-flyer
+held at rest, so the base wrench is the mount's load), with the DH robot's IMUs (base, tool, two per
+link; noise-free), and becomes the one :class:`~aaria_pin.core.record.RunRecord`
+(:func:`wrist_record`, kind ``"wrist"``), written by :func:`write_wrist_run` as any run file.
 """
 
 from __future__ import annotations
@@ -19,35 +19,49 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin._version import __version__
+from aaria_pin.aaria.arm_run import DHImuSlots
 from aaria_pin.aaria.dh_robot import DHRobot, build_dh_robot
 from aaria_pin.aaria.presets import get_preset
-from aaria_pin.aaria.simulate import dh_imu_mounts, dh_series
 from aaria_pin.core.imu_noise import ADIS16485
+from aaria_pin.core.model import RobotModel
 from aaria_pin.core.profiles import ramp_profile, trapezoid_profile
-from aaria_pin.core.record import ImuMount, RunRecord
-from aaria_pin.core.run import sampling_attributes
+from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
+from aaria_pin.core.run import (
+    RunKind,
+    RunRobot,
+    RunSettings,
+    register_kind,
+    sampling_attributes,
+    simulate,
+)
 from aaria_pin.core.se3 import Array
-from aaria_pin.core.trajectory import MAX_DURATION, BaseMotion, JointTrajectory, sample_times
+from aaria_pin.core.trajectory import MAX_DURATION, BaseMotion, JointTrajectory
 from aaria_pin.errors import ParameterError
 
 __all__ = [
     "WRIST_ROBOT",
+    "PointToPoint",
+    "WristRobotRun",
     "WristRun",
     "report_wrist",
     "simulate_wrist",
     "simulate_wrist_from_record",
     "wrist_record",
+    "wrist_robot",
     "write_wrist_run",
 ]
 
 WRIST_ROBOT = "spherical-wrist"
 """The wrist's preset name (the ``robot`` attribute of its runs)."""
+
+WRIST_JOINTS = ("joint1", "joint2", "joint3")
+"""The wrist's joints (the record's columns)."""
 
 
 def report_wrist() -> DHRobot:
@@ -59,6 +73,122 @@ def report_wrist() -> DHRobot:
         name="spherical_wrist",
         mass_properties=preset.mass_properties,
     )
+
+
+@dataclass(frozen=True)
+class WristRobotRun(DHImuSlots):
+    """The wrist as the run engine's robot: on a fixed mount, its DH robot's IMUs.
+
+    The model has a free-flyer held at rest, so the base wrench is the mount's load.
+
+    Attributes:
+        arm: the wrist (:func:`report_wrist`)
+        model: its model with a free-flyer
+    """
+
+    arm: DHRobot
+    model: RobotModel
+    kind: ClassVar[str] = "wrist"
+    columns: ClassVar[None] = None
+    torque_name: ClassVar[str] = "torques"
+    tables: ClassVar[dict[str, Array]] = {}
+    views: ClassVar[dict[str, ColumnView]] = {}
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        """``joint1``, ``joint2``, ``joint3``."""
+        return WRIST_JOINTS
+
+    @property
+    def limits(self) -> tuple[Array, Array]:
+        """Not checked (±inf): the wrist's joints turn freely."""
+        return np.full(3, -np.inf), np.full(3, np.inf)
+
+    @property
+    def urdf(self) -> str:
+        """The wrist's URDF text."""
+        return self.arm.urdf
+
+    def sines(self, times: Array) -> JointTrajectory:
+        """At rest at zero (the wrist has no joint table)."""
+        zeros = np.zeros((times.size, len(WRIST_JOINTS)))
+        return JointTrajectory(times, zeros, zeros.copy(), zeros.copy())
+
+    def base(self, times: Array) -> BaseMotion:
+        """At rest: a fixed mount."""
+        return BaseMotion.resting(times.size)
+
+    def record_columns(self, values: Array) -> Array:
+        """The columns as they are."""
+        return values
+
+    def attributes(self, peaks: Array) -> dict[str, Any]:
+        """``robot``, ``moving_base`` (False), frames."""
+        return {
+            "robot": WRIST_ROBOT,
+            "moving_base": False,
+            "base_frame": "base",
+            "tool_frame": self.model.tool_frame,
+        }
+
+
+def wrist_robot() -> WristRobotRun:
+    """The ``spherical-wrist`` preset as the run engine's robot."""
+    wrist = report_wrist()
+    return WristRobotRun(wrist, wrist.model(moving_base=True))
+
+
+@dataclass(frozen=True)
+class PointToPoint:
+    """Every joint waits ``start``, moves to its target at ``speed``, then holds (a motion).
+
+    Stored as the table ``targets`` [rad] and the attributes ``speed_rad_s``,
+    ``acceleration_rad_s2``, ``profile`` and ``start_s``.
+
+    Attributes:
+        targets: the joint targets [rad]
+        speed: joint speed [rad/s]
+        acceleration: acceleration limit of the trapezoid [rad/s²]
+        profile: ``"trapezoid"`` (:func:`~aaria_pin.core.profiles.trapezoid_profile`) or
+            ``"ramp"`` (:func:`~aaria_pin.core.profiles.ramp_profile`)
+        start: when the joints start moving [s]
+    """
+
+    targets: Array
+    speed: float
+    acceleration: float
+    profile: str
+    start: float
+    name: ClassVar[str] = "point-to-point"
+    drive: ClassVar[str] = "motion"
+    whole: ClassVar[bool] = False
+
+    def checked(self, robot: RunRobot, samples: int, rate: float) -> PointToPoint:
+        """Itself (:func:`simulate_wrist` checks its inputs)."""
+        return self
+
+    def trajectory(
+        self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion
+    ) -> JointTrajectory:
+        """Each joint's profile at ``times``."""
+        columns = [
+            trapezoid_profile(g, self.speed, self.acceleration, times, self.start)
+            if self.profile == "trapezoid"
+            else ramp_profile(g, self.speed, times, self.start)
+            for g in self.targets
+        ]
+        q, qd, qdd = (np.column_stack([c[n] for c in columns]) for n in range(3))
+        return JointTrajectory(times, q, qd, qdd)
+
+    def record(self, robot: RunRobot) -> tuple[dict[str, Array], dict[str, Any]]:
+        """``targets``, and the settings as attributes."""
+        attributes = {
+            "speed_rad_s": self.speed,
+            "acceleration_rad_s2": self.acceleration,
+            "profile": self.profile,
+            "start_s": self.start,
+        }
+        return {"targets": np.asarray(self.targets, dtype=float).copy()}, attributes
 
 
 @dataclass(frozen=True)
@@ -172,27 +302,16 @@ def simulate_wrist(
                 f" {MAX_DURATION:g} s (a higher speed or acceleration, or a shorter duration)",
                 parameter="speed",
             )
-    time = sample_times(duration, rate)
-    columns = [
-        trapezoid_profile(g, speed, acceleration, time, start)
-        if profile == "trapezoid"
-        else ramp_profile(g, speed, time, start)
-        for g in goal
-    ]
-    q, qd, qdd = (np.column_stack([c[n] for c in columns]) for n in range(3))
-    wrist = report_wrist()
-    robot = wrist.model(moving_base=True)  # a free-flyer held at rest: the mount's load
-    trajectory = JointTrajectory(time, q, qd, qdd)
-    series = dh_series(
-        wrist, robot, BaseMotion.resting(time.size), trajectory, rate=rate, noise=False
-    )
+    motion = PointToPoint(goal, float(speed), float(acceleration), profile, float(start))
+    settings = RunSettings(float(duration), float(rate), noise=False)
+    record = simulate(wrist_robot(), motion, settings)
     return WristRun(
-        time,
-        q,
-        qd,
-        qdd,
-        series.tau,
-        series.tool_pose,
+        record.time,
+        record.q,
+        record.qd,
+        record.qdd,
+        record.tau,
+        record.tool_pose,
         goal,
         float(speed),
         float(acceleration),
@@ -200,11 +319,11 @@ def simulate_wrist(
         float(start),
         float(rate),
         float(duration),
-        series.base_wrench,
-        series.imu,
-        dh_imu_mounts(wrist),
-        wrist.urdf,
-        robot.tool_frame,
+        record.base_wrench,
+        record.imu,
+        record.imu_mounts,
+        record.urdf,
+        str(record.attributes["tool_frame"]),
     )
 
 
@@ -231,7 +350,7 @@ def wrist_record(run: WristRun) -> RunRecord:
     }
     return RunRecord(
         time=run.time,
-        joint_names=("joint1", "joint2", "joint3"),
+        joint_names=WRIST_JOINTS,
         q=run.q,
         qd=run.qd,
         qdd=run.qdd,
@@ -290,3 +409,17 @@ def write_wrist_run(path: str | os.PathLike[str], run: WristRun) -> Path:
     from aaria_pin.files.runfile import write_run
 
     return write_run(path, wrist_record(run))
+
+
+def _remake_wrist(stored: RunRecord, **overrides: Any) -> RunRecord:
+    """The wrist kind's re-make: :func:`simulate_wrist_from_record` as a record."""
+    return wrist_record(simulate_wrist_from_record(stored, **overrides))
+
+
+register_kind(
+    RunKind(
+        "wrist",
+        _remake_wrist,
+        lambda record: "targets" in record.tables or "targets_rad" in record.attributes,
+    )
+)

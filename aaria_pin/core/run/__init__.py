@@ -1,0 +1,82 @@
+"""The run engine: any robot kind, any motion, one set of settings → one run record.
+
+- :mod:`~aaria_pin.core.run.settings`: :class:`RunSettings` and the attributes every run records
+- :mod:`~aaria_pin.core.run.robot`: the :class:`RunRobot` adapter protocol and the registry of
+  run kinds (:func:`register_kind`, :func:`kind_of`)
+- :mod:`~aaria_pin.core.run.metadata`: :class:`RunMetadata`, a record's attributes as fields
+- :mod:`~aaria_pin.core.run.motion`: the motions (sine table, Fourier, sampled trajectory,
+  torque drive) and how each stores and loads itself
+- :mod:`~aaria_pin.core.run.sensor`: the sensors (the IMU; any other registered one)
+- :mod:`~aaria_pin.core.run.series`: the series every run computes (IMUs, tool, torques, wrench)
+- :mod:`~aaria_pin.core.run.chunks`: a long run in time pieces
+- :mod:`~aaria_pin.core.run.engine`: :func:`simulate` and :func:`simulate_pieces`
+"""
+
+from aaria_pin.core.run.chunks import CHUNK_SAMPLES, chunk_bounds, join_chunks, run_length
+from aaria_pin.core.run.engine import Seeds, simulate, simulate_pieces
+from aaria_pin.core.run.metadata import RunMetadata
+from aaria_pin.core.run.motion import (
+    FourierMotion,
+    Motion,
+    SampledTrajectory,
+    SineTable,
+    TorqueDrive,
+    as_motion,
+    motion_from_record,
+)
+from aaria_pin.core.run.robot import RunKind, RunRobot, kind_of, register_kind
+from aaria_pin.core.run.sensor import (
+    IMU,
+    ImuSensor,
+    Sensor,
+    SensorState,
+    register_sensor,
+    sensor,
+)
+from aaria_pin.core.run.series import ImuSlots, RunSeries, noise_stream, simulate_series
+from aaria_pin.core.run.settings import (
+    DEFAULT_DURATION,
+    DEFAULT_RATE,
+    UNITS,
+    RunSettings,
+    sampling_attributes,
+    stored_sampling,
+)
+
+__all__ = [
+    "CHUNK_SAMPLES",
+    "DEFAULT_DURATION",
+    "DEFAULT_RATE",
+    "IMU",
+    "UNITS",
+    "FourierMotion",
+    "ImuSensor",
+    "ImuSlots",
+    "Motion",
+    "RunKind",
+    "RunMetadata",
+    "RunRobot",
+    "RunSeries",
+    "RunSettings",
+    "SampledTrajectory",
+    "Seeds",
+    "Sensor",
+    "SensorState",
+    "SineTable",
+    "TorqueDrive",
+    "as_motion",
+    "chunk_bounds",
+    "join_chunks",
+    "kind_of",
+    "motion_from_record",
+    "noise_stream",
+    "register_kind",
+    "register_sensor",
+    "run_length",
+    "sampling_attributes",
+    "sensor",
+    "simulate",
+    "simulate_pieces",
+    "simulate_series",
+    "stored_sampling",
+]

@@ -1,0 +1,169 @@
+"""The run engine: one robot, one motion, one set of settings → the run record.
+
+:func:`simulate_pieces` owns every step a run of any robot kind takes, in this order: the
+run's samples (held whole or in pieces), the motion checked once against the robot, the
+pieces (:func:`~aaria_pin.core.run.chunks.chunk_bounds`), the run's IMU noise stream (so the
+pieces' noise is the whole run's), and per piece the base motion, the joint motion (the torque
+drive integrates the whole run in one piece), the series
+(:func:`~aaria_pin.core.run.series.simulate_series`), the peak torques so far and the record.
+:func:`simulate` is the same run held whole.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from dataclasses import replace
+
+import numpy as np
+
+from aaria_pin._version import __version__
+from aaria_pin.core.record import RunRecord
+from aaria_pin.core.run.chunks import chunk_bounds, join_chunks
+from aaria_pin.core.run.motion import Motion, SineTable
+from aaria_pin.core.run.robot import RunRobot
+from aaria_pin.core.run.sensor import Sensor, SensorState, measure, sensor_attributes
+from aaria_pin.core.run.series import ImuSlots, noise_stream, simulate_series
+from aaria_pin.core.run.settings import RunSettings
+from aaria_pin.core.seeds import RunSeeds, check_seed
+from aaria_pin.core.trajectory import piece_times
+
+__all__ = ["Seeds", "noise_seed", "simulate", "simulate_pieces"]
+
+Seeds = RunSeeds | int | np.random.SeedSequence
+"""A run's seeds: its :class:`~aaria_pin.core.seeds.RunSeeds`, or the seed of its IMU noise
+(an integer from 0 to 2⁶³ - 1, or a data set run's ``SeedSequence``)."""
+
+
+def noise_seed(seeds: Seeds) -> int | np.random.SeedSequence:
+    """The seed of a run's IMU noise, checked.
+
+    Raises:
+        ParameterError: a seed out of range (parameter ``seed``).
+    """
+    if isinstance(seeds, RunSeeds):
+        return seeds.noise
+    check_seed(seeds)
+    return seeds
+
+
+def simulate(
+    robot: RunRobot,
+    motion: Motion | None = None,
+    settings: RunSettings | None = None,
+    seeds: Seeds = 0,
+    sensors: Sequence[Sensor] = (),
+) -> RunRecord:
+    """Simulate one run of a robot, held whole.
+
+    Args:
+        robot: the robot (an adapter of its kind, e.g.
+            :func:`aaria_pin.aaria.simulate.dh_arm` or
+            :func:`aaria_pin.core.urdf_run.urdf_robot_run`)
+        motion: the joint motion (default: the robot's joint table,
+            :class:`~aaria_pin.core.run.motion.SineTable`)
+        settings: duration, rate, noise, threads (default :class:`RunSettings`); its
+            ``chunk`` is not used
+        seeds: the run's seeds (:data:`Seeds`)
+        sensors: sensors beside the IMUs (:mod:`~aaria_pin.core.run.sensor`), each recorded
+            as the table ``sensor_<name>`` and described in the attribute ``sensors``
+
+    Returns:
+        The run record.
+
+    Raises:
+        ParameterError: a seed out of range, more samples than a run held whole may have, or
+            a motion the robot cannot follow.
+    """
+    settings = RunSettings() if settings is None else settings
+    whole = replace(settings, chunk=None)
+    return join_chunks(simulate_pieces(robot, motion, whole, seeds, sensors))
+
+
+def simulate_pieces(
+    robot: RunRobot,
+    motion: Motion | None = None,
+    settings: RunSettings | None = None,
+    seeds: Seeds = 0,
+    sensors: Sequence[Sensor] = (),
+) -> Iterator[RunRecord]:
+    """:func:`simulate` in time pieces of ``settings.chunk`` samples: one record per piece.
+
+    The joint and base motions are functions of time, so each piece is computed on its own
+    sample times; the IMU noise of the pieces is that of the whole run
+    (:class:`~aaria_pin.core.imu_noise.ImuNoiseStream`), so the pieces put together
+    (:func:`~aaria_pin.core.run.chunks.join_chunks`) are bit for bit :func:`simulate`'s record
+    and memory does not grow with the run's length. Each piece carries the run's tables, views
+    and attributes; its attributes cover the run up to its end (peaks so far), so the last
+    piece's are the whole run's. A motion computed whole (the torque drive) is one piece. A run
+    in pieces may have up to :data:`~aaria_pin.core.trajectory.MAX_STREAMED_SAMPLES` samples,
+    one held whole up to :data:`~aaria_pin.core.trajectory.MAX_SAMPLES`.
+
+    Args:
+        robot: as in :func:`simulate`
+        motion: as in :func:`simulate`
+        settings: as in :func:`simulate`; ``chunk`` the samples per piece (None: one piece)
+        seeds: as in :func:`simulate`
+        sensors: as in :func:`simulate` (each piece's table holds the piece's signals)
+
+    Yields:
+        The run record of each piece, ``time`` the piece's sample times [s].
+
+    Raises:
+        ParameterError: as :func:`simulate` (before any piece is computed).
+    """
+    settings = RunSettings() if settings is None else settings
+    seed = noise_seed(seeds)
+    run_motion: Motion = SineTable() if motion is None else motion
+    samples = settings.samples(whole=run_motion.whole)
+    run_motion = run_motion.checked(robot, samples, settings.rate)
+    motion_tables, motion_attributes = run_motion.record(robot)
+    tables = {**robot.tables, **motion_tables}
+    pieces = chunk_bounds(samples, None if run_motion.whole else settings.chunk)
+    stream = noise_stream(
+        samples,
+        len(robot.imu_frames),
+        settings.rate,
+        seed,
+        settings.noise,
+        settings.noise_model,
+        len(pieces),
+    )
+    sampling = {**settings.attributes(seed), **sensor_attributes(tuple(sensors))}
+    model = robot.model
+    imus = ImuSlots(robot.imu_frames, robot.imu_slots, robot.n_slots)
+    peaks = np.zeros(model.n_joints)
+    for start, stop in pieces:
+        times = piece_times(start, stop, settings.rate)
+        base = robot.base(times)
+        trajectory = run_motion.trajectory(robot, (start, stop), times, base)
+        series = simulate_series(model, base, trajectory, imus, settings, seed, stream, start)
+        if len(series.tau):
+            np.maximum(peaks, np.abs(series.tau).max(axis=0), out=peaks)
+        piece_tables = tables
+        if sensors:
+            state = SensorState(times, trajectory, base, series)
+            piece_tables = {**tables, **measure(robot, state, tuple(sensors))}
+        yield RunRecord(
+            time=times,
+            joint_names=robot.joint_names,
+            q=robot.record_columns(trajectory.q),
+            qd=robot.record_columns(trajectory.qd),
+            qdd=robot.record_columns(trajectory.qdd),
+            tau=robot.record_columns(series.tau),
+            base_pose=series.base_pose,
+            base_wrench=series.base_wrench,
+            tool_pose=series.tool_pose,
+            imu=series.imu,
+            imu_mounts=robot.imu_mounts,
+            urdf=robot.urdf,
+            tables=piece_tables,
+            views=robot.views,
+            attributes={
+                "kind": robot.kind,
+                **robot.attributes(peaks),
+                **sampling,
+                "drive": run_motion.drive,
+                **motion_attributes,
+                "version": __version__,
+            },
+        )

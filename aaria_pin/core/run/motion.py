@@ -1,0 +1,362 @@
+"""Joint motions of a run as objects: sine table, Fourier, sampled trajectory, torque drive.
+
+Each makes its trajectory piece by piece and stores itself.
+
+A motion is checked once against the robot (:meth:`Motion.checked`), makes the joints' motion
+on each piece's sample times (:meth:`Motion.trajectory`), and declares the tables and
+attributes a record keeps about it (:meth:`Motion.record`); :func:`motion_from_record` loads it
+back from a record's tables and attributes through the registry :data:`MOTIONS` (the record's
+``motion`` attribute names its entry; a ``torque_table`` wraps it in a :class:`TorqueDrive`).
+Adding a motion is one class here (or in any module) plus its entry in :data:`MOTIONS`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any, ClassVar, Protocol
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from aaria_pin.core.excitation import FourierExcitation
+from aaria_pin.core.run.robot import RunRobot
+from aaria_pin.core.sampled_motion import check_trajectory
+from aaria_pin.core.se3 import Array
+from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
+from aaria_pin.errors import InputFileError, ParameterError
+
+__all__ = [
+    "MOTIONS",
+    "FourierMotion",
+    "Motion",
+    "SampledTrajectory",
+    "SineTable",
+    "TorqueDrive",
+    "as_motion",
+    "motion_from_record",
+]
+
+
+class Motion(Protocol):
+    """A run's joint motion.
+
+    Attributes:
+        name: the record's ``motion`` attribute (its :data:`MOTIONS` entry)
+        drive: the record's ``drive`` attribute: ``"motion"`` (the joints follow it) or
+            ``"torque"`` (they move under given torques)
+        whole: it must be computed in one piece (forward dynamics integrates the whole run)
+    """
+
+    @property
+    def name(self) -> str:
+        """The record's ``motion`` attribute."""
+        ...
+
+    @property
+    def drive(self) -> str:
+        """The record's ``drive`` attribute."""
+        ...
+
+    @property
+    def whole(self) -> bool:
+        """Whether it must be computed in one piece."""
+        ...
+
+    def checked(self, robot: RunRobot, samples: int, rate: float) -> Motion:
+        """The motion checked for a run of ``robot`` with ``samples`` at ``rate`` [Hz].
+
+        Raises:
+            ParameterError: a motion the robot cannot follow.
+        """
+        ...
+
+    def trajectory(
+        self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion
+    ) -> JointTrajectory:
+        """The joints' motion (model order) over samples ``span`` = (start, stop) at ``times``."""
+        ...
+
+    def record(self, robot: RunRobot) -> tuple[dict[str, Array], dict[str, Any]]:
+        """The tables and attributes a record keeps about the motion."""
+        ...
+
+
+@dataclass(frozen=True)
+class SineTable:
+    """The robot's joint table: each joint a sine (the default motion)."""
+
+    name: ClassVar[str] = "sine"
+    drive: ClassVar[str] = "motion"
+    whole: ClassVar[bool] = False
+
+    def checked(self, robot: RunRobot, samples: int, rate: float) -> SineTable:
+        """Itself: the robot checked its table when it was made."""
+        return self
+
+    def trajectory(
+        self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion
+    ) -> JointTrajectory:
+        """The joint table's sines at ``times``."""
+        return robot.sines(times)
+
+    def record(self, robot: RunRobot) -> tuple[dict[str, Array], dict[str, Any]]:
+        """No table (the robot keeps its joint table); ``motion`` ``sine``."""
+        return {}, {"motion": self.name}
+
+    @classmethod
+    def from_record(cls, tables: dict[str, Array], attributes: dict[str, Any]) -> SineTable:
+        """The sines (the robot's table is the robot's)."""
+        return cls()
+
+
+def _model_columns(robot: RunRobot, q: Array, qd: Array, qdd: Array) -> tuple[Array, ...]:
+    """Record columns → the model's joint columns (contiguous)."""
+    if robot.columns is None:
+        return q, qd, qdd
+    return tuple(np.ascontiguousarray(x[:, robot.columns]) for x in (q, qd, qdd))
+
+
+@dataclass(frozen=True)
+class SampledTrajectory:
+    """A given trajectory of the run's samples, one column per record joint column.
+
+    Stored as the table ``joint_trajectory`` (T × (1 + 3n): time, q, qd, qdd).
+
+    Attributes:
+        samples: the trajectory (e.g.
+            :func:`~aaria_pin.core.sampled_motion.trajectory_from_samples`)
+    """
+
+    samples: JointTrajectory
+    name: ClassVar[str] = "trajectory"
+    drive: ClassVar[str] = "motion"
+    whole: ClassVar[bool] = False
+
+    def checked(self, robot: RunRobot, samples: int, rate: float) -> SampledTrajectory:
+        """Checked against the run's time grid and the robot's limits (``check_trajectory``)."""
+        lower, upper = robot.limits
+        checked = check_trajectory(self.samples, samples, rate, lower, upper, robot.joint_names)
+        return SampledTrajectory(checked)
+
+    def trajectory(
+        self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion
+    ) -> JointTrajectory:
+        """The trajectory's samples of the piece (model columns)."""
+        start, stop = span
+        given = self.samples
+        q, qd, qdd = (x[start:stop] for x in (given.q, given.qd, given.qdd))
+        return JointTrajectory(times, *_model_columns(robot, q, qd, qdd))
+
+    def record(self, robot: RunRobot) -> tuple[dict[str, Array], dict[str, Any]]:
+        """``joint_trajectory`` and ``motion`` ``trajectory``."""
+        s = self.samples
+        table = np.column_stack([s.time, s.q, s.qd, s.qdd])
+        return {"joint_trajectory": table}, {"motion": self.name}
+
+    @classmethod
+    def from_record(cls, tables: dict[str, Array], attributes: dict[str, Any]) -> SampledTrajectory:
+        """The stored ``joint_trajectory``.
+
+        Raises:
+            InputFileError: the table is missing or not T × (1 + 3n).
+        """
+        table = _stored_table(tables, "joint_trajectory", cls.name)
+        if table.ndim != 2 or (table.shape[1] - 1) % 3 or table.shape[1] < 4:
+            raise InputFileError(
+                f"run table joint_trajectory has shape {table.shape}; allowed: T × (1 + 3n)",
+                parameter="joint_trajectory",
+                element="run",
+            )
+        n = (table.shape[1] - 1) // 3
+        return cls(
+            JointTrajectory(
+                table[:, 0].copy(),
+                np.ascontiguousarray(table[:, 1 : 1 + n]),
+                np.ascontiguousarray(table[:, 1 + n : 1 + 2 * n]),
+                np.ascontiguousarray(table[:, 1 + 2 * n :]),
+            )
+        )
+
+
+@dataclass(frozen=True)
+class FourierMotion:
+    """A Fourier excitation, one row per record joint column.
+
+    Stored as the table ``fourier_coefficients`` and the attribute ``fourier`` (its settings and
+    base frequency). Each sample depends only on its own time, so pieces put together are the
+    whole run's motion bit for bit.
+
+    Attributes:
+        excitation: the excitation (e.g. ``dh_fourier_excitation``, ``urdf_fourier_excitation``)
+    """
+
+    excitation: FourierExcitation
+    name: ClassVar[str] = "fourier"
+    drive: ClassVar[str] = "motion"
+    whole: ClassVar[bool] = False
+
+    def checked(self, robot: RunRobot, samples: int, rate: float) -> FourierMotion:
+        """Checked: one row per record joint column.
+
+        Raises:
+            ParameterError: another number of rows (parameter ``motion``).
+        """
+        n_joints = len(robot.joint_names)
+        if self.excitation.n_joints != n_joints:
+            raise ParameterError(
+                f"motion is a Fourier excitation of {self.excitation.n_joints} joints; "
+                f"allowed: {n_joints}",
+                parameter="motion",
+                value=self.excitation.n_joints,
+                allowed=f"{n_joints} joints",
+            )
+        return self
+
+    def trajectory(
+        self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion
+    ) -> JointTrajectory:
+        """The excitation evaluated at ``times`` (model columns)."""
+        whole = self.excitation.trajectory(times)
+        return JointTrajectory(times, *_model_columns(robot, whole.q, whole.qd, whole.qdd))
+
+    def record(self, robot: RunRobot) -> tuple[dict[str, Array], dict[str, Any]]:
+        """``fourier_coefficients``, ``motion`` ``fourier`` and ``fourier``."""
+        e = self.excitation
+        settings = {**e.settings, "base_frequency": float(e.base_frequency)}
+        return {"fourier_coefficients": e.table()}, {"motion": self.name, "fourier": settings}
+
+    @classmethod
+    def from_record(cls, tables: dict[str, Array], attributes: dict[str, Any]) -> FourierMotion:
+        """The stored coefficients and settings.
+
+        Raises:
+            InputFileError: the table or the ``fourier`` attribute is missing.
+        """
+        table = _stored_table(tables, "fourier_coefficients", cls.name)
+        settings = attributes.get("fourier")
+        if not isinstance(settings, dict) or "base_frequency" not in settings:
+            raise InputFileError(
+                "run has motion 'fourier' but no attribute fourier with its base_frequency; "
+                "allowed: a run written by this toolkit",
+                parameter="fourier",
+                element="run",
+            )
+        return cls(FourierExcitation.from_table(table, float(settings["base_frequency"]), settings))
+
+
+@dataclass(frozen=True)
+class TorqueDrive:
+    """The joints move under given torques by forward dynamics, from ``start``'s state at t = 0.
+
+    Stored as ``start``'s tables and attributes, the table ``torque_table`` and ``drive``
+    ``torque``; computed in one piece.
+
+    Attributes:
+        torques: (T, n) joint torques [N·m] or forces [N] by record column (columns of an Aaria
+            arm's empty modules are ignored)
+        start: the motion whose values and velocities at t = 0 start the run
+    """
+
+    torques: ArrayLike
+    start: Motion = field(default_factory=SineTable)
+    drive: ClassVar[str] = "torque"
+    whole: ClassVar[bool] = True
+
+    @property
+    def name(self) -> str:
+        """The ``motion`` attribute: the starting motion's."""
+        return self.start.name
+
+    def checked(self, robot: RunRobot, samples: int, rate: float) -> TorqueDrive:
+        """The starting motion and the torque table checked (``check_torques``)."""
+        from aaria_pin.core.forward import check_torques
+
+        start = self.start.checked(robot, samples, rate)
+        n_columns = len(robot.joint_names)
+        tau = check_torques(self.torques, samples, n_columns, robot.torque_name)
+        return TorqueDrive(tau, start)
+
+    def trajectory(
+        self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion
+    ) -> JointTrajectory:
+        """Forward dynamics under the torques (the whole run: one piece)."""
+        from aaria_pin.core.forward import forward_simulate
+
+        initial = self.start.trajectory(robot, span, times, base)
+        torques = np.asarray(self.torques, dtype=float)
+        tau = torques if robot.columns is None else torques[:, robot.columns]
+        return forward_simulate(robot.model, base, tau, times, initial.q[0], initial.qd[0])
+
+    def record(self, robot: RunRobot) -> tuple[dict[str, Array], dict[str, Any]]:
+        """The starting motion's, and ``torque_table``."""
+        tables, attributes = self.start.record(robot)
+        return {**tables, "torque_table": np.asarray(self.torques, dtype=float)}, attributes
+
+
+MOTIONS: dict[str, Callable[[dict[str, Array], dict[str, Any]], Motion]] = {
+    SineTable.name: SineTable.from_record,
+    SampledTrajectory.name: SampledTrajectory.from_record,
+    FourierMotion.name: FourierMotion.from_record,
+}
+"""How each stored motion (the record's ``motion`` attribute) loads itself from a record."""
+
+_WRAPPERS: dict[type, Callable[[Any], Motion]] = {
+    type(None): lambda _: SineTable(),
+    JointTrajectory: SampledTrajectory,
+    FourierExcitation: FourierMotion,
+}
+
+
+def as_motion(value: Motion | JointTrajectory | FourierExcitation | None) -> Motion:
+    """A motion from what the producers take: None (sines), a trajectory, an excitation.
+
+    Raises:
+        ParameterError: something else (parameter ``motion``).
+    """
+    wrap = _WRAPPERS.get(type(value))
+    if wrap is not None:
+        return wrap(value)
+    if all(hasattr(value, a) for a in ("checked", "trajectory", "record", "drive")):
+        return value  # type: ignore[return-value]
+    raise ParameterError(
+        parameter="motion",
+        value=type(value).__name__,
+        allowed="None, a JointTrajectory, a FourierExcitation or a Motion",
+    )
+
+
+def motion_from_record(
+    tables: dict[str, Array], attributes: dict[str, Any], drive: bool = True
+) -> Motion:
+    """The motion a record stores (:meth:`Motion.record`), to re-make the run.
+
+    A record without a ``motion`` attribute (written before motions were stored) follows its
+    joint table's sines; one with a ``torque_table`` is driven by it (with ``drive``; without,
+    the motion that starts it).
+
+    Raises:
+        InputFileError: an unknown ``motion``, or one whose table or settings are missing.
+    """
+    name = attributes.get("motion", SineTable.name)
+    load = MOTIONS.get(name)
+    if load is None:
+        raise InputFileError(
+            parameter="motion", value=name, allowed=", ".join(MOTIONS), element="run"
+        )
+    motion = load(tables, attributes)
+    if drive and "torque_table" in tables:
+        return TorqueDrive(tables["torque_table"], motion)
+    return motion
+
+
+def _stored_table(tables: dict[str, Array], name: str, motion: str) -> Array:
+    """A motion's stored table as floats, or one line naming what is missing."""
+    if name not in tables:
+        raise InputFileError(
+            f"run has motion {motion!r} but no table {name}; allowed: a run written by this "
+            "toolkit",
+            parameter=name,
+            element="run",
+        )
+    return np.asarray(tables[name], dtype=float)

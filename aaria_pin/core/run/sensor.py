@@ -1,0 +1,168 @@
+"""Sensors of a run as objects: each turns a piece's state into its signals and declares them.
+
+A sensor has a name, its record columns, their units and the name of its noise stream (a
+:class:`~aaria_pin.core.seeds.RunSeeds` stream; None: noise-free), and turns the state of a
+piece of the run (:class:`SensorState`: times, joint and base motion, the computed series) into
+its signals, T × columns. Today's sensor is the IMU (:data:`IMU`, with its noise model): its
+signals are computed with the series in one compiled pass and are the record's ``imu`` array.
+Any other sensor given to the engine (``simulate(..., sensors=[...])``) is recorded as the
+table ``sensor_<name>`` (T × columns) and described in the attribute ``sensors`` (columns,
+units, noise stream). :func:`register_sensor` makes a sensor known by name (:func:`sensor`),
+so adding one is one module plus its registration.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+import numpy as np
+
+from aaria_pin.core.record import IMU_SIGNALS
+from aaria_pin.core.run.robot import RunRobot
+from aaria_pin.core.run.series import RunSeries
+from aaria_pin.core.se3 import Array
+from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
+from aaria_pin.errors import ParameterError
+
+__all__ = [
+    "IMU",
+    "ImuSensor",
+    "Sensor",
+    "SensorState",
+    "register_sensor",
+    "sensor",
+    "sensor_attributes",
+    "sensor_table",
+]
+
+
+@dataclass(frozen=True)
+class SensorState:
+    """What a sensor sees of a piece of a run.
+
+    Attributes:
+        times: the piece's sample times, T [s]
+        trajectory: the joint motion (model order)
+        base: the base motion
+        series: the computed series (IMUs, tool pose, torques, base wrench, base pose)
+    """
+
+    times: Array
+    trajectory: JointTrajectory
+    base: BaseMotion
+    series: RunSeries
+
+
+class Sensor(Protocol):
+    """A sensor of a run (see the module docstring)."""
+
+    @property
+    def name(self) -> str:
+        """Its name (the record's table ``sensor_<name>``)."""
+        ...
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        """The names of its signals, one per column."""
+        ...
+
+    @property
+    def units(self) -> str:
+        """The units of its signals."""
+        ...
+
+    @property
+    def noise_stream(self) -> str | None:
+        """The :class:`~aaria_pin.core.seeds.RunSeeds` stream of its noise (None: none)."""
+        ...
+
+    def signals(self, robot: RunRobot, state: SensorState) -> Array:
+        """Its signals over the piece, T × ``len(columns)``."""
+        ...
+
+
+@dataclass(frozen=True)
+class ImuSensor:
+    """The IMUs (ADIS16485-like noise): ``[wx wy wz fx fy fz]`` per IMU slot.
+
+    The engine computes them with the series (one compiled pass; the noise from the run's
+    ``noise`` stream) and records them as the ``imu`` array, T × S × 6.
+    """
+
+    name: str = "imu"
+    columns: tuple[str, ...] = IMU_SIGNALS
+    units: str = "rad/s (wx wy wz), m/s^2 (fx fy fz)"
+    noise_stream: str | None = "noise"
+
+    def signals(self, robot: RunRobot, state: SensorState) -> Array:
+        """The series' IMU signals, T × (S·6), slot by slot."""
+        imu = state.series.imu
+        return imu.reshape(imu.shape[0], -1)
+
+
+IMU = ImuSensor()
+"""The IMU sensor every run records."""
+
+_SENSORS: dict[str, Sensor] = {IMU.name: IMU}
+
+
+def register_sensor(new: Sensor) -> Sensor:
+    """Make a sensor known by its name (replacing one of that name); returns it."""
+    _SENSORS[new.name] = new
+    return new
+
+
+def sensor(name: str) -> Sensor:
+    """The registered sensor ``name``.
+
+    Raises:
+        ParameterError: no sensor of that name (parameter ``sensor``).
+    """
+    if name not in _SENSORS:
+        raise ParameterError(parameter="sensor", value=name, allowed=", ".join(_SENSORS))
+    return _SENSORS[name]
+
+
+def sensor_table(name: str) -> str:
+    """The record table of sensor ``name``'s signals."""
+    return f"sensor_{name}"
+
+
+def sensor_attributes(sensors: tuple[Sensor, ...]) -> dict[str, Any]:
+    """The attribute ``sensors`` describing the extra sensors (none: no attribute)."""
+    if not sensors:
+        return {}
+    return {
+        "sensors": {
+            s.name: {
+                "table": sensor_table(s.name),
+                "columns": list(s.columns),
+                "units": s.units,
+                "noise_stream": s.noise_stream or "",
+            }
+            for s in sensors
+        }
+    }
+
+
+def measure(robot: RunRobot, state: SensorState, sensors: tuple[Sensor, ...]) -> dict[str, Array]:
+    """The extra sensors' tables of a piece, each checked to be T × its columns.
+
+    Raises:
+        ParameterError: a sensor whose signals have another shape (parameter ``sensors``).
+    """
+    tables: dict[str, Array] = {}
+    samples = state.times.size
+    for s in sensors:
+        values = np.asarray(s.signals(robot, state), dtype=float)
+        if values.shape != (samples, len(s.columns)):
+            raise ParameterError(
+                f"sensor {s.name!r} gives signals of shape {values.shape}; allowed: "
+                f"({samples}, {len(s.columns)})",
+                parameter="sensors",
+                value=values.shape,
+                allowed=f"({samples}, {len(s.columns)})",
+            )
+        tables[sensor_table(s.name)] = values
+    return tables

@@ -1,0 +1,174 @@
+"""A run's settings as one typed value, and the attributes every run records about them.
+
+:class:`RunSettings` holds what every run of every robot takes (duration, rate, pieces, IMU
+noise, threads), checked once when it is made; :func:`sampling_attributes` writes it (with the
+seed) into a record's attributes and :meth:`RunSettings.from_attributes` reads it back.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, noise_attributes
+from aaria_pin.core.model import GRAVITY
+from aaria_pin.core.seeds import seed_attributes, stored_seed
+from aaria_pin.core.trajectory import (
+    DEFAULT_DURATION,
+    DEFAULT_RATE,
+    MAX_SAMPLES,
+    MAX_STREAMED_SAMPLES,
+    sample_count,
+)
+from aaria_pin.errors import ParameterError
+
+__all__ = [
+    "DEFAULT_DURATION",
+    "DEFAULT_RATE",
+    "UNITS",
+    "RunSettings",
+    "sampling_attributes",
+    "stored_sampling",
+]
+
+UNITS = {
+    "time": "s",
+    "q": "rad (revolute) or m (prismatic)",
+    "angular_velocity": "rad/s",
+    "specific_force": "m/s^2",
+    "tau": "N*m (revolute) or N (prismatic)",
+    "base_wrench": "N (force), N*m (moment about the base origin), world-aligned axes",
+    "length": "m",
+}
+"""The ``units`` attribute of a run (the units of each quantity)."""
+
+
+def sampling_attributes(
+    rate: float,
+    duration: float,
+    seed: int | np.random.SeedSequence,
+    noise: bool,
+    noise_model: ImuNoiseModel,
+) -> dict[str, Any]:
+    """The attributes every run records: rate, duration, seed, noise, gravity, units.
+
+    Args:
+        rate: sample rate [Hz]
+        duration: run length [s]
+        seed: seed of the IMU noise (or a data set run's ``SeedSequence``)
+        noise: whether the IMU signals carry noise
+        noise_model: the IMU noise parameters
+    """
+    return {
+        "rate": float(rate),
+        "duration": float(duration),
+        **seed_attributes(seed),
+        "noise": bool(noise),
+        "noise_parameters": noise_attributes(noise_model),
+        "gravity": GRAVITY.tolist(),
+        "units": UNITS,
+    }
+
+
+def stored_sampling(attributes: dict[str, Any]) -> dict[str, Any]:
+    """The ``duration`` [s], ``rate`` [Hz], ``seed`` and ``noise`` a record's attributes hold.
+
+    The inverse of :func:`sampling_attributes`, as keyword arguments of a producer, for
+    re-making a run from its record (defaults where an attribute is missing).
+    """
+    return {
+        "duration": _stored_number(attributes, "duration", DEFAULT_DURATION, "s"),
+        "rate": _stored_number(attributes, "rate", DEFAULT_RATE, "Hz"),
+        "seed": stored_seed(attributes),
+        "noise": bool(attributes.get("noise", True)),
+    }
+
+
+def _stored_number(attributes: dict[str, Any], name: str, default: float, unit: str) -> float:
+    """A stored positive number, or one line naming the attribute (a damaged or edited file)."""
+    from aaria_pin.errors import InputFileError
+
+    value = attributes.get(name, default)
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if not (math.isfinite(number) and number > 0):
+        raise InputFileError(
+            f"the run's attribute {name!r} is {value!r}; allowed: a positive number of {unit}",
+            parameter=name,
+        )
+    return number
+
+
+@dataclass(frozen=True)
+class RunSettings:
+    """What every run takes beside its robot and its motion, checked once here.
+
+    Attributes:
+        duration: run length [s], 0 < duration <= 86,400
+        rate: sample rate [Hz], 0 < rate <= 100,000
+        chunk: samples per piece of a run computed in time pieces (the engine's
+            ``simulate_pieces``; :data:`~aaria_pin.core.run.chunks.CHUNK_SAMPLES` is the
+            measured choice); None: one piece
+        noise: add IMU noise (False gives the exact signals)
+        noise_model: the IMU noise parameters
+        threads: worker threads of the batched RNEA
+
+    Raises:
+        ParameterError: a duration or rate outside its range or giving fewer than two samples
+            (as :func:`~aaria_pin.core.trajectory.sample_count`), a chunk < 1 or threads < 1.
+    """
+
+    duration: float = DEFAULT_DURATION
+    rate: float = DEFAULT_RATE
+    chunk: int | None = None
+    noise: bool = True
+    noise_model: ImuNoiseModel = field(default=ADIS16485)
+    threads: int = 1
+
+    def __post_init__(self) -> None:
+        sample_count(self.duration, self.rate, None)  # ranges, and two samples at least
+        if self.chunk is not None and (isinstance(self.chunk, bool) or self.chunk < 1):
+            raise ParameterError(
+                f"chunk is {self.chunk!r} samples; allowed: >= 1",
+                parameter="chunk",
+                value=self.chunk,
+                allowed=">= 1",
+            )
+        if isinstance(self.threads, bool) or self.threads < 1:
+            raise ParameterError(parameter="threads", value=self.threads, allowed=">= 1")
+
+    def samples(self, whole: bool = False) -> int:
+        """T, the run's samples, within the bound of a run in pieces or (``whole``) held whole.
+
+        Raises:
+            ParameterError: more samples than that bound (parameter ``duration``).
+        """
+        streamed = self.chunk is not None and not whole
+        return sample_count(
+            self.duration, self.rate, MAX_STREAMED_SAMPLES if streamed else MAX_SAMPLES
+        )
+
+    @classmethod
+    def from_attributes(cls, attributes: dict[str, Any], **overrides: Any) -> RunSettings:
+        """The settings a record's attributes hold (:func:`stored_sampling`), ``overrides`` applied.
+
+        Raises:
+            InputFileError: a stored duration or rate that is not a positive number.
+        """
+        stored = stored_sampling(attributes)
+        values: dict[str, Any] = {
+            "duration": stored["duration"],
+            "rate": stored["rate"],
+            "noise": stored["noise"],
+        }
+        values.update(overrides)
+        return cls(**values)
+
+    def attributes(self, seed: int | np.random.SeedSequence) -> dict[str, Any]:
+        """The attributes every run records (:func:`sampling_attributes`)."""
+        return sampling_attributes(self.rate, self.duration, seed, self.noise, self.noise_model)
