@@ -15,6 +15,7 @@ from aaria_pin.errors import InputFileError
 from aaria_pin.files.paths import existing_input
 
 __all__ = [
+    "DATASET_FORMAT",
     "FILE_FORMATS",
     "MAT73_HEADER",
     "RUN_SUFFIXES",
@@ -37,6 +38,10 @@ RUN_SUFFIXES = (".h5", ".hdf5", ".mat")
 MAT73_HEADER = b"MATLAB 7.3 MAT-file"
 """How the text of a MAT-file v7.3's header starts."""
 
+DATASET_FORMAT = "aaria_pin dataset"
+"""The ``format`` attribute of a data set (any format version; the layout is
+:mod:`aaria_pin.files.dataset.layout`'s, which imports this mark)."""
+
 
 def file_format(path: str | os.PathLike[str]) -> FileFormat:
     """The format of an existing run file or data set, from its suffix and marks only.
@@ -58,7 +63,6 @@ def file_format(path: str | os.PathLike[str]) -> FileFormat:
     import h5py
 
     from aaria_pin.files._stored import read_errors
-    from aaria_pin.files.dataset.layout import DATASET_FORMAT
 
     with read_errors(file, "an HDF5 run file or data set"), h5py.File(file, "r") as handle:
         mark = handle.attrs.get("format")

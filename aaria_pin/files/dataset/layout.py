@@ -36,6 +36,7 @@ from aaria_pin.core.record import (
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 from aaria_pin.files._stored import NAME_LISTS, STORED_NAMES
+from aaria_pin.files.detection import DATASET_FORMAT
 
 __all__ = [
     "DATASET_FORMAT",
@@ -50,7 +51,6 @@ __all__ = [
     "signals_view",
 ]
 
-DATASET_FORMAT = "aaria_pin dataset"
 DATASET_FORMAT_VERSION = 2
 STATUS_DATASETS = ("checksum", "complete", "failed")
 """The bookkeeping datasets: CRC-32 of each run's arrays, its complete and failed flags."""

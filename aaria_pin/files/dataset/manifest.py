@@ -39,7 +39,7 @@ from aaria_pin.files._stored import first_line
 from aaria_pin.files.dataset.layout import DatasetLayout, EncodedRun, chunk_origins
 from aaria_pin.files.dataset.resume import read_run_chunks
 from aaria_pin.files.dataset.store import _new_file
-from aaria_pin.files.io import atomic_output
+from aaria_pin.files.paths import atomic_output
 
 __all__ = [
     "SHARD_FORMAT",
@@ -423,7 +423,7 @@ def remove_unused_shards(folder: Path, prefix: str, used: set[str]) -> int:
     """Delete the job's shards that the manifest does not use, and their hidden companions.
 
     The companions are the temporaries and lock files a killed worker left
-    (:func:`~aaria_pin.files.io.atomic_output`). Only files of this job (its prefix) are
+    (:func:`~aaria_pin.files.paths.atomic_output`). Only files of this job (its prefix) are
     touched. Returns the number of files removed.
     """
     removed = 0
