@@ -12,6 +12,8 @@ import pytest
 from aaria_pin.apps.dataset.dh import DhDatasetSpec
 from aaria_pin.apps.dataset.spec import run_result
 from aaria_pin.files.dataset.manifest import (
+    ManifestContents,
+    ManifestShards,
     RunLocation,
     ShardWriter,
     list_shards,
@@ -44,10 +46,11 @@ def made(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
                 checksums[run] = w.write_run(row, encoded[run])  # type: ignore[arg-type]
                 locations[run] = RunLocation(w.path.name, row, len(runs))
     manifest = folder / "manifest.h5"
-    write_manifest(
-        manifest, folder / "parts", 7, SPEC.samples, SPEC.dtype, {}, layout,
-        locations, checksums, {6: "never made"}, "job",
-    )  # fmt: skip
+    shards = ManifestShards(folder / "parts", "job", {})
+    contents = ManifestContents(
+        shards, 7, SPEC.samples, SPEC.dtype, {}, layout, locations, checksums, {6: "never made"}
+    )
+    write_manifest(manifest, contents)
     return one, manifest
 
 

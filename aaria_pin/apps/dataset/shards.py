@@ -33,6 +33,8 @@ from aaria_pin.apps.dataset.spec import DatasetJobStoppedError, DatasetSpec, Res
 from aaria_pin.errors import OutputFileError, ParameterError
 from aaria_pin.files._stored import first_line
 from aaria_pin.files.dataset.manifest import (
+    ManifestContents,
+    ManifestShards,
     RunLocation,
     ShardContents,
     ShardWriter,
@@ -299,10 +301,9 @@ def generate_sharded(
             job.keep(client.gather(futures), spec.n_runs)
         else:
             prefix = f"{file.stem}-{uuid.uuid4().hex[:8]}"
-            write_manifest(
-                file, folder, spec.n_runs, spec.samples, spec.dtype, attributes, layout,
-                {}, {}, {}, prefix,
-            )  # fmt: skip
+            kept = ManifestShards(folder, prefix, {})
+            new = ManifestContents(kept, spec.n_runs, spec.samples, spec.dtype, attributes, layout)
+            write_manifest(file, new)
             if previous is not None:  # the overwritten data set's shards
                 remove_unused_shards(previous.folder, previous.prefix, set())
         todo = [k for k in range(spec.n_runs) if k not in job.locations]
@@ -338,10 +339,11 @@ def generate_sharded(
                     told = True
             if progress is not None:
                 progress(done, len(todo), time.perf_counter() - start)
-        write_manifest(
-            file, folder, spec.n_runs, spec.samples, spec.dtype, {} if resume else attributes,
-            layout, job.locations, job.checksums, job.failures, prefix, raw_attributes=raw,
+        contents = ManifestContents(
+            ManifestShards(folder, prefix, raw or {}), spec.n_runs, spec.samples, spec.dtype,
+            {} if resume else attributes, layout, job.locations, job.checksums, job.failures,
         )  # fmt: skip
+        write_manifest(file, contents)
         if lost is not None:  # the runs so far are in the manifest; their shards are kept
             raise DatasetJobStoppedError(
                 f"lost the Dask scheduler at {scheduler} ({type(lost).__name__}:"

@@ -28,7 +28,7 @@ import os
 import zlib
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import ExitStack, contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -43,6 +43,7 @@ from aaria_pin.files.paths import atomic_output
 
 __all__ = [
     "SHARD_FORMAT",
+    "ManifestContents",
     "ManifestShards",
     "RunLocation",
     "ShardContents",
@@ -275,82 +276,6 @@ def _blocks(locations: Mapping[int, RunLocation]) -> Iterator[tuple[int, int, Ru
         i += count
 
 
-def write_manifest(
-    path: str | os.PathLike[str],
-    shard_dir: str | os.PathLike[str],
-    n_runs: int,
-    samples: int,
-    dtype: str,
-    attributes: Mapping[str, Any],
-    layout: DatasetLayout,
-    locations: Mapping[int, RunLocation],
-    checksums: Mapping[int, Sequence[int]],
-    failures: Mapping[int, str],
-    prefix: str,
-    raw_attributes: Mapping[str, Any] | None = None,
-) -> None:
-    """Write (atomically) a data set file whose per-run arrays are virtual, over the shards.
-
-    One mapping per array for each block of consecutive runs in consecutive rows of a shard;
-    the shards are named by their path relative to the manifest's folder. Runs without a
-    location (not made, or failed) read as zeros and are not flagged complete.
-
-    Args:
-        path: the manifest (``.h5``)
-        shard_dir: the shard folder
-        n_runs: number of runs N
-        samples: samples per run T
-        dtype: the series' dtype
-        attributes: file attributes (as :meth:`~.store.DatasetFile.create` takes them)
-        layout: what every run holds
-        locations: where each stored run is
-        checksums: each stored run's CRC-32 per array
-        failures: failed runs and their errors
-        prefix: the job's shard prefix (attribute ``shard_prefix``)
-        raw_attributes: attributes stored as they are (a resumed manifest's)
-
-    Raises:
-        OutputFileError: the manifest cannot be written.
-    """
-    import h5py
-
-    file = Path(path)
-    folder = file.parent if str(file.parent) else Path(".")
-    try:
-        relative = os.path.relpath(Path(shard_dir).resolve(), folder.resolve())
-    except ValueError:  # another drive (Windows): an absolute path
-        relative = str(Path(shard_dir).resolve())
-    relative = Path(relative).as_posix()
-    shapes = layout.shapes(samples)
-    virtual = {}
-    blocks = list(_blocks(locations))
-    for name, shape in shapes.items():
-        stored_dtype = "float64" if name in layout.inputs else dtype
-        target = h5py.VirtualLayout(shape=(n_runs, *shape), dtype=stored_dtype)
-        for first, count, where in blocks:
-            source = h5py.VirtualSource(
-                f"{relative}/{where.shard}", name, shape=(where.rows, *shape), dtype=stored_dtype
-            )
-            target[first : first + count] = source[where.row : where.row + count]
-        virtual[name] = target
-    extra = {**(raw_attributes or {}), "shard_dir": relative, "shard_prefix": prefix}
-    extra["failures_json"] = json.dumps({str(k): v for k, v in sorted(failures.items())})
-    with atomic_output(file) as temporary:
-        handle = _new_file(
-            temporary, n_runs, samples, dtype, attributes, layout, extra, virtual=virtual
-        )
-        try:
-            stored = sorted(locations)
-            if stored:
-                handle["checksum"][stored] = np.array([checksums[k] for k in stored])
-                handle["complete"][stored] = 1
-            failed = sorted(failures)
-            if failed:
-                handle["failed"][failed] = 1
-        finally:
-            handle.close()
-
-
 @dataclass(frozen=True)
 class ManifestShards:
     """Where a sharded data set's shards are, and what its manifest records.
@@ -365,6 +290,95 @@ class ManifestShards:
     folder: Path
     prefix: str
     raw_attributes: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class ManifestContents:
+    """What :func:`write_manifest` writes: the data set's shape and where each run is.
+
+    Attributes:
+        shards: the shard folder, the job's shard prefix (attribute ``shard_prefix``) and the
+            attributes stored as they are (a resumed manifest's; ``{}`` for a new one)
+        n_runs: number of runs N
+        samples: samples per run T
+        dtype: the series' dtype
+        attributes: file attributes (as :meth:`~.store.DatasetFile.create` takes them)
+        layout: what every run holds
+        locations: where each stored run is (none yet: empty)
+        checksums: each stored run's CRC-32 per array
+        failures: failed runs and their errors
+    """
+
+    shards: ManifestShards
+    n_runs: int
+    samples: int
+    dtype: str
+    attributes: Mapping[str, Any]
+    layout: DatasetLayout
+    locations: Mapping[int, RunLocation] = field(default_factory=dict)
+    checksums: Mapping[int, Sequence[int]] = field(default_factory=dict)
+    failures: Mapping[int, str] = field(default_factory=dict)
+
+
+def write_manifest(path: str | os.PathLike[str], contents: ManifestContents) -> None:
+    """Write (atomically) a data set file whose per-run arrays are virtual, over the shards.
+
+    One mapping per array for each block of consecutive runs in consecutive rows of a shard;
+    the shards are named by their path relative to the manifest's folder. Runs without a
+    location (not made, or failed) read as zeros and are not flagged complete.
+
+    Args:
+        path: the manifest (``.h5``)
+        contents: what it records
+
+    Raises:
+        OutputFileError: the manifest cannot be written.
+    """
+    import h5py
+
+    file = Path(path)
+    folder = file.parent if str(file.parent) else Path(".")
+    shards, layout, failures = contents.shards, contents.layout, contents.failures
+    try:
+        relative = os.path.relpath(Path(shards.folder).resolve(), folder.resolve())
+    except ValueError:  # another drive (Windows): an absolute path
+        relative = str(Path(shards.folder).resolve())
+    relative = Path(relative).as_posix()
+    shapes = layout.shapes(contents.samples)
+    virtual = {}
+    blocks = list(_blocks(contents.locations))
+    for name, shape in shapes.items():
+        stored_dtype = "float64" if name in layout.inputs else contents.dtype
+        target = h5py.VirtualLayout(shape=(contents.n_runs, *shape), dtype=stored_dtype)
+        for first, count, where in blocks:
+            source = h5py.VirtualSource(
+                f"{relative}/{where.shard}", name, shape=(where.rows, *shape), dtype=stored_dtype
+            )
+            target[first : first + count] = source[where.row : where.row + count]
+        virtual[name] = target
+    extra = {**shards.raw_attributes, "shard_dir": relative, "shard_prefix": shards.prefix}
+    extra["failures_json"] = json.dumps({str(k): v for k, v in sorted(failures.items())})
+    with atomic_output(file) as temporary:
+        handle = _new_file(
+            temporary,
+            contents.n_runs,
+            contents.samples,
+            contents.dtype,
+            contents.attributes,
+            layout,
+            extra,
+            virtual=virtual,
+        )
+        try:
+            stored = sorted(contents.locations)
+            if stored:
+                handle["checksum"][stored] = np.array([contents.checksums[k] for k in stored])
+                handle["complete"][stored] = 1
+            failed = sorted(failures)
+            if failed:
+                handle["failed"][failed] = 1
+        finally:
+            handle.close()
 
 
 _MANIFEST_MARKS = (
