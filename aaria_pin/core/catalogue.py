@@ -17,7 +17,7 @@ from functools import cache
 from importlib import metadata
 from pathlib import Path
 
-from aaria_pin.errors import ParameterError
+from aaria_pin.errors import InputFileError, ParameterError
 
 __all__ = ["RobotEntry", "find_robot", "robot_catalogue", "robots_folder"]
 
@@ -44,7 +44,9 @@ def robots_folder() -> Path:
     """The ``robots`` folder of the installed example-robot-data.
 
     Raises:
-        ParameterError: the package is not installed, or its files are not where expected.
+        ParameterError: the package is not installed (``parameter="robot"``).
+        InputFileError: it is installed, its ``robots`` folder is missing
+            (``parameter="robot"``).
     """
     try:
         distribution = metadata.distribution(_DISTRIBUTION)
@@ -55,8 +57,10 @@ def robots_folder() -> Path:
         ) from None
     folder = Path(str(distribution.locate_file(_ROBOTS)))
     if not folder.is_dir():
-        raise ParameterError(
-            f"example-robot-data is installed but {folder} is missing", parameter="robot"
+        raise InputFileError(
+            f"example-robot-data is installed but {folder} is missing; allowed: its complete "
+            "installation (pip install --force-reinstall example-robot-data)",
+            parameter="robot",
         )
     return folder
 
