@@ -367,14 +367,14 @@ def decode_attribute(file: str | os.PathLike[str], name: str, value: Any) -> tup
         if not isinstance(value, str):
             raise InputFileError(
                 f"{file}: attribute {name!r} is a {type(value).__name__}; expected a JSON string",
-                parameter="path",
+                parameter="file",
             )
         try:
             return name[: -len(JSON_SUFFIX)], json.loads(value)
         except ValueError as exc:
             raise InputFileError(
                 f"{file}: attribute {name!r} is not valid JSON ({first_line(exc)})",
-                parameter="path",
+                parameter="file",
             ) from None
     if isinstance(value, np.ndarray):
         return name, value.tolist()
@@ -411,6 +411,6 @@ def read_errors(file: str | os.PathLike[str], what: str) -> Iterator[None]:
     except (OSError, ValueError, TypeError, KeyError) as exc:
         raise InputFileError(
             f"{file}: cannot be read as {what} ({first_line(exc)})",
-            parameter="path",
+            parameter="file",
             value=str(file),
         ) from None

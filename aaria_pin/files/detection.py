@@ -55,7 +55,7 @@ def file_format(path: str | os.PathLike[str]) -> FileFormat:
 
     Raises:
         InputFileError: another suffix, a missing or unreadable file, or an ``.h5`` file HDF5
-            cannot open (``parameter="path"``).
+            cannot open (``parameter="file"``).
     """
     file = existing_run_source(path)
     if file.suffix.lower() == ".mat":
@@ -96,9 +96,9 @@ def existing_run_source(path: str | os.PathLike[str]) -> Path:
     """The existing run file or data set ``path``.
 
     Raises:
-        InputFileError: another suffix, or a missing or unreadable file (``parameter="path"``).
+        InputFileError: another suffix, or a missing or unreadable file (``parameter="file"``).
     """
     try:
         return existing_input(path, RUN_SUFFIXES, "run")
     except InputFileError as exc:
-        raise InputFileError(str(exc), parameter="path", value=str(path)) from None
+        raise InputFileError(str(exc), parameter="file", value=str(path)) from None

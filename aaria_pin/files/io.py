@@ -95,7 +95,7 @@ def read_table(
     names = tuple(columns) if columns is not None else _KNOWN_COLUMNS.get(mat_name)
     if file.stat().st_size == 0:
         raise InputFileError(
-            f"{file}: is empty (0 bytes); allowed: a numeric table", parameter="path"
+            f"{file}: is empty (0 bytes); allowed: a numeric table", parameter="file"
         )
     try:
         if suffix == ".npy":
@@ -108,20 +108,21 @@ def read_table(
             data = _read_csv(file, names)
         if np.iscomplexobj(data):
             raise InputFileError(
-                f"{file}: holds complex numbers; allowed: a real table", parameter="path"
+                f"{file}: holds complex numbers; allowed: a real table", parameter="file"
             )
         table = np.asarray(data, dtype=float)
     except InputFileError:
         raise
     except (OSError, ValueError, TypeError, EOFError) as exc:
         raise InputFileError(
-            f"{file}: cannot be read as a numeric table ({first_line(exc)})", parameter="path"
+            f"{file}: cannot be read as a numeric table ({first_line(exc)})", parameter="file"
         ) from None
     if table.size == 0:
         shape = " × ".join(str(n) for n in table.shape)
         raise InputFileError(
             f"{file}: is an empty table (shape {shape}); allowed: a numeric table",
             value=table.shape,
+            parameter="file",
             allowed="a numeric table",
             element=str(file),
         )
@@ -129,7 +130,7 @@ def read_table(
         table = table.reshape(1, -1)
     if table.ndim != 2:
         raise InputFileError(
-            f"{file}: holds a {table.ndim}-D array; expected a 2-D table", parameter="path"
+            f"{file}: holds a {table.ndim}-D array; expected a 2-D table", parameter="file"
         )
     _check_finite(file, table, names)
     return table
@@ -146,6 +147,7 @@ def _check_finite(file: Path, table: Array, names: Sequence[str] | None) -> None
     value = float(table[row, col])
     raise InputFileError(
         f"{file}: {where} is {value}; allowed: a finite number",
+        parameter="file",
         value=value,
         allowed="a finite number",
         element=where,
@@ -212,7 +214,7 @@ def read_csv_table(file: Path) -> tuple[Array, list[str] | None]:
         raise InputFileError(
             f"{file}: is empty; allowed: a numeric table"
             + (" (it has a header row and no numbers)" if header is not None else ""),
-            parameter="path",
+            parameter="file",
         ) from None
     except ValueError:
         raise _bad_cell(file, lines, start) from None
@@ -234,6 +236,7 @@ def _bad_cell(file: Path, lines: list[str], start: int) -> InputFileError:
                 where = f"row {row}, column {col + 1}"
                 return InputFileError(
                     f"{file}: {where} is {cell!r}; allowed: a number",
+                    parameter="file",
                     value=cell,
                     allowed="a number",
                     element=where,
@@ -242,12 +245,13 @@ def _bad_cell(file: Path, lines: list[str], start: int) -> InputFileError:
             return InputFileError(
                 f"{file}: row {row} has {len(cells)} columns; allowed: {width}, as the rows "
                 "before it",
+                parameter="file",
                 value=len(cells),
                 allowed=str(width),
                 element=f"row {row}",
             )
         width = len(cells)
-    return InputFileError(f"{file}: cannot be read as a numeric table", parameter="path")
+    return InputFileError(f"{file}: cannot be read as a numeric table", parameter="file")
 
 
 def _ordered_by_header(
@@ -265,6 +269,7 @@ def _ordered_by_header(
                 f"{file}: {where} is {header[col]!r}, which is column {known.index(name) + 1}; "
                 f"allowed: the columns {', '.join(names)} in this order (or all of them in any "
                 "order, or a header of other names)",
+                parameter="file",
                 value=header[col],
                 allowed=", ".join(names),
                 element=where,
@@ -283,6 +288,7 @@ def _read_run_table(file: Path, name: str) -> Array:
     raise InputFileError(
         f"{file}: a run file without the table {name!r}; allowed: a run that has it "
         f"(this one has {', '.join(sorted(tables)) or 'no tables'})",
+        parameter="mat_name",
         value=name,
         allowed=", ".join(sorted(tables)) or "none",
         element=str(file),

@@ -69,13 +69,13 @@ def legacy_arm(file: Path) -> LegacyArm:
     """The registered 0.1.0 DH arm.
 
     Raises:
-        InputFileError: none is registered (``parameter="path"``: ``file`` cannot be read).
+        InputFileError: none is registered (``parameter="file"``: ``file`` cannot be read).
     """
     if not _REGISTERED:
         raise InputFileError(
             f"{file}: an aaria_pin 0.1.0 DH file, whose arm no layer registered; allowed: "
             "import aaria_pin (it registers the Aaria arm)",
-            parameter="path",
+            parameter="file",
             value=str(file),
         )
     return _REGISTERED[-1]

@@ -63,28 +63,29 @@ def existing_input(path: str | os.PathLike[str], suffixes: Sequence[str] | None,
 
     Raises:
         InputFileError: another suffix (checked first), no such file, a folder, not a regular
-            file, or not readable.
+            file, or not readable (``parameter="file"``: an input; errors of an output name
+            ``"path"``, which the command line maps to ``-o/--output``).
     """
     file = Path(path)
     suffix = file.suffix.lower()
     if suffixes is not None and suffix not in suffixes:
         raise InputFileError(
             f"{file}: unknown {kind} file type {suffix!r}; allowed: {', '.join(suffixes)}",
-            parameter="path",
+            parameter="file",
         )
     try:
         mode = file.stat().st_mode
     except OSError:
-        raise InputFileError(f"{file}: no such file", parameter="path") from None
+        raise InputFileError(f"{file}: no such file", parameter="file") from None
     if stat.S_ISDIR(mode):
-        raise InputFileError(f"{file}: is a folder; allowed: a {kind} file", parameter="path")
+        raise InputFileError(f"{file}: is a folder; allowed: a {kind} file", parameter="file")
     if not stat.S_ISREG(mode):
         raise InputFileError(
             f"{file}: is a {_kind_of(mode)}; allowed: a regular {kind} file (copy it to one)",
-            parameter="path",
+            parameter="file",
         )
     if not os.access(file, os.R_OK):
-        raise InputFileError(f"{file}: cannot be read (permission denied)", parameter="path")
+        raise InputFileError(f"{file}: cannot be read (permission denied)", parameter="file")
     return file
 
 

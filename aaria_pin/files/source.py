@@ -36,7 +36,7 @@ def open_record(path: str | os.PathLike[str], run: int | None = None) -> RunReco
         The run record (arrays in float64; a data set's run has the attributes of one run).
 
     Raises:
-        InputFileError: a missing, unreadable or unknown file (``parameter="path"``).
+        InputFileError: a missing, unreadable or unknown file (``parameter="file"``).
         ParameterError: ``run`` None for a data set, given for a run file, outside the data
             set or not complete (``parameter="run"``).
     """

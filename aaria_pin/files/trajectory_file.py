@@ -37,7 +37,10 @@ TrajectorySamples = tuple[Array, Array, Array | None, Array | None, tuple[str, .
 
 
 def _fail(file: Path, what: str, allowed: str) -> InputFileError:
-    return InputFileError(f"{file}: {what}; allowed: {allowed}", allowed=allowed, element=str(file))
+    """An error of the trajectory file (``parameter="file"``: an input, see ``existing_input``)."""
+    return InputFileError(
+        f"{file}: {what}; allowed: {allowed}", parameter="file", allowed=allowed, element=str(file)
+    )
 
 
 def _read_csv(file: Path) -> TrajectorySamples:

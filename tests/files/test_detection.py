@@ -29,12 +29,12 @@ def test_every_format_is_told_from_its_marks(tmp_path: Path) -> None:
     assert not is_dataset_file(tmp_path / "missing.h5")
 
 
-def test_a_file_of_another_kind_is_refused_naming_path(tmp_path: Path) -> None:
+def test_a_file_of_another_kind_is_refused_naming_file(tmp_path: Path) -> None:
     with pytest.raises(InputFileError, match=r"unknown run file type '\.csv'") as bad:
         file_format(FIXTURES / "traj.csv")
-    assert bad.value.parameter == "path"
+    assert bad.value.parameter == "file"
     garbage = tmp_path / "garbage.h5"
     garbage.write_bytes(b"not HDF5")
     with pytest.raises(InputFileError, match="cannot be read as an HDF5 run file") as bad:
         file_format(garbage)
-    assert bad.value.parameter == "path"
+    assert bad.value.parameter == "file"

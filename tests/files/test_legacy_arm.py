@@ -43,13 +43,13 @@ def test_a_toy_arm_registered_names_the_records_joints_and_parents(
     ]
 
 
-def test_without_a_registered_arm_a_dh_file_is_refused_naming_path(
+def test_without_a_registered_arm_a_dh_file_is_refused_naming_file(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     monkeypatch.setattr(registry, "_REGISTERED", [])
     with pytest.raises(InputFileError, match="no layer registered") as bad:
         read_run(FIXTURES / "dh_run.h5")
-    assert bad.value.parameter == "path"
+    assert bad.value.parameter == "file"
 
 
 def test_a_fixed_base_is_the_identity() -> None:

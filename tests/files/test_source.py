@@ -38,9 +38,9 @@ def test_the_run_rule_and_the_file_errors_name_their_parameter(tmp_path: Path) -
     assert bad.value.parameter == "run" and bad.value.value == 99
     with pytest.raises(InputFileError, match="no such file") as missing:
         open_record(tmp_path / "missing.h5")
-    assert missing.value.parameter == "path" and isinstance(missing.value, OSError)
+    assert missing.value.parameter == "file" and isinstance(missing.value, OSError)
     garbage = tmp_path / "garbage.h5"
     garbage.write_bytes(b"not HDF5")
     with pytest.raises(InputFileError, match="cannot be read as an HDF5 run file") as bad_file:
         open_record(garbage)
-    assert bad_file.value.parameter == "path"
+    assert bad_file.value.parameter == "file"

@@ -44,24 +44,24 @@ def _check_format(
         fmt = fmt.decode("utf-8", errors="replace")
     if fmt is None:
         raise InputFileError(
-            f"{file}: not an aaria_pin run file (no 'format' attribute)", parameter="path"
+            f"{file}: not an aaria_pin run file (no 'format' attribute)", parameter="file"
         )
     if fmt != expected:
         raise InputFileError(
             f"{file}: not an {expected} file (format is {fmt!r}; expected {expected!r})",
-            parameter="path",
+            parameter="file",
         )
     if isinstance(version, (float, np.floating)) and float(version).is_integer():
         version = int(version)  # MATLAB stores numbers as double unless told otherwise
     if not isinstance(version, (int, np.integer)) or isinstance(version, (bool, np.bool_)):
         raise InputFileError(
             f"{file}: format_version {version!r} is not allowed; expected an integer",
-            parameter="path",
+            parameter="file",
         )
     if not 1 <= int(version) <= newest:
         raise InputFileError(
             f"{file}: format_version {int(version)} is not supported; "
             f"this aaria_pin reads 1 to {newest}",
-            parameter="path",
+            parameter="file",
         )
     return int(version)

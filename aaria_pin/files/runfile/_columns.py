@@ -74,14 +74,14 @@ def fitted(file: Path, name: str, data: Array, expected: tuple[int, ...]) -> Arr
         array = np.asarray(data, dtype=np.float64)
     except (TypeError, ValueError):
         raise InputFileError(
-            f"{file}: array {name!r} is not numeric; expected float values", parameter="path"
+            f"{file}: array {name!r} is not numeric; expected float values", parameter="file"
         ) from None
     full = fit_shape(array.shape, expected)
     if full is None:
         wanted = describe_shape(expected).replace("-1", "T")
         raise InputFileError(
             f"{file}: array {name!r} has shape {describe_shape(array.shape)}; expected {wanted}",
-            parameter="path",
+            parameter="file",
         )
     return array.reshape(full)
 
@@ -142,7 +142,7 @@ def read_view(
     try:
         return view_from_columns(list(columns), joint_names, imu_names)
     except ParameterError as exc:
-        raise InputFileError(f"{file}: view {name!r}: {exc}", parameter="path") from None
+        raise InputFileError(f"{file}: view {name!r}: {exc}", parameter="file") from None
 
 
 # --- writing -------------------------------------------------------------------------------------
@@ -233,7 +233,7 @@ def record_from_arrays(
             attributes=attributes,
         )
     except ParameterError as exc:
-        raise InputFileError(f"{file}: {exc}", parameter="path") from None
+        raise InputFileError(f"{file}: {exc}", parameter="file") from None
 
 
 def check_names(file: Path, names: Mapping[str, Sequence[str]], imus: int) -> None:
@@ -242,5 +242,5 @@ def check_names(file: Path, names: Mapping[str, Sequence[str]], imus: int) -> No
         if len(names[key]) != imus:
             raise InputFileError(
                 f"{file}: {key} holds {len(names[key])} names; expected {imus}, one per imu_mount",
-                parameter="path",
+                parameter="file",
             )

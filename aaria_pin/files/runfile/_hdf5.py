@@ -234,7 +234,7 @@ def _v2_parts(
         item = handle.get(name)
         if not isinstance(item, h5py.Dataset):
             raise InputFileError(
-                f"{file}: not an aaria_pin run file (no dataset {name!r})", parameter="path"
+                f"{file}: not an aaria_pin run file (no dataset {name!r})", parameter="file"
             )
         datasets[name] = item
     names = {name: _strings(datasets[name]) for name in NAME_LISTS}

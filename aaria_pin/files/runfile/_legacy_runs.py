@@ -85,7 +85,7 @@ def _layout_of(
         if all(name in arrays for name in _WRIST_ARRAYS) and "targets_rad" in attributes:
             return LAYOUT_WRIST
         raise InputFileError(
-            f"{file}: not an aaria_pin run file (no 'format' attribute)", parameter="path"
+            f"{file}: not an aaria_pin run file (no 'format' attribute)", parameter="file"
         )
     if fmt == URDF_V1_FORMAT:
         _check_format(file, fmt, version, URDF_V1_FORMAT, 1)
@@ -124,7 +124,7 @@ def read_legacy_hdf5(file: Path, handle: Any, layout: str) -> RunRecord:
     for name in names:
         if not isinstance(handle.get(name), h5py.Dataset):
             raise InputFileError(
-                f"{file}: not an aaria_pin run file (no dataset {name!r})", parameter="path"
+                f"{file}: not an aaria_pin run file (no dataset {name!r})", parameter="file"
             )
     attributes = _hdf5_attributes(file, handle.attrs)
     if layout == LAYOUT_DH:
@@ -147,7 +147,7 @@ def read_legacy_mat(file: Path, contents: Mapping[str, Any], layout: str) -> Run
     for name in ("senSen", "senSen_columns", *_DH_SHAPES, *_DH_SERIES):
         if name not in contents:
             raise InputFileError(
-                f"{file}: not an aaria_pin run file (no array {name!r})", parameter="path"
+                f"{file}: not an aaria_pin run file (no array {name!r})", parameter="file"
             )
     return _dh_record(
         file, contents, mat_strings(contents["senSen_columns"]), mat_attributes(file, contents)
@@ -201,7 +201,7 @@ def _dh_slot_names(
         raise InputFileError(
             f"{file}: senSen columns are not the 0.1.0 layout; expected time, q1..q{modules} "
             f"and {n_slots} × <slot>_<wx wy wz fx fy fz>",
-            parameter="path",
+            parameter="file",
             value=str(file),
         )
     return slots
@@ -212,7 +212,7 @@ def _dh_base_pose(file: Path, table: Array, time: Array) -> Array:
     try:
         return base_pose_from_table(table, time)
     except AariaError as exc:
-        raise InputFileError(f"{file}: senSenB: {exc}", parameter="path") from None
+        raise InputFileError(f"{file}: senSenB: {exc}", parameter="file") from None
 
 
 def _urdf_record(file: Path, handle: Any, attributes: dict[str, Any]) -> RunRecord:
@@ -228,7 +228,7 @@ def _urdf_record(file: Path, handle: Any, attributes: dict[str, Any]) -> RunReco
         raise InputFileError(
             f"{file}: signals columns do not match its joint and IMU names; expected time, "
             "q:<joint> per joint, <imu>_<signal> per IMU",
-            parameter="path",
+            parameter="file",
         )
     samples = signals.shape[0]
     shapes = record_shapes(samples, len(joint_names), len(imu_names))
@@ -240,7 +240,7 @@ def _urdf_record(file: Path, handle: Any, attributes: dict[str, Any]) -> RunReco
     if len(parents) != len(imu_names):
         raise InputFileError(
             f"{file}: imu_parents holds {len(parents)} names; expected {len(imu_names)}",
-            parameter="path",
+            parameter="file",
         )
     mounts = tuple(
         ImuMount(name, parent, pose)
@@ -301,4 +301,4 @@ def _record(file: Path, **fields: Any) -> RunRecord:
     try:
         return RunRecord(**fields)
     except ParameterError as exc:
-        raise InputFileError(f"{file}: {exc}", parameter="path") from None
+        raise InputFileError(f"{file}: {exc}", parameter="file") from None

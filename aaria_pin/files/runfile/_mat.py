@@ -112,11 +112,11 @@ def _mat_errors(file: Path) -> Iterator[None]:
     except NotImplementedError:
         raise InputFileError(
             f"{file}: is a MATLAB v7.3 file; allowed: MATLAB v5 .mat run files or .h5",
-            parameter="path",
+            parameter="file",
         ) from None
     except (MatReadError, OSError, ValueError, TypeError, EOFError) as exc:
         raise InputFileError(
-            f"{file}: cannot be read as a .mat run file ({first_line(exc)})", parameter="path"
+            f"{file}: cannot be read as a .mat run file ({first_line(exc)})", parameter="file"
         ) from None
 
 
@@ -201,7 +201,7 @@ def _mat_names(
     for name in STORED_NAMES:
         if name not in present:
             raise InputFileError(
-                f"{file}: not an aaria_pin run file (no array {name!r})", parameter="path"
+                f"{file}: not an aaria_pin run file (no array {name!r})", parameter="file"
             )
     return {name: mat_strings(contents[name]) for name in NAME_LISTS}
 

@@ -324,7 +324,8 @@ class RunFileWriter:
             if exc is None and self._written != self.samples:
                 error = OutputFileError(
                     f"{self.final}: {self._written} of {self.samples} samples written; "
-                    "allowed: every sample of the run"
+                    "allowed: every sample of the run",
+                    parameter="path",
                 )
             elif exc is None:
                 attributes = self._encoded(self._attributes)
@@ -334,7 +335,8 @@ class RunFileWriter:
                 error = caught
                 if isinstance(caught, OSError):
                     error = OutputFileError(
-                        f"{self.final}: cannot be written ({first_line(caught)})"
+                        f"{self.final}: cannot be written ({first_line(caught)})",
+                        parameter="path",
                     )
         if error is None:
             stack.close()  # renames the file onto its destination

@@ -1,0 +1,57 @@
+"""The one mapping of a library error to a flag: an input file's error is not the output's."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import click
+import numpy as np
+import pytest
+
+from aaria_pin.cli._app import flag_message
+from aaria_pin.errors import AariaError, InputFileError, OutputFileError
+from aaria_pin.files.io import read_table
+from aaria_pin.files.paths import check_output
+
+
+@click.command("demo")
+@click.option("-o", "--output", type=click.Path())
+@click.option("--dh", "dh_file", type=click.Path())
+def demo(output: str, dh_file: str) -> None:
+    """A command with an output and an input file."""
+
+
+def test_an_output_error_names_the_output_flag() -> None:
+    error = OutputFileError(parameter="path", value="x.txt", allowed=".h5, .mat")
+    assert flag_message(error, demo) == "-o/--output is 'x.txt'; allowed: .h5, .mat"
+
+
+def test_an_input_error_never_names_the_output_flag() -> None:
+    error = InputFileError(parameter="file", value="t.csv", allowed="a numeric table")
+    assert flag_message(error, demo) == "file is 't.csv'; allowed: a numeric table"
+    named = InputFileError(parameter="dh_file", value="t.csv", allowed="a numeric table")
+    assert flag_message(named, demo) == "--dh is 't.csv'; allowed: a numeric table"
+
+
+def _raised(call: Callable[[], object]) -> AariaError:
+    with pytest.raises(AariaError) as caught:
+        call()
+    return caught.value
+
+
+def test_the_readers_and_writers_name_input_and_output_apart(tmp_path: Path) -> None:
+    bad = tmp_path / "bad.csv"
+    bad.write_text("1, 2\n3, x\n")
+    np.save(tmp_path / "cube.npy", np.zeros((2, 2, 2)))
+    inputs = [
+        _raised(lambda: read_table(tmp_path / "missing.csv")),
+        _raised(lambda: read_table(bad)),
+        _raised(lambda: read_table(tmp_path / "cube.npy")),
+        _raised(lambda: read_table(tmp_path / "t.xyz")),
+    ]
+    assert [type(e) for e in inputs] == [InputFileError] * 4
+    assert [e.parameter for e in inputs] == ["file"] * 4
+    assert "-o/--output" not in " ".join(flag_message(e, demo) for e in inputs)
+    output = _raised(lambda: check_output(tmp_path / "no folder" / "run.h5"))
+    assert isinstance(output, OutputFileError) and output.parameter == "path"
