@@ -129,3 +129,26 @@ def test_dh_sensen_imu_columns_are_the_imu_array(tmp_path: Path) -> None:
     np.testing.assert_array_equal(sensen[:, 1:7], record.q)
     np.testing.assert_array_equal(sensen[:, 7:], record.imu.reshape(samples, 84))
     np.testing.assert_array_equal(loadmat(mat)["senSen"], sensen)
+
+
+@pytest.mark.parametrize("suffix", [".h5", ".mat"])
+def test_compressed_series_are_chunked_alike_in_both_formats(tmp_path: Path, suffix: str) -> None:
+    """At most 4096 samples and 1 MiB a chunk, along time (the .mat v7.3 stores it transposed)."""
+    from aaria_pin.aaria.presets import get_preset
+    from aaria_pin.aaria.simulate import simulate_run
+
+    record = simulate_run(get_preset("aaria-fig3").table, duration=50.0, rate=100.0, seed=3)
+    version = "7.3" if suffix == ".mat" else None
+    path = write_run(tmp_path / f"run{suffix}", record, compression="gzip", mat_version=version)
+    samples = record.time.shape[0]
+    limits: set[int] = set()
+    with h5py.File(path, "r") as handle:
+        for name in ("q", "imu"):
+            data = getattr(record, name)
+            row_bytes = 8 * data[0].size
+            rows = max(1, min(samples, 4096, 2**20 // row_bytes))
+            chunks = handle[name].chunks
+            along_time = chunks[0] if suffix == ".h5" else chunks[-1]
+            assert along_time == rows, (name, chunks)
+            limits.add(rows)
+    assert 4096 in limits and len(limits) == 2  # the 4096-sample and the 1 MiB limits met

@@ -31,6 +31,75 @@ from aaria_pin.files._stored import STORED_NAMES
 COLUMNS_SUFFIX = "_columns"
 """A view's column names in a ``.mat`` file: ``<view>_columns``."""
 
+_CHUNK_ROWS = 4096
+_CHUNK_BYTES = 2**20
+
+
+def chunk_rows(samples: int, row_bytes: int) -> int:
+    """Samples per chunk of a compressed series, in both formats: at most 4096 and 1 MiB.
+
+    Args:
+        samples: the series' samples
+        row_bytes: the bytes of one sample [bytes]
+
+    Returns:
+        At least 1, at most ``samples``, 4096 and 1 MiB of rows.
+    """
+    return max(1, min(samples, _CHUNK_ROWS, _CHUNK_BYTES // max(1, row_bytes)))
+
+
+class RunStream:
+    """An open run file whose series are preallocated, then filled piece by piece.
+
+    The protocol of both formats' streams (``_hdf5._Hdf5Stream``, ``_mat73._Mat73Stream``):
+    ``__init__`` opens the file (:meth:`_open`) and lays out everything but the series' values
+    and the attributes (:meth:`_lay_out`; on failure the file is closed and the caller removes
+    it), :meth:`write` fills samples, :meth:`close` writes the attributes and closes it.
+
+    Args:
+        file: the file to write (a temporary beside the destination)
+        first: the run's first piece (its names, tables, views and URDF)
+        arrays: the first piece's arrays by stored name
+        samples: the run's samples
+        compression: ``None`` or the series' compression
+    """
+
+    def __init__(
+        self,
+        file: Path,
+        first: RunRecord,
+        arrays: Mapping[str, Array],
+        samples: int,
+        compression: str | None = None,
+    ) -> None:
+        self.file = file
+        self.samples = samples
+        self.handle = self._open(file)
+        try:
+            self._lay_out(first, arrays, samples, compression)
+        except BaseException:
+            self.handle.close()  # the caller removes the temporary file
+            raise
+
+    def _open(self, file: Path) -> Any:
+        """The open h5py file."""
+        raise NotImplementedError
+
+    def _lay_out(
+        self, first: RunRecord, arrays: Mapping[str, Array], samples: int, compression: str | None
+    ) -> None:
+        """Create every dataset of the run at its full length."""
+        raise NotImplementedError
+
+    def write(self, start: int, arrays: Mapping[str, Array]) -> None:
+        """Store samples ``start`` … of the series (contiguous float64 by name)."""
+        raise NotImplementedError
+
+    def close(self, attributes: list[tuple[str, Any]] | None) -> None:
+        """Write the attributes (None: an aborted write, none) and close the file."""
+        raise NotImplementedError
+
+
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,62}")
 _JOINT_SERIES = ("q", "qd", "qdd", "tau")
 _NUMBERED = re.compile(r"(q|qd|qdd|tau)([1-9][0-9]*)")

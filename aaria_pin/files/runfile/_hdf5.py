@@ -32,17 +32,16 @@ from aaria_pin.files.runfile._attributes import (
     RUN_FORMAT_VERSION,
 )
 from aaria_pin.files.runfile._columns import (
+    RunStream,
     check_names,
+    chunk_rows,
     fitted,
     read_view,
     record_from_arrays,
 )
 
-_CHUNK_ROWS = 4096
-_CHUNK_BYTES = 2**20
 
-
-class _Hdf5Stream:
+class _Hdf5Stream(RunStream):
     """An open HDF5 run file whose series are preallocated and filled piece by piece.
 
     :meth:`open` writes everything but the series' values and the root attributes: the series
@@ -52,23 +51,11 @@ class _Hdf5Stream:
     cover the whole run) and closes the file.
     """
 
-    def __init__(
-        self,
-        file: Path,
-        first: RunRecord,
-        arrays: Mapping[str, Array],
-        samples: int,
-        compression: str | None = None,
-    ) -> None:
+    def _open(self, file: Path) -> Any:
+        """The open h5py file, links in creation order."""
         import h5py
 
-        self.samples = samples
-        self.handle = h5py.File(file, "w", track_order=True)
-        try:
-            self._lay_out(first, arrays, samples, compression)
-        except BaseException:
-            self.handle.close()  # the caller removes the temporary file
-            raise
+        return h5py.File(file, "w", track_order=True)
 
     def _lay_out(
         self,
@@ -115,7 +102,7 @@ class _Hdf5Stream:
                     dataset = _new_dataset(root, name, np.dtype(np.float64), shape, dcpl)
                 else:
                     row_bytes = max(1, data[0].nbytes if data.shape[0] else 8)
-                    rows = max(1, min(samples, _CHUNK_ROWS, _CHUNK_BYTES // row_bytes))
+                    rows = chunk_rows(samples, row_bytes)
                     dataset = self.handle.create_dataset(
                         name,
                         shape=shape,

@@ -45,7 +45,7 @@ from aaria_pin.core.record import SERIES, ColumnView, RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import OutputFileError
 from aaria_pin.files._stored import read_errors
-from aaria_pin.files.runfile._columns import COLUMNS_SUFFIX
+from aaria_pin.files.runfile._columns import COLUMNS_SUFFIX, RunStream, chunk_rows
 
 USER_BLOCK = 512
 """Bytes of the HDF5 user block that holds the MAT-file header."""
@@ -54,8 +54,6 @@ REFS_GROUP = "#refs#"
 """The group of the datasets a cell array's references point to."""
 
 _HEADER_TEXT = 116
-_CHUNK_ROWS = 4096
-_CHUNK_BYTES = 2**20
 _CLASSES = {
     np.dtype(np.float64): "double",
     np.dtype(np.int64): "int64",
@@ -164,7 +162,7 @@ def _put_value(handle: Any, name: str, value: Any) -> None:
         _mark(handle.create_dataset(name, data=stored), matlab_class)
 
 
-class _Mat73Stream:
+class _Mat73Stream(RunStream):
     """An open MAT-file v7.3 run file whose series and views are filled piece by piece.
 
     The interface of :class:`~aaria_pin.files.runfile._hdf5._Hdf5Stream`: ``__init__`` writes
@@ -173,24 +171,12 @@ class _Mat73Stream:
     the MAT-file header into the user block.
     """
 
-    def __init__(
-        self,
-        file: Path,
-        first: RunRecord,
-        arrays: Mapping[str, Array],
-        samples: int,
-        compression: str | None = None,
-    ) -> None:
+    def _open(self, file: Path) -> Any:
+        """The open h5py file with room for the MAT-file header."""
         import h5py
 
-        self.file = file
         # Links in creation order (as .h5 run files): the variables read back in v5's order.
-        self.handle = h5py.File(file, "w", userblock_size=USER_BLOCK, track_order=True)
-        try:
-            self._lay_out(first, arrays, samples, compression)
-        except BaseException:
-            self.handle.close()  # the caller removes the temporary file
-            raise
+        return h5py.File(file, "w", userblock_size=USER_BLOCK, track_order=True)
 
     def _series_dataset(
         self, name: str, shape: tuple[int, ...], time_axis: int, compression: str | None
@@ -202,9 +188,8 @@ class _Mat73Stream:
         stored = shape[::-1]
         chunks = None
         if compression is not None:
-            rows = max(1, min(shape[time_axis], _CHUNK_ROWS))
             row_bytes = 8 * int(np.prod(stored)) // shape[time_axis]
-            rows = max(1, min(rows, _CHUNK_BYTES // max(1, row_bytes)))
+            rows = chunk_rows(shape[time_axis], row_bytes)
             chunk = list(stored)
             chunk[len(shape) - 1 - time_axis] = rows
             chunks = tuple(chunk)

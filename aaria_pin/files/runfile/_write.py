@@ -20,7 +20,7 @@ from aaria_pin.errors import OutputFileError
 from aaria_pin.files._stored import encode_attributes, first_line
 from aaria_pin.files.detection import RUN_SUFFIXES
 from aaria_pin.files.paths import atomic_output
-from aaria_pin.files.runfile._columns import checked_arrays
+from aaria_pin.files.runfile._columns import RunStream, checked_arrays
 from aaria_pin.files.runfile._hdf5 import _Hdf5Stream
 from aaria_pin.files.runfile._mat import _mat_contents, _write_mat, mat_attribute_variables
 from aaria_pin.files.runfile._mat73 import _Mat73Stream, check_mat73_compression
@@ -239,7 +239,7 @@ class RunFileWriter:
         self._attributes: Mapping[str, Any] = first.attributes
         self._written = 0
         self._stack: contextlib.ExitStack | None = None
-        self._stream: _Hdf5Stream | _Mat73Stream | None = None
+        self._stream: RunStream | None = None
 
     def _encoded(self, attributes: Mapping[str, Any]) -> list[tuple[str, Any]]:
         """The stored attributes: root attributes, or a ``.mat``'s ``attr_`` variables."""
