@@ -85,8 +85,8 @@ def read_torques(path: str | os.PathLike[str]) -> tuple[Any, dict[str, float]]:
 
     Args:
         path: an HDF5 run file (its ``tau``; its ``rate`` [Hz] and ``duration`` [s] are the
-            grid) or a T × n table (CSV, ``.npy``, or a ``.mat`` holding ``tau``, such as a
-            ``.mat`` run file; no grid)
+            grid, the defaults for a file that stores none) or a T × n table (CSV, ``.npy``,
+            or a ``.mat`` holding ``tau``, such as a ``.mat`` run file; no grid)
 
     Returns:
         The (T, n) torques [N·m or N] and ``{"rate": …, "duration": …}`` (empty for a table).
@@ -101,8 +101,8 @@ def read_torques(path: str | os.PathLike[str]) -> tuple[Any, dict[str, float]]:
     from aaria_pin.files.runfile import read_run
 
     run = read_run(path)
-    keys = ("duration", "rate")
-    return run.tau, {key: float(run.attributes[key]) for key in keys if key in run.attributes}
+    metadata = run.metadata
+    return run.tau, {"duration": metadata.duration, "rate": metadata.rate}
 
 
 def robot_name(stem: str) -> str:

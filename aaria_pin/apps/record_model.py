@@ -98,11 +98,11 @@ def record_model(record: RunRecord, moving_base: bool = True) -> RobotModel:
     from aaria_pin.core.model import build_model
 
     mounted = [mount.name for mount in record.imu_mounts if mount.parent]
+    metadata = record.metadata
     if record.urdf:
-        attributes = record.attributes
         links = _urdf_links(record.urdf)
-        base = _frame(attributes.get("base_frame"), "base", links, first=True)
-        tool = _frame(attributes.get("tool_frame"), "tool_tip", links, first=False)
+        base = _frame(metadata.base_frame, "base", links, first=True)
+        tool = _frame(metadata.tool_frame, "tool_tip", links, first=False)
         sensors = [name for name in mounted if name in links]
         try:
             return build_model(
@@ -116,7 +116,7 @@ def record_model(record: RunRecord, moving_base: bool = True) -> RobotModel:
             raise InputFileError(
                 f"the run's URDF cannot be used: {exc}", parameter="record"
             ) from None
-    if record.attributes.get("kind") == "wrist" and "senSenDH" not in record.tables:
+    if metadata.kind == "wrist" and "senSenDH" not in record.tables:
         from aaria_pin.apps.wrist.run import report_wrist  # a wrist run of 0.1.0: no URDF
 
         return report_wrist().model(moving_base=moving_base)
@@ -127,7 +127,7 @@ def record_model(record: RunRecord, moving_base: bool = True) -> RobotModel:
         )
     from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
 
-    dims_attr = record.attributes.get("body_dimensions")
+    dims_attr = metadata.extra.get("body_dimensions")
     try:
         dims = BodyDimensions(**dims_attr) if isinstance(dims_attr, dict) else None
     except (TypeError, ValueError, ParameterError) as exc:
@@ -233,9 +233,10 @@ def record_moving_base(record: RunRecord) -> bool:
     Its ``moving_base`` attribute; without one, a DH run moves, another if its base leaves the
     identity pose.
     """
-    if "moving_base" in record.attributes:
-        return bool(record.attributes["moving_base"])
-    if record.attributes.get("kind") == "dh":
+    metadata = record.metadata
+    if metadata.moving_base is not None:
+        return metadata.moving_base
+    if metadata.kind == "dh":
         return True
     return not np.array_equal(record.base_pose, np.broadcast_to(np.eye(4), record.base_pose.shape))
 
@@ -267,22 +268,21 @@ def record_mjcf(
     """
     from aaria_pin.core.export.mjcf_emit import emit_mjcf
     from aaria_pin.core.model import GRAVITY
-    from aaria_pin.core.trajectory import DEFAULT_RATE
 
     urdf = record.urdf
     if not urdf:
         from aaria_pin.apps.remake import remake_record
 
         urdf = remake_record(record).urdf
-    attributes = record.attributes
+    metadata = record.metadata
     return emit_mjcf(
         urdf,
         record.imu_mounts,
         moving_base=record_moving_base(record) if moving_base is None else moving_base,
-        gravity=attributes.get("gravity", GRAVITY),
-        rate=float(attributes.get("rate", DEFAULT_RATE)) if rate is None else rate,
-        urdf_dir=attributes.get("urdf_dir") or None,
-        tool_frame=attributes.get("tool_frame") or None,
+        gravity=metadata.extra.get("gravity", GRAVITY),
+        rate=metadata.rate if rate is None else rate,
+        urdf_dir=metadata.urdf_dir or None,
+        tool_frame=metadata.tool_frame or None,
         balance_inertia=balance_inertia,
     )
 

@@ -33,7 +33,6 @@ from aaria_pin.apps.record_model import (
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
-from aaria_pin.errors import InputFileError
 
 if TYPE_CHECKING:  # Pinocchio loads only where a model is used
     from aaria_pin.core.model import RobotModel
@@ -65,24 +64,23 @@ def _held_payload(record: RunRecord, robot: RobotModel) -> tuple[RobotModel, np.
     Raises:
         InputFileError: a pick-place run whose cylinder, arm or held interval cannot be used.
     """
-    attributes = record.attributes
-    if attributes.get("kind") != "pick-place" or "cylinder" not in attributes:
-        return None
     from dataclasses import replace
 
-    from aaria_pin.apps.arm.dims import get_arm_preset
-    from aaria_pin.apps.arm.payload import HAND_JOINT, payload_inertia, with_payload
-    from aaria_pin.apps.arm.run import stored_cylinder, stored_preset
-    from aaria_pin.errors import AariaError
+    from aaria_pin.apps.arm.payload import payload_inertia, with_payload
+    from aaria_pin.apps.arm.stored_task import stored_task
+    from aaria_pin.errors import AariaError, InputFileError
 
+    task = stored_task(record)
+    if task is None:
+        return None
+    start, end = task.held
     try:
-        cylinder = stored_cylinder(attributes)
-        dims = get_arm_preset(stored_preset(attributes))
-        start, end = (float(v) for v in attributes["held_interval"])
-        joint = str(attributes.get("payload_joint") or HAND_JOINT)
-        loaded = with_payload(robot.model, payload_inertia(dims, cylinder), joint)
-    except (KeyError, TypeError, ValueError, AariaError) as exc:
-        raise InputFileError(f"the run's pick-place attributes cannot be used ({exc})") from None
+        payload = payload_inertia(task.dims, task.cylinder)
+        loaded = with_payload(robot.model, payload, task.payload_joint)
+    except AariaError as exc:  # a stored payload joint the model does not have
+        raise InputFileError(
+            f"the run's pick-place attributes cannot be used ({exc})", parameter="record"
+        ) from None
     time = np.asarray(record.time, dtype=float)
     return replace(robot, model=loaded), (time >= start) & (time < end)
 

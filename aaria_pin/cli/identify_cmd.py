@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -55,7 +55,7 @@ def _plot_tool_tip_cdf(path: Path, outcome: IdentifyOutcome) -> None:
     is_flag=True,
     help="Benchmark: identify every run of the data sets FILES, accuracy by noise and length.",
 )
-@click.option("--run", "run_index", type=click.IntRange(0), help="One run of a data set.")
+@click.option("--run", type=click.IntRange(0), help="One run of a data set.")
 @click.option(
     "-o",
     "--output",
@@ -83,20 +83,7 @@ def _plot_tool_tip_cdf(path: Path, outcome: IdentifyOutcome) -> None:
     help="--dataset: the CDF of tool-tip errors per group (.png, .pdf, .svg).",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-def identify(
-    files: tuple[Path, ...],
-    dynamics: bool,
-    dataset: bool,
-    run_index: int | None,
-    output: Path | None,
-    urdf: Path | None,
-    holdout: float | None,
-    parameters: bool,
-    workers: int | None,
-    limit: int | None,
-    plot: Path | None,
-    as_json: bool,
-) -> None:
+def identify(files: tuple[Path, ...], plot: Path | None, as_json: bool, **flags: Any) -> None:
     """Identify an Aaria arm's kinematic model from a DH run's IMU signals and encoders.
 
     FILE is a DH run file, or a data set with --run K. Only the encoders, the IMU signals and
@@ -115,19 +102,7 @@ def identify(
     """
     from aaria_pin.apps.identify.request import IdentifyRequest, identify_files
 
-    request = IdentifyRequest(
-        files,
-        dynamics=dynamics,
-        dataset=dataset,
-        run=run_index,
-        output=output,
-        urdf=urdf,
-        holdout=holdout,
-        parameters=parameters,
-        workers=workers,
-        limit=limit,
-        plot=plot,
-    )
+    request = IdentifyRequest(files, plot=plot, **flags)  # the other flags are its fields
     if plot is not None:
         from aaria_pin.viz._formats import PICTURE_SUFFIXES
 

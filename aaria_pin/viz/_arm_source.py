@@ -31,10 +31,11 @@ import numpy as np
 from aaria_pin.apps.arm.dims import ArmDimensions, get_arm_preset
 from aaria_pin.apps.arm.parts import MeshPart, cylinder_mesh
 from aaria_pin.apps.arm.preset import arm_parts, build_arm_model
-from aaria_pin.apps.arm.run import cylinder_track, stored_cylinder, stored_preset
+from aaria_pin.apps.arm.run import cylinder_track
+from aaria_pin.apps.arm.stored_task import PICK_PLACE_KIND, is_pick_place, stored_task
 from aaria_pin.apps.arm.task import home_pose
 from aaria_pin.core.se3 import Array
-from aaria_pin.errors import AariaError, InputFileError
+from aaria_pin.errors import InputFileError
 from aaria_pin.viz._model_source import read_model_view
 from aaria_pin.viz._run_view import run_file, run_title, scene_poses, still
 from aaria_pin.viz.scene import WORLD, Scene, Solid, triad
@@ -44,16 +45,12 @@ __all__ = [
     "CYLINDER_FRAME",
     "PART_ROLES",
     "PICK_PLACE_KIND",
-    "PICK_PLACE_ROBOTS",
     "PRESETS",
     "arm_scene",
     "is_pick_place_run",
     "load_pick_place_view",
     "preset_scene",
 ]
-
-PICK_PLACE_KIND = "pick-place"
-"""The run kind's name."""
 
 CYLINDER_FRAME = "cylinder"
 """The scene frame the cylinder's solid is attached to (its centre, axis along z)."""
@@ -73,10 +70,6 @@ PART_ROLES = {
 _CYLINDER_ROLE = "dh_frame"  # drawn red
 
 
-PICK_PLACE_ROBOTS = ("pick-place-arm", "pick_place_arm")
-"""The ``robot`` attribute of a pick-place run (this version's, 0.1.0's)."""
-
-
 def is_pick_place_run(path: str | os.PathLike[str]) -> bool:
     """Whether ``path`` holds a pick-place run (never raises on a file that is not a run).
 
@@ -89,10 +82,7 @@ def is_pick_place_run(path: str | os.PathLike[str]) -> bool:
         return False
     if record is None:
         return False
-    attributes = record.attributes
-    return (
-        attributes.get("kind") == PICK_PLACE_KIND or attributes.get("robot") in PICK_PLACE_ROBOTS
-    ) and attributes.get("task", "pick-place") == "pick-place"
+    return is_pick_place(record.metadata)
 
 
 def _solid(frame: str, mesh: Any, role: str) -> Solid:
@@ -175,22 +165,17 @@ def load_pick_place_view(path: str | os.PathLike[str]) -> RunView:
 def _load(file: str | os.PathLike[str]) -> RunView:
     """Read a file known to be a pick-place run file (the registered loader: no re-probe)."""
     view = read_model_view(file)
-    attributes = view.record.attributes
     try:
-        dims = get_arm_preset(stored_preset(attributes))
-        c = stored_cylinder(attributes)
-        radius, height = c.radius, c.height
-        pick = (c.x, c.y)
-        place = (float(attributes["place"][0]), float(attributes["place"][1]))
-        start, end = (float(v) for v in attributes["held_interval"])
-    except (KeyError, TypeError, ValueError, IndexError, AariaError) as exc:
-        raise InputFileError(
-            f"{file}: its pick-place attributes cannot be used ({exc})", parameter="run"
-        ) from None
-    scene = arm_scene(dims, (radius, height))
+        task = stored_task(view.record)
+    except InputFileError as exc:
+        raise InputFileError(f"{file}: {exc}", parameter="run") from None
+    if task is None:  # the loader of pick-place runs: the probe said it is one
+        raise InputFileError(f"{file}: not a pick-place run", parameter="run")
+    c = task.cylinder
+    scene = arm_scene(task.dims, (c.radius, c.height))
     time = view.signals.time
-    held = (time >= start) & (time < end)
-    cylinder = cylinder_track(held, pick, place, height, view.record.tool_pose)
+    held = (time >= task.held[0]) & (time < task.held[1])
+    cylinder = cylinder_track(held, (c.x, c.y), task.place, c.height, view.record.tool_pose)
     linked = view.poser(scene.frames[1:-1])  # the links and the grasp frame
 
     def frame_poses(samples: Array) -> Array:

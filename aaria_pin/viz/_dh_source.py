@@ -38,8 +38,7 @@ def _kind(file: str | os.PathLike[str] | RunFile) -> str | None:
         return None
     if "senSenDH" in record.tables:
         return "dh"
-    kind = record.attributes.get("kind")
-    return kind if isinstance(kind, str) else None
+    return record.metadata.kind
 
 
 def is_aaria_run(file: str | os.PathLike[str] | RunFile) -> bool:
@@ -71,9 +70,10 @@ def load_aaria_run(file: str | os.PathLike[str]) -> RunView:
 
     record = run_record(file)
     dims = None
-    if "body_dimensions" in record.attributes:
+    stored_dims = record.metadata.extra.get("body_dimensions")
+    if stored_dims is not None:
         try:
-            dims = BodyDimensions(**record.attributes["body_dimensions"])
+            dims = BodyDimensions(**stored_dims)
         except (TypeError, ValueError, ParameterError) as exc:
             raise InputFileError(
                 f"{file}: body_dimensions cannot be used ({exc})", parameter="run"

@@ -37,7 +37,9 @@ def picture_format(path: str | os.PathLike[str]) -> str:
     if suffix not in PICTURE_SUFFIXES:
         raise OutputFileError(
             f"{path}: suffix {suffix!r} is not one of a picture;"
-            f" allowed: {', '.join(PICTURE_SUFFIXES)}"
+            f" allowed: {', '.join(PICTURE_SUFFIXES)}",
+            parameter="path",
+            value=suffix,
         )
     return suffix[1:]
 

@@ -173,7 +173,7 @@ def load_model_run(path: str | os.PathLike[str]) -> RunView:
     extent = float(np.ptp(origins[0, :, :3, 3], axis=0).max())
     scene = scene_from_model(robot, size=max(0.01, 0.04 * extent))
     if view.record.urdf:
-        folder = view.record.attributes.get("urdf_dir")
+        folder = view.record.metadata.urdf_dir
         scene = with_visuals(scene, robot, view.record.urdf, Path(folder) if folder else None)
     poser = view.poser(scene.model_frames)
 

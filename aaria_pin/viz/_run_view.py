@@ -306,7 +306,11 @@ def run_record(file: str | os.PathLike[str]) -> RunRecord:
 
     record = file.record if isinstance(file, RunFile) else _read_record(Path(file), None)
     if record is None:
-        raise InputFileError(f"{os.fspath(file)}: not a run file; allowed: a run file of aaria_pin")
+        raise InputFileError(
+            f"{os.fspath(file)}: not a run file; allowed: a run file of aaria_pin",
+            parameter="file",
+            value=os.fspath(file),
+        )
     return record
 
 

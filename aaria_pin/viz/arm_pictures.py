@@ -129,7 +129,7 @@ def write_animation(
 
     low, high = ANIMATION_FPS
     if not low <= fps <= high:
-        raise ParameterError(f"animation fps {fps!r}; allowed: {low} to {high}")
+        raise ParameterError(parameter="fps", value=fps, allowed=f"{low} to {high}")
     smallest, largest = ANIMATION_SIZES
     if not smallest <= size <= largest:
         raise ParameterError(parameter="size", value=size, allowed=f"{smallest} to {largest} px")

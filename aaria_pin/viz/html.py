@@ -218,15 +218,12 @@ def viewer_html(
     if poses.shape[:2] != (len(time), len(scene.frames)) or len(time) == 0:
         raise ParameterError(
             f"poses of shape {poses.shape} for {len(time)} samples and {len(scene.frames)}"
-            " frames; allowed: (samples, frames, 4, 4), at least one sample"
+            " frames; allowed: (samples, frames, 4, 4), at least one sample",
+            parameter="poses" if len(time) else "time",
         )
-    for panel in panels:
-        if np.shape(panel.values) != (len(time), len(panel.labels)):
-            raise ParameterError(
-                parameter="panels",
-                value=f"{panel.title!r} of shape {np.shape(panel.values)}",
-                allowed=f"(samples, labels) = ({len(time)}, {len(panel.labels)})",
-            )
+    from aaria_pin.viz.plot import check_panels
+
+    check_panels(len(time), panels)
     data = json.dumps(_payload(scene, time, poses, title, panels), separators=(",", ":"))
     data = data.replace("<", "\\u003c")  # no "</script>" inside the script element
     # the title first (escaped for HTML, "_" as "&#95;" so it cannot spell a placeholder), then

@@ -10,6 +10,7 @@ axes, to the right, so it covers no trace.
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -20,7 +21,7 @@ from aaria_pin.errors import ParameterError
 from aaria_pin.viz._figure import figure_file
 from aaria_pin.viz.sources import Signals
 
-__all__ = ["Panel", "plot_panels", "plot_run", "signal_panels"]
+__all__ = ["Panel", "check_panels", "plot_panels", "plot_run", "signal_panels"]
 
 _AXES = ("x", "y", "z")
 
@@ -51,6 +52,21 @@ class Panel:
     values: Array
     labels: tuple[str, ...]
     group: str = ""
+
+
+def check_panels(samples: int, panels: Sequence[Panel]) -> None:
+    """Check that every panel holds one trace per label, each of ``samples`` values.
+
+    Raises:
+        ParameterError: a panel whose traces do not match (``parameter="panels"``).
+    """
+    for panel in panels:
+        if np.shape(panel.values) != (samples, len(panel.labels)):
+            raise ParameterError(
+                parameter="panels",
+                value=f"{panel.title!r} of shape {np.shape(panel.values)}",
+                allowed=f"(samples, labels) = ({samples}, {len(panel.labels)})",
+            )
 
 
 def _name(label: str) -> str:
@@ -90,7 +106,9 @@ def signal_panels(signals: Signals, imu: str | None = None) -> list[Panel]:
     """
     if imu is not None and imu not in signals.imus:
         allowed = ", ".join(signals.imus) if signals.imus else "none (this run has no IMUs)"
-        raise ParameterError(f"IMU {imu!r} is not in the run; allowed: {allowed}")
+        raise ParameterError(
+            f"IMU {imu!r} is not in the run; allowed: {allowed}", parameter="imu", value=imu
+        )
     panels = _joint_panels(signals)
     if signals.base_wrench is not None:
         panels += [
@@ -156,13 +174,8 @@ def plot_panels(
             missing.
     """
     if not panels:
-        raise ParameterError("nothing to plot; allowed: a run with signals")
-    for panel in panels:
-        if np.shape(panel.values) != (len(time), len(panel.labels)):
-            raise ParameterError(
-                f"panel {panel.title!r}: traces of shape {np.shape(panel.values)} for"
-                f" {len(time)} samples and {len(panel.labels)} labels; allowed: (samples, labels)"
-            )
+        raise ParameterError("nothing to plot; allowed: a run with signals", parameter="panels")
+    check_panels(len(time), panels)
     rows = (len(panels) + 1) // 2
     with figure_file(path, width, rows * row_height, layout="constrained") as figure:
         axes = figure.subplots(rows, 2, sharex=True, squeeze=False)

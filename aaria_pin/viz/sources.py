@@ -190,7 +190,9 @@ def _known_kind(header: RunFile) -> str:
             return kind
     raise InputFileError(
         f"{header.path}: not a run file the viewers know; allowed: {', '.join(kinds)} run files"
-        " (.h5 or .mat)"
+        " (.h5 or .mat)",
+        parameter="path",
+        value=str(header.path),
     )
 
 
@@ -283,7 +285,9 @@ def preset_view(name: str) -> tuple[Scene, Array]:
     if poses.shape != (len(scene.frames), 4, 4):
         raise ModelError(
             f"preset {name!r}: poses of shape {poses.shape} for {len(scene.frames)} frames;"
-            " allowed: (frames, 4, 4)"
+            " allowed: (frames, 4, 4)",
+            parameter="name",
+            value=name,
         )
     return scene, poses
 

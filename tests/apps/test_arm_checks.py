@@ -104,6 +104,7 @@ def test_out_of_reach_names_what_was_typed(cylinder, place, what, dims) -> None:
     assert "0.015 m out from the wrist" in message  # -0.03 + 0.045: the grasp point's offset
     assert "reachable annulus 0.1 m <= r <= 0.7 m" in message
     assert "allowed: " + what + " at 0.115 to 0.715 m" in message
+    assert error.value.parameter == what and error.value.value == (x, y)
 
 
 def test_cli_out_of_reach_message_names_the_cylinder(tmp_path) -> None:

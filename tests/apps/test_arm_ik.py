@@ -124,5 +124,9 @@ def test_no_swing_through_near_180_degrees(b0: float, b1: float, neg0: bool, neg
 
 
 def test_an_elbow_already_past_the_pillar_is_refused() -> None:
-    with pytest.raises(ParameterError, match=r"allowed: \[-pi, pi\]"):
+    with pytest.raises(ParameterError, match=r"allowed: \[-pi, pi\]") as error:
         elbow_move(3.5, 0.0)
+    assert error.value.parameter == "beta0"
+    with pytest.raises(ParameterError, match="goal elbow angle") as error:
+        elbow_move(0.0, -4.0)
+    assert error.value.parameter == "beta1"

@@ -92,14 +92,20 @@ def test_stadium_volume() -> None:
 
 
 def test_bad_meshes_and_densities_are_refused() -> None:
-    with pytest.raises(ParameterError, match="density"):
+    with pytest.raises(ParameterError, match="density") as error:
         mesh_inertia(box_mesh((1, 1, 1)), 0.0)
+    assert (error.value.parameter, error.value.value) == ("density", 0.0)
     inverted = box_mesh((1, 1, 1))
     inverted.invert()
-    with pytest.raises(ParameterError, match="outward normals"):
+    with pytest.raises(ParameterError, match="outward normals") as error:
         mesh_inertia(inverted, 1000.0)
-    with pytest.raises(ParameterError, match="ring outer radius"):
+    assert error.value.parameter == "mesh"
+    with pytest.raises(ParameterError, match="ring outer radius") as error:
         ring_mesh(0.05, 0.04, 0.1)
+    assert (error.value.parameter, error.value.value) == ("outer", 0.04)
+    with pytest.raises(ParameterError, match="box size along y") as error:
+        box_mesh((1, -1, 1))
+    assert (error.value.parameter, error.value.value) == ("size", -1)
 
 
 def test_urdf_carries_the_mesh_mass_properties() -> None:

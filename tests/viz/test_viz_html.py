@@ -252,10 +252,14 @@ def test_panels_of_the_wrong_length_are_refused() -> None:
     from aaria_pin.viz.scene import Scene
 
     panel = Panel("x", "x [m]", np.zeros((3, 1)), ("a",))
-    with pytest.raises(ParameterError, match="panels"):
+    with pytest.raises(ParameterError, match="panels") as error:
         viewer_html(
             Scene("x", ("world",)), np.zeros(2), np.stack([np.eye(4)[None]] * 2), "t", [panel]
         )
+    assert error.value.allowed == "(samples, labels) = (2, 1)"
+    with pytest.raises(ParameterError, match="poses of shape") as error:
+        viewer_html(Scene("x", ("world",)), np.zeros(2), np.stack([np.eye(4)[None]] * 3), "t")
+    assert error.value.parameter == "poses"
 
 
 def test_write_run_viewer_decimates_the_run(tmp_path: Path) -> None:

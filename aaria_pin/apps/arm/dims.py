@@ -99,12 +99,18 @@ class ArmDimensions:
         ):
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
-                raise ParameterError(f"arm {name} is {value!r}; allowed: a finite number > 0")
+                raise ParameterError(
+                    f"arm {name} is {value!r}; allowed: a finite number > 0",
+                    parameter=name,
+                    value=value,
+                )
         if not self.upper_arm - self.forearm > self.pillar_radius:
             raise ParameterError(
                 f"upper arm A = {self.upper_arm} m, forearm B = {self.forearm} m; allowed:"
                 f" A - B > pillar radius {self.pillar_radius} m (the folded hand clears the"
-                " pillar)"
+                " pillar)",
+                parameter="upper_arm",
+                value=self.upper_arm,
             )
 
     def grasp_below_carriage(self, height: float) -> float:
@@ -140,7 +146,11 @@ def get_arm_preset(name: str) -> ArmDimensions:
         ParameterError: an unknown name.
     """
     if name not in ARM_PRESETS:
-        raise ParameterError(f"arm preset {name!r} is unknown; allowed: {', '.join(ARM_PRESETS)}")
+        raise ParameterError(
+            f"arm preset {name!r} is unknown; allowed: {', '.join(ARM_PRESETS)}",
+            parameter="name",
+            value=name,
+        )
     return ARM_PRESETS[name]
 
 

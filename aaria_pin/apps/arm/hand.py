@@ -92,7 +92,9 @@ def hand_angles(
     """
     R, _ = as_rotation(rotation)
     if R.shape != (3, 3):
-        raise ParameterError(f"hand rotation has shape {R.shape}; allowed: (3, 3)")
+        raise ParameterError(
+            f"hand rotation has shape {R.shape}; allowed: (3, 3)", parameter="rotation"
+        )
     relative = downward_grasp(heading).T @ R
     extracted = angles_from_matrix(relative, HAND_SEQUENCE)
     phi, theta, psi = (float(v) for v in extracted.angles)
@@ -100,7 +102,11 @@ def hand_angles(
     if previous is not None:
         prev = np.asarray(previous, dtype=float)
         if prev.shape != (3,) or not np.all(np.isfinite(prev)):
-            raise ParameterError(f"previous hand angles {prev!r}; allowed: three finite numbers")
+            raise ParameterError(
+                f"previous hand angles {prev!r}; allowed: three finite numbers",
+                parameter="previous",
+                value=prev,
+            )
         if locked:
             # θ ≈ 0: R = Rz(φ + ψ); θ ≈ π: R = Rz(φ - ψ)·Ry(π). Keep ψ, move φ.
             total = phi + psi if theta < np.pi / 2 else phi - psi

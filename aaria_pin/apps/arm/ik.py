@@ -70,7 +70,11 @@ def wrap(angle: ArrayLike) -> Array:
 
 def _lengths(a: float, b: float) -> None:
     if not (np.isfinite(a) and np.isfinite(b) and a > 0 and b > 0):
-        raise ParameterError(f"link lengths A = {a!r} m, B = {b!r} m; allowed: finite and > 0")
+        raise ParameterError(
+            f"link lengths A = {a!r} m, B = {b!r} m; allowed: finite and > 0",
+            parameter="a" if not (np.isfinite(a) and a > 0) else "b",
+            value=(a, b),
+        )
 
 
 def planar_fk(alpha: ArrayLike, beta: ArrayLike, a: float, b: float) -> Array:
@@ -108,7 +112,10 @@ def planar_ik(x: ArrayLike, y: ArrayLike, a: float, b: float) -> tuple[PlanarAng
     _lengths(a, b)
     X, Y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
     if not (np.all(np.isfinite(X)) and np.all(np.isfinite(Y))):
-        raise ParameterError("IK target holds NaN or inf; allowed: finite coordinates [m]")
+        raise ParameterError(
+            "IK target holds NaN or inf; allowed: finite coordinates [m]",
+            parameter="x" if not np.all(np.isfinite(X)) else "y",
+        )
     r = np.hypot(X, Y)
     inner, outer = abs(a - b), a + b
     bad = (r < inner - ANNULUS_TOLERANCE) | (r > outer + ANNULUS_TOLERANCE) | (r == 0.0)
@@ -118,7 +125,9 @@ def planar_ik(x: ArrayLike, y: ArrayLike, a: float, b: float) -> tuple[PlanarAng
         raise ParameterError(
             f"target ({xb:.6g}, {yb:.6g}) m at r = {rb:.6g} m is outside the reachable annulus"
             f" {inner:.6g} m <= r <= {outer:.6g} m (|A - B| to A + B, A = {a:g} m,"
-            f" B = {b:g} m)"
+            f" B = {b:g} m)",
+            parameter="x",
+            value=(xb, yb),
         )
     rc = np.clip(r, inner, outer)
     ux, uy = X / r, Y / r  # unit vector towards the target
@@ -164,7 +173,8 @@ def elbow_move(beta0: ArrayLike, beta1: ArrayLike) -> Array:
         if not np.all(np.abs(value) <= np.pi + 1e-12):
             raise ParameterError(
                 f"{name} elbow angle {np.max(np.abs(value)):.6g} rad; allowed: [-pi, pi]"
-                " (beyond, the forearm has swung through the pillar)"
+                " (beyond, the forearm has swung through the pillar)",
+                parameter="beta0" if name == "current" else "beta1",
             )
     # A goal of ±π is one pose (the forearm folded over the upper arm): reach it on the side
     # the forearm is on, without a full turn.
@@ -201,7 +211,9 @@ def plan_planar_move(
         Goal angles (α may lie outside [-π, π)).
     """
     if branch not in (*BRANCHES, "nearest"):
-        raise ParameterError(f"IK branch {branch!r}; allowed: left, right, nearest")
+        raise ParameterError(
+            f"IK branch {branch!r}; allowed: left, right, nearest", parameter="branch", value=branch
+        )
     left, right = planar_ik(x, y, a, b)
     options = {"left": left, "right": right}
     moves = {

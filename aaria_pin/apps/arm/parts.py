@@ -41,9 +41,11 @@ CYLINDER_SECTIONS = 48
 """Sides of the polygon that approximates a circle in every round part."""
 
 
-def _positive(name: str, value: float) -> float:
+def _positive(name: str, value: float, parameter: str) -> float:
     if not (np.isfinite(value) and value > 0.0):
-        raise ParameterError(f"{name} is {value!r}; allowed: a finite number > 0")
+        raise ParameterError(
+            f"{name} is {value!r}; allowed: a finite number > 0", parameter=parameter, value=value
+        )
     return float(value)
 
 
@@ -65,7 +67,7 @@ def box_mesh(size: Sequence[float], center: Sequence[float] = (0.0, 0.0, 0.0)) -
     import trimesh
 
     for axis, value in zip("xyz", size, strict=True):
-        _positive(f"box size along {axis}", value)
+        _positive(f"box size along {axis}", value, "size")
     return _moved(trimesh.creation.box(extents=np.asarray(size, dtype=float)), center)
 
 
@@ -88,8 +90,8 @@ def cylinder_mesh(
     """
     import trimesh
 
-    _positive("cylinder radius", radius)
-    _positive("cylinder length", length)
+    _positive("cylinder radius", radius, "radius")
+    _positive("cylinder length", length, "length")
     mesh = trimesh.creation.cylinder(radius=radius, height=length, sections=sections)
     return _moved(mesh, center)
 
@@ -115,10 +117,14 @@ def ring_mesh(
     """
     import trimesh
 
-    _positive("ring inner radius", inner)
-    _positive("ring length", length)
+    _positive("ring inner radius", inner, "inner")
+    _positive("ring length", length, "length")
     if not outer > inner:
-        raise ParameterError(f"ring outer radius {outer!r} m; allowed: > inner radius {inner} m")
+        raise ParameterError(
+            f"ring outer radius {outer!r} m; allowed: > inner radius {inner} m",
+            parameter="outer",
+            value=outer,
+        )
     mesh = trimesh.creation.annulus(r_min=inner, r_max=outer, height=length, sections=sections)
     return _moved(mesh, center)
 
@@ -147,9 +153,9 @@ def stadium_mesh(
     """
     import trimesh
 
-    _positive("bar length", length)
-    _positive("bar width", width)
-    _positive("bar thickness", thickness)
+    _positive("bar length", length, "length")
+    _positive("bar width", width, "width")
+    _positive("bar thickness", thickness, "thickness")
     r = width / 2.0
     half = sections // 2
     right = np.linspace(-np.pi / 2, np.pi / 2, half + 1)
@@ -190,11 +196,12 @@ def mesh_inertia(mesh: Any, density: float) -> Inertia:
         ParameterError: a density that is not > 0, or a mesh that is not watertight or has a
             non-positive volume (inward normals).
     """
-    _positive("density", density)
+    _positive("density", density, "density")
     if not mesh.is_watertight or not mesh.volume > 0.0:
         raise ParameterError(
             f"mesh of volume {float(mesh.volume):.6g} m^3 (watertight: {mesh.is_watertight});"
-            " allowed: a closed mesh with outward normals"
+            " allowed: a closed mesh with outward normals",
+            parameter="mesh",
         )
     solid = mesh.copy()
     solid.density = float(density)

@@ -331,7 +331,9 @@ def write_arm_urdf(
     try:
         meshes.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise OutputFileError(f"{root}: cannot make the folder ({exc.strerror})") from None
+        raise OutputFileError(
+            f"{root}: cannot make the folder ({exc.strerror})", parameter="folder", value=root
+        ) from None
     parts = arm_parts(dims) if parts is None else parts
     urdf = root / "pick_place_arm.urdf"
     written: list[Path] = []

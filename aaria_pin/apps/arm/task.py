@@ -93,11 +93,24 @@ class Cylinder:
     def __post_init__(self) -> None:
         for name in ("x", "y", "radius", "height", "mass"):
             if not np.isfinite(getattr(self, name)):
-                raise ParameterError(f"cylinder {name} is {getattr(self, name)!r}; allowed: finite")
+                raise ParameterError(
+                    f"cylinder {name} is {getattr(self, name)!r}; allowed: finite",
+                    parameter=name,
+                    value=getattr(self, name),
+                )
         if self.radius <= 0 or self.height <= 0 or self.mass < 0:
             raise ParameterError(
                 f"cylinder radius {self.radius} m, height {self.height} m, mass {self.mass} kg;"
-                " allowed: radius > 0, height > 0, mass >= 0"
+                " allowed: radius > 0, height > 0, mass >= 0",
+                parameter=next(
+                    name
+                    for name, good in (
+                        ("radius", self.radius > 0),
+                        ("height", self.height > 0),
+                        ("mass", self.mass >= 0),
+                    )
+                    if not good
+                ),
             )
 
     def inertia(self) -> Inertia:
@@ -158,13 +171,17 @@ def _check_cylinder(dims: ArmDimensions, cylinder: Cylinder, where: str) -> None
         raise ParameterError(
             f"cylinder height {cylinder.height} m; allowed: {low:.3g} to {high:.3g} m (held with"
             f" its top {dims.palm_clearance} m below the palm: shorter, the fingertips would touch"
-            " the floor; taller, the fingers would not reach its half height)"
+            " the floor; taller, the fingers would not reach its half height)",
+            parameter="height",
+            value=cylinder.height,
         )
     if 2 * cylinder.radius + _OPEN_MARGIN > dims.finger_travel:
         raise ParameterError(
             f"cylinder radius {cylinder.radius} m; allowed: <= "
             f"{(dims.finger_travel - _OPEN_MARGIN) / 2:.3g} m (the finger opens"
-            f" {dims.finger_travel} m)"
+            f" {dims.finger_travel} m)",
+            parameter="radius",
+            value=cylinder.radius,
         )
     half = dims.foot_size / 2
     gap = float(np.hypot(max(abs(cylinder.x) - half, 0.0), max(abs(cylinder.y) - half, 0.0)))
@@ -174,7 +191,9 @@ def _check_cylinder(dims: ArmDimensions, cylinder: Cylinder, where: str) -> None
             f"{where} ({cylinder.x:g}, {cylinder.y:g}) m is {gap:.3g} m from the pillar's foot"
             f" plate ({dims.foot_size} m square about the origin); allowed: at least cylinder"
             f" radius + finger thickness = {margin:.3g} m from it (the cylinder and the fingers"
-            " stand on the floor)"
+            " stand on the floor)",
+            parameter=where,
+            value=(cylinder.x, cylinder.y),
         )
 
 
@@ -185,7 +204,9 @@ def _lift_for(dims: ArmDimensions, grasp_height: float, height: float, what: str
     if not low - 1e-12 <= lift <= high + 1e-12:
         raise ParameterError(
             f"{what} needs the lift at {lift:.4g} m; allowed: {low} to {high} m (grasp heights"
-            f" {low - below:.4g} to {high - below:.4g} m above the floor)"
+            f" {low - below:.4g} to {high - below:.4g} m above the floor)",
+            parameter="height",
+            value=height,
         )
     return lift
 
@@ -205,7 +226,9 @@ def _arm_over(
             f" the grasp point of a {radius:g} m radius cylinder is {offset:.4g} m out from the"
             f" wrist along the finger's travel, so the wrist would be at {wrist:.4g} m, outside"
             f" the reachable annulus {inner:.4g} m <= r <= {outer:.4g} m; allowed: {what} at"
-            f" {inner + offset:.4g} to {outer + offset:.4g} m from the pillar's axis"
+            f" {inner + offset:.4g} to {outer + offset:.4g} m from the pillar's axis",
+            parameter=what,
+            value=(x, y),
         )
     planar = plan_planar_move(
         float(q[1]),
@@ -270,13 +293,17 @@ def plan_pick_place(
             reach, a bad rate, start pose or branch.
     """
     if not (np.isfinite(settle) and settle >= 0):
-        raise ParameterError(f"settle {settle!r} s; allowed: >= 0")
+        raise ParameterError(
+            f"settle {settle!r} s; allowed: >= 0", parameter="settle", value=settle
+        )
     target = Cylinder(float(place[0]), float(place[1]), cylinder.radius, cylinder.height, 0.0)
     _check_cylinder(dims, cylinder, "cylinder")
     _check_cylinder(dims, target, "place")
     q0 = home_pose(dims) if start is None else np.asarray(start, dtype=float).copy()
     if q0.shape != (7,) or not np.all(np.isfinite(q0)):
-        raise ParameterError(f"start pose of shape {q0.shape}; allowed: 7 finite joint values")
+        raise ParameterError(
+            f"start pose of shape {q0.shape}; allowed: 7 finite joint values", parameter="start"
+        )
     h = cylinder.height
     grasp_lift = _lift_for(dims, h / 2, h, "grasping the cylinder at half height")
     carry = max(h + dims.fingertip_below_grasp(h) + _TIP_CLEARANCE, h / 2 + _CARRY_CLEARANCE)

@@ -114,7 +114,7 @@ def identify_dataset_run(
 
     with DatasetReader(path) as reader:
         record = reader.record(run)
-    attributes = record.attributes
+    metadata = record.metadata
     true_table = record.tables.get("senSenDH")
     types = (
         "" if true_table is None else "".join(str(int(t)) for t in np.asarray(true_table)[:6, 4])
@@ -122,11 +122,9 @@ def identify_dataset_run(
     common: dict[str, Any] = {
         "dataset": str(path),
         "run": int(run),
-        "noise": bool(attributes.get("noise", False)),
-        "duration": float(attributes.get("duration", record.time[-1] - record.time[0])),
-        "rate": float(
-            attributes.get("rate", (record.n_samples - 1) / (record.time[-1] - record.time[0]))
-        ),
+        "noise": metadata.noise,
+        "duration": metadata.duration,
+        "rate": metadata.rate,
         "link_types": types,
     }
     nan = float("nan")
@@ -206,7 +204,7 @@ def benchmark_datasets(
     tasks: list[tuple[str, int, bool, float]] = []
     for path in paths:
         with DatasetReader(path) as reader:
-            kind = reader.attributes.get("kind")
+            kind = reader.header.kind
             if kind != "dh":
                 raise ParameterError(
                     f"{path}: data set of kind {kind!r}; allowed: DH arms (kind 'dh')",

@@ -92,10 +92,11 @@ def _measured_data(
         layout.modules, joint_kinds(record, layout, base, qd), layout.link_imus, layout.tool_imu
     )
     rate = (time.size - 1) / (time[-1] - time[0])
-    weights = signal_weights(rate, record.attributes.get("noise_parameters"))
+    metadata = record.metadata
+    weights = signal_weights(rate, metadata.extra.get("noise_parameters"))
     omega_base = np.asarray(record.imu[:, base, :3], dtype=float)
     force_base = np.asarray(record.imu[:, base, 3:], dtype=float)
-    if record.attributes.get("noise"):
+    if metadata.noise:
         # the base IMU's signals are inputs of the model: smoothed (and differentiated) with
         # windows the data choose, from the noise level the weights hold
         omega_dot = smoothed(time, omega_base, 1.0 / weights[0], 1)
@@ -157,7 +158,7 @@ def identify_kinematics(
     # samples: it runs on the start's few, then the fit ends on more.
     walk_index, fit_index = spread(_WALK_SAMPLES), spread(max_fit_samples)
     # the weights are 1 / the noise level: a fit at the noise floor has a weighted RMS near 1
-    floor = _AT_FLOOR * (1.0 if record.attributes.get("noise") else _EXACT_FLOOR)
+    floor = _AT_FLOOR * (1.0 if record.metadata.noise else _EXACT_FLOOR)
     x0 = start_parameters(layout, data.subsample(start), measured[start], weights, lengths)
     x, fun, _, walk = problem.fit(x0, x0, walk_index, max_iterations)
     start_rms = _rms(fun)
