@@ -132,3 +132,20 @@ def test_the_sensors_a_record_names_re_make_its_tables(tmp_path: Path) -> None:
     with pytest.raises(ParameterError) as error:
         recorded_sensors({"sensors": {"sonar": {}}})
     assert error.value.parameter == "sensor"
+
+
+@pytest.mark.parametrize("suffix", [".h5", ".mat"])
+def test_a_run_streamed_in_pieces_keeps_its_whole_sensor_table(tmp_path: Path, suffix: str) -> None:
+    """write_run_pieces of a run longer than a piece: each piece's rows land in the table."""
+    from aaria_pin.files.runfile import write_run_pieces
+
+    settings = RunSettings(duration=1.0, rate=40.0, chunk=10, noise=False)
+    pieces = simulate_pieces(preset_arm("aaria-fig2"), None, settings, 0, [Clock(), ToolHeight()])
+    path = tmp_path / f"run{suffix}"
+    _, samples, _ = write_run_pieces(path, pieces, None, mat_version="7.3")
+    stored = read_run(path)
+    assert samples == 41
+    np.testing.assert_array_equal(stored.tables["sensor_clock"][:, 0], np.arange(41) / 40.0)
+    np.testing.assert_array_equal(
+        stored.tables["sensor_tool_height"][:, 0], stored.tool_pose[:, 2, 3]
+    )
