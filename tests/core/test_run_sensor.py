@@ -100,7 +100,7 @@ def test_a_registered_toy_sensor_is_found_in_a_data_set_and_its_card(tmp_path: P
     path = tmp_path / "set.h5"
     generate_dataset(path, spec, workers=1)
     with DatasetReader(path) as reader:
-        assert reader.attributes["sensors"]["clock"]["columns"] == ["t"]
+        assert reader.header.sensors["clock"]["columns"] == ["t"]
         for run in range(3):
             record = reader.record(run)
             # float32 in the file: the clock's times k / 20 as float32, back in float64

@@ -97,7 +97,7 @@ def reader_card(reader: DatasetReader) -> DatasetCard:
     handle = reader.handle
     complete = reader.complete
     views = _views(reader)
-    sensors = _sensor_groups(header.attributes.get("sensors") or {})
+    sensors = _sensor_groups(header.sensors)
     columns = tuple(
         _column(handle, name, name in views and reader.layout is not None, views.get(name))
         if name not in sensors
