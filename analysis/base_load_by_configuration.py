@@ -20,7 +20,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
 
 
 def main() -> None:

@@ -31,8 +31,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.engine import generate_dataset
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
+from aaria_pin.apps.dataset.generate import generate_dataset
 
 GOAL_ONE_WORKER = 150_000.0
 """Marginal samples/s on one worker (the performance issue's goal)."""

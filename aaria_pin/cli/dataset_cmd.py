@@ -1,99 +1,27 @@
 """``aaria dataset``: many random runs into one HDF5 data set, in parallel.
 
-Flags in; the spec from its sources (:meth:`~aaria_pin.apps.dataset.sources.DatasetSources.spec`)
-and the job (:func:`~aaria_pin.apps.dataset.engine.generate_dataset`); its reports out.
+Flags in; the spec from its sources
+(:meth:`~aaria_pin.apps.dataset.spec_sources.DatasetSources.spec`) and the job
+(:func:`~aaria_pin.apps.dataset.generate.generate_dataset`); its reports out
+(:mod:`~aaria_pin.apps.dataset.progress`).
 """
 
 from __future__ import annotations
 
 import shlex
 import sys
-from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import click
 
 from aaria_pin.cli._options import fourier_options, robot_source_options, table_source_options
 from aaria_pin.core.seeds import MAX_SEED
 
-if TYPE_CHECKING:
-    from aaria_pin.apps.dataset.job import DatasetEstimate
-
 _FILE = click.Path(path_type=Path, dir_okay=False)
 _JOB_FLAGS = ("workers", "scheduler", "shards", "resume", "overwrite")
 """The flags of the job (:class:`~aaria_pin.apps.dataset.job.DatasetJob`); the rest are the
-data set's sources (:class:`~aaria_pin.apps.dataset.sources.DatasetSources`)."""
-
-
-def _progress(quiet: bool, every: float) -> Callable[[int, int, float], None] | None:
-    """The progress report: a bar on a terminal, else a plain line every ``every`` seconds.
-
-    A batch job's log (stderr not a terminal) gets lines ``aaria: 120/10000 runs, 35.2 runs/s,
-    ETA 281 s`` at most every ``every`` seconds, and the last one when the job ends; a terminal
-    gets click's progress bar.
-    """
-    if quiet:
-        return None
-    if sys.stderr.isatty():
-        return _bar()
-    last = [-float("inf")]
-
-    def line(done: int, total: int, seconds: float) -> None:
-        if seconds - last[0] >= every or done == total:
-            last[0] = seconds
-            rate = done / seconds if seconds > 0 else 0.0
-            eta = (total - done) / rate if rate > 0 else float("nan")
-            click.echo(f"aaria: {done}/{total} runs, {rate:.1f} runs/s, ETA {eta:.0f} s", err=True)
-
-    return line
-
-
-def _bar() -> Callable[[int, int, float], None]:
-    """A progress bar (click's) on stderr, made at the first report (when the total is known)."""
-    bars: list[Any] = []
-
-    def show(done: int, total: int, seconds: float) -> None:
-        if not bars:
-            bar = click.progressbar(
-                length=total, label="runs", show_pos=True, item_show_func=_shown, file=sys.stderr
-            )
-            bars.append(bar.__enter__())
-        bars[0].update(done - bars[0].pos, f"{done / seconds if seconds > 0 else 0:.1f} runs/s")
-        if done >= total:
-            bars[0].__exit__(None, None, None)
-
-    return show
-
-
-def _shown(rate: str | None) -> str | None:
-    """The bar's text after the count: the rate (none before the first run)."""
-    return rate
-
-
-def _estimate(quiet: bool) -> Callable[[DatasetEstimate], None] | None:
-    """Print a job's estimated size and time once (to stderr)."""
-    if quiet:
-        return None
-
-    def show(estimate: DatasetEstimate) -> None:
-        seconds = "under 1 s" if estimate.seconds < 1 else f"about {estimate.seconds:.0f} s"
-        click.echo(
-            f"aaria: estimate for {estimate.runs} runs: {_size(estimate.bytes)}, {seconds} "
-            f"(the runs, not start-up) on {estimate.workers} workers "
-            f"({estimate.run_seconds * 1e3:.0f} ms a run)",
-            err=True,
-        )
-
-    return show
-
-
-def _size(count: float) -> str:
-    for unit in ("B", "kB", "MB", "GB"):
-        if count < 1000:
-            return f"{count:.0f} {unit}" if unit == "B" else f"{count:.1f} {unit}"
-        count /= 1000
-    return f"{count:.1f} TB"
+data set's sources (:class:`~aaria_pin.apps.dataset.spec_sources.DatasetSources`)."""
 
 
 def _print_config(ctx: click.Context, _: click.Parameter, value: bool) -> None:
@@ -202,19 +130,17 @@ def dataset(output: Path, quiet: bool, progress_every: float, **flags: Any) -> N
     """
     import warnings
 
-    from aaria_pin.apps.dataset.engine import DatasetJob, DatasetJobStoppedError, generate_dataset
-    from aaria_pin.apps.dataset.sources import DatasetSources
-    from aaria_pin.errors import MeshWarning, ParameterError
+    from aaria_pin.apps.dataset.generate import DatasetJob, DatasetJobStoppedError, generate_dataset
+    from aaria_pin.apps.dataset.progress import estimate_report, progress_report
+    from aaria_pin.apps.dataset.spec_sources import DatasetSources
+    from aaria_pin.errors import MeshWarning
 
-    try:  # a usage error (exit 2) even when the command runs outside the aaria group
-        job = DatasetJob(
-            **{name: flags.pop(name) for name in _JOB_FLAGS},
-            progress=_progress(quiet, progress_every),
-            estimate=_estimate(quiet),
-            command=shlex.join(["aaria", *sys.argv[1:]]),
-        )
-    except ParameterError as exc:
-        raise click.UsageError(exc.for_flag({name: f"--{name}" for name in _JOB_FLAGS})) from None
+    job = DatasetJob(  # its ParameterError names the flag through the aaria group
+        **{name: flags.pop(name) for name in _JOB_FLAGS},
+        progress=progress_report(quiet, progress_every),
+        estimate=estimate_report(quiet),
+        command=shlex.join(["aaria", *sys.argv[1:]]),
+    )
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", MeshWarning)
         spec = DatasetSources(**flags).spec()

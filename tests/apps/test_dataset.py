@@ -14,8 +14,8 @@ import pytest
 from click.testing import CliRunner
 
 from aaria_pin.aaria.presets import get_preset
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.engine import generate_dataset, simulate_dataset_run
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
+from aaria_pin.apps.dataset.generate import generate_dataset, simulate_dataset_run
 from aaria_pin.apps.remake import remake_record
 from aaria_pin.cli import main
 from aaria_pin.core.record import RunRecord
@@ -239,7 +239,7 @@ def test_info_summarises_a_dataset(reference: Path) -> None:
 def test_peak_memory_does_not_grow_with_the_number_of_runs(tmp_path: Path) -> None:
     code = (
         "import resource, sys; "
-        "from aaria_pin.apps.dataset.engine import DhDatasetSpec, generate_dataset; "
+        "from aaria_pin.apps.dataset.generate import DhDatasetSpec, generate_dataset; "
         "generate_dataset(sys.argv[1], DhDatasetSpec(n_runs=int(sys.argv[2]), duration=0.2), "
         "workers=1); print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)"
     )
@@ -351,7 +351,7 @@ def test_fourier_runs_are_drawn_from_their_joint_stream_within_the_limits(tmp_pa
 
 
 def test_fourier_runs_of_a_urdf_robot(tmp_path: Path) -> None:
-    from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
+    from aaria_pin.apps.dataset.urdf_spec import UrdfDatasetSpec, UrdfSource
     from aaria_pin.core.catalogue import find_robot
     from aaria_pin.core.urdf_robot import read_urdf_file
 

@@ -24,8 +24,8 @@ from aaria_pin.apps.dataset.card_file import (
     store_card,
 )
 from aaria_pin.apps.dataset.card_text import card_text
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.engine import generate_dataset
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
+from aaria_pin.apps.dataset.generate import generate_dataset
 
 FIXTURES = Path(__file__).parents[1] / "fixtures" / "v0_1_0"
 SHORT = {"duration": 0.1, "rate": 50.0}

@@ -21,10 +21,10 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.engine import DatasetJobStoppedError, generate_dataset
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
+from aaria_pin.apps.dataset.generate import DatasetJobStoppedError, generate_dataset
 from aaria_pin.apps.dataset.shards import write_shard_task
-from aaria_pin.cli.dataset_cmd import dataset
+from aaria_pin.cli import main
 from aaria_pin.core.record import RunRecord
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.dataset.manifest import missing_shards, shard_files
@@ -323,7 +323,7 @@ def test_piped_job_prints_the_estimate_and_progress_lines(
 
 def test_shards_need_a_scheduler(reference: Path, tmp_path: Path) -> None:
     result = CliRunner().invoke(
-        dataset, ["-n", "2", "--shards", str(tmp_path), "-o", str(tmp_path / "ds.h5")]
+        main, ["dataset", "-n", "2", "--shards", str(tmp_path), "-o", str(tmp_path / "ds.h5")]
     )
     assert result.exit_code == 2 and "--shards needs --scheduler" in result.output
     copy = tmp_path / "one-file.h5"  # made by local workers: resumed by local workers

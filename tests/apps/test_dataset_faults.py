@@ -25,9 +25,9 @@ import pytest
 from click.testing import CliRunner
 
 from aaria_pin.aaria.presets import get_preset
-from aaria_pin.apps.dataset import engine
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.engine import DatasetJobStoppedError, generate_dataset
+from aaria_pin.apps.dataset import generate as engine
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
+from aaria_pin.apps.dataset.generate import DatasetJobStoppedError, generate_dataset
 from aaria_pin.cli import main
 from aaria_pin.core.record import RunRecord
 
@@ -120,9 +120,9 @@ def test_a_damaged_complete_flag_is_a_run_to_redo(reference: Path, tmp_path: Pat
 def test_ctrl_c_says_what_is_saved_and_resume_goes_on(
     reference: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from aaria_pin.cli import dataset_cmd
+    from aaria_pin.apps.dataset import progress
 
-    monkeypatch.setattr(dataset_cmd, "_progress", lambda quiet, every: _stop_after(5))
+    monkeypatch.setattr(progress, "progress_report", lambda quiet, every: _stop_after(5))
     path = tmp_path / "ds.h5"
     result = CliRunner().invoke(main, ["dataset", *ARGS, "--workers", "2", "-o", str(path)])
     assert result.exit_code == 130
@@ -457,7 +457,8 @@ def test_a_full_disk_keeps_the_runs_and_resumes(tmp_path: Path) -> None:
         args = ["dataset", "-n", "40", "--seed", "3", "--duration", "1", "--workers", "2"]
         args += ["--quiet", "-o", "ds.h5"]
         code = (
-            "import sys; from aaria_pin.apps.dataset import engine; engine.FLUSH_SECONDS = 0; "
+            "import sys; from aaria_pin.apps.dataset import generate as engine; "
+            "engine.FLUSH_SECONDS = 0; "
             "from aaria_pin.cli import main; main()"
         )
         full = subprocess.run(

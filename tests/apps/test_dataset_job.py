@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.engine import generate_dataset
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
+from aaria_pin.apps.dataset.generate import generate_dataset
 from aaria_pin.apps.dataset.job import DatasetJob, DatasetReport
 from aaria_pin.errors import ParameterError
 

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from aaria_pin.apps.dataset import runner
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.engine import generate_dataset
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
+from aaria_pin.apps.dataset.generate import generate_dataset
 from aaria_pin.apps.dataset.runner import task_runs
 
 SHORT = {"duration": 0.5, "rate": 100.0}

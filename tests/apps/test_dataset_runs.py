@@ -1,44 +1,56 @@
-"""simulate_inputs: run k of a data set from its inputs, by the producer of its robot kind."""
+"""simulate_inputs: run k of a data set from its inputs, by the run engine."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import warnings
 
 import numpy as np
-import pytest
 
-from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
 from aaria_pin.apps.dataset.runs import simulate_inputs
-from aaria_pin.errors import ParameterError
 
 
 def test_a_dh_run_is_simulate_run_of_its_drawn_tables() -> None:
     spec = DhDatasetSpec(n_runs=3, seed=4, duration=0.2)
     inputs = spec.inputs(2)
     record = simulate_inputs(spec, inputs)
-    written_out = simulate_run(  # the single-run producer, its arguments given by hand
-        inputs.tables["senSenDH"],
-        inputs.tables["senSenJ"],
-        inputs.tables["senSenB"],
-        duration=0.2,
-        rate=spec.rate,
-        seed=np.random.SeedSequence(4, spawn_key=(2, 3)),
-    )
+    with warnings.catch_warnings():  # the single-run producer, perhaps deprecated
+        warnings.simplefilter("ignore", DeprecationWarning)
+        written_out = simulate_run(  # its arguments given by hand
+            inputs.tables["senSenDH"],
+            inputs.tables["senSenJ"],
+            inputs.tables["senSenB"],
+            duration=0.2,
+            rate=spec.rate,
+            seed=np.random.SeedSequence(4, spawn_key=(2, 3)),
+        )
     for name in ("q", "qd", "qdd", "tau", "imu", "base_wrench", "tool_pose"):
         np.testing.assert_array_equal(getattr(record, name), getattr(written_out, name), name)
 
 
-@dataclass(frozen=True)
-class _ToySpec(DhDatasetSpec):
-    @property
-    def kind(self) -> str:
-        return "toy"
+def test_a_urdf_run_is_simulate_urdf_run_of_its_drawn_tables() -> None:
+    from aaria_pin.apps.dataset.urdf_spec import UrdfDatasetSpec, UrdfSource
+    from aaria_pin.core.catalogue import find_robot
+    from aaria_pin.core.urdf_robot import read_urdf_file
+    from aaria_pin.core.urdf_run import simulate_urdf_run
 
-
-def test_a_robot_kind_without_a_producer_is_refused() -> None:
-    spec = _ToySpec(n_runs=1, vary=("joints",), dh_table=get_preset("aaria-fig2").table)
-    with pytest.raises(ParameterError, match="spec is 'toy'; allowed: dh, urdf") as refused:
-        simulate_inputs(spec, spec.inputs(0))
-    assert refused.value.parameter == "spec"
+    urdf = read_urdf_file(find_robot("ur5").urdf)
+    spec = UrdfDatasetSpec(
+        n_runs=2, seed=3, duration=0.2, vary=("joints", "base"), robot=UrdfSource(urdf, "ur5")
+    )
+    inputs = spec.inputs(1)
+    record = simulate_inputs(spec, inputs)
+    with warnings.catch_warnings():  # the single-run producer, perhaps deprecated
+        warnings.simplefilter("ignore", DeprecationWarning)
+        written_out = simulate_urdf_run(
+            urdf,
+            inputs.tables["joint_table"],
+            inputs.tables["base_table"],
+            duration=0.2,
+            rate=spec.rate,
+            seed=np.random.SeedSequence(3, spawn_key=(1, 3)),
+            source="ur5",
+        )
+    for name in ("q", "qd", "qdd", "tau", "imu", "base_wrench", "tool_pose"):
+        np.testing.assert_array_equal(getattr(record, name), getattr(written_out, name), name)

@@ -40,8 +40,8 @@ def inputs(tmp_path_factory: pytest.TempPathFactory) -> Path:
     from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
     from aaria_pin.aaria.presets import get_preset
     from aaria_pin.aaria.simulate import simulate_run
-    from aaria_pin.apps.dataset.dh import DhDatasetSpec
-    from aaria_pin.apps.dataset.engine import generate_dataset
+    from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
+    from aaria_pin.apps.dataset.generate import generate_dataset
     from aaria_pin.files.runfile import write_run
 
     folder = tmp_path_factory.mktemp("inputs")

@@ -84,3 +84,68 @@ def test_a_sensor_in_pieces_is_its_whole_series_and_a_bad_shape_is_refused() -> 
     with pytest.raises(ParameterError) as error:
         sensor("sonar")
     assert error.value.parameter == "sensor"
+
+
+def test_a_registered_toy_sensor_is_found_in_a_data_set_and_its_card(tmp_path: Path) -> None:
+    """The must-show of issue 23: a sensor registered here is a column of a run file (above),
+    of a data set and of its data card, with its units."""
+    from aaria_pin.apps.dataset.card_file import dataset_card
+    from aaria_pin.apps.dataset.card_text import card_text
+    from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
+    from aaria_pin.apps.dataset.generate import generate_dataset
+    from aaria_pin.files.dataset.reader import DatasetReader
+
+    clock = register_sensor(Clock())
+    spec = DhDatasetSpec(n_runs=3, seed=2, duration=0.5, rate=20.0, sensors=(clock, ToolHeight()))
+    path = tmp_path / "set.h5"
+    generate_dataset(path, spec, workers=1)
+    with DatasetReader(path) as reader:
+        assert reader.header.sensors["clock"]["columns"] == ["t"]
+        for run in range(3):
+            record = reader.record(run)
+            # float32 in the file: the clock's times k / 20 as float32, back in float64
+            expected = (np.arange(11) / 20.0).astype(np.float32)
+            np.testing.assert_array_equal(record.tables["sensor_clock"][:, 0], expected)
+            np.testing.assert_array_equal(
+                record.tables["sensor_tool_height"][:, 0], record.tool_pose[:, 2, 3]
+            )
+        assert reader.handle["sensor_clock"].dtype == np.float32  # a series: the data set's dtype
+    card = dataset_card(path)
+    entry = {column.name: column for column in card.columns}["sensor_tool_height"]
+    assert (entry.role, entry.units, entry.shape) == ("sensor", "m", (3, 11, 1))
+    assert [group.first for group in entry.column_groups] == ["z"]
+    text = card_text(card)
+    assert "sensor_clock" in text and "clock t: 1 column (t) [s]" in text
+
+
+def test_the_sensors_a_record_names_re_make_its_tables(tmp_path: Path) -> None:
+    from aaria_pin.core.run.sensor import recorded_sensors
+
+    clock, height = register_sensor(Clock()), register_sensor(ToolHeight())
+    settings = RunSettings(duration=0.5, rate=40.0)
+    robot = preset_arm("aaria-fig2")
+    stored = read_run(write_run(tmp_path / "run.h5", simulate(robot, None, settings, 3, [clock])))
+    assert recorded_sensors(stored.attributes) == (clock,)
+    again = simulate(robot, None, settings, 3, recorded_sensors(stored.attributes))
+    np.testing.assert_array_equal(again.tables["sensor_clock"], stored.tables["sensor_clock"])
+    assert recorded_sensors({}) == () and height.name == "tool_height"
+    with pytest.raises(ParameterError) as error:
+        recorded_sensors({"sensors": {"sonar": {}}})
+    assert error.value.parameter == "sensor"
+
+
+@pytest.mark.parametrize("suffix", [".h5", ".mat"])
+def test_a_run_streamed_in_pieces_keeps_its_whole_sensor_table(tmp_path: Path, suffix: str) -> None:
+    """write_run_pieces of a run longer than a piece: each piece's rows land in the table."""
+    from aaria_pin.files.runfile import write_run_pieces
+
+    settings = RunSettings(duration=1.0, rate=40.0, chunk=10, noise=False)
+    pieces = simulate_pieces(preset_arm("aaria-fig2"), None, settings, 0, [Clock(), ToolHeight()])
+    path = tmp_path / f"run{suffix}"
+    _, samples, _ = write_run_pieces(path, pieces, None, mat_version="7.3")
+    stored = read_run(path)
+    assert samples == 41
+    np.testing.assert_array_equal(stored.tables["sensor_clock"][:, 0], np.arange(41) / 40.0)
+    np.testing.assert_array_equal(
+        stored.tables["sensor_tool_height"][:, 0], stored.tool_pose[:, 2, 3]
+    )

@@ -6,7 +6,7 @@ import zlib
 
 import numpy as np
 
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
 from aaria_pin.files.dataset import layout as layout_module
 from aaria_pin.files.dataset.layout import encode_run, run_arrays
 

@@ -10,9 +10,9 @@ import h5py
 import numpy as np
 import pytest
 
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.engine import generate_dataset
-from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
+from aaria_pin.apps.dataset.generate import generate_dataset
+from aaria_pin.apps.dataset.urdf_spec import UrdfDatasetSpec, UrdfSource
 from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.record import SERIES
 from aaria_pin.core.urdf_robot import read_urdf_file

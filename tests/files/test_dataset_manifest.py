@@ -9,7 +9,7 @@ import h5py
 import numpy as np
 import pytest
 
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
 from aaria_pin.apps.dataset.spec import run_result
 from aaria_pin.files.dataset.manifest import (
     ManifestContents,

@@ -19,8 +19,8 @@ import h5py
 import numpy as np
 import pytest
 
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.engine import generate_dataset
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
+from aaria_pin.apps.dataset.generate import generate_dataset
 from aaria_pin.errors import InputFileError, OutputFileError, ParameterError
 from aaria_pin.files.dataset.reader import DatasetReader
 from aaria_pin.files.dataset.statistics import channel_statistics

@@ -16,9 +16,9 @@ import pytest
 from click.testing import CliRunner
 from scipy.spatial.transform import Rotation
 
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.engine import generate_dataset
-from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
+from aaria_pin.apps.dataset.generate import generate_dataset
+from aaria_pin.apps.dataset.urdf_spec import UrdfDatasetSpec, UrdfSource
 from aaria_pin.cli import main
 from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.seeds import stored_seed

@@ -85,7 +85,8 @@ class CardColumn:
         shape: its shape (runs first)
         dtype: its dtype
         role: ``series``, ``input`` (mounts and tables), ``view`` (an HDF5 virtual dataset
-            over the series) or ``table of columns`` (a 0.1 flat table, stored)
+            over the series), ``sensor`` (an extra sensor's signals, ``sensor_<name>``: its
+            columns as the column groups) or ``table of columns`` (a 0.1 flat table, stored)
         units: its ``units`` attribute (or the record's convention when not stored)
         units_stored: whether the file stores the units
         frame: its frame (``""``: none, or see the column groups)

@@ -97,8 +97,11 @@ def reader_card(reader: DatasetReader) -> DatasetCard:
     handle = reader.handle
     complete = reader.complete
     views = _views(reader)
+    sensors = _sensor_groups(header.sensors)
     columns = tuple(
         _column(handle, name, name in views and reader.layout is not None, views.get(name))
+        if name not in sensors
+        else _sensor_column(handle, name, sensors[name])
         for name in reader.names
     )
     link_types = (
@@ -242,6 +245,35 @@ def _column(handle: Any, name: str, virtual: bool, view: ColumnView | None) -> C
         units_stored=stored is not None,
         frame="" if view is not None else _FRAMES.get(name, ""),
         column_groups=_column_groups(view) if view is not None else (),
+    )
+
+
+def _sensor_groups(described: Mapping[str, Any]) -> dict[str, tuple[ColumnGroup, ...]]:
+    """Each extra sensor's table (``sensor_<name>``) → its columns, a group each with units.
+
+    From the file's attribute ``sensors`` (:func:`~aaria_pin.core.run.sensor.sensor_attributes`).
+    """
+    return {
+        str(entry["table"]): tuple(
+            ColumnGroup(f"{name} {column}", 1, str(column), str(column), str(entry["units"]), "")
+            for column in entry["columns"]
+        )
+        for name, entry in described.items()
+    }
+
+
+def _sensor_column(handle: Any, name: str, groups: tuple[ColumnGroup, ...]) -> CardColumn:
+    """The card's entry of an extra sensor's table: role ``sensor``, its columns and units."""
+    dataset = handle[name]
+    return CardColumn(
+        name=name,
+        shape=tuple(int(n) for n in dataset.shape),
+        dtype=str(dataset.dtype),
+        role="sensor",
+        units=groups[0].units if groups else "",
+        units_stored=True,
+        frame="",
+        column_groups=groups,
     )
 
 

@@ -4,7 +4,7 @@ A :class:`DatasetSpec` is a picklable description of a data set (it travels to l
 processes and to Dask workers). Its robot-specific subclasses (:class:`~.dh.DhDatasetSpec`
 for Aaria DH arms, :class:`~.urdf.UrdfDatasetSpec` for URDF robots) know the data set's fixed
 per-run layout (:meth:`DatasetSpec.layout`) and make run k (:meth:`DatasetSpec.make_run`) from
-its inputs (:meth:`DatasetSpec.inputs`); the engine (:mod:`.engine`) only calls these, whatever
+its inputs (:meth:`DatasetSpec.inputs`); the engine (:mod:`.generate`) only calls these, whatever
 the robot.
 
 Run k of a data set with seed S is a pure function of (S, k) and the spec: its inputs and its
@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -30,6 +30,9 @@ from aaria_pin.core.seeds import DATASET_STREAMS, RunSeeds, check_seed
 from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE
 from aaria_pin.errors import AariaError, OutputFileError, ParameterError
 from aaria_pin.files.dataset.layout import DatasetLayout, EncodedRun, encode_run, run_arrays
+
+if TYPE_CHECKING:
+    from aaria_pin.core.run import Motion, RunRobot, RunSettings, Sensor
 
 __all__ = [
     "MAX_RUNS",
@@ -122,6 +125,9 @@ class DatasetSpec(DatasetSettings, ABC):
             :func:`~aaria_pin.core.oscillation.default_base_table`)
         noise_model: the IMU noise model (default: the ADIS16485 data sheet; recorded in the
             file's ``noise_parameters``)
+        sensors: sensors beside the IMUs (:mod:`~aaria_pin.core.run.sensor`): each run
+            stores the table ``sensor_<name>`` (T × its columns, in the data set's dtype); the
+            file's attribute ``sensors`` gives their columns and units
     """
 
     config: RandomConfig = field(default_factory=RandomConfig)
@@ -129,6 +135,7 @@ class DatasetSpec(DatasetSettings, ABC):
     joint_table: Array | None = None
     base_table: Array | None = None
     noise_model: ImuNoiseModel = ADIS16485
+    sensors: tuple[Sensor, ...] = ()
 
     def __post_init__(self) -> None:
         from aaria_pin.core.trajectory import sample_times
@@ -195,16 +202,25 @@ class DatasetSpec(DatasetSettings, ABC):
         drawn = run if "joints" in self.vary else 0
         return RunSeeds(self.seed, drawn).sequence("fourier")
 
-    def run_motion(self, inputs: RunInputs) -> Any:
-        """The ``motion`` of a run's producer: None (sines) or its Fourier excitation."""
-        if self.motion == "sine":
-            return None
+    def run_motion(self, inputs: RunInputs) -> Motion:
+        """The engine's motion of a run: its joint table's sines, or its Fourier excitation."""
         from aaria_pin.core.excitation import FourierExcitation
+        from aaria_pin.core.run import FourierMotion, SineTable
 
+        if self.motion == "sine":
+            return SineTable()
         settings = self.fourier_settings()
-        return FourierExcitation.from_table(
-            inputs.tables["fourier_coefficients"], settings["base_frequency"], settings
+        return FourierMotion(
+            FourierExcitation.from_table(
+                inputs.tables["fourier_coefficients"], settings["base_frequency"], settings
+            )
         )
+
+    def run_settings(self) -> RunSettings:
+        """The engine's settings of every run: duration, rate, noise (a run held whole)."""
+        from aaria_pin.core.run import RunSettings
+
+        return RunSettings(self.duration, self.rate, None, self.noise, self.noise_model)
 
     def motion_attributes(self) -> dict[str, Any]:
         """``motion`` and ``fourier`` of a Fourier data set; nothing for sines (as before)."""
@@ -228,8 +244,25 @@ class DatasetSpec(DatasetSettings, ABC):
         """What the file records of the robot beyond its name (compared on resume)."""
 
     @abstractmethod
+    def run_robot(self, inputs: RunInputs) -> RunRobot:
+        """The engine's robot of a run (its kind's adapter) from the run's input tables."""
+
+    @abstractmethod
+    def robot_layout(self) -> DatasetLayout:
+        """The robot's fixed per-run layout: joints, IMUs, tables, views, URDF."""
+
     def layout(self) -> DatasetLayout:
-        """The fixed per-run layout: joints, IMUs, tables, views, URDF."""
+        """The fixed per-run layout: the robot's, and a table per extra sensor (T × columns)."""
+        layout = self.robot_layout()
+        if not self.sensors:
+            return layout
+        from dataclasses import replace
+
+        from aaria_pin.core.run.sensor import sensor_table
+
+        samples = self.samples
+        tables = {sensor_table(s.name): (samples, len(s.columns)) for s in self.sensors}
+        return replace(layout, tables={**layout.tables, **tables})
 
     @abstractmethod
     def inputs(self, run: int) -> RunInputs:
@@ -294,7 +327,7 @@ class DatasetSpec(DatasetSettings, ABC):
 
     def attributes(self) -> dict[str, Any]:
         """File attributes describing the spec (what :meth:`mismatches` compares on resume)."""
-        from aaria_pin.core.run import sampling_attributes
+        from aaria_pin.core.run.sensor import sensor_attributes
 
         fixed = {
             name: getattr(self, name).tolist()
@@ -305,9 +338,8 @@ class DatasetSpec(DatasetSettings, ABC):
             "kind": self.kind,
             "robot": self.robot_name(),
             **({"robot_info": info} if (info := self.robot_attributes()) else {}),
-            **sampling_attributes(
-                self.rate, self.duration, self.seed, self.noise, self.noise_model
-            ),
+            **self.run_settings().attributes(self.seed),
+            **sensor_attributes(self.sensors),
             "noise_stream": NOISE_STREAM,
             "vary": list(self.vary),
             "config": self.config.as_dict(),
@@ -341,6 +373,7 @@ class DatasetSpec(DatasetSettings, ABC):
             "robot_info",
             "motion",
             "fourier",
+            "sensors",
         )
         return [key for key in keys if _plain(stored.get(key)) != _plain(mine.get(key))]
 

@@ -13,6 +13,7 @@ so adding one is one module plus its registration.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -27,9 +28,12 @@ from aaria_pin.errors import ParameterError
 
 __all__ = [
     "IMU",
+    "SENSOR_TABLE_PREFIX",
     "ImuSensor",
     "Sensor",
     "SensorState",
+    "is_sensor_table",
+    "recorded_sensors",
     "register_sensor",
     "sensor",
     "sensor_attributes",
@@ -124,9 +128,18 @@ def sensor(name: str) -> Sensor:
     return _SENSORS[name]
 
 
+SENSOR_TABLE_PREFIX = "sensor_"
+"""The start of every sensor table's name (``sensor_<name>``)."""
+
+
 def sensor_table(name: str) -> str:
     """The record table of sensor ``name``'s signals."""
-    return f"sensor_{name}"
+    return f"{SENSOR_TABLE_PREFIX}{name}"
+
+
+def is_sensor_table(name: str) -> bool:
+    """Whether a record table holds a sensor's signals (T × columns: a time axis)."""
+    return name.startswith(SENSOR_TABLE_PREFIX)
 
 
 def sensor_attributes(sensors: tuple[Sensor, ...]) -> dict[str, Any]:
@@ -144,6 +157,17 @@ def sensor_attributes(sensors: tuple[Sensor, ...]) -> dict[str, Any]:
             for s in sensors
         }
     }
+
+
+def recorded_sensors(attributes: Mapping[str, Any]) -> tuple[Sensor, ...]:
+    """The registered sensors a record's attribute ``sensors`` names (to re-make its tables).
+
+    The inverse of :func:`sensor_attributes`, in the recorded order.
+
+    Raises:
+        ParameterError: a recorded sensor that is not registered (parameter ``sensor``).
+    """
+    return tuple(sensor(str(name)) for name in attributes.get("sensors") or {})
 
 
 def measure(robot: RunRobot, state: SensorState, sensors: tuple[Sensor, ...]) -> dict[str, Array]:

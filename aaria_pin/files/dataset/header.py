@@ -40,6 +40,8 @@ class DatasetHeader:
         vary: the random parts as stored (None: not recorded)
         config: the random parts' configuration (None: not recorded)
         fixed_tables: the tables of the parts that do not vary, by name
+        sensors: the extra sensors, by name: their table (``sensor_<name>``), columns and
+            units (:func:`~aaria_pin.core.run.sensor.sensor_attributes`; empty: none)
         failures: failed runs and their messages
         command: the command line that made it (None: not recorded, or made from Python)
         versions: the versions of the software that made it (None: not recorded)
@@ -64,6 +66,7 @@ class DatasetHeader:
     vary: list[str] | None = None
     config: dict[str, Any] | None = None
     fixed_tables: dict[str, Any] = field(default_factory=dict)
+    sensors: dict[str, Any] = field(default_factory=dict)
     failures: dict[int, str] = field(default_factory=dict)
     command: str | None = None
     versions: dict[str, Any] | None = None
@@ -122,6 +125,7 @@ class DatasetHeader:
             vary=values.get("vary"),
             config=values.get("config"),
             fixed_tables=dict(values.get("fixed_tables") or {}),
+            sensors=dict(values.get("sensors") or {}),
             failures={int(k): str(v) for k, v in (values.get("failures") or {}).items()},
             command=None if command is None else str(command),
             versions=versions if isinstance(versions, dict) or versions is None else {"": versions},

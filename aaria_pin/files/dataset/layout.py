@@ -71,7 +71,9 @@ class DatasetLayout:
         imu_names: the S IMUs of ``imu``
         imu_parents: each IMU's parent frame (a run whose IMU has a zero mount has none there:
             an empty slot of an Aaria arm)
-        tables: shape of each input table of one run, by name, in file order
+        tables: shape of each input table of one run, by name, in file order; an extra
+            sensor's signals are the table ``sensor_<name>`` (T × columns; its columns and
+            units in the file's attribute ``sensors``)
         views: column views of the series (HDF5 virtual datasets in the file); the flat
             ``signals`` view is added to every layout
         urdf: the URDF text shared by every run (``""`` when each run has its own robot, as in
@@ -125,8 +127,13 @@ class DatasetLayout:
 
     @property
     def inputs(self) -> tuple[str, ...]:
-        """The arrays stored as float64 whatever the data set's dtype: mounts and tables."""
-        return ("imu_mount", *self.tables)
+        """The arrays stored as float64 whatever the data set's dtype: mounts and input tables.
+
+        A sensor's table (``sensor_<name>``) is a series: it takes the data set's dtype.
+        """
+        from aaria_pin.core.run.sensor import is_sensor_table
+
+        return ("imu_mount", *(name for name in self.tables if not is_sensor_table(name)))
 
     @staticmethod
     def chunk(name: str, shape: tuple[int, ...]) -> tuple[int, ...]:

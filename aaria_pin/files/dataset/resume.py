@@ -62,9 +62,11 @@ def open_read_only(file: Path) -> Any:
         raise InputFileError(
             f"{file}: is a format version {version} data set (aaria_pin 0.1), which cannot be "
             "resumed; allowed: make it again, or write the rest to a new output file",
-            value=version,
-            allowed=f"format version {DATASET_FORMAT_VERSION}",
-            element=str(file),
+            parameter="path",
+            value=str(file),
+            allowed=f"a format version {DATASET_FORMAT_VERSION} data set (this one is format "
+            f"version {version}, aaria_pin 0.1: make it again, or write the rest to a new "
+            "output file)",
         )
     complete = "layout_json" in handle.attrs and all(
         name in handle for name in (*NAME_LISTS, "checksum", "complete")

@@ -233,7 +233,13 @@ class RunFileWriter:
                 parameter="samples",
             )
         self._first = first
+        from aaria_pin.core.run.sensor import is_sensor_table
+
         self._arrays = checked_arrays(self.final, first)
+        self._sensors = [name for name in first.tables if is_sensor_table(name)]
+        for name in self._sensors:  # laid out at the run's length, filled piece by piece
+            columns = self._arrays[name].shape[1]
+            self._arrays[name] = np.zeros((self.samples, columns))
         self._encoded(first.attributes)  # refuse early, before any file
         self._compression = compression
         self._attributes: Mapping[str, Any] = first.attributes
@@ -301,12 +307,34 @@ class RunFileWriter:
             arrays[name] = data
         try:
             self._stream.write(start, arrays)
+            for name in self._sensors:
+                self._write_sensor(name, start, chunk.tables.get(name), n)
         except OSError as exc:
             raise OutputFileError(
                 f"{self.final}: cannot be written ({first_line(exc)})", parameter="path"
             ) from None
         self._written += n
         self._attributes = chunk.attributes
+
+    def _write_sensor(self, name: str, start: int, rows: Any, n: int) -> None:
+        """Store a piece's rows of the sensor table ``name`` (T × columns).
+
+        A ``.mat`` stores it transposed (MATLAB's column-major order).
+        """
+        assert self._stream is not None
+        dataset = self._stream.handle[name]
+        columns = dataset.shape[0] if self._mat else dataset.shape[1]
+        data = np.asarray(rows, dtype=np.float64) if rows is not None else None
+        if data is None or data.shape != (n, columns):
+            raise OutputFileError(
+                f"{self.final}: piece table {name!r} has shape "
+                f"{None if data is None else data.shape}; allowed: ({n}, {columns})",
+                parameter="chunk",
+            )
+        if self._mat:
+            dataset[:, start : start + n] = data.T
+        else:
+            dataset[start : start + n] = data
 
     def __exit__(
         self,

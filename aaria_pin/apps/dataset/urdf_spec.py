@@ -28,6 +28,7 @@ from aaria_pin.errors import ParameterError
 from aaria_pin.files.dataset.layout import DatasetLayout
 
 if TYPE_CHECKING:
+    from aaria_pin.core.run import RunRobot
     from aaria_pin.core.urdf_robot import UrdfRobot
 
 __all__ = ["UrdfDatasetSpec", "UrdfSource"]
@@ -158,7 +159,7 @@ class UrdfDatasetSpec(DatasetSpec):
         """See :meth:`UrdfSource.attributes`."""
         return self.source.attributes()
 
-    def layout(self) -> DatasetLayout:
+    def robot_layout(self) -> DatasetLayout:
         """The robot's joints and IMUs, ``joint_table`` (and ``base_table``), its URDF.
 
         Kept per process with the loaded robot: every run's encoding asks for it.
@@ -218,6 +219,21 @@ class UrdfDatasetSpec(DatasetSpec):
             )
             tables["fourier_coefficients"] = excitation.table()
         return RunInputs(tables, noise_seed)
+
+    def run_robot(self, inputs: RunInputs) -> RunRobot:
+        """The robot with the run's ``joint_table`` (and ``base_table``).
+
+        :func:`~aaria_pin.core.run.urdf_kind.urdf_robot_run`.
+        """
+        from aaria_pin.core.run.urdf_kind import UrdfRunSpec, urdf_robot_run
+
+        run = UrdfRunSpec(
+            inputs.tables["joint_table"],
+            inputs.tables.get("base_table"),
+            self.source.moving_base,
+            self.source.source,
+        )
+        return urdf_robot_run(self.source.load(), run)
 
     def check_inputs(self, inputs: RunInputs) -> None:
         """The joint table against the robot's joints, and the base table.

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cache
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -27,6 +27,9 @@ from aaria_pin.core.se3 import Array
 from aaria_pin.core.seeds import RunSeeds
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.dataset.layout import DatasetLayout
+
+if TYPE_CHECKING:
+    from aaria_pin.core.run import RunRobot
 
 __all__ = ["DhDatasetSpec", "dh_layout"]
 
@@ -72,7 +75,7 @@ class DhDatasetSpec(DatasetSpec):
         """``dh_table``, ``joint_table``, ``base_table``."""
         return ("dh_table", "joint_table", "base_table")
 
-    def layout(self) -> DatasetLayout:
+    def robot_layout(self) -> DatasetLayout:
         """Six joints, 14 IMU slots, the Aaria tables, ``senSen``; the arm's URDF if fixed."""
         urdf = ""
         if "structure" not in self.vary and self.dh_table is not None:
@@ -114,6 +117,20 @@ class DhDatasetSpec(DatasetSpec):
             )
             tables["fourier_coefficients"] = excitation.table()
         return RunInputs(tables, noise_seed)
+
+    def run_robot(self, inputs: RunInputs) -> RunRobot:
+        """The arm of the run's ``senSenDH`` with its ``senSenJ`` and ``senSenB``.
+
+        :func:`~aaria_pin.aaria.arm_run.dh_arm`; its URDF text is not kept (the file stores it
+        once, or not at all).
+        """
+        from aaria_pin.aaria.arm_run import DHArmSpec, dh_arm
+
+        tables = inputs.tables
+        arm = DHArmSpec(
+            tables["senSenJ"], tables["senSenB"], robot_name=self.robot_name(), keep_urdf=False
+        )
+        return dh_arm(tables["senSenDH"], arm)
 
     def check_inputs(self, inputs: RunInputs) -> None:
         """Check the DH table, the base table and, where its structure is known, the joint table.

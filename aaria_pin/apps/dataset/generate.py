@@ -31,7 +31,7 @@ from typing import Any, Unpack
 import numpy as np
 
 from aaria_pin.apps.dataset.card_file import store_card
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
 from aaria_pin.apps.dataset.job import (
     DatasetEstimate,
     DatasetJob,
@@ -50,7 +50,7 @@ from aaria_pin.apps.dataset.spec import (
     check_first_run,
     run_result,
 )
-from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
+from aaria_pin.apps.dataset.urdf_spec import UrdfDatasetSpec, UrdfSource
 from aaria_pin.core._malloc import tune_malloc
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError

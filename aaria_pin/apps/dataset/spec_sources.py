@@ -25,9 +25,9 @@ from typing import TYPE_CHECKING, Any
 
 from aaria_pin.aaria.randomize import PARTS
 from aaria_pin.apps.dataset.config import load_dataset_config
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
 from aaria_pin.apps.dataset.spec import DatasetSettings
-from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
+from aaria_pin.apps.dataset.urdf_spec import UrdfDatasetSpec, UrdfSource
 from aaria_pin.errors import ParameterError
 
 if TYPE_CHECKING:

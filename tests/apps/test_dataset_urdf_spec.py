@@ -10,8 +10,8 @@ import pytest
 from click.testing import CliRunner
 
 from aaria_pin.aaria.randomize import RandomConfig, random_urdf_joint_table
-from aaria_pin.apps.dataset.engine import generate_dataset
-from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec, UrdfSource
+from aaria_pin.apps.dataset.generate import generate_dataset
+from aaria_pin.apps.dataset.urdf_spec import UrdfDatasetSpec, UrdfSource
 from aaria_pin.cli import main
 from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.urdf_robot import load_urdf_robot, read_urdf_file, urdf_joint_trajectory

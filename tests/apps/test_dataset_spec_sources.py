@@ -1,4 +1,4 @@
-"""DatasetSources.spec(): the rules of ``aaria dataset`` in the library (sources.py)."""
+"""DatasetSources.spec(): the rules of ``aaria dataset`` in the library (spec_sources.py)."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from aaria_pin.aaria.presets import get_preset
-from aaria_pin.apps.dataset.dh import DhDatasetSpec
-from aaria_pin.apps.dataset.sources import DatasetSources, spec_from_sources
-from aaria_pin.apps.dataset.urdf import UrdfDatasetSpec
+from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
+from aaria_pin.apps.dataset.spec_sources import DatasetSources, spec_from_sources
+from aaria_pin.apps.dataset.urdf_spec import UrdfDatasetSpec
 from aaria_pin.errors import ParameterError
 
 SHORT = {"n_runs": 2, "duration": 0.2, "seed": 3}
