@@ -42,12 +42,21 @@ if TYPE_CHECKING:
     from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
     from aaria_pin.aaria.presets import Preset, get_preset
     from aaria_pin.aaria.simulate import dh_fourier_excitation, simulate_run
+    from aaria_pin.apps.dataset import (
+        DatasetJob,
+        DatasetReport,
+        DatasetSources,
+        DatasetSpec,
+        generate_dataset,
+    )
     from aaria_pin.apps.identify import identify_dynamics, identify_kinematics
     from aaria_pin.apps.record_model import record_mjcf, replay_in_mujoco
+    from aaria_pin.apps.wrist import WristSolutions, wrist_fk, wrist_ik
     from aaria_pin.core.catalogue import find_robot
     from aaria_pin.core.excitation import fourier_motion
     from aaria_pin.core.model import RobotModel, build_model
     from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
+    from aaria_pin.core.rotations import Angles, angles_from_matrix, matrix_from_angles
     from aaria_pin.core.run import (
         FourierMotion,
         RunSettings,
@@ -68,6 +77,7 @@ if TYPE_CHECKING:
     from aaria_pin.files.dataset.windows import WindowDataset
     from aaria_pin.files.io import read_table
     from aaria_pin.files.runfile import read_run, read_run_inputs, write_run
+    from aaria_pin.files.source import open_record
 
 _LAZY = {
     # robots
@@ -114,21 +124,40 @@ _LAZY = {
     "DatasetReader": "aaria_pin.files.dataset.reader",
     "read_table": "aaria_pin.files.io",
     "read_run_inputs": "aaria_pin.files.runfile",
+    "open_record": "aaria_pin.files.source",
     "WindowDataset": "aaria_pin.files.dataset.windows",
     "fourier_motion": "aaria_pin.core.excitation",
     "record_mjcf": "aaria_pin.apps.record_model",
     "replay_in_mujoco": "aaria_pin.apps.record_model",
     "identify_kinematics": "aaria_pin.apps.identify",
     "identify_dynamics": "aaria_pin.apps.identify",
+    # data sets
+    "generate_dataset": "aaria_pin.apps.dataset",
+    "DatasetSources": "aaria_pin.apps.dataset",
+    "DatasetSpec": "aaria_pin.apps.dataset",
+    "DatasetJob": "aaria_pin.apps.dataset",
+    "DatasetReport": "aaria_pin.apps.dataset",
+    # the wrist and rotations
+    "wrist_fk": "aaria_pin.apps.wrist",
+    "wrist_ik": "aaria_pin.apps.wrist",
+    "WristSolutions": "aaria_pin.apps.wrist",
+    "matrix_from_angles": "aaria_pin.core.rotations",
+    "angles_from_matrix": "aaria_pin.core.rotations",
+    "Angles": "aaria_pin.core.rotations",
 }
 
 __all__ = [
     "AariaError",
+    "Angles",
     "BodyDimensions",
     "ColumnView",
     "DHArmSpec",
     "DHRobot",
+    "DatasetJob",
     "DatasetReader",
+    "DatasetReport",
+    "DatasetSources",
+    "DatasetSpec",
     "FourierMotion",
     "ImuMount",
     "InputFileError",
@@ -151,7 +180,9 @@ __all__ = [
     "UrdfRobot",
     "UrdfRunSpec",
     "WindowDataset",
+    "WristSolutions",
     "__version__",
+    "angles_from_matrix",
     "build_dh_robot",
     "build_model",
     "chain_from_table",
@@ -160,10 +191,13 @@ __all__ = [
     "emit_urdf",
     "find_robot",
     "fourier_motion",
+    "generate_dataset",
     "get_preset",
     "identify_dynamics",
     "identify_kinematics",
     "load_urdf_robot",
+    "matrix_from_angles",
+    "open_record",
     "preset_arm",
     "read_run",
     "read_run_inputs",
@@ -177,6 +211,8 @@ __all__ = [
     "trajectory_from_samples",
     "urdf_fourier_excitation",
     "urdf_robot_run",
+    "wrist_fk",
+    "wrist_ik",
     "write_run",
 ]
 

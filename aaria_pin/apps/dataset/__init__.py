@@ -6,4 +6,48 @@ its inputs, the one call into the run engine), :mod:`.job` (how it is made: work
 estimate, report), :mod:`.engine` (the job into one file), :mod:`.runner` (local workers),
 :mod:`.shards` (a Dask cluster), :mod:`.config` (the ranges and noise file), :mod:`.card` (the
 data card).
+
+The package exports the generator and its spec, each imported on first use (so importing one
+module of the package, as the command line does, loads no other)::
+
+    from aaria_pin.apps.dataset import DatasetSources, generate_dataset
+
+    generate_dataset("ds.h5", DatasetSources(n_runs=4, preset="aaria-fig2").spec())
 """
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from aaria_pin.apps.dataset.engine import generate_dataset
+    from aaria_pin.apps.dataset.job import DatasetJob, DatasetReport
+    from aaria_pin.apps.dataset.sources import DatasetSources
+    from aaria_pin.apps.dataset.spec import DatasetSettings, DatasetSpec
+
+_LAZY = {
+    "generate_dataset": "aaria_pin.apps.dataset.engine",
+    "DatasetJob": "aaria_pin.apps.dataset.job",
+    "DatasetReport": "aaria_pin.apps.dataset.job",
+    "DatasetSources": "aaria_pin.apps.dataset.sources",
+    "DatasetSettings": "aaria_pin.apps.dataset.spec",
+    "DatasetSpec": "aaria_pin.apps.dataset.spec",
+}
+
+__all__ = [
+    "DatasetJob",
+    "DatasetReport",
+    "DatasetSettings",
+    "DatasetSources",
+    "DatasetSpec",
+    "generate_dataset",
+]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        value = getattr(import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'aaria_pin.apps.dataset' has no attribute {name!r}")
