@@ -1,30 +1,36 @@
 """aaria_pin: kinematics, dynamics and simulated sensor data of serial manipulators, on Pinocchio.
 
-The front door. Build a robot from a preset, a DH table or a URDF; simulate it (one
-:func:`simulate` for every robot kind and motion: :class:`SineTable`, :class:`FourierMotion`,
-:class:`SampledTrajectory`, :class:`TorqueDrive`) into the one :class:`RunRecord`; write and
-read run files and data sets::
+The front door. A robot (:func:`preset_arm`, :func:`dh_arm`, :func:`urdf_robot_run`), a motion
+(:class:`SineTable`, :class:`FourierMotion`, :class:`SampledTrajectory`, :class:`TorqueDrive`),
+:class:`RunSettings` and :class:`RunSeeds` go into the one :func:`simulate` (or
+:func:`simulate_pieces`), which returns a :class:`RunRecord`; :func:`write_run` and
+:func:`open_record` (any run file, or run K of a data set) store and read it. Data sets:
+:func:`generate_dataset` of :class:`DatasetSources` ``.spec()`` and a :class:`DatasetJob`. The
+spherical wrist: :func:`wrist_fk`, :func:`wrist_ik`; rotations in every Tait-Bryan and Euler
+sequence: :func:`matrix_from_angles`, :func:`angles_from_matrix`::
 
     import aaria_pin as ap
 
     record = ap.simulate(ap.preset_arm("aaria-fig2"), settings=ap.RunSettings(duration=2.0))
     ap.write_run("run.h5", record)
-    again = ap.read_run("run.h5")
+    again = ap.open_record("run.h5")
     again.imu_signals("imu_tool")        # T × 6: wx wy wz [rad/s], fx fy fz [m/s²]
 
-Every name below is imported on first use, so ``import aaria_pin`` (and the ``aaria`` command
-line) stays fast: Pinocchio, h5py and scipy load only when a model, a file or a simulation needs
-them. Type checkers see the real objects through the ``TYPE_CHECKING`` imports.
+Every name below is imported on first use (:mod:`aaria_pin.core.lazy_exports`), so ``import
+aaria_pin`` (and the ``aaria`` command line) stays fast: Pinocchio, h5py and scipy load only when
+a model, a file or a simulation needs them. Type checkers see the real objects through the
+``TYPE_CHECKING`` imports. ``simulate_run`` and ``simulate_urdf_run`` are the entry points of
+earlier releases (use :func:`simulate`).
 """
 
 from __future__ import annotations
 
-from importlib import import_module
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 # The Aaria layer registers the arm of 0.1.0's DH files with the files layer's readers.
 import aaria_pin.aaria.legacy_v0_1  # noqa: F401
 from aaria_pin._version import __version__
+from aaria_pin.core.lazy_exports import lazy_exports
 from aaria_pin.errors import (
     AariaError,
     InputFileError,
@@ -216,13 +222,7 @@ __all__ = [
     "write_run",
 ]
 
-
-def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        value = getattr(import_module(_LAZY[name]), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'aaria_pin' has no attribute {name!r}")
+__getattr__ = lazy_exports(__name__, _LAZY)
 
 
 def __dir__() -> list[str]:

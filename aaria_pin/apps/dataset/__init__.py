@@ -17,8 +17,9 @@ module of the package, as the command line does, loads no other)::
 
 from __future__ import annotations
 
-from importlib import import_module
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from aaria_pin.core.lazy_exports import lazy_exports
 
 if TYPE_CHECKING:
     from aaria_pin.apps.dataset.engine import generate_dataset
@@ -44,10 +45,4 @@ __all__ = [
     "generate_dataset",
 ]
 
-
-def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        value = getattr(import_module(_LAZY[name]), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'aaria_pin.apps.dataset' has no attribute {name!r}")
+__getattr__ = lazy_exports(__name__, _LAZY)

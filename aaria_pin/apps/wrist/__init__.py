@@ -10,8 +10,9 @@ The package exports the wrist's kinematics, imported on first use::
 
 from __future__ import annotations
 
-from importlib import import_module
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from aaria_pin.core.lazy_exports import lazy_exports
 
 if TYPE_CHECKING:
     from aaria_pin.apps.wrist.kinematics import WristSolutions, wrist_fk, wrist_ik
@@ -24,10 +25,4 @@ _LAZY = {
 
 __all__ = ["WristSolutions", "wrist_fk", "wrist_ik"]
 
-
-def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        value = getattr(import_module(_LAZY[name]), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'aaria_pin.apps.wrist' has no attribute {name!r}")
+__getattr__ = lazy_exports(__name__, _LAZY)
