@@ -1,30 +1,36 @@
 """aaria_pin: kinematics, dynamics and simulated sensor data of serial manipulators, on Pinocchio.
 
-The front door. Build a robot from a preset, a DH table or a URDF; simulate it (one
-:func:`simulate` for every robot kind and motion: :class:`SineTable`, :class:`FourierMotion`,
-:class:`SampledTrajectory`, :class:`TorqueDrive`) into the one :class:`RunRecord`; write and
-read run files and data sets::
+The front door. A robot (:func:`preset_arm`, :func:`dh_arm`, :func:`urdf_robot_run`), a motion
+(:class:`SineTable`, :class:`FourierMotion`, :class:`SampledTrajectory`, :class:`TorqueDrive`),
+:class:`RunSettings` and :class:`RunSeeds` go into the one :func:`simulate` (or
+:func:`simulate_pieces`), which returns a :class:`RunRecord`; :func:`write_run` and
+:func:`open_record` (any run file, or run K of a data set) store and read it. Data sets:
+:func:`generate_dataset` of :class:`DatasetSources` ``.spec()`` and a :class:`DatasetJob`. The
+spherical wrist: :func:`wrist_fk`, :func:`wrist_ik`; rotations in every Tait-Bryan and Euler
+sequence: :func:`matrix_from_angles`, :func:`angles_from_matrix`::
 
     import aaria_pin as ap
 
     record = ap.simulate(ap.preset_arm("aaria-fig2"), settings=ap.RunSettings(duration=2.0))
     ap.write_run("run.h5", record)
-    again = ap.read_run("run.h5")
+    again = ap.open_record("run.h5")
     again.imu_signals("imu_tool")        # T × 6: wx wy wz [rad/s], fx fy fz [m/s²]
 
-Every name below is imported on first use, so ``import aaria_pin`` (and the ``aaria`` command
-line) stays fast: Pinocchio, h5py and scipy load only when a model, a file or a simulation needs
-them. Type checkers see the real objects through the ``TYPE_CHECKING`` imports.
+Every name below is imported on first use (:mod:`aaria_pin.core.lazy_exports`), so ``import
+aaria_pin`` (and the ``aaria`` command line) stays fast: Pinocchio, h5py and scipy load only when
+a model, a file or a simulation needs them. Type checkers see the real objects through the
+``TYPE_CHECKING`` imports. ``simulate_run`` and ``simulate_urdf_run`` are the entry points of
+earlier releases (use :func:`simulate`).
 """
 
 from __future__ import annotations
 
-from importlib import import_module
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 # The Aaria layer registers the arm of 0.1.0's DH files with the files layer's readers.
 import aaria_pin.aaria.legacy_v0_1  # noqa: F401
 from aaria_pin._version import __version__
+from aaria_pin.core.lazy_exports import lazy_exports
 from aaria_pin.errors import (
     AariaError,
     InputFileError,
@@ -42,12 +48,21 @@ if TYPE_CHECKING:
     from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
     from aaria_pin.aaria.presets import Preset, get_preset
     from aaria_pin.aaria.simulate import dh_fourier_excitation, simulate_run
+    from aaria_pin.apps.dataset import (
+        DatasetJob,
+        DatasetReport,
+        DatasetSources,
+        DatasetSpec,
+        generate_dataset,
+    )
     from aaria_pin.apps.identify import identify_dynamics, identify_kinematics
     from aaria_pin.apps.record_model import record_mjcf, replay_in_mujoco
+    from aaria_pin.apps.wrist import WristSolutions, wrist_fk, wrist_ik
     from aaria_pin.core.catalogue import find_robot
     from aaria_pin.core.excitation import fourier_motion
     from aaria_pin.core.model import RobotModel, build_model
     from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
+    from aaria_pin.core.rotations import Angles, angles_from_matrix, matrix_from_angles
     from aaria_pin.core.run import (
         FourierMotion,
         RunSettings,
@@ -68,6 +83,7 @@ if TYPE_CHECKING:
     from aaria_pin.files.dataset.windows import WindowDataset
     from aaria_pin.files.io import read_table
     from aaria_pin.files.runfile import read_run, read_run_inputs, write_run
+    from aaria_pin.files.source import open_record
 
 _LAZY = {
     # robots
@@ -114,21 +130,40 @@ _LAZY = {
     "DatasetReader": "aaria_pin.files.dataset.reader",
     "read_table": "aaria_pin.files.io",
     "read_run_inputs": "aaria_pin.files.runfile",
+    "open_record": "aaria_pin.files.source",
     "WindowDataset": "aaria_pin.files.dataset.windows",
     "fourier_motion": "aaria_pin.core.excitation",
     "record_mjcf": "aaria_pin.apps.record_model",
     "replay_in_mujoco": "aaria_pin.apps.record_model",
     "identify_kinematics": "aaria_pin.apps.identify",
     "identify_dynamics": "aaria_pin.apps.identify",
+    # data sets
+    "generate_dataset": "aaria_pin.apps.dataset",
+    "DatasetSources": "aaria_pin.apps.dataset",
+    "DatasetSpec": "aaria_pin.apps.dataset",
+    "DatasetJob": "aaria_pin.apps.dataset",
+    "DatasetReport": "aaria_pin.apps.dataset",
+    # the wrist and rotations
+    "wrist_fk": "aaria_pin.apps.wrist",
+    "wrist_ik": "aaria_pin.apps.wrist",
+    "WristSolutions": "aaria_pin.apps.wrist",
+    "matrix_from_angles": "aaria_pin.core.rotations",
+    "angles_from_matrix": "aaria_pin.core.rotations",
+    "Angles": "aaria_pin.core.rotations",
 }
 
 __all__ = [
     "AariaError",
+    "Angles",
     "BodyDimensions",
     "ColumnView",
     "DHArmSpec",
     "DHRobot",
+    "DatasetJob",
     "DatasetReader",
+    "DatasetReport",
+    "DatasetSources",
+    "DatasetSpec",
     "FourierMotion",
     "ImuMount",
     "InputFileError",
@@ -151,7 +186,9 @@ __all__ = [
     "UrdfRobot",
     "UrdfRunSpec",
     "WindowDataset",
+    "WristSolutions",
     "__version__",
+    "angles_from_matrix",
     "build_dh_robot",
     "build_model",
     "chain_from_table",
@@ -160,10 +197,13 @@ __all__ = [
     "emit_urdf",
     "find_robot",
     "fourier_motion",
+    "generate_dataset",
     "get_preset",
     "identify_dynamics",
     "identify_kinematics",
     "load_urdf_robot",
+    "matrix_from_angles",
+    "open_record",
     "preset_arm",
     "read_run",
     "read_run_inputs",
@@ -177,16 +217,12 @@ __all__ = [
     "trajectory_from_samples",
     "urdf_fourier_excitation",
     "urdf_robot_run",
+    "wrist_fk",
+    "wrist_ik",
     "write_run",
 ]
 
-
-def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        value = getattr(import_module(_LAZY[name]), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'aaria_pin' has no attribute {name!r}")
+__getattr__ = lazy_exports(__name__, _LAZY)
 
 
 def __dir__() -> list[str]:

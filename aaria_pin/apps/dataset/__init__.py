@@ -7,4 +7,43 @@ made: workers, resume, estimate, report), :mod:`.progress` (its estimate and pro
 :mod:`.generate` (the job into one file), :mod:`.runner` (local workers),
 :mod:`.shards` (a Dask cluster), :mod:`.config` (the ranges and noise file), :mod:`.card` (the
 data card).
+
+The package exports the generator and its spec, each imported on first use (so importing one
+module of the package, as the command line does, loads no other)::
+
+    from aaria_pin.apps.dataset import DatasetSources, generate_dataset
+
+    generate_dataset("ds.h5", DatasetSources(n_runs=4, preset="aaria-fig2").spec())
 """
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from aaria_pin.core.lazy_exports import lazy_exports
+
+if TYPE_CHECKING:
+    from aaria_pin.apps.dataset.engine import generate_dataset
+    from aaria_pin.apps.dataset.job import DatasetJob, DatasetReport
+    from aaria_pin.apps.dataset.sources import DatasetSources
+    from aaria_pin.apps.dataset.spec import DatasetSettings, DatasetSpec
+
+_LAZY = {
+    "generate_dataset": "aaria_pin.apps.dataset.engine",
+    "DatasetJob": "aaria_pin.apps.dataset.job",
+    "DatasetReport": "aaria_pin.apps.dataset.job",
+    "DatasetSources": "aaria_pin.apps.dataset.sources",
+    "DatasetSettings": "aaria_pin.apps.dataset.spec",
+    "DatasetSpec": "aaria_pin.apps.dataset.spec",
+}
+
+__all__ = [
+    "DatasetJob",
+    "DatasetReport",
+    "DatasetSettings",
+    "DatasetSources",
+    "DatasetSpec",
+    "generate_dataset",
+]
+
+__getattr__ = lazy_exports(__name__, _LAZY)
