@@ -12,11 +12,8 @@ EXIT_BAD_INPUT = 2
 
 PARAMETER_FLAGS = {"joint_table": "--joints", "base_table": "--base", "path": "-o/--output"}
 PARAMETER_FLAGS.update(table="--dh", dh_table="--dh")
-"""Library parameters whose flag is not named after them, in every command.
-
-``path`` is an output's (the library's writers name it so); an input file's error names
-``file`` or its caller's parameter (``dh_file`` → ``--dh`` by the option's name), never ``path``.
-"""
+"""Library parameters whose flag is not named after them, in every command (``path`` is an
+output's: an input file's error names ``file`` or its caller's parameter, never ``path``)."""
 
 COMMAND_FLAGS: dict[str, dict[str, str]] = {}
 """A command's own exceptions (command name → parameter → flag), over the rules above."""
