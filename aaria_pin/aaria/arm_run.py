@@ -19,8 +19,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
-from aaria_pin.aaria.oscillation import default_joint_table, joint_trajectory, validate_joint_table
 from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, sensen_view
+from aaria_pin.aaria.sine_tables import default_joint_table, joint_trajectory, validate_joint_table
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.core.record import ColumnView, ImuMount

@@ -38,7 +38,7 @@ from aaria_pin.core.run import (
     sampling_attributes,
     simulate_pieces,
 )
-from aaria_pin.core.run.metadata import RunMetadata
+from aaria_pin.core.run_metadata import RunMetadata
 from aaria_pin.core.run.robot import RunKind, register_kind
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,

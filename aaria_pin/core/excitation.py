@@ -280,10 +280,12 @@ def fourier_excitation(
     if not (np.isfinite(base_frequency) and base_frequency > 0):
         raise ParameterError(parameter="base_frequency", value=base_frequency, allowed="> 0 Hz")
     if harmonics * base_frequency >= rate / 2:
-        raise ParameterError(  # two parameters (and the rate): named in words, no one flag
+        raise ParameterError(  # two parameters (and the rate): the message names all three
             f"harmonics × base_frequency is {harmonics} × {base_frequency:g} Hz = "
             f"{harmonics * base_frequency:g} Hz; allowed: below half the rate ({rate / 2:g} Hz): "
-            "fewer harmonics, a lower base frequency or a higher rate"
+            "fewer harmonics, a lower base frequency or a higher rate",
+            parameter="harmonics",
+            value=harmonics,
         )
     lower, upper = _position_limits(q_limits, n_joints)
     qd_max = _per_joint(qd_limits, n_joints, "qd_limits", positive=True)

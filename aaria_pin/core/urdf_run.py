@@ -37,8 +37,8 @@ from aaria_pin.core.run import (
     simulate,
     simulate_pieces,
 )
-from aaria_pin.core.run.metadata import RunMetadata
 from aaria_pin.core.run.urdf_kind import UrdfRunSpec, urdf_robot_run
+from aaria_pin.core.run_metadata import RunMetadata
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
     DEFAULT_RATE,

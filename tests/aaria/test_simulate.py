@@ -68,7 +68,7 @@ def test_standard_table_is_refused_for_a_run() -> None:
 
 def test_preset_oscillation_tables_follow_the_documented_rule() -> None:
     from aaria_pin.aaria.dh import chain_from_table
-    from aaria_pin.aaria.oscillation import default_base_table, default_joint_table
+    from aaria_pin.aaria.sine_tables import default_base_table, default_joint_table
 
     for name in ("aaria-fig2", "aaria-fig3"):
         preset = get_preset(name)

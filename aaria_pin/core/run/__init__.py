@@ -3,7 +3,7 @@
 - :mod:`~aaria_pin.core.run.settings`: :class:`RunSettings` and the attributes every run records
 - :mod:`~aaria_pin.core.run.robot`: the :class:`RunRobot` adapter protocol and the registry of
   run kinds (:func:`register_kind`, :func:`kind_of`)
-- :mod:`~aaria_pin.core.run.metadata`: :class:`RunMetadata`, a record's attributes as fields
+- :mod:`~aaria_pin.core.run_metadata`: :class:`RunMetadata`, a record's attributes as fields
 - :mod:`~aaria_pin.core.run.motion`: the motions (sine table, Fourier, sampled trajectory,
   torque drive) and how each stores and loads itself
 - :mod:`~aaria_pin.core.run.sensor`: the sensors (the IMU; any other registered one)
@@ -14,7 +14,6 @@
 
 from aaria_pin.core.run.chunks import CHUNK_SAMPLES, chunk_bounds, join_chunks, run_length
 from aaria_pin.core.run.engine import Seeds, simulate, simulate_pieces
-from aaria_pin.core.run.metadata import RunMetadata
 from aaria_pin.core.run.motion import (
     FourierMotion,
     Motion,
@@ -40,8 +39,8 @@ from aaria_pin.core.run.settings import (
     UNITS,
     RunSettings,
     sampling_attributes,
-    stored_sampling,
 )
+from aaria_pin.core.run_metadata import RunMetadata, stored_sampling
 
 __all__ = [
     "CHUNK_SAMPLES",
