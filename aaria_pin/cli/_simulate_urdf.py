@@ -46,10 +46,7 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     from aaria_pin.cli._simulate_motion import motion_note, urdf_motion_overrides
     from aaria_pin.core.imu_layout import read_imu_layout
     from aaria_pin.core.urdf_robot import load_urdf_robot
-    from aaria_pin.core.urdf_run import (
-        simulate_urdf_from_record_chunks,
-        simulate_urdf_run_chunks,
-    )
+    from aaria_pin.core.urdf_run import urdf_request, urdf_request_from_record
     from aaria_pin.files.io import read_table
     from aaria_pin.files.runfile import write_run_pieces
 
@@ -94,7 +91,7 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
                     lambda: load_urdf_robot(stored.urdf, urdf_dir=Path(folder) if folder else None),
                 )
             )
-            chunks = simulate_urdf_from_record_chunks(stored, **overrides)
+            chunks = urdf_request_from_record(stored, **overrides).pieces()
         else:
             text, folder, source = load_robot_source(params["robot"], params["urdf_file"])
             overrides.update(
@@ -110,13 +107,13 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
                     ),
                 )
             )
-            chunks = simulate_urdf_run_chunks(
+            chunks = urdf_request(
                 text,
                 urdf_dir=folder,
                 source=source,
                 moving_base=not params["fixed_base"],
                 **overrides,
-            )
+            ).pieces()
         record, samples, peak = write_run_pieces(
             output, chunks, None if compress == "none" else compress, announce
         )

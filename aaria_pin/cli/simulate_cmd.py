@@ -154,7 +154,7 @@ def simulate(
     """
     from aaria_pin.aaria.dh_robot import BodyDimensions
     from aaria_pin.aaria.presets import get_preset
-    from aaria_pin.aaria.simulate import simulate_from_record_chunks, simulate_run_chunks
+    from aaria_pin.aaria.simulate import dh_request, dh_request_from_record
     from aaria_pin.cli._simulate_motion import dh_motion_overrides, motion_note
     from aaria_pin.core._malloc import tune_malloc
     from aaria_pin.errors import ParameterError
@@ -198,7 +198,7 @@ def simulate(
                 "--from takes the DH table from the run file; drop --preset/--dh"
             )
         overrides.update(dh_motion_overrides(params, overrides, stored, stored.tables["senSenDH"]))
-        chunks = simulate_from_record_chunks(stored, **overrides)
+        chunks = dh_request_from_record(stored, **overrides).pieces()
     else:
         table, table_convention, name = load_table_source(preset, dh_file, convention)
         if table_convention != "aaria":
@@ -211,7 +211,7 @@ def simulate(
             overrides.setdefault("joint_table", chosen.joint_table)
             overrides.setdefault("base_table", chosen.base_table)
         overrides.update(dh_motion_overrides(params, overrides, None, table))
-        chunks = simulate_run_chunks(table, robot_name=name, **overrides)
+        chunks = dh_request(table, robot_name=name, **overrides).pieces()
     record, samples, peak = write_run_pieces(output, chunks, compression)
     click.echo(
         f"wrote {output}: {samples} samples at {record.metadata.rate:g} Hz, "

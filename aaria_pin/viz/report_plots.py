@@ -1,7 +1,7 @@
 """Pictures of the applications' reports: the torque split per joint, the wrist's workspace.
 
-The applications (:mod:`aaria_pin.apps.torques`,
-:mod:`aaria_pin.apps.wrist.wrist_kinematics`) compute the reports and import no picture; the CLI draws them with these functions (matplotlib, Agg
+The applications (:mod:`aaria_pin.apps.torques`, :mod:`aaria_pin.apps.wrist.wrist_kinematics`)
+compute the reports and import no picture; the CLI draws them with these functions (matplotlib, Agg
 backend, written atomically as PNG, PDF or SVG by :func:`aaria_pin.viz._figure.figure_file`).
 
 The torque split is drawn as grouped bars, never stacked: the RMS of a sum is not the sum of the

@@ -13,7 +13,7 @@
 """
 
 from aaria_pin.core.run.chunks import CHUNK_SAMPLES, chunk_bounds, join_chunks, run_length
-from aaria_pin.core.run.engine import Seeds, simulate, simulate_pieces
+from aaria_pin.core.run.engine import RunRequest, Seeds, simulate, simulate_pieces
 from aaria_pin.core.run.motion import (
     FourierMotion,
     Motion,
@@ -54,6 +54,7 @@ __all__ = [
     "Motion",
     "RunKind",
     "RunMetadata",
+    "RunRequest",
     "RunRobot",
     "RunSeries",
     "RunSettings",

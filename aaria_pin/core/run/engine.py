@@ -12,7 +12,7 @@ drive integrates the whole run in one piece), the series
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -27,7 +27,7 @@ from aaria_pin.core.run.settings import RunSettings
 from aaria_pin.core.seeds import RunSeeds, check_seed
 from aaria_pin.core.trajectory import piece_times
 
-__all__ = ["Seeds", "noise_seed", "simulate", "simulate_pieces"]
+__all__ = ["RunRequest", "Seeds", "noise_seed", "simulate", "simulate_pieces"]
 
 Seeds = RunSeeds | int | np.random.SeedSequence
 """A run's seeds: its :class:`~aaria_pin.core.seeds.RunSeeds`, or the seed of its IMU noise
@@ -167,3 +167,34 @@ def simulate_pieces(
                 "version": __version__,
             },
         )
+
+
+@dataclass(frozen=True)
+class RunRequest:
+    """One run's inputs as the engine takes them: what a producer of a robot kind builds.
+
+    A kind's library function (e.g. :func:`aaria_pin.aaria.simulate.dh_request`,
+    :func:`aaria_pin.core.urdf_run.urdf_request`) turns its tables or file into this once,
+    checking each input there; :meth:`pieces` and :meth:`record` then run the engine.
+
+    Attributes:
+        robot: the robot (an adapter of its kind)
+        motion: the joint motion (None: the robot's joint table)
+        settings: duration, rate, pieces, noise, threads
+        seeds: the run's seeds (:data:`Seeds`)
+        sensors: sensors beside the IMUs
+    """
+
+    robot: RunRobot
+    motion: Motion | None = None
+    settings: RunSettings = field(default_factory=RunSettings)
+    seeds: Seeds = 0
+    sensors: Sequence[Sensor] = ()
+
+    def pieces(self) -> Iterator[RunRecord]:
+        """The run in pieces of ``settings.chunk`` samples (:func:`simulate_pieces`)."""
+        return simulate_pieces(self.robot, self.motion, self.settings, self.seeds, self.sensors)
+
+    def record(self) -> RunRecord:
+        """The run held whole (:func:`simulate`)."""
+        return simulate(self.robot, self.motion, self.settings, self.seeds, self.sensors)
