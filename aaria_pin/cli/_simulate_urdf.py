@@ -82,13 +82,15 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
         if stored is not None:
             if params["fixed_base"]:
                 overrides["moving_base"] = False
-            folder = stored.attributes.get("urdf_dir") or None
+            stored_dir = stored.metadata.urdf_dir
             overrides.update(
                 urdf_motion_overrides(
                     params,
                     overrides,
                     stored,
-                    lambda: load_urdf_robot(stored.urdf, urdf_dir=Path(folder) if folder else None),
+                    lambda: load_urdf_robot(
+                        stored.urdf, urdf_dir=Path(stored_dir) if stored_dir else None
+                    ),
                 )
             )
             chunks = urdf_request_from_record(stored, **overrides).pieces()

@@ -253,9 +253,10 @@ def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str | None) -> 
     output = params["output"]
     compress = params["compress"]
     write_run(output, record, compression=None if compress == "none" else compress)
+    meta = record.metadata
     click.echo(
-        f"wrote {output}: {record.attributes['robot']} ({kind}), {record.n_samples} samples at "
-        f"{record.attributes['rate']:g} Hz, peak |tau| {abs(record.tau).max():.4g} "
+        f"wrote {output}: {meta.robot} ({kind}), {record.n_samples} samples at "
+        f"{meta.rate:g} Hz, peak |tau| {abs(record.tau).max():.4g} "
         "(N*m, N for a prismatic joint)"
     )
 
