@@ -114,34 +114,7 @@ Examples:
     help="HDF5 filter of the time series (gzip: smaller, MATLAB-readable, slower).",
 )
 @click.option("-o", "--output", type=_FILE, required=True, help="Run file: .h5 or .mat.")
-def simulate(
-    preset: str | None,
-    dh_file: Path | None,
-    convention: str,
-    robot: str | None,
-    urdf_file: Path | None,
-    tool_frame: str | None,
-    imu_layout_file: Path | None,
-    fixed_base: bool,
-    joints_file: Path | None,
-    base_file: Path | None,
-    mount_file: Path | None,
-    from_run: Path | None,
-    duration: float | None,
-    rate: float | None,
-    seed: int | None,
-    density: float | None,
-    drive: str,
-    torques_file: Path | None,
-    motion: str | None,
-    harmonics: int | None,
-    base_frequency: float | None,
-    trajectory: Path | None,
-    smoothing: float | None,
-    noise: bool | None,
-    compress: str,
-    output: Path,
-) -> None:
+def simulate(output: Path, compress: str, **flags: Any) -> None:
     """Simulate an arm on a moving base: joint values, IMUs, torques, base wrench.
 
     The arm is a DH arm (--preset, --dh; 14 IMU slots, the senSen layout) or any URDF robot
@@ -163,7 +136,7 @@ def simulate(
 
     tune_malloc()
     params = click.get_current_context().params
-    compression = None if compress == "none" else compress
+    from_run, preset, dh_file = flags["from_run"], flags["preset"], flags["dh_file"]
     stored, kind = None, None
     if from_run is not None:
         from aaria_pin.apps.remake import run_kind
@@ -171,26 +144,26 @@ def simulate(
 
         stored = read_run_inputs(from_run)  # the inputs, not the stored series
         kind = run_kind(stored)
-    if robot is not None or urdf_file is not None:
+    if flags["robot"] is not None or flags["urdf_file"] is not None:
         kind = "urdf"
     command = _BY_KIND.get(kind or "dh", _remake_as_stored)  # dh: below
     if command is not None:
         command(params, stored, kind)
         return
-    for flag, value in (("--tool", tool_frame), ("--imu-layout", imu_layout_file)):
-        if value is not None:
+    for key, flag in (("tool_frame", "--tool"), ("imu_layout_file", "--imu-layout")):
+        if flags[key] is not None:
             raise click.UsageError(f"{flag} is for URDF robots (--robot or --urdf)")
-    if fixed_base:
+    if flags["fixed_base"]:
         raise click.UsageError("--fixed-base is for URDF robots (--robot or --urdf)")
     overrides = sampling_overrides(params)
-    if joints_file is not None:
-        overrides["joint_table"] = read_table(joints_file, "senSenJ")
-    if base_file is not None:
-        overrides["base_table"] = read_table(base_file, "senSenB")
-    if mount_file is not None:
-        overrides["imu_mount"] = _read_mounts(mount_file)
-    if density is not None:
-        overrides["dims"] = BodyDimensions(density=density)
+    if flags["joints_file"] is not None:
+        overrides["joint_table"] = read_table(flags["joints_file"], "senSenJ")
+    if flags["base_file"] is not None:
+        overrides["base_table"] = read_table(flags["base_file"], "senSenB")
+    if flags["mount_file"] is not None:
+        overrides["imu_mount"] = _read_mounts(flags["mount_file"])
+    if flags["density"] is not None:
+        overrides["dims"] = BodyDimensions(density=flags["density"])
     overrides.update(torque_overrides(params))
     if stored is not None:
         if preset or dh_file:
@@ -200,7 +173,7 @@ def simulate(
         overrides.update(dh_motion_overrides(params, overrides, stored, stored.tables["senSenDH"]))
         chunks = dh_request_from_record(stored, **overrides).pieces()
     else:
-        table, table_convention, name = load_table_source(preset, dh_file, convention)
+        table, table_convention, name = load_table_source(preset, dh_file, flags["convention"])
         if table_convention != "aaria":
             raise ParameterError(
                 f"table {name!r} is a {table_convention} DH table; allowed: an Aaria 8 × 5 table",
@@ -212,6 +185,7 @@ def simulate(
             overrides.setdefault("base_table", chosen.base_table)
         overrides.update(dh_motion_overrides(params, overrides, None, table))
         chunks = dh_request(table, robot_name=name, **overrides).pieces()
+    compression = None if compress == "none" else compress
     record, samples, peak = write_run_pieces(output, chunks, compression)
     click.echo(
         f"wrote {output}: {samples} samples at {record.metadata.rate:g} Hz, "
