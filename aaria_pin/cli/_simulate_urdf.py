@@ -43,7 +43,8 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     """
     import warnings
 
-    from aaria_pin.cli._simulate_motion import motion_note, urdf_motion_overrides
+    from aaria_pin.aaria.run_motion import urdf_motion
+    from aaria_pin.cli._simulate_motion import motion_choice, motion_note
     from aaria_pin.core.imu_layout import read_imu_layout
     from aaria_pin.core.urdf_robot import load_urdf_robot
     from aaria_pin.core.urdf_run import urdf_request, urdf_request_from_record
@@ -84,10 +85,10 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
                 overrides["moving_base"] = False
             stored_dir = stored.metadata.urdf_dir
             overrides.update(
-                urdf_motion_overrides(
-                    params,
-                    overrides,
+                urdf_motion(
+                    motion_choice(params),
                     stored,
+                    overrides,
                     lambda: load_urdf_robot(
                         stored.urdf, urdf_dir=Path(stored_dir) if stored_dir else None
                     ),
@@ -97,10 +98,10 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
         else:
             text, folder, source = load_robot_source(params["robot"], params["urdf_file"])
             overrides.update(
-                urdf_motion_overrides(
-                    params,
-                    overrides,
+                urdf_motion(
+                    motion_choice(params),
                     None,
+                    overrides,
                     lambda: load_urdf_robot(
                         text,
                         urdf_dir=folder,

@@ -127,8 +127,9 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     """
     from aaria_pin.aaria.dh_robot import BodyDimensions
     from aaria_pin.aaria.presets import get_preset
+    from aaria_pin.aaria.run_motion import dh_motion
     from aaria_pin.aaria.simulate import dh_request, dh_request_from_record
-    from aaria_pin.cli._simulate_motion import dh_motion_overrides, motion_note
+    from aaria_pin.cli._simulate_motion import motion_choice, motion_note
     from aaria_pin.core._malloc import tune_malloc
     from aaria_pin.errors import ParameterError
     from aaria_pin.files.io import read_table
@@ -170,7 +171,8 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
             raise click.UsageError(
                 "--from takes the DH table from the run file; drop --preset/--dh"
             )
-        overrides.update(dh_motion_overrides(params, overrides, stored, stored.tables["senSenDH"]))
+        choice = motion_choice(params)
+        overrides.update(dh_motion(choice, stored, overrides, stored.tables["senSenDH"]))
         chunks = dh_request_from_record(stored, **overrides).pieces()
     else:
         table, table_convention, name = load_table_source(preset, dh_file, flags["convention"])
@@ -183,7 +185,7 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
             chosen = get_preset(preset)
             overrides.setdefault("joint_table", chosen.joint_table)
             overrides.setdefault("base_table", chosen.base_table)
-        overrides.update(dh_motion_overrides(params, overrides, None, table))
+        overrides.update(dh_motion(motion_choice(params), None, overrides, table))
         chunks = dh_request(table, robot_name=name, **overrides).pieces()
     compression = None if compress == "none" else compress
     record, samples, peak = write_run_pieces(output, chunks, compression)
