@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -19,23 +18,6 @@ from aaria_pin.cli._options import (
 from aaria_pin.core.seeds import MAX_SEED
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
-
-
-def _read_mounts(path: Path) -> Any:
-    from aaria_pin.errors import InputFileError
-
-    if path.suffix.lower() == ".npy":
-        import numpy as np
-
-        try:
-            return np.load(path, allow_pickle=False)
-        except (OSError, ValueError) as exc:
-            raise InputFileError(
-                f"{path}: cannot be read as .npy ({exc})", parameter="imu_mount"
-            ) from None
-    from aaria_pin.files.runfile import read_run_inputs
-
-    return read_run_inputs(path).imu_mount
 
 
 @click.command(
@@ -125,6 +107,7 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     joint a random finite Fourier series within its position, speed and acceleration limits)
     or a given trajectory (--trajectory FILE).
     """
+    from aaria_pin.aaria.arm_run import read_imu_mounts
     from aaria_pin.aaria.dh_robot import BodyDimensions
     from aaria_pin.aaria.presets import get_preset
     from aaria_pin.aaria.run_motion import dh_motion
@@ -147,10 +130,12 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
         kind = run_kind(stored)
     if flags["robot"] is not None or flags["urdf_file"] is not None:
         kind = "urdf"
-    command = _BY_KIND.get(kind or "dh", _remake_as_stored)  # dh: below
-    if command is not None:
-        command(params, stored, kind)
-        return
+    if kind == "urdf":
+        from aaria_pin.cli._simulate_urdf import simulate_urdf_command
+
+        return simulate_urdf_command(params, stored)
+    if kind not in (None, "dh"):
+        return _remake_as_stored(params, stored, str(kind))
     for key, flag in (("tool_frame", "--tool"), ("imu_layout_file", "--imu-layout")):
         if flags[key] is not None:
             raise click.UsageError(f"{flag} is for URDF robots (--robot or --urdf)")
@@ -162,7 +147,7 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     if flags["base_file"] is not None:
         overrides["base_table"] = read_table(flags["base_file"], "senSenB")
     if flags["mount_file"] is not None:
-        overrides["imu_mount"] = _read_mounts(flags["mount_file"])
+        overrides["imu_mount"] = read_imu_mounts(flags["mount_file"])
     if flags["density"] is not None:
         overrides["dims"] = BodyDimensions(density=flags["density"])
     overrides.update(torque_overrides(params))
@@ -201,14 +186,7 @@ _DEFAULTS = {"convention": "aaria", "drive": "motion", "fixed_base": False}
 """Options that have a value when not given (the rest are None)."""
 
 
-def _urdf_command(params: dict[str, Any], stored: Any, kind: str | None) -> None:
-    """``aaria simulate`` of a URDF robot (``--robot``, ``--urdf``, or ``--from`` its run)."""
-    from aaria_pin.cli._simulate_urdf import simulate_urdf_command
-
-    simulate_urdf_command(params, stored)
-
-
-def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str | None) -> None:
+def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str) -> None:
     """``aaria simulate --from`` a wrist or pick-and-place run: re-make it as it was.
 
     Raises:
@@ -235,10 +213,3 @@ def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str | None) -> 
         f"{meta.rate:g} Hz, peak |tau| {abs(record.tau).max():.4g} "
         "(N*m, N for a prismatic joint)"
     )
-
-
-_BY_KIND: dict[str, Callable[[dict[str, Any], Any, str | None], None] | None] = {
-    "dh": None,  # the command's own path
-    "urdf": _urdf_command,
-}
-"""How ``aaria simulate`` runs a robot of each kind; any other kind is re-made as stored."""
