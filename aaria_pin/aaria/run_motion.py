@@ -128,11 +128,34 @@ def urdf_motion(
     choice: MotionChoice,
     stored: RunRecord | None,
     options: Mapping[str, Any],
-    load: Callable[[], UrdfRobot],
+    urdf: str = "",
+    urdf_dir: Path | None = None,
 ) -> dict[str, Any]:
-    """:func:`chosen_motion` for a URDF robot (``load`` gives it, called only if needed)."""
+    """:func:`chosen_motion` for a URDF robot: the stored run's, else that of ``urdf``.
+
+    Args:
+        choice: the motion asked for
+        stored: the record a run is re-made from (its URDF and folder), if any
+        options: the producer's options so far (also ``tool_frame`` and ``imu_layout``)
+        urdf: the URDF text (without ``stored``)
+        urdf_dir: its folder, for relative mesh paths
+
+    The robot is loaded only if the motion needs it (a Fourier motion or a trajectory file).
+    """
     from aaria_pin.core.run.urdf_kind import urdf_joint_columns
+    from aaria_pin.core.urdf_robot import load_urdf_robot
     from aaria_pin.core.urdf_run import urdf_fourier_excitation
+
+    def load() -> UrdfRobot:
+        if stored is not None:
+            folder = stored.metadata.urdf_dir
+            return load_urdf_robot(stored.urdf, urdf_dir=Path(folder) if folder else None)
+        return load_urdf_robot(
+            urdf,
+            urdf_dir=urdf_dir,
+            tool_frame=options.get("tool_frame"),
+            imu_layout=options.get("imu_layout"),
+        )
 
     def fourier(duration: float, rate: float, settings: dict[str, Any]) -> FourierExcitation:
         return urdf_fourier_excitation(load(), duration, rate, **settings)

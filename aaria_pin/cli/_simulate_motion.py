@@ -11,14 +11,22 @@ from typing import TYPE_CHECKING, Any
 import click
 
 if TYPE_CHECKING:
+    from pathlib import Path
+
     from aaria_pin.aaria.run_motion import MotionChoice
     from aaria_pin.core.record import RunRecord
 
 
-def motion_note(record: RunRecord) -> str:
-    """``"motion fourier, "`` for the command's summary line; ``""`` for the joint table's sines."""
-    motion = record.metadata.motion
-    return "" if motion == "sine" else f"motion {motion}, "
+def summary(output: Path, record: RunRecord, samples: int, peak: float, robot: bool) -> str:
+    """The command's summary line of a written run (``robot``: name its robot, joints, IMUs)."""
+    meta = record.metadata
+    what = f"{meta.robot}, {len(record.joint_names)} joints, {len(record.imu_mounts)} IMUs, "
+    motion = "" if meta.motion == "sine" else f"motion {meta.motion}, "
+    return (
+        f"wrote {output}: {what if robot else ''}{samples} samples at {meta.rate:g} Hz, {motion}"
+        f"noise {'on' if meta.noise else 'off'}, "
+        f"peak |tau| {peak:.4g} (N*m, N for a prismatic joint)"
+    )
 
 
 def _check_flags(params: dict[str, Any]) -> str | None:

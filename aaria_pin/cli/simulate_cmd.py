@@ -112,7 +112,7 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     from aaria_pin.aaria.presets import get_preset
     from aaria_pin.aaria.run_motion import dh_motion
     from aaria_pin.aaria.simulate import dh_request, dh_request_from_record
-    from aaria_pin.cli._simulate_motion import motion_choice, motion_note
+    from aaria_pin.cli._simulate_motion import motion_choice, summary
     from aaria_pin.core._malloc import tune_malloc
     from aaria_pin.errors import ParameterError
     from aaria_pin.files.io import read_table
@@ -174,12 +174,7 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
         chunks = dh_request(table, robot_name=name, **overrides).pieces()
     compression = None if compress == "none" else compress
     record, samples, peak = write_run_pieces(output, chunks, compression)
-    click.echo(
-        f"wrote {output}: {samples} samples at {record.metadata.rate:g} Hz, "
-        f"{motion_note(record)}"
-        f"noise {'on' if record.metadata.noise else 'off'}, "
-        f"peak |tau| {peak:.4g} (N*m, N for a prismatic joint)"
-    )
+    click.echo(summary(output, record, samples, peak, robot=False))
 
 
 _DEFAULTS = {"convention": "aaria", "drive": "motion", "fixed_base": False}
