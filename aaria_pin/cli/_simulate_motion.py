@@ -63,10 +63,5 @@ def motion_choice(params: dict[str, Any]) -> MotionChoice:
     """
     from aaria_pin.aaria.run_motion import MotionChoice
 
-    return MotionChoice(
-        _check_flags(params),
-        params.get("harmonics"),
-        params.get("base_frequency"),
-        params.get("trajectory"),
-        params.get("smoothing") or 0.0,
-    )
+    named = {key: params.get(key) for key in ("harmonics", "base_frequency", "trajectory")}
+    return MotionChoice(_check_flags(params), **named, smoothing=params.get("smoothing") or 0.0)

@@ -9,12 +9,8 @@ import click
 from aaria_pin.cli._options import load_robot_source, sampling_overrides, torque_overrides
 from aaria_pin.core.record import RunRecord
 
-_DH_ONLY = {
-    "preset": "--preset",
-    "dh_file": "--dh",
-    "mount_file": "--imu-mount",
-    "density": "--density",
-}
+_DH_ONLY = {"preset": "--preset", "dh_file": "--dh", "mount_file": "--imu-mount",
+            "density": "--density"}  # fmt: skip
 
 
 def _refuse_options_without_effect(params: dict[str, Any]) -> None:

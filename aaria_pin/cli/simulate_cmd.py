@@ -136,11 +136,10 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
         return simulate_urdf_command(params, stored)
     if kind not in (None, "dh"):
         return _remake_as_stored(params, stored, str(kind))
-    for key, flag in (("tool_frame", "--tool"), ("imu_layout_file", "--imu-layout")):
-        if flags[key] is not None:
+    for key, flag in (("tool_frame", "--tool"), ("imu_layout_file", "--imu-layout"),
+                      ("fixed_base", "--fixed-base")):  # fmt: skip
+        if flags[key] not in (None, False):
             raise click.UsageError(f"{flag} is for URDF robots (--robot or --urdf)")
-    if flags["fixed_base"]:
-        raise click.UsageError("--fixed-base is for URDF robots (--robot or --urdf)")
     overrides = sampling_overrides(params)
     if flags["joints_file"] is not None:
         overrides["joint_table"] = read_table(flags["joints_file"], "senSenJ")
@@ -151,11 +150,9 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     if flags["density"] is not None:
         overrides["dims"] = BodyDimensions(density=flags["density"])
     overrides.update(torque_overrides(params))
+    if stored is not None and (preset or dh_file):
+        raise click.UsageError("--from takes the DH table from the run file; drop --preset/--dh")
     if stored is not None:
-        if preset or dh_file:
-            raise click.UsageError(
-                "--from takes the DH table from the run file; drop --preset/--dh"
-            )
         choice = motion_choice(params)
         overrides.update(dh_motion(choice, stored, overrides, stored.tables["senSenDH"]))
         chunks = dh_request_from_record(stored, **overrides).pieces()
