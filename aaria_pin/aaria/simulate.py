@@ -16,7 +16,6 @@ module's slots have parent ``""``), the tables ``senSenDH``, ``senSenJ``, ``senS
 from __future__ import annotations
 
 import os
-import warnings
 from collections.abc import Iterator
 from typing import Any, TypedDict, Unpack
 
@@ -35,10 +34,13 @@ from aaria_pin.core.run import (
     Motion,
     RunRequest,
     RunSettings,
+    RunTables,
     TorqueDrive,
     as_motion,
+    given_tables,
     motion_from_record,
     sampling_attributes,
+    warn_deprecated,
 )
 from aaria_pin.core.run.robot import RunKind, register_kind
 from aaria_pin.core.trajectory import (
@@ -85,14 +87,7 @@ class _DhSettings(TypedDict, total=False):
     chunk: int | None
 
 
-class _DhTables(TypedDict, total=False):
-    """The joint and base tables of :class:`DhRunOptions`."""
-
-    joint_table: ArrayLike | None
-    base_table: ArrayLike | None
-
-
-class DhRunOptions(_DhSettings, _DhTables, total=False):
+class DhRunOptions(_DhSettings, RunTables, total=False):
     """The options of a DH run beside its DH table (every key optional).
 
     Attributes:
@@ -302,14 +297,6 @@ def _remake(stored: RunRecord, **overrides: Any) -> RunRecord:
     return dh_request_from_record(stored, **overrides).record()
 
 
-def _deprecated(name: str, replacement: str) -> None:
-    warnings.warn(
-        f"{name} is deprecated; use {replacement} (it goes in the next release)",
-        DeprecationWarning,
-        stacklevel=3,
-    )
-
-
 def simulate_run(
     dh_table: ArrayLike,
     joint_table: ArrayLike | None = None,
@@ -327,8 +314,10 @@ def simulate_run(
     Returns:
         The run record (kind ``"dh"``).
     """
-    _deprecated("simulate_run", "aaria_pin.aaria.simulate.dh_request(table, **options).record()")
-    return dh_request(dh_table, **options, **_tables(joint_table, base_table)).record()
+    warn_deprecated(
+        "simulate_run", "aaria_pin.aaria.simulate.dh_request(table, **options).record()"
+    )
+    return dh_request(dh_table, **options, **given_tables(joint_table, base_table)).record()
 
 
 def simulate_run_chunks(
@@ -348,20 +337,10 @@ def simulate_run_chunks(
     Yields:
         The run record of each piece (kind ``"dh"``).
     """
-    _deprecated(
+    warn_deprecated(
         "simulate_run_chunks", "aaria_pin.aaria.simulate.dh_request(table, **options).pieces()"
     )
-    return dh_request(dh_table, **options, **_tables(joint_table, base_table)).pieces()
-
-
-def _tables(joint_table: ArrayLike | None, base_table: ArrayLike | None) -> _DhTables:
-    """The joint and base tables given positionally, as options (those given only)."""
-    tables: _DhTables = {}
-    if joint_table is not None:
-        tables["joint_table"] = joint_table
-    if base_table is not None:
-        tables["base_table"] = base_table
-    return tables
+    return dh_request(dh_table, **options, **given_tables(joint_table, base_table)).pieces()
 
 
 def simulate_from_record(stored: RunRecord, **overrides: Unpack[DhRunOptions]) -> RunRecord:
@@ -370,7 +349,7 @@ def simulate_from_record(stored: RunRecord, **overrides: Unpack[DhRunOptions]) -
     Returns:
         The run record; with no overrides it equals the stored one.
     """
-    _deprecated(
+    warn_deprecated(
         "simulate_from_record",
         "aaria_pin.aaria.simulate.dh_request_from_record(stored, **overrides).record()",
     )
@@ -385,7 +364,7 @@ def simulate_from_record_chunks(
     Yields:
         The run record of each piece.
     """
-    _deprecated(
+    warn_deprecated(
         "simulate_from_record_chunks",
         "aaria_pin.aaria.simulate.dh_request_from_record(stored, **overrides).pieces()",
     )
@@ -405,7 +384,7 @@ def simulate_from_run_file(
     """
     from aaria_pin.files.runfile import read_run_inputs
 
-    _deprecated("simulate_from_run_file", "aaria_pin.apps.remake.remake_run(path, **overrides)")
+    warn_deprecated("simulate_from_run_file", "aaria_pin.apps.remake.remake_run(path, **overrides)")
     try:
         return dh_request_from_record(read_run_inputs(path), **overrides).record()
     except InputFileError as exc:

@@ -15,7 +15,6 @@ alone (:func:`urdf_request_from_record`; from a run file, :func:`aaria_pin.apps.
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, TypedDict, Unpack
@@ -33,10 +32,13 @@ from aaria_pin.core.run import (
     RunRequest,
     RunRobot,
     RunSettings,
+    RunTables,
     TorqueDrive,
     as_motion,
+    given_tables,
     motion_from_record,
     register_kind,
+    warn_deprecated,
 )
 from aaria_pin.core.run.urdf_kind import UrdfRunSpec, urdf_robot_run
 from aaria_pin.core.trajectory import (
@@ -156,14 +158,7 @@ class _UrdfSettings(TypedDict, total=False):
     chunk: int | None
 
 
-class _UrdfTables(TypedDict, total=False):
-    """The joint and base tables of :class:`UrdfRunOptions`."""
-
-    joint_table: ArrayLike | None
-    base_table: ArrayLike | None
-
-
-class LoadedRobotOptions(_UrdfSettings, _UrdfTables, total=False):
+class LoadedRobotOptions(_UrdfSettings, RunTables, total=False):
     """The options of a run of a loaded URDF robot (every key optional).
 
     Attributes:
@@ -335,24 +330,6 @@ def _remake(stored: RunRecord, **overrides: Any) -> RunRecord:
     return urdf_request_from_record(stored, **overrides).record()
 
 
-def _deprecated(name: str, replacement: str) -> None:
-    warnings.warn(
-        f"{name} is deprecated; use {replacement} (it goes in the next release)",
-        DeprecationWarning,
-        stacklevel=3,
-    )
-
-
-def _tables(joint_table: ArrayLike | None, base_table: ArrayLike | None) -> _UrdfTables:
-    """The joint and base tables given positionally, as options (those given only)."""
-    tables: _UrdfTables = {}
-    if joint_table is not None:
-        tables["joint_table"] = joint_table
-    if base_table is not None:
-        tables["base_table"] = base_table
-    return tables
-
-
 class _UrdfLegacy(_UrdfSettings, _UrdfLoad, total=False):
     """:class:`UrdfRunOptions` but the tables (the deprecated producers take those)."""
 
@@ -368,8 +345,8 @@ def simulate_urdf_run(
     Returns:
         The run record (kind ``"urdf"``).
     """
-    _deprecated("simulate_urdf_run", "aaria_pin.core.urdf_run.urdf_request(urdf, **o).record()")
-    return urdf_request(urdf, **options, **_tables(joint_table, base_table)).record()
+    warn_deprecated("simulate_urdf_run", "aaria_pin.core.urdf_run.urdf_request(urdf, **o).record()")
+    return urdf_request(urdf, **options, **given_tables(joint_table, base_table)).record()
 
 
 def simulate_urdf_run_chunks(
@@ -383,10 +360,10 @@ def simulate_urdf_run_chunks(
     Yields:
         The run record of each piece (kind ``"urdf"``).
     """
-    _deprecated(
+    warn_deprecated(
         "simulate_urdf_run_chunks", "aaria_pin.core.urdf_run.urdf_request(urdf, **o).pieces()"
     )
-    return urdf_request(urdf, **options, **_tables(joint_table, base_table)).pieces()
+    return urdf_request(urdf, **options, **given_tables(joint_table, base_table)).pieces()
 
 
 def simulate_loaded_robot(
@@ -400,11 +377,11 @@ def simulate_loaded_robot(
     Returns:
         The run record (kind ``"urdf"``).
     """
-    _deprecated(
+    warn_deprecated(
         "simulate_loaded_robot",
         "aaria_pin.core.urdf_run.loaded_robot_request(loaded, **o).record()",
     )
-    return loaded_robot_request(loaded, **options, **_tables(joint_table, base_table)).record()
+    return loaded_robot_request(loaded, **options, **given_tables(joint_table, base_table)).record()
 
 
 def simulate_urdf_from_record(stored: RunRecord, **overrides: Unpack[UrdfRunOptions]) -> RunRecord:
@@ -413,7 +390,7 @@ def simulate_urdf_from_record(stored: RunRecord, **overrides: Unpack[UrdfRunOpti
     Returns:
         The run record; with no overrides it equals the stored one.
     """
-    _deprecated(
+    warn_deprecated(
         "simulate_urdf_from_record",
         "aaria_pin.core.urdf_run.urdf_request_from_record(stored, **o).record()",
     )
@@ -428,7 +405,7 @@ def simulate_urdf_from_record_chunks(
     Yields:
         The run record of each piece.
     """
-    _deprecated(
+    warn_deprecated(
         "simulate_urdf_from_record_chunks",
         "aaria_pin.core.urdf_run.urdf_request_from_record(stored, **o).pieces()",
     )

@@ -13,7 +13,15 @@
 """
 
 from aaria_pin.core.run.chunks import CHUNK_SAMPLES, chunk_bounds, join_chunks, run_length
-from aaria_pin.core.run.engine import RunRequest, Seeds, simulate, simulate_pieces
+from aaria_pin.core.run.engine import (
+    RunRequest,
+    RunTables,
+    Seeds,
+    given_tables,
+    simulate,
+    simulate_pieces,
+    warn_deprecated,
+)
 from aaria_pin.core.run.motion import (
     FourierMotion,
     Motion,
@@ -58,6 +66,7 @@ __all__ = [
     "RunRobot",
     "RunSeries",
     "RunSettings",
+    "RunTables",
     "SampledTrajectory",
     "Seeds",
     "Sensor",
@@ -66,6 +75,7 @@ __all__ = [
     "TorqueDrive",
     "as_motion",
     "chunk_bounds",
+    "given_tables",
     "join_chunks",
     "kind_of",
     "motion_from_record",
@@ -79,4 +89,5 @@ __all__ = [
     "simulate_pieces",
     "simulate_series",
     "stored_sampling",
+    "warn_deprecated",
 ]
