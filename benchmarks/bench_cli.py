@@ -29,8 +29,8 @@ import time
 from pathlib import Path
 
 from aaria_pin.aaria.dh_robot import build_dh_robot
-from aaria_pin.aaria.oscillation import base_motion, joint_trajectory
 from aaria_pin.aaria.presets import get_preset
+from aaria_pin.aaria.sine_tables import base_motion, joint_trajectory
 from aaria_pin.core.dynamics import batched_rnea
 from aaria_pin.core.kinematics import full_state
 from aaria_pin.core.trajectory import sample_times

@@ -34,9 +34,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))  # the
 from pinocchio_oracles import reference_frame_poses, reference_imu_signals
 
 from aaria_pin.aaria.dh_robot import build_dh_robot
-from aaria_pin.aaria.oscillation import base_motion, joint_trajectory
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
+from aaria_pin.aaria.sine_tables import base_motion, joint_trajectory
 from aaria_pin.core._malloc import tune_malloc
 from aaria_pin.core.dynamics import batched_rnea
 from aaria_pin.core.kinematics import full_state

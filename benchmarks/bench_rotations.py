@@ -16,7 +16,7 @@ if hasattr(os, "sched_setaffinity"):
 
 import numpy as np
 
-from aaria_pin.apps.wrist.kinematics import wrist_ik_batch
+from aaria_pin.apps.wrist.wrist_kinematics import wrist_ik_batch
 from aaria_pin.core.rotations import angles_from_matrix, matrix_from_angles
 
 

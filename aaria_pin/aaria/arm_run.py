@@ -13,14 +13,15 @@ from __future__ import annotations
 import threading
 from collections import OrderedDict
 from dataclasses import asdict, dataclass, fields, replace
+from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
-from aaria_pin.aaria.oscillation import default_joint_table, joint_trajectory, validate_joint_table
 from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, sensen_view
+from aaria_pin.aaria.sine_tables import default_joint_table, joint_trajectory, validate_joint_table
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.core.record import ColumnView, ImuMount
@@ -39,6 +40,7 @@ __all__ = [
     "dh_imu_mounts",
     "dh_joint_columns",
     "preset_arm",
+    "read_imu_mounts",
 ]
 
 DH_ROBOT = "aaria-arm"
@@ -354,3 +356,23 @@ def dh_joint_columns(dh_table: ArrayLike) -> JointColumns:
 
     modules = tuple(joint.module - 1 for joint in chain_from_aaria(dh_table).joints)
     return JointColumns(JOINT_NAMES, modules)
+
+
+def read_imu_mounts(path: Path) -> Array:
+    """A DH arm's IMU mounting poses from a file: ``.npy`` (14 × 4 × 4) or a run file's.
+
+    Raises:
+        InputFileError: a file that cannot be read (parameter ``imu_mount``).
+    """
+    from aaria_pin.errors import InputFileError
+
+    if path.suffix.lower() == ".npy":
+        try:
+            return np.asarray(np.load(path, allow_pickle=False))
+        except (OSError, ValueError) as exc:
+            raise InputFileError(
+                f"{path}: cannot be read as .npy ({exc})", parameter="imu_mount"
+            ) from None
+    from aaria_pin.files.runfile import read_run_inputs
+
+    return read_run_inputs(path).imu_mount

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from aaria_pin.aaria.dh import Convention
-from aaria_pin.aaria.oscillation import default_base_table
+from aaria_pin.aaria.sine_tables import default_base_table
 from aaria_pin.core.inertia import Inertia
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError

@@ -14,14 +14,14 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from aaria_pin.aaria.dh import AARIA_COLUMNS, chain_from_table
-from aaria_pin.aaria.oscillation import (
+from aaria_pin.aaria.presets import get_preset
+from aaria_pin.aaria.randomize import default_config_toml
+from aaria_pin.aaria.sine_tables import (
     BASE_COLUMNS,
     JOINT_COLUMNS,
     default_base_table,
     default_joint_table,
 )
-from aaria_pin.aaria.presets import get_preset
-from aaria_pin.aaria.randomize import default_config_toml
 from aaria_pin.core.imu_noise import ADIS16485, DATASHEET_ROWS
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError

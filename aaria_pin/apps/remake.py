@@ -105,7 +105,7 @@ def remake_run(path: str | os.PathLike[str], **overrides: Any) -> RunRecord:
 
 
 def simulate_urdf_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> RunRecord:
-    """Re-make a URDF robot's run stored in a run file (moved here from ``core.urdf_run``).
+    """Deprecated: :func:`remake_run` (any kind); re-make a URDF robot's run from its file.
 
     Args:
         path: the run file
@@ -114,7 +114,16 @@ def simulate_urdf_from_run_file(path: str | os.PathLike[str], **overrides: Any) 
     Returns:
         The run record; with no overrides it equals the stored one.
     """
-    from aaria_pin.core.urdf_run import simulate_urdf_from_record
+    import warnings
+
+    from aaria_pin.core.urdf_run import urdf_request_from_record
     from aaria_pin.files.runfile import read_run_inputs
 
-    return simulate_urdf_from_record(read_run_inputs(path), **overrides)
+    warnings.warn(
+        "simulate_urdf_from_run_file is deprecated; use aaria_pin.apps.remake.remake_run(path, "
+        "**overrides) (it goes in the next release)",
+        DeprecationWarning,
+        stacklevel=2,
+    )
+
+    return urdf_request_from_record(read_run_inputs(path), **overrides).record()

@@ -52,11 +52,6 @@ PRESET_HELP = "Built-in table: aaria-fig2, aaria-fig3, spherical-wrist."
 """The help of ``--preset`` for commands that take the DH presets only."""
 
 
-def table_source_options(func: F) -> F:
-    """Add ``--preset NAME | --dh FILE [--convention ...]`` to a command."""
-    return table_source(PRESET_HELP)(func)
-
-
 def table_source(preset_help: str = PRESET_HELP) -> Callable[[F], F]:
     """``--preset NAME | --dh FILE [--convention ...]``, ``--preset`` with its own help."""
     return stacked(
@@ -77,6 +72,10 @@ def stacked(*options: Callable[[F], F]) -> Callable[[F], F]:
         return func
 
     return add
+
+
+table_source_options = table_source()
+"""``--preset NAME | --dh FILE [--convention ...]`` with the DH presets' help."""
 
 
 def load_table_source(preset: str | None, dh_file: Path | None, convention: str) -> Any:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any
 
 import click
@@ -10,12 +9,8 @@ import click
 from aaria_pin.cli._options import load_robot_source, sampling_overrides, torque_overrides
 from aaria_pin.core.record import RunRecord
 
-_DH_ONLY = {
-    "preset": "--preset",
-    "dh_file": "--dh",
-    "mount_file": "--imu-mount",
-    "density": "--density",
-}
+_DH_ONLY = {"preset": "--preset", "dh_file": "--dh", "mount_file": "--imu-mount",
+            "density": "--density"}  # fmt: skip
 
 
 def _refuse_options_without_effect(params: dict[str, Any]) -> None:
@@ -43,13 +38,10 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     """
     import warnings
 
-    from aaria_pin.cli._simulate_motion import motion_note, urdf_motion_overrides
+    from aaria_pin.aaria.run_motion import urdf_motion
+    from aaria_pin.cli._simulate_motion import motion_choice, summary
     from aaria_pin.core.imu_layout import read_imu_layout
-    from aaria_pin.core.urdf_robot import load_urdf_robot
-    from aaria_pin.core.urdf_run import (
-        simulate_urdf_from_record_chunks,
-        simulate_urdf_run_chunks,
-    )
+    from aaria_pin.core.urdf_run import urdf_request, urdf_request_from_record
     from aaria_pin.files.io import read_table
     from aaria_pin.files.runfile import write_run_pieces
 
@@ -82,48 +74,21 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        choice = motion_choice(params)
         if stored is not None:
             if params["fixed_base"]:
                 overrides["moving_base"] = False
-            folder = stored.attributes.get("urdf_dir") or None
-            overrides.update(
-                urdf_motion_overrides(
-                    params,
-                    overrides,
-                    stored,
-                    lambda: load_urdf_robot(stored.urdf, urdf_dir=Path(folder) if folder else None),
-                )
-            )
-            chunks = simulate_urdf_from_record_chunks(stored, **overrides)
+            overrides.update(urdf_motion(choice, stored, overrides))
+            chunks = urdf_request_from_record(stored, **overrides).pieces()
         else:
             text, folder, source = load_robot_source(params["robot"], params["urdf_file"])
-            overrides.update(
-                urdf_motion_overrides(
-                    params,
-                    overrides,
-                    None,
-                    lambda: load_urdf_robot(
-                        text,
-                        urdf_dir=folder,
-                        tool_frame=overrides.get("tool_frame"),
-                        imu_layout=overrides.get("imu_layout"),
-                    ),
-                )
+            overrides.update(urdf_motion(choice, None, overrides, text, folder))
+            moving = not params["fixed_base"]
+            request = urdf_request(
+                text, urdf_dir=folder, source=source, moving_base=moving, **overrides
             )
-            chunks = simulate_urdf_run_chunks(
-                text,
-                urdf_dir=folder,
-                source=source,
-                moving_base=not params["fixed_base"],
-                **overrides,
-            )
+            chunks = request.pieces()
         record, samples, peak = write_run_pieces(
             output, chunks, None if compress == "none" else compress, announce
         )
-    click.echo(
-        f"wrote {output}: {record.metadata.robot}, {len(record.joint_names)} joints, "
-        f"{len(record.imu_mounts)} IMUs, {samples} samples at "
-        f"{record.metadata.rate:g} Hz, {motion_note(record)}"
-        f"noise {'on' if record.metadata.noise else 'off'}, "
-        f"peak |tau| {peak:.4g} (N*m, N for a prismatic joint)"
-    )
+    click.echo(summary(output, record, samples, peak, robot=True))

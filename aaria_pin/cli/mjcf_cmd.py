@@ -109,7 +109,7 @@ def mjcf(**params: Any) -> None:
 
             record = read_run(params["from_run"])
             moving = moving and record_moving_base(record)
-            name = str(record.attributes.get("robot", params["from_run"].stem))
+            name = record.metadata.robot or params["from_run"].stem
             joints, imus = len(record.joint_names), record.imu_mounts
             mjcf = record_mjcf(record, moving_base=moving, rate=rate, balance_inertia="auto")
         else:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -19,23 +18,6 @@ from aaria_pin.cli._options import (
 from aaria_pin.core.seeds import MAX_SEED
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
-
-
-def _read_mounts(path: Path) -> Any:
-    from aaria_pin.errors import InputFileError
-
-    if path.suffix.lower() == ".npy":
-        import numpy as np
-
-        try:
-            return np.load(path, allow_pickle=False)
-        except (OSError, ValueError) as exc:
-            raise InputFileError(
-                f"{path}: cannot be read as .npy ({exc})", parameter="imu_mount"
-            ) from None
-    from aaria_pin.files.runfile import read_run_inputs
-
-    return read_run_inputs(path).imu_mount
 
 
 @click.command(
@@ -114,34 +96,7 @@ Examples:
     help="HDF5 filter of the time series (gzip: smaller, MATLAB-readable, slower).",
 )
 @click.option("-o", "--output", type=_FILE, required=True, help="Run file: .h5 or .mat.")
-def simulate(
-    preset: str | None,
-    dh_file: Path | None,
-    convention: str,
-    robot: str | None,
-    urdf_file: Path | None,
-    tool_frame: str | None,
-    imu_layout_file: Path | None,
-    fixed_base: bool,
-    joints_file: Path | None,
-    base_file: Path | None,
-    mount_file: Path | None,
-    from_run: Path | None,
-    duration: float | None,
-    rate: float | None,
-    seed: int | None,
-    density: float | None,
-    drive: str,
-    torques_file: Path | None,
-    motion: str | None,
-    harmonics: int | None,
-    base_frequency: float | None,
-    trajectory: Path | None,
-    smoothing: float | None,
-    noise: bool | None,
-    compress: str,
-    output: Path,
-) -> None:
+def simulate(output: Path, compress: str, **flags: Any) -> None:
     """Simulate an arm on a moving base: joint values, IMUs, torques, base wrench.
 
     The arm is a DH arm (--preset, --dh; 14 IMU slots, the senSen layout) or any URDF robot
@@ -152,10 +107,12 @@ def simulate(
     joint a random finite Fourier series within its position, speed and acceleration limits)
     or a given trajectory (--trajectory FILE).
     """
+    from aaria_pin.aaria.arm_run import read_imu_mounts
     from aaria_pin.aaria.dh_robot import BodyDimensions
     from aaria_pin.aaria.presets import get_preset
-    from aaria_pin.aaria.simulate import simulate_from_record_chunks, simulate_run_chunks
-    from aaria_pin.cli._simulate_motion import dh_motion_overrides, motion_note
+    from aaria_pin.aaria.run_motion import dh_motion
+    from aaria_pin.aaria.simulate import dh_request, dh_request_from_record
+    from aaria_pin.cli._simulate_motion import motion_choice, summary
     from aaria_pin.core._malloc import tune_malloc
     from aaria_pin.errors import ParameterError
     from aaria_pin.files.io import read_table
@@ -163,7 +120,7 @@ def simulate(
 
     tune_malloc()
     params = click.get_current_context().params
-    compression = None if compress == "none" else compress
+    from_run, preset, dh_file = flags["from_run"], flags["preset"], flags["dh_file"]
     stored, kind = None, None
     if from_run is not None:
         from aaria_pin.apps.remake import run_kind
@@ -171,36 +128,36 @@ def simulate(
 
         stored = read_run_inputs(from_run)  # the inputs, not the stored series
         kind = run_kind(stored)
-    if robot is not None or urdf_file is not None:
+    if flags["robot"] is not None or flags["urdf_file"] is not None:
         kind = "urdf"
-    command = _BY_KIND.get(kind or "dh", _remake_as_stored)  # dh: below
-    if command is not None:
-        command(params, stored, kind)
-        return
-    for flag, value in (("--tool", tool_frame), ("--imu-layout", imu_layout_file)):
-        if value is not None:
+    if kind == "urdf":
+        from aaria_pin.cli._simulate_urdf import simulate_urdf_command
+
+        return simulate_urdf_command(params, stored)
+    if kind not in (None, "dh"):
+        return _remake_as_stored(params, stored, str(kind))
+    for key, flag in (("tool_frame", "--tool"), ("imu_layout_file", "--imu-layout"),
+                      ("fixed_base", "--fixed-base")):  # fmt: skip
+        if flags[key] not in (None, False):
             raise click.UsageError(f"{flag} is for URDF robots (--robot or --urdf)")
-    if fixed_base:
-        raise click.UsageError("--fixed-base is for URDF robots (--robot or --urdf)")
     overrides = sampling_overrides(params)
-    if joints_file is not None:
-        overrides["joint_table"] = read_table(joints_file, "senSenJ")
-    if base_file is not None:
-        overrides["base_table"] = read_table(base_file, "senSenB")
-    if mount_file is not None:
-        overrides["imu_mount"] = _read_mounts(mount_file)
-    if density is not None:
-        overrides["dims"] = BodyDimensions(density=density)
+    if flags["joints_file"] is not None:
+        overrides["joint_table"] = read_table(flags["joints_file"], "senSenJ")
+    if flags["base_file"] is not None:
+        overrides["base_table"] = read_table(flags["base_file"], "senSenB")
+    if flags["mount_file"] is not None:
+        overrides["imu_mount"] = read_imu_mounts(flags["mount_file"])
+    if flags["density"] is not None:
+        overrides["dims"] = BodyDimensions(density=flags["density"])
     overrides.update(torque_overrides(params))
+    if stored is not None and (preset or dh_file):
+        raise click.UsageError("--from takes the DH table from the run file; drop --preset/--dh")
     if stored is not None:
-        if preset or dh_file:
-            raise click.UsageError(
-                "--from takes the DH table from the run file; drop --preset/--dh"
-            )
-        overrides.update(dh_motion_overrides(params, overrides, stored, stored.tables["senSenDH"]))
-        chunks = simulate_from_record_chunks(stored, **overrides)
+        choice = motion_choice(params)
+        overrides.update(dh_motion(choice, stored, overrides, stored.tables["senSenDH"]))
+        chunks = dh_request_from_record(stored, **overrides).pieces()
     else:
-        table, table_convention, name = load_table_source(preset, dh_file, convention)
+        table, table_convention, name = load_table_source(preset, dh_file, flags["convention"])
         if table_convention != "aaria":
             raise ParameterError(
                 f"table {name!r} is a {table_convention} DH table; allowed: an Aaria 8 × 5 table",
@@ -210,29 +167,18 @@ def simulate(
             chosen = get_preset(preset)
             overrides.setdefault("joint_table", chosen.joint_table)
             overrides.setdefault("base_table", chosen.base_table)
-        overrides.update(dh_motion_overrides(params, overrides, None, table))
-        chunks = simulate_run_chunks(table, robot_name=name, **overrides)
+        overrides.update(dh_motion(motion_choice(params), None, overrides, table))
+        chunks = dh_request(table, robot_name=name, **overrides).pieces()
+    compression = None if compress == "none" else compress
     record, samples, peak = write_run_pieces(output, chunks, compression)
-    click.echo(
-        f"wrote {output}: {samples} samples at {record.metadata.rate:g} Hz, "
-        f"{motion_note(record)}"
-        f"noise {'on' if record.metadata.noise else 'off'}, "
-        f"peak |tau| {peak:.4g} (N*m, N for a prismatic joint)"
-    )
+    click.echo(summary(output, record, samples, peak, robot=False))
 
 
 _DEFAULTS = {"convention": "aaria", "drive": "motion", "fixed_base": False}
 """Options that have a value when not given (the rest are None)."""
 
 
-def _urdf_command(params: dict[str, Any], stored: Any, kind: str | None) -> None:
-    """``aaria simulate`` of a URDF robot (``--robot``, ``--urdf``, or ``--from`` its run)."""
-    from aaria_pin.cli._simulate_urdf import simulate_urdf_command
-
-    simulate_urdf_command(params, stored)
-
-
-def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str | None) -> None:
+def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str) -> None:
     """``aaria simulate --from`` a wrist or pick-and-place run: re-make it as it was.
 
     Raises:
@@ -253,15 +199,9 @@ def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str | None) -> 
     output = params["output"]
     compress = params["compress"]
     write_run(output, record, compression=None if compress == "none" else compress)
+    meta = record.metadata
     click.echo(
-        f"wrote {output}: {record.attributes['robot']} ({kind}), {record.n_samples} samples at "
-        f"{record.attributes['rate']:g} Hz, peak |tau| {abs(record.tau).max():.4g} "
+        f"wrote {output}: {meta.robot} ({kind}), {record.n_samples} samples at "
+        f"{meta.rate:g} Hz, peak |tau| {abs(record.tau).max():.4g} "
         "(N*m, N for a prismatic joint)"
     )
-
-
-_BY_KIND: dict[str, Callable[[dict[str, Any], Any, str | None], None] | None] = {
-    "dh": None,  # the command's own path
-    "urdf": _urdf_command,
-}
-"""How ``aaria simulate`` runs a robot of each kind; any other kind is re-made as stored."""

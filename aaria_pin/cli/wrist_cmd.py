@@ -73,8 +73,8 @@ def fk(joints: tuple[float, float, float], order: str, radians: bool, as_json: b
     """Tool pose and angles of joint angles J1 J2 J3 (negative values work as they are)."""
     import numpy as np
 
-    from aaria_pin.apps.wrist.kinematics import wrist_fk
     from aaria_pin.apps.wrist.report import wrist_report
+    from aaria_pin.apps.wrist.wrist_kinematics import wrist_fk
 
     q = np.array(joints) if radians else np.radians(joints)
     _echo(wrist_report(wrist_fk(q)[:3, :3], order, degrees=not radians), as_json)
@@ -189,8 +189,8 @@ def workspace(theta1: Any, theta2: Any, plot: Path | None, as_json: bool, **samp
     """Sample the reachable tool points: radius and covered solid angle."""
     import numpy as np
 
-    from aaria_pin.apps.wrist.kinematics import wrist_workspace
     from aaria_pin.apps.wrist.report import workspace_report
+    from aaria_pin.apps.wrist.wrist_kinematics import wrist_workspace
 
     limits = np.radians([list(theta1), list(theta2), [-180.0, 180.0]])
     space = wrist_workspace(limits=limits, **samples)

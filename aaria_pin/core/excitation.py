@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypedDict, Unpack
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -35,6 +35,7 @@ __all__ = [
     "DEFAULT_HARMONICS",
     "PEAK_PIECE",
     "FourierExcitation",
+    "FourierLimits",
     "default_base_frequency",
     "fourier_excitation",
     "fourier_motion",
@@ -53,6 +54,32 @@ DEFAULT_FILL = 0.95
 
 PEAK_PIECE = 100_000
 """Samples per piece over which :func:`fourier_excitation` finds the series' peaks."""
+
+
+class FourierLimits(TypedDict, total=False):
+    """The shape and limits of a Fourier excitation (every key optional; defaults below).
+
+    Attributes:
+        base_frequency: the base frequency [Hz]; default the lowest frequency of at least
+            :data:`DEFAULT_EXCITATION_FREQUENCY` that fits a whole number of periods into the
+            run
+        harmonics: L, harmonics per joint, >= 1 (default :data:`DEFAULT_HARMONICS`); the
+            highest, ``L·base_frequency``, must be below half the rate
+        q_limits: position range (lower, upper), or one row per joint [rad or m]; default
+            (-1, 1)
+        qd_limits: largest |velocity|, one value or one per joint [rad/s or m/s]; default 1.5
+        qdd_limits: largest |acceleration|, one value or one per joint [rad/s² or m/s²];
+            default 5
+        fill: fraction of the tightest limit reached, 0 < fill <= 1 (default
+            :data:`DEFAULT_FILL`)
+    """
+
+    base_frequency: float | None
+    harmonics: int
+    q_limits: ArrayLike
+    qd_limits: ArrayLike
+    qdd_limits: ArrayLike
+    fill: float
 
 
 def _per_joint(value: ArrayLike, n_joints: int, name: str, positive: bool) -> Array:
@@ -225,14 +252,9 @@ def fourier_excitation(
     duration: float,
     rate: float,
     *,
-    base_frequency: float | None = None,
-    harmonics: int = DEFAULT_HARMONICS,
-    q_limits: ArrayLike = (-1.0, 1.0),
-    qd_limits: ArrayLike = 1.5,
-    qdd_limits: ArrayLike = 5.0,
     seed: int | np.random.SeedSequence | None = 0,
-    fill: float = DEFAULT_FILL,
     max_samples: int | None = MAX_SAMPLES,
+    **limits: Unpack[FourierLimits],
 ) -> FourierExcitation:
     """Coefficients of a random Fourier excitation within position, speed and acceleration limits.
 
@@ -246,20 +268,12 @@ def fourier_excitation(
         n_joints: number of joints, >= 1
         duration: run length [s] (:func:`~aaria_pin.core.trajectory.sample_times`)
         rate: sample rate [Hz]
-        base_frequency: the base frequency [Hz]; default the lowest frequency of at least
-            :data:`DEFAULT_EXCITATION_FREQUENCY` that fits a whole number of periods into the
-            run
-        harmonics: L, harmonics per joint, >= 1; the highest, ``L·base_frequency``, must be
-            below half the rate
-        q_limits: position range (lower, upper), or one row per joint [rad or m]
-        qd_limits: largest |velocity|, one value or one per joint [rad/s or m/s]
-        qdd_limits: largest |acceleration|, one value or one per joint [rad/s² or m/s²]
         seed: seed of the coefficients (``numpy.random.default_rng``)
-        fill: fraction of the tightest limit reached, 0 < fill <= 1
         max_samples: most samples of the run (:func:`~aaria_pin.core.trajectory.sample_count`:
             :data:`~aaria_pin.core.trajectory.MAX_STREAMED_SAMPLES` for a run in pieces); the
             peaks are found over the run's samples :data:`PEAK_PIECE` at a time, so memory
             does not grow with the run
+        **limits: the excitation's shape and limits (:class:`FourierLimits`)
 
     Returns:
         The coefficients (:meth:`FourierExcitation.trajectory` evaluates them on any times),
@@ -268,6 +282,9 @@ def fourier_excitation(
     Raises:
         ParameterError: a value outside the ranges above.
     """
+    base_frequency = limits.get("base_frequency")
+    harmonics = limits.get("harmonics", DEFAULT_HARMONICS)
+    fill = limits.get("fill", DEFAULT_FILL)
     if isinstance(n_joints, bool) or not isinstance(n_joints, int | np.integer) or n_joints < 1:
         raise ParameterError(parameter="n_joints", value=n_joints, allowed="an integer >= 1")
     if isinstance(harmonics, bool) or not isinstance(harmonics, int | np.integer) or harmonics < 1:
@@ -280,14 +297,16 @@ def fourier_excitation(
     if not (np.isfinite(base_frequency) and base_frequency > 0):
         raise ParameterError(parameter="base_frequency", value=base_frequency, allowed="> 0 Hz")
     if harmonics * base_frequency >= rate / 2:
-        raise ParameterError(  # two parameters (and the rate): named in words, no one flag
+        raise ParameterError(  # two parameters (and the rate): the message names all three
             f"harmonics × base_frequency is {harmonics} × {base_frequency:g} Hz = "
             f"{harmonics * base_frequency:g} Hz; allowed: below half the rate ({rate / 2:g} Hz): "
-            "fewer harmonics, a lower base frequency or a higher rate"
+            "fewer harmonics, a lower base frequency or a higher rate",
+            parameter="harmonics",
+            value=harmonics,
         )
-    lower, upper = _position_limits(q_limits, n_joints)
-    qd_max = _per_joint(qd_limits, n_joints, "qd_limits", positive=True)
-    qdd_max = _per_joint(qdd_limits, n_joints, "qdd_limits", positive=True)
+    lower, upper = _position_limits(limits.get("q_limits", (-1.0, 1.0)), n_joints)
+    qd_max = _per_joint(limits.get("qd_limits", 1.5), n_joints, "qd_limits", positive=True)
+    qdd_max = _per_joint(limits.get("qdd_limits", 5.0), n_joints, "qdd_limits", positive=True)
     rng = np.random.default_rng(seed)
     a = rng.standard_normal((n_joints, harmonics))
     b = rng.standard_normal((n_joints, harmonics))
@@ -327,13 +346,8 @@ def fourier_motion(
     duration: float,
     rate: float,
     *,
-    base_frequency: float | None = None,
-    harmonics: int = DEFAULT_HARMONICS,
-    q_limits: ArrayLike = (-1.0, 1.0),
-    qd_limits: ArrayLike = 1.5,
-    qdd_limits: ArrayLike = 5.0,
     seed: int | np.random.SeedSequence | None = 0,
-    fill: float = DEFAULT_FILL,
+    **limits: Unpack[FourierLimits],
 ) -> JointTrajectory:
     """A random Fourier excitation of each joint within its position, speed and acceleration limits.
 
@@ -346,16 +360,5 @@ def fourier_motion(
     Raises:
         ParameterError: a value outside the ranges of :func:`fourier_excitation`.
     """
-    excitation = fourier_excitation(
-        n_joints,
-        duration,
-        rate,
-        base_frequency=base_frequency,
-        harmonics=harmonics,
-        q_limits=q_limits,
-        qd_limits=qd_limits,
-        qdd_limits=qdd_limits,
-        seed=seed,
-        fill=fill,
-    )
+    excitation = fourier_excitation(n_joints, duration, rate, seed=seed, **limits)
     return excitation.trajectory(sample_times(duration, rate))

@@ -42,7 +42,7 @@ from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
 if TYPE_CHECKING:
-    from aaria_pin.core.run.metadata import RunMetadata
+    from aaria_pin.core.run_metadata import RunMetadata
 
 __all__ = [
     "IMU_SIGNALS",
@@ -297,7 +297,7 @@ class RunRecord:
     @property
     def metadata(self) -> RunMetadata:
         """The attributes as typed fields (:class:`~aaria_pin.core.run.RunMetadata`)."""
-        from aaria_pin.core.run.metadata import RunMetadata
+        from aaria_pin.core.run_metadata import RunMetadata
 
         return RunMetadata.from_attributes(self.attributes)
 

@@ -1,22 +1,23 @@
 """One simulation run of any URDF robot: sine joint motions, a fixed or moving base, IMUs, torques.
 
-The producers of a URDF robot's run by keyword arguments: they make its engine adapter
-(:func:`~aaria_pin.core.run.urdf_kind.urdf_robot_run`) and run the engine every run shares
-(:func:`~aaria_pin.core.run.simulate_pieces`): IMU kinematics over the whole time grid in one
-compiled pass, torques and the base wrench by Pinocchio's batched RNEA, ADIS16485-like noise if
-asked. The joints follow their joint table, or move under given torques by forward dynamics
+:func:`urdf_request` (of a URDF text), :func:`loaded_robot_request` (of a loaded robot) and
+:func:`urdf_request_from_record` turn a URDF robot's run into the engine's
+:class:`~aaria_pin.core.run.RunRequest` once: its adapter
+(:func:`~aaria_pin.core.run.urdf_kind.urdf_robot_run`), motion and settings. The engine every run
+shares (:func:`~aaria_pin.core.run.simulate_pieces`) computes IMU kinematics over the whole time
+grid in one compiled pass, torques and the base wrench by Pinocchio's batched RNEA, ADIS16485-like
+noise if asked. The joints follow their joint table, or move under given torques by forward dynamics
 (:func:`~aaria_pin.core.forward.forward_simulate`). The result is the one
 :class:`~aaria_pin.core.record.RunRecord` (kind ``"urdf"``) that stores its URDF, its
 ``joint_table`` and ``base_table`` and its IMU layout, so the run can be re-made from its record
-alone (:func:`simulate_urdf_from_record`; from a run file,
-:func:`aaria_pin.apps.remake.remake_run`).
+alone (:func:`urdf_request_from_record`; from a run file, :func:`aaria_pin.apps.remake.remake_run`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
+from typing import Any, TypedDict, Unpack
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -28,16 +29,17 @@ from aaria_pin.core.run import (
     CHUNK_SAMPLES,
     Motion,
     RunKind,
+    RunRequest,
+    RunRobot,
     RunSettings,
+    RunTables,
     TorqueDrive,
     as_motion,
-    join_chunks,
+    given_tables,
     motion_from_record,
     register_kind,
-    simulate,
-    simulate_pieces,
+    warn_deprecated,
 )
-from aaria_pin.core.run.metadata import RunMetadata
 from aaria_pin.core.run.urdf_kind import UrdfRunSpec, urdf_robot_run
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
@@ -54,12 +56,17 @@ from aaria_pin.core.urdf_robot import (
 
 __all__ = [
     "FOURIER_SPEED",
+    "LoadedRobotOptions",
+    "UrdfRunOptions",
+    "loaded_robot_request",
     "simulate_loaded_robot",
     "simulate_urdf_from_record",
     "simulate_urdf_from_record_chunks",
     "simulate_urdf_run",
     "simulate_urdf_run_chunks",
     "urdf_fourier_excitation",
+    "urdf_request",
+    "urdf_request_from_record",
 ]
 
 FOURIER_SPEED = (1.5, 5.0)
@@ -135,45 +142,34 @@ def urdf_fourier_excitation(
     return excitation
 
 
-def _run_motion(torques: ArrayLike | None, motion: MotionInput) -> Motion:
-    """The engine's motion of the producers' ``motion`` and ``torques``."""
-    run_motion = as_motion(motion)
-    return run_motion if torques is None else TorqueDrive(torques, run_motion)
+class _UrdfSettings(TypedDict, total=False):
+    """The options of a loaded URDF robot's run but its tables (see :class:`UrdfRunOptions`)."""
+
+    source: str | None
+    moving_base: bool | None
+    duration: float
+    rate: float
+    seed: int | np.random.SeedSequence
+    noise: bool
+    noise_model: ImuNoiseModel
+    threads: int
+    torques: ArrayLike | None
+    motion: MotionInput
+    chunk: int | None
 
 
-def simulate_urdf_run(
-    urdf: str,
-    joint_table: ArrayLike | None = None,
-    base_table: ArrayLike | None = None,
-    *,
-    urdf_dir: Path | None = None,
-    source: str | None = None,
-    moving_base: bool = True,
-    tool_frame: str | None = None,
-    imu_layout: tuple[ImuMount, ...] | None = None,
-    duration: float = DEFAULT_DURATION,
-    rate: float = DEFAULT_RATE,
-    seed: int | np.random.SeedSequence = 0,
-    noise: bool = True,
-    noise_model: ImuNoiseModel = ADIS16485,
-    threads: int = 1,
-    torques: ArrayLike | None = None,
-    motion: MotionInput = None,
-) -> RunRecord:
-    """Simulate one run of a URDF robot.
+class LoadedRobotOptions(_UrdfSettings, RunTables, total=False):
+    """The options of a run of a loaded URDF robot (every key optional).
 
-    Args:
-        urdf: the URDF text
+    Attributes:
         joint_table: n × 5 joint oscillation table, one row per actuated joint in model order
             (default :func:`~aaria_pin.core.urdf_robot.default_urdf_joint_table`)
         base_table: 2 × 4 or 6 × 4 base oscillation table (default a gentle motion; ignored
             and not stored on a fixed base)
-        urdf_dir: the URDF's folder, for relative mesh paths
         source: where the URDF came from (a robot name or a file), stored as an attribute
-        moving_base: carry the root link on the base motion (False: fixed at the origin; the
-            base wrench is then the load on the fixed mount)
-        tool_frame: the tool frame (default: chosen as in :func:`load_urdf_robot`)
-        imu_layout: the IMUs (default: two per moving link plus base and tool)
+        moving_base: False holds a free-flyer robot's base at rest at the origin (its base
+            wrench is then the fixed mount's load); default: moving (for a loaded robot:
+            moving if the model has a free-flyer)
         duration: run length [s]
         rate: sample rate [Hz]
         seed: seed of the IMU noise, 0 to 2⁶³ - 1, or a ``SeedSequence``
@@ -183,7 +179,7 @@ def simulate_urdf_run(
         torques: (T, n) joint torques [N·m] or forces [N], model order: the joints then move
             under them by forward dynamics, starting from the joint table's values and
             velocities at t = 0, instead of following the joint table (stored as the table
-            ``torque_table``)
+            ``torque_table``; the run is then one piece)
         motion: the joint motion instead of the joint table's sines, one column (or row) per
             actuated joint in model order: a
             :class:`~aaria_pin.core.trajectory.JointTrajectory` of the run's samples (e.g.
@@ -194,185 +190,122 @@ def simulate_urdf_run(
             (:func:`urdf_fourier_excitation`; stored as the table ``fourier_coefficients`` and
             the attribute ``fourier``). The attribute ``motion`` says which: ``sine``,
             ``trajectory`` or ``fourier``
-
-    Returns:
-        The run record (kind ``"urdf"``).
+        chunk: samples per piece of :meth:`~aaria_pin.core.run.RunRequest.pieces` (default
+            :data:`~aaria_pin.core.run.CHUNK_SAMPLES`; None: one piece)
     """
-    return join_chunks(
-        simulate_urdf_run_chunks(
-            urdf,
-            joint_table,
-            base_table,
-            urdf_dir=urdf_dir,
-            source=source,
-            moving_base=moving_base,
-            tool_frame=tool_frame,
-            imu_layout=imu_layout,
-            duration=duration,
-            rate=rate,
-            seed=seed,
-            noise=noise,
-            noise_model=noise_model,
-            threads=threads,
-            torques=torques,
-            motion=motion,
-            chunk=None,
-        )
+
+
+class _UrdfLoad(TypedDict, total=False):
+    """How a URDF text is loaded (see :class:`UrdfRunOptions`)."""
+
+    urdf_dir: Path | None
+    tool_frame: str | None
+    imu_layout: tuple[ImuMount, ...] | None
+
+
+class UrdfRunOptions(LoadedRobotOptions, _UrdfLoad, total=False):
+    """The options of a URDF robot's run: :class:`LoadedRobotOptions` and how it is loaded.
+
+    Attributes:
+        urdf_dir: the URDF's folder, for relative mesh paths (stored as ``urdf_dir``)
+        tool_frame: the tool frame (default: chosen as in
+            :func:`~aaria_pin.core.urdf_robot.load_urdf_robot`)
+        imu_layout: the IMUs (default: two per moving link plus base and tool)
+    """
+
+
+def _run_motion(torques: ArrayLike | None, motion: MotionInput) -> Motion:
+    """The engine's motion of the options' ``motion`` and ``torques``."""
+    run_motion = as_motion(motion)
+    return run_motion if torques is None else TorqueDrive(torques, run_motion)
+
+
+def _request(robot: RunRobot, options: LoadedRobotOptions) -> RunRequest:
+    """The engine's inputs of an adapted robot and the run's options."""
+    settings = RunSettings(
+        options.get("duration", DEFAULT_DURATION),
+        options.get("rate", DEFAULT_RATE),
+        options.get("chunk", CHUNK_SAMPLES),
+        options.get("noise", True),
+        options.get("noise_model", ADIS16485),
+        options.get("threads", 1),
     )
+    motion = _run_motion(options.get("torques"), options.get("motion"))
+    return RunRequest(robot, motion, settings, options.get("seed", 0))
 
 
-def simulate_urdf_run_chunks(
-    urdf: str,
-    joint_table: ArrayLike | None = None,
-    base_table: ArrayLike | None = None,
-    *,
-    urdf_dir: Path | None = None,
-    source: str | None = None,
-    moving_base: bool = True,
-    tool_frame: str | None = None,
-    imu_layout: tuple[ImuMount, ...] | None = None,
-    duration: float = DEFAULT_DURATION,
-    rate: float = DEFAULT_RATE,
-    seed: int | np.random.SeedSequence = 0,
-    noise: bool = True,
-    noise_model: ImuNoiseModel = ADIS16485,
-    threads: int = 1,
-    torques: ArrayLike | None = None,
-    motion: MotionInput = None,
-    chunk: int | None = CHUNK_SAMPLES,
-) -> Iterator[RunRecord]:
-    """:func:`simulate_urdf_run` computed in time chunks: one record per piece, in order.
+def urdf_request(urdf: str, **options: Unpack[UrdfRunOptions]) -> RunRequest:
+    """A run of a URDF robot, as the engine's inputs (checked once here).
 
-    As :func:`aaria_pin.aaria.simulate.simulate_run_chunks`: the pieces put together
-    (:func:`~aaria_pin.core.run.join_chunks`) are bit for bit :func:`simulate_urdf_run`'s
-    record, noise included; each piece's attributes cover the run up to its end (the last
-    piece's ``effort_exceeded`` is the whole run's). A run driven by torques is one piece.
-    The limits on the run's length are those of the DH run's pieces.
+    ``urdf_request(text, **options).record()`` is the run held whole, ``.pieces()`` the run
+    in time pieces (bit for bit the whole run's, noise included; each piece's attributes cover
+    the run up to its end, so the last piece's ``effort_exceeded`` is the whole run's).
 
     Args:
         urdf: the URDF text
-        joint_table: as in :func:`simulate_urdf_run`
-        base_table: as in :func:`simulate_urdf_run`
-        urdf_dir: the URDF's folder, for relative mesh paths
-        source: where the URDF came from, stored as an attribute
-        moving_base: carry the root link on the base motion
-        tool_frame: the tool frame
-        imu_layout: the IMUs
-        duration: run length [s]
-        rate: sample rate [Hz]
-        seed: seed of the IMU noise
-        noise: add IMU noise
-        noise_model: IMU noise parameters
-        threads: worker threads of the batched RNEA
-        torques: as in :func:`simulate_urdf_run` (the run is then one piece)
-        motion: as in :func:`simulate_urdf_run` (sliced or evaluated piece by piece)
-        chunk: samples per piece (default :data:`~aaria_pin.core.run.CHUNK_SAMPLES`); None:
-            one piece
+        **options: :class:`UrdfRunOptions`
 
-    Yields:
-        The run record of each piece (kind ``"urdf"``).
+    Returns:
+        The robot, motion, settings and seed; the record it makes is of kind ``"urdf"``.
+
+    Raises:
+        UrdfError, ModelError: a URDF that is no robot. TableError, ParameterError: a bad
+            table or setting.
     """
+    urdf_dir = options.get("urdf_dir")
     loaded = load_urdf_robot(
         urdf,
         urdf_dir=urdf_dir,
         moving_base=True,
-        tool_frame=tool_frame,
-        imu_layout=imu_layout,
+        tool_frame=options.get("tool_frame"),
+        imu_layout=options.get("imu_layout"),
     )
-    robot = urdf_robot_run(
-        loaded,
-        UrdfRunSpec(
-            joint_table,
-            base_table,
-            moving_base,
-            source,
-            "" if urdf_dir is None else str(urdf_dir),
-        ),
+    spec = UrdfRunSpec(
+        options.get("joint_table"),
+        options.get("base_table"),
+        options.get("moving_base", True),
+        options.get("source"),
+        "" if urdf_dir is None else str(urdf_dir),
     )
-    settings = RunSettings(duration, rate, chunk, noise, noise_model, threads)
-    return simulate_pieces(robot, _run_motion(torques, motion), settings, seed)
+    return _request(urdf_robot_run(loaded, spec), options)
 
 
-def simulate_loaded_robot(
-    loaded: UrdfRobot,
-    joint_table: ArrayLike | None = None,
-    base_table: ArrayLike | None = None,
-    *,
-    moving_base: bool | None = None,
-    source: str | None = None,
-    duration: float = DEFAULT_DURATION,
-    rate: float = DEFAULT_RATE,
-    seed: int | np.random.SeedSequence = 0,
-    noise: bool = True,
-    noise_model: ImuNoiseModel = ADIS16485,
-    threads: int = 1,
-    torques: ArrayLike | None = None,
-    motion: MotionInput = None,
-) -> RunRecord:
-    """The same as :func:`simulate_urdf_run` for a robot already loaded (a data set's runs).
+def loaded_robot_request(loaded: UrdfRobot, **options: Unpack[LoadedRobotOptions]) -> RunRequest:
+    """A run of a URDF robot already loaded (a data set's runs), as the engine's inputs.
 
     Args:
         loaded: the robot (:func:`~aaria_pin.core.urdf_robot.load_urdf_robot`)
-        joint_table: as in :func:`simulate_urdf_run`
-        base_table: as in :func:`simulate_urdf_run`
-        moving_base: False holds a free-flyer robot's base at rest at the origin (its base
-            wrench is then the fixed mount's load); default: moving if the model has a
-            free-flyer (a model without one gives a zero base wrench)
-        source: as in :func:`simulate_urdf_run`
-        duration: run length [s]
-        rate: sample rate [Hz]
-        seed: seed of the IMU noise
-        noise: add IMU noise
-        noise_model: IMU noise parameters
-        threads: worker threads of the batched RNEA
-        torques: as in :func:`simulate_urdf_run`
-        motion: as in :func:`simulate_urdf_run`
+        **options: :class:`LoadedRobotOptions` (``moving_base`` default: moving if the model
+            has a free-flyer; a model without one gives a zero base wrench)
 
     Returns:
-        The run record (kind ``"urdf"``).
+        The robot, motion, settings and seed (kind ``"urdf"``).
     """
-    robot = urdf_robot_run(loaded, UrdfRunSpec(joint_table, base_table, moving_base, source))
-    settings = RunSettings(duration, rate, None, noise, noise_model, threads)
-    return simulate(robot, _run_motion(torques, motion), settings, seed)
+    spec = UrdfRunSpec(
+        options.get("joint_table"),
+        options.get("base_table"),
+        options.get("moving_base"),
+        options.get("source"),
+    )
+    return _request(urdf_robot_run(loaded, spec), options)
 
 
-def simulate_urdf_from_record(stored: RunRecord, **overrides: Any) -> RunRecord:
-    """Re-make a URDF robot's run from the inputs its record holds.
+def urdf_request_from_record(stored: RunRecord, **overrides: Unpack[UrdfRunOptions]) -> RunRequest:
+    """The URDF robot's run a record holds the inputs of, as the engine's inputs.
 
     The URDF, joint and base tables, IMU layout, tool frame, base mode, rate, duration, seed
     and noise setting come from the record (and the URDF's folder, for its meshes, if it is
-    still there); keyword arguments of :func:`simulate_urdf_run` given here replace them.
+    still there); ``overrides`` replace them.
 
     Args:
         stored: a URDF robot's run record (e.g. read from its run file)
-        **overrides: keyword arguments of :func:`simulate_urdf_run`
+        **overrides: :class:`UrdfRunOptions`
 
     Returns:
-        The run record; with no overrides it equals the stored one.
+        The run's inputs; with no overrides their record equals the stored one.
     """
-    return simulate_urdf_run(stored.urdf, **_stored_settings(stored, overrides))
-
-
-def simulate_urdf_from_record_chunks(
-    stored: RunRecord, chunk: int | None = CHUNK_SAMPLES, **overrides: Any
-) -> Iterator[RunRecord]:
-    """:func:`simulate_urdf_from_record` in time chunks (:func:`simulate_urdf_run_chunks`).
-
-    Args:
-        stored: a URDF robot's run record
-        chunk: samples per piece; None: one piece
-        **overrides: keyword arguments of :func:`simulate_urdf_run`
-
-    Yields:
-        The run record of each piece.
-    """
-    return simulate_urdf_run_chunks(stored.urdf, **_stored_settings(stored, overrides), chunk=chunk)
-
-
-def _stored_settings(stored: RunRecord, overrides: dict[str, Any]) -> dict[str, Any]:
-    """Keyword arguments of :func:`simulate_urdf_run` from a record, ``overrides`` applied."""
-    meta = RunMetadata.from_attributes(stored.attributes)
-    settings: dict[str, Any] = {
+    meta = stored.metadata
+    options: UrdfRunOptions = {
         "joint_table": stored.tables.get("joint_table"),
         "base_table": stored.tables.get("base_table"),
         "source": meta.source or None,
@@ -384,14 +317,99 @@ def _stored_settings(stored: RunRecord, overrides: dict[str, Any]) -> dict[str, 
         "rate": meta.rate,
         "seed": meta.seed,
         "noise": meta.noise,
+        "motion": motion_from_record(stored.tables, stored.attributes, drive=False),
     }
     if "torque_table" in stored.tables:
-        settings["torques"] = stored.tables["torque_table"]
-    settings["motion"] = motion_from_record(stored.tables, stored.attributes, drive=False)
-    settings.update(overrides)
-    return settings
+        options["torques"] = stored.tables["torque_table"]
+    options.update(overrides)
+    return urdf_request(stored.urdf, **options)
 
 
-register_kind(
-    RunKind("urdf", simulate_urdf_from_record, lambda record: "joint_table" in record.tables)
-)
+def _remake(stored: RunRecord, **overrides: Any) -> RunRecord:
+    """The registered re-make of a URDF run (:func:`urdf_request_from_record`, held whole)."""
+    return urdf_request_from_record(stored, **overrides).record()
+
+
+class _UrdfLegacy(_UrdfSettings, _UrdfLoad, total=False):
+    """:class:`UrdfRunOptions` but the tables (the deprecated producers take those)."""
+
+
+def simulate_urdf_run(
+    urdf: str,
+    joint_table: ArrayLike | None = None,
+    base_table: ArrayLike | None = None,
+    **options: Unpack[_UrdfLegacy],
+) -> RunRecord:
+    """Deprecated: ``urdf_request(urdf, **options).record()`` (:func:`urdf_request`).
+
+    Returns:
+        The run record (kind ``"urdf"``).
+    """
+    warn_deprecated("simulate_urdf_run", "aaria_pin.core.urdf_run.urdf_request(urdf, **o).record()")
+    return urdf_request(urdf, **options, **given_tables(joint_table, base_table)).record()
+
+
+def simulate_urdf_run_chunks(
+    urdf: str,
+    joint_table: ArrayLike | None = None,
+    base_table: ArrayLike | None = None,
+    **options: Unpack[_UrdfLegacy],
+) -> Iterator[RunRecord]:
+    """Deprecated: ``urdf_request(urdf, **options).pieces()`` (:func:`urdf_request`).
+
+    Yields:
+        The run record of each piece (kind ``"urdf"``).
+    """
+    warn_deprecated(
+        "simulate_urdf_run_chunks", "aaria_pin.core.urdf_run.urdf_request(urdf, **o).pieces()"
+    )
+    return urdf_request(urdf, **options, **given_tables(joint_table, base_table)).pieces()
+
+
+def simulate_loaded_robot(
+    loaded: UrdfRobot,
+    joint_table: ArrayLike | None = None,
+    base_table: ArrayLike | None = None,
+    **options: Unpack[_UrdfSettings],
+) -> RunRecord:
+    """Deprecated: ``loaded_robot_request(loaded, **options).record()``.
+
+    Returns:
+        The run record (kind ``"urdf"``).
+    """
+    warn_deprecated(
+        "simulate_loaded_robot",
+        "aaria_pin.core.urdf_run.loaded_robot_request(loaded, **o).record()",
+    )
+    return loaded_robot_request(loaded, **options, **given_tables(joint_table, base_table)).record()
+
+
+def simulate_urdf_from_record(stored: RunRecord, **overrides: Unpack[UrdfRunOptions]) -> RunRecord:
+    """Deprecated: ``urdf_request_from_record(stored, **overrides).record()``.
+
+    Returns:
+        The run record; with no overrides it equals the stored one.
+    """
+    warn_deprecated(
+        "simulate_urdf_from_record",
+        "aaria_pin.core.urdf_run.urdf_request_from_record(stored, **o).record()",
+    )
+    return urdf_request_from_record(stored, **overrides).record()
+
+
+def simulate_urdf_from_record_chunks(
+    stored: RunRecord, **overrides: Unpack[UrdfRunOptions]
+) -> Iterator[RunRecord]:
+    """Deprecated: ``urdf_request_from_record(stored, **overrides).pieces()``.
+
+    Yields:
+        The run record of each piece.
+    """
+    warn_deprecated(
+        "simulate_urdf_from_record_chunks",
+        "aaria_pin.core.urdf_run.urdf_request_from_record(stored, **o).pieces()",
+    )
+    return urdf_request_from_record(stored, **overrides).pieces()
+
+
+register_kind(RunKind("urdf", _remake, lambda record: "joint_table" in record.tables))

@@ -1,7 +1,7 @@
 """Pictures of the applications' reports: the torque split per joint, the wrist's workspace.
 
-The applications (:mod:`aaria_pin.apps.torques`, :mod:`aaria_pin.apps.wrist.kinematics`) compute
-the reports and import no picture; the CLI draws them with these functions (matplotlib, Agg
+The applications (:mod:`aaria_pin.apps.torques`, :mod:`aaria_pin.apps.wrist.wrist_kinematics`)
+compute the reports and import no picture; the CLI draws them with these functions (matplotlib, Agg
 backend, written atomically as PNG, PDF or SVG by :func:`aaria_pin.viz._figure.figure_file`).
 
 The torque split is drawn as grouped bars, never stacked: the RMS of a sum is not the sum of the
@@ -21,7 +21,7 @@ import numpy as np
 from aaria_pin.viz._figure import equal_axes_3d, figure_file
 
 if TYPE_CHECKING:
-    from aaria_pin.apps.wrist.kinematics import Workspace
+    from aaria_pin.apps.wrist.wrist_kinematics import Workspace
 
 __all__ = [
     "TORQUE_BARS",
@@ -108,7 +108,8 @@ def draw_workspace(axes: Any, workspace: Workspace, title: str) -> None:
 
     Args:
         axes: matplotlib 3D axes
-        workspace: the sampled workspace (:func:`aaria_pin.apps.wrist.kinematics.wrist_workspace`)
+        workspace: the sampled workspace (see
+            :func:`~aaria_pin.apps.wrist.wrist_kinematics.wrist_workspace`)
         title: the title (the radius [mm] and solid angle [sr] are added)
     """
     shown = workspace.points[:: max(1, len(workspace.points) // 20_000)]
@@ -128,7 +129,8 @@ def plot_workspace(
     """A 3D scatter of the wrist workspace's tool points (:func:`draw_workspace`), 600 × 600 px.
 
     Args:
-        workspace: the sampled workspace (:func:`aaria_pin.apps.wrist.kinematics.wrist_workspace`)
+        workspace: the sampled workspace (see
+            :func:`~aaria_pin.apps.wrist.wrist_kinematics.wrist_workspace`)
         path: the picture to write: ``.png``, ``.pdf`` or ``.svg``
         title: the picture's title (the radius [mm] and solid angle [sr] are added)
 

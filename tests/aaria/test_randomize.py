@@ -7,7 +7,6 @@ import pytest
 
 from aaria_pin.aaria.dh import chain_from_aaria
 from aaria_pin.aaria.dh_robot import build_dh_robot
-from aaria_pin.aaria.oscillation import validate_base_table, validate_joint_table
 from aaria_pin.aaria.randomize import (
     PARTS,
     RandomConfig,
@@ -17,6 +16,7 @@ from aaria_pin.aaria.randomize import (
     random_dh_table,
     random_joint_table,
 )
+from aaria_pin.aaria.sine_tables import validate_base_table, validate_joint_table
 from aaria_pin.core.model import build_model
 from aaria_pin.core.seeds import DATASET_STREAMS, RunSeeds
 from aaria_pin.errors import InputFileError, ParameterError

@@ -68,7 +68,7 @@ def test_standard_table_is_refused_for_a_run() -> None:
 
 def test_preset_oscillation_tables_follow_the_documented_rule() -> None:
     from aaria_pin.aaria.dh import chain_from_table
-    from aaria_pin.aaria.oscillation import default_base_table, default_joint_table
+    from aaria_pin.aaria.sine_tables import default_base_table, default_joint_table
 
     for name in ("aaria-fig2", "aaria-fig3"):
         preset = get_preset(name)
@@ -254,3 +254,37 @@ def test_a_changed_density_mapping_neither_changes_nor_reuses_a_cached_arm() -> 
     np.testing.assert_array_equal(again.tau, light.tau)
     assert again.attributes["body_dimensions"]["density_overrides"] == {"link3": 2700.0}
     assert heavy.attributes["body_dimensions"]["density_overrides"] == {"link3": 8000.0}
+
+
+def test_the_deprecated_dh_producers_warn_and_equal_the_request() -> None:
+    import warnings
+
+    from aaria_pin.aaria.simulate import (
+        dh_request,
+        dh_request_from_record,
+        simulate_from_record,
+        simulate_from_record_chunks,
+        simulate_run_chunks,
+    )
+    from aaria_pin.core.run import join_chunks
+
+    fig2 = get_preset("aaria-fig2")
+    options = {"duration": 0.5, "rate": 40.0, "seed": 7}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the replacement itself warns of nothing
+        expected = dh_request(fig2.table, joint_table=fig2.joint_table, **options).record()
+        again = dh_request_from_record(expected, chunk=5).pieces()
+    with pytest.warns(DeprecationWarning, match=r"^simulate_run is deprecated; use .*dh_request"):
+        record = simulate_run(fig2.table, fig2.joint_table, **options)
+    np.testing.assert_array_equal(record.imu, expected.imu)
+    np.testing.assert_array_equal(record.tau, expected.tau)
+    with pytest.warns(DeprecationWarning, match="simulate_run_chunks is deprecated"):
+        pieces = join_chunks(simulate_run_chunks(fig2.table, fig2.joint_table, chunk=7, **options))
+    with pytest.warns(DeprecationWarning, match="simulate_from_record is deprecated"):
+        remade = simulate_from_record(expected)
+    with pytest.warns(DeprecationWarning, match="simulate_from_record_chunks is deprecated"):
+        remade_pieces = join_chunks(simulate_from_record_chunks(expected, chunk=9))
+    for other in (pieces, remade, remade_pieces, join_chunks(again)):
+        np.testing.assert_array_equal(other.imu, expected.imu)
+        np.testing.assert_array_equal(other.q, expected.q)
+    assert expected.n_samples == 21 and np.abs(expected.imu).max() > 0

@@ -8,9 +8,9 @@ import pytest
 from click.testing import CliRunner
 
 from aaria_pin.aaria.dh_robot import build_dh_robot
-from aaria_pin.aaria.oscillation import base_motion, joint_trajectory
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
+from aaria_pin.aaria.sine_tables import base_motion, joint_trajectory
 from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
 from aaria_pin.apps.dataset.generate import generate_dataset
 from aaria_pin.apps.torques import record_torque_report, torque_split, torque_text

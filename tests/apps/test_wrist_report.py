@@ -7,13 +7,13 @@ import pytest
 from conftest import wrist_equation_9
 from scipy.spatial.transform import Rotation
 
-from aaria_pin.apps.wrist.kinematics import Workspace
 from aaria_pin.apps.wrist.report import (
     MATRIX_TOLERANCE,
     nearest_rotation,
     workspace_report,
     wrist_report,
 )
+from aaria_pin.apps.wrist.wrist_kinematics import Workspace
 from aaria_pin.errors import ParameterError
 
 

@@ -8,8 +8,8 @@ from click.testing import CliRunner
 from conftest import Rx, Rz, Tz
 
 from aaria_pin.aaria.presets import APPENDIX_B_PARTS
-from aaria_pin.apps.wrist.kinematics import wrist_fk
 from aaria_pin.apps.wrist.run import report_wrist, simulate_wrist
+from aaria_pin.apps.wrist.wrist_kinematics import wrist_fk
 from aaria_pin.cli import main
 from aaria_pin.errors import ParameterError
 

@@ -74,7 +74,7 @@ def test_fourier_motion_derivatives_are_those_of_q():
     ("kwargs", "parameter"),
     [
         ({"harmonics": 0}, "harmonics"),
-        ({"harmonics": 60, "base_frequency": 1.0}, None),  # 60 Hz at 100 Hz: two parameters
+        ({"harmonics": 60, "base_frequency": 1.0}, "harmonics"),  # 60 Hz at 100 Hz: both named
         ({"q_limits": (1.0, -1.0)}, "q_limits"),
         ({"q_limits": [(0, 1)] * 3}, "q_limits"),
         ({"qd_limits": 0.0}, "qd_limits"),

@@ -8,14 +8,14 @@ from conftest import paper_frames
 from pinocchio_oracles import reference_frame_poses, reference_imu_signals
 
 from aaria_pin.aaria.dh_robot import build_dh_robot
-from aaria_pin.aaria.oscillation import (
+from aaria_pin.aaria.presets import get_preset
+from aaria_pin.aaria.simulate import simulate_run
+from aaria_pin.aaria.sine_tables import (
     base_motion,
     default_base_table,
     default_joint_table,
     joint_trajectory,
 )
-from aaria_pin.aaria.presets import get_preset
-from aaria_pin.aaria.simulate import simulate_run
 from aaria_pin.core.kinematics import imu_signals
 from aaria_pin.core.trajectory import sample_times
 

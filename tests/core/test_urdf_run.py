@@ -262,3 +262,43 @@ def test_sample_grid_matches_the_aaria_run() -> None:
         read_urdf_file(_robot_file("ur5")), duration=0.5, rate=100.0, noise=False
     )
     np.testing.assert_array_equal(record.time, sample_times(0.5, 100.0))
+
+
+def test_the_deprecated_urdf_producers_warn_and_equal_the_request(tmp_path: Path) -> None:
+    import warnings
+
+    from aaria_pin.core.run import join_chunks
+    from aaria_pin.core.urdf_run import (
+        loaded_robot_request,
+        simulate_loaded_robot,
+        simulate_urdf_from_record,
+        simulate_urdf_from_record_chunks,
+        simulate_urdf_run_chunks,
+        urdf_request,
+    )
+
+    text = _robot_file("ur5").read_text()
+    options = {"duration": 0.4, "rate": 50.0, "seed": 2}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        expected = urdf_request(text, **options).record()
+        loaded = loaded_robot_request(load_urdf_robot(text), **options).record()
+    with pytest.warns(DeprecationWarning, match=r"^simulate_urdf_run is deprecated; use "):
+        record = simulate_urdf_run(text, **options)
+    with pytest.warns(DeprecationWarning, match="simulate_urdf_run_chunks is deprecated"):
+        pieces = join_chunks(simulate_urdf_run_chunks(text, chunk=6, **options))
+    with pytest.warns(DeprecationWarning, match="simulate_loaded_robot is deprecated"):
+        from_loaded = simulate_loaded_robot(load_urdf_robot(text), **options)
+    with pytest.warns(DeprecationWarning, match="simulate_urdf_from_record is deprecated"):
+        remade = simulate_urdf_from_record(expected)
+    with pytest.warns(DeprecationWarning, match="simulate_urdf_from_record_chunks is deprecated"):
+        remade_pieces = join_chunks(simulate_urdf_from_record_chunks(expected, chunk=4))
+    path = tmp_path / "ur5.h5"
+    write_run(path, expected)
+    with pytest.warns(DeprecationWarning, match="simulate_urdf_from_run_file is deprecated"):
+        from_file = simulate_urdf_from_run_file(path)
+    for other in (record, pieces, remade, remade_pieces, from_file):
+        np.testing.assert_array_equal(other.imu, expected.imu)
+        np.testing.assert_array_equal(other.tau, expected.tau)
+    np.testing.assert_array_equal(from_loaded.tau, loaded.tau)
+    assert expected.n_samples == 21 and np.abs(expected.tau).max() > 0

@@ -130,7 +130,7 @@ def test_rms_bars_equal_the_printed_rms_side_by_side(tmp_path: Path, fig2_run: P
 
 
 def test_workspace_plot_has_equal_axes(tmp_path: Path) -> None:
-    from aaria_pin.apps.wrist.kinematics import wrist_workspace
+    from aaria_pin.apps.wrist.wrist_kinematics import wrist_workspace
     from aaria_pin.viz._plotting import pyplot
     from aaria_pin.viz.report_plots import draw_workspace, plot_workspace
 

@@ -72,7 +72,7 @@ def with_payload(model: Any, payload: Any, joint: str = HAND_JOINT) -> Any:
         ParameterError: no joint of that name.
     """
     if not model.existJointName(joint):
-        raise ParameterError(f"joint {joint!r} is not in the model; allowed: {list(model.names)}")
+        raise ParameterError(parameter="joint", value=joint, allowed=f"one of {list(model.names)}")
     loaded = model.copy()
     index = loaded.getJointId(joint)
     loaded.inertias[index] = loaded.inertias[index] + payload
@@ -108,7 +108,7 @@ def task_torques(
     held = np.asarray(held, dtype=bool)
     n = np.shape(trajectory.q)[0]
     if held.shape != (n,):
-        raise ParameterError(f"held mask of shape {held.shape}; allowed: ({n},)")
+        raise ParameterError(parameter="held", value=held.shape, allowed=f"({n},)", element="shape")
     tau_free, wrench_free = inverse_dynamics(robot, BaseMotion.resting(n), trajectory, threads)
     tau, wrench = tau_free.copy(), wrench_free.copy()
     if np.any(held):

@@ -255,13 +255,14 @@ def simulate_pick_place_from_record(stored: RunRecord, **overrides: Any) -> Pick
     Returns:
         The run; with no overrides it equals the stored one.
     """
-    attributes = stored.attributes
+    meta = stored.metadata
+    own = {**meta.extra, "source": meta.source}  # the kind's own attributes
     settings: dict[str, Any] = {
-        "cylinder": stored_cylinder(attributes),
-        "place": tuple(float(v) for v in attributes["place"]),
-        "preset": stored_preset(attributes),
-        "rate": float(attributes["rate"]),
-        "branch": str(attributes.get("branch", "nearest")),
+        "cylinder": stored_cylinder(own),
+        "place": tuple(float(v) for v in own["place"]),
+        "preset": stored_preset(own),
+        "rate": meta.rate,
+        "branch": str(own.get("branch", "nearest")),
     }
     settings.update(overrides)
     cylinder, place = settings.pop("cylinder"), settings.pop("place")

@@ -90,7 +90,7 @@ class DhDatasetSpec(DatasetSpec):
         default ``senSenJ``.
         """
         from aaria_pin.aaria.dh import chain_from_aaria
-        from aaria_pin.aaria.oscillation import default_joint_table
+        from aaria_pin.aaria.sine_tables import default_joint_table
 
         seeds = RunSeeds(self.seed, run)
         if "structure" in self.vary:
@@ -143,7 +143,7 @@ class DhDatasetSpec(DatasetSpec):
             TableError: a table no run can use.
         """
         from aaria_pin.aaria.dh import chain_from_aaria, validate_aaria_table
-        from aaria_pin.aaria.oscillation import validate_joint_table
+        from aaria_pin.aaria.sine_tables import validate_joint_table
         from aaria_pin.core.oscillation import JOINT_COLUMNS
         from aaria_pin.core.tables import finite_table
 

@@ -3,7 +3,7 @@
 :func:`wrist_report` answers "where is the tool, and which joint angles put it there" for a tool
 rotation given by joint angles (forward), by angles in any sequence, or by a matrix (inverse;
 :func:`nearest_rotation` accepts a matrix printed to 6 decimals); :func:`workspace_report`
-summarises :func:`~aaria_pin.apps.wrist.kinematics.wrist_workspace`. Both give numbers
+summarises :func:`~aaria_pin.apps.wrist.wrist_kinematics.wrist_workspace`. Both give numbers
 (:meth:`WristReport.to_dict`) and the text ``aaria wrist`` prints (:meth:`WristReport.text`).
 """
 
@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from aaria_pin.apps.wrist.kinematics import REPORT_LIMITS, Workspace, wrist_fk, wrist_ik
+from aaria_pin.apps.wrist.wrist_kinematics import REPORT_LIMITS, Workspace, wrist_fk, wrist_ik
 from aaria_pin.core.rotations import angles_from_matrix, as_rotation, rotation_defect
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
@@ -174,7 +174,7 @@ def workspace_report(space: Workspace) -> tuple[dict[str, Any], str]:
     """A workspace's numbers (radius, solid angle, share of the sphere) and their text.
 
     Args:
-        space: a sampled workspace (:func:`~aaria_pin.apps.wrist.kinematics.wrist_workspace`)
+        space: a sampled workspace (:func:`~aaria_pin.apps.wrist.wrist_kinematics.wrist_workspace`)
 
     Returns:
         ``{"radius_m", "solid_angle_sr", "solid_angle_exact_sr", "sphere_fraction",

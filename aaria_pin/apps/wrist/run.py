@@ -323,7 +323,7 @@ def simulate_wrist(
         record.imu,
         record.imu_mounts,
         record.urdf,
-        str(record.attributes["tool_frame"]),
+        record.metadata.tool_frame,
     )
 
 

@@ -3,7 +3,7 @@
 - :mod:`~aaria_pin.core.run.settings`: :class:`RunSettings` and the attributes every run records
 - :mod:`~aaria_pin.core.run.robot`: the :class:`RunRobot` adapter protocol and the registry of
   run kinds (:func:`register_kind`, :func:`kind_of`)
-- :mod:`~aaria_pin.core.run.metadata`: :class:`RunMetadata`, a record's attributes as fields
+- :mod:`~aaria_pin.core.run_metadata`: :class:`RunMetadata`, a record's attributes as fields
 - :mod:`~aaria_pin.core.run.motion`: the motions (sine table, Fourier, sampled trajectory,
   torque drive) and how each stores and loads itself
 - :mod:`~aaria_pin.core.run.sensor`: the sensors (the IMU; any other registered one)
@@ -13,8 +13,15 @@
 """
 
 from aaria_pin.core.run.chunks import CHUNK_SAMPLES, chunk_bounds, join_chunks, run_length
-from aaria_pin.core.run.engine import Seeds, simulate, simulate_pieces
-from aaria_pin.core.run.metadata import RunMetadata
+from aaria_pin.core.run.engine import (
+    RunRequest,
+    RunTables,
+    Seeds,
+    given_tables,
+    simulate,
+    simulate_pieces,
+    warn_deprecated,
+)
 from aaria_pin.core.run.motion import (
     FourierMotion,
     Motion,
@@ -40,8 +47,8 @@ from aaria_pin.core.run.settings import (
     UNITS,
     RunSettings,
     sampling_attributes,
-    stored_sampling,
 )
+from aaria_pin.core.run_metadata import RunMetadata, stored_sampling
 
 __all__ = [
     "CHUNK_SAMPLES",
@@ -55,9 +62,11 @@ __all__ = [
     "Motion",
     "RunKind",
     "RunMetadata",
+    "RunRequest",
     "RunRobot",
     "RunSeries",
     "RunSettings",
+    "RunTables",
     "SampledTrajectory",
     "Seeds",
     "Sensor",
@@ -66,6 +75,7 @@ __all__ = [
     "TorqueDrive",
     "as_motion",
     "chunk_bounds",
+    "given_tables",
     "join_chunks",
     "kind_of",
     "motion_from_record",
@@ -79,4 +89,5 @@ __all__ = [
     "simulate_pieces",
     "simulate_series",
     "stored_sampling",
+    "warn_deprecated",
 ]

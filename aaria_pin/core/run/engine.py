@@ -11,10 +11,13 @@ drive integrates the whole run in one piece), the series
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Iterator, Sequence
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
+from typing import TypedDict
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from aaria_pin._version import __version__
 from aaria_pin.core.record import RunRecord
@@ -27,7 +30,16 @@ from aaria_pin.core.run.settings import RunSettings
 from aaria_pin.core.seeds import RunSeeds, check_seed
 from aaria_pin.core.trajectory import piece_times
 
-__all__ = ["Seeds", "noise_seed", "simulate", "simulate_pieces"]
+__all__ = [
+    "RunRequest",
+    "RunTables",
+    "Seeds",
+    "given_tables",
+    "noise_seed",
+    "simulate",
+    "simulate_pieces",
+    "warn_deprecated",
+]
 
 Seeds = RunSeeds | int | np.random.SeedSequence
 """A run's seeds: its :class:`~aaria_pin.core.seeds.RunSeeds`, or the seed of its IMU noise
@@ -167,3 +179,65 @@ def simulate_pieces(
                 "version": __version__,
             },
         )
+
+
+@dataclass(frozen=True)
+class RunRequest:
+    """One run's inputs as the engine takes them: what a producer of a robot kind builds.
+
+    A kind's library function (e.g. :func:`aaria_pin.aaria.simulate.dh_request`,
+    :func:`aaria_pin.core.urdf_run.urdf_request`) turns its tables or file into this once,
+    checking each input there; :meth:`pieces` and :meth:`record` then run the engine.
+
+    Attributes:
+        robot: the robot (an adapter of its kind)
+        motion: the joint motion (None: the robot's joint table)
+        settings: duration, rate, pieces, noise, threads
+        seeds: the run's seeds (:data:`Seeds`)
+        sensors: sensors beside the IMUs
+    """
+
+    robot: RunRobot
+    motion: Motion | None = None
+    settings: RunSettings = field(default_factory=RunSettings)
+    seeds: Seeds = 0
+    sensors: Sequence[Sensor] = ()
+
+    def pieces(self) -> Iterator[RunRecord]:
+        """The run in pieces of ``settings.chunk`` samples (:func:`simulate_pieces`)."""
+        return simulate_pieces(self.robot, self.motion, self.settings, self.seeds, self.sensors)
+
+    def record(self) -> RunRecord:
+        """The run held whole (:func:`simulate`)."""
+        return simulate(self.robot, self.motion, self.settings, self.seeds, self.sensors)
+
+
+class RunTables(TypedDict, total=False):
+    """The joint and base oscillation tables of a run's options (DH arm or URDF robot).
+
+    Attributes:
+        joint_table: the joint table (None: the robot's default)
+        base_table: 2 × 4 or 6 × 4 base oscillation table (None: a gentle motion)
+    """
+
+    joint_table: ArrayLike | None
+    base_table: ArrayLike | None
+
+
+def given_tables(joint_table: ArrayLike | None, base_table: ArrayLike | None) -> RunTables:
+    """The tables given positionally to a deprecated producer, as options (those given)."""
+    tables: RunTables = {}
+    if joint_table is not None:
+        tables["joint_table"] = joint_table
+    if base_table is not None:
+        tables["base_table"] = base_table
+    return tables
+
+
+def warn_deprecated(name: str, replacement: str) -> None:
+    """Warn that the producer ``name`` (the caller) is deprecated, naming its replacement."""
+    warnings.warn(
+        f"{name} is deprecated; use {replacement} (it goes in the next release)",
+        DeprecationWarning,
+        stacklevel=3,
+    )

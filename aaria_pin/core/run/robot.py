@@ -168,7 +168,7 @@ def kind_of(record: RunRecord) -> RunKind:
     Raises:
         InputFileError: no registered kind (parameter ``kind``).
     """
-    name = record.attributes.get("kind")
+    name = record.metadata.kind
     if name is None:
         name = next((k.name for k in _KINDS.values() if k.recognises(record)), None)
     if name not in _KINDS:

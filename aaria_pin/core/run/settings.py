@@ -7,7 +7,6 @@ seed) into a record's attributes and :meth:`RunSettings.from_attributes` reads i
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -15,7 +14,8 @@ import numpy as np
 
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, noise_attributes
 from aaria_pin.core.model import GRAVITY
-from aaria_pin.core.seeds import seed_attributes, stored_seed
+from aaria_pin.core.run_metadata import stored_sampling
+from aaria_pin.core.seeds import seed_attributes
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
     DEFAULT_RATE,
@@ -31,7 +31,6 @@ __all__ = [
     "UNITS",
     "RunSettings",
     "sampling_attributes",
-    "stored_sampling",
 ]
 
 UNITS = {
@@ -71,37 +70,6 @@ def sampling_attributes(
         "gravity": GRAVITY.tolist(),
         "units": UNITS,
     }
-
-
-def stored_sampling(attributes: dict[str, Any]) -> dict[str, Any]:
-    """The ``duration`` [s], ``rate`` [Hz], ``seed`` and ``noise`` a record's attributes hold.
-
-    The inverse of :func:`sampling_attributes`, as keyword arguments of a producer, for
-    re-making a run from its record (defaults where an attribute is missing).
-    """
-    return {
-        "duration": _stored_number(attributes, "duration", DEFAULT_DURATION, "s"),
-        "rate": _stored_number(attributes, "rate", DEFAULT_RATE, "Hz"),
-        "seed": stored_seed(attributes),
-        "noise": bool(attributes.get("noise", True)),
-    }
-
-
-def _stored_number(attributes: dict[str, Any], name: str, default: float, unit: str) -> float:
-    """A stored positive number, or one line naming the attribute (a damaged or edited file)."""
-    from aaria_pin.errors import InputFileError
-
-    value = attributes.get(name, default)
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        number = math.nan
-    if not (math.isfinite(number) and number > 0):
-        raise InputFileError(
-            f"the run's attribute {name!r} is {value!r}; allowed: a positive number of {unit}",
-            parameter=name,
-        )
-    return number
 
 
 @dataclass(frozen=True)

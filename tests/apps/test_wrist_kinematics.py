@@ -8,7 +8,7 @@ from scipy.spatial.transform import Rotation
 
 from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.aaria.presets import get_preset
-from aaria_pin.apps.wrist.kinematics import (
+from aaria_pin.apps.wrist.wrist_kinematics import (
     REPORT_LIMITS,
     wrist_fk,
     wrist_ik,
@@ -131,7 +131,7 @@ def test_cli_fk_and_ik(tmp_path) -> None:
 
 
 def test_batch_ik_equals_the_single_ik() -> None:
-    from aaria_pin.apps.wrist.kinematics import wrist_ik_batch
+    from aaria_pin.apps.wrist.wrist_kinematics import wrist_ik_batch
 
     R = Rotation.random(200, random_state=5).as_matrix()
     batch, singular, residual = wrist_ik_batch(R)
@@ -144,7 +144,7 @@ def test_batch_ik_equals_the_single_ik() -> None:
 
 
 def test_workspace_is_a_sphere_and_its_solid_angle() -> None:
-    from aaria_pin.apps.wrist.kinematics import wrist_workspace
+    from aaria_pin.apps.wrist.wrist_kinematics import wrist_workspace
 
     full = wrist_workspace(50_000)  # the report's limits: 0-360°, 0-180°
     np.testing.assert_allclose(full.radius, (0.132, 0.132))

@@ -4,14 +4,14 @@ import numpy as np
 import pytest
 
 from aaria_pin.aaria.dh import chain_from_table
-from aaria_pin.aaria.oscillation import (
+from aaria_pin.aaria.presets import get_preset
+from aaria_pin.aaria.sine_tables import (
     base_motion,
     default_joint_table,
     joint_trajectory,
     validate_base_table,
     validate_joint_table,
 )
-from aaria_pin.aaria.presets import get_preset
 from aaria_pin.errors import TableError
 
 CHAIN = chain_from_table(get_preset("aaria-fig2").table)

@@ -1,6 +1,8 @@
 """A run's metadata as typed fields: what its record's ``attributes`` say, read once.
 
-The file codec keeps a record's attributes as the dict it stores;
+Its own module beside :mod:`aaria_pin.core.run` (which re-exports it) so that
+:class:`~aaria_pin.core.record.RunRecord` can read it without importing the engine. The file
+codec keeps a record's attributes as the dict it stores;
 :meth:`RunMetadata.from_attributes` reads the fields every run kind shares (with the defaults
 of files written before a field existed) and keeps the kind's own attributes in
 :attr:`RunMetadata.extra`; :meth:`RunMetadata.to_attributes` writes them back.
@@ -8,15 +10,17 @@ of files written before a field existed) and keeps the kind's own attributes in
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.run.settings import stored_sampling
+from aaria_pin.core.seeds import stored_seed
+from aaria_pin.core.trajectory import DEFAULT_DURATION, DEFAULT_RATE
 
-__all__ = ["RunMetadata"]
+__all__ = ["RunMetadata", "stored_sampling"]
 
 _FIELDS = (
     "kind",
@@ -135,3 +139,34 @@ class RunMetadata:
             attributes["moving_base"] = self.moving_base
         attributes.update(self.extra)
         return attributes
+
+
+def stored_sampling(attributes: dict[str, Any]) -> dict[str, Any]:
+    """The ``duration`` [s], ``rate`` [Hz], ``seed`` and ``noise`` a record's attributes hold.
+
+    The inverse of :func:`sampling_attributes`, as keyword arguments of a producer, for
+    re-making a run from its record (defaults where an attribute is missing).
+    """
+    return {
+        "duration": _stored_number(attributes, "duration", DEFAULT_DURATION, "s"),
+        "rate": _stored_number(attributes, "rate", DEFAULT_RATE, "Hz"),
+        "seed": stored_seed(attributes),
+        "noise": bool(attributes.get("noise", True)),
+    }
+
+
+def _stored_number(attributes: dict[str, Any], name: str, default: float, unit: str) -> float:
+    """A stored positive number, or one line naming the attribute (a damaged or edited file)."""
+    from aaria_pin.errors import InputFileError
+
+    value = attributes.get(name, default)
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if not (math.isfinite(number) and number > 0):
+        raise InputFileError(
+            f"the run's attribute {name!r} is {value!r}; allowed: a positive number of {unit}",
+            parameter=name,
+        )
+    return number

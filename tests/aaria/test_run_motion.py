@@ -1,0 +1,48 @@
+"""The motion a run is asked for by name: the seed rule of Fourier, a trajectory file's grid."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from aaria_pin.aaria.presets import get_preset
+from aaria_pin.aaria.run_motion import MotionChoice, dh_motion
+from aaria_pin.errors import ParameterError
+
+FIG2 = get_preset("aaria-fig2").table
+
+
+def test_sine_and_as_stored() -> None:
+    assert dh_motion(MotionChoice("sine"), None, {}, FIG2) == {"motion": None}
+    assert dh_motion(MotionChoice(), None, {}, FIG2) == {}
+
+
+def test_fourier_coefficients_come_from_the_runs_fourier_stream() -> None:
+    from aaria_pin.aaria.simulate import dh_fourier_excitation
+
+    made = dh_motion(MotionChoice("fourier", harmonics=2), None, {"seed": 3, "rate": 50.0}, FIG2)
+    # the stream: SeedSequence(3).spawn-key of "fourier" (RunSeeds), independent of the noise's
+    stream = np.random.SeedSequence(3, spawn_key=made["motion"].settings["seed"]["spawn_key"])
+    expected = dh_fourier_excitation(FIG2, 10.0, 50.0, harmonics=2, seed=stream)
+    np.testing.assert_array_equal(made["motion"].a, expected.a)
+    assert made["motion"].settings["seed"]["entropy"] == 3
+    other = dh_motion(MotionChoice("fourier", harmonics=2), None, {"seed": 4, "rate": 50.0}, FIG2)
+    assert not np.array_equal(other["motion"].a, made["motion"].a)
+
+
+def test_a_trajectory_file_gives_the_runs_grid(tmp_path: Path) -> None:
+    t = np.arange(0, 2.01, 0.05)  # 20 Hz, 2 s
+    q = np.column_stack([0.1 * np.sin(t + k) for k in range(6)])
+    path = tmp_path / "motion.npy"
+    np.save(path, np.column_stack([t, q]))
+    made = dh_motion(MotionChoice("trajectory", trajectory=path), None, {}, FIG2)
+    assert made["duration"] == pytest.approx(2.0) and made["rate"] == pytest.approx(20.0)
+    np.testing.assert_allclose(made["motion"].q[:, 0], q[:, 0], atol=1e-12)
+
+
+def test_a_trajectory_without_its_file_names_the_parameter() -> None:
+    with pytest.raises(ParameterError) as error:
+        dh_motion(MotionChoice("trajectory"), None, {}, FIG2)
+    assert error.value.parameter == "trajectory"
