@@ -47,7 +47,7 @@ if TYPE_CHECKING:
     from aaria_pin.aaria.dh import KinematicChain, chain_from_table
     from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
     from aaria_pin.aaria.presets import Preset, get_preset
-    from aaria_pin.aaria.simulate import dh_fourier_excitation, simulate_run
+    from aaria_pin.aaria.simulate import dh_fourier_excitation, dh_request, simulate_run
     from aaria_pin.apps.dataset import (
         DatasetJob,
         DatasetReport,
@@ -65,6 +65,7 @@ if TYPE_CHECKING:
     from aaria_pin.core.rotations import Angles, angles_from_matrix, matrix_from_angles
     from aaria_pin.core.run import (
         FourierMotion,
+        RunRequest,
         RunSettings,
         SampledTrajectory,
         SineTable,
@@ -78,7 +79,7 @@ if TYPE_CHECKING:
     from aaria_pin.core.urdf import RobotDescription
     from aaria_pin.core.urdf_emitter import emit_urdf
     from aaria_pin.core.urdf_robot import UrdfRobot, load_urdf_robot
-    from aaria_pin.core.urdf_run import simulate_urdf_run, urdf_fourier_excitation
+    from aaria_pin.core.urdf_run import simulate_urdf_run, urdf_fourier_excitation, urdf_request
     from aaria_pin.files.dataset.reader import DatasetReader
     from aaria_pin.files.dataset.windows import WindowDataset
     from aaria_pin.files.io import read_table
@@ -104,6 +105,9 @@ _LAZY = {
     # runs
     "simulate": "aaria_pin.core.run",
     "simulate_pieces": "aaria_pin.core.run",
+    "RunRequest": "aaria_pin.core.run",
+    "dh_request": "aaria_pin.aaria.simulate",
+    "urdf_request": "aaria_pin.core.urdf_run",
     "RunSettings": "aaria_pin.core.run",
     "RunSeeds": "aaria_pin.core.seeds",
     "dh_arm": "aaria_pin.aaria.arm_run",
@@ -176,6 +180,7 @@ __all__ = [
     "RobotDescription",
     "RobotModel",
     "RunRecord",
+    "RunRequest",
     "RunSeeds",
     "RunSettings",
     "SampledTrajectory",
@@ -194,6 +199,7 @@ __all__ = [
     "chain_from_table",
     "dh_arm",
     "dh_fourier_excitation",
+    "dh_request",
     "emit_urdf",
     "find_robot",
     "fourier_motion",
@@ -216,6 +222,7 @@ __all__ = [
     "simulate_urdf_run",
     "trajectory_from_samples",
     "urdf_fourier_excitation",
+    "urdf_request",
     "urdf_robot_run",
     "wrist_fk",
     "wrist_ik",

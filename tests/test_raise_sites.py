@@ -10,7 +10,6 @@ and a Python caller can read it without parsing the message. This test reads eve
 from __future__ import annotations
 
 import ast
-import fnmatch
 import inspect
 from pathlib import Path
 
@@ -18,20 +17,6 @@ import aaria_pin.errors as errors_module
 from aaria_pin.errors import AariaError
 
 PACKAGE = Path(__file__).resolve().parent.parent / "aaria_pin"
-
-NOT_YET_FIXED: dict[str, tuple[str, ...]] = {
-    "CLI": (
-        "apps/arm/payload.py",  # ENGINE2's
-    ),
-}
-"""TEMPORARY (issue 23): files whose raise sites their owners are fixing on other branches.
-
-Paths relative to ``aaria_pin/`` (``*`` also matches ``/``). Emptied when the branches are
-merged; then every module is checked.
-"""
-
-_ALWAYS_CHECKED = ("files/_locks.py", "files/dataset/resume.py", "files/dataset/windows.py")
-"""Files inside a pattern above that are fixed already (this branch's)."""
 
 
 def _family(trees: dict[Path, ast.Module]) -> set[str]:
@@ -97,17 +82,6 @@ def message_only_sites(trees: dict[Path, ast.Module], family: set[str]) -> list[
     return [f"{path}:{line} {name}" for path, line, name in sorted(found)]
 
 
-def _not_yet_fixed(path: Path) -> bool:
-    relative = path.as_posix()
-    if relative in _ALWAYS_CHECKED:
-        return False
-    return any(
-        fnmatch.fnmatch(relative, pattern)
-        for patterns in NOT_YET_FIXED.values()
-        for pattern in patterns
-    )
-
-
 def _package_trees() -> dict[Path, ast.Module]:
     return {
         path.relative_to(PACKAGE.parent): ast.parse(path.read_text(encoding="utf-8"), str(path))
@@ -119,12 +93,7 @@ def test_every_error_of_the_family_names_its_parameter() -> None:
     trees = _package_trees()
     family = _family(trees)
     assert {"ParameterError", "TableError", "InputFileError", "NoSpaceError"} <= family
-    checked = {
-        path: tree
-        for path, tree in trees.items()
-        if not _not_yet_fixed(path.relative_to("aaria_pin"))
-    }
-    sites = message_only_sites(checked, family)
+    sites = message_only_sites(trees, family)
     assert not sites, "raises without parameter=:\n" + "\n".join(sites)
 
 

@@ -3,7 +3,7 @@
 The torque report (the held payload) and the viewer (the cylinder's track) both need the arm,
 the cylinder, where it was put down and when the hand held it; :func:`stored_task` reads them
 from :attr:`~aaria_pin.core.record.RunRecord.metadata` (the task's own attributes are in
-:attr:`~aaria_pin.core.run.metadata.RunMetadata.extra`), through the pick-and-place codec of
+:attr:`~aaria_pin.core.run_metadata.RunMetadata.extra`), through the pick-and-place codec of
 :mod:`aaria_pin.apps.arm.run`.
 """
 
@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from aaria_pin.apps.arm.dims import ArmDimensions, get_arm_preset
 from aaria_pin.apps.arm.task import Cylinder
 from aaria_pin.core.record import RunRecord
-from aaria_pin.core.run.metadata import RunMetadata
+from aaria_pin.core.run_metadata import RunMetadata
 from aaria_pin.errors import AariaError, InputFileError
 
 __all__ = ["PICK_PLACE_KIND", "PICK_PLACE_ROBOTS", "StoredTask", "is_pick_place", "stored_task"]

@@ -23,16 +23,16 @@ from typing import TYPE_CHECKING
 from aaria_pin.core.lazy_exports import lazy_exports
 
 if TYPE_CHECKING:
-    from aaria_pin.apps.dataset.engine import generate_dataset
+    from aaria_pin.apps.dataset.generate import generate_dataset
     from aaria_pin.apps.dataset.job import DatasetJob, DatasetReport
-    from aaria_pin.apps.dataset.sources import DatasetSources
     from aaria_pin.apps.dataset.spec import DatasetSettings, DatasetSpec
+    from aaria_pin.apps.dataset.spec_sources import DatasetSources
 
 _LAZY = {
-    "generate_dataset": "aaria_pin.apps.dataset.engine",
+    "generate_dataset": "aaria_pin.apps.dataset.generate",
     "DatasetJob": "aaria_pin.apps.dataset.job",
     "DatasetReport": "aaria_pin.apps.dataset.job",
-    "DatasetSources": "aaria_pin.apps.dataset.sources",
+    "DatasetSources": "aaria_pin.apps.dataset.spec_sources",
     "DatasetSettings": "aaria_pin.apps.dataset.spec",
     "DatasetSpec": "aaria_pin.apps.dataset.spec",
 }

@@ -15,12 +15,12 @@ from typing import TYPE_CHECKING
 from aaria_pin.core.lazy_exports import lazy_exports
 
 if TYPE_CHECKING:
-    from aaria_pin.apps.wrist.kinematics import WristSolutions, wrist_fk, wrist_ik
+    from aaria_pin.apps.wrist.wrist_kinematics import WristSolutions, wrist_fk, wrist_ik
 
 _LAZY = {
-    "WristSolutions": "aaria_pin.apps.wrist.kinematics",
-    "wrist_fk": "aaria_pin.apps.wrist.kinematics",
-    "wrist_ik": "aaria_pin.apps.wrist.kinematics",
+    "WristSolutions": "aaria_pin.apps.wrist.wrist_kinematics",
+    "wrist_fk": "aaria_pin.apps.wrist.wrist_kinematics",
+    "wrist_ik": "aaria_pin.apps.wrist.wrist_kinematics",
 }
 
 __all__ = ["WristSolutions", "wrist_fk", "wrist_ik"]
