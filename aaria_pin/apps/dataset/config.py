@@ -28,7 +28,12 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from aaria_pin.aaria.randomize import RandomConfig, config_from_mapping, read_config_file
+from aaria_pin.aaria.randomize import (
+    RandomConfig,
+    config_from_mapping,
+    read_config_file,
+    refuse_unknown_keys,
+)
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, SensorNoise
 from aaria_pin.errors import AariaError, ParameterError
 
@@ -110,7 +115,7 @@ def noise_model_from_mapping(data: Any, where: str = "config") -> ImuNoiseModel:
             element=NOISE_TABLE,
         )
     model_keys = [f.name for f in dataclasses.fields(ImuNoiseModel)]
-    _refuse_unknown(data, model_keys, f"{where}: {NOISE_TABLE}")
+    refuse_unknown_keys(data, model_keys, f"{where}: {NOISE_TABLE}")
     changes: dict[str, Any] = {}
     for key, value in data.items():
         name = f"{NOISE_TABLE}.{key}"
@@ -137,7 +142,7 @@ def _sensor(base: SensorNoise, data: Any, where: str) -> SensorNoise:
             value=data,
             element=where,
         )
-    _refuse_unknown(data, [f.name for f in dataclasses.fields(SensorNoise)], where)
+    refuse_unknown_keys(data, [f.name for f in dataclasses.fields(SensorNoise)], where)
     values = {key: _number(value, f"{where}.{key}") for key, value in data.items()}
     try:
         return dataclasses.replace(base, **values)
@@ -145,17 +150,6 @@ def _sensor(base: SensorNoise, data: Any, where: str) -> SensorNoise:
         raise ParameterError(
             f"{where}.{exc}", parameter="config", value=exc.value, element=where
         ) from None
-
-
-def _refuse_unknown(data: Mapping[str, Any], known: list[str], where: str) -> None:
-    unknown = sorted(set(data) - set(known))
-    if unknown:
-        raise ParameterError(
-            f"{where} has the unknown key {unknown[0]!r}; allowed: {', '.join(known)}",
-            parameter="config",
-            value=unknown[0],
-            element=where,
-        )
 
 
 def _number(value: Any, where: str) -> float:
