@@ -36,6 +36,7 @@ __all__ = [
     "random_joint_table",
     "random_urdf_joint_table",
     "read_config_file",
+    "refuse_unknown_keys",
 ]
 
 PARTS = DATASET_STREAMS[:3]
@@ -252,17 +253,30 @@ def read_config_file(path: str | Path) -> dict[str, Any]:
         ) from None
 
 
-def config_from_mapping(data: Mapping[str, Any], where: str = "config") -> RandomConfig:
-    """A configuration from plain values (a parsed TOML file, or a data set's attribute)."""
-    known = {item.name for item in fields(RandomConfig)}
-    unknown = sorted(set(data) - known)
+def refuse_unknown_keys(data: Mapping[str, Any], known: Sequence[str], where: str) -> None:
+    """Refuse a config table with a key not in ``known`` (the first such key, sorted).
+
+    Args:
+        data: the table as read
+        known: its allowed keys, in the order the message lists them
+        where: the table's place, as the message names it (``config``, ``config: noise``)
+
+    Raises:
+        ParameterError: ``WHERE: unknown key KEY; allowed: KNOWN`` (``parameter`` ``config``).
+    """
+    unknown = sorted(set(data) - set(known))
     if unknown:
         raise ParameterError(
-            f"{where}: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(known))}",
+            f"{where}: unknown key {unknown[0]!r}; allowed: {', '.join(known)}",
             parameter="config",
             value=unknown[0],
             element=where,
         )
+
+
+def config_from_mapping(data: Mapping[str, Any], where: str = "config") -> RandomConfig:
+    """A configuration from plain values (a parsed TOML file, or a data set's attribute)."""
+    refuse_unknown_keys(data, sorted(item.name for item in fields(RandomConfig)), where)
     values: dict[str, Any] = {
         key: (tuple(v) if isinstance(v, list) else v) for key, v in data.items()
     }

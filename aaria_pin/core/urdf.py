@@ -19,7 +19,7 @@ builds the Pinocchio model of a description without the XML; it equals the parse
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Literal
+from typing import Literal, get_args
 
 import numpy as np
 
@@ -45,7 +45,7 @@ __all__ = [
 ]
 
 JointKind = Literal["revolute", "continuous", "prismatic", "fixed"]
-JOINT_KINDS: tuple[JointKind, ...] = ("revolute", "continuous", "prismatic", "fixed")
+JOINT_KINDS: tuple[JointKind, ...] = get_args(JointKind)
 """The joint types the emitter writes."""
 
 

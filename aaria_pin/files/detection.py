@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Literal
+from typing import Literal, get_args
 
 from aaria_pin.errors import InputFileError
 from aaria_pin.files.paths import existing_input
@@ -29,7 +29,7 @@ __all__ = [
 FileFormat = Literal["hdf5", "mat5", "mat73", "dataset"]
 """A file's format: an HDF5 run file, a MAT-file v5 or v7.3 run file, or a data set."""
 
-FILE_FORMATS: tuple[FileFormat, ...] = ("hdf5", "mat5", "mat73", "dataset")
+FILE_FORMATS: tuple[FileFormat, ...] = get_args(FileFormat)
 """Every :data:`FileFormat`."""
 
 RUN_SUFFIXES = (".h5", ".hdf5", ".mat")

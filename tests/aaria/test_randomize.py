@@ -15,6 +15,7 @@ from aaria_pin.aaria.randomize import (
     random_base_table,
     random_dh_table,
     random_joint_table,
+    refuse_unknown_keys,
 )
 from aaria_pin.aaria.sine_tables import validate_base_table, validate_joint_table
 from aaria_pin.core.model import build_model
@@ -105,3 +106,15 @@ def test_bad_configs(tmp_path: Path, text: str, pattern: str) -> None:
 def test_missing_config_file(tmp_path: Path) -> None:
     with pytest.raises(InputFileError, match="cannot be read"):
         load_config(tmp_path / "nope.toml")
+
+
+def test_refuse_unknown_keys_names_the_first_unknown_key_and_the_known_ones() -> None:
+    refuse_unknown_keys({"b": 1}, ["b", "a"], "config: noise")  # all known: no error
+    with pytest.raises(ParameterError) as caught:
+        refuse_unknown_keys({"z": 1, "b": 2, "y": 3}, ["b", "a"], "config: noise")
+    assert str(caught.value) == "config: noise: unknown key 'y'; allowed: b, a"
+    assert (caught.value.parameter, caught.value.value, caught.value.element) == (
+        "config",
+        "y",
+        "config: noise",
+    )

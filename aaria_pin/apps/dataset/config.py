@@ -28,7 +28,12 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from aaria_pin.aaria.randomize import RandomConfig, config_from_mapping, read_config_file
+from aaria_pin.aaria.randomize import (
+    RandomConfig,
+    config_from_mapping,
+    read_config_file,
+    refuse_unknown_keys,
+)
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, SensorNoise
 from aaria_pin.errors import AariaError, ParameterError
 
@@ -75,24 +80,14 @@ def _check_value_types(data: Mapping[str, Any], where: str) -> None:
         default = defaults[key]
         if isinstance(default, bool):
             if not isinstance(value, bool):
-                raise ParameterError(
-                    f"{where}: {key} is {value!r}; allowed: true or false",
-                    parameter="config",
-                    value=value,
-                    element=key,
-                )
+                raise _refused(f"{where}: {key}", value, "true or false", key)
             continue
         numbers = isinstance(value, list) and all(
             isinstance(v, int | float) and not isinstance(v, bool) for v in value
         )
         if not numbers:
             example = "[" + ", ".join(f"{v:g}" for v in default) + "]"
-            raise ParameterError(
-                f"{where}: {key} is {value!r}; allowed: a list of numbers, e.g. {example}",
-                parameter="config",
-                value=value,
-                element=key,
-            )
+            raise _refused(f"{where}: {key}", value, f"a list of numbers, e.g. {example}", key)
 
 
 def noise_model_from_mapping(data: Any, where: str = "config") -> ImuNoiseModel:
@@ -103,14 +98,9 @@ def noise_model_from_mapping(data: Any, where: str = "config") -> ImuNoiseModel:
             of its allowed range.
     """
     if not isinstance(data, Mapping):
-        raise ParameterError(
-            f"{where}: {NOISE_TABLE} is {data!r}; allowed: a table [{NOISE_TABLE}]",
-            parameter="config",
-            value=data,
-            element=NOISE_TABLE,
-        )
+        raise _refused(f"{where}: {NOISE_TABLE}", data, f"a table [{NOISE_TABLE}]", NOISE_TABLE)
     model_keys = [f.name for f in dataclasses.fields(ImuNoiseModel)]
-    _refuse_unknown(data, model_keys, f"{where}: {NOISE_TABLE}")
+    refuse_unknown_keys(data, model_keys, f"{where}: {NOISE_TABLE}")
     changes: dict[str, Any] = {}
     for key, value in data.items():
         name = f"{NOISE_TABLE}.{key}"
@@ -131,13 +121,8 @@ def noise_model_from_mapping(data: Any, where: str = "config") -> ImuNoiseModel:
 
 def _sensor(base: SensorNoise, data: Any, where: str) -> SensorNoise:
     if not isinstance(data, Mapping):
-        raise ParameterError(
-            f"{where} is {data!r}; allowed: a table of its noise parameters",
-            parameter="config",
-            value=data,
-            element=where,
-        )
-    _refuse_unknown(data, [f.name for f in dataclasses.fields(SensorNoise)], where)
+        raise _refused(where, data, "a table of its noise parameters", where)
+    refuse_unknown_keys(data, [f.name for f in dataclasses.fields(SensorNoise)], where)
     values = {key: _number(value, f"{where}.{key}") for key, value in data.items()}
     try:
         return dataclasses.replace(base, **values)
@@ -147,23 +132,17 @@ def _sensor(base: SensorNoise, data: Any, where: str) -> SensorNoise:
         ) from None
 
 
-def _refuse_unknown(data: Mapping[str, Any], known: list[str], where: str) -> None:
-    unknown = sorted(set(data) - set(known))
-    if unknown:
-        raise ParameterError(
-            f"{where} has the unknown key {unknown[0]!r}; allowed: {', '.join(known)}",
-            parameter="config",
-            value=unknown[0],
-            element=where,
-        )
-
-
 def _number(value: Any, where: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ParameterError(
-            f"{where} is {value!r}; allowed: a number",
-            parameter="config",
-            value=value,
-            element=where,
-        )
+        raise _refused(where, value, "a number", where)
     return float(value)
+
+
+def _refused(name: str, value: Any, allowed: str, element: str) -> ParameterError:
+    """``NAME is VALUE; allowed: ALLOWED`` of ``parameter`` ``config``, ``element`` the key."""
+    return ParameterError(
+        f"{name} is {value!r}; allowed: {allowed}",
+        parameter="config",
+        value=value,
+        element=element,
+    )

@@ -394,6 +394,16 @@ def run_result(spec: DatasetSpec, run: int) -> Result:
         return run, None, f"{message} ({spec.describe_inputs(run)})"
 
 
+def _refused(what: str, exc: AariaError) -> ParameterError:
+    """``exc`` refused again as "what: exc" on one line, naming the input at fault."""
+    return ParameterError(
+        f"{what}: {' '.join(str(exc).split())}",
+        parameter=exc.parameter or "spec",
+        value=exc.value,
+        element=exc.element,
+    )
+
+
 def check_first_run(spec: DatasetSpec) -> Result:
     """Check run 0's inputs, then make and encode run 0 (before a data set file is touched).
 
@@ -413,23 +423,13 @@ def check_first_run(spec: DatasetSpec) -> Result:
         spec.check_inputs(spec.inputs(0))
     except AariaError as exc:
         drawn = f" (its {', '.join(spec.vary)} drawn from the config ranges)" if spec.vary else ""
-        raise ParameterError(
-            f"run 0 of the data set cannot be made{drawn}: {' '.join(str(exc).split())}",
-            parameter=exc.parameter or "spec",
-            value=exc.value,
-            element=exc.element,
-        ) from None
+        raise _refused(f"run 0 of the data set cannot be made{drawn}", exc) from None
     if spec.vary:
         return run_result(spec, 0)
     try:
         record = spec.make_run(0)
     except AariaError as exc:
-        raise ParameterError(
-            f"no run of the data set can be made: {' '.join(str(exc).split())}",
-            parameter=exc.parameter or "spec",
-            value=exc.value,
-            element=exc.element,
-        ) from None
+        raise _refused("no run of the data set can be made", exc) from None
     except Exception:
         return run_result(spec, 0)
     try:
