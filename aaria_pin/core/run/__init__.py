@@ -40,7 +40,14 @@ from aaria_pin.core.run.sensor import (
     register_sensor,
     sensor,
 )
-from aaria_pin.core.run.series import ImuSlots, RunSeries, noise_stream, simulate_series
+from aaria_pin.core.run.series import (
+    ImuSlots,
+    Payload,
+    RunSeries,
+    carry_payload,
+    noise_stream,
+    simulate_series,
+)
 from aaria_pin.core.run.settings import (
     DEFAULT_DURATION,
     DEFAULT_RATE,
@@ -60,6 +67,7 @@ __all__ = [
     "ImuSensor",
     "ImuSlots",
     "Motion",
+    "Payload",
     "RunKind",
     "RunMetadata",
     "RunRequest",
@@ -74,6 +82,7 @@ __all__ = [
     "SineTable",
     "TorqueDrive",
     "as_motion",
+    "carry_payload",
     "chunk_bounds",
     "given_tables",
     "join_chunks",

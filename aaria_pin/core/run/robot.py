@@ -47,6 +47,10 @@ class RunRobot(Protocol):
         tables: the robot's input tables the record keeps (e.g. its joint and base tables)
         views: the record's column views
         torque_name: how an error message names a torque table given to drive it
+
+    An adapter may also have a ``payload`` attribute
+    (:class:`~aaria_pin.core.run.series.Payload`, or None): a load it carries over part of the
+    run, whose torques and base wrench the engine then takes from the loaded model there.
     """
 
     @property
