@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 
 from aaria_pin.core.imu_noise import ImuNoiseModel, ImuNoiseStream
 from aaria_pin.core.model import RobotModel
@@ -87,7 +88,7 @@ class Payload:
     """
 
     model: RobotModel
-    held: Array
+    held: NDArray[np.bool_]
 
 
 def carry_payload(
