@@ -33,6 +33,7 @@ from aaria_pin.apps.arm.task import PHASES, Cylinder, JointPath, plan_pick_place
 from aaria_pin.core.model import GRAVITY, RobotModel
 from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
 from aaria_pin.core.run import (
+    FixedMount,
     Payload,
     RunKind,
     RunSettings,
@@ -105,7 +106,6 @@ class PickPlaceRun:
     def link_poses(self, frames: list[str], samples: ArrayLike | None = None) -> Array:
         """World poses (S, F, 4, 4) [m] of model frames at samples (default: every one)."""
         from aaria_pin.core.kinematics import frame_poses
-        from aaria_pin.core.trajectory import BaseMotion
 
         p = self.path
         index = slice(None) if samples is None else np.asarray(samples, dtype=int)
@@ -117,7 +117,7 @@ class PickPlaceRun:
 
 
 @dataclass(frozen=True)
-class PickPlaceRobot:
+class PickPlaceRobot(FixedMount):
     """The pick-and-place arm as the run engine's robot: a fixed mount, no IMU, a payload.
 
     Its model has a free-flyer held at rest, so the base wrench is the pillar mount's load; the
@@ -155,19 +155,6 @@ class PickPlaceRobot:
     def urdf(self) -> str:
         """The arm's URDF text (frame ``grasp`` placed for the cylinder)."""
         return self.model.urdf or ""
-
-    def sines(self, times: Array) -> JointTrajectory:
-        """At rest at zero (the arm has no joint table)."""
-        zeros = np.zeros((times.size, len(ARM_JOINTS)))
-        return JointTrajectory(times, zeros, zeros.copy(), zeros.copy())
-
-    def base(self, times: Array) -> BaseMotion:
-        """At rest: the pillar's fixed mount."""
-        return BaseMotion.resting(times.size)
-
-    def record_columns(self, values: Array) -> Array:
-        """The columns as they are (model order is the record's)."""
-        return values
 
     def attributes(self, peaks: Array) -> dict[str, Any]:
         """``robot``, ``moving_base`` (False), frames."""

@@ -31,7 +31,7 @@ from aaria_pin.core.run.motion import (
     as_motion,
     motion_from_record,
 )
-from aaria_pin.core.run.robot import RunKind, RunRobot, kind_of, register_kind
+from aaria_pin.core.run.robot import FixedMount, RunKind, RunRobot, kind_of, register_kind
 from aaria_pin.core.run.sensor import (
     IMU,
     ImuSensor,
@@ -63,6 +63,7 @@ __all__ = [
     "DEFAULT_RATE",
     "IMU",
     "UNITS",
+    "FixedMount",
     "FourierMotion",
     "ImuSensor",
     "ImuSlots",
