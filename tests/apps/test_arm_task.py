@@ -7,12 +7,13 @@ import pinocchio as pin
 import pytest
 from click.testing import CliRunner
 
-from aaria_pin.apps.arm.payload import payload_inertia, task_torques, with_payload
+from aaria_pin.apps.arm.payload import payload_inertia, with_payload
 from aaria_pin.apps.arm.preset import ArmDimensions, build_arm_model, grasp_offset
 from aaria_pin.apps.arm.run import simulate_pick_place, write_pick_place_run
 from aaria_pin.apps.arm.task import PHASES, Cylinder
 from aaria_pin.cli import main
 from aaria_pin.errors import ParameterError
+from tests.apps.test_arm_checks import rnea_at_rest
 
 DIMS = ArmDimensions()
 
@@ -32,7 +33,8 @@ def test_static_payload_share_is_the_hand_computation() -> None:
     q = np.array([0.5, 0.7, -1.1, 0.4, 0.9, -0.3, 0.08])  # hand tilted: the moment matters
     zero = np.zeros(7)
     still = JointTrajectory(np.zeros(1), q[None], zero[None], zero[None])
-    tau, tau_free, _, _ = task_torques(robot, payload, still, np.array([True]))
+    tau, _ = rnea_at_rest(robot, still, payload)
+    tau_free, _ = rnea_at_rest(robot, still)
     # by hand: the weight m·g at the payload's centre, as a wrench about the hand frame's origin
     data = model.createData()
     hand = model.getFrameId("hand", pin.FrameType.BODY)
@@ -45,6 +47,25 @@ def test_static_payload_share_is_the_hand_computation() -> None:
     wrench = np.concatenate([-weight, np.cross(com, -weight)])  # what the hand must supply
     np.testing.assert_allclose(tau[0] - tau_free[0], J.T @ wrench, atol=1e-10)
     assert abs(tau[0, 0] - tau_free[0, 0]) == pytest.approx(9.81 * 0.8)  # the lift carries it
+
+
+def test_run_torques_carry_the_cylinder_only_where_held(run) -> None:
+    from aaria_pin.core.trajectory import JointTrajectory
+
+    path = run.path
+    trajectory = JointTrajectory(path.time, path.q, path.qd, path.qdd)
+    payload = payload_inertia(run.dims, run.cylinder)
+    tau_loaded, wrench_loaded = rnea_at_rest(run.robot, trajectory, payload)
+    tau_bare, wrench_bare = rnea_at_rest(run.robot, trajectory)
+    held = path.held
+    assert 0 < held.sum() < held.size
+    np.testing.assert_array_equal(run.tau[held], tau_loaded[held])
+    np.testing.assert_array_equal(run.tau[~held], tau_bare[~held])
+    np.testing.assert_array_equal(run.base_wrench[held], wrench_loaded[held])
+    np.testing.assert_array_equal(run.base_wrench[~held], wrench_bare[~held])
+    np.testing.assert_array_equal(run.tau_free, tau_bare)
+    # the lift carries the cylinder's weight while held (at rest in z: the grasp phase's end)
+    assert np.abs(run.tau[held, 0] - tau_bare[held, 0]).max() >= 9.81 * run.cylinder.mass
 
 
 def test_path_phases_and_grasp_positions(run) -> None:

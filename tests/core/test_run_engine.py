@@ -149,3 +149,49 @@ def test_run_metadata_reads_the_attributes_as_fields_and_writes_them_back():
     with pytest.raises(InputFileError) as error:
         RunMetadata.from_attributes({"rate": "fast"})
     assert error.value.parameter == "rate"
+
+
+class _Carrying:
+    """A robot adapter with a payload: every other attribute is the wrapped robot's."""
+
+    def __init__(self, robot, payload):
+        self._robot = robot
+        self.payload = payload
+
+    def __getattr__(self, name):
+        return getattr(self._robot, name)
+
+
+def test_a_payload_loads_the_torques_of_the_held_samples_only_in_every_piece():
+    from dataclasses import replace
+
+    import pinocchio as pin
+
+    from aaria_pin.core.dynamics import inverse_dynamics
+    from aaria_pin.core.run import Payload
+
+    robot = preset_arm("aaria-fig2")
+    bare = robot.model
+    model = bare.model.copy()
+    last = model.njoints - 1
+    model.inertias[last] = model.inertias[last] + pin.Inertia.FromSphere(3.0, 0.05)
+    loaded = replace(bare, model=model)
+    held = np.zeros(51, dtype=bool)
+    held[10:30] = True
+    carrying = _Carrying(robot, Payload(loaded, held))
+    settings = RunSettings(duration=1.0, rate=50.0, noise=False)
+    free = simulate(robot, None, settings)
+    whole = simulate(carrying, None, settings)
+    joined = join_chunks(list(simulate_pieces(carrying, None, replace(settings, chunk=16))))
+    for name in ("tau", "base_wrench", "q", "tool_pose", "imu"):
+        np.testing.assert_array_equal(getattr(joined, name), getattr(whole, name), name)
+    # the loaded model's RNEA (Pinocchio, on the same motion) where held, the bare run elsewhere
+    times = whole.time
+    trajectory = SineTable().trajectory(robot, (0, 51), times, robot.base(times))
+    tau, wrench = inverse_dynamics(loaded, robot.base(times), trajectory)
+    np.testing.assert_allclose(whole.tau[held], robot.record_columns(tau)[held], atol=1e-12)
+    np.testing.assert_allclose(whole.base_wrench[held], wrench[held], atol=1e-12)
+    np.testing.assert_array_equal(whole.tau[~held], free.tau[~held])
+    np.testing.assert_array_equal(whole.base_wrench[~held], free.base_wrench[~held])
+    assert np.abs(whole.tau[held] - free.tau[held]).max() > 1.0  # 3 kg on the last body
+    np.testing.assert_array_equal(whole.imu, free.imu)  # the kinematics do not change

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -27,16 +27,25 @@ from numpy.typing import ArrayLike
 from aaria_pin._version import __version__
 from aaria_pin.apps.arm.dims import ArmDimensions, get_arm_preset
 from aaria_pin.apps.arm.parts import MeshPart
-from aaria_pin.apps.arm.payload import HAND_JOINT, payload_inertia, task_torques
+from aaria_pin.apps.arm.payload import HAND_JOINT, payload_inertia, with_payload
 from aaria_pin.apps.arm.preset import ARM_JOINTS, arm_joints, arm_parts, arm_urdf, build_arm_model
 from aaria_pin.apps.arm.task import PHASES, Cylinder, JointPath, plan_pick_place
 from aaria_pin.core.model import GRAVITY, RobotModel
-from aaria_pin.core.record import RunRecord
-from aaria_pin.core.run import RunKind, register_kind
+from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
+from aaria_pin.core.run import (
+    FixedMount,
+    Payload,
+    RunKind,
+    RunSettings,
+    SampledTrajectory,
+    register_kind,
+    simulate,
+)
 from aaria_pin.core.se3 import Array
-from aaria_pin.core.trajectory import JointTrajectory
+from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 
 __all__ = [
+    "PickPlaceRobot",
     "PickPlaceRun",
     "cylinder_track",
     "effort_excess",
@@ -97,7 +106,6 @@ class PickPlaceRun:
     def link_poses(self, frames: list[str], samples: ArrayLike | None = None) -> Array:
         """World poses (S, F, 4, 4) [m] of model frames at samples (default: every one)."""
         from aaria_pin.core.kinematics import frame_poses
-        from aaria_pin.core.trajectory import BaseMotion
 
         p = self.path
         index = slice(None) if samples is None else np.asarray(samples, dtype=int)
@@ -106,6 +114,56 @@ class PickPlaceRun:
         )
         n = trajectory.time.size
         return frame_poses(self.robot, BaseMotion.resting(n), trajectory, frames)
+
+
+@dataclass(frozen=True)
+class PickPlaceRobot(FixedMount):
+    """The pick-and-place arm as the run engine's robot: a fixed mount, no IMU, a payload.
+
+    Its model has a free-flyer held at rest, so the base wrench is the pillar mount's load; the
+    cylinder is on the hand (:data:`~aaria_pin.apps.arm.payload.HAND_JOINT`) where held.
+
+    Attributes:
+        model: the bare arm on a moving base resting at the world origin
+        payload: the arm with the cylinder on the hand, and where it is held
+    """
+
+    model: RobotModel
+    payload: Payload
+    kind: ClassVar[str] = "pick-place"
+    columns: ClassVar[None] = None
+    imu_frames: ClassVar[list[str]] = []
+    imu_slots: ClassVar[None] = None
+    n_slots: ClassVar[None] = None
+    imu_mounts: ClassVar[tuple[ImuMount, ...]] = ()
+    tables: ClassVar[dict[str, Array]] = {}
+    views: ClassVar[dict[str, ColumnView]] = {}
+    torque_name: ClassVar[str] = "torques"
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        """The arm's joints."""
+        return tuple(ARM_JOINTS)
+
+    @property
+    def limits(self) -> tuple[Array, Array]:
+        """Not checked (±inf): the planner keeps the path within the arm's limits."""
+        n = len(ARM_JOINTS)
+        return np.full(n, -np.inf), np.full(n, np.inf)
+
+    @property
+    def urdf(self) -> str:
+        """The arm's URDF text (frame ``grasp`` placed for the cylinder)."""
+        return self.model.urdf or ""
+
+    def attributes(self, peaks: Array) -> dict[str, Any]:
+        """``robot``, ``moving_base`` (False), frames."""
+        return {
+            "robot": PICK_PLACE_ROBOT,
+            "moving_base": False,
+            "base_frame": "pillar",
+            "tool_frame": self.model.tool_frame,
+        }
 
 
 def simulate_pick_place(
@@ -117,7 +175,7 @@ def simulate_pick_place(
     branch: str = "nearest",
     threads: int = 1,
 ) -> PickPlaceRun:
-    """Plan the task and compute its torques and tool pose.
+    """Plan the task and run it on the run engine (:class:`PickPlaceRobot`, its planned path).
 
     Args:
         cylinder: the cylinder and where it stands
@@ -133,8 +191,7 @@ def simulate_pick_place(
     Raises:
         ParameterError: as :func:`aaria_pin.apps.arm.task.plan_pick_place`, or an unknown preset.
     """
-    from aaria_pin.core.kinematics import frame_poses
-    from aaria_pin.core.trajectory import BaseMotion
+    from aaria_pin.core.dynamics import inverse_dynamics
 
     dims = get_arm_preset(preset)
     path = plan_pick_place(dims, cylinder, place, rate=rate, branch=branch)
@@ -142,16 +199,18 @@ def simulate_pick_place(
     grasp = (cylinder.radius, cylinder.height)
     urdf = arm_urdf(dims, grasp=grasp, parts=parts)
     robot = build_arm_model(dims, grasp, free_flyer=True, urdf=urdf)
+    loaded = replace(robot, model=with_payload(robot.model, payload_inertia(dims, cylinder)))
+    arm = PickPlaceRobot(robot, Payload(loaded, path.held))
     trajectory = JointTrajectory(path.time, path.q, path.qd, path.qdd)
-    torques = task_torques(robot, payload_inertia(dims, cylinder), trajectory, path.held, threads)
-    resting = BaseMotion.resting(path.time.size)
-    tool_pose = frame_poses(robot, resting, trajectory, [robot.tool_frame])[:, 0]
+    settings = RunSettings(duration=float(path.time[-1]), rate=float(rate), threads=threads)
+    record = simulate(arm, SampledTrajectory(trajectory), settings)
+    tau_free, _ = inverse_dynamics(robot, BaseMotion.resting(path.time.size), trajectory, threads)
     return PickPlaceRun(
         path,
-        torques.tau,
-        torques.tau_free,
-        torques.base_wrench,
-        tool_pose,
+        record.tau,
+        tau_free,
+        record.base_wrench,
+        record.tool_pose,
         cylinder,
         (float(place[0]), float(place[1])),
         dims,

@@ -31,7 +31,7 @@ from aaria_pin.core.run.motion import (
     as_motion,
     motion_from_record,
 )
-from aaria_pin.core.run.robot import RunKind, RunRobot, kind_of, register_kind
+from aaria_pin.core.run.robot import FixedMount, RunKind, RunRobot, kind_of, register_kind
 from aaria_pin.core.run.sensor import (
     IMU,
     ImuSensor,
@@ -40,7 +40,14 @@ from aaria_pin.core.run.sensor import (
     register_sensor,
     sensor,
 )
-from aaria_pin.core.run.series import ImuSlots, RunSeries, noise_stream, simulate_series
+from aaria_pin.core.run.series import (
+    ImuSlots,
+    Payload,
+    RunSeries,
+    carry_payload,
+    noise_stream,
+    simulate_series,
+)
 from aaria_pin.core.run.settings import (
     DEFAULT_DURATION,
     DEFAULT_RATE,
@@ -56,10 +63,12 @@ __all__ = [
     "DEFAULT_RATE",
     "IMU",
     "UNITS",
+    "FixedMount",
     "FourierMotion",
     "ImuSensor",
     "ImuSlots",
     "Motion",
+    "Payload",
     "RunKind",
     "RunMetadata",
     "RunRequest",
@@ -74,6 +83,7 @@ __all__ = [
     "SineTable",
     "TorqueDrive",
     "as_motion",
+    "carry_payload",
     "chunk_bounds",
     "given_tables",
     "join_chunks",

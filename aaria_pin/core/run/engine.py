@@ -25,7 +25,13 @@ from aaria_pin.core.run.chunks import chunk_bounds, join_chunks
 from aaria_pin.core.run.motion import Motion, SineTable
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.run.sensor import Sensor, SensorState, measure, sensor_attributes
-from aaria_pin.core.run.series import ImuSlots, noise_stream, simulate_series
+from aaria_pin.core.run.series import (
+    ImuSlots,
+    Payload,
+    carry_payload,
+    noise_stream,
+    simulate_series,
+)
 from aaria_pin.core.run.settings import RunSettings
 from aaria_pin.core.seeds import RunSeeds, check_seed
 from aaria_pin.core.trajectory import piece_times
@@ -144,11 +150,14 @@ def simulate_pieces(
     model = robot.model
     imus = ImuSlots(robot.imu_frames, robot.imu_slots, robot.n_slots)
     peaks = np.zeros(model.n_joints)
+    payload: Payload | None = getattr(robot, "payload", None)  # a load it carries, if any
     for start, stop in pieces:
         times = piece_times(start, stop, settings.rate)
         base = robot.base(times)
         trajectory = run_motion.trajectory(robot, (start, stop), times, base)
         series = simulate_series(model, base, trajectory, imus, settings, seed, stream, start)
+        if payload is not None:
+            series = carry_payload(series, payload, base, trajectory, start, settings.threads)
         if len(series.tau):
             np.maximum(peaks, np.abs(series.tau).max(axis=0), out=peaks)
         piece_tables = tables

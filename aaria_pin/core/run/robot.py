@@ -19,13 +19,15 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Protocol
 
+import numpy as np
+
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 from aaria_pin.errors import InputFileError
 
-__all__ = ["RunKind", "RunRobot", "kind_names", "kind_of", "register_kind"]
+__all__ = ["FixedMount", "RunKind", "RunRobot", "kind_names", "kind_of", "register_kind"]
 
 
 class RunRobot(Protocol):
@@ -47,6 +49,10 @@ class RunRobot(Protocol):
         tables: the robot's input tables the record keeps (e.g. its joint and base tables)
         views: the record's column views
         torque_name: how an error message names a torque table given to drive it
+
+    An adapter may also have a ``payload`` attribute
+    (:class:`~aaria_pin.core.run.series.Payload`, or None): a load it carries over part of the
+    run, whose torques and base wrench the engine then takes from the loaded model there.
     """
 
     @property
@@ -129,6 +135,32 @@ class RunRobot(Protocol):
     def attributes(self, peaks: Array) -> dict[str, Any]:
         """The record attributes of this kind, given the peak |torque| so far by model joint."""
         ...
+
+
+class FixedMount:
+    """The motion methods of a robot on a fixed mount with no joint table (an adapter's mixin).
+
+    Its base rests, the joint table's motion rests at zero, and its model's joints are the
+    record's columns, in order.
+
+    Attributes:
+        model: the robot's model
+    """
+
+    model: RobotModel
+
+    def sines(self, times: Array) -> JointTrajectory:
+        """At rest at zero (no joint table)."""
+        zeros = np.zeros((times.size, self.model.n_joints))
+        return JointTrajectory(times, zeros, zeros.copy(), zeros.copy())
+
+    def base(self, times: Array) -> BaseMotion:
+        """At rest: a fixed mount."""
+        return BaseMotion.resting(times.size)
+
+    def record_columns(self, values: Array) -> Array:
+        """The columns as they are."""
+        return values
 
 
 @dataclass(frozen=True)

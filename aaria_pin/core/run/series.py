@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 
 from aaria_pin.core.imu_noise import ImuNoiseModel, ImuNoiseStream
 from aaria_pin.core.model import RobotModel
@@ -20,7 +21,7 @@ from aaria_pin.core.run.settings import RunSettings
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 
-__all__ = ["ImuSlots", "RunSeries", "noise_stream", "simulate_series"]
+__all__ = ["ImuSlots", "Payload", "RunSeries", "carry_payload", "noise_stream", "simulate_series"]
 
 
 def noise_stream(
@@ -72,6 +73,60 @@ class ImuSlots:
     frames: Sequence[str]
     slots: Sequence[int] | None = None
     n_slots: int | None = None
+
+
+@dataclass(frozen=True)
+class Payload:
+    """A load the robot carries over part of its run (e.g. a gripped object).
+
+    A robot adapter that has one exposes it as its ``payload`` attribute; the engine then
+    takes the torques and base wrench of the held samples from the loaded model.
+
+    Attributes:
+        model: the robot's model with the load added to the body that carries it
+        held: (T,) True at the run's samples where it is carried
+    """
+
+    model: RobotModel
+    held: NDArray[np.bool_]
+
+
+def carry_payload(
+    series: RunSeries,
+    payload: Payload,
+    base: BaseMotion,
+    trajectory: JointTrajectory,
+    start: int,
+    threads: int = 1,
+) -> RunSeries:
+    """The series with the torques and base wrench of the held samples from the loaded model.
+
+    RNEA is per sample, so the loaded model's RNEA over the whole piece, taken at the held
+    samples, is that of the held samples alone.
+
+    Args:
+        series: the piece's series on the bare model
+        payload: the load and where it is carried over the whole run
+        base: the piece's base motion
+        trajectory: the piece's joint motion
+        start: the index of the piece's first sample in the run
+        threads: RNEA worker threads
+
+    Returns:
+        The series, its ``tau`` and ``base_wrench`` loaded where held (the same series if the
+        piece holds nothing).
+    """
+    from dataclasses import replace
+
+    from aaria_pin.core.dynamics import inverse_dynamics
+
+    held = np.asarray(payload.held, dtype=bool)[start : start + trajectory.q.shape[0]]
+    if not np.any(held):
+        return series
+    tau_loaded, wrench_loaded = inverse_dynamics(payload.model, base, trajectory, threads)
+    tau, wrench = series.tau.copy(), series.base_wrench.copy()
+    tau[held], wrench[held] = tau_loaded[held], wrench_loaded[held]
+    return replace(series, tau=tau, base_wrench=wrench)
 
 
 def simulate_series(
