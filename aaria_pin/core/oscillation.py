@@ -77,19 +77,11 @@ def base_motion(table: ArrayLike, time: Array) -> BaseMotion:
             allowed="(T,)",
         )
     n = times.size
-    position, velocity, acceleration, omega, omega_dot = (np.empty((n, 3)) for _ in range(5))
-    rotation = np.empty((n, 3, 3))
-    base_kinematics(
-        *(np.ascontiguousarray(column) for column in per_axis.T),
-        times,
-        position,
-        velocity,
-        acceleration,
-        rotation,
-        omega,
-        omega_dot,
-    )
-    return BaseMotion(position, velocity, acceleration, rotation, omega, omega_dot)
+    # BaseMotion's fields, in the kernel's output order: position … acceleration, rotation, rates
+    shapes = ((n, 3),) * 3 + ((n, 3, 3),) + ((n, 3),) * 2
+    outputs = tuple(np.empty(shape) for shape in shapes)
+    base_kinematics(*(np.ascontiguousarray(column) for column in per_axis.T), times, *outputs)
+    return BaseMotion(*outputs)
 
 
 def default_base_table() -> Array:
