@@ -23,6 +23,7 @@ from aaria_pin.core.run.engine import (
     warn_deprecated,
 )
 from aaria_pin.core.run.motion import (
+    FollowedMotion,
     FourierMotion,
     Motion,
     SampledTrajectory,
@@ -56,6 +57,7 @@ __all__ = [
     "DEFAULT_RATE",
     "IMU",
     "UNITS",
+    "FollowedMotion",
     "FourierMotion",
     "ImuSensor",
     "ImuSlots",
