@@ -26,6 +26,7 @@ from aaria_pin.core.oscillation import (
     JOINT_COLUMNS,
     base_motion,
     default_base_table,
+    row_span,
     validate_base_table,
 )
 from aaria_pin.core.se3 import Array
@@ -43,8 +44,6 @@ __all__ = [
     "validate_base_table",
     "validate_joint_table",
 ]
-
-_RANGE_TOLERANCE = 1e-12
 
 
 def validate_joint_table(table: ArrayLike, chain: KinematicChain) -> Array:
@@ -71,14 +70,12 @@ def validate_joint_table(table: ArrayLike, chain: KinematicChain) -> Array:
                 "rad/s; allowed: >= 0",
                 parameter="joint_table",
             )
-        amplitude = arr[row, 0] if joint.kind == "revolute" else arr[row, 1]
-        low, high = arr[row, 2] - abs(amplitude), arr[row, 2] + abs(amplitude)
-        if low < joint.lower - _RANGE_TOLERANCE or high > joint.upper + _RANGE_TOLERANCE:
-            unit = "rad" if joint.kind == "revolute" else "m"
+        span = row_span(arr[row], joint.kind)
+        if span.leaves(joint.lower, joint.upper):
             raise TableError(
                 f"{what}: row {row + 1} ({joint.kind} module {joint.module}) moves over "
-                f"[{low:.4g}, {high:.4g}] {unit}; allowed: within its range "
-                f"[{joint.lower:.4g}, {joint.upper:.4g}] {unit}",
+                f"[{span.low:.4g}, {span.high:.4g}] {span.unit}; allowed: within its range "
+                f"[{joint.lower:.4g}, {joint.upper:.4g}] {span.unit}",
                 parameter="joint_table",
             )
     return arr

@@ -9,6 +9,8 @@ amplitude (m), bias, frequency (rad/s), phase (rad)]`` (:data:`JOINT_COLUMNS`).
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -20,13 +22,47 @@ from aaria_pin.errors import ParameterError, TableError
 __all__ = [
     "BASE_COLUMNS",
     "JOINT_COLUMNS",
+    "RowSpan",
     "base_motion",
     "default_base_table",
+    "row_span",
     "validate_base_table",
 ]
 
 JOINT_COLUMNS = ("amplitude", "prismatic amplitude", "bias", "frequency", "phase")
 BASE_COLUMNS = ("amplitude", "bias", "frequency", "phase")
+RANGE_TOLERANCE = 1e-12
+"""How far a joint table row may move past its joint's range [rad or m] (rounding)."""
+
+
+class RowSpan(NamedTuple):
+    """Where one joint table row moves its joint.
+
+    Attributes:
+        amplitude: |amplitude| of the joint's kind [rad or m]
+        low: bias - amplitude [rad or m]
+        high: bias + amplitude [rad or m]
+        unit: ``"m"`` for a prismatic joint, else ``"rad"``
+    """
+
+    amplitude: float
+    low: float
+    high: float
+    unit: str
+
+    def leaves(self, lower: float, upper: float) -> bool:
+        """Whether it leaves the range [lower, upper] (by more than :data:`RANGE_TOLERANCE`)."""
+        return self.low < lower - RANGE_TOLERANCE or self.high > upper + RANGE_TOLERANCE
+
+
+def row_span(row: Array, kind: str) -> RowSpan:
+    """The span a joint table row (:data:`JOINT_COLUMNS`) moves a joint of ``kind`` over.
+
+    A prismatic joint moves by the prismatic amplitude [m], any other by the amplitude [rad].
+    """
+    prismatic = kind == "prismatic"
+    amplitude = abs(row[1] if prismatic else row[0])
+    return RowSpan(amplitude, row[2] - amplitude, row[2] + amplitude, "m" if prismatic else "rad")
 
 
 def validate_base_table(table: ArrayLike) -> Array:
@@ -77,19 +113,11 @@ def base_motion(table: ArrayLike, time: Array) -> BaseMotion:
             allowed="(T,)",
         )
     n = times.size
-    position, velocity, acceleration, omega, omega_dot = (np.empty((n, 3)) for _ in range(5))
-    rotation = np.empty((n, 3, 3))
-    base_kinematics(
-        *(np.ascontiguousarray(column) for column in per_axis.T),
-        times,
-        position,
-        velocity,
-        acceleration,
-        rotation,
-        omega,
-        omega_dot,
-    )
-    return BaseMotion(position, velocity, acceleration, rotation, omega, omega_dot)
+    # BaseMotion's fields, in the kernel's output order: position … acceleration, rotation, rates
+    shapes = ((n, 3),) * 3 + ((n, 3, 3),) + ((n, 3),) * 2
+    outputs = tuple(np.empty(shape) for shape in shapes)
+    base_kinematics(*(np.ascontiguousarray(column) for column in per_axis.T), times, *outputs)
+    return BaseMotion(*outputs)
 
 
 def default_base_table() -> Array:

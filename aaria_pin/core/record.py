@@ -169,6 +169,20 @@ class ColumnView:
         return out
 
 
+def _position(what: str, name: str, names: Sequence[str]) -> int:
+    """The position of ``name`` among a run's ``names`` of one kind (IMUs, joints, views).
+
+    Raises:
+        ParameterError: no ``what`` of that name.
+    """
+    if name not in names:
+        raise ParameterError(
+            f"{what} {name!r} is not in this run; allowed: {', '.join(names) or 'none'}",
+            parameter="name",
+        )
+    return names.index(name)
+
+
 def record_shapes(samples: int, joints: int, imus: int) -> dict[str, tuple[int, ...]]:
     """The shape of each series (:data:`SERIES`) and of ``imu_mount``, in file order.
 
@@ -332,12 +346,7 @@ class RunRecord:
         Raises:
             ParameterError: no IMU of that name.
         """
-        names = self.imu_names
-        if name not in names:
-            raise ParameterError(
-                f"IMU {name!r} is not in this run; allowed: {', '.join(names)}", parameter="name"
-            )
-        return self.imu[:, names.index(name)]
+        return self.imu[:, _position("IMU", name, self.imu_names)]
 
     def joint(self, name: str) -> int:
         """The column of a joint by name.
@@ -345,12 +354,7 @@ class RunRecord:
         Raises:
             ParameterError: no joint of that name.
         """
-        if name not in self.joint_names:
-            raise ParameterError(
-                f"joint {name!r} is not in this run; allowed: {', '.join(self.joint_names)}",
-                parameter="name",
-            )
-        return self.joint_names.index(name)
+        return _position("joint", name, self.joint_names)
 
     def signals(self) -> Array:
         """The flat T × C table of :attr:`columns`: time, joint values, IMU signals (a copy)."""
@@ -365,9 +369,5 @@ class RunRecord:
         Raises:
             ParameterError: no view of that name.
         """
-        if name not in self.views:
-            raise ParameterError(
-                f"view {name!r} is not in this run; allowed: {', '.join(self.views) or 'none'}",
-                parameter="name",
-            )
+        _position("view", name, tuple(self.views))
         return self.views[name].materialise(self.series())

@@ -8,34 +8,30 @@ from numpy.typing import NDArray
 Array = NDArray[np.float64]
 
 
-def rot_x(angle: float) -> Array:
-    """Homogeneous rotation about x.
+def _plane_rotation(angle: float, plane: slice) -> Array:
+    """Homogeneous rotation in the plane of two consecutive axes (y-z: about x; x-y: about z).
 
     Args:
         angle: rotation angle [rad]
+        plane: the two axes' rows and columns of the 4 × 4 transform
 
     Returns:
         4 × 4 transform.
     """
     c, s = np.cos(angle), np.sin(angle)
     T = np.eye(4)
-    T[1:3, 1:3] = [[c, -s], [s, c]]
+    T[plane, plane] = [[c, -s], [s, c]]
     return T
+
+
+def rot_x(angle: float) -> Array:
+    """The 4 × 4 homogeneous rotation about x by ``angle`` [rad]."""
+    return _plane_rotation(angle, slice(1, 3))
 
 
 def rot_z(angle: float) -> Array:
-    """Homogeneous rotation about z.
-
-    Args:
-        angle: rotation angle [rad]
-
-    Returns:
-        4 × 4 transform.
-    """
-    c, s = np.cos(angle), np.sin(angle)
-    T = np.eye(4)
-    T[0:2, 0:2] = [[c, -s], [s, c]]
-    return T
+    """The 4 × 4 homogeneous rotation about z by ``angle`` [rad]."""
+    return _plane_rotation(angle, slice(0, 2))
 
 
 def translation(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> Array:

@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.core.model import RobotModel, build_model
-from aaria_pin.core.oscillation import JOINT_COLUMNS
+from aaria_pin.core.oscillation import JOINT_COLUMNS, row_span
 from aaria_pin.core.record import ImuMount
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.tables import finite_table
@@ -52,7 +52,6 @@ TOOL_FRAME_NAMES = ("tool0", "tool", "tcp", "tool_tip", "ee_link", "end_effector
 """Link names taken as the tool, in this order of preference (then any name ending ``_tcp``,
 then the deepest leaf link)."""
 
-_RANGE_TOLERANCE = 1e-12
 PRISMATIC_SPAN = 0.5
 """Longest stretch of a prismatic joint's range that default and random motions use [m]: the
 middle of a longer range (URDFs write ``±1e9`` for "unbounded")."""
@@ -286,16 +285,15 @@ def validate_urdf_joint_table(table: ArrayLike, robot: UrdfRobot) -> Array:
                 f"{where}, column 4 (frequency) is {arr[row, 3]:g}; allowed: >= 0",
                 parameter="joint_table",
             )
-        amplitude = abs(arr[row, 1] if joint.kind == "prismatic" else arr[row, 0])
-        low, high = arr[row, 2] - amplitude, arr[row, 2] + amplitude
-        unit = "m" if joint.kind == "prismatic" else "rad"
-        if low < joint.lower - _RANGE_TOLERANCE or high > joint.upper + _RANGE_TOLERANCE:
+        span = row_span(arr[row], joint.kind)
+        unit = span.unit
+        if span.leaves(joint.lower, joint.upper):
             raise TableError(
-                f"{where} moves over [{low:.4g}, {high:.4g}] {unit}; allowed: within its URDF "
-                f"limits [{joint.lower:.4g}, {joint.upper:.4g}] {unit}",
+                f"{where} moves over [{span.low:.4g}, {span.high:.4g}] {unit}; allowed: within "
+                f"its URDF limits [{joint.lower:.4g}, {joint.upper:.4g}] {unit}",
                 parameter="joint_table",
             )
-        speed = amplitude * arr[row, 3]
+        speed = span.amplitude * arr[row, 3]
         if speed > joint.velocity * (1 + 1e-12):
             raise TableError(
                 f"{where} reaches {speed:.4g} {unit}/s; allowed: within its URDF velocity "

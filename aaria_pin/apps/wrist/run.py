@@ -33,6 +33,7 @@ from aaria_pin.core.model import RobotModel
 from aaria_pin.core.profiles import ramp_profile, trapezoid_profile
 from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
 from aaria_pin.core.run import (
+    FollowedMotion,
     RunKind,
     RunRobot,
     RunSettings,
@@ -139,7 +140,7 @@ def wrist_robot() -> WristRobotRun:
 
 
 @dataclass(frozen=True)
-class PointToPoint:
+class PointToPoint(FollowedMotion):
     """Every joint waits ``start``, moves to its target at ``speed``, then holds (a motion).
 
     Stored as the table ``targets`` [rad] and the attributes ``speed_rad_s``,
@@ -160,12 +161,6 @@ class PointToPoint:
     profile: str
     start: float
     name: ClassVar[str] = "point-to-point"
-    drive: ClassVar[str] = "motion"
-    whole: ClassVar[bool] = False
-
-    def checked(self, robot: RunRobot, samples: int, rate: float) -> PointToPoint:
-        """Itself (:func:`simulate_wrist` checks its inputs)."""
-        return self
 
     def trajectory(
         self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion

@@ -23,6 +23,7 @@ from aaria_pin.core.run.engine import (
     warn_deprecated,
 )
 from aaria_pin.core.run.motion import (
+    FollowedMotion,
     FourierMotion,
     Motion,
     SampledTrajectory,
@@ -64,6 +65,7 @@ __all__ = [
     "IMU",
     "UNITS",
     "FixedMount",
+    "FollowedMotion",
     "FourierMotion",
     "ImuSensor",
     "ImuSlots",

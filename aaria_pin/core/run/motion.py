@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Protocol
+from typing import Any, ClassVar, Protocol, Self
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -28,6 +28,7 @@ from aaria_pin.errors import InputFileError, ParameterError
 
 __all__ = [
     "MOTIONS",
+    "FollowedMotion",
     "FourierMotion",
     "Motion",
     "SampledTrajectory",
@@ -82,17 +83,26 @@ class Motion(Protocol):
         ...
 
 
-@dataclass(frozen=True)
-class SineTable:
-    """The robot's joint table: each joint a sine (the default motion)."""
+class FollowedMotion:
+    """Base of a motion the joints follow (``drive`` ``"motion"``), made piece by piece.
 
-    name: ClassVar[str] = "sine"
+    Its :meth:`checked` is the motion itself (checked when it was made, or by the robot);
+    a motion that checks itself against the robot overrides it.
+    """
+
     drive: ClassVar[str] = "motion"
     whole: ClassVar[bool] = False
 
-    def checked(self, robot: RunRobot, samples: int, rate: float) -> SineTable:
-        """Itself: the robot checked its table when it was made."""
+    def checked(self, robot: RunRobot, samples: int, rate: float) -> Self:
+        """Itself: checked when it was made (the robot checks its own joint table)."""
         return self
+
+
+@dataclass(frozen=True)
+class SineTable(FollowedMotion):
+    """The robot's joint table: each joint a sine (the default motion)."""
+
+    name: ClassVar[str] = "sine"
 
     def trajectory(
         self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion
@@ -118,7 +128,7 @@ def _model_columns(robot: RunRobot, q: Array, qd: Array, qdd: Array) -> tuple[Ar
 
 
 @dataclass(frozen=True)
-class SampledTrajectory:
+class SampledTrajectory(FollowedMotion):
     """A given trajectory of the run's samples, one column per record joint column.
 
     Stored as the table ``joint_trajectory`` (T × (1 + 3n): time, q, qd, qdd).
@@ -130,8 +140,6 @@ class SampledTrajectory:
 
     samples: JointTrajectory
     name: ClassVar[str] = "trajectory"
-    drive: ClassVar[str] = "motion"
-    whole: ClassVar[bool] = False
 
     def checked(self, robot: RunRobot, samples: int, rate: float) -> SampledTrajectory:
         """Checked against the run's time grid and the robot's limits (``check_trajectory``)."""
@@ -180,7 +188,7 @@ class SampledTrajectory:
 
 
 @dataclass(frozen=True)
-class FourierMotion:
+class FourierMotion(FollowedMotion):
     """A Fourier excitation, one row per record joint column.
 
     Stored as the table ``fourier_coefficients`` and the attribute ``fourier`` (its settings and
@@ -193,8 +201,6 @@ class FourierMotion:
 
     excitation: FourierExcitation
     name: ClassVar[str] = "fourier"
-    drive: ClassVar[str] = "motion"
-    whole: ClassVar[bool] = False
 
     def checked(self, robot: RunRobot, samples: int, rate: float) -> FourierMotion:
         """Checked: one row per record joint column.
