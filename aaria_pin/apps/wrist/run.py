@@ -33,6 +33,7 @@ from aaria_pin.core.model import RobotModel
 from aaria_pin.core.profiles import ramp_profile, trapezoid_profile
 from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
 from aaria_pin.core.run import (
+    FixedMount,
     FollowedMotion,
     RunKind,
     RunRobot,
@@ -77,7 +78,7 @@ def report_wrist() -> DHRobot:
 
 
 @dataclass(frozen=True)
-class WristRobotRun(DHImuSlots):
+class WristRobotRun(FixedMount, DHImuSlots):
     """The wrist as the run engine's robot: on a fixed mount, its DH robot's IMUs.
 
     The model has a free-flyer held at rest, so the base wrench is the mount's load.
@@ -109,19 +110,6 @@ class WristRobotRun(DHImuSlots):
     def urdf(self) -> str:
         """The wrist's URDF text."""
         return self.arm.urdf
-
-    def sines(self, times: Array) -> JointTrajectory:
-        """At rest at zero (the wrist has no joint table)."""
-        zeros = np.zeros((times.size, len(WRIST_JOINTS)))
-        return JointTrajectory(times, zeros, zeros.copy(), zeros.copy())
-
-    def base(self, times: Array) -> BaseMotion:
-        """At rest: a fixed mount."""
-        return BaseMotion.resting(times.size)
-
-    def record_columns(self, values: Array) -> Array:
-        """The columns as they are."""
-        return values
 
     def attributes(self, peaks: Array) -> dict[str, Any]:
         """``robot``, ``moving_base`` (False), frames."""
