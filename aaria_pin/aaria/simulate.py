@@ -37,6 +37,7 @@ from aaria_pin.core.run import (
     RunTables,
     TorqueDrive,
     as_motion,
+    check_options,
     given_tables,
     motion_from_record,
     sampling_attributes,
@@ -218,7 +219,9 @@ def dh_request(dh_table: ArrayLike, **options: Unpack[DhRunOptions]) -> RunReque
 
     Raises:
         TableError, ParameterError: a bad table or setting.
+        TypeError: an option it does not take.
     """
+    check_options("dh_request", options, DhRunOptions)
     settings = RunSettings(
         options.get("duration", DEFAULT_DURATION),
         options.get("rate", DEFAULT_RATE),

@@ -35,6 +35,7 @@ from aaria_pin.core.run import (
     RunTables,
     TorqueDrive,
     as_motion,
+    check_options,
     given_tables,
     motion_from_record,
     register_kind,
@@ -252,6 +253,7 @@ def urdf_request(urdf: str, **options: Unpack[UrdfRunOptions]) -> RunRequest:
         UrdfError, ModelError: a URDF that is no robot. TableError, ParameterError: a bad
             table or setting.
     """
+    check_options("urdf_request", options, UrdfRunOptions)
     urdf_dir = options.get("urdf_dir")
     loaded = load_urdf_robot(
         urdf,
@@ -281,6 +283,7 @@ def loaded_robot_request(loaded: UrdfRobot, **options: Unpack[LoadedRobotOptions
     Returns:
         The robot, motion, settings and seed (kind ``"urdf"``).
     """
+    check_options("loaded_robot_request", options, LoadedRobotOptions)
     spec = UrdfRunSpec(
         options.get("joint_table"),
         options.get("base_table"),

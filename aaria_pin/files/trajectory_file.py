@@ -11,7 +11,7 @@ Three formats, by suffix:
 
 :func:`read_trajectory_file` checks the structure (shapes, names, finite numbers, strictly
 increasing times) and refuses a bad file with one line naming the file and what is allowed;
-:func:`aaria_pin.core.excitation.trajectory_from_samples` turns what it returns into a
+:func:`aaria_pin.core.sampled_motion.trajectory_from_samples` turns what it returns into a
 trajectory on a run's time grid.
 """
 

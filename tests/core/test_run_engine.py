@@ -195,3 +195,23 @@ def test_a_payload_loads_the_torques_of_the_held_samples_only_in_every_piece():
     np.testing.assert_array_equal(whole.base_wrench[~held], free.base_wrench[~held])
     assert np.abs(whole.tau[held] - free.tau[held]).max() > 1.0  # 3 kg on the last body
     np.testing.assert_array_equal(whole.imu, free.imu)  # the kinematics do not change
+
+
+def test_a_misspelt_option_is_refused_as_python_refuses_a_keyword() -> None:
+    """``**options: Unpack[...]`` is not checked by Python: the requests check it themselves."""
+    import warnings
+
+    from aaria_pin.aaria.presets import get_preset
+    from aaria_pin.aaria.simulate import dh_request, simulate_run
+    from aaria_pin.core.catalogue import find_robot
+    from aaria_pin.core.urdf_run import urdf_request
+
+    table = get_preset("aaria-fig2").table
+    with pytest.raises(TypeError, match="unexpected keyword argument 'durration'"):
+        dh_request(table, durration=0.1)  # type: ignore[call-arg]
+    with warnings.catch_warnings(), pytest.raises(TypeError, match="'rat'"):
+        warnings.simplefilter("ignore", DeprecationWarning)
+        simulate_run(table, rat=10.0)  # type: ignore[call-arg]
+    with pytest.raises(TypeError, match="'tool'"):
+        urdf_request(find_robot("ur5").urdf.read_text(), tool="x")  # type: ignore[call-arg]
+    assert dh_request(table, duration=0.1).record().n_samples == 11

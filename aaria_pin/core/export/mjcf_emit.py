@@ -6,7 +6,7 @@ shapes and IMU sites), a ``gyro`` and an ``accelerometer`` on every IMU site, a 
 a joint ``equality`` to its leader, and on a moving base the root link on a prescribed 6-DOF
 chain: three ``slide`` joints along world x, y, z and three ``hinge`` joints about x, the new y
 and the newer z (:data:`BASE_JOINTS`), the gimbal of
-:func:`~aaria_pin.core.trajectory.gimbal_xyz_motion`, so a run's base motion is replayed
+:func:`~aaria_pin.core.oscillation.base_motion`, so a run's base motion is replayed
 exactly (:mod:`~aaria_pin.core.export.mjcf_replay`).
 
 The input is the URDF text, not the Pinocchio model: every run record and every robot source

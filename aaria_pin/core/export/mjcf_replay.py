@@ -32,7 +32,8 @@ def gimbal_xyz_coordinates(
 ) -> tuple[Array, Array, Array]:
     """The X-Y-Z gimbal angles, rates and accelerations of a rotation and its body motion.
 
-    The inverse of :func:`~aaria_pin.core.trajectory.gimbal_xyz_motion`: with
+    The inverse of the base kinematics' gimbal (:func:`~aaria_pin.core.oscillation.base_motion`):
+    with
     ``R = Rx(a)·Ry(b)·Rz(c)`` the body angular velocity is ``ω = E(b, c)·[ȧ ḃ ċ]`` with
     ``E = [[cos b cos c, sin c, 0], [-cos b sin c, cos c, 0], [sin b, 0, 1]]``, and
     ``ω̇ = E·[ä b̈ c̈] + Ė·[ȧ ḃ ċ]``; both are solved for the gimbal's rates and accelerations

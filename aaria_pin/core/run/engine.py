@@ -12,9 +12,9 @@ drive integrates the whole run in one piece), the series
 from __future__ import annotations
 
 import warnings
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import TypedDict
+from typing import Any, TypedDict
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -40,6 +40,7 @@ __all__ = [
     "RunRequest",
     "RunTables",
     "Seeds",
+    "check_options",
     "given_tables",
     "noise_seed",
     "simulate",
@@ -241,6 +242,26 @@ def given_tables(joint_table: ArrayLike | None, base_table: ArrayLike | None) ->
     if base_table is not None:
         tables["base_table"] = base_table
     return tables
+
+
+def check_options(function: str, options: Mapping[str, Any], allowed: Any) -> None:
+    """Refuse keyword options a request does not take, as Python refuses an unknown keyword.
+
+    The requests take their options as ``**options: Unpack[TypedDict]``, which type checkers
+    check but Python does not: without this a misspelt option (``durration=5``) would be dropped.
+
+    Args:
+        function: the request's name, for the message
+        options: the keyword options given
+        allowed: the options' ``TypedDict``
+
+    Raises:
+        TypeError: an option the request does not take.
+    """
+    known = set(allowed.__required_keys__) | set(allowed.__optional_keys__)
+    unknown = sorted(set(options) - known)
+    if unknown:
+        raise TypeError(f"{function}() got an unexpected keyword argument {unknown[0]!r}")
 
 
 def warn_deprecated(name: str, replacement: str) -> None:
