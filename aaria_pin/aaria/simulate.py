@@ -26,10 +26,9 @@ from aaria_pin.aaria.arm_run import DH_ROBOT, DHArmSpec, dh_arm
 from aaria_pin.aaria.dh_robot import BodyDimensions
 from aaria_pin.aaria.sensen import N_MODULES
 from aaria_pin.core.excitation import FourierExcitation, fourier_excitation
-from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
+from aaria_pin.core.imu_noise import ImuNoiseModel
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.run import (
-    CHUNK_SAMPLES,
     UNITS,
     Motion,
     RunRequest,
@@ -222,14 +221,7 @@ def dh_request(dh_table: ArrayLike, **options: Unpack[DhRunOptions]) -> RunReque
         TypeError: an option it does not take.
     """
     check_options("dh_request", options, DhRunOptions)
-    settings = RunSettings(
-        options.get("duration", DEFAULT_DURATION),
-        options.get("rate", DEFAULT_RATE),
-        options.get("chunk", CHUNK_SAMPLES),
-        options.get("noise", True),
-        options.get("noise_model", ADIS16485),
-        options.get("threads", 1),
-    )
+    settings = RunSettings.from_options(options)
     spec = DHArmSpec(
         options.get("joint_table"),
         options.get("base_table"),

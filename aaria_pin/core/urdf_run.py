@@ -23,10 +23,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.core.excitation import DEFAULT_HARMONICS, FourierExcitation, fourier_excitation
-from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
+from aaria_pin.core.imu_noise import ImuNoiseModel
 from aaria_pin.core.record import ImuMount, RunRecord
 from aaria_pin.core.run import (
-    CHUNK_SAMPLES,
     Motion,
     RunKind,
     RunRequest,
@@ -223,14 +222,7 @@ def _run_motion(torques: ArrayLike | None, motion: MotionInput) -> Motion:
 
 def _request(robot: RunRobot, options: LoadedRobotOptions) -> RunRequest:
     """The engine's inputs of an adapted robot and the run's options."""
-    settings = RunSettings(
-        options.get("duration", DEFAULT_DURATION),
-        options.get("rate", DEFAULT_RATE),
-        options.get("chunk", CHUNK_SAMPLES),
-        options.get("noise", True),
-        options.get("noise_model", ADIS16485),
-        options.get("threads", 1),
-    )
+    settings = RunSettings.from_options(options)
     motion = _run_motion(options.get("torques"), options.get("motion"))
     return RunRequest(robot, motion, settings, options.get("seed", 0))
 

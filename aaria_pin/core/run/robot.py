@@ -27,7 +27,7 @@ from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 from aaria_pin.errors import InputFileError
 
-__all__ = ["FixedMount", "RunKind", "RunRobot", "kind_names", "kind_of", "register_kind"]
+__all__ = ["FixedMount", "RunKind", "RunRobot", "kind_of", "register_kind"]
 
 
 class RunRobot(Protocol):
@@ -187,11 +187,6 @@ def register_kind(kind: RunKind) -> RunKind:
     """Register a kind of run (replacing one of the same name); returns it."""
     _KINDS[kind.name] = kind
     return kind
-
-
-def kind_names() -> tuple[str, ...]:
-    """The names of the registered kinds, in registration order."""
-    return tuple(_KINDS)
 
 
 def kind_of(record: RunRecord) -> RunKind:

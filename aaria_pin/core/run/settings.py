@@ -7,13 +7,15 @@ seed) into a record's attributes and :meth:`RunSettings.from_attributes` reads i
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
 
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, noise_attributes
 from aaria_pin.core.model import GRAVITY
+from aaria_pin.core.run.chunks import CHUNK_SAMPLES
 from aaria_pin.core.run_metadata import stored_sampling
 from aaria_pin.core.seeds import seed_attributes
 from aaria_pin.core.trajectory import (
@@ -120,6 +122,16 @@ class RunSettings:
         return sample_count(
             self.duration, self.rate, MAX_STREAMED_SAMPLES if streamed else MAX_SAMPLES
         )
+
+    @classmethod
+    def from_options(cls, options: Mapping[str, Any]) -> RunSettings:
+        """The settings among a run request's keyword options (its other options ignored).
+
+        A request's run is made in pieces of :data:`~aaria_pin.core.run.CHUNK_SAMPLES` samples
+        unless its ``chunk`` option says otherwise (None: one piece).
+        """
+        given = {f.name: options[f.name] for f in fields(cls) if f.name in options}
+        return cls(**{"chunk": CHUNK_SAMPLES, **given})
 
     @classmethod
     def from_attributes(cls, attributes: dict[str, Any], **overrides: Any) -> RunSettings:
