@@ -16,7 +16,6 @@ module's slots have parent ``""``), the tables ``senSenDH``, ``senSenJ``, ``senS
 from __future__ import annotations
 
 import os
-from collections.abc import Iterator
 from typing import Any, TypedDict, Unpack
 
 import numpy as np
@@ -37,11 +36,10 @@ from aaria_pin.core.run import (
     TorqueDrive,
     as_motion,
     check_options,
-    given_tables,
     motion_from_record,
     sampling_attributes,
-    warn_deprecated,
 )
+from aaria_pin.core.run.deprecation import deprecated_producer, warn_deprecated
 from aaria_pin.core.run.robot import RunKind, register_kind
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
@@ -70,7 +68,7 @@ __all__ = [
 
 
 class _DhSettings(TypedDict, total=False):
-    """:class:`DhRunOptions` but the joint and base tables (deprecated producers take those)."""
+    """:class:`DhRunOptions` but the joint and base tables."""
 
     duration: float
     rate: float
@@ -292,78 +290,12 @@ def _remake(stored: RunRecord, **overrides: Any) -> RunRecord:
     return dh_request_from_record(stored, **overrides).record()
 
 
-def simulate_run(
-    dh_table: ArrayLike,
-    joint_table: ArrayLike | None = None,
-    base_table: ArrayLike | None = None,
-    **options: Unpack[_DhSettings],
-) -> RunRecord:
-    """Deprecated: ``dh_request(dh_table, **options).record()`` (:func:`dh_request`).
-
-    Args:
-        dh_table: 8 × 5 extended DH table (``senSenDH``)
-        joint_table: as in :class:`DhRunOptions`
-        base_table: as in :class:`DhRunOptions`
-        **options: :class:`DhRunOptions`
-
-    Returns:
-        The run record (kind ``"dh"``).
-    """
-    warn_deprecated(
-        "simulate_run", "aaria_pin.aaria.simulate.dh_request(table, **options).record()"
-    )
-    return dh_request(dh_table, **options, **given_tables(joint_table, base_table)).record()
-
-
-def simulate_run_chunks(
-    dh_table: ArrayLike,
-    joint_table: ArrayLike | None = None,
-    base_table: ArrayLike | None = None,
-    **options: Unpack[_DhSettings],
-) -> Iterator[RunRecord]:
-    """Deprecated: ``dh_request(dh_table, **options).pieces()`` (:func:`dh_request`).
-
-    Args:
-        dh_table: 8 × 5 extended DH table (``senSenDH``)
-        joint_table: as in :class:`DhRunOptions`
-        base_table: as in :class:`DhRunOptions`
-        **options: :class:`DhRunOptions`
-
-    Yields:
-        The run record of each piece (kind ``"dh"``).
-    """
-    warn_deprecated(
-        "simulate_run_chunks", "aaria_pin.aaria.simulate.dh_request(table, **options).pieces()"
-    )
-    return dh_request(dh_table, **options, **given_tables(joint_table, base_table)).pieces()
-
-
-def simulate_from_record(stored: RunRecord, **overrides: Unpack[DhRunOptions]) -> RunRecord:
-    """Deprecated: ``dh_request_from_record(stored, **overrides).record()``.
-
-    Returns:
-        The run record; with no overrides it equals the stored one.
-    """
-    warn_deprecated(
-        "simulate_from_record",
-        "aaria_pin.aaria.simulate.dh_request_from_record(stored, **overrides).record()",
-    )
-    return dh_request_from_record(stored, **overrides).record()
-
-
-def simulate_from_record_chunks(
-    stored: RunRecord, **overrides: Unpack[DhRunOptions]
-) -> Iterator[RunRecord]:
-    """Deprecated: ``dh_request_from_record(stored, **overrides).pieces()``.
-
-    Yields:
-        The run record of each piece.
-    """
-    warn_deprecated(
-        "simulate_from_record_chunks",
-        "aaria_pin.aaria.simulate.dh_request_from_record(stored, **overrides).pieces()",
-    )
-    return dh_request_from_record(stored, **overrides).pieces()
+simulate_run = deprecated_producer("simulate_run", dh_request, "record")
+simulate_run_chunks = deprecated_producer("simulate_run_chunks", dh_request, "pieces")
+simulate_from_record = deprecated_producer("simulate_from_record", dh_request_from_record, "record")
+simulate_from_record_chunks = deprecated_producer(
+    "simulate_from_record_chunks", dh_request_from_record, "pieces"
+)
 
 
 def simulate_from_run_file(

@@ -15,7 +15,6 @@ alone (:func:`urdf_request_from_record`; from a run file, :func:`aaria_pin.apps.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, TypedDict, Unpack
 
@@ -35,11 +34,10 @@ from aaria_pin.core.run import (
     TorqueDrive,
     as_motion,
     check_options,
-    given_tables,
     motion_from_record,
     register_kind,
-    warn_deprecated,
 )
+from aaria_pin.core.run.deprecation import deprecated_producer
 from aaria_pin.core.run.urdf_kind import UrdfRunSpec, urdf_robot_run
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
@@ -325,86 +323,15 @@ def _remake(stored: RunRecord, **overrides: Any) -> RunRecord:
     return urdf_request_from_record(stored, **overrides).record()
 
 
-class _UrdfLegacy(_UrdfSettings, _UrdfLoad, total=False):
-    """:class:`UrdfRunOptions` but the tables (the deprecated producers take those)."""
-
-
-def simulate_urdf_run(
-    urdf: str,
-    joint_table: ArrayLike | None = None,
-    base_table: ArrayLike | None = None,
-    **options: Unpack[_UrdfLegacy],
-) -> RunRecord:
-    """Deprecated: ``urdf_request(urdf, **options).record()`` (:func:`urdf_request`).
-
-    Returns:
-        The run record (kind ``"urdf"``).
-    """
-    warn_deprecated("simulate_urdf_run", "aaria_pin.core.urdf_run.urdf_request(urdf, **o).record()")
-    return urdf_request(urdf, **options, **given_tables(joint_table, base_table)).record()
-
-
-def simulate_urdf_run_chunks(
-    urdf: str,
-    joint_table: ArrayLike | None = None,
-    base_table: ArrayLike | None = None,
-    **options: Unpack[_UrdfLegacy],
-) -> Iterator[RunRecord]:
-    """Deprecated: ``urdf_request(urdf, **options).pieces()`` (:func:`urdf_request`).
-
-    Yields:
-        The run record of each piece (kind ``"urdf"``).
-    """
-    warn_deprecated(
-        "simulate_urdf_run_chunks", "aaria_pin.core.urdf_run.urdf_request(urdf, **o).pieces()"
-    )
-    return urdf_request(urdf, **options, **given_tables(joint_table, base_table)).pieces()
-
-
-def simulate_loaded_robot(
-    loaded: UrdfRobot,
-    joint_table: ArrayLike | None = None,
-    base_table: ArrayLike | None = None,
-    **options: Unpack[_UrdfSettings],
-) -> RunRecord:
-    """Deprecated: ``loaded_robot_request(loaded, **options).record()``.
-
-    Returns:
-        The run record (kind ``"urdf"``).
-    """
-    warn_deprecated(
-        "simulate_loaded_robot",
-        "aaria_pin.core.urdf_run.loaded_robot_request(loaded, **o).record()",
-    )
-    return loaded_robot_request(loaded, **options, **given_tables(joint_table, base_table)).record()
-
-
-def simulate_urdf_from_record(stored: RunRecord, **overrides: Unpack[UrdfRunOptions]) -> RunRecord:
-    """Deprecated: ``urdf_request_from_record(stored, **overrides).record()``.
-
-    Returns:
-        The run record; with no overrides it equals the stored one.
-    """
-    warn_deprecated(
-        "simulate_urdf_from_record",
-        "aaria_pin.core.urdf_run.urdf_request_from_record(stored, **o).record()",
-    )
-    return urdf_request_from_record(stored, **overrides).record()
-
-
-def simulate_urdf_from_record_chunks(
-    stored: RunRecord, **overrides: Unpack[UrdfRunOptions]
-) -> Iterator[RunRecord]:
-    """Deprecated: ``urdf_request_from_record(stored, **overrides).pieces()``.
-
-    Yields:
-        The run record of each piece.
-    """
-    warn_deprecated(
-        "simulate_urdf_from_record_chunks",
-        "aaria_pin.core.urdf_run.urdf_request_from_record(stored, **o).pieces()",
-    )
-    return urdf_request_from_record(stored, **overrides).pieces()
+simulate_urdf_run = deprecated_producer("simulate_urdf_run", urdf_request, "record")
+simulate_urdf_run_chunks = deprecated_producer("simulate_urdf_run_chunks", urdf_request, "pieces")
+simulate_loaded_robot = deprecated_producer("simulate_loaded_robot", loaded_robot_request, "record")
+simulate_urdf_from_record = deprecated_producer(
+    "simulate_urdf_from_record", urdf_request_from_record, "record"
+)
+simulate_urdf_from_record_chunks = deprecated_producer(
+    "simulate_urdf_from_record_chunks", urdf_request_from_record, "pieces"
+)
 
 
 register_kind(RunKind("urdf", _remake, lambda record: "joint_table" in record.tables))

@@ -10,18 +10,18 @@
 - :mod:`~aaria_pin.core.run.series`: the series every run computes (IMUs, tool, torques, wrench)
 - :mod:`~aaria_pin.core.run.chunks`: a long run in time pieces
 - :mod:`~aaria_pin.core.run.engine`: :func:`simulate` and :func:`simulate_pieces`
+- :mod:`~aaria_pin.core.run.deprecation`: the producers of earlier releases, over the requests
 """
 
 from aaria_pin.core.run.chunks import CHUNK_SAMPLES, chunk_bounds, join_chunks, run_length
+from aaria_pin.core.run.deprecation import deprecated_producer, warn_deprecated
 from aaria_pin.core.run.engine import (
     RunRequest,
     RunTables,
     Seeds,
     check_options,
-    given_tables,
     simulate,
     simulate_pieces,
-    warn_deprecated,
 )
 from aaria_pin.core.run.motion import (
     FollowedMotion,
@@ -89,7 +89,7 @@ __all__ = [
     "carry_payload",
     "check_options",
     "chunk_bounds",
-    "given_tables",
+    "deprecated_producer",
     "join_chunks",
     "kind_of",
     "motion_from_record",

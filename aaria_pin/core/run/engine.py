@@ -11,7 +11,6 @@ drive integrates the whole run in one piece), the series
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any, TypedDict
@@ -41,11 +40,9 @@ __all__ = [
     "RunTables",
     "Seeds",
     "check_options",
-    "given_tables",
     "noise_seed",
     "simulate",
     "simulate_pieces",
-    "warn_deprecated",
 ]
 
 Seeds = RunSeeds | int | np.random.SeedSequence
@@ -234,16 +231,6 @@ class RunTables(TypedDict, total=False):
     base_table: ArrayLike | None
 
 
-def given_tables(joint_table: ArrayLike | None, base_table: ArrayLike | None) -> RunTables:
-    """The tables given positionally to a deprecated producer, as options (those given)."""
-    tables: RunTables = {}
-    if joint_table is not None:
-        tables["joint_table"] = joint_table
-    if base_table is not None:
-        tables["base_table"] = base_table
-    return tables
-
-
 def check_options(function: str, options: Mapping[str, Any], allowed: Any) -> None:
     """Refuse keyword options a request does not take, as Python refuses an unknown keyword.
 
@@ -262,12 +249,3 @@ def check_options(function: str, options: Mapping[str, Any], allowed: Any) -> No
     unknown = sorted(set(options) - known)
     if unknown:
         raise TypeError(f"{function}() got an unexpected keyword argument {unknown[0]!r}")
-
-
-def warn_deprecated(name: str, replacement: str) -> None:
-    """Warn that the producer ``name`` (the caller) is deprecated, naming its replacement."""
-    warnings.warn(
-        f"{name} is deprecated; use {replacement} (it goes in the next release)",
-        DeprecationWarning,
-        stacklevel=3,
-    )
