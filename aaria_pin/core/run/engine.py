@@ -12,6 +12,7 @@ drive integrates the whole run in one piece), the series
 from __future__ import annotations
 
 from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from typing import Any, TypedDict
 
@@ -19,7 +20,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin._version import __version__
-from aaria_pin.core.record import RunRecord
+from aaria_pin.core.model import RobotModel
+from aaria_pin.core.record import SERIES, RunRecord
 from aaria_pin.core.run.chunks import chunk_bounds, join_chunks
 from aaria_pin.core.run.motion import Motion, SineTable
 from aaria_pin.core.run.robot import RunRobot
@@ -151,18 +153,19 @@ def simulate_pieces(
     payload: Payload | None = getattr(robot, "payload", None)  # a load it carries, if any
     for start, stop in pieces:
         times = piece_times(start, stop, settings.rate)
-        base = robot.base(times)
-        trajectory = run_motion.trajectory(robot, (start, stop), times, base)
-        series = simulate_series(model, base, trajectory, imus, settings, seed, stream, start)
-        if payload is not None:
-            series = carry_payload(series, payload, base, trajectory, start, settings.threads)
+        with _world_gravity(model, settings.gravity):
+            base = robot.base(times)
+            trajectory = run_motion.trajectory(robot, (start, stop), times, base)
+            series = simulate_series(model, base, trajectory, imus, settings, seed, stream, start)
+            if payload is not None:
+                series = carry_payload(series, payload, base, trajectory, start, settings.threads)
         if len(series.tau):
             np.maximum(peaks, np.abs(series.tau).max(axis=0), out=peaks)
         piece_tables = tables
         if sensors:
             state = SensorState(times, trajectory, base, series)
             piece_tables = {**tables, **measure(robot, state, tuple(sensors))}
-        yield RunRecord(
+        record = RunRecord(
             time=times,
             joint_names=robot.joint_names,
             q=robot.record_columns(trajectory.q),
@@ -186,6 +189,35 @@ def simulate_pieces(
                 "version": __version__,
             },
         )
+        yield _rounded(record, settings.dtype)
+
+
+@contextmanager
+def _world_gravity(model: RobotModel, gravity: tuple[float, float, float]) -> Iterator[None]:
+    """The run's gravity in the robot's Pinocchio model while a piece is computed, then restored.
+
+    Every gravity-dependent series (RNEA torques, the base wrench, forward dynamics, the
+    accelerometers' specific force) reads the model's ``gravity``; a robot adapter may be shared
+    between runs, so the model is left as it was found.
+    """
+    kept = np.array(model.model.gravity.linear, dtype=float)
+    model.model.gravity.linear = np.asarray(gravity, dtype=float)
+    try:
+        yield
+    finally:
+        model.model.gravity.linear = kept
+
+
+def _rounded(record: RunRecord, dtype: str) -> RunRecord:
+    """The record's series rounded to ``dtype`` and held as float64.
+
+    That is what a data set of that dtype stores and
+    :func:`~aaria_pin.files.source.open_record` reads back.
+    """
+    if dtype == "float64":
+        return record
+    rounded = {name: getattr(record, name).astype(dtype).astype(np.float64) for name in SERIES}
+    return replace(record, **rounded)
 
 
 @dataclass(frozen=True)

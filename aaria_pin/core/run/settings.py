@@ -1,15 +1,16 @@
 """A run's settings as one typed value, and the attributes every run records about them.
 
 :class:`RunSettings` holds what every run of every robot takes (duration, rate, pieces, IMU
-noise, threads), checked once when it is made; :func:`sampling_attributes` writes it (with the
-seed) into a record's attributes and :meth:`RunSettings.from_attributes` reads it back.
+noise, threads, gravity, the precision of the series), checked once when it is made;
+:func:`sampling_attributes` writes it (with the seed) into a record's attributes and
+:meth:`RunSettings.from_attributes` reads it back.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -25,15 +26,27 @@ from aaria_pin.core.trajectory import (
     MAX_STREAMED_SAMPLES,
     sample_count,
 )
-from aaria_pin.errors import ParameterError
+from aaria_pin.errors import InputFileError, ParameterError
 
 __all__ = [
     "DEFAULT_DURATION",
     "DEFAULT_RATE",
+    "DTYPES",
+    "GRAVITY_VECTOR",
     "UNITS",
     "RunSettings",
     "sampling_attributes",
 ]
+
+GRAVITY_VECTOR: tuple[float, float, float] = (
+    float(GRAVITY[0]),
+    float(GRAVITY[1]),
+    float(GRAVITY[2]),
+)
+"""The default gravity [m/s²], world frame (:data:`~aaria_pin.core.model.GRAVITY` as a tuple)."""
+
+DTYPES = ("float64", "float32")
+"""The precisions a run's series may be rounded to (a data set stores ``float32`` by default)."""
 
 UNITS = {
     "time": "s",
@@ -53,6 +66,7 @@ def sampling_attributes(
     seed: int | np.random.SeedSequence,
     noise: bool,
     noise_model: ImuNoiseModel,
+    gravity: tuple[float, float, float] = GRAVITY_VECTOR,
 ) -> dict[str, Any]:
     """The attributes every run records: rate, duration, seed, noise, gravity, units.
 
@@ -62,6 +76,7 @@ def sampling_attributes(
         seed: seed of the IMU noise (or a data set run's ``SeedSequence``)
         noise: whether the IMU signals carry noise
         noise_model: the IMU noise parameters
+        gravity: the gravity of the run, world frame [m/s²]
     """
     return {
         "rate": float(rate),
@@ -69,7 +84,7 @@ def sampling_attributes(
         **seed_attributes(seed),
         "noise": bool(noise),
         "noise_parameters": noise_attributes(noise_model),
-        "gravity": GRAVITY.tolist(),
+        "gravity": [float(g) for g in gravity],
         "units": UNITS,
     }
 
@@ -87,10 +102,19 @@ class RunSettings:
         noise: add IMU noise (False gives the exact signals)
         noise_model: the IMU noise parameters
         threads: worker threads of the batched RNEA
+        gravity: the gravity vector in the world frame [m/s²] (Earth's standard
+            ``(0, 0, -9.81)``; the Moon's ``(0, 0, -1.62)``; a tilted world for a wall-mounted
+            base); it enters the torques, the base wrench, the torque drive's dynamics and the
+            accelerometers' specific force, and is recorded as the ``gravity`` attribute
+        dtype: the precision of the record's series: ``"float64"``, or ``"float32"`` to have in
+            memory exactly what a ``float32`` data set stores and reads back (the series are
+            rounded to float32 and held as float64, as :func:`~aaria_pin.files.source.open_record`
+            returns them); the computation is float64 either way
 
     Raises:
         ParameterError: a duration or rate outside its range or giving fewer than two samples
-            (as :func:`~aaria_pin.core.trajectory.sample_count`), a chunk < 1 or threads < 1.
+            (as :func:`~aaria_pin.core.trajectory.sample_count`), a chunk < 1, threads < 1, a
+            gravity that is not three finite numbers, or a dtype not in :data:`DTYPES`.
     """
 
     duration: float = DEFAULT_DURATION
@@ -99,6 +123,8 @@ class RunSettings:
     noise: bool = True
     noise_model: ImuNoiseModel = field(default=ADIS16485)
     threads: int = 1
+    gravity: tuple[float, float, float] = GRAVITY_VECTOR
+    dtype: Literal["float64", "float32"] = "float64"
 
     def __post_init__(self) -> None:
         sample_count(self.duration, self.rate, None)  # ranges, and two samples at least
@@ -111,6 +137,17 @@ class RunSettings:
             )
         if isinstance(self.threads, bool) or self.threads < 1:
             raise ParameterError(parameter="threads", value=self.threads, allowed=">= 1")
+        try:
+            gravity = np.asarray(self.gravity, dtype=float)
+        except (TypeError, ValueError):
+            gravity = np.full(1, np.nan)
+        if gravity.shape != (3,) or not np.isfinite(gravity).all():
+            raise ParameterError(
+                parameter="gravity", value=self.gravity, allowed="three finite numbers [m/s²]"
+            )
+        object.__setattr__(self, "gravity", tuple(float(g) for g in gravity))
+        if self.dtype not in DTYPES:
+            raise ParameterError(parameter="dtype", value=self.dtype, allowed=", ".join(DTYPES))
 
     def samples(self, whole: bool = False) -> int:
         """T, the run's samples, within the bound of a run in pieces or (``whole``) held whole.
@@ -145,10 +182,32 @@ class RunSettings:
             "duration": stored["duration"],
             "rate": stored["rate"],
             "noise": stored["noise"],
+            "gravity": _stored_gravity(attributes),
         }
         values.update(overrides)
         return cls(**values)
 
     def attributes(self, seed: int | np.random.SeedSequence) -> dict[str, Any]:
         """The attributes every run records (:func:`sampling_attributes`)."""
-        return sampling_attributes(self.rate, self.duration, seed, self.noise, self.noise_model)
+        return sampling_attributes(
+            self.rate, self.duration, seed, self.noise, self.noise_model, self.gravity
+        )
+
+
+def _stored_gravity(attributes: Mapping[str, Any]) -> tuple[float, float, float]:
+    """The gravity a record's attributes hold (the default where a file has none).
+
+    Raises:
+        InputFileError: a stored gravity that is not three finite numbers.
+    """
+    stored = attributes.get("gravity", GRAVITY_VECTOR)
+    try:
+        gravity = np.asarray(stored, dtype=float)
+    except (TypeError, ValueError):
+        gravity = np.full(1, np.nan)
+    if gravity.shape != (3,) or not np.isfinite(gravity).all():
+        raise InputFileError(
+            f"the run's attribute 'gravity' is {stored!r}; allowed: three finite numbers [m/s²]",
+            parameter="gravity",
+        )
+    return (float(gravity[0]), float(gravity[1]), float(gravity[2]))
