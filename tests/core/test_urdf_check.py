@@ -253,3 +253,25 @@ def test_well_formed_origins_pass_and_pinocchio_reads_the_same_numbers(
     np.testing.assert_allclose(placement.translation, numbers[:3], rtol=0, atol=1e-12)
     expected = pin.rpy.rpyToMatrix(*numbers[3:])
     np.testing.assert_allclose(placement.rotation, expected, rtol=0, atol=1e-12)
+
+
+def test_frame_links_are_the_bare_leaves_on_fixed_joints() -> None:
+    """Massless, shapeless leaf links on fixed joints; a link with a shape, mass or child is not."""
+    extra = """  <link name="frame_a"/>
+  <link name="frame_b"><inertial><mass value="0"/></inertial></link>
+  <link name="shaped"><visual><geometry><sphere radius="0.01"/></geometry></visual></link>
+  <link name="heavy"><inertial><mass value="0.5"/>{INERTIA}</inertial></link>
+  <link name="inner"/><link name="outer"/>
+  <joint name="ja" type="fixed"><parent link="arm"/><child link="frame_a"/></joint>
+  <joint name="jb" type="fixed"><parent link="base"/><child link="frame_b"/></joint>
+  <joint name="js" type="fixed"><parent link="arm"/><child link="shaped"/></joint>
+  <joint name="jh" type="fixed"><parent link="arm"/><child link="heavy"/></joint>
+  <joint name="ji" type="fixed"><parent link="arm"/><child link="inner"/></joint>
+  <joint name="jo" type="fixed"><parent link="inner"/><child link="outer"/></joint>
+</robot>""".replace("{INERTIA}", INERTIA)
+    summary = check_urdf(two_links().replace("</robot>", extra))
+    assert [(j.name, j.parent, j.child) for j in summary.frame_links] == [
+        ("ja", "arm", "frame_a"),
+        ("jb", "base", "frame_b"),
+        ("jo", "inner", "outer"),
+    ]
