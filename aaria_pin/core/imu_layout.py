@@ -41,12 +41,13 @@ from aaria_pin.core.model import frame_index
 from aaria_pin.core.record import ImuMount
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.urdf_tree import UrdfJoint
-from aaria_pin.errors import InputFileError, ModelError
+from aaria_pin.errors import InputFileError, ModelError, ParameterError
 
 __all__ = [
     "DEFAULT_MIN_OFFSET",
     "add_imu_frames",
     "carried_imu_mounts",
+    "check_slot_mounts",
     "default_imu_layout",
     "moving_links",
     "read_imu_layout",
@@ -166,6 +167,42 @@ def _is_carried(mount: ImuMount, carried: Mapping[str, ImuMount]) -> bool:
     )
 
 
+def check_slot_mounts(
+    mounts: Sequence[ImuMount], slots: Sequence[tuple[str, str]], source: str
+) -> None:
+    """Refuse IMU mounts read from a file that are not a robot's IMU slots.
+
+    A robot with fixed slots (a DH arm) takes only the poses of a file's mounts; each pose is
+    in its parent's frame, so mount k must be slot k: the slot's name, on the slot's link (or
+    an empty slot, parent ``""``, whose pose is zero). The number of mounts is checked where
+    the poses are used.
+
+    Args:
+        mounts: the file's mounts, in record order
+        slots: (name, parent link) of each of the robot's slots, in record order
+        source: the file, as the message names it
+
+    Raises:
+        ParameterError: a mount of another name, or on another link (``imu_mount``).
+    """
+    for number, (mount, (name, parent)) in enumerate(zip(mounts, slots, strict=False), 1):
+        if mount.name != name:
+            allowed = f"{name} (slot {number} of the robot)"
+            element, value = f"IMU {number} of {source}", mount.name
+        elif mount.parent not in (parent, ""):
+            allowed = f"{parent} (the link of slot {name})"
+            element, value = f"parent of {name} in {source}", mount.parent
+        else:
+            continue
+        raise ParameterError(
+            f"{element} is {value!r}; allowed: {allowed}",
+            parameter="imu_mount",
+            value=value,
+            allowed=allowed,
+            element=element,
+        )
+
+
 def _refused(file: Path, text: str, element: str | None = None) -> InputFileError:
     """The error of layout ``file``: ``"<file>: [<element>: ]<text>"``, ``path`` at fault.
 
@@ -251,7 +288,7 @@ def add_imu_frames(
             raise ModelError(
                 f"IMU {mount.name!r}: parent frame {mount.parent!r} is not in model "
                 f"{model.name!r}; allowed: a link, joint or frame of the URDF",
-                parameter="mounts",
+                parameter="imu_layout",
                 value=mount.parent,
                 allowed="a link, joint or frame of the URDF",
                 element=f"parent of IMU {mount.name!r}",
@@ -259,7 +296,7 @@ def add_imu_frames(
         if model.existFrame(mount.name):
             raise ModelError(
                 f"IMU name {mount.name!r} is already a frame of the robot",
-                parameter="mounts",
+                parameter="imu_layout",
                 value=mount.name,
                 allowed="a name that is not a frame of the robot",
                 element="IMU name",

@@ -14,13 +14,15 @@ from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.imu_layout import (
     DEFAULT_MIN_OFFSET,
     _offset_from_axis,
+    check_slot_mounts,
     default_imu_layout,
     moving_links,
     read_imu_layout,
 )
+from aaria_pin.core.record import ImuMount
 from aaria_pin.core.urdf_robot import load_urdf_robot, read_urdf_file
 from aaria_pin.core.urdf_run import simulate_urdf_run
-from aaria_pin.errors import InputFileError, ModelError
+from aaria_pin.errors import InputFileError, ModelError, ParameterError
 
 
 def _ur5() -> str:
@@ -204,3 +206,64 @@ def test_a_layout_that_moves_a_carried_imu_is_refused(tmp_path: Path) -> None:
     layout.write_text('[[imu]]\nname = "imu_base"\nparent = "base"\nxyz = [0.2, 0, 0]\n')
     with pytest.raises(ModelError, match="IMU name 'imu_base' is already a frame"):
         load_urdf_robot(_CARRIED, imu_layout=read_imu_layout(layout))
+
+
+_SLOTS = (("imu_base", "base"), ("imu_tool", "tool_tip"), ("imu_link1_a", "link1"))
+
+
+def _mounts(*pairs: tuple[str, str]) -> list[ImuMount]:
+    return [ImuMount(name, parent, np.eye(4)) for name, parent in pairs]
+
+
+def test_slot_mounts_of_the_robot_or_of_an_empty_slot_pass() -> None:
+    check_slot_mounts(_mounts(*_SLOTS), _SLOTS, "run.h5")
+    check_slot_mounts(_mounts(_SLOTS[0], _SLOTS[1], ("imu_link1_a", "")), _SLOTS, "run.h5")
+
+
+@pytest.mark.parametrize(
+    ("pairs", "message"),
+    [
+        (
+            (("imu_base", "world"), _SLOTS[1]),
+            "parent of imu_base in ur5.h5 is 'world'; allowed: base (the link of slot imu_base)",
+        ),
+        (
+            (_SLOTS[0], ("imu_wrist", "tool_tip")),
+            "IMU 2 of ur5.h5 is 'imu_wrist'; allowed: imu_tool (slot 2 of the robot)",
+        ),
+        (
+            (_SLOTS[0], _SLOTS[1], ("imu_link1_a", "link2")),
+            "parent of imu_link1_a in ur5.h5 is 'link2'; allowed: link1",
+        ),
+    ],
+)
+def test_mounts_of_another_robot_are_refused(
+    pairs: tuple[tuple[str, str], ...], message: str
+) -> None:
+    with pytest.raises(ParameterError) as caught:
+        check_slot_mounts(_mounts(*pairs), _SLOTS, "ur5.h5")
+    assert str(caught.value).startswith(message)
+    assert caught.value.parameter == "imu_mount"
+
+
+def test_the_aaria_arm_refuses_a_urdf_robots_mounts(tmp_path: Path) -> None:
+    """``--imu-mount ur5.h5`` on an Aaria arm: one line naming the flag, nothing written."""
+    from click.testing import CliRunner
+
+    from aaria_pin.cli import main
+
+    short = ["--duration", "0.1", "--no-noise"]
+    ur5 = tmp_path / "ur5.h5"
+    assert (
+        CliRunner().invoke(main, ["simulate", "--robot", "ur5", *short, "-o", str(ur5)]).exit_code
+        == 0
+    )
+    out = tmp_path / "arm.h5"
+    argv = ["simulate", "--preset", "aaria-fig2", "--imu-mount", str(ur5), *short, "-o", str(out)]
+    result = CliRunner().invoke(main, argv)
+    assert result.exit_code == 2
+    assert result.output == (
+        f"aaria: error: parent of imu_base in {ur5} of --imu-mount is 'world'; allowed: base "
+        "(the link of slot imu_base)\n"
+    )
+    assert not out.exists()
