@@ -91,14 +91,31 @@ def test_dh_arm_urdf_simulates_as_its_table(kind: str, tmp_path: Path) -> None:
         assert np.array_equal(getattr(again, name), getattr(run, name)), name
     mjcf = _aaria("mjcf", "--urdf", urdf, "-o", tmp_path / "arm.xml")
     assert f"{len(slots)} IMU sites" in mjcf
+    _replays_in_mujoco(run)
 
 
-def test_view_draws_a_run_of_the_written_urdf(tmp_path: Path) -> None:
+def _replays_in_mujoco(run: RunRecord) -> None:
+    """MuJoCo's sensors and inverse dynamics on the URDF's MJCF give the URDF run's IMUs, tau."""
+    pytest.importorskip("mujoco")
+    from aaria_pin.apps.record_model import record_mjcf, replay_in_mujoco
+
+    xml, _ = record_mjcf(run)
+    imu, tau = replay_in_mujoco(run, xml)
+    assert np.abs(imu - run.imu).max() <= 1e-9 * np.abs(run.imu).max()
+    assert np.abs(tau - run.tau).max() <= 1e-9 * np.abs(run.tau).max()
+
+
+def test_view_and_dataset_take_the_written_urdf(tmp_path: Path) -> None:
     urdf = tmp_path / "fig2.urdf"
     _aaria("urdf", "--preset", "aaria-fig2", "-o", urdf)
     _aaria("simulate", "--urdf", urdf, *SHORT, "-o", tmp_path / "run.h5")
     _aaria("view", tmp_path / "run.h5", "-o", tmp_path / "run.html")
     assert "imu_link6_b" in (tmp_path / "run.html").read_text(encoding="utf-8")
+    _aaria(
+        "dataset", "--urdf", urdf, "-n", "2", "--duration", "0.2", "--workers", "1",
+        "--quiet", "-o", tmp_path / "set.h5",
+    )  # fmt: skip
+    assert "14 IMUs, tool tool_tip" in _aaria("info", tmp_path / "set.h5")
 
 
 def _same_motion(run: RunRecord, source: RunRecord, rows: np.ndarray | slice) -> None:
