@@ -8,7 +8,9 @@ length of a block and always points it back (``finally``); the caller then folds
 its own one-line error (:meth:`CapturedText.folded`), so a command prints one line only.
 
 Descriptor 2 belongs to the whole process: whatever any thread writes to it during the block
-is captured too. Keep the block to the one native call.
+is captured too. Keep the block to the one native call. Blocks of different threads take turns
+(a lock), so each restores the descriptor it found; nested blocks of one thread each capture
+their own part.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import os
 import re
 import sys
 import tempfile
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -25,6 +28,9 @@ __all__ = ["CapturedText", "captured_stderr"]
 
 _SOURCE_LINE = re.compile(r"^at line \d+ in \S+$")
 """urdfdom's second line of each message: where in its C++ source it was raised."""
+
+_TURN = threading.RLock()
+"""Held while descriptor 2 is redirected (re-entrant: a block may nest in another)."""
 
 
 @dataclass
@@ -80,7 +86,7 @@ def captured_stderr() -> Iterator[CapturedText]:
     except OSError:  # no temporary folder: the block runs uncaptured
         yield captured
         return
-    with sink:
+    with sink, _TURN:
         try:
             saved = os.dup(2)
         except OSError:

@@ -89,3 +89,30 @@ def test_the_command_prints_one_line_only(command: str, tmp_path: Path) -> None:
     assert result.stderr.count("\n") == 1, result.stderr
     assert result.stderr.startswith("aaria: error: URDF is not valid (urdfdom: material 'm'")
     assert not output.exists()
+
+
+def test_threads_take_turns_and_nested_blocks_capture_their_own(
+    capfd: pytest.CaptureFixture[str],
+) -> None:
+    import threading
+
+    texts: list[str] = []
+
+    def capture(number: int) -> None:
+        with captured_stderr() as printed:
+            os.write(2, f"thread {number}\n".encode())
+        texts.append(printed.text)
+
+    threads = [threading.Thread(target=capture, args=(n,)) for n in range(8)]
+    with captured_stderr() as outer:
+        os.write(2, b"outer\n")
+        with captured_stderr() as inner:
+            os.write(2, b"inner\n")
+        for thread in threads:
+            thread.start()
+    for thread in threads:
+        thread.join()
+    assert (outer.text, inner.text) == ("outer\n", "inner\n")
+    assert sorted(texts) == [f"thread {n}\n" for n in range(8)]
+    os.write(2, b"after\n")
+    assert capfd.readouterr().err == "after\n"
