@@ -157,6 +157,9 @@ def carried_imu_mounts(frame_links: Sequence[UrdfJoint]) -> dict[str, ImuMount]:
     }
 
 
+_NEW_NAME = "a name that is not a frame of the robot, or an IMU link of the URDF where it is"
+
+
 def _is_carried(mount: ImuMount, carried: Mapping[str, ImuMount]) -> bool:
     """Whether ``mount`` is the URDF's own IMU link of its name (same parent and pose)."""
     link = carried.get(mount.name)
@@ -295,10 +298,10 @@ def add_imu_frames(
             )
         if model.existFrame(mount.name):
             raise ModelError(
-                f"IMU name {mount.name!r} is already a frame of the robot",
+                f"IMU name {mount.name!r} is already a frame of the robot; allowed: {_NEW_NAME}",
                 parameter="imu_layout",
                 value=mount.name,
-                allowed="a name that is not a frame of the robot",
+                allowed=_NEW_NAME,
                 element="IMU name",
             )
         parent_id = frame_index(model, mount.parent)
