@@ -363,6 +363,8 @@ def read_imu_mounts(path: Path) -> Array:
 
     Raises:
         InputFileError: a file that cannot be read (parameter ``imu_mount``).
+        ParameterError: a run file's mounts that are not the Aaria arm's slots (another
+            robot's: :func:`~aaria_pin.core.imu_layout.check_slot_mounts`).
     """
     from aaria_pin.errors import InputFileError
 
@@ -373,6 +375,11 @@ def read_imu_mounts(path: Path) -> Array:
             raise InputFileError(
                 f"{path}: cannot be read as .npy ({exc})", parameter="imu_mount"
             ) from None
+    from aaria_pin.aaria.dh_robot import imu_slot_links, imu_slot_names
+    from aaria_pin.core.imu_layout import check_slot_mounts
     from aaria_pin.files.runfile import read_run_inputs
 
-    return read_run_inputs(path).imu_mount
+    stored = read_run_inputs(path)
+    slots = tuple(zip(imu_slot_names(), imu_slot_links(), strict=True))
+    check_slot_mounts(stored.imu_mounts, slots, str(path))
+    return stored.imu_mount

@@ -47,6 +47,7 @@ __all__ = [
     "build_dh_robot",
     "default_imu_slots",
     "describe_chain",
+    "imu_slot_links",
     "imu_slot_names",
     "link_name",
     "mount_imu_slots",
@@ -143,6 +144,11 @@ def imu_slot_names(modules: range | tuple[int, ...] = range(1, 7)) -> tuple[str,
     for module in modules:
         names += [f"imu_link{module}_a", f"imu_link{module}_b"]
     return tuple(names)
+
+
+def imu_slot_links(modules: range | tuple[int, ...] = range(1, 7)) -> tuple[str, ...]:
+    """The link of each IMU slot, in the order of :func:`imu_slot_names`."""
+    return (BASE_FRAME, TOOL_FRAME, *(link_name(m) for m in modules for _ in "ab"))
 
 
 def _frame_along(direction: Array, origin: Array) -> Array:

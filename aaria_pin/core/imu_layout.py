@@ -12,6 +12,11 @@ Default layout (:func:`default_imu_layout`), in this order:
   ``_b`` moves away from the line, perpendicular to it, until it is ``min_offset`` from it: so
   the two IMUs of a link never share an axis and together see its angular acceleration.
 
+A URDF that carries its IMUs (the URDFs :mod:`aaria_pin.core.urdf` writes of a DH arm) has a
+bare frame link (no mass, no shape, no child, on a fixed joint) named as an IMU: that IMU is
+the link (:func:`carried_imu_mounts`), mounted where the URDF puts it, and no frame is added for
+it; the default layout takes it in place of its own mount of that name.
+
 A layout file (TOML) replaces the default, one ``[[imu]]`` table per IMU in record order::
 
     [[imu]]
@@ -25,7 +30,7 @@ from __future__ import annotations
 
 import os
 import tomllib
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -35,11 +40,14 @@ import pinocchio as pin
 from aaria_pin.core.model import frame_index
 from aaria_pin.core.record import ImuMount
 from aaria_pin.core.se3 import Array
-from aaria_pin.errors import InputFileError, ModelError
+from aaria_pin.core.urdf_tree import UrdfJoint
+from aaria_pin.errors import InputFileError, ModelError, ParameterError
 
 __all__ = [
     "DEFAULT_MIN_OFFSET",
     "add_imu_frames",
+    "carried_imu_mounts",
+    "check_slot_mounts",
     "default_imu_layout",
     "moving_links",
     "read_imu_layout",
@@ -133,6 +141,71 @@ def default_imu_layout(
     return tuple(mounts)
 
 
+def carried_imu_mounts(frame_links: Sequence[UrdfJoint]) -> dict[str, ImuMount]:
+    """The IMUs a URDF carries as links: each bare frame link, mounted by its fixed joint.
+
+    Args:
+        frame_links: the fixed joints of bare frame links
+            (:attr:`~aaria_pin.core.urdf_check.UrdfSummary.frame_links`)
+
+    Returns:
+        Link name → its mount (parent link, the joint's origin), document order.
+    """
+    return {
+        joint.child: ImuMount(joint.child, joint.parent, joint.origin.transform())
+        for joint in frame_links
+    }
+
+
+_NEW_NAME = "a name that is not a frame of the robot, or an IMU link of the URDF where it is"
+
+
+def _is_carried(mount: ImuMount, carried: Mapping[str, ImuMount]) -> bool:
+    """Whether ``mount`` is the URDF's own IMU link of its name (same parent and pose)."""
+    link = carried.get(mount.name)
+    return (
+        link is not None
+        and link.parent == mount.parent
+        and np.allclose(link.T_parent_imu, mount.T_parent_imu, rtol=0.0, atol=1e-12)
+    )
+
+
+def check_slot_mounts(
+    mounts: Sequence[ImuMount], slots: Sequence[tuple[str, str]], source: str
+) -> None:
+    """Refuse IMU mounts read from a file that are not a robot's IMU slots.
+
+    A robot with fixed slots (a DH arm) takes only the poses of a file's mounts; each pose is
+    in its parent's frame, so mount k must be slot k: the slot's name, on the slot's link (or
+    an empty slot, parent ``""``, whose pose is zero). The number of mounts is checked where
+    the poses are used.
+
+    Args:
+        mounts: the file's mounts, in record order
+        slots: (name, parent link) of each of the robot's slots, in record order
+        source: the file, as the message names it
+
+    Raises:
+        ParameterError: a mount of another name, or on another link (``imu_mount``).
+    """
+    for number, (mount, (name, parent)) in enumerate(zip(mounts, slots, strict=False), 1):
+        if mount.name != name:
+            allowed = f"{name} (slot {number} of the robot)"
+            element, value = f"IMU {number} of {source}", mount.name
+        elif mount.parent not in (parent, ""):
+            allowed = f"{parent} (the link of slot {name})"
+            element, value = f"parent of {name} in {source}", mount.parent
+        else:
+            continue
+        raise ParameterError(
+            f"{element} is {value!r}; allowed: {allowed}",
+            parameter="imu_mount",
+            value=value,
+            allowed=allowed,
+            element=element,
+        )
+
+
 def _refused(file: Path, text: str, element: str | None = None) -> InputFileError:
     """The error of layout ``file``: ``"<file>: [<element>: ]<text>"``, ``path`` at fault.
 
@@ -193,28 +266,42 @@ def read_imu_layout(path: str | os.PathLike[str]) -> tuple[ImuMount, ...]:
     return tuple(mounts)
 
 
-def add_imu_frames(model: pin.Model, mounts: Sequence[ImuMount]) -> None:
+def add_imu_frames(
+    model: pin.Model, mounts: Sequence[ImuMount], carried: Mapping[str, ImuMount] | None = None
+) -> None:
     """Add one operational frame per IMU to a model, named after the IMU.
 
+    An IMU the URDF carries (in ``carried``, with the same parent and pose) is its link's frame,
+    already in the model: no frame is added for it.
+
+    Args:
+        model: the model (frames are added to it)
+        mounts: the IMUs, in record order
+        carried: the IMUs the URDF carries (:func:`carried_imu_mounts`)
+
     Raises:
-        ModelError: a parent frame that is not in the model, or an IMU name that already is.
+        ModelError: a parent frame that is not in the model, or an IMU name that already is
+            (but for a carried IMU).
     """
+    carried = {} if carried is None else carried
     for mount in mounts:
+        if _is_carried(mount, carried):
+            continue
         if not model.existFrame(mount.parent):
             raise ModelError(
                 f"IMU {mount.name!r}: parent frame {mount.parent!r} is not in model "
                 f"{model.name!r}; allowed: a link, joint or frame of the URDF",
-                parameter="mounts",
+                parameter="imu_layout",
                 value=mount.parent,
                 allowed="a link, joint or frame of the URDF",
                 element=f"parent of IMU {mount.name!r}",
             )
         if model.existFrame(mount.name):
             raise ModelError(
-                f"IMU name {mount.name!r} is already a frame of the robot",
-                parameter="mounts",
+                f"IMU name {mount.name!r} is already a frame of the robot; allowed: {_NEW_NAME}",
+                parameter="imu_layout",
                 value=mount.name,
-                allowed="a name that is not a frame of the robot",
+                allowed=_NEW_NAME,
                 element="IMU name",
             )
         parent_id = frame_index(model, mount.parent)

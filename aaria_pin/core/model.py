@@ -11,6 +11,7 @@ applies, in base axes about the base origin.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -327,15 +328,32 @@ def build_model(
         The robot model.
 
     Raises:
-        ModelError: the URDF cannot be parsed, or a named frame is missing.
+        ModelError: the URDF cannot be parsed (urdfdom's own messages, which it prints to the
+            process's standard error, are captured and named in the one line), or a named frame
+            is missing.
+
+    Warns:
+        UserWarning: urdfdom complained (e.g. of a shape it skips) but the model was built.
     """
-    try:
-        if moving_base:
-            model = pin.buildModelFromXML(urdf, pin.JointModelFreeFlyer())
-        else:
-            model = pin.buildModelFromXML(urdf)
-    except (RuntimeError, ValueError) as exc:
-        raise ModelError(
-            f"URDF cannot be built into a model: {exc}", parameter="urdf", value=str(exc)
-        ) from None
+    from aaria_pin.core.native_stderr import captured_stderr
+
+    failure: Exception | None = None
+    with captured_stderr() as printed:  # urdfdom prints its complaints to fd 2
+        try:
+            if moving_base:
+                model = pin.buildModelFromXML(urdf, pin.JointModelFreeFlyer())
+            else:
+                model = pin.buildModelFromXML(urdf)
+        except (RuntimeError, ValueError) as exc:
+            failure = exc
+    said = printed.folded()
+    if failure is not None:
+        reason = f"urdfdom: {said}" if said else " ".join(str(failure).split())
+        raise ModelError(  # no allowed field: the CLI prints the line as written
+            f"URDF is not valid ({reason}); allowed: a URDF Pinocchio's reader (urdfdom) parses",
+            parameter="urdf",
+            value=reason,
+        )
+    if said:
+        warnings.warn(f"urdfdom: {said}", UserWarning, stacklevel=2)
     return _finish(model, urdf, moving_base, base_frame, tool_frame, sensor_frames)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from aaria_pin.core.urdf_parse import parse_urdf
-from aaria_pin.core.urdf_tree import UrdfJoint
+from aaria_pin.core.urdf_tree import UrdfDocument, UrdfJoint
 
 __all__ = ["UrdfSummary", "check_urdf", "resolve_mesh"]
 
@@ -33,6 +33,9 @@ class UrdfSummary:
         joints: joints in document order
         meshes: mesh file names as written in the URDF
         missing_meshes: those that do not resolve to an existing file
+        frame_links: the fixed joints, in document order, whose child link is a bare frame
+            (no mass, no shape, no child): where the URDF itself mounts a sensor (the IMU
+            links :mod:`aaria_pin.core.urdf` writes)
     """
 
     name: str
@@ -41,6 +44,7 @@ class UrdfSummary:
     joints: tuple[UrdfJoint, ...]
     meshes: tuple[str, ...]
     missing_meshes: tuple[str, ...]
+    frame_links: tuple[UrdfJoint, ...] = ()
 
     def joint(self, name: str) -> UrdfJoint:
         """A joint by name (KeyError if absent)."""
@@ -107,4 +111,19 @@ def check_urdf(text: str, urdf_dir: Path | None = None) -> UrdfSummary:
         document.joints,
         meshes,
         missing,
+        _frame_links(document),
     )
+
+
+def _frame_links(document: UrdfDocument) -> tuple[UrdfJoint, ...]:
+    """The fixed joints whose child is a bare frame: massless, shapeless, a leaf."""
+    parents = {joint.parent for joint in document.joints}
+    bare = {
+        link.name
+        for link in document.links
+        if (link.inertial is None or link.inertial.mass == 0)
+        and not link.visuals
+        and not link.collisions
+        and link.name not in parents
+    }
+    return tuple(j for j in document.joints if j.kind == "fixed" and j.child in bare)

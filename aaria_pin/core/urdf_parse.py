@@ -55,6 +55,13 @@ _GEOMETRY_NUMBERS = {"box": (("size", 3),), "mesh": (("scale", 3),)} | {
     shape: (("radius", 1), ("length", 1)) for shape in ("cylinder", "sphere", "capsule")
 }
 """Geometry attributes checked as numbers: name and how many numbers."""
+_REQUIRED = {
+    "box": ("size",),
+    "cylinder": ("radius", "length"),
+    "sphere": ("radius",),
+    "mesh": ("filename",),
+}
+"""The attributes urdfdom requires of each shape."""
 
 
 def _error(message: str) -> UrdfError:
@@ -118,14 +125,27 @@ def _rgba(colour: ET.Element | None) -> tuple[float, ...] | None:
         raise _error(f"<color rgba> is {text!r}; allowed: four numbers in [0, 1]") from None
 
 
-def _geometry(owner: ET.Element, what: str) -> UrdfGeometry | None:
-    """The first shape of a part's ``<geometry>``, its numbers checked (all shapes' are)."""
+def _geometry(owner: ET.Element, what: str, whole: bool = True) -> UrdfGeometry | None:
+    """The first shape of a part's ``<geometry>``, its numbers checked (all shapes' are).
+
+    With ``whole`` (a link's part, which urdfdom reads; a joint's are checked, then ignored), a
+    part without a ``<geometry>`` shape, or a shape without an attribute urdfdom requires
+    (:data:`_REQUIRED`), is refused: urdfdom prints its complaint and drops the part.
+    """
     shapes = owner.findall("geometry/*")
     for shape in shapes:
+        for key in _REQUIRED.get(shape.tag, ()) if whole else ():
+            if shape.get(key) is None:
+                raise _error(f"{what} <{shape.tag}> has no '{key}' attribute; allowed: a {key}")
         for key, count in _GEOMETRY_NUMBERS.get(shape.tag, ()):
             _numbers(shape, key, f"{what} <{shape.tag} {key}>", count)
-    if not shapes:
+    if not whole:
         return None
+    if not shapes:
+        raise _error(
+            f"{what} has no <geometry> shape; allowed: a <geometry> of a box, cylinder, sphere"
+            " or mesh"
+        )
     shape = shapes[0]
     one = f"{what} <{shape.tag}"
     radius = _numbers(shape, "radius", f"{one} radius>", 1) if shape.tag != "box" else None
@@ -233,7 +253,7 @@ def _joint(element: ET.Element, links: set[str]) -> UrdfJoint:
     for tag in ("inertial", "visual", "collision"):  # checked as a link's parts are
         for part in element.findall(tag):
             _origin(part, f"{what} <{tag}>")
-            _geometry(part, f"{what} <{tag}>")
+            _geometry(part, f"{what} <{tag}>", whole=False)
     kind = element.get("type", "")
     if kind not in JOINT_TYPES:
         raise _error(f"{what}: type {kind!r} is not supported; allowed: {', '.join(JOINT_TYPES)}")

@@ -48,9 +48,10 @@ __all__ = [
     "validate_urdf_joint_table",
 ]
 
-TOOL_FRAME_NAMES = ("tool0", "tool", "tcp", "tool_tip", "ee_link", "end_effector")
+TOOL_FRAME_NAMES = ("tool0", "tool_tip", "tool", "tcp", "ee_link", "end_effector")
 """Link names taken as the tool, in this order of preference (then any name ending ``_tcp``,
-then the deepest leaf link)."""
+then the deepest leaf link); ``tool_tip`` before ``tool``: a DH arm's URDF has both, and its
+tool frame is the tip."""
 
 PRISMATIC_SPAN = 0.5
 """Longest stretch of a prismatic joint's range that default and random motions use [m]: the
@@ -146,7 +147,9 @@ def load_urdf_robot(
         urdf_dir: its folder, for relative mesh paths (None: text only)
         moving_base: put the root link on a free-flyer that carries the base motion
         tool_frame: the tool frame (default: see :data:`TOOL_FRAME_NAMES`)
-        imu_layout: the IMUs (default :func:`~aaria_pin.core.imu_layout.default_imu_layout`)
+        imu_layout: the IMUs (default :func:`~aaria_pin.core.imu_layout.default_imu_layout`,
+            each IMU the URDF carries as a link in place of its default mount:
+            :func:`~aaria_pin.core.imu_layout.carried_imu_mounts`)
 
     Returns:
         The robot.
@@ -159,7 +162,11 @@ def load_urdf_robot(
         MeshWarning: meshes the URDF refers to that cannot be found (the robot still simulates:
             inertias come from the URDF).
     """
-    from aaria_pin.core.imu_layout import add_imu_frames, default_imu_layout
+    from aaria_pin.core.imu_layout import (
+        add_imu_frames,
+        carried_imu_mounts,
+        default_imu_layout,
+    )
 
     summary = check_urdf(urdf, urdf_dir)
     if summary.missing_meshes:
@@ -181,10 +188,12 @@ def load_urdf_robot(
         sensor_frames=(),
     )
     model = bare.model
-    mounts = (
-        default_imu_layout(model, summary.root_link, tool) if imu_layout is None else imu_layout
-    )
-    add_imu_frames(model, mounts)
+    carried = carried_imu_mounts(summary.frame_links)
+    mounts = imu_layout
+    if mounts is None:
+        default = default_imu_layout(model, summary.root_link, tool)
+        mounts = tuple(carried.get(mount.name, mount) for mount in default)
+    add_imu_frames(model, mounts, carried)
     robot = RobotModel(
         model, urdf, moving_base, summary.root_link, tool, tuple(m.name for m in mounts)
     )

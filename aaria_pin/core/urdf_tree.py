@@ -78,7 +78,7 @@ class UrdfShape:
     """A ``<visual>`` or ``<collision>``.
 
     Attributes:
-        geometry: its shape, or None without a ``<geometry>`` child
+        geometry: its shape (None only for a joint's parts, which are not kept)
         origin: its pose in the link frame
         material: the name of its ``<material>`` ("" unnamed), None without one
         rgba: the colour given inline in its material, else None

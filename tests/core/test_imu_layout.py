@@ -14,13 +14,15 @@ from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.imu_layout import (
     DEFAULT_MIN_OFFSET,
     _offset_from_axis,
+    check_slot_mounts,
     default_imu_layout,
     moving_links,
     read_imu_layout,
 )
+from aaria_pin.core.record import ImuMount
 from aaria_pin.core.urdf_robot import load_urdf_robot, read_urdf_file
 from aaria_pin.core.urdf_run import simulate_urdf_run
-from aaria_pin.errors import InputFileError, ModelError
+from aaria_pin.errors import InputFileError, ModelError, ParameterError
 
 
 def _ur5() -> str:
@@ -154,3 +156,114 @@ def test_a_centre_of_mass_a_hair_off_the_axis_still_ends_at_the_minimum() -> Non
     """Found by hypothesis: 1e-10 m off the axis, the offset must not cancel that hair."""
     moved = _offset_from_axis(np.array([0.0, 1e-10, 0.0]), np.array([0.0, 0.0, -1.0]), 0.05)
     assert np.hypot(moved[0], moved[1]) == pytest.approx(0.05, abs=1e-15)
+
+
+_CARRIED = """<robot name="carrier">
+  <link name="base"/>
+  <link name="arm"><inertial><mass value="1"/>
+    <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+  <link name="imu_base"/>
+  <link name="imu_arm_a"/>
+  <link name="marker"><visual><geometry><sphere radius="0.01"/></geometry></visual></link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="10" velocity="2"/></joint>
+  <joint name="imu_base_joint" type="fixed"><parent link="base"/><child link="imu_base"/>
+    <origin xyz="0.1 0 0"/></joint>
+  <joint name="imu_arm_a_joint" type="fixed"><parent link="arm"/><child link="imu_arm_a"/>
+    <origin xyz="0 0.2 0" rpy="0 0 0.5"/></joint>
+  <joint name="marker_joint" type="fixed"><parent link="arm"/><child link="marker"/></joint>
+</robot>"""
+
+
+def test_imus_the_urdf_carries_as_links_are_its_mounts() -> None:
+    """A bare frame link named as a default IMU is that IMU: where the URDF puts it."""
+    loaded = load_urdf_robot(_CARRIED, moving_base=False)
+    mounts = {mount.name: mount for mount in loaded.imu_mounts}
+    assert list(mounts) == ["imu_base", "imu_tool", "imu_arm_a", "imu_arm_b"]
+    assert (mounts["imu_base"].parent, mounts["imu_arm_a"].parent) == ("base", "arm")
+    expected = np.eye(4)
+    expected[:3, :3] = [[np.cos(0.5), -np.sin(0.5), 0], [np.sin(0.5), np.cos(0.5), 0], [0, 0, 1]]
+    expected[:3, 3] = [0.0, 0.2, 0.0]
+    assert np.allclose(mounts["imu_arm_a"].T_parent_imu, expected, atol=1e-15)
+    assert np.array_equal(mounts["imu_base"].T_parent_imu[:3, 3], [0.1, 0.0, 0.0])
+    # The IMU is the URDF's link frame itself: one frame of that name, none added.
+    model = loaded.robot.model
+    assert [frame.name for frame in model.frames].count("imu_arm_a") == 1
+    data = model.createData()
+    q = np.array([0.3])
+    pin.framesForwardKinematics(model, data, q)
+    arm = data.oMf[model.getFrameId("arm", pin.FrameType.BODY)].homogeneous
+    imu = data.oMf[loaded.robot.frame_id("imu_arm_a")].homogeneous
+    assert np.allclose(imu, arm @ expected, atol=1e-15)
+
+
+def test_a_layout_that_moves_a_carried_imu_is_refused(tmp_path: Path) -> None:
+    """A layout may name a carried IMU only as the URDF mounts it (a re-made run does)."""
+    loaded = load_urdf_robot(_CARRIED)
+    again = load_urdf_robot(_CARRIED, imu_layout=loaded.imu_mounts)
+    assert again.robot.sensor_frames == loaded.robot.sensor_frames
+    layout = tmp_path / "moved.toml"
+    layout.write_text('[[imu]]\nname = "imu_base"\nparent = "base"\nxyz = [0.2, 0, 0]\n')
+    with pytest.raises(ModelError, match="IMU name 'imu_base' is already a frame"):
+        load_urdf_robot(_CARRIED, imu_layout=read_imu_layout(layout))
+
+
+_SLOTS = (("imu_base", "base"), ("imu_tool", "tool_tip"), ("imu_link1_a", "link1"))
+
+
+def _mounts(*pairs: tuple[str, str]) -> list[ImuMount]:
+    return [ImuMount(name, parent, np.eye(4)) for name, parent in pairs]
+
+
+def test_slot_mounts_of_the_robot_or_of_an_empty_slot_pass() -> None:
+    check_slot_mounts(_mounts(*_SLOTS), _SLOTS, "run.h5")
+    check_slot_mounts(_mounts(_SLOTS[0], _SLOTS[1], ("imu_link1_a", "")), _SLOTS, "run.h5")
+
+
+@pytest.mark.parametrize(
+    ("pairs", "message"),
+    [
+        (
+            (("imu_base", "world"), _SLOTS[1]),
+            "parent of imu_base in ur5.h5 is 'world'; allowed: base (the link of slot imu_base)",
+        ),
+        (
+            (_SLOTS[0], ("imu_wrist", "tool_tip")),
+            "IMU 2 of ur5.h5 is 'imu_wrist'; allowed: imu_tool (slot 2 of the robot)",
+        ),
+        (
+            (_SLOTS[0], _SLOTS[1], ("imu_link1_a", "link2")),
+            "parent of imu_link1_a in ur5.h5 is 'link2'; allowed: link1",
+        ),
+    ],
+)
+def test_mounts_of_another_robot_are_refused(
+    pairs: tuple[tuple[str, str], ...], message: str
+) -> None:
+    with pytest.raises(ParameterError) as caught:
+        check_slot_mounts(_mounts(*pairs), _SLOTS, "ur5.h5")
+    assert str(caught.value).startswith(message)
+    assert caught.value.parameter == "imu_mount"
+
+
+def test_the_aaria_arm_refuses_a_urdf_robots_mounts(tmp_path: Path) -> None:
+    """``--imu-mount ur5.h5`` on an Aaria arm: one line naming the flag, nothing written."""
+    from click.testing import CliRunner
+
+    from aaria_pin.cli import main
+
+    short = ["--duration", "0.1", "--no-noise"]
+    ur5 = tmp_path / "ur5.h5"
+    assert (
+        CliRunner().invoke(main, ["simulate", "--robot", "ur5", *short, "-o", str(ur5)]).exit_code
+        == 0
+    )
+    out = tmp_path / "arm.h5"
+    argv = ["simulate", "--preset", "aaria-fig2", "--imu-mount", str(ur5), *short, "-o", str(out)]
+    result = CliRunner().invoke(main, argv)
+    assert result.exit_code == 2
+    assert result.output == (
+        f"aaria: error: parent of imu_base in {ur5} of --imu-mount is 'world'; allowed: base "
+        "(the link of slot imu_base)\n"
+    )
+    assert not out.exists()
