@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from aaria_pin.core.record import SERIES, UNITS, ColumnSource, ColumnView
-from aaria_pin.errors import InputFileError, OutputFileError
+from aaria_pin.errors import AariaError, InputFileError, OutputFileError
 
 __all__ = [
     "JSON_SUFFIX",
@@ -32,6 +32,7 @@ __all__ = [
     "create_virtual_view",
     "decode_attribute",
     "decode_attributes",
+    "damaged_errors",
     "encode_attributes",
     "first_line",
     "units_of",
@@ -411,6 +412,39 @@ def read_errors(file: str | os.PathLike[str], what: str) -> Iterator[None]:
     except (OSError, ValueError, TypeError, KeyError) as exc:
         raise InputFileError(
             f"{file}: cannot be read as {what} ({first_line(exc)})",
+            parameter="file",
+            value=str(file),
+        ) from None
+
+
+@contextlib.contextmanager
+def damaged_errors(file: str | os.PathLike[str], source: str | None = None) -> Iterator[None]:
+    """Turn h5py's, scipy's or zlib's errors while reading a file's data into one line.
+
+    For errors past the opening of a file that is of the expected kind: a damaged chunk
+    (``Can't synchronously read data (filter returned failure during read)``), a truncated
+    array, a broken deflate stream.
+
+    Args:
+        file: the file read
+        source: how the message names what was read (default the file; ``run K of FILE``)
+
+    Raises:
+        InputFileError: ``"FILE is damaged (<the first line of the error>); ..."``
+            (``parameter="file"``).
+    """
+    import zlib
+
+    try:
+        yield
+    except InputFileError:
+        raise
+    except (OSError, ValueError, TypeError, KeyError, EOFError, zlib.error) as exc:
+        if isinstance(exc, AariaError):
+            raise
+        raise InputFileError(
+            f"{source or file} is damaged ({first_line(exc)}); allowed: an undamaged file "
+            "(re-make it)",
             parameter="file",
             value=str(file),
         ) from None

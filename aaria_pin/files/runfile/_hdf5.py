@@ -27,7 +27,7 @@ from aaria_pin.files._stored import (
     write_attributes,
 )
 from aaria_pin.files.runfile._attributes import (
-    _RESERVED_ATTRIBUTES,
+    NOT_RECORD_ATTRIBUTES,
     RUN_FORMAT,
     RUN_FORMAT_VERSION,
 )
@@ -204,7 +204,7 @@ def _hdf5_attributes(file: Path, attrs: Any) -> dict[str, Any]:
     """The record attributes of an HDF5 root group, decoded."""
     attributes: dict[str, Any] = {}
     for name in attrs:
-        if name not in _RESERVED_ATTRIBUTES:
+        if name not in NOT_RECORD_ATTRIBUTES:
             key, value = decode_attribute(file, name, attrs[name])
             attributes[key] = value
     return attributes

@@ -21,6 +21,7 @@ from aaria_pin.errors import InputFileError, OutputFileError
 from aaria_pin.files._stored import NAME_LISTS, STORED_NAMES, decode_attribute, first_line
 from aaria_pin.files.runfile._attributes import (
     _RESERVED_ATTRIBUTES,
+    NOT_RECORD_ATTRIBUTES,
     RUN_FORMAT,
     RUN_FORMAT_VERSION,
 )
@@ -103,8 +104,16 @@ def _write_mat(file: Path, contents: Mapping[str, Any]) -> None:
 
 
 @contextlib.contextmanager
-def _mat_errors(file: Path) -> Iterator[None]:
-    """Turn scipy's errors on reading ``file`` into one-line :class:`InputFileError`."""
+def _mat_errors(file: Path, damaged: bool = False) -> Iterator[None]:
+    """Turn scipy's errors on reading ``file`` into one-line :class:`InputFileError`.
+
+    Args:
+        file: the file read
+        damaged: whether its variables were listed already (an error reading them is
+            damage: "FILE is damaged (...)"), else it "cannot be read as a .mat run file"
+    """
+    import zlib
+
     from scipy.io.matlab import MatReadError
 
     try:
@@ -114,7 +123,14 @@ def _mat_errors(file: Path) -> Iterator[None]:
             f"{file}: is a MATLAB v7.3 file; allowed: MATLAB v5 .mat run files or .h5",
             parameter="file",
         ) from None
-    except (MatReadError, OSError, ValueError, TypeError, EOFError) as exc:
+    except InputFileError:
+        raise
+    except (MatReadError, OSError, ValueError, TypeError, EOFError, zlib.error) as exc:
+        if damaged:
+            raise InputFileError(
+                f"{file} is damaged ({first_line(exc)}); allowed: an undamaged file (re-make it)",
+                parameter="file",
+            ) from None
         raise InputFileError(
             f"{file}: cannot be read as a .mat run file ({first_line(exc)})", parameter="file"
         ) from None
@@ -133,7 +149,7 @@ def load_mat(file: Path, names: list[str] | None = None) -> dict[str, Any]:
         return load_mat73(file, names)
     from scipy.io import loadmat
 
-    with _mat_errors(file):
+    with _mat_errors(file, damaged=True):
         return loadmat(
             file, appendmat=False, squeeze_me=False, mat_dtype=True, variable_names=names
         )
@@ -187,7 +203,7 @@ def mat_attributes(file: Path, contents: Mapping[str, Any]) -> dict[str, Any]:
     prefix = MAT_ATTRIBUTE_PREFIX
     attributes: dict[str, Any] = {}
     for name, value in contents.items():
-        if not name.startswith(prefix) or name[len(prefix) :] in _RESERVED_ATTRIBUTES:
+        if not name.startswith(prefix) or name[len(prefix) :] in NOT_RECORD_ATTRIBUTES:
             continue
         key, decoded = decode_attribute(file, name[len(prefix) :], mat_value(value))
         attributes[key] = decoded
