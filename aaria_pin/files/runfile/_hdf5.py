@@ -36,6 +36,7 @@ from aaria_pin.files.runfile._columns import (
     check_names,
     chunk_rows,
     fitted,
+    numeric,
     read_view,
     record_from_arrays,
 )
@@ -260,7 +261,7 @@ def _read_hdf5_v2(file: Path, handle: Any, series: bool = True) -> RunRecord:
                 view.columns, view.sources, units.decode() if isinstance(units, bytes) else units
             )
         elif item.dtype.kind in "biuf":
-            tables[name] = np.asarray(item[()], dtype=np.float64)
+            tables[name] = numeric(file, name, item[()])
     return record_from_arrays(
         file,
         arrays,

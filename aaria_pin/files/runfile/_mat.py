@@ -29,6 +29,7 @@ from aaria_pin.files.runfile._columns import (
     COLUMNS_SUFFIX,
     check_names,
     fitted,
+    numeric,
     read_view,
     record_from_arrays,
 )
@@ -156,7 +157,12 @@ def load_mat(file: Path, names: list[str] | None = None) -> dict[str, Any]:
 
 
 def mat_variables(file: Path) -> dict[str, tuple[int, ...]]:
-    """The names and shapes of a MATLAB v5 or v7.3 file's variables, without reading them."""
+    """The names and shapes of a MATLAB v5 or v7.3 file's variables, without reading them.
+
+    Raises:
+        InputFileError: not a MAT-file, or a MAT-file v5 whose variables do not end where
+            the file does ("FILE is damaged (...)": truncated, or a variable's size broken).
+    """
     from aaria_pin.files.detection import is_mat73
     from aaria_pin.files.runfile._mat73 import mat73_variables
 
@@ -164,8 +170,52 @@ def mat_variables(file: Path) -> dict[str, tuple[int, ...]]:
         return mat73_variables(file)
     from scipy.io import whosmat
 
-    with _mat_errors(file):
-        return {name: tuple(shape) for name, shape, _ in whosmat(file, appendmat=False)}
+    damaged = _mat5_end(file)
+    with _mat_errors(file, damaged=damaged is not None):
+        variables = {name: tuple(shape) for name, shape, _ in whosmat(file, appendmat=False)}
+    if damaged is not None and damaged != file.stat().st_size:
+        raise InputFileError(
+            f"{file} is damaged (its variables end at byte {damaged}, the file at byte "
+            f"{file.stat().st_size}); allowed: an undamaged file (re-make it)",
+            parameter="file",
+        )
+    return variables
+
+
+_MAT5_HEADER = b"MATLAB 5.0 MAT-file"
+_MI_MATRIX = 14
+"""The data type of an uncompressed MAT-file v5 variable (padded to 8 bytes)."""
+
+
+def _mat5_end(file: Path) -> int | None:
+    """Where a MAT-file v5's last variable ends, from the tags (None: not a v5 file).
+
+    Each variable is a tag (data type, byte count: two uint32) and its bytes, one after the
+    other from byte 128; a whole file ends where its last variable does, a truncated one
+    before it.
+    """
+    import struct
+
+    try:
+        size = file.stat().st_size
+        with file.open("rb") as stream:
+            header = stream.read(128)
+            if len(header) < 128 or not header.startswith(_MAT5_HEADER):
+                return None
+            order = "<" if header[126:128] == b"IM" else ">"
+            offset = 128
+            while offset < size:
+                stream.seek(offset)
+                tag = stream.read(8)
+                if len(tag) < 8:
+                    return offset + len(tag) + 1  # past the end: a cut tag
+                kind, count = struct.unpack(order + "II", tag)
+                offset += 8 + (0 if kind >> 16 else count)
+                if kind == _MI_MATRIX:
+                    offset += -offset % 8
+            return offset
+    except OSError:
+        return None
 
 
 def mat_value(value: Any) -> Any:
@@ -255,7 +305,7 @@ def _read_mat_v2(
         elif not (name.endswith(COLUMNS_SUFFIX) and name[: -len(COLUMNS_SUFFIX)] in contents):
             data = np.asarray(value)
             if data.dtype.kind in "biuf":
-                tables[name] = np.asarray(data, dtype=np.float64)
+                tables[name] = numeric(file, name, data)
     return record_from_arrays(
         file,
         arrays,
