@@ -100,9 +100,8 @@ def check_kind_layout(record: RunRecord, source: str) -> None:
     required = KIND_TABLES[kind]
     missing = [name for name in required if name not in record.tables]
     if missing:
-        article = "an" if kind[0] in "aeiou" else "a"
         raise InputFileError(
-            f"{source}: array {missing[0]} is missing; allowed: {article} {kind} run file has "
+            f"{source}: array {missing[0]} is missing; allowed: a {kind} run file has "
             + ", ".join(required),
             parameter="file",
         )
