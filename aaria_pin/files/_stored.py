@@ -29,10 +29,12 @@ __all__ = [
     "NAME_LISTS",
     "STORED_NAMES",
     "TABLE_UNITS",
+    "DamagedFileError",
+    "crc32_function",
     "create_virtual_view",
+    "damaged_errors",
     "decode_attribute",
     "decode_attributes",
-    "damaged_errors",
     "encode_attributes",
     "first_line",
     "units_of",
@@ -63,6 +65,19 @@ JSON_SUFFIX = "_json"
 
 SAME_FILE = "."
 """The source file of a virtual dataset in the same file (valid after a rename or a copy)."""
+
+
+def crc32_function() -> Any:
+    """The CRC-32 of stored bytes, ``crc32(data, start) -> int``: ISA-L's, else zlib's.
+
+    The checksum of run files and data sets alike: ISA-L's (``isal``) computes the same
+    standard CRC-32 as zlib's about 12 times faster (200 kB in 4 µs against 49 µs).
+    """
+    try:
+        from isal.isal_zlib import crc32
+    except ImportError:  # isal is optional here: zlib makes the same CRC-32
+        from zlib import crc32
+    return crc32
 
 
 def units_of(name: str) -> str:
@@ -417,6 +432,10 @@ def read_errors(file: str | os.PathLike[str], what: str) -> Iterator[None]:
         ) from None
 
 
+class DamagedFileError(InputFileError):
+    """A file of the expected format whose data cannot be read: damaged or truncated."""
+
+
 @contextlib.contextmanager
 def damaged_errors(file: str | os.PathLike[str], source: str | None = None) -> Iterator[None]:
     """Turn h5py's, scipy's or zlib's errors while reading a file's data into one line.
@@ -430,7 +449,7 @@ def damaged_errors(file: str | os.PathLike[str], source: str | None = None) -> I
         source: how the message names what was read (default the file; ``run K of FILE``)
 
     Raises:
-        InputFileError: ``"FILE is damaged (<the first line of the error>); ..."``
+        DamagedFileError: ``"FILE is damaged (<the first line of the error>); ..."``
             (``parameter="file"``).
     """
     import zlib
@@ -442,7 +461,7 @@ def damaged_errors(file: str | os.PathLike[str], source: str | None = None) -> I
     except (OSError, ValueError, TypeError, KeyError, EOFError, zlib.error) as exc:
         if isinstance(exc, AariaError):
             raise
-        raise InputFileError(
+        raise DamagedFileError(
             f"{source or file} is damaged ({first_line(exc)}); allowed: an undamaged file "
             "(re-make it)",
             parameter="file",

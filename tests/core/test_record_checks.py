@@ -17,7 +17,9 @@ from aaria_pin.core.record_checks import (
 from aaria_pin.errors import InputFileError
 
 
-def _record(kind: str | None = "dh", samples: int = 20, joints: int = 3, imus: int = 2) -> RunRecord:
+def _record(
+    kind: str | None = "dh", samples: int = 20, joints: int = 3, imus: int = 2
+) -> RunRecord:
     """A small record of zeros with the tables of a DH run."""
     zeros = np.zeros((samples, joints))
     return RunRecord(

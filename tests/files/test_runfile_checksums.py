@@ -9,6 +9,7 @@ checksum left, and a ``hypothesis`` property flips random bytes anywhere in the 
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import shutil
 import warnings
@@ -74,7 +75,7 @@ def test_every_writer_stores_the_same_checksums_of_the_values(
                 "sensor_force": record.tables["sensor_force"][a:b],
             },
         )
-        for a, b in zip(bounds, bounds[1:], strict=False)
+        for a, b in itertools.pairwise(bounds)
     ]
     streamed = write_run_chunks(tmp_path / "streamed.h5", pieces, record.n_samples)
     streamed73 = write_run_chunks(
@@ -105,9 +106,7 @@ def test_checksums_is_a_reserved_attribute(tmp_path: Path, record: RunRecord) ->
 
 
 @pytest.mark.parametrize("name", ["tau", "imu", "time", "imu_mount", "senSenDH", "sensor_force"])
-def test_a_byte_flipped_inside_an_array_is_found(
-    tmp_path: Path, run_file: Path, name: str
-) -> None:
+def test_a_byte_flipped_inside_an_array_is_found(tmp_path: Path, run_file: Path, name: str) -> None:
     damaged = tmp_path / "damaged.h5"
     shutil.copy(run_file, damaged)
     with h5py.File(damaged, "r") as handle:
@@ -168,7 +167,7 @@ def test_a_broken_checksums_attribute_is_one_line(tmp_path: Path, run_file: Path
     shutil.copy(run_file, broken)
     with h5py.File(broken, "r+") as handle:
         handle.attrs["checksums"] = "{not json"
-    with pytest.raises(InputFileError, match="attribute 'checksums' is '{not json'; allowed"):
+    with pytest.raises(InputFileError, match=r"attribute 'checksums' is '\{not json'; allowed"):
         read_run(broken)
     with h5py.File(broken, "r+") as handle:
         handle.attrs["checksums"] = "{}"

@@ -6,8 +6,8 @@ to ``"crc32:<8 hex digits>"``: the CRC-32 of the array's values as little-endian
 order, in the record's shape. It is computed on the values, not on the file's bytes, so it is the
 same for the HDF5 and ``.mat`` (v5, v7.3) forms of a run, for a compressed or uncompressed file,
 and for a run written whole or streamed in time pieces (the CRC-32 of the pieces in time order is
-that of the whole array). The CRC-32 is the data set's (:func:`aaria_pin.files.dataset.layout.codec`:
-ISA-L's where it is installed, else zlib's).
+that of the whole array). The CRC-32 function is :func:`aaria_pin.files._stored.crc32_function`
+(ISA-L's where it is installed, else zlib's; the data set's checksums are the same CRC-32).
 
 :func:`verify_checksums` compares what was read with them: a mismatch is one line naming the
 array; a file without the attribute (written by 0.3.0 or earlier) still reads, with an
@@ -26,6 +26,7 @@ import numpy as np
 
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError
+from aaria_pin.files._stored import crc32_function
 
 CHECKSUMS_ATTRIBUTE = "checksums"
 """The root attribute (``attr_checksums`` in a ``.mat``) of the arrays' checksums, JSON."""
@@ -36,13 +37,6 @@ CHECKSUM_PREFIX = "crc32:"
 
 class UnverifiedFileWarning(UserWarning):
     """A run file written before checksums were stored: read, but its arrays are not verified."""
-
-
-def _crc32() -> Any:
-    """The CRC-32 function of the data set's checksums (one implementation)."""
-    from aaria_pin.files.dataset.layout import codec
-
-    return codec()[2]
 
 
 def _stored_bytes(data: Array) -> Array:
@@ -62,7 +56,7 @@ class Checksums:
     """
 
     def __init__(self) -> None:
-        self._crc32 = _crc32()
+        self._crc32 = crc32_function()
         self._values: dict[str, int] = {}
 
     def update(self, name: str, data: Array) -> None:
@@ -125,7 +119,7 @@ def verify_checksums(
             stacklevel=4,
         )
         return
-    crc32 = _crc32()
+    crc32 = crc32_function()
     for name, data in arrays.items():
         expected = stored.get(name)
         if expected is None:

@@ -18,7 +18,13 @@ import numpy as np
 from aaria_pin.core.record import SERIES, ColumnView, RunRecord, record_shapes
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, OutputFileError
-from aaria_pin.files._stored import NAME_LISTS, STORED_NAMES, decode_attribute, first_line
+from aaria_pin.files._stored import (
+    NAME_LISTS,
+    STORED_NAMES,
+    DamagedFileError,
+    decode_attribute,
+    first_line,
+)
 from aaria_pin.files.runfile._attributes import (
     _RESERVED_ATTRIBUTES,
     NOT_RECORD_ATTRIBUTES,
@@ -128,7 +134,7 @@ def _mat_errors(file: Path, damaged: bool = False) -> Iterator[None]:
         raise
     except (MatReadError, OSError, ValueError, TypeError, EOFError, zlib.error) as exc:
         if damaged:
-            raise InputFileError(
+            raise DamagedFileError(
                 f"{file} is damaged ({first_line(exc)}); allowed: an undamaged file (re-make it)",
                 parameter="file",
             ) from None
@@ -174,7 +180,7 @@ def mat_variables(file: Path) -> dict[str, tuple[int, ...]]:
     with _mat_errors(file, damaged=damaged is not None):
         variables = {name: tuple(shape) for name, shape, _ in whosmat(file, appendmat=False)}
     if damaged is not None and damaged != file.stat().st_size:
-        raise InputFileError(
+        raise DamagedFileError(
             f"{file} is damaged (its variables end at byte {damaged}, the file at byte "
             f"{file.stat().st_size}); allowed: an undamaged file (re-make it)",
             parameter="file",

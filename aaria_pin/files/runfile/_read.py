@@ -18,7 +18,7 @@ import numpy as np
 from aaria_pin.core.record import SERIES, RunRecord
 from aaria_pin.core.record_checks import check_record
 from aaria_pin.errors import InputFileError
-from aaria_pin.files._stored import NAME_LISTS, damaged_errors
+from aaria_pin.files._stored import NAME_LISTS, DamagedFileError, damaged_errors
 from aaria_pin.files.detection import RUN_SUFFIXES, file_format
 from aaria_pin.files.paths import existing_input
 from aaria_pin.files.runfile._attributes import RUN_FORMAT_VERSION
@@ -124,7 +124,8 @@ def _read(path: str | os.PathLike[str], series: bool) -> RunRecord:
     """:func:`read_run` (``series``) or :func:`read_run_inputs`: read, verified, checked.
 
     The arrays read are compared with their checksums (:mod:`._checksums`), then the record
-    with its kind's layout and for finite values (:func:`~aaria_pin.core.record_checks.check_record`).
+    with its kind's layout and for finite values
+    (:func:`~aaria_pin.core.record_checks.check_record`).
     """
     file = existing_input(path, RUN_SUFFIXES, "run")
     record, checksums = _read_stored(file, series)
@@ -222,6 +223,10 @@ def is_run_file(path: str | os.PathLike[str]) -> bool:
     """Whether ``path`` is an existing run file :func:`read_run` reads (any version or kind).
 
     Only the file's marks and names are looked at, not its arrays; a data set is not a run file.
+
+    Raises:
+        DamagedFileError: a file of a run file's format that is damaged (truncated, a broken
+            variable): it is neither a run file nor another file, and says so in one line.
     """
     try:
         file = existing_input(path, RUN_SUFFIXES, "run")
@@ -231,6 +236,8 @@ def is_run_file(path: str | os.PathLike[str]) -> bool:
             with _probe_hdf5(file):
                 pass
         return True
+    except DamagedFileError:
+        raise
     except InputFileError:
         return False
 
