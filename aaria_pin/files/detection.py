@@ -55,7 +55,9 @@ def file_format(path: str | os.PathLike[str]) -> FileFormat:
 
     Raises:
         InputFileError: another suffix, a missing or unreadable file, or an ``.h5`` file HDF5
-            cannot open (``parameter="file"``).
+            cannot open (``parameter="file"``): a
+            :class:`~aaria_pin.files._stored.DamagedFileError` if it starts as an HDF5 file
+            does (truncated, a broken superblock).
     """
     file = existing_run_source(path)
     if file.suffix.lower() == ".mat":
@@ -64,13 +66,15 @@ def file_format(path: str | os.PathLike[str]) -> FileFormat:
 
     from aaria_pin.files._stored import damaged_errors, read_errors
 
-    errors = (
-        damaged_errors(file)
-        if has_hdf5_signature(file)
-        else read_errors(file, "an HDF5 run file or data set")
-    )
-    with errors, h5py.File(file, "r") as handle:
-        mark = handle.attrs.get("format")
+    with read_errors(file, "an HDF5 run file or data set"):
+        try:
+            with h5py.File(file, "r") as handle:
+                mark = handle.attrs.get("format")
+        except OSError as exc:
+            if not has_hdf5_signature(file) or "unable to lock" in str(exc).lower():
+                raise  # not HDF5 at all, or held by a writer: not damage
+            with damaged_errors(file):
+                raise
     return "dataset" if mark == DATASET_FORMAT else "hdf5"
 
 

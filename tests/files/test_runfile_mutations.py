@@ -214,3 +214,18 @@ def test_the_unmutated_run_reads_and_its_commands_succeed(runs: Path, tmp_path: 
         assert record.n_samples == 21 and np.isfinite(record.tau).all()
         result = CliRunner().invoke(main, ["torques", str(runs / name)])
         assert result.exit_code == 0, result.output
+
+
+def test_a_damaged_run_file_is_neither_a_run_file_nor_another_file(
+    runs: Path, tmp_path: Path
+) -> None:
+    from aaria_pin.files._stored import DamagedFileError
+    from aaria_pin.files.runfile import is_run_file
+
+    for case in ("truncated", "truncated .mat", "flipped .mat"):
+        path, pattern = _mutated(runs, tmp_path, case)
+        with pytest.raises(DamagedFileError, match=pattern):
+            is_run_file(path)
+    text = tmp_path / "text.h5"
+    text.write_text("not HDF5\n")
+    assert not is_run_file(text) and is_run_file(runs / "run.h5")
