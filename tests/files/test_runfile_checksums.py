@@ -212,3 +212,27 @@ def test_random_flipped_bytes_read_as_the_original_or_as_one_line(
         return
     for name, array in record.arrays().items():
         np.testing.assert_array_equal(read.arrays()[name], array, err_msg=name)
+
+
+def test_the_checksum_of_values_in_another_order_or_type_is_that_of_the_c_order_values(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from aaria_pin.files.runfile import _checksums
+
+    monkeypatch.setattr(_checksums, "_BLOCK_BYTES", 1000)  # many blocks of rows
+    rng = np.random.default_rng(5)
+    arrays = [
+        np.asfortranarray(rng.normal(size=(300, 7))),  # a .mat variable in MATLAB's order
+        rng.normal(size=(200, 6, 14)).transpose(0, 2, 1),
+        rng.normal(size=(100, 3)).astype(np.float32),
+        rng.normal(size=(50, 4))[::2],
+        np.zeros((0, 3)),
+        np.array(2.5),
+    ]
+    for data in arrays:
+        expected = zlib.crc32(np.ascontiguousarray(data, dtype="<f8").tobytes())
+        assert _checksums.crc_of_values(zlib.crc32, data) == expected, data.shape
+    first, second = rng.normal(size=(40, 3)), np.asfortranarray(rng.normal(size=(9, 3)))
+    whole = zlib.crc32(np.concatenate([first, second]).tobytes())
+    running = _checksums.crc_of_values(zlib.crc32, first)
+    assert _checksums.crc_of_values(zlib.crc32, second, running) == whole

@@ -39,9 +39,28 @@ class UnverifiedFileWarning(UserWarning):
     """A run file written before checksums were stored: read, but its arrays are not verified."""
 
 
-def _stored_bytes(data: Array) -> Array:
-    """An array's values as little-endian float64 in C order (no copy when they already are)."""
-    return np.ascontiguousarray(data, dtype="<f8")
+_BLOCK_BYTES = 2**24
+"""Bytes of the copies :func:`crc_of_values` makes of an array not stored as its checksum's."""
+
+
+def crc_of_values(crc32: Any, data: Array, start: int = 0) -> int:
+    """The CRC-32 of an array's values (little-endian float64, C order), continued from ``start``.
+
+    An array already so (what h5py reads, what the simulator makes) is read in place; another
+    (a ``.mat`` read in MATLAB's column order, float32) is converted in blocks of rows of at most
+    16 MiB, so memory does not double for a long run (the C order of the blocks in turn is that
+    of the whole array).
+    """
+    values = np.asarray(data)
+    if values.dtype == np.dtype("<f8") and values.flags.c_contiguous:
+        return int(crc32(values, start))
+    if values.ndim == 0 or values.size == 0:
+        return int(crc32(np.ascontiguousarray(values, dtype="<f8"), start))
+    rows = max(1, _BLOCK_BYTES // (8 * (values.size // values.shape[0])))
+    crc = start
+    for first in range(0, values.shape[0], rows):
+        crc = crc32(np.ascontiguousarray(values[first : first + rows], dtype="<f8"), crc)
+    return int(crc)
 
 
 class Checksums:
@@ -61,7 +80,7 @@ class Checksums:
 
     def update(self, name: str, data: Array) -> None:
         """Add the next values of array ``name`` (its next samples, or the whole array)."""
-        self._values[name] = self._crc32(_stored_bytes(data), self._values.get(name, 0))
+        self._values[name] = crc_of_values(self._crc32, data, self._values.get(name, 0))
 
     def attribute(self) -> str:
         """The ``checksums`` attribute: JSON, array name → ``"crc32:<hex>"``, names sorted."""
@@ -128,7 +147,7 @@ def verify_checksums(
                 "has one",
                 parameter="file",
             )
-        found = _text(crc32(_stored_bytes(data)))
+        found = _text(crc_of_values(crc32, data))
         if found != expected:
             raise InputFileError(
                 f"{file}: array {name} is damaged (checksum {found}, stored {expected}); "
