@@ -78,6 +78,9 @@ def test_a_table_and_the_mounts_are_checked_too_and_only_the_inputs_without_seri
     record = _record()
     record.tau[0, 0] = np.nan
     check_record(record, "run.h5", series=False)  # the series were not read
+    record.tables["senSenB"][0, 0] = np.inf
+    with pytest.raises(InputFileError, match=r"senSenB has inf at row 0, column 0"):
+        check_record(record, "run.h5", series=False)  # the inputs were
     mounts = np.zeros((2, 4, 4))
     mounts[1, 0, 3] = np.inf
     with pytest.raises(InputFileError, match=r"imu_mount has inf at IMU 1, row 0, column 3"):
