@@ -236,3 +236,24 @@ def test_the_checksum_of_values_in_another_order_or_type_is_that_of_the_c_order_
     whole = zlib.crc32(np.concatenate([first, second]).tobytes())
     running = _checksums.crc_of_values(zlib.crc32, first)
     assert _checksums.crc_of_values(zlib.crc32, second, running) == whole
+
+
+def test_an_array_the_checksums_list_that_is_gone_is_missing(
+    tmp_path: Path, run_file: Path
+) -> None:
+    edited = tmp_path / "edited.h5"
+    shutil.copy(run_file, edited)
+    with h5py.File(edited, "r+") as handle:
+        del handle["sensor_force"]  # no kind requires it: only its checksum tells
+    with pytest.raises(InputFileError) as error:
+        read_run(edited)
+    assert str(error.value) == (
+        f"{edited}: array sensor_force is missing; allowed: every array its checksums list"
+    )
+    with h5py.File(edited, "r+") as handle:
+        del handle["tau"]
+    with pytest.raises(InputFileError, match="no dataset 'tau'"):
+        read_run(edited)
+    inputs = tmp_path / "inputs.h5"
+    shutil.copy(run_file, inputs)
+    assert read_run_inputs(inputs).n_samples == 0  # the unread series are not missing

@@ -73,6 +73,10 @@ HDF5_MUTATIONS: dict[str, tuple[Callable[[Any], None], str]] = {
         r"array senSenDH is missing; allowed: a dh run file has senSenDH, senSenJ, senSenB",
     ),
     "series deleted": (lambda h: h.__delitem__("time"), r"no dataset 'time'"),
+    "other table deleted": (
+        lambda h: h.__delitem__("senSenB"),
+        r"array senSenB is missing; allowed: a dh run file has",
+    ),
     "text series": (
         lambda h: _replace(h, "tau", h["tau"][()].astype("S8")),
         r"array tau is of type \|S8; allowed: numbers",

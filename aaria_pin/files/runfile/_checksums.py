@@ -19,7 +19,7 @@ from __future__ import annotations
 import json
 import os
 import warnings
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from typing import Any
 
 import numpy as np
@@ -117,18 +117,23 @@ def stored_checksums(file: str | os.PathLike[str], value: Any) -> dict[str, str]
 
 
 def verify_checksums(
-    file: str | os.PathLike[str], stored: Mapping[str, str] | None, arrays: Mapping[str, Array]
+    file: str | os.PathLike[str],
+    stored: Mapping[str, str] | None,
+    arrays: Mapping[str, Array],
+    unread: Collection[str] = (),
 ) -> None:
     """Compare read arrays with their stored checksums (a file without any: a warning).
 
     Args:
         file: the file read, for messages
         stored: its decoded checksums (:func:`stored_checksums`), None if it has none
-        arrays: the arrays read, by name (those not read are not checked)
+        arrays: the arrays read, by name
+        unread: the arrays left unread on purpose (the series, for the inputs only)
 
     Raises:
-        InputFileError: an array whose values do not match its checksum, or an array read that
-            has none (``parameter="file"``).
+        InputFileError: an array whose values do not match its checksum, an array read that
+            has none, or one the checksums list that the file no longer holds
+            (``parameter="file"``).
     """
     if stored is None:
         warnings.warn(
@@ -154,3 +159,9 @@ def verify_checksums(
                 "allowed: an undamaged file (re-make it)",
                 parameter="file",
             )
+    gone = [name for name in stored if name not in arrays and name not in unread]
+    if gone:
+        raise InputFileError(
+            f"{file}: array {gone[0]} is missing; allowed: every array its checksums list",
+            parameter="file",
+        )

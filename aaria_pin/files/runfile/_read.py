@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from aaria_pin.core.record import SERIES, RunRecord
-from aaria_pin.core.record_checks import check_record
+from aaria_pin.core.record_checks import check_kind_layout, check_record
 from aaria_pin.errors import InputFileError
 from aaria_pin.files._stored import NAME_LISTS, DamagedFileError, damaged_errors
 from aaria_pin.files.detection import RUN_SUFFIXES, file_format
@@ -123,18 +123,16 @@ def _is_mat(file: Path) -> bool:
 def _read(path: str | os.PathLike[str], series: bool) -> RunRecord:
     """:func:`read_run` (``series``) or :func:`read_run_inputs`: read, verified, checked.
 
-    The arrays read are compared with their checksums (:mod:`._checksums`), then the record
-    with its kind's layout and for finite values
-    (:func:`~aaria_pin.core.record_checks.check_record`).
+    The record's kind must have its tables, the arrays read must match their checksums
+    (:mod:`._checksums`), then the record is checked
+    (:func:`~aaria_pin.core.record_checks.check_record`: attributes, finite values).
     """
     file = existing_input(path, RUN_SUFFIXES, "run")
     record, checksums = _read_stored(file, series)
-    arrays = record.arrays()
-    verify_checksums(
-        file,
-        checksums,
-        {name: data for name, data in arrays.items() if series or name not in SERIES},
-    )
+    unread = () if series else SERIES
+    arrays = {name: data for name, data in record.arrays().items() if name not in unread}
+    check_kind_layout(record, str(file))  # a table of its kind missing: said as such
+    verify_checksums(file, checksums, arrays, unread)
     check_record(record, str(file), series)
     return record
 
