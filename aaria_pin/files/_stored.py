@@ -33,6 +33,7 @@ __all__ = [
     "crc32_function",
     "create_virtual_view",
     "damaged_errors",
+    "damaged_file",
     "decode_attribute",
     "decode_attributes",
     "encode_attributes",
@@ -436,6 +437,23 @@ class DamagedFileError(InputFileError):
     """A file of the expected format whose data cannot be read: damaged or truncated."""
 
 
+def damaged_file(
+    file: str | os.PathLike[str], reason: str, source: str | None = None
+) -> DamagedFileError:
+    """The one line of a damaged file: ``"FILE is damaged (<reason>); allowed: ..."``.
+
+    Args:
+        file: the file
+        reason: what is wrong, in a few words (the first line of h5py's or scipy's error)
+        source: how the message names what was read (default the file; ``run K of FILE``)
+    """
+    return DamagedFileError(
+        f"{source or file} is damaged ({reason}); allowed: an undamaged file (re-make it)",
+        parameter="file",
+        value=str(file),
+    )
+
+
 @contextlib.contextmanager
 def damaged_errors(file: str | os.PathLike[str], source: str | None = None) -> Iterator[None]:
     """Turn h5py's, scipy's or zlib's errors while reading a file's data into one line.
@@ -461,9 +479,4 @@ def damaged_errors(file: str | os.PathLike[str], source: str | None = None) -> I
     except (OSError, ValueError, TypeError, KeyError, EOFError, zlib.error) as exc:
         if isinstance(exc, AariaError):
             raise
-        raise DamagedFileError(
-            f"{source or file} is damaged ({first_line(exc)}); allowed: an undamaged file "
-            "(re-make it)",
-            parameter="file",
-            value=str(file),
-        ) from None
+        raise damaged_file(file, first_line(exc), source) from None

@@ -21,7 +21,7 @@ from aaria_pin.errors import InputFileError, OutputFileError
 from aaria_pin.files._stored import (
     NAME_LISTS,
     STORED_NAMES,
-    DamagedFileError,
+    damaged_file,
     decode_attribute,
     first_line,
 )
@@ -134,10 +134,7 @@ def _mat_errors(file: Path, damaged: bool = False) -> Iterator[None]:
         raise
     except (MatReadError, OSError, ValueError, TypeError, EOFError, zlib.error) as exc:
         if damaged:
-            raise DamagedFileError(
-                f"{file} is damaged ({first_line(exc)}); allowed: an undamaged file (re-make it)",
-                parameter="file",
-            ) from None
+            raise damaged_file(file, first_line(exc)) from None
         raise InputFileError(
             f"{file}: cannot be read as a .mat run file ({first_line(exc)})", parameter="file"
         ) from None
@@ -180,11 +177,8 @@ def mat_variables(file: Path) -> dict[str, tuple[int, ...]]:
     with _mat_errors(file, damaged=damaged is not None):
         variables = {name: tuple(shape) for name, shape, _ in whosmat(file, appendmat=False)}
     if damaged is not None and damaged != file.stat().st_size:
-        raise DamagedFileError(
-            f"{file} is damaged (its variables end at byte {damaged}, the file at byte "
-            f"{file.stat().st_size}); allowed: an undamaged file (re-make it)",
-            parameter="file",
-        )
+        reason = f"its variables end at byte {damaged}, the file at byte {file.stat().st_size}"
+        raise damaged_file(file, reason)
     return variables
 
 
