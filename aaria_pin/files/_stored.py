@@ -22,14 +22,18 @@ from typing import Any
 import numpy as np
 
 from aaria_pin.core.record import SERIES, UNITS, ColumnSource, ColumnView
-from aaria_pin.errors import InputFileError, OutputFileError
+from aaria_pin.errors import AariaError, InputFileError, OutputFileError
 
 __all__ = [
     "JSON_SUFFIX",
     "NAME_LISTS",
     "STORED_NAMES",
     "TABLE_UNITS",
+    "DamagedFileError",
+    "crc32_function",
     "create_virtual_view",
+    "damaged_errors",
+    "damaged_file",
     "decode_attribute",
     "decode_attributes",
     "encode_attributes",
@@ -62,6 +66,19 @@ JSON_SUFFIX = "_json"
 
 SAME_FILE = "."
 """The source file of a virtual dataset in the same file (valid after a rename or a copy)."""
+
+
+def crc32_function() -> Any:
+    """The CRC-32 of stored bytes, ``crc32(data, start) -> int``: ISA-L's, else zlib's.
+
+    The checksum of run files and data sets alike: ISA-L's (``isal``) computes the same
+    standard CRC-32 as zlib's about 12 times faster (200 kB in 4 µs against 49 µs).
+    """
+    try:
+        from isal.isal_zlib import crc32
+    except ImportError:  # isal is optional here: zlib makes the same CRC-32
+        from zlib import crc32
+    return crc32
 
 
 def units_of(name: str) -> str:
@@ -414,3 +431,52 @@ def read_errors(file: str | os.PathLike[str], what: str) -> Iterator[None]:
             parameter="file",
             value=str(file),
         ) from None
+
+
+class DamagedFileError(InputFileError):
+    """A file of the expected format whose data cannot be read: damaged or truncated."""
+
+
+def damaged_file(
+    file: str | os.PathLike[str], reason: str, source: str | None = None
+) -> DamagedFileError:
+    """The one line of a damaged file: ``"FILE is damaged (<reason>); allowed: ..."``.
+
+    Args:
+        file: the file
+        reason: what is wrong, in a few words (the first line of h5py's or scipy's error)
+        source: how the message names what was read (default the file; ``run K of FILE``)
+    """
+    return DamagedFileError(
+        f"{source or file} is damaged ({reason}); allowed: an undamaged file (re-make it)",
+        parameter="file",
+        value=str(file),
+    )
+
+
+@contextlib.contextmanager
+def damaged_errors(file: str | os.PathLike[str], source: str | None = None) -> Iterator[None]:
+    """Turn h5py's, scipy's or zlib's errors while reading a file's data into one line.
+
+    For errors past the opening of a file that is of the expected kind: a damaged chunk
+    (``Can't synchronously read data (filter returned failure during read)``), a truncated
+    array, a broken deflate stream.
+
+    Args:
+        file: the file read
+        source: how the message names what was read (default the file; ``run K of FILE``)
+
+    Raises:
+        DamagedFileError: ``"FILE is damaged (<the first line of the error>); ..."``
+            (``parameter="file"``).
+    """
+    import zlib
+
+    try:
+        yield
+    except InputFileError:
+        raise
+    except (OSError, ValueError, TypeError, KeyError, EOFError, zlib.error) as exc:
+        if isinstance(exc, AariaError):
+            raise
+        raise damaged_file(file, first_line(exc), source) from None

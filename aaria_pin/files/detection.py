@@ -55,18 +55,52 @@ def file_format(path: str | os.PathLike[str]) -> FileFormat:
 
     Raises:
         InputFileError: another suffix, a missing or unreadable file, or an ``.h5`` file HDF5
-            cannot open (``parameter="file"``).
+            cannot open (``parameter="file"``): a
+            :class:`~aaria_pin.files._stored.DamagedFileError` if it starts as an HDF5 file
+            does (truncated, a broken superblock).
     """
     file = existing_run_source(path)
     if file.suffix.lower() == ".mat":
         return "mat73" if is_mat73(file) else "mat5"
     import h5py
 
-    from aaria_pin.files._stored import read_errors
+    from aaria_pin.files._stored import damaged_errors, read_errors
 
-    with read_errors(file, "an HDF5 run file or data set"), h5py.File(file, "r") as handle:
-        mark = handle.attrs.get("format")
+    with read_errors(file, "an HDF5 run file or data set"):
+        try:
+            with h5py.File(file, "r") as handle:
+                mark = handle.attrs.get("format")
+        except OSError as exc:
+            if not has_hdf5_signature(file) or "unable to lock" in str(exc).lower():
+                raise  # not HDF5 at all, or held by a writer: not damage
+            with damaged_errors(file):
+                raise
     return "dataset" if mark == DATASET_FORMAT else "hdf5"
+
+
+HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+"""The first bytes of an HDF5 superblock (at byte 0, 512, 1024, 2048, ... of the file)."""
+
+
+def has_hdf5_signature(file: Path) -> bool:
+    """Whether a file starts as an HDF5 file does (a file HDF5 then cannot open is damaged).
+
+    The superblock is looked for where HDF5 looks: at byte 0 and after a user block of 512,
+    1024, 2048, ... bytes (a MAT-file v7.3's is 512), up to the file's size.
+    """
+    try:
+        with file.open("rb") as stream:
+            offset = 0
+            while True:
+                stream.seek(offset)
+                head = stream.read(len(HDF5_SIGNATURE))
+                if head == HDF5_SIGNATURE:
+                    return True
+                if len(head) < len(HDF5_SIGNATURE):
+                    return False
+                offset = 512 if offset == 0 else offset * 2
+    except OSError:
+        return False
 
 
 def is_mat73(file: Path) -> bool:

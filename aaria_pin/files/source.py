@@ -48,5 +48,5 @@ def open_record(path: str | os.PathLike[str], run: int | None = None) -> RunReco
         with DatasetReader(file) as reader:
             return reader.record(run)
     if run is not None:
-        raise ParameterError(parameter="run", value=run, allowed="None for a run file")
+        raise ParameterError(f"run is for a data set; {file} is a run file", parameter="run")
     return read_run(file)

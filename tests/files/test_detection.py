@@ -38,3 +38,24 @@ def test_a_file_of_another_kind_is_refused_naming_file(tmp_path: Path) -> None:
     with pytest.raises(InputFileError, match="cannot be read as an HDF5 run file") as bad:
         file_format(garbage)
     assert bad.value.parameter == "file"
+
+
+def test_a_truncated_hdf5_file_is_damaged_and_a_text_file_is_not_hdf5(tmp_path: Path) -> None:
+    from aaria_pin.files._stored import DamagedFileError
+    from aaria_pin.files.detection import has_hdf5_signature
+
+    whole = (FIXTURES / "ur5_dataset.h5").read_bytes()
+    truncated = tmp_path / "cut.h5"
+    truncated.write_bytes(whole[: len(whole) // 3])
+    with pytest.raises(DamagedFileError, match=r"cut\.h5 is damaged \(.*truncated file") as error:
+        file_format(truncated)
+    assert error.value.parameter == "file" and "\n" not in str(error.value)
+    text = tmp_path / "text.h5"
+    text.write_text("a text file\n")
+    with pytest.raises(InputFileError, match="cannot be read as an HDF5") as error:
+        file_format(text)
+    assert not isinstance(error.value, DamagedFileError)
+    user_block = tmp_path / "block.mat"  # a MAT-file v7.3: its superblock after 512 bytes
+    user_block.write_bytes(b"MATLAB 7.3 MAT-file".ljust(512, b" ") + whole[:64])
+    assert has_hdf5_signature(user_block) and has_hdf5_signature(truncated)
+    assert not has_hdf5_signature(text)

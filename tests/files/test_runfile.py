@@ -75,8 +75,14 @@ def make_record(
     views: bool = True,
     tables: bool = True,
 ) -> RunRecord:
-    """A record of known random arrays: an Aaria-shaped one by default."""
+    """A record of known random arrays: an Aaria-shaped one by default.
+
+    Without ``tables`` (and without given ``attributes``) it has no ``kind``: a DH run keeps
+    its tables, and a reader refuses one without them.
+    """
     rng = np.random.default_rng(seed)
+    if attributes is None and not tables:
+        attributes = {key: value for key, value in ATTRIBUTES.items() if key != "kind"}
     time = np.arange(samples) / 100.0
     names = SLOTS[:imus] if imus <= 14 else tuple(f"imu{s}" for s in range(imus))
     mounts = tuple(

@@ -35,6 +35,14 @@ S IMUs; the record's module docstring gives units and frames):
     the same variables and the sizes MATLAB shows for the v5 file; a shorter one as v5 (why:
     :func:`mat_version_for`; ``mat_version`` asks for either). :func:`read_run` reads both.
 
+Every numeric array (the series, ``imu_mount``, the tables) has a checksum: the root attribute
+``checksums`` (``attr_checksums`` in a ``.mat``) maps each name to ``"crc32:<hex>"``, the CRC-32 of
+its values (:mod:`._checksums`). :func:`read_run` verifies every array it reads, then checks the
+record (:func:`aaria_pin.core.record_checks.check_record`: the kind's tables, the attributes'
+types, finite values); a file of 0.3.0 or earlier (no checksums) reads with an
+:class:`UnverifiedFileWarning`. A damaged file is one line: an :class:`InputFileError`
+(:class:`~aaria_pin.files._stored.DamagedFileError` when HDF5 or scipy cannot read it).
+
 Views are read back from their column names (both formats): ``time`` → ``time``; ``q<j>``
 (1-based) or ``q:<joint>`` → a column of ``q`` (also ``qd``, ``qdd``, ``tau``);
 ``<imu>_<signal>`` → one signal of one IMU. :func:`write_run` refuses a view whose column names
@@ -64,6 +72,7 @@ whole record (which is the one-piece case of the same writer). So is a ``.mat`` 
 from aaria_pin.files._stored import JSON_SUFFIX
 from aaria_pin.files.detection import RUN_SUFFIXES
 from aaria_pin.files.runfile._attributes import RUN_FORMAT, RUN_FORMAT_VERSION
+from aaria_pin.files.runfile._checksums import CHECKSUMS_ATTRIBUTE, UnverifiedFileWarning
 from aaria_pin.files.runfile._columns import column_source, view_from_columns
 from aaria_pin.files.runfile._legacy_runs import URDF_V1_FORMAT
 from aaria_pin.files.runfile._read import is_run_file, read_run, read_run_inputs, run_file_summary
@@ -78,6 +87,7 @@ from aaria_pin.files.runfile._write import (
 )
 
 __all__ = [
+    "CHECKSUMS_ATTRIBUTE",
     "COMPRESSIONS",
     "JSON_SUFFIX",
     "MAT_VERSIONS",
@@ -86,6 +96,7 @@ __all__ = [
     "RUN_SUFFIXES",
     "URDF_V1_FORMAT",
     "RunFileWriter",
+    "UnverifiedFileWarning",
     "column_source",
     "is_run_file",
     "mat_version_for",

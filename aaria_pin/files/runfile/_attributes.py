@@ -20,6 +20,10 @@ RUN_FORMAT_VERSION = 2
 
 _RESERVED_ATTRIBUTES = ("format", "format_version")
 
+NOT_RECORD_ATTRIBUTES = (*_RESERVED_ATTRIBUTES, "checksums")
+"""Root attributes of a run file that are the file's own, not its record's: the format marks
+and the arrays' checksums (:mod:`._checksums`); an attribute of a record cannot take one."""
+
 
 def _check_format(
     file: Path,

@@ -137,14 +137,24 @@ def fit_shape(shape: tuple[int, ...], expected: tuple[int, ...]) -> tuple[int, .
     return full if squeezed == tuple(dim for dim in full if dim != 1) else None
 
 
+NUMBER_KINDS = "iuf"
+"""The numpy dtype kinds a stored array may have: integers and floats (not bools or text)."""
+
+
+def numeric(file: Path, name: str, data: Any) -> Array:
+    """A stored array as float64; InputFileError if it is not numbers (text, bools, objects)."""
+    stored = np.asarray(data)
+    if stored.dtype.kind not in NUMBER_KINDS:
+        raise InputFileError(
+            f"{file}: array {name} is of type {stored.dtype}; allowed: numbers (float64)",
+            parameter="file",
+        )
+    return np.asarray(stored, dtype=np.float64)
+
+
 def fitted(file: Path, name: str, data: Array, expected: tuple[int, ...]) -> Array:
     """A stored array as float64 in its expected shape; InputFileError if it does not fit."""
-    try:
-        array = np.asarray(data, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputFileError(
-            f"{file}: array {name!r} is not numeric; expected float values", parameter="file"
-        ) from None
+    array = numeric(file, name, data)
     full = fit_shape(array.shape, expected)
     if full is None:
         wanted = describe_shape(expected).replace("-1", "T")

@@ -27,7 +27,7 @@ from aaria_pin.files._stored import (
     write_attributes,
 )
 from aaria_pin.files.runfile._attributes import (
-    _RESERVED_ATTRIBUTES,
+    NOT_RECORD_ATTRIBUTES,
     RUN_FORMAT,
     RUN_FORMAT_VERSION,
 )
@@ -36,6 +36,7 @@ from aaria_pin.files.runfile._columns import (
     check_names,
     chunk_rows,
     fitted,
+    numeric,
     read_view,
     record_from_arrays,
 )
@@ -204,7 +205,7 @@ def _hdf5_attributes(file: Path, attrs: Any) -> dict[str, Any]:
     """The record attributes of an HDF5 root group, decoded."""
     attributes: dict[str, Any] = {}
     for name in attrs:
-        if name not in _RESERVED_ATTRIBUTES:
+        if name not in NOT_RECORD_ATTRIBUTES:
             key, value = decode_attribute(file, name, attrs[name])
             attributes[key] = value
     return attributes
@@ -260,7 +261,7 @@ def _read_hdf5_v2(file: Path, handle: Any, series: bool = True) -> RunRecord:
                 view.columns, view.sources, units.decode() if isinstance(units, bytes) else units
             )
         elif item.dtype.kind in "biuf":
-            tables[name] = np.asarray(item[()], dtype=np.float64)
+            tables[name] = numeric(file, name, item[()])
     return record_from_arrays(
         file,
         arrays,

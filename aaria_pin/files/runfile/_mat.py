@@ -18,9 +18,16 @@ import numpy as np
 from aaria_pin.core.record import SERIES, ColumnView, RunRecord, record_shapes
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, OutputFileError
-from aaria_pin.files._stored import NAME_LISTS, STORED_NAMES, decode_attribute, first_line
+from aaria_pin.files._stored import (
+    NAME_LISTS,
+    STORED_NAMES,
+    damaged_file,
+    decode_attribute,
+    first_line,
+)
 from aaria_pin.files.runfile._attributes import (
     _RESERVED_ATTRIBUTES,
+    NOT_RECORD_ATTRIBUTES,
     RUN_FORMAT,
     RUN_FORMAT_VERSION,
 )
@@ -28,6 +35,7 @@ from aaria_pin.files.runfile._columns import (
     COLUMNS_SUFFIX,
     check_names,
     fitted,
+    numeric,
     read_view,
     record_from_arrays,
 )
@@ -103,8 +111,16 @@ def _write_mat(file: Path, contents: Mapping[str, Any]) -> None:
 
 
 @contextlib.contextmanager
-def _mat_errors(file: Path) -> Iterator[None]:
-    """Turn scipy's errors on reading ``file`` into one-line :class:`InputFileError`."""
+def _mat_errors(file: Path, damaged: bool = False) -> Iterator[None]:
+    """Turn scipy's errors on reading ``file`` into one-line :class:`InputFileError`.
+
+    Args:
+        file: the file read
+        damaged: whether its variables were listed already (an error reading them is
+            damage: "FILE is damaged (...)"), else it "cannot be read as a .mat run file"
+    """
+    import zlib
+
     from scipy.io.matlab import MatReadError
 
     try:
@@ -114,7 +130,11 @@ def _mat_errors(file: Path) -> Iterator[None]:
             f"{file}: is a MATLAB v7.3 file; allowed: MATLAB v5 .mat run files or .h5",
             parameter="file",
         ) from None
-    except (MatReadError, OSError, ValueError, TypeError, EOFError) as exc:
+    except InputFileError:
+        raise
+    except (MatReadError, OSError, ValueError, TypeError, EOFError, zlib.error) as exc:
+        if damaged:
+            raise damaged_file(file, first_line(exc)) from None
         raise InputFileError(
             f"{file}: cannot be read as a .mat run file ({first_line(exc)})", parameter="file"
         ) from None
@@ -133,14 +153,19 @@ def load_mat(file: Path, names: list[str] | None = None) -> dict[str, Any]:
         return load_mat73(file, names)
     from scipy.io import loadmat
 
-    with _mat_errors(file):
+    with _mat_errors(file, damaged=True):
         return loadmat(
             file, appendmat=False, squeeze_me=False, mat_dtype=True, variable_names=names
         )
 
 
 def mat_variables(file: Path) -> dict[str, tuple[int, ...]]:
-    """The names and shapes of a MATLAB v5 or v7.3 file's variables, without reading them."""
+    """The names and shapes of a MATLAB v5 or v7.3 file's variables, without reading them.
+
+    Raises:
+        InputFileError: not a MAT-file, or a MAT-file v5 whose variables do not end where
+            the file does ("FILE is damaged (...)": truncated, or a variable's size broken).
+    """
     from aaria_pin.files.detection import is_mat73
     from aaria_pin.files.runfile._mat73 import mat73_variables
 
@@ -148,8 +173,49 @@ def mat_variables(file: Path) -> dict[str, tuple[int, ...]]:
         return mat73_variables(file)
     from scipy.io import whosmat
 
-    with _mat_errors(file):
-        return {name: tuple(shape) for name, shape, _ in whosmat(file, appendmat=False)}
+    damaged = _mat5_end(file)
+    with _mat_errors(file, damaged=damaged is not None):
+        variables = {name: tuple(shape) for name, shape, _ in whosmat(file, appendmat=False)}
+    if damaged is not None and damaged != file.stat().st_size:
+        reason = f"its variables end at byte {damaged}, the file at byte {file.stat().st_size}"
+        raise damaged_file(file, reason)
+    return variables
+
+
+_MAT5_HEADER = b"MATLAB 5.0 MAT-file"
+_MI_MATRIX = 14
+"""The data type of an uncompressed MAT-file v5 variable (padded to 8 bytes)."""
+
+
+def _mat5_end(file: Path) -> int | None:
+    """Where a MAT-file v5's last variable ends, from the tags (None: not a v5 file).
+
+    Each variable is a tag (data type, byte count: two uint32) and its bytes, one after the
+    other from byte 128; a whole file ends where its last variable does, a truncated one
+    before it.
+    """
+    import struct
+
+    try:
+        size = file.stat().st_size
+        with file.open("rb") as stream:
+            header = stream.read(128)
+            if len(header) < 128 or not header.startswith(_MAT5_HEADER):
+                return None
+            order = "<" if header[126:128] == b"IM" else ">"
+            offset = 128
+            while offset < size:
+                stream.seek(offset)
+                tag = stream.read(8)
+                if len(tag) < 8:
+                    return offset + len(tag) + 1  # past the end: a cut tag
+                kind, count = struct.unpack(order + "II", tag)
+                offset += 8 + (0 if kind >> 16 else count)
+                if kind == _MI_MATRIX:
+                    offset += -offset % 8
+            return offset
+    except OSError:
+        return None
 
 
 def mat_value(value: Any) -> Any:
@@ -187,7 +253,7 @@ def mat_attributes(file: Path, contents: Mapping[str, Any]) -> dict[str, Any]:
     prefix = MAT_ATTRIBUTE_PREFIX
     attributes: dict[str, Any] = {}
     for name, value in contents.items():
-        if not name.startswith(prefix) or name[len(prefix) :] in _RESERVED_ATTRIBUTES:
+        if not name.startswith(prefix) or name[len(prefix) :] in NOT_RECORD_ATTRIBUTES:
             continue
         key, decoded = decode_attribute(file, name[len(prefix) :], mat_value(value))
         attributes[key] = decoded
@@ -239,7 +305,7 @@ def _read_mat_v2(
         elif not (name.endswith(COLUMNS_SUFFIX) and name[: -len(COLUMNS_SUFFIX)] in contents):
             data = np.asarray(value)
             if data.dtype.kind in "biuf":
-                tables[name] = np.asarray(data, dtype=np.float64)
+                tables[name] = numeric(file, name, data)
     return record_from_arrays(
         file,
         arrays,

@@ -44,7 +44,7 @@ import numpy as np
 from aaria_pin.core.record import SERIES, ColumnView, RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import OutputFileError
-from aaria_pin.files._stored import read_errors
+from aaria_pin.files._stored import damaged_errors, read_errors
 from aaria_pin.files.runfile._columns import COLUMNS_SUFFIX, RunStream, chunk_rows
 
 USER_BLOCK = 512
@@ -342,7 +342,7 @@ def load_mat73(file: Path, names: list[str] | None = None) -> dict[str, Any]:
     """
     import h5py
 
-    with _mat73_errors(file), h5py.File(file, "r") as handle:
+    with _mat73_errors(file), h5py.File(file, "r") as handle, damaged_errors(file):
         return {
             name: _read_value(handle, item)
             for name, item in _variables(handle).items()

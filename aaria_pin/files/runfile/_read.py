@@ -16,11 +16,17 @@ from typing import Any
 import numpy as np
 
 from aaria_pin.core.record import SERIES, RunRecord
+from aaria_pin.core.record_checks import check_kind_layout, check_record
 from aaria_pin.errors import InputFileError
-from aaria_pin.files._stored import NAME_LISTS
+from aaria_pin.files._stored import NAME_LISTS, DamagedFileError, damaged_errors
 from aaria_pin.files.detection import RUN_SUFFIXES, file_format
 from aaria_pin.files.paths import existing_input
 from aaria_pin.files.runfile._attributes import RUN_FORMAT_VERSION
+from aaria_pin.files.runfile._checksums import (
+    CHECKSUMS_ATTRIBUTE,
+    stored_checksums,
+    verify_checksums,
+)
 from aaria_pin.files.runfile._columns import COLUMNS_SUFFIX
 from aaria_pin.files.runfile._hdf5 import _hdf5_errors, _read_hdf5_v2, _summarise_hdf5_v2
 from aaria_pin.files.runfile._legacy_runs import (
@@ -35,6 +41,7 @@ from aaria_pin.files.runfile._mat import (
     _read_mat_v2,
     _summarise_mat_v2,
     load_mat,
+    mat_value,
     mat_variables,
 )
 
@@ -114,22 +121,41 @@ def _is_mat(file: Path) -> bool:
 
 
 def _read(path: str | os.PathLike[str], series: bool) -> RunRecord:
-    """:func:`read_run` (``series``) or :func:`read_run_inputs`."""
+    """:func:`read_run` (``series``) or :func:`read_run_inputs`: read, verified, checked.
+
+    The record's kind must have its tables, the arrays read must match their checksums
+    (:mod:`._checksums`), then the record is checked
+    (:func:`~aaria_pin.core.record_checks.check_record`: attributes, finite values).
+    """
     file = existing_input(path, RUN_SUFFIXES, "run")
+    record, checksums = _read_stored(file, series)
+    unread = () if series else SERIES
+    arrays = {name: data for name, data in record.arrays().items() if name not in unread}
+    check_kind_layout(record, str(file))  # a table of its kind missing: said as such
+    verify_checksums(file, checksums, arrays, unread)
+    check_record(record, str(file), series)
+    return record
+
+
+def _read_stored(file: Path, series: bool) -> tuple[RunRecord, dict[str, str] | None]:
+    """The record as stored and its checksums (None: a file written without them)."""
     if _is_mat(file):
         probe = _probe_mat(file)
         variables = probe.variables
         if probe.layout != LAYOUT_V2:
-            return read_legacy_mat(file, load_mat(file), probe.layout)
+            return read_legacy_mat(file, load_mat(file), probe.layout), None
         views = [name for name in variables if name + COLUMNS_SUFFIX in variables]
         skipped = set(views) if series else {*views, *SERIES}
         contents = load_mat(file, [name for name in variables if name not in skipped])
         contents.update(dict.fromkeys(views))  # a view is read from its column names
-        return _read_mat_v2(file, contents, None if series else variables)
-    with _probe_hdf5(file) as (handle, layout):
+        record = _read_mat_v2(file, contents, None if series else variables)
+        stored = contents.get(MAT_ATTRIBUTE_PREFIX + CHECKSUMS_ATTRIBUTE)
+        return record, stored_checksums(file, None if stored is None else mat_value(stored))
+    with _probe_hdf5(file) as (handle, layout), damaged_errors(file):
         if layout == LAYOUT_V2:
-            return _read_hdf5_v2(file, handle, series)
-        return read_legacy_hdf5(file, handle, layout)
+            record = _read_hdf5_v2(file, handle, series)
+            return record, stored_checksums(file, handle.attrs.get(CHECKSUMS_ATTRIBUTE))
+        return read_legacy_hdf5(file, handle, layout), None
 
 
 def run_file_summary(path: str | os.PathLike[str]) -> dict[str, Any]:
@@ -195,6 +221,10 @@ def is_run_file(path: str | os.PathLike[str]) -> bool:
     """Whether ``path`` is an existing run file :func:`read_run` reads (any version or kind).
 
     Only the file's marks and names are looked at, not its arrays; a data set is not a run file.
+
+    Raises:
+        DamagedFileError: a file of a run file's format that is damaged (truncated, a broken
+            variable): it is neither a run file nor another file, and says so in one line.
     """
     try:
         file = existing_input(path, RUN_SUFFIXES, "run")
@@ -204,6 +234,8 @@ def is_run_file(path: str | os.PathLike[str]) -> bool:
             with _probe_hdf5(file):
                 pass
         return True
+    except DamagedFileError:
+        raise
     except InputFileError:
         return False
 

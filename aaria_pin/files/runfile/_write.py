@@ -20,6 +20,8 @@ from aaria_pin.errors import OutputFileError
 from aaria_pin.files._stored import encode_attributes, first_line
 from aaria_pin.files.detection import RUN_SUFFIXES
 from aaria_pin.files.paths import atomic_output
+from aaria_pin.files.runfile._attributes import NOT_RECORD_ATTRIBUTES
+from aaria_pin.files.runfile._checksums import CHECKSUMS_ATTRIBUTE, Checksums
 from aaria_pin.files.runfile._columns import RunStream, checked_arrays
 from aaria_pin.files.runfile._hdf5 import _Hdf5Stream
 from aaria_pin.files.runfile._mat import _mat_contents, _write_mat, mat_attribute_variables
@@ -112,7 +114,11 @@ def write_run(
             writer.write(0, record)
         return final
     arrays = checked_arrays(final, record)
-    attributes = encode_attributes(final, record.attributes)
+    checksums = Checksums()
+    for name, data in arrays.items():
+        checksums.update(name, data)
+    attributes = encode_attributes(final, record.attributes, NOT_RECORD_ATTRIBUTES)
+    attributes.append((CHECKSUMS_ATTRIBUTE, checksums.attribute()))
     contents = _mat_contents(final, record, arrays, attributes)
     with atomic_output(final) as temporary:
         try:
@@ -237,6 +243,10 @@ class RunFileWriter:
 
         self._arrays = checked_arrays(self.final, first)
         self._sensors = [name for name in first.tables if is_sensor_table(name)]
+        self._checksums = Checksums()  # of the inputs now, of the series piece by piece
+        for name, data in self._arrays.items():
+            if name not in SERIES and name not in self._sensors:
+                self._checksums.update(name, data)
         for name in self._sensors:  # laid out at the run's length, filled piece by piece
             columns = self._arrays[name].shape[1]
             self._arrays[name] = np.zeros((self.samples, columns))
@@ -247,9 +257,18 @@ class RunFileWriter:
         self._stack: contextlib.ExitStack | None = None
         self._stream: RunStream | None = None
 
-    def _encoded(self, attributes: Mapping[str, Any]) -> list[tuple[str, Any]]:
-        """The stored attributes: root attributes, or a ``.mat``'s ``attr_`` variables."""
-        encoded = encode_attributes(self.final, attributes)
+    def _encoded(
+        self, attributes: Mapping[str, Any], checksums: str | None = None
+    ) -> list[tuple[str, Any]]:
+        """The stored attributes: root attributes, or a ``.mat``'s ``attr_`` variables.
+
+        Args:
+            attributes: the record's attributes
+            checksums: the ``checksums`` attribute, stored after them (None: left out)
+        """
+        encoded = encode_attributes(self.final, attributes, NOT_RECORD_ATTRIBUTES)
+        if checksums is not None:
+            encoded.append((CHECKSUMS_ATTRIBUTE, checksums))
         return mat_attribute_variables(self.final, encoded) if self._mat else encoded
 
     def __enter__(self) -> RunFileWriter:
@@ -309,6 +328,8 @@ class RunFileWriter:
             self._stream.write(start, arrays)
             for name in self._sensors:
                 self._write_sensor(name, start, chunk.tables.get(name), n)
+            for name, data in arrays.items():
+                self._checksums.update(name, data)
         except OSError as exc:
             raise OutputFileError(
                 f"{self.final}: cannot be written ({first_line(exc)})", parameter="path"
@@ -335,6 +356,7 @@ class RunFileWriter:
             dataset[:, start : start + n] = data.T
         else:
             dataset[start : start + n] = data
+        self._checksums.update(name, data)
 
     def __exit__(
         self,
@@ -356,7 +378,7 @@ class RunFileWriter:
                     parameter="path",
                 )
             elif exc is None:
-                attributes = self._encoded(self._attributes)
+                attributes = self._encoded(self._attributes, self._checksums.attribute())
             stream.close(attributes)
         except BaseException as caught:
             if error is None:

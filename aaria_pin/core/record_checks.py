@@ -1,0 +1,198 @@
+"""The checks of a run read from a file: the layout of its kind, its attributes, finite data.
+
+A reader (a run file's :func:`~aaria_pin.files.runfile.read_run`, a data set's run) makes a
+:class:`~aaria_pin.core.record.RunRecord` of what it read, then calls :func:`check_record`, so
+every command that reads a run refuses the same damage in one line, naming the file (and the
+run of a data set) and what is wrong:
+
+- the layout of its kind (:data:`KIND_TABLES`): a ``kind`` attribute that names a known kind
+  (a file without one, written before kinds were stored, is recognised by its tables), and the
+  input tables that kind keeps (a DH run's ``senSenDH``, ``senSenJ``, ``senSenB``); the shapes
+  of the series are the record's own check (T rows everywhere, n joints, S IMUs);
+- the types of the attributes every kind shares (``rate`` and ``duration`` positive numbers,
+  ``seed`` an integer, ``noise`` a bool, names text), read by
+  :meth:`~aaria_pin.core.run_metadata.RunMetadata.from_attributes`;
+- finite data (:func:`check_finite`): the simulator never writes a NaN or an infinity, so one in
+  a stored series is damage; the message names the array, the run and the first bad sample.
+
+Example::
+
+    from aaria_pin.core.record_checks import check_record, record_source
+
+    check_record(record, record_source("ds.h5", run=3))  # "run 3 of ds.h5: tau has NaN at ..."
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from aaria_pin.core.record import SERIES, RunRecord
+from aaria_pin.core.se3 import Array
+from aaria_pin.errors import InputFileError
+
+__all__ = [
+    "KIND_TABLES",
+    "check_attributes",
+    "check_finite",
+    "check_kind_layout",
+    "check_record",
+    "record_source",
+]
+
+KIND_TABLES: Mapping[str, tuple[str, ...]] = {
+    "dh": ("senSenDH", "senSenJ", "senSenB"),
+    "urdf": ("joint_table",),
+    "wrist": (),
+    "pick-place": (),
+}
+"""The known run kinds (the ``kind`` attribute) and the input tables a run of each must hold.
+
+A wrist run keeps its targets as a table (``targets``) or, written by 0.1.0, as the attribute
+``targets_rad``; a pick-and-place run keeps its task in attributes: neither requires a table.
+"""
+
+_TEXT_ATTRIBUTES = ("kind", "robot", "source", "drive", "motion", "base_frame", "tool_frame")
+"""Shared attributes that are text when present."""
+
+
+def record_source(file: str | os.PathLike[str], run: int | None = None) -> str:
+    """How a message names what was read: ``FILE``, or ``run K of FILE`` for a data set's run."""
+    return str(file) if run is None else f"run {run} of {file}"
+
+
+def check_record(record: RunRecord, source: str, series: bool = True) -> None:
+    """Refuse a run read from a file whose kind, attributes or data are not a run's.
+
+    Args:
+        record: the run as read
+        source: the file (or ``run K of FILE``), for messages (:func:`record_source`)
+        series: whether the series were read (False: only the inputs, whose finite values are
+            checked without the series)
+
+    Raises:
+        InputFileError: an unknown kind, a table of its kind missing, an attribute of the
+            wrong type, or a NaN or infinity in an array (``parameter="file"``).
+    """
+    check_attributes(record.attributes, source)
+    check_kind_layout(record, source)
+    arrays = record.arrays()
+    check_finite({k: v for k, v in arrays.items() if series or k not in SERIES}, source)
+
+
+def check_kind_layout(record: RunRecord, source: str) -> None:
+    """Refuse an unknown ``kind`` or a run without the tables its kind keeps.
+
+    Raises:
+        InputFileError: as :func:`check_record`.
+    """
+    kind = record.attributes.get("kind")
+    if kind is None:
+        return  # written before kinds were stored: recognised by its tables when re-made
+    if not isinstance(kind, str) or kind not in KIND_TABLES:
+        raise InputFileError(
+            f"{source}: attribute 'kind' is {kind!r}; allowed: {', '.join(KIND_TABLES)}",
+            parameter="file",
+        )
+    required = KIND_TABLES[kind]
+    missing = [name for name in required if name not in record.tables]
+    if missing:
+        raise InputFileError(
+            f"{source}: array {missing[0]} is missing; allowed: a {kind} run file has "
+            + ", ".join(required),
+            parameter="file",
+        )
+
+
+def check_attributes(attributes: Mapping[str, Any], source: str) -> None:
+    """Refuse shared attributes of the wrong type (a text ``rate``, a numeric ``robot``, ...).
+
+    Raises:
+        InputFileError: as :func:`check_record`.
+    """
+    from aaria_pin.core.run_metadata import RunMetadata
+
+    for name in _TEXT_ATTRIBUTES:
+        value = attributes.get(name)
+        if value is not None and not isinstance(value, str):
+            raise InputFileError(
+                f"{source}: attribute {name!r} is {value!r}; allowed: text",
+                parameter="file",
+            )
+    for name in ("rate", "duration"):
+        value = attributes.get(name)
+        if value is not None and (isinstance(value, (bool, str)) or not np.isscalar(value)):
+            raise InputFileError(
+                f"{source}: attribute {name!r} is {value!r}; allowed: a positive number",
+                parameter="file",
+            )
+    noise = attributes.get("noise")
+    if noise is not None and noise not in (True, False):  # MATLAB may re-save a bool as 0 or 1
+        raise InputFileError(
+            f"{source}: attribute 'noise' is {noise!r}; allowed: true or false", parameter="file"
+        )
+    try:
+        RunMetadata.from_attributes(attributes)
+    except (InputFileError, ValueError, TypeError) as exc:
+        raise InputFileError(f"{source}: {exc}", parameter="file") from None
+
+
+def check_finite(arrays: Mapping[str, Array], source: str) -> None:
+    """Refuse a NaN or an infinity in any of ``arrays``, naming the first one.
+
+    The whole arrays are checked at once; the first bad value is looked for only when one is
+    not finite. A series' first index is its sample, the next its joint (``q`` … ``tau``), its
+    IMU and signal (``imu``), or its row and column (a pose).
+
+    Args:
+        arrays: the arrays by name (a record's :meth:`~aaria_pin.core.record.RunRecord.arrays`,
+            or a data set run's)
+        source: the file (or ``run K of FILE``), for the message
+
+    Raises:
+        InputFileError: ``"FILE: tau has NaN at sample 17, joint 2; allowed: finite values"``
+            (``parameter="file"``).
+    """
+    for name, array in arrays.items():
+        values = np.asarray(array)
+        if values.dtype.kind not in "fc" or np.isfinite(values).all():
+            continue
+        flat = int(np.flatnonzero(~np.isfinite(values))[0])
+        index = np.unravel_index(flat, values.shape)
+        bad = values[index]
+        what = "NaN" if np.isnan(bad) else ("inf" if bad > 0 else "-inf")
+        raise InputFileError(
+            f"{source}: {name} has {what} at {_position(name, index)}; allowed: finite values",
+            parameter="file",
+        )
+
+
+_AXES = {
+    "q": ("joint",),
+    "qd": ("joint",),
+    "qdd": ("joint",),
+    "tau": ("joint",),
+    "imu": ("IMU", "signal"),
+    "base_pose": ("row", "column"),
+    "tool_pose": ("row", "column"),
+    "base_wrench": ("component",),
+    "imu_mount": ("IMU", "row", "column"),
+}
+"""How a message names the axes of an array after its first (the sample, for a series)."""
+
+
+def _position(name: str, index: tuple[Any, ...]) -> str:
+    """Where in an array an index is: ``sample 17, joint 2`` (0-based, as numpy counts)."""
+    if name == "imu_mount":
+        axes: tuple[str, ...] = _AXES[name]
+    elif name in SERIES:
+        axes = ("sample", *_AXES.get(name, ()))
+    else:
+        axes = ("row", "column")
+    words = [
+        f"{axes[k] if k < len(axes) else 'axis ' + str(k)} {int(i)}" for k, i in enumerate(index)
+    ]
+    return ", ".join(words) if words else "its value"
