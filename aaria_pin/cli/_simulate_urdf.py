@@ -38,8 +38,8 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     """
     import warnings
 
-    from aaria_pin.aaria.run_motion import urdf_motion
-    from aaria_pin.cli._simulate_motion import motion_choice, summary
+    from aaria_pin.aaria.run_motion import MotionChoice, urdf_motion
+    from aaria_pin.cli._simulate_motion import summary
     from aaria_pin.core.imu_layout import read_imu_layout
     from aaria_pin.core.urdf_run import urdf_request, urdf_request_from_record
     from aaria_pin.files.io import read_table
@@ -74,7 +74,7 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        choice = motion_choice(params)
+        choice = MotionChoice.from_options(params)
         if stored is not None:
             if params["fixed_base"]:
                 overrides["moving_base"] = False

@@ -110,9 +110,9 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     from aaria_pin.aaria.arm_run import read_imu_mounts
     from aaria_pin.aaria.dh_robot import BodyDimensions
     from aaria_pin.aaria.presets import get_preset
-    from aaria_pin.aaria.run_motion import dh_motion
+    from aaria_pin.aaria.run_motion import MotionChoice, dh_motion
     from aaria_pin.aaria.simulate import dh_request, dh_request_from_record
-    from aaria_pin.cli._simulate_motion import motion_choice, summary
+    from aaria_pin.cli._simulate_motion import summary
     from aaria_pin.core._malloc import tune_malloc
     from aaria_pin.errors import ParameterError
     from aaria_pin.files.io import read_table
@@ -152,8 +152,8 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     overrides.update(torque_overrides(params))
     if stored is not None and (preset or dh_file):
         raise click.UsageError("--from takes the DH table from the run file; drop --preset/--dh")
+    choice = MotionChoice.from_options(params)
     if stored is not None:
-        choice = motion_choice(params)
         overrides.update(dh_motion(choice, stored, overrides, stored.tables["senSenDH"]))
         chunks = dh_request_from_record(stored, **overrides).pieces()
     else:
@@ -163,11 +163,11 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
                 f"table {name!r} is a {table_convention} DH table; allowed: an Aaria 8 × 5 table",
                 parameter="dh_table",
             )
-        if preset is not None:
+        overrides.update(dh_motion(choice, None, overrides, table))
+        if preset is not None:  # its tables where none is given (after the motion's rules)
             chosen = get_preset(preset)
             overrides.setdefault("joint_table", chosen.joint_table)
             overrides.setdefault("base_table", chosen.base_table)
-        overrides.update(dh_motion(motion_choice(params), None, overrides, table))
         chunks = dh_request(table, robot_name=name, **overrides).pieces()
     compression = None if compress == "none" else compress
     record, samples, peak = write_run_pieces(output, chunks, compression)
