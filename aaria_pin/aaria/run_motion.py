@@ -76,9 +76,15 @@ class MotionChoice:
 
     @classmethod
     def from_options(cls, options: Mapping[str, Any]) -> MotionChoice:
-        """The choice a run's options name: ``motion`` (the kind), ``harmonics``,
-        ``base_frequency``, ``trajectory`` and ``smoothing`` (absent or None: not given; the
-        other options are left to the caller)."""
+        """The choice a run's options name (the other options are left to the caller).
+
+        Args:
+            options: ``motion`` (the kind), ``harmonics``, ``base_frequency``, ``trajectory``
+                and ``smoothing``; absent or None: not given
+
+        Raises:
+            OptionConflictError: as the class.
+        """
         settings = {name: options.get(name) for name in _SETTINGS}
         return cls(options.get("motion"), **settings)
 

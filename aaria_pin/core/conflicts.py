@@ -63,8 +63,7 @@ class OptionConflictError(ParameterError):
         )
 
     def _other(self, name: str) -> str:
-        """The other option, with the value the rule is about (``--motion fourier``,
-        ``motion='fourier'``)."""
+        """The other option with the value the rule is about: ``--motion fourier``."""
         if not self.other_value:
             return name
         return (

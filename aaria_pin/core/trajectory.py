@@ -57,8 +57,10 @@ against memory."""
 
 
 def check_rate(rate: float) -> None:
-    """Refuse a sample rate outside ``0 < rate <=`` :data:`MAX_RATE`, the bound of every run and
-    model (``simulate``, ``dataset``, ``wrist simulate``, the MJCF's timestep ``1/rate``).
+    """Refuse a sample rate outside ``0 < rate <=`` :data:`MAX_RATE`.
+
+    The one bound of every run and model: ``simulate``, ``dataset``, ``wrist simulate``,
+    :class:`~aaria_pin.core.run.RunSettings` and the MJCF's timestep ``1/rate``.
 
     Args:
         rate: sample rate [Hz]
