@@ -48,6 +48,26 @@ def shown(*decls: str, default: Any, help: str, **attrs: Any) -> Callable[[F], F
     return click.option(*decls, default=default, show_default=True, help=help, **attrs)
 
 
+def grid_options(
+    duration: float | str = "(default 10)", rate: float | str = "(default 100)"
+) -> Callable[[F], F]:
+    """``--duration`` [s] and ``--rate`` [Hz] of a run (their bounds are the library's).
+
+    Args:
+        duration: the option's default (shown in the help), or the text that tells what it is
+            when not given (the option is then None: the library's or the stored value)
+        rate: the same for ``--rate``
+    """
+
+    def option(flag: str, what: str, default: float | str) -> Callable[[F], F]:
+        if isinstance(default, str):
+            return click.option(flag, type=float, help=f"{what} {default}.")
+        return shown(flag, default=default, type=float, help=f"{what}.")
+
+    return stacked(option("--duration", "Run length [s]", duration),
+                   option("--rate", "Sample rate [Hz]", rate))  # fmt: skip
+
+
 PRESET_HELP = "Built-in table: aaria-fig2, aaria-fig3, spherical-wrist."
 """The help of ``--preset`` for commands that take the DH presets only."""
 

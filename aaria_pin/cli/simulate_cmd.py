@@ -9,6 +9,7 @@ import click
 
 from aaria_pin.cli._options import (
     fourier_options,
+    grid_options,
     load_table_source,
     robot_source_options,
     sampling_overrides,
@@ -47,8 +48,7 @@ Examples:
     help="Re-make the run stored in this run file (any kind); the options given beside it "
     "replace the stored ones.",
 )
-@click.option("--duration", type=float, help="Run length [s] (default 10).")
-@click.option("--rate", type=float, help="Sample rate [Hz] (default 100).")
+@grid_options()
 @click.option("--seed", type=click.IntRange(0, MAX_SEED), help="Seed of the IMU noise (default 0).")
 @click.option("--density", type=float, help="Density of every body [kg/m^3] (default 2700).")
 @click.option(

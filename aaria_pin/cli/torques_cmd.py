@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 from aaria_pin.cli._options import json_option
-from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, check_run_option, output_option, run_option
+from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, output_option, run_option
 
 
 @click.command(
@@ -40,7 +40,6 @@ def torques(file: Path, run_index: int | None, as_json: bool, plot: Path | None)
     """
     from aaria_pin.apps.torques import run_torque_report, torque_text
 
-    check_run_option(file, run_index)
     report, one_run = run_torque_report(file, run_index)
     if plot and one_run:
         from aaria_pin.viz.report_plots import plot_torque_report

@@ -122,7 +122,7 @@ CASES = [
     ("render --dh {empty.npy} -o p.png", "empty"),
     ("render --from missing.h5 -o p.png", "no such file"),
     ("render --from {table.csv} -o p.png", "not a run file|unknown run file type"),
-    ("render --from {run.h5} --run 1 -o p.png", "--run is for a data set"),
+    ("render --from {run.h5} --run 1 -o p.png", "--run is .*run file"),
     ("render --from {ds.h5} --run 99 -o p.png", "99"),
     ("render --preset aaria-fig2 -o {long}.png", "bytes"),
     # plot
@@ -140,7 +140,7 @@ CASES = [
     # torques
     ("torques missing.h5", "no such file"),
     ("torques {empty.csv}", "unknown run file type '.csv'"),
-    ("torques {run.h5} --run 1", "--run is for a data set"),
+    ("torques {run.h5} --run 1", "--run is .*run file"),
     ("torques {run.h5} --plot t.jpg", r"allowed: \.png"),
     ("torques {ds.h5} --run 99", "99"),
     # mjcf
