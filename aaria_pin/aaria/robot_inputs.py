@@ -22,20 +22,23 @@ __all__ = ["dh_table_source", "read_torques", "robot_name", "urdf_source"]
 def dh_table_source(
     preset: str | None = None,
     dh_file: str | os.PathLike[str] | None = None,
-    convention: str = "aaria",
+    convention: str | None = None,
 ) -> tuple[Any, Convention, str]:
     """A DH table from a preset or a table file, its convention and its name.
 
     Args:
         preset: a preset's name (:mod:`aaria_pin.aaria.presets`)
         dh_file: a table file: CSV, ``.npy``, or ``.mat`` holding ``senSenDH``
-        convention: the convention of ``dh_file``'s table (a preset has its own)
+        convention: the convention of ``dh_file``'s table (None: ``"aaria"``); a preset has
+            its own (None, or the same)
 
     Returns:
         ``(table, convention, name)``: the preset's name, or the file's stem.
 
     Raises:
         ParameterError: not exactly one of ``preset`` and ``dh_file``, or an unknown preset.
+        OptionConflictError: a preset with another ``convention`` than its own (it would be
+            ignored).
         InputFileError: a table file that cannot be read.
     """
     from aaria_pin.aaria.presets import get_preset
@@ -47,9 +50,16 @@ def dh_table_source(
         )
     if preset is not None:
         chosen = get_preset(preset)
+        if convention not in (None, chosen.convention):
+            from aaria_pin.core.conflicts import OptionConflictError
+
+            raise OptionConflictError(
+                parameter="convention", other="preset", given_with=True, value=convention
+            )
         return chosen.table, chosen.convention, chosen.name
     path = Path(os.fspath(cast("os.PathLike[str]", dh_file)))
-    return read_table(path, "senSenDH"), cast("Convention", convention), path.stem
+    given = "aaria" if convention is None else convention
+    return read_table(path, "senSenDH"), cast("Convention", given), path.stem
 
 
 def urdf_source(

@@ -98,13 +98,24 @@ table_source_options = table_source()
 """``--preset NAME | --dh FILE [--convention ...]`` with the DH presets' help."""
 
 
+def given(name: str) -> bool:
+    """Whether the running command's option ``name`` was given (not left at its default)."""
+    from click.core import ParameterSource
+
+    source = click.get_current_context().get_parameter_source(name)
+    return source not in (None, ParameterSource.DEFAULT, ParameterSource.DEFAULT_MAP)
+
+
 def load_table_source(preset: str | None, dh_file: Path | None, convention: str) -> Any:
-    """``--preset`` / ``--dh`` as ``(table, convention, name)`` (:func:`dh_table_source`)."""
+    """``--preset`` / ``--dh`` as ``(table, convention, name)`` (:func:`dh_table_source`).
+
+    ``--convention`` is passed only when given: a preset of another convention refuses it.
+    """
     from aaria_pin.aaria.robot_inputs import dh_table_source
 
     if (preset is None) == (dh_file is None):
         raise click.UsageError("give exactly one of --preset NAME or --dh FILE")
-    return dh_table_source(preset, dh_file, convention)
+    return dh_table_source(preset, dh_file, convention if given("convention") else None)
 
 
 def robot_name(stem: str) -> str:

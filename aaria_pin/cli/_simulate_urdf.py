@@ -6,17 +6,22 @@ from typing import Any
 
 import click
 
-from aaria_pin.cli._options import load_robot_source, sampling_overrides, torque_overrides
+from aaria_pin.cli._options import (
+    given,
+    load_robot_source,
+    sampling_overrides,
+    torque_overrides,
+)
 from aaria_pin.core.record import RunRecord
 
 _DH_ONLY = {"preset": "--preset", "dh_file": "--dh", "mount_file": "--imu-mount",
-            "density": "--density"}  # fmt: skip
+            "density": "--density", "convention": "--convention"}  # fmt: skip
 
 
 def _refuse_options_without_effect(params: dict[str, Any]) -> None:
     """Options of ``aaria simulate`` that would do nothing for a URDF robot: usage errors."""
     for key, flag in _DH_ONLY.items():
-        if params[key] is not None:
+        if given(key):
             raise click.UsageError(f"{flag} is for DH arms; not allowed with a URDF robot")
     if params["fixed_base"] and params["base_file"] is not None:
         raise click.UsageError("--base moves the base; not allowed with --fixed-base")

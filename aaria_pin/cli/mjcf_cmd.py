@@ -8,7 +8,12 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from aaria_pin.cli._options import load_robot_source, robot_source_options, table_source_options
+from aaria_pin.cli._options import (
+    given,
+    load_robot_source,
+    robot_source_options,
+    table_source_options,
+)
 from aaria_pin.cli._viz_options import output_option
 from aaria_pin.cli.urdf_cmd import table_arm
 
@@ -17,23 +22,25 @@ if TYPE_CHECKING:
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
 _SOURCES = {"dh": ("preset", "dh_file"), "urdf": ("robot", "urdf_file"), "run": ("from_run",)}
-_REFUSED = {"dh": ("tool", "imu-layout"), "urdf": ("density",), "run": ("tool", "imu-layout")}
-_KEYS = {"tool": "tool_frame", "imu-layout": "imu_layout_file", "density": "density"}
+_REFUSED = {"dh": ("tool", "imu-layout"), "urdf": ("density", "convention"),
+            "run": ("tool", "imu-layout", "convention")}  # fmt: skip
+_KEYS = {"tool": "tool_frame", "imu-layout": "imu_layout_file", "density": "density",
+         "convention": "convention"}  # fmt: skip
 _WHERE = {"dh": "a DH arm", "urdf": "a URDF robot", "run": "--from"}
 
 
 def _source(params: dict[str, Any]) -> str:
     """``dh``, ``urdf`` or ``run``: the one robot source the options name (else a UsageError)."""
-    given = [name for name, keys in _SOURCES.items() if any(params[k] is not None for k in keys)]
-    if len(given) != 1:
+    named = [name for name, keys in _SOURCES.items() if any(params[k] is not None for k in keys)]
+    if len(named) != 1:
         raise click.UsageError(
             "give one robot: --preset NAME or --dh FILE, --robot NAME or --urdf FILE, or --from RUN"
         )
-    refused = _REFUSED[given[0]] + (("density",) if given[0] == "run" else ())
+    refused = _REFUSED[named[0]] + (("density",) if named[0] == "run" else ())
     for flag in refused:
-        if params[_KEYS[flag]] is not None:
-            raise click.UsageError(f"--{flag} is not allowed with {_WHERE[given[0]]}")
-    return given[0]
+        if given(_KEYS[flag]):
+            raise click.UsageError(f"--{flag} is not allowed with {_WHERE[named[0]]}")
+    return named[0]
 
 
 def _robot(
