@@ -14,15 +14,18 @@ from aaria_pin.cli._options import (
 )
 from aaria_pin.core.record import RunRecord
 
-_DH_ONLY = {"preset": "--preset", "dh_file": "--dh", "mount_file": "--imu-mount",
-            "density": "--density", "convention": "--convention"}  # fmt: skip
+_DH_ONLY = ("preset", "dh_file", "mount_file", "density", "convention")
+"""Options of ``aaria simulate`` for DH arms only."""
 
 
 def _refuse_options_without_effect(params: dict[str, Any]) -> None:
     """Options of ``aaria simulate`` that would do nothing for a URDF robot: usage errors."""
-    for key, flag in _DH_ONLY.items():
+    from aaria_pin.core.conflicts import OptionConflictError
+
+    source = next(key for key in ("robot", "urdf_file", "from_run") if params[key] is not None)
+    for key in _DH_ONLY:
         if given(key):
-            raise click.UsageError(f"{flag} is for DH arms; not allowed with a URDF robot")
+            raise OptionConflictError(parameter=key, other=source, given_with=True)
     if params["fixed_base"] and params["base_file"] is not None:
         raise click.UsageError("--base moves the base; not allowed with --fixed-base")
     if params["from_run"] is not None and params["tool_frame"] is not None:

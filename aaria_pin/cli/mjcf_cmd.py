@@ -22,11 +22,9 @@ if TYPE_CHECKING:
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
 _SOURCES = {"dh": ("preset", "dh_file"), "urdf": ("robot", "urdf_file"), "run": ("from_run",)}
-_REFUSED = {"dh": ("tool", "imu-layout"), "urdf": ("density", "convention"),
-            "run": ("tool", "imu-layout", "convention")}  # fmt: skip
-_KEYS = {"tool": "tool_frame", "imu-layout": "imu_layout_file", "density": "density",
-         "convention": "convention"}  # fmt: skip
-_WHERE = {"dh": "a DH arm", "urdf": "a URDF robot", "run": "--from"}
+_REFUSED = {"dh": ("tool_frame", "imu_layout_file"), "urdf": ("density", "convention"),
+            "run": ("tool_frame", "imu_layout_file", "convention", "density")}  # fmt: skip
+"""Options that do nothing for a robot of that source (refused, naming both)."""
 
 
 def _source(params: dict[str, Any]) -> str:
@@ -36,10 +34,12 @@ def _source(params: dict[str, Any]) -> str:
         raise click.UsageError(
             "give one robot: --preset NAME or --dh FILE, --robot NAME or --urdf FILE, or --from RUN"
         )
-    refused = _REFUSED[named[0]] + (("density",) if named[0] == "run" else ())
-    for flag in refused:
-        if given(_KEYS[flag]):
-            raise click.UsageError(f"--{flag} is not allowed with {_WHERE[named[0]]}")
+    for key in _REFUSED[named[0]]:
+        if given(key):
+            from aaria_pin.core.conflicts import OptionConflictError
+
+            source = next(k for k in _SOURCES[named[0]] if params[k] is not None)
+            raise OptionConflictError(parameter=key, other=source, given_with=True)
     return named[0]
 
 
