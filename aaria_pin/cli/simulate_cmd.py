@@ -9,10 +9,12 @@ import click
 
 from aaria_pin.cli._options import (
     fourier_options,
+    given,
     grid_options,
     load_table_source,
     robot_source_options,
     sampling_overrides,
+    shown,
     table_source_options,
     torque_overrides,
 )
@@ -35,36 +37,19 @@ Examples:
 @robot_source_options
 @click.option("--joints", "joints_file", type=_FILE, help="Joint oscillation table (senSenJ).")
 @click.option("--base", "base_file", type=_FILE, help="Base oscillation table (senSenB).")
-@click.option(
-    "--imu-mount",
-    "mount_file",
-    type=_FILE,
-    help="IMU mounting poses: .npy (14 × 4 × 4) or a run file.",
-)
-@click.option(
-    "--from",
-    "from_run",
-    type=_FILE,
-    help="Re-make the run stored in this run file (any kind); the options given beside it "
-    "replace the stored ones.",
-)
+@click.option("--imu-mount", "mount_file", type=_FILE,
+              help="IMU mounting poses: .npy (14 × 4 × 4) or a run file.")  # fmt: skip
+@click.option("--from", "from_run", type=_FILE,
+              help="Re-make the run stored in this run file (any kind); the options given beside"
+              " it replace the stored ones.")  # fmt: skip
 @grid_options()
 @click.option("--seed", type=click.IntRange(0, MAX_SEED), help="Seed of the IMU noise (default 0).")
 @click.option("--density", type=float, help="Density of every body [kg/m^3] (default 2700).")
-@click.option(
-    "--drive",
-    type=click.Choice(["motion", "torque"]),
-    default="motion",
-    show_default=True,
-    help="Follow the joint table, or move under --torques by forward dynamics.",
-)
-@click.option(
-    "--torques",
-    "torques_file",
-    type=click.Path(path_type=Path, dir_okay=False),
-    help="Joint torques for --drive torque: a run file (its tau), or a T x n table (CSV, .npy, "
-    ".mat 'tau'); a DH arm's by module (T x 6).",
-)
+@shown("--drive", default="motion", type=click.Choice(["motion", "torque"]),
+       help="Follow the joint table, or move under --torques by forward dynamics.")  # fmt: skip
+@click.option("--torques", "torques_file", type=_FILE,
+              help="Joint torques for --drive torque: a run file (its tau), or a T x n table (CSV,"
+              " .npy, .mat 'tau'); a DH arm's by module (T x 6).")  # fmt: skip
 @click.option(
     "--motion",
     type=click.Choice(["sine", "fourier"]),
@@ -88,13 +73,8 @@ Examples:
     "through every sample).",
 )
 @click.option("--noise/--no-noise", default=None, help="IMU noise on (default) or off.")
-@click.option(
-    "--compress",
-    type=click.Choice(["none", "gzip", "lzf"]),
-    default="none",
-    show_default=True,
-    help="HDF5 filter of the time series (gzip: smaller, MATLAB-readable, slower).",
-)
+@shown("--compress", default="none", type=click.Choice(["none", "gzip", "lzf"]),
+       help="HDF5 filter of the time series (gzip: smaller, MATLAB-readable, slower).")  # fmt: skip
 @click.option("-o", "--output", type=_FILE, required=True, help="Run file: .h5 or .mat.")
 def simulate(output: Path, compress: str, **flags: Any) -> None:
     """Simulate an arm on a moving base: joint values, IMUs, torques, base wrench.
@@ -174,10 +154,6 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     click.echo(summary(output, record, samples, peak, robot=False))
 
 
-_DEFAULTS = {"convention": "aaria", "drive": "motion", "fixed_base": False}
-"""Options that have a value when not given (the rest are None)."""
-
-
 def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str) -> None:
     """``aaria simulate --from`` a wrist or pick-and-place run: re-make it as it was.
 
@@ -189,10 +165,7 @@ def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str) -> None:
     from aaria_pin.files.runfile import write_run
 
     for option in simulate.params:
-        key = option.name
-        if key in ("from_run", "output", "compress") or key is None:
-            continue
-        if params[key] != _DEFAULTS.get(key):
+        if option.name not in ("from_run", "output", "compress", None) and given(option.name):
             flag = max(option.opts, key=len)
             raise click.UsageError(f"{flag} does not apply to a {kind} run (--from)")
     record = remake_record(stored)
