@@ -80,7 +80,7 @@ def work(tmp_path: Path, inputs: Path) -> Iterator[Path]:
         os.chdir(old)
 
 
-def _listing(*folders: Path) -> dict[str, tuple[int, int]]:
+def listing(*folders: Path) -> dict[str, tuple[int, int]]:
     """Every file and folder below ``folders``: (size, mtime in ns)."""
     found = {}
     for folder in folders:
@@ -233,7 +233,7 @@ def test_bad_input_one_line_exit_2_nothing_written(
         raise TimeoutError(f"no answer within {TIME_LIMIT} s: {text}")
 
     argv = _argv(text, inputs)
-    before = _listing(work, inputs)
+    before = listing(work, inputs)
     previous = signal.signal(signal.SIGALRM, hang)
     signal.alarm(TIME_LIMIT)
     try:
@@ -241,7 +241,7 @@ def test_bad_input_one_line_exit_2_nothing_written(
     finally:
         signal.alarm(0)
         signal.signal(signal.SIGALRM, previous)
-    after = _listing(work, inputs)
+    after = listing(work, inputs)
     assert result.exit_code == 2, (result.exit_code, result.output, result.exception)
     assert isinstance(result.exception, SystemExit), result.exception
     lines = result.stderr.splitlines()

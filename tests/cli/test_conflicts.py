@@ -12,25 +12,18 @@ takes a rate refuses the same rate above it with the same words, and takes it at
 
 from __future__ import annotations
 
-import os
 import re
-from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
+from conftest import run_cli
 
-from aaria_pin.cli import main
 from aaria_pin.core.trajectory import MAX_RATE
+from tests.cli.test_bad_input import listing
 
 PICK_PLACE = "arm pick-place --cylinder 0.35 0.1 --place 0.2 -0.3 -o pp.h5"
 """A pick-and-place task that runs (its picture options are the conflicts)."""
-
-
-def _cli(*argv: str) -> tuple[int, str, str]:
-    result = CliRunner().invoke(main, list(argv))
-    return result.exit_code, result.stdout, result.stderr
 
 
 @pytest.fixture(scope="module")
@@ -55,7 +48,7 @@ def inputs(tmp_path_factory: pytest.TempPathFactory) -> Path:
         ["template", "base", "-o", f"{folder}/base.csv"],
     )
     for argv in made:
-        code, _, err = _cli(*argv)
+        code, _, err = run_cli(*argv)
         assert code == 0, err
     time = np.arange(21) / 100.0
     np.save(folder / "tau.npy", np.zeros((21, 6)))
@@ -64,23 +57,10 @@ def inputs(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 @pytest.fixture
-def work(tmp_path: Path) -> Iterator[Path]:
+def work(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     """A fresh, empty working folder as the cwd."""
-    old = Path.cwd()
-    os.chdir(tmp_path)
-    try:
-        yield tmp_path
-    finally:
-        os.chdir(old)
-
-
-def _listing(*folders: Path) -> dict[str, tuple[int, int]]:
-    """Every file below ``folders``: (size, mtime in ns)."""
-    return {
-        str(path): (path.stat().st_size, path.stat().st_mtime_ns)
-        for folder in folders
-        for path in sorted(folder.rglob("*"))
-    }
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
 
 
 def _argv(text: str, inputs: Path) -> list[str]:
@@ -179,8 +159,8 @@ CONFLICTS = [
 def test_conflicting_options_name_both_exit_2_nothing_written(
     text: str, message: str, work: Path, inputs: Path
 ) -> None:
-    before = _listing(work, inputs)
-    code, stdout, stderr = _cli(*_argv(text, inputs))
+    before = listing(work, inputs)
+    code, stdout, stderr = run_cli(*_argv(text, inputs))
     assert code == 2, (stdout, stderr)
     lines = stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith("aaria: error: "), stderr
@@ -191,7 +171,7 @@ def test_conflicting_options_name_both_exit_2_nothing_written(
         first, other = flags
         wanted = "with" if " is given without " in message else "without"
         assert f"; allowed: {first} {wanted} {other}" in lines[0]
-    assert _listing(work, inputs) == before
+    assert listing(work, inputs) == before
 
 
 RATE_COMMANDS = [
@@ -206,7 +186,7 @@ RATE_COMMANDS = [
 
 @pytest.mark.parametrize("text", RATE_COMMANDS)
 def test_one_rate_bound_for_every_command(text: str, work: Path, inputs: Path) -> None:
-    code, _, stderr = _cli(*_argv(text.replace("{rate}", "1e12"), inputs))
+    code, _, stderr = run_cli(*_argv(text.replace("{rate}", "1e12"), inputs))
     assert code == 2
     assert stderr == f"aaria: error: --rate is 1e+12; allowed: 0 < rate <= {MAX_RATE:g} Hz\n"
     assert list(work.iterdir()) == []
@@ -214,5 +194,5 @@ def test_one_rate_bound_for_every_command(text: str, work: Path, inputs: Path) -
 
 def test_the_bound_itself_is_taken(work: Path, inputs: Path) -> None:
     for text in (RATE_COMMANDS[0], RATE_COMMANDS[3]):
-        code, _, stderr = _cli(*_argv(text.replace("{rate}", f"{MAX_RATE:g}"), inputs))
+        code, _, stderr = run_cli(*_argv(text.replace("{rate}", f"{MAX_RATE:g}"), inputs))
         assert code == 0, stderr
