@@ -139,8 +139,12 @@ CONFLICTS = [
     ("urdf --preset aaria-fig2 --convention standard -o u.urdf", "--convention .*--preset"),
     # the readers' commands
     ("torques {ds.h5} --plot t.png", "--plot is given without --run"),
-    ("render --preset aaria-fig2 --time 0.1 -o p.png", "--time needs --from"),
-    ("render --preset aaria-fig2 --run 1 -o p.png", "--run needs --from"),
+    ("render --preset aaria-fig2 --time 0.1 -o p.png", "--time is given without --from"),
+    ("render --preset aaria-fig2 --run 1 -o p.png", "--run is given without --from"),
+    (
+        "render --preset aaria-fig2 --convention standard -o p.png",
+        "--convention is given without --dh",
+    ),
     # the rest
     ("robots --json --check", "--check is given with --json"),
     ("robots --json --paths", "--paths is given with --json"),
