@@ -19,6 +19,18 @@ from aaria_pin.errors import ParameterError
 __all__ = ["dh_table_source", "read_torques", "robot_name", "urdf_source"]
 
 
+def _one_of(name: str, value: Any, other: str, other_value: Any) -> None:
+    """Refuse neither or both of two sources (both: naming them, as options that conflict)."""
+    if value is None and other_value is None:
+        raise ParameterError(
+            parameter=name, value=None, allowed=f"exactly one of {name} and {other}"
+        )
+    if value is not None and other_value is not None:
+        from aaria_pin.core.conflicts import OptionConflictError
+
+        raise OptionConflictError(parameter=name, other=other, given_with=True, value=value)
+
+
 def dh_table_source(
     preset: str | None = None,
     dh_file: str | os.PathLike[str] | None = None,
@@ -36,18 +48,15 @@ def dh_table_source(
         ``(table, convention, name)``: the preset's name, or the file's stem.
 
     Raises:
-        ParameterError: not exactly one of ``preset`` and ``dh_file``, or an unknown preset.
-        OptionConflictError: a preset with another ``convention`` than its own (it would be
-            ignored).
+        ParameterError: neither ``preset`` nor ``dh_file``, or an unknown preset.
+        OptionConflictError: both ``preset`` and ``dh_file``; a preset with another
+            ``convention`` than its own (it would be ignored).
         InputFileError: a table file that cannot be read.
     """
     from aaria_pin.aaria.presets import get_preset
     from aaria_pin.files.io import read_table
 
-    if (preset is None) == (dh_file is None):
-        raise ParameterError(
-            parameter="preset", value=preset, allowed="exactly one of preset and dh_file"
-        )
+    _one_of("preset", preset, "dh_file", dh_file)
     if preset is not None:
         chosen = get_preset(preset)
         if convention not in (None, chosen.convention):
@@ -72,17 +81,15 @@ def urdf_source(
         urdf_file: a URDF file
 
     Raises:
-        ParameterError: not exactly one of ``robot`` and ``urdf_file``; an unknown robot.
+        ParameterError: neither ``robot`` nor ``urdf_file``; an unknown robot.
+        OptionConflictError: both ``robot`` and ``urdf_file``.
         InputFileError: a missing file, a folder or a FIFO (refused without a wait).
     """
     from aaria_pin.core.catalogue import find_robot
     from aaria_pin.core.urdf_robot import read_urdf_file
     from aaria_pin.files.paths import existing_input
 
-    if (robot is None) == (urdf_file is None):
-        raise ParameterError(
-            parameter="robot", value=robot, allowed="exactly one of robot and urdf_file"
-        )
+    _one_of("robot", robot, "urdf_file", urdf_file)
     if robot is not None:
         entry = find_robot(robot)
         return read_urdf_file(entry.urdf), entry.urdf.parent, entry.name

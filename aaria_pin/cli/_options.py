@@ -148,15 +148,6 @@ robot_source_options = stacked(
 """``--robot NAME | --urdf FILE`` and the URDF robot's tool, IMU and base options."""
 
 
-def load_robot_source(robot: str | None, urdf_file: Path | None) -> tuple[str, Path, str]:
-    """``--robot`` / ``--urdf`` as ``(urdf text, its folder, source name)``."""
-    from aaria_pin.aaria.robot_inputs import urdf_source
-
-    if robot is not None and urdf_file is not None:
-        raise click.UsageError("give one of --robot NAME or --urdf FILE, not both")
-    return urdf_source(robot, urdf_file)
-
-
 def sampling_overrides(params: dict[str, Any]) -> dict[str, Any]:
     """``duration``, ``rate``, ``seed`` and ``noise`` of a command's options, where given."""
     keys = ("duration", "rate", "seed", "noise")

@@ -6,12 +6,7 @@ from typing import Any
 
 import click
 
-from aaria_pin.cli._options import (
-    given,
-    load_robot_source,
-    sampling_overrides,
-    torque_overrides,
-)
+from aaria_pin.cli._options import given, sampling_overrides, torque_overrides
 from aaria_pin.core.record import RunRecord
 
 _DH_ONLY = ("preset", "dh_file", "mount_file", "density", "convention")
@@ -46,6 +41,7 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     """
     import warnings
 
+    from aaria_pin.aaria.robot_inputs import urdf_source
     from aaria_pin.aaria.run_motion import MotionChoice, urdf_motion
     from aaria_pin.cli._simulate_motion import summary
     from aaria_pin.core.imu_layout import read_imu_layout
@@ -89,7 +85,7 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
             overrides.update(urdf_motion(choice, stored, overrides))
             chunks = urdf_request_from_record(stored, **overrides).pieces()
         else:
-            text, folder, source = load_robot_source(params["robot"], params["urdf_file"])
+            text, folder, source = urdf_source(params["robot"], params["urdf_file"])
             overrides.update(urdf_motion(choice, None, overrides, text, folder))
             moving = not params["fixed_base"]
             request = urdf_request(

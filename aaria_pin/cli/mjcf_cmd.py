@@ -8,12 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from aaria_pin.cli._options import (
-    given,
-    load_robot_source,
-    robot_source_options,
-    table_source_options,
-)
+from aaria_pin.cli._options import given, robot_source_options, table_source_options
 from aaria_pin.cli._viz_options import output_option
 from aaria_pin.cli.urdf_cmd import table_arm
 
@@ -53,11 +48,12 @@ def _robot(
         density = 2700.0 if params["density"] is None else params["density"]
         arm, name = table_arm(params["preset"], params["dh_file"], params["convention"], density)
         return arm.urdf, None, "tool_tip", dh_imu_mounts(arm), name, len(arm.chain.joints)
+    from aaria_pin.aaria.robot_inputs import urdf_source
     from aaria_pin.core.imu_layout import read_imu_layout
     from aaria_pin.core.urdf_robot import load_urdf_robot
     from aaria_pin.files.paths import existing_input
 
-    urdf, folder, name = load_robot_source(params["robot"], params["urdf_file"])
+    urdf, folder, name = urdf_source(params["robot"], params["urdf_file"])
     layout = params["imu_layout_file"]
     if layout is not None:
         layout = read_imu_layout(existing_input(layout, None, "IMU layout"))

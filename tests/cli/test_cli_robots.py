@@ -101,7 +101,7 @@ def test_bad_urdf_one_line_exit_2_no_file(tmp_path: Path, urdf_text: str, patter
     [
         (["--robot", "ur6"], "close names: ur5"),
         (["--robot", "ur5", "--preset", "aaria-fig2"], "--preset is given with --robot"),
-        (["--robot", "ur5", "--urdf", "x.urdf"], "not both"),
+        (["--robot", "ur5", "--urdf", "x.urdf"], "--robot is given with --urdf"),
         (["--preset", "aaria-fig2", "--fixed-base"], "--fixed-base is for URDF robots"),
         (
             ["--robot", "ur5", "--tool", "nowhere"],
