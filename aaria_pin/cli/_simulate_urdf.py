@@ -17,19 +17,17 @@ def _refuse_options_without_effect(params: dict[str, Any]) -> None:
     """Options of ``aaria simulate`` that would do nothing for a URDF robot: usage errors."""
     from aaria_pin.core.conflicts import OptionConflictError
 
-    source = next(key for key in ("robot", "urdf_file", "from_run") if params[key] is not None)
-    for key in _DH_ONLY:
-        if given(key):
-            raise OptionConflictError(parameter=key, other=source, given_with=True)
-    if params["fixed_base"] and params["base_file"] is not None:
-        raise click.UsageError("--base moves the base; not allowed with --fixed-base")
+    refused = [(key, "from_run") for key in ("robot", "urdf_file") if params["from_run"]]
+    source = next(key for key in ("from_run", "robot", "urdf_file") if params[key] is not None)
+    refused += [(key, source) for key in _DH_ONLY] + [("base_file", "fixed_base")]
+    for key, other in refused:  # the run file has its URDF; --base moves the base
+        if given(key) and given(other):
+            raise OptionConflictError(parameter=key, other=other, given_with=True)
     if params["from_run"] is not None and params["tool_frame"] is not None:
         raise click.UsageError(
             "--tool with --from: the run file's IMU layout was made for its tool; re-simulate "
             "with --robot/--urdf instead"
         )
-    if params["from_run"] is not None and (params["robot"] or params["urdf_file"]):
-        raise click.UsageError("--from takes the URDF from the run file; drop --robot/--urdf")
 
 
 def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = None) -> None:

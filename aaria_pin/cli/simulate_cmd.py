@@ -94,6 +94,7 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     from aaria_pin.aaria.simulate import dh_request, dh_request_from_record
     from aaria_pin.cli._simulate_motion import summary
     from aaria_pin.core._malloc import tune_malloc
+    from aaria_pin.core.conflicts import OptionConflictError
     from aaria_pin.errors import ParameterError
     from aaria_pin.files.io import read_table
     from aaria_pin.files.runfile import write_run_pieces
@@ -130,8 +131,9 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     if flags["density"] is not None:
         overrides["dims"] = BodyDimensions(density=flags["density"])
     overrides.update(torque_overrides(params))
-    if stored is not None and (preset or dh_file):
-        raise click.UsageError("--from takes the DH table from the run file; drop --preset/--dh")
+    for key in ("preset", "dh_file"):  # the run file has its table
+        if stored is not None and given(key):
+            raise OptionConflictError(parameter=key, other="from_run", given_with=True)
     choice = MotionChoice.from_options(params)
     if stored is not None:
         overrides.update(dh_motion(choice, stored, overrides, stored.tables["senSenDH"]))

@@ -125,7 +125,10 @@ def test_simulate_robot_bad_options(tmp_path: Path, extra: list[str], pattern: s
     ("extra", "pattern"),
     [
         (["--robot", "ur5", "--drive", "torque"], "--drive torque and --torques FILE go together"),
-        (["--robot", "ur5", "--fixed-base", "--base", "base.csv"], "not allowed with --fixed-base"),
+        (
+            ["--robot", "ur5", "--fixed-base", "--base", "base.csv"],
+            "--base is given with --fixed-base",
+        ),
         (["--robot", "ur3"], "--robot is 'ur3'; allowed: ur/ur3, ur/ur3_robot"),
     ],
 )

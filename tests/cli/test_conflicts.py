@@ -28,10 +28,11 @@ PICK_PLACE = "arm pick-place --cylinder 0.35 0.1 --place 0.2 -0.3 -o pp.h5"
 
 @pytest.fixture(scope="module")
 def inputs(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A DH run (0.2 s at 100 Hz), a two-run data set, torques, a trajectory, a joint table."""
+    """DH and ur5 runs (0.2 s at 100 Hz), a two-run data set, torques, a trajectory, tables."""
     folder = tmp_path_factory.mktemp("conflict_inputs")
     made = (
         ["simulate", "--preset", "aaria-fig2", "--duration", "0.2", "-o", f"{folder}/run.h5"],
+        ["simulate", "--robot", "ur5", "--duration", "0.2", "-o", f"{folder}/ur5.h5"],
         [
             "dataset",
             "-n",
@@ -124,8 +125,13 @@ CONFLICTS = [
     ("simulate --robot ur5 --convention standard -o s.h5", "--convention is given with --robot"),
     ("simulate --robot ur5 --density 3000 -o s.h5", "--density is given with --robot"),
     ("simulate --robot ur5 --imu-mount {run.h5} -o s.h5", "--imu-mount is given with --robot"),
-    ("simulate --robot ur5 --fixed-base --base {base.csv} -o s.h5", "--base .*--fixed-base"),
-    ("simulate --from {run.h5} --preset aaria-fig2 -o s.h5", "--from .*--preset"),
+    (
+        "simulate --robot ur5 --fixed-base --base {base.csv} -o s.h5",
+        "--base is given with --fixed-base",
+    ),
+    ("simulate --from {run.h5} --preset aaria-fig2 -o s.h5", "--preset is given with --from"),
+    ("simulate --from {ur5.h5} --robot ur5 -o s.h5", "--robot is given with --from"),
+    ("simulate --from {ur5.h5} --density 3000 -o s.h5", "--density is given with --from"),
     ("simulate --preset aaria-fig2 --tool tool0 -o s.h5", "--tool .*--robot"),
     ("simulate --preset aaria-fig2 --drive torque -o s.h5", "--drive torque and --torques"),
     ("simulate --preset aaria-fig2 --torques {tau.npy} -o s.h5", "--drive torque and --torques"),
