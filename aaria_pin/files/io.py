@@ -138,7 +138,7 @@ _NOT_NUMBERS = {"b": "bool", "U": "text", "S": "bytes", "O": "object", "M": "dat
 """NumPy dtype kinds a numeric table does not hold (``V``, a record: "structured"), by name."""
 
 
-def numeric_array(file: Path, data: object) -> Array:
+def numeric_array(file: Path, data: object, name: str = "") -> Array:
     """The array read from ``file`` as float64, if it holds real numbers (ints or floats).
 
     ``np.asarray(..., dtype=float)`` alone would take booleans as 0 and 1 and text such as
@@ -147,6 +147,7 @@ def numeric_array(file: Path, data: object) -> Array:
     Args:
         file: the file it was read from (named in the error)
         data: the array as read (any dtype)
+        name: the array's name in the file, for the error ("" for a file of one array)
 
     Returns:
         The values as a float64 array.
@@ -157,14 +158,13 @@ def numeric_array(file: Path, data: object) -> Array:
     """
     array = np.asarray(data)
     kind = array.dtype.kind
+    holder = f"{file}: {name} holds" if name else f"{file}: holds"
     if kind == "c":
-        raise InputFileError(
-            f"{file}: holds complex numbers; allowed: a real table", parameter="file"
-        )
+        raise InputFileError(f"{holder} complex numbers; allowed: a real table", parameter="file")
     if kind not in "iuf":
-        name = _NOT_NUMBERS.get(kind, "structured")
+        values = _NOT_NUMBERS.get(kind, "structured")
         raise InputFileError(
-            f"{file}: holds {name} values (dtype {array.dtype}); allowed: a numeric table",
+            f"{holder} {values} values (dtype {array.dtype}); allowed: a numeric table",
             parameter="file",
             value=str(array.dtype),
             allowed="a numeric table",
