@@ -362,19 +362,22 @@ def read_imu_mounts(path: Path) -> Array:
     """A DH arm's IMU mounting poses from a file: ``.npy`` (14 × 4 × 4) or a run file's.
 
     Raises:
-        InputFileError: a file that cannot be read (parameter ``imu_mount``).
+        InputFileError: a file that cannot be read (parameter ``imu_mount``), or of other
+            values than numbers (parameter ``file``).
         ParameterError: a run file's mounts that are not the Aaria arm's slots (another
             robot's: :func:`~aaria_pin.core.imu_layout.check_slot_mounts`).
     """
     from aaria_pin.errors import InputFileError
+    from aaria_pin.files.io import numeric_array
 
     if path.suffix.lower() == ".npy":
         try:
-            return np.asarray(np.load(path, allow_pickle=False))
+            poses = np.load(path, allow_pickle=False)
         except (OSError, ValueError) as exc:
             raise InputFileError(
                 f"{path}: cannot be read as .npy ({exc})", parameter="imu_mount"
             ) from None
+        return numeric_array(path, poses)
     from aaria_pin.aaria.dh_robot import imu_slot_links, imu_slot_names
     from aaria_pin.core.imu_layout import check_slot_mounts
     from aaria_pin.files.runfile import read_run_inputs

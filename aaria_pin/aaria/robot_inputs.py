@@ -19,37 +19,56 @@ from aaria_pin.errors import ParameterError
 __all__ = ["dh_table_source", "read_torques", "robot_name", "urdf_source"]
 
 
+def _one_of(name: str, value: Any, other: str, other_value: Any) -> None:
+    """Refuse neither or both of two sources (both: naming them, as options that conflict)."""
+    if value is None and other_value is None:
+        raise ParameterError(
+            parameter=name, value=None, allowed=f"exactly one of {name} and {other}"
+        )
+    if value is not None and other_value is not None:
+        from aaria_pin.core.conflicts import OptionConflictError
+
+        raise OptionConflictError(parameter=name, other=other, given_with=True, value=value)
+
+
 def dh_table_source(
     preset: str | None = None,
     dh_file: str | os.PathLike[str] | None = None,
-    convention: str = "aaria",
+    convention: str | None = None,
 ) -> tuple[Any, Convention, str]:
     """A DH table from a preset or a table file, its convention and its name.
 
     Args:
         preset: a preset's name (:mod:`aaria_pin.aaria.presets`)
         dh_file: a table file: CSV, ``.npy``, or ``.mat`` holding ``senSenDH``
-        convention: the convention of ``dh_file``'s table (a preset has its own)
+        convention: the convention of ``dh_file``'s table (None: ``"aaria"``); a preset has
+            its own (None, or the same)
 
     Returns:
         ``(table, convention, name)``: the preset's name, or the file's stem.
 
     Raises:
-        ParameterError: not exactly one of ``preset`` and ``dh_file``, or an unknown preset.
+        ParameterError: neither ``preset`` nor ``dh_file``, or an unknown preset.
+        OptionConflictError: both ``preset`` and ``dh_file``; a preset with another
+            ``convention`` than its own (it would be ignored).
         InputFileError: a table file that cannot be read.
     """
     from aaria_pin.aaria.presets import get_preset
     from aaria_pin.files.io import read_table
 
-    if (preset is None) == (dh_file is None):
-        raise ParameterError(
-            parameter="preset", value=preset, allowed="exactly one of preset and dh_file"
-        )
+    _one_of("preset", preset, "dh_file", dh_file)
     if preset is not None:
         chosen = get_preset(preset)
+        if convention not in (None, chosen.convention):
+            from aaria_pin.core.conflicts import OptionConflictError
+
+            raise OptionConflictError(
+                parameter="convention", other="preset", given_with=True, value=convention
+            )
         return chosen.table, chosen.convention, chosen.name
     path = Path(os.fspath(cast("os.PathLike[str]", dh_file)))
-    return read_table(path, "senSenDH"), cast("Convention", convention), path.stem
+    given = "aaria" if convention is None else convention
+    return read_table(path, "senSenDH"), cast("Convention", given), path.stem
 
 
 def urdf_source(
@@ -62,17 +81,15 @@ def urdf_source(
         urdf_file: a URDF file
 
     Raises:
-        ParameterError: not exactly one of ``robot`` and ``urdf_file``; an unknown robot.
+        ParameterError: neither ``robot`` nor ``urdf_file``; an unknown robot.
+        OptionConflictError: both ``robot`` and ``urdf_file``.
         InputFileError: a missing file, a folder or a FIFO (refused without a wait).
     """
     from aaria_pin.core.catalogue import find_robot
     from aaria_pin.core.urdf_robot import read_urdf_file
     from aaria_pin.files.paths import existing_input
 
-    if (robot is None) == (urdf_file is None):
-        raise ParameterError(
-            parameter="robot", value=robot, allowed="exactly one of robot and urdf_file"
-        )
+    _one_of("robot", robot, "urdf_file", urdf_file)
     if robot is not None:
         entry = find_robot(robot)
         return read_urdf_file(entry.urdf), entry.urdf.parent, entry.name

@@ -25,24 +25,92 @@ if TYPE_CHECKING:
 __all__ = ["MotionChoice", "dh_motion", "urdf_motion"]
 
 
+_SETTINGS = ("harmonics", "base_frequency", "trajectory", "smoothing")
+"""The options of :class:`MotionChoice` beside its kind (``motion``)."""
+
+
 @dataclass(frozen=True)
 class MotionChoice:
-    """The joint motion a run is asked to follow.
+    """The joint motion a run is asked to follow; settings of another motion are refused.
 
     Attributes:
-        kind: ``sine`` (the joint table), ``fourier``, ``trajectory`` (a file), or None (as
-            stored, or the default sines)
+        kind: ``sine`` (the joint table), ``fourier``, ``trajectory`` (a file; the kind of a
+            choice given only ``trajectory``), or None (as stored, or the default sines)
         harmonics: harmonics per joint of a Fourier motion (None: the default)
         base_frequency: base frequency of a Fourier motion [Hz] (None: the default)
         trajectory: the file of a trajectory motion (time and one column per joint)
-        smoothing: RMS [rad or m] of the noise the trajectory's spline may smooth away
+        smoothing: RMS [rad or m] of the noise the trajectory's spline may smooth away (None: 0,
+            through every sample)
+
+    Raises:
+        OptionConflictError: a trajectory file with another kind (``motion``), Fourier
+            settings without the Fourier kind, ``smoothing`` without a trajectory file.
     """
 
     kind: str | None = None
     harmonics: int | None = None
     base_frequency: float | None = None
     trajectory: Path | None = None
-    smoothing: float = 0.0
+    smoothing: float | None = None
+
+    def __post_init__(self) -> None:
+        from aaria_pin.core.conflicts import OptionConflictError
+
+        if self.trajectory is not None:
+            if self.kind not in (None, "trajectory"):
+                raise OptionConflictError(
+                    parameter="motion", other="trajectory", given_with=True, value=self.kind
+                )
+            object.__setattr__(self, "kind", "trajectory")
+        for name, other, kind in (
+            ("harmonics", "motion", "fourier"),
+            ("base_frequency", "motion", "fourier"),
+            ("smoothing", "trajectory", "trajectory"),
+        ):
+            value = getattr(self, name)
+            if value is not None and self.kind != kind:
+                shown = kind if other == "motion" else ""
+                raise OptionConflictError(
+                    parameter=name, other=other, given_with=False, value=value, other_value=shown
+                )
+
+    @classmethod
+    def from_options(cls, options: Mapping[str, Any]) -> MotionChoice:
+        """The choice a run's options name (the other options are left to the caller).
+
+        Args:
+            options: ``motion`` (the kind), ``harmonics``, ``base_frequency``, ``trajectory``
+                and ``smoothing``; absent or None: not given
+
+        Raises:
+            OptionConflictError: as the class.
+        """
+        settings = {name: options.get(name) for name in _SETTINGS}
+        return cls(options.get("motion"), **settings)
+
+
+def _refuse_with_options(choice: MotionChoice, options: Mapping[str, Any]) -> None:
+    """Refuse a motion the run's other options make meaningless.
+
+    Raises:
+        OptionConflictError: a motion asked for a run driven by ``torques`` (the torques move
+            the joints), a ``joint_table`` (the sines' table) with a Fourier or trajectory
+            motion.
+    """
+    from aaria_pin.core.conflicts import OptionConflictError
+
+    named = "trajectory" if choice.kind == "trajectory" else "motion"
+    if choice.kind is not None and options.get("torques") is not None:
+        value = str(choice.trajectory) if named == "trajectory" else choice.kind
+        raise OptionConflictError(parameter=named, other="torques", given_with=True, value=value)
+    if choice.kind in ("fourier", "trajectory") and options.get("joint_table") is not None:
+        raise OptionConflictError(
+            parameter="joint_table",
+            other=named,
+            given_with=True,
+            value=options["joint_table"],
+            other_value="fourier" if named == "motion" else "",
+        )
 
 
 def chosen_motion(
@@ -62,19 +130,22 @@ def chosen_motion(
         fourier: ``(duration, rate, settings) -> FourierExcitation`` of the robot
 
     Returns:
-        ``motion`` (None: back to the joint table's sines) and, for a trajectory file, its
-        ``duration`` and ``rate`` where not given; nothing when the choice leaves the motion
-        as stored (or as the default sines).
+        ``motion`` (None: back to the joint table's sines, also the choice of a given
+        ``joint_table``) and, for a trajectory file, its ``duration`` and ``rate`` where not
+        given; nothing when the choice leaves the motion as stored (or as the default sines).
 
     Raises:
         ParameterError: a trajectory motion without its file, or Fourier settings refused.
+        OptionConflictError: a motion with ``torques``, a ``joint_table`` with a Fourier or
+            trajectory motion.
         InputFileError: a trajectory file that cannot be read or matched to the joints.
     """
     from aaria_pin.core.run import RunSettings
 
-    if choice.kind is None:
+    _refuse_with_options(choice, options)
+    if choice.kind is None and options.get("joint_table") is None:
         return {}
-    if choice.kind == "sine":
+    if choice.kind in (None, "sine"):  # the table given is followed (also by a re-made run)
         return {"motion": None}
     grid = RunSettings.from_attributes(stored.attributes if stored is not None else {})
     rate = options.get("rate", grid.rate)
@@ -106,7 +177,7 @@ def chosen_motion(
         rate=options.get("rate"),
         duration=options.get("duration"),
         fallback_rate=grid.rate,
-        smoothing=choice.smoothing,
+        smoothing=choice.smoothing or 0.0,
     )
     return {"motion": trajectory, "duration": duration, "rate": file_rate}
 

@@ -48,6 +48,26 @@ def shown(*decls: str, default: Any, help: str, **attrs: Any) -> Callable[[F], F
     return click.option(*decls, default=default, show_default=True, help=help, **attrs)
 
 
+def grid_options(
+    duration: float | str = "(default 10)", rate: float | str = "(default 100)"
+) -> Callable[[F], F]:
+    """``--duration`` [s] and ``--rate`` [Hz] of a run (their bounds are the library's).
+
+    Args:
+        duration: the option's default (shown in the help), or the text that tells what it is
+            when not given (the option is then None: the library's or the stored value)
+        rate: the same for ``--rate``
+    """
+
+    def option(flag: str, what: str, default: float | str) -> Callable[[F], F]:
+        if isinstance(default, str):
+            return click.option(flag, type=float, help=f"{what} {default}.")
+        return shown(flag, default=default, type=float, help=f"{what}.")
+
+    return stacked(option("--duration", "Run length [s]", duration),
+                   option("--rate", "Sample rate [Hz]", rate))  # fmt: skip
+
+
 PRESET_HELP = "Built-in table: aaria-fig2, aaria-fig3, spherical-wrist."
 """The help of ``--preset`` for commands that take the DH presets only."""
 
@@ -78,13 +98,24 @@ table_source_options = table_source()
 """``--preset NAME | --dh FILE [--convention ...]`` with the DH presets' help."""
 
 
+def given(name: str) -> bool:
+    """Whether the running command's option ``name`` was given (not left at its default)."""
+    from click.core import ParameterSource
+
+    source = click.get_current_context().get_parameter_source(name)
+    return source not in (None, ParameterSource.DEFAULT, ParameterSource.DEFAULT_MAP)
+
+
 def load_table_source(preset: str | None, dh_file: Path | None, convention: str) -> Any:
-    """``--preset`` / ``--dh`` as ``(table, convention, name)`` (:func:`dh_table_source`)."""
+    """``--preset`` / ``--dh`` as ``(table, convention, name)`` (:func:`dh_table_source`).
+
+    ``--convention`` is passed only when given: a preset of another convention refuses it.
+    """
     from aaria_pin.aaria.robot_inputs import dh_table_source
 
     if (preset is None) == (dh_file is None):
         raise click.UsageError("give exactly one of --preset NAME or --dh FILE")
-    return dh_table_source(preset, dh_file, convention)
+    return dh_table_source(preset, dh_file, convention if given("convention") else None)
 
 
 def robot_name(stem: str) -> str:
@@ -115,15 +146,6 @@ robot_source_options = stacked(
                  help="URDF robot: keep the root link fixed at the origin."),
 )  # fmt: skip
 """``--robot NAME | --urdf FILE`` and the URDF robot's tool, IMU and base options."""
-
-
-def load_robot_source(robot: str | None, urdf_file: Path | None) -> tuple[str, Path, str]:
-    """``--robot`` / ``--urdf`` as ``(urdf text, its folder, source name)``."""
-    from aaria_pin.aaria.robot_inputs import urdf_source
-
-    if robot is not None and urdf_file is not None:
-        raise click.UsageError("give one of --robot NAME or --urdf FILE, not both")
-    return urdf_source(robot, urdf_file)
 
 
 def sampling_overrides(params: dict[str, Any]) -> dict[str, Any]:

@@ -6,27 +6,28 @@ from typing import Any
 
 import click
 
-from aaria_pin.cli._options import load_robot_source, sampling_overrides, torque_overrides
+from aaria_pin.cli._options import given, sampling_overrides, torque_overrides
 from aaria_pin.core.record import RunRecord
 
-_DH_ONLY = {"preset": "--preset", "dh_file": "--dh", "mount_file": "--imu-mount",
-            "density": "--density"}  # fmt: skip
+_DH_ONLY = ("preset", "dh_file", "mount_file", "density", "convention")
+"""Options of ``aaria simulate`` for DH arms only."""
 
 
 def _refuse_options_without_effect(params: dict[str, Any]) -> None:
     """Options of ``aaria simulate`` that would do nothing for a URDF robot: usage errors."""
-    for key, flag in _DH_ONLY.items():
-        if params[key] is not None:
-            raise click.UsageError(f"{flag} is for DH arms; not allowed with a URDF robot")
-    if params["fixed_base"] and params["base_file"] is not None:
-        raise click.UsageError("--base moves the base; not allowed with --fixed-base")
+    from aaria_pin.core.conflicts import OptionConflictError
+
+    refused = [(key, "from_run") for key in ("robot", "urdf_file") if params["from_run"]]
+    source = next(key for key in ("from_run", "robot", "urdf_file") if params[key] is not None)
+    refused += [(key, source) for key in _DH_ONLY] + [("base_file", "fixed_base")]
+    for key, other in refused:  # the run file has its URDF; --base moves the base
+        if given(key) and given(other):
+            raise OptionConflictError(parameter=key, other=other, given_with=True)
     if params["from_run"] is not None and params["tool_frame"] is not None:
         raise click.UsageError(
             "--tool with --from: the run file's IMU layout was made for its tool; re-simulate "
             "with --robot/--urdf instead"
         )
-    if params["from_run"] is not None and (params["robot"] or params["urdf_file"]):
-        raise click.UsageError("--from takes the URDF from the run file; drop --robot/--urdf")
 
 
 def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = None) -> None:
@@ -38,8 +39,9 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     """
     import warnings
 
-    from aaria_pin.aaria.run_motion import urdf_motion
-    from aaria_pin.cli._simulate_motion import motion_choice, summary
+    from aaria_pin.aaria.robot_inputs import urdf_source
+    from aaria_pin.aaria.run_motion import MotionChoice, urdf_motion
+    from aaria_pin.cli._simulate_motion import summary
     from aaria_pin.core.imu_layout import read_imu_layout
     from aaria_pin.core.urdf_run import urdf_request, urdf_request_from_record
     from aaria_pin.files.io import read_table
@@ -74,14 +76,14 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        choice = motion_choice(params)
+        choice = MotionChoice.from_options(params)
         if stored is not None:
             if params["fixed_base"]:
                 overrides["moving_base"] = False
             overrides.update(urdf_motion(choice, stored, overrides))
             chunks = urdf_request_from_record(stored, **overrides).pieces()
         else:
-            text, folder, source = load_robot_source(params["robot"], params["urdf_file"])
+            text, folder, source = urdf_source(params["robot"], params["urdf_file"])
             overrides.update(urdf_motion(choice, None, overrides, text, folder))
             moving = not params["fixed_base"]
             request = urdf_request(

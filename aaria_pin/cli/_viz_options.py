@@ -1,4 +1,8 @@
-"""Options shared by the commands that read runs and write files: ``--run``, the output file."""
+"""Options shared by the commands that read runs and write files: ``--run``, the output file.
+
+``--run`` is checked by the one reader (:func:`aaria_pin.files.source.open_record`: required
+for a data set, refused for a run file), so every command says the same.
+"""
 
 from __future__ import annotations
 
@@ -13,7 +17,6 @@ from aaria_pin.viz._formats import PICTURE_SUFFIXES
 __all__ = [
     "PICTURE_SUFFIXES",
     "check_output",
-    "check_run_option",
     "output_option",
     "run_option",
 ]
@@ -76,15 +79,3 @@ def output_option(
 def run_option(help: str = "One run of a data set (default 0).") -> Callable[[F], F]:
     """``--run K`` (the parameter ``run_index``): one run of a data set."""
     return click.option("--run", "run_index", type=click.IntRange(0), help=help)
-
-
-def check_run_option(path: Path, run_index: int | None) -> None:
-    """Refuse ``--run`` for a run file (a missing file is told later).
-
-    Raises:
-        click.UsageError: ``--run`` given with a run file.
-    """
-    from aaria_pin.files.detection import is_dataset_file
-
-    if run_index is not None and path.is_file() and not is_dataset_file(path):
-        raise click.UsageError("--run is for a data set; this is a run file")

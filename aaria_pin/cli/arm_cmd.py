@@ -8,7 +8,7 @@ from typing import Any
 import click
 
 from aaria_pin.cli._app import AariaGroup
-from aaria_pin.cli._options import shown, stacked
+from aaria_pin.cli._options import given, shown, stacked
 from aaria_pin.cli._viz_options import output_option
 
 
@@ -127,6 +127,13 @@ def pick_place(output: Path, sheet: Path | None, animation: Path | None, **task:
 
     # the files and --fps are checked while the options are read, before anything is computed
     fps, size = task.pop("fps"), task.pop("gif_size")
+    for name, value in (("fps", fps), ("gif_size", size)):
+        if animation is None and given(name):
+            from aaria_pin.core.conflicts import OptionConflictError
+
+            raise OptionConflictError(
+                parameter=name, other="animation", given_with=False, value=value
+            )
     shape = [task.pop(key) for key in ("radius", "height", "mass")]
     run = simulate_pick_place(
         Cylinder(*task.pop("cylinder_xy"), *shape), task.pop("place_xy"), **task

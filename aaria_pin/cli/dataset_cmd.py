@@ -15,7 +15,12 @@ from typing import Any
 
 import click
 
-from aaria_pin.cli._options import fourier_options, robot_source_options, table_source_options
+from aaria_pin.cli._options import (
+    fourier_options,
+    grid_options,
+    robot_source_options,
+    table_source_options,
+)
 from aaria_pin.core.seeds import MAX_SEED
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
@@ -63,8 +68,7 @@ Examples:
     type=click.Path(path_type=Path, file_okay=False),
     help="With --scheduler: folder of the workers' shard files [the output's folder].",
 )
-@click.option("--duration", type=float, default=10.0, show_default=True, help="Run length [s].")
-@click.option("--rate", type=float, default=100.0, show_default=True, help="Sample rate [Hz].")
+@grid_options(10.0, 100.0)
 @click.option("--noise/--no-noise", default=True, show_default=True, help="IMU noise.")
 @click.option(
     "--dtype",

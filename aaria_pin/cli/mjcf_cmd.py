@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from aaria_pin.cli._options import load_robot_source, robot_source_options, table_source_options
+from aaria_pin.cli._options import given, robot_source_options, table_source_options
 from aaria_pin.cli._viz_options import output_option
 from aaria_pin.cli.urdf_cmd import table_arm
 
@@ -17,23 +17,25 @@ if TYPE_CHECKING:
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
 _SOURCES = {"dh": ("preset", "dh_file"), "urdf": ("robot", "urdf_file"), "run": ("from_run",)}
-_REFUSED = {"dh": ("tool", "imu-layout"), "urdf": ("density",), "run": ("tool", "imu-layout")}
-_KEYS = {"tool": "tool_frame", "imu-layout": "imu_layout_file", "density": "density"}
-_WHERE = {"dh": "a DH arm", "urdf": "a URDF robot", "run": "--from"}
+_REFUSED = {"dh": ("tool_frame", "imu_layout_file"), "urdf": ("density", "convention"),
+            "run": ("tool_frame", "imu_layout_file", "convention", "density")}  # fmt: skip
+"""Options that do nothing for a robot of that source (refused, naming both)."""
 
 
 def _source(params: dict[str, Any]) -> str:
     """``dh``, ``urdf`` or ``run``: the one robot source the options name (else a UsageError)."""
-    given = [name for name, keys in _SOURCES.items() if any(params[k] is not None for k in keys)]
-    if len(given) != 1:
+    named = [name for name, keys in _SOURCES.items() if any(params[k] is not None for k in keys)]
+    if len(named) != 1:
         raise click.UsageError(
             "give one robot: --preset NAME or --dh FILE, --robot NAME or --urdf FILE, or --from RUN"
         )
-    refused = _REFUSED[given[0]] + (("density",) if given[0] == "run" else ())
-    for flag in refused:
-        if params[_KEYS[flag]] is not None:
-            raise click.UsageError(f"--{flag} is not allowed with {_WHERE[given[0]]}")
-    return given[0]
+    for key in _REFUSED[named[0]]:
+        if given(key):
+            from aaria_pin.core.conflicts import OptionConflictError
+
+            source = next(k for k in _SOURCES[named[0]] if params[k] is not None)
+            raise OptionConflictError(parameter=key, other=source, given_with=True)
+    return named[0]
 
 
 def _robot(
@@ -46,11 +48,12 @@ def _robot(
         density = 2700.0 if params["density"] is None else params["density"]
         arm, name = table_arm(params["preset"], params["dh_file"], params["convention"], density)
         return arm.urdf, None, "tool_tip", dh_imu_mounts(arm), name, len(arm.chain.joints)
+    from aaria_pin.aaria.robot_inputs import urdf_source
     from aaria_pin.core.imu_layout import read_imu_layout
     from aaria_pin.core.urdf_robot import load_urdf_robot
     from aaria_pin.files.paths import existing_input
 
-    urdf, folder, name = load_robot_source(params["robot"], params["urdf_file"])
+    urdf, folder, name = urdf_source(params["robot"], params["urdf_file"])
     layout = params["imu_layout_file"]
     if layout is not None:
         layout = read_imu_layout(existing_input(layout, None, "IMU layout"))

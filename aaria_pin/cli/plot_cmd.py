@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from aaria_pin.cli._options import shown
-from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, check_run_option, output_option, run_option
+from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, output_option, run_option
 
 
 @click.command(
@@ -30,6 +30,5 @@ def plot(run_file: Path, run_index: int | None, imu: str | None, width: int, out
     """
     from aaria_pin.viz.plot import plot_run
 
-    check_run_option(run_file, run_index)
     panels, samples = plot_run(run_file, output, run_index, imu, width)
     click.echo(f"wrote {output}: {panels} panels, {samples} samples")

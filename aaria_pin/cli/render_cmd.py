@@ -8,7 +8,7 @@ from typing import Any
 import click
 
 from aaria_pin.cli._options import FINITE_FLOAT, shown, table_source
-from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, check_run_option, output_option, run_option
+from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, output_option, run_option
 
 
 @click.command(
@@ -50,11 +50,6 @@ def render(run_file: Path | None, run_index: int | None, output: Path, **options
 
     if [options["preset"], options["dh_file"], run_file].count(None) != 2:
         raise click.UsageError("give exactly one of --preset NAME, --dh FILE or --from RUN_FILE")
-    for flag, value in (("--time", options["time"]), ("--run", run_index)):
-        if run_file is None and value is not None:
-            raise click.UsageError(f"{flag} needs --from RUN_FILE")
-    if run_file is not None:
-        check_run_option(run_file, run_index)
     view = {key: options.pop(key) for key in ("width", "height", "elevation", "azimuth")}
     settings = PictureSettings(**view)
     title = render_picture(output, run_file=run_file, run=run_index, settings=settings, **options)

@@ -24,6 +24,11 @@ def robots(paths: bool, check: bool, as_json: bool) -> None:
     """List the robots of example-robot-data, for --robot NAME of simulate and dataset."""
     from aaria_pin.core.catalogue import robot_catalogue, robots_folder
 
+    for name, value in (("check", check), ("paths", paths)):
+        if as_json and value:  # the JSON object is every robot's URDF file, unchecked
+            from aaria_pin.core.conflicts import OptionConflictError
+
+            raise OptionConflictError(parameter=name, other="as_json", given_with=True, value=True)
     catalogue = robot_catalogue()
     if as_json:
         click.echo(json.dumps({name: str(e.urdf) for name, e in catalogue.items()}, indent=2))

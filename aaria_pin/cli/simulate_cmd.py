@@ -9,9 +9,12 @@ import click
 
 from aaria_pin.cli._options import (
     fourier_options,
+    given,
+    grid_options,
     load_table_source,
     robot_source_options,
     sampling_overrides,
+    shown,
     table_source_options,
     torque_overrides,
 )
@@ -34,37 +37,19 @@ Examples:
 @robot_source_options
 @click.option("--joints", "joints_file", type=_FILE, help="Joint oscillation table (senSenJ).")
 @click.option("--base", "base_file", type=_FILE, help="Base oscillation table (senSenB).")
-@click.option(
-    "--imu-mount",
-    "mount_file",
-    type=_FILE,
-    help="IMU mounting poses: .npy (14 × 4 × 4) or a run file.",
-)
-@click.option(
-    "--from",
-    "from_run",
-    type=_FILE,
-    help="Re-make the run stored in this run file (any kind); the options given beside it "
-    "replace the stored ones.",
-)
-@click.option("--duration", type=float, help="Run length [s] (default 10).")
-@click.option("--rate", type=float, help="Sample rate [Hz] (default 100).")
+@click.option("--imu-mount", "mount_file", type=_FILE,
+              help="IMU mounting poses: .npy (14 × 4 × 4) or a run file.")  # fmt: skip
+@click.option("--from", "from_run", type=_FILE,
+              help="Re-make the run stored in this run file (any kind); the options given beside"
+              " it replace the stored ones.")  # fmt: skip
+@grid_options()
 @click.option("--seed", type=click.IntRange(0, MAX_SEED), help="Seed of the IMU noise (default 0).")
 @click.option("--density", type=float, help="Density of every body [kg/m^3] (default 2700).")
-@click.option(
-    "--drive",
-    type=click.Choice(["motion", "torque"]),
-    default="motion",
-    show_default=True,
-    help="Follow the joint table, or move under --torques by forward dynamics.",
-)
-@click.option(
-    "--torques",
-    "torques_file",
-    type=click.Path(path_type=Path, dir_okay=False),
-    help="Joint torques for --drive torque: a run file (its tau), or a T x n table (CSV, .npy, "
-    ".mat 'tau'); a DH arm's by module (T x 6).",
-)
+@shown("--drive", default="motion", type=click.Choice(["motion", "torque"]),
+       help="Follow the joint table, or move under --torques by forward dynamics.")  # fmt: skip
+@click.option("--torques", "torques_file", type=_FILE,
+              help="Joint torques for --drive torque: a run file (its tau), or a T x n table (CSV,"
+              " .npy, .mat 'tau'); a DH arm's by module (T x 6).")  # fmt: skip
 @click.option(
     "--motion",
     type=click.Choice(["sine", "fourier"]),
@@ -88,13 +73,8 @@ Examples:
     "through every sample).",
 )
 @click.option("--noise/--no-noise", default=None, help="IMU noise on (default) or off.")
-@click.option(
-    "--compress",
-    type=click.Choice(["none", "gzip", "lzf"]),
-    default="none",
-    show_default=True,
-    help="HDF5 filter of the time series (gzip: smaller, MATLAB-readable, slower).",
-)
+@shown("--compress", default="none", type=click.Choice(["none", "gzip", "lzf"]),
+       help="HDF5 filter of the time series (gzip: smaller, MATLAB-readable, slower).")  # fmt: skip
 @click.option("-o", "--output", type=_FILE, required=True, help="Run file: .h5 or .mat.")
 def simulate(output: Path, compress: str, **flags: Any) -> None:
     """Simulate an arm on a moving base: joint values, IMUs, torques, base wrench.
@@ -110,10 +90,11 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     from aaria_pin.aaria.arm_run import read_imu_mounts
     from aaria_pin.aaria.dh_robot import BodyDimensions
     from aaria_pin.aaria.presets import get_preset
-    from aaria_pin.aaria.run_motion import dh_motion
+    from aaria_pin.aaria.run_motion import MotionChoice, dh_motion
     from aaria_pin.aaria.simulate import dh_request, dh_request_from_record
-    from aaria_pin.cli._simulate_motion import motion_choice, summary
+    from aaria_pin.cli._simulate_motion import summary
     from aaria_pin.core._malloc import tune_malloc
+    from aaria_pin.core.conflicts import OptionConflictError
     from aaria_pin.errors import ParameterError
     from aaria_pin.files.io import read_table
     from aaria_pin.files.runfile import write_run_pieces
@@ -150,10 +131,11 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     if flags["density"] is not None:
         overrides["dims"] = BodyDimensions(density=flags["density"])
     overrides.update(torque_overrides(params))
-    if stored is not None and (preset or dh_file):
-        raise click.UsageError("--from takes the DH table from the run file; drop --preset/--dh")
+    for key in ("preset", "dh_file"):  # the run file has its table
+        if stored is not None and given(key):
+            raise OptionConflictError(parameter=key, other="from_run", given_with=True)
+    choice = MotionChoice.from_options(params)
     if stored is not None:
-        choice = motion_choice(params)
         overrides.update(dh_motion(choice, stored, overrides, stored.tables["senSenDH"]))
         chunks = dh_request_from_record(stored, **overrides).pieces()
     else:
@@ -163,19 +145,15 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
                 f"table {name!r} is a {table_convention} DH table; allowed: an Aaria 8 × 5 table",
                 parameter="dh_table",
             )
-        if preset is not None:
+        overrides.update(dh_motion(choice, None, overrides, table))
+        if preset is not None:  # its tables where none is given (after the motion's rules)
             chosen = get_preset(preset)
             overrides.setdefault("joint_table", chosen.joint_table)
             overrides.setdefault("base_table", chosen.base_table)
-        overrides.update(dh_motion(motion_choice(params), None, overrides, table))
         chunks = dh_request(table, robot_name=name, **overrides).pieces()
     compression = None if compress == "none" else compress
     record, samples, peak = write_run_pieces(output, chunks, compression)
     click.echo(summary(output, record, samples, peak, robot=False))
-
-
-_DEFAULTS = {"convention": "aaria", "drive": "motion", "fixed_base": False}
-"""Options that have a value when not given (the rest are None)."""
 
 
 def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str) -> None:
@@ -189,10 +167,7 @@ def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str) -> None:
     from aaria_pin.files.runfile import write_run
 
     for option in simulate.params:
-        key = option.name
-        if key in ("from_run", "output", "compress") or key is None:
-            continue
-        if params[key] != _DEFAULTS.get(key):
+        if option.name not in ("from_run", "output", "compress", None) and given(option.name):
             flag = max(option.opts, key=len)
             raise click.UsageError(f"{flag} does not apply to a {kind} run (--from)")
     record = remake_record(stored)

@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 from aaria_pin.cli._options import json_option
-from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, check_run_option, output_option, run_option
+from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, output_option, run_option
 
 
 @click.command(
@@ -39,10 +39,13 @@ def torques(file: Path, run_index: int | None, as_json: bool, plot: Path | None)
     any version) or a data set: a summary of its runs' peaks, or one run with --run.
     """
     from aaria_pin.apps.torques import run_torque_report, torque_text
+    from aaria_pin.core.conflicts import OptionConflictError
+    from aaria_pin.files.detection import is_dataset_file
 
-    check_run_option(file, run_index)
+    if plot and run_index is None and is_dataset_file(file):  # a summary has no plot
+        raise OptionConflictError(parameter="plot", other="run", given_with=False, value=str(plot))
     report, one_run = run_torque_report(file, run_index)
-    if plot and one_run:
+    if plot:
         from aaria_pin.viz.report_plots import plot_torque_report
 
         plot_torque_report(report, plot, f"joint torques of {file.name}")

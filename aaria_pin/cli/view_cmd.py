@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from aaria_pin.cli._options import shown
-from aaria_pin.cli._viz_options import check_run_option, output_option, run_option
+from aaria_pin.cli._viz_options import output_option, run_option
 
 
 @click.command(
@@ -34,7 +34,6 @@ def view(run_file: Path, run_index: int | None, max_samples: int, output: Path) 
     """
     from aaria_pin.viz.html import write_run_viewer
 
-    check_run_option(run_file, run_index)
     shown_samples, samples = write_run_viewer(run_file, output, run_index, max_samples)
     size = output.stat().st_size / 1e6
     click.echo(f"wrote {output}: {shown_samples} of {samples} samples, {size:.2f} MB")

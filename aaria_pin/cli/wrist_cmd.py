@@ -9,7 +9,7 @@ from typing import Any
 import click
 
 from aaria_pin.cli._app import AariaGroup
-from aaria_pin.cli._options import FINITE_FLOAT, json_option, shown
+from aaria_pin.cli._options import FINITE_FLOAT, grid_options, json_option, shown
 from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, output_option
 from aaria_pin.core.seeds import MAX_SEED
 from aaria_pin.errors import ParameterError
@@ -142,8 +142,7 @@ Examples:
     "--profile", default="trapezoid", type=click.Choice(["trapezoid", "ramp"]),
     help="Smooth trapezoid (for torques) or the report's ramp.",
 )  # fmt: skip
-@click.option("--duration", type=float, help="Run length [s] (default: 1 s after arrival).")
-@shown("--rate", default=100.0, help="Sample rate [Hz].")
+@grid_options("(default: 1 s after arrival)", 100.0)
 @click.option("--radians", is_flag=True, help="Targets in radians (default degrees).")
 @click.option(
     "-o", "--output", type=click.Path(dir_okay=False), required=True,

@@ -25,6 +25,7 @@ __all__ = [
     "MAX_STREAMED_SAMPLES",
     "BaseMotion",
     "JointTrajectory",
+    "check_rate",
     "piece_times",
     "sample_count",
     "sample_times",
@@ -55,6 +56,22 @@ the fingers (``--duration 86400 --rate 100000`` would be 8.6 × 10⁹ samples, 1
 against memory."""
 
 
+def check_rate(rate: float) -> None:
+    """Refuse a sample rate outside ``0 < rate <=`` :data:`MAX_RATE`.
+
+    The one bound of every run and model: ``simulate``, ``dataset``, ``wrist simulate``,
+    :class:`~aaria_pin.core.run.RunSettings` and the MJCF's timestep ``1/rate``.
+
+    Args:
+        rate: sample rate [Hz]
+
+    Raises:
+        ParameterError: a rate that is not a finite number in that range (``parameter="rate"``).
+    """
+    if not (np.isfinite(rate) and 0 < rate <= MAX_RATE):
+        raise ParameterError(parameter="rate", value=rate, allowed=f"0 < rate <= {MAX_RATE:g} Hz")
+
+
 def sample_count(duration: float, rate: float, max_samples: int | None = MAX_SAMPLES) -> int:
     """The number of samples of a run: ``⌊D·f⌋ + 1`` (see :func:`sample_times`), checked.
 
@@ -75,8 +92,7 @@ def sample_count(duration: float, rate: float, max_samples: int | None = MAX_SAM
             value=duration,
             allowed=f"0 < duration <= {MAX_DURATION:g} s",
         )
-    if not (np.isfinite(rate) and 0 < rate <= MAX_RATE):
-        raise ParameterError(parameter="rate", value=rate, allowed=f"0 < rate <= {MAX_RATE:g} Hz")
+    check_rate(rate)
     n = math.floor(duration * rate + 1e-9) + 1
     if max_samples is not None and n > max_samples:
         held = {MAX_SAMPLES: " held in memory", MAX_STREAMED_SAMPLES: " written in pieces"}.get(

@@ -13,6 +13,7 @@ import re
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -36,6 +37,7 @@ __all__ = [
     "check_output",
     "check_outputs",
     "existing_input",
+    "numeric_array",
     "output_lock",
     "read_csv_table",
     "read_table",
@@ -106,11 +108,7 @@ def read_table(
             data = _read_run_table(file, mat_name)
         else:
             data = _read_csv(file, names)
-        if np.iscomplexobj(data):
-            raise InputFileError(
-                f"{file}: holds complex numbers; allowed: a real table", parameter="file"
-            )
-        table = np.asarray(data, dtype=float)
+        table = numeric_array(file, data)
     except InputFileError:
         raise
     except (OSError, ValueError, TypeError, EOFError) as exc:
@@ -134,6 +132,45 @@ def read_table(
         )
     _check_finite(file, table, names)
     return table
+
+
+_NOT_NUMBERS = {"b": "bool", "U": "text", "S": "bytes", "O": "object", "M": "date", "m": "time"}
+"""NumPy dtype kinds a numeric table does not hold (``V``, a record: "structured"), by name."""
+
+
+def numeric_array(file: Path, data: object, name: str = "") -> Array:
+    """The array read from ``file`` as float64, if it holds real numbers (ints or floats).
+
+    ``np.asarray(..., dtype=float)`` alone would take booleans as 0 and 1 and text such as
+    ``"1.5"`` as numbers; a file holding those is refused instead.
+
+    Args:
+        file: the file it was read from (named in the error)
+        data: the array as read (any dtype)
+        name: the array's name in the file, for the error ("" for a file of one array)
+
+    Returns:
+        The values as a float64 array.
+
+    Raises:
+        InputFileError: bool, text, object, date or structured values, or complex numbers
+            (``parameter="file"``).
+    """
+    array = np.asarray(data)
+    kind = array.dtype.kind
+    holder = f"{file}: {name} holds" if name else f"{file}: holds"
+    if kind == "c":
+        raise InputFileError(f"{holder} complex numbers; allowed: a real table", parameter="file")
+    if kind not in "iuf":
+        values = _NOT_NUMBERS.get(kind, "structured")
+        raise InputFileError(
+            f"{holder} {values} values (dtype {array.dtype}); allowed: a numeric table",
+            parameter="file",
+            value=str(array.dtype),
+            allowed="a numeric table",
+            element=str(file),
+        )
+    return np.asarray(array, dtype=float)
 
 
 def _check_finite(file: Path, table: Array, names: Sequence[str] | None) -> None:
@@ -284,7 +321,7 @@ def _read_run_table(file: Path, name: str) -> Array:
     tables = read_run_inputs(file).tables
     for stored in _RUN_TABLE_ALIASES.get(name, (name,)):
         if stored in tables:
-            return np.asarray(tables[stored], dtype=float)
+            return np.asarray(tables[stored])
     raise InputFileError(
         f"{file}: a run file without the table {name!r}; allowed: a run that has it "
         f"(this one has {', '.join(sorted(tables)) or 'no tables'})",
@@ -308,7 +345,7 @@ def _read_mat_array(file: Path, name: str) -> Array:
                     f"{file}: no array {name!r} in the .mat file; has {sorted(handle)}",
                     parameter="mat_name",
                 )
-            return np.asarray(handle[name][()], dtype=float).T
+            return _mat73_array(file, handle[name])
     from scipy.io import loadmat
     from scipy.io.matlab import MatReadError
 
@@ -321,4 +358,23 @@ def _read_mat_array(file: Path, name: str) -> Array:
         raise InputFileError(
             f"{file}: no array {name!r} in the .mat file; has {names}", parameter="mat_name"
         )
-    return np.asarray(contents[name], dtype=float)
+    return np.asarray(contents[name])
+
+
+def _mat73_array(file: Path, dataset: Any) -> Array:
+    """An array of a v7.3 MATLAB file, transposed (it is stored column-major).
+
+    Logical and char arrays, stored as integers, are refused by their ``MATLAB_class``.
+    """
+    matlab_class = dataset.attrs.get("MATLAB_class", b"double")
+    name = matlab_class.decode() if isinstance(matlab_class, bytes) else str(matlab_class)
+    if name in ("logical", "char", "cell", "struct"):
+        kind = {"logical": "bool", "char": "text"}.get(name, name)
+        raise InputFileError(
+            f"{file}: holds {kind} values (MATLAB {name}); allowed: a numeric table",
+            parameter="file",
+            value=name,
+            allowed="a numeric table",
+            element=str(file),
+        )
+    return np.asarray(dataset[()]).T

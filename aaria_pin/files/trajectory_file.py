@@ -25,7 +25,7 @@ import numpy as np
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError
 from aaria_pin.files._stored import first_line
-from aaria_pin.files.io import existing_input, read_csv_table, read_table
+from aaria_pin.files.io import existing_input, numeric_array, read_csv_table, read_table
 
 __all__ = ["TRAJECTORY_SUFFIXES", "TrajectorySamples", "read_trajectory_file"]
 
@@ -111,9 +111,9 @@ def _read_h5(file: Path) -> TrajectorySamples:
                     raise _fail(file, f"has no dataset {name!r}", "datasets time and q")
                 arrays[name] = None
                 continue
-            if not isinstance(item, h5py.Dataset) or not np.issubdtype(item.dtype, np.number):
+            if not isinstance(item, h5py.Dataset):
                 raise _fail(file, f"{name!r} is not a numeric dataset", "numeric datasets")
-            arrays[name] = np.asarray(item[()], dtype=float)
+            arrays[name] = numeric_array(file, item[()], name)  # the table reader's rule
         names: tuple[str, ...] | None = None
         if "joint_names" in handle:
             stored = np.asarray(handle["joint_names"][()]).reshape(-1)

@@ -243,8 +243,10 @@ def render_picture(
         The picture's title (the preset, the file, or the run and the time shown).
 
     Raises:
-        ParameterError: not exactly one of ``preset``, ``dh_file``, ``run_file``; ``run`` or
-            ``time`` without ``run_file``; a time outside the run; a bad size.
+        ParameterError: not exactly one of ``preset``, ``dh_file``, ``run_file``; a time
+            outside the run; a bad size.
+        OptionConflictError: ``run`` or ``time`` without ``run_file``, a ``convention`` other
+            than ``"aaria"`` without ``dh_file``.
         InputFileError: a file that cannot be read.
     """
     from aaria_pin.viz.sources import load_run_view, preset_view, sample_at, table_view
@@ -253,9 +255,15 @@ def render_picture(
         raise ParameterError(
             parameter="preset", value=preset, allowed="exactly one of preset, dh_file, run_file"
         )
-    for name, value in (("time", time), ("run", run)):
+    from aaria_pin.core.conflicts import OptionConflictError
+
+    for name, value, other in (("time", time, "run_file"), ("run", run, "run_file")):
         if run_file is None and value is not None:
-            raise ParameterError(parameter=name, value=value, allowed="None without a run_file")
+            raise OptionConflictError(parameter=name, other=other, given_with=False, value=value)
+    if dh_file is None and convention != "aaria":  # a preset's or a run's is its own
+        raise OptionConflictError(
+            parameter="convention", other="dh_file", given_with=False, value=convention
+        )
     if run_file is not None:
         view = load_run_view(run_file, run)
         k = sample_at(view.time, view.time[0] if time is None else time)

@@ -225,11 +225,11 @@ def load_run_view(path: str | os.PathLike[str], run: int | None = None) -> RunVi
     file = existing_input(path, None, "run")  # not a FIFO, which a reader could wait on
     if is_dataset_file(file):
         header = dataset_run(file, 0 if run is None else run)
-    elif run is not None:
-        raise ParameterError(
-            parameter="run", value=run, allowed="None for a run file (it picks a data set's run)"
-        )
     else:
+        if run is not None:  # refused by the one rule of ``run`` (open_record), worded once
+            from aaria_pin.files.source import open_record
+
+            open_record(file, run)
         header = run_file(file)
     return _kinds()[_known_kind(header)][1](header)
 

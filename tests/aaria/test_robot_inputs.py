@@ -10,6 +10,7 @@ import pytest
 
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.robot_inputs import dh_table_source, read_torques, robot_name, urdf_source
+from aaria_pin.core.conflicts import OptionConflictError
 from aaria_pin.errors import InputFileError, ParameterError
 
 FIXTURES = Path(__file__).parents[1] / "fixtures" / "v0_3_0"
@@ -27,6 +28,18 @@ def test_a_preset_or_a_table_file(tmp_path: Path) -> None:
         with pytest.raises(ParameterError) as caught:
             dh_table_source(**given)  # type: ignore[arg-type]
         assert caught.value.parameter == "preset"
+
+
+def test_a_convention_is_for_a_table_file_not_a_preset(tmp_path: Path) -> None:
+    path = tmp_path / "t.npy"
+    np.save(path, get_preset("aaria-fig2").table)
+    assert dh_table_source(dh_file=path)[1] == "aaria"  # a file's default convention
+    with pytest.raises(OptionConflictError) as caught:
+        dh_table_source("aaria-fig2", convention="standard")
+    assert (caught.value.parameter, caught.value.other) == ("convention", "preset")
+    assert str(caught.value) == (
+        "convention is given with preset; allowed: convention without preset"
+    )
 
 
 def test_a_urdf_file_or_nothing(tmp_path: Path) -> None:

@@ -9,6 +9,7 @@ import pytest
 
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.run_motion import MotionChoice, dh_motion
+from aaria_pin.core.conflicts import OptionConflictError
 from aaria_pin.errors import ParameterError
 
 FIG2 = get_preset("aaria-fig2").table
@@ -46,3 +47,55 @@ def test_a_trajectory_without_its_file_names_the_parameter() -> None:
     with pytest.raises(ParameterError) as error:
         dh_motion(MotionChoice("trajectory"), None, {}, FIG2)
     assert error.value.parameter == "trajectory"
+
+
+@pytest.mark.parametrize(
+    ("choice", "parameter", "other"),
+    [
+        ({"kind": "fourier", "trajectory": Path("m.npy")}, "motion", "trajectory"),
+        ({"kind": "sine", "harmonics": 3}, "harmonics", "motion"),
+        ({"base_frequency": 0.2}, "base_frequency", "motion"),
+        ({"kind": "fourier", "smoothing": 0.1}, "smoothing", "trajectory"),
+    ],
+)
+def test_settings_of_another_motion_are_refused(choice: dict, parameter: str, other: str) -> None:
+    with pytest.raises(OptionConflictError) as error:
+        MotionChoice(**choice)
+    assert (error.value.parameter, error.value.other) == (parameter, other)
+
+
+def test_a_trajectory_file_is_the_motions_kind(tmp_path: Path) -> None:
+    choice = MotionChoice.from_options({"trajectory": tmp_path / "m.npy", "smoothing": 0.1})
+    assert (choice.kind, choice.smoothing) == ("trajectory", 0.1)
+    assert MotionChoice.from_options({"motion": "fourier", "seed": 3}) == MotionChoice("fourier")
+
+
+@pytest.mark.parametrize(
+    ("choice", "options", "message"),
+    [
+        (MotionChoice("fourier"), {"torques": 0}, "motion is given with torques"),
+        (MotionChoice("sine"), {"torques": 0}, "motion is given with torques"),
+        (
+            MotionChoice(trajectory=Path("m.npy")),
+            {"torques": 0},
+            "trajectory is given with torques",
+        ),
+        (MotionChoice("fourier"), {"joint_table": 0}, "joint_table is given with motion='fourier'"),
+        (
+            MotionChoice(trajectory=Path("m.npy")),
+            {"joint_table": 0},
+            "joint_table is given with trajectory",
+        ),
+    ],
+)
+def test_a_motion_the_runs_options_make_meaningless_is_refused(
+    choice: MotionChoice, options: dict, message: str
+) -> None:
+    with pytest.raises(OptionConflictError, match=f"^{message}; allowed: "):
+        dh_motion(choice, None, options, FIG2)
+
+
+def test_a_joint_table_given_is_followed_and_a_torque_drive_starts_as_it_was() -> None:
+    table = get_preset("aaria-fig2").joint_table
+    assert dh_motion(MotionChoice(), None, {"joint_table": table}, FIG2) == {"motion": None}
+    assert dh_motion(MotionChoice(), None, {"torques": 0}, FIG2) == {}

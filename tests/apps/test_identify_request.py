@@ -14,6 +14,7 @@ from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
 from aaria_pin.apps.identify import identify_dynamics, identify_kinematics
 from aaria_pin.apps.identify.request import IdentifyRequest, identify_files
+from aaria_pin.core.conflicts import OptionConflictError
 from aaria_pin.errors import OutputFileError, ParameterError
 from aaria_pin.files.runfile import write_run
 
@@ -32,24 +33,32 @@ def run_file(fig3_record, tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 @pytest.mark.parametrize(
-    ("options", "parameter"),
+    ("options", "message"),
     [
-        ({"holdout": 0.3}, "holdout"),
-        ({"dataset": True, "holdout": 0.3}, "holdout"),
-        ({"parameters": True}, "parameters"),
-        ({"dynamics": True, "dataset": True, "parameters": True}, "parameters"),
-        ({"workers": 2}, "workers"),
-        ({"dynamics": True, "limit": 3}, "limit"),
-        ({"plot": Path("cdf.png")}, "plot"),
-        ({"dataset": True, "run": 0}, "run"),
-        ({"dynamics": True, "urdf": Path("a.urdf")}, "urdf"),
+        ({"holdout": 0.3}, "holdout is given without dynamics"),
+        ({"dataset": True, "holdout": 0.3}, "holdout is given without dynamics"),
+        ({"parameters": True}, "parameters is given without dynamics"),
+        (
+            {"dynamics": True, "dataset": True, "parameters": True},
+            "parameters is given with dataset",
+        ),
+        ({"workers": 2}, "workers is given without dataset"),
+        ({"dynamics": True, "limit": 3}, "limit is given without dataset"),
+        ({"plot": Path("cdf.png")}, "plot is given without dataset"),
+        ({"dataset": True, "run": 0}, "run is given with dataset"),
+        ({"dynamics": True, "urdf": Path("a.urdf")}, "urdf is given with dynamics"),
+        ({"dataset": True, "urdf": Path("a.urdf")}, "urdf is given with dataset"),
     ],
 )
-def test_options_of_another_mode_are_refused(options: dict, parameter: str) -> None:
-    with pytest.raises(ParameterError) as error:
+def test_options_of_another_mode_are_refused(options: dict, message: str) -> None:
+    with pytest.raises(OptionConflictError) as error:
         IdentifyRequest((Path("run.h5"),), **options)
-    assert error.value.parameter == parameter
-    assert "; allowed: " in str(error.value) and "\n" not in str(error.value)
+    parameter, given, other = message.split(" is given ")[0], *message.split()[-2:]
+    assert (error.value.parameter, error.value.other) == (parameter, other)
+    assert error.value.given_with == (given == "with")
+    opposite = "without" if given == "with" else "with"
+    assert str(error.value) == f"{message}; allowed: {parameter} {opposite} {other}"
+    assert isinstance(error.value, ParameterError)
 
 
 def test_file_counts() -> None:

@@ -80,7 +80,7 @@ def work(tmp_path: Path, inputs: Path) -> Iterator[Path]:
         os.chdir(old)
 
 
-def _listing(*folders: Path) -> dict[str, tuple[int, int]]:
+def listing(*folders: Path) -> dict[str, tuple[int, int]]:
     """Every file and folder below ``folders``: (size, mtime in ns)."""
     found = {}
     for folder in folders:
@@ -122,7 +122,7 @@ CASES = [
     ("render --dh {empty.npy} -o p.png", "empty"),
     ("render --from missing.h5 -o p.png", "no such file"),
     ("render --from {table.csv} -o p.png", "not a run file|unknown run file type"),
-    ("render --from {run.h5} --run 1 -o p.png", "--run is for a data set"),
+    ("render --from {run.h5} --run 1 -o p.png", "--run is .*run file"),
     ("render --from {ds.h5} --run 99 -o p.png", "99"),
     ("render --preset aaria-fig2 -o {long}.png", "bytes"),
     # plot
@@ -140,7 +140,7 @@ CASES = [
     # torques
     ("torques missing.h5", "no such file"),
     ("torques {empty.csv}", "unknown run file type '.csv'"),
-    ("torques {run.h5} --run 1", "--run is for a data set"),
+    ("torques {run.h5} --run 1", "--run is .*run file"),
     ("torques {run.h5} --plot t.jpg", r"allowed: \.png"),
     ("torques {ds.h5} --run 99", "99"),
     # mjcf
@@ -233,7 +233,7 @@ def test_bad_input_one_line_exit_2_nothing_written(
         raise TimeoutError(f"no answer within {TIME_LIMIT} s: {text}")
 
     argv = _argv(text, inputs)
-    before = _listing(work, inputs)
+    before = listing(work, inputs)
     previous = signal.signal(signal.SIGALRM, hang)
     signal.alarm(TIME_LIMIT)
     try:
@@ -241,7 +241,7 @@ def test_bad_input_one_line_exit_2_nothing_written(
     finally:
         signal.alarm(0)
         signal.signal(signal.SIGALRM, previous)
-    after = _listing(work, inputs)
+    after = listing(work, inputs)
     assert result.exit_code == 2, (result.exit_code, result.output, result.exception)
     assert isinstance(result.exception, SystemExit), result.exception
     lines = result.stderr.splitlines()

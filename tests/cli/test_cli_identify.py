@@ -112,9 +112,15 @@ def test_dataset_benchmark_table_report_and_plot(tiny_dataset: Path, tmp_path: P
         (["--dynamics", "{run}", "--urdf", "{tmp}/a.urdf"], "--urdf"),
         (["--dynamics", "{ds}"], "--run"),
         (["{run}", "--plot", "{tmp}/cdf.png"], "--plot"),
-        (["{run}", "--holdout", "0.3"], "--holdout is 0.3; allowed: the dynamics only"),
-        (["--dynamics", "{run}", "--workers", "2"], "--workers is 2"),
-        (["--dataset", "{ds}", "--dynamics", "--parameters"], "--parameters"),
+        (
+            ["{run}", "--holdout", "0.3"],
+            "--holdout is given without --dynamics; allowed: --holdout with --dynamics",
+        ),
+        (["--dynamics", "{run}", "--workers", "2"], "--workers is given without --dataset"),
+        (
+            ["--dataset", "{ds}", "--dynamics", "--parameters"],
+            "--parameters is given with --dataset",
+        ),
         ([], "no FILE"),
     ],
 )

@@ -86,9 +86,9 @@ def test_a_urdf_whose_inertia_mujoco_refuses_is_written_balanced(tmp_path: Path)
     [
         (("--preset", "aaria-fig2", "--robot", "ur5"), "give one robot"),
         ((), "give one robot"),
-        (("--preset", "aaria-fig2", "--tool", "tool0"), "--tool is not allowed with a DH arm"),
-        (("--robot", "ur5", "--density", "1000"), "--density is not allowed with a URDF robot"),
-        (("--preset", "aaria-fig2", "--rate", "0"), "--rate is 0; allowed: a finite rate > 0"),
+        (("--preset", "aaria-fig2", "--tool", "tool0"), "--tool is given with --preset"),
+        (("--robot", "ur5", "--density", "1000"), "--density is given with --robot"),
+        (("--preset", "aaria-fig2", "--rate", "0"), "--rate is 0; allowed: 0 < rate <= 100000 Hz"),
         (("--robot", "ur5", "--tool", "nowhere"), "frame 'nowhere' is not in model"),
         (("--preset", "no-such-arm"), "no-such-arm"),
     ],

@@ -102,10 +102,16 @@ def test_trajectory_file_gives_the_run_its_q_at_the_samples(tmp_path: Path) -> N
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
-        (["--harmonics", "3"], "--harmonics is for --motion fourier"),
-        (["--motion", "fourier", "--trajectory", "T"], "--trajectory FILE is the motion"),
-        (["--smoothing", "0.1"], "--smoothing is for --trajectory FILE"),
-        (["--motion", "fourier", "--joints", "T"], "--joints is the sines' table; not allowed"),
+        (["--harmonics", "3"], "--harmonics is given without --motion fourier; allowed"),
+        (
+            ["--motion", "fourier", "--trajectory", "T"],
+            "--motion is given with --trajectory; allowed",
+        ),
+        (["--smoothing", "0.1"], "--smoothing is given without --trajectory; allowed"),
+        (
+            ["--motion", "fourier", "--joints", "T"],
+            "--joints is given with --motion fourier; allowed",
+        ),
         (["--motion", "fourier", "--harmonics", "600"], "harmonics × base_frequency is 600 ×"),
         (["--motion", "fourier", "--base-frequency", "0"], "--base-frequency is 0; allowed: > 0"),
         (["--trajectory", "T", "--duration", "9"], "--duration is 9; allowed: at most 3 s"),

@@ -100,14 +100,14 @@ def test_bad_urdf_one_line_exit_2_no_file(tmp_path: Path, urdf_text: str, patter
     ("extra", "pattern"),
     [
         (["--robot", "ur6"], "close names: ur5"),
-        (["--robot", "ur5", "--preset", "aaria-fig2"], "--preset is for DH arms"),
-        (["--robot", "ur5", "--urdf", "x.urdf"], "not both"),
+        (["--robot", "ur5", "--preset", "aaria-fig2"], "--preset is given with --robot"),
+        (["--robot", "ur5", "--urdf", "x.urdf"], "--robot is given with --urdf"),
         (["--preset", "aaria-fig2", "--fixed-base"], "--fixed-base is for URDF robots"),
         (
             ["--robot", "ur5", "--tool", "nowhere"],
             "frame 'nowhere' is not in model 'ur5'; allowed: a link, base_link",
         ),
-        (["--robot", "ur5", "--density", "2000"], "--density is for DH arms"),
+        (["--robot", "ur5", "--density", "2000"], "--density is given with --robot"),
     ],
 )
 def test_simulate_robot_bad_options(tmp_path: Path, extra: list[str], pattern: str) -> None:
@@ -125,7 +125,10 @@ def test_simulate_robot_bad_options(tmp_path: Path, extra: list[str], pattern: s
     ("extra", "pattern"),
     [
         (["--robot", "ur5", "--drive", "torque"], "--drive torque and --torques FILE go together"),
-        (["--robot", "ur5", "--fixed-base", "--base", "base.csv"], "not allowed with --fixed-base"),
+        (
+            ["--robot", "ur5", "--fixed-base", "--base", "base.csv"],
+            "--base is given with --fixed-base",
+        ),
         (["--robot", "ur3"], "--robot is 'ur3'; allowed: ur/ur3, ur/ur3_robot"),
     ],
 )

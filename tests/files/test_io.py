@@ -73,3 +73,59 @@ def test_empty_and_complex_tables_are_refused(tmp_path: Path) -> None:
     np.save(tmp_path / "complex.npy", TABLE + 1j)
     with pytest.raises(InputFileError, match="complex"):
         read_table(tmp_path / "complex.npy")
+
+
+def _mat73(path: Path, values: np.ndarray, matlab_class: str) -> Path:
+    """A v7.3 MAT-file (HDF5 after a 512-byte header) holding ``senSenDH`` of a MATLAB class."""
+    import h5py
+
+    with h5py.File(path, "w", userblock_size=512) as handle:
+        handle["senSenDH"] = values.T  # MATLAB stores column-major
+        handle["senSenDH"].attrs["MATLAB_class"] = np.bytes_(matlab_class)
+    with path.open("r+b") as stream:
+        stream.write(b"MATLAB 7.3 MAT-file, made by a test")
+    return path
+
+
+@pytest.mark.parametrize(
+    ("name", "values", "what"),
+    [
+        ("bool.npy", TABLE > 0, "bool values (dtype bool)"),
+        ("text.npy", TABLE.astype(str), "text values (dtype <U"),
+        ("bytes.npy", TABLE.astype(bytes), "bytes values (dtype |S"),
+        ("date.npy", np.zeros((8, 5), "datetime64[s]"), "date values"),
+        ("record.npy", np.zeros((8, 5), [("x", float)]), "structured values"),
+        ("text.mat", np.array(["abcde"] * 8), "text values (dtype <U5)"),
+    ],
+)
+def test_tables_of_other_values_than_numbers_are_refused(
+    tmp_path: Path, name: str, values: np.ndarray, what: str
+) -> None:
+    path = tmp_path / name
+    if name.endswith(".npy"):
+        np.save(path, values)
+    else:
+        savemat(path, {"senSenDH": values})
+    with pytest.raises(InputFileError) as error:
+        read_table(path)
+    assert str(error.value).startswith(f"{path}: holds {what}")
+    assert str(error.value).endswith("; allowed: a numeric table")
+    assert error.value.parameter == "file"
+
+
+def test_mat73_logical_and_char_arrays_are_refused(tmp_path: Path) -> None:
+    logical = _mat73(tmp_path / "l.mat", (TABLE > 0).astype(np.uint8), "logical")
+    with pytest.raises(InputFileError, match=r"holds bool values \(MATLAB logical\); allowed"):
+        read_table(logical)
+    char = _mat73(tmp_path / "c.mat", np.full((8, 5), 49, np.uint16), "char")
+    with pytest.raises(InputFileError, match=r"holds text values \(MATLAB char\)"):
+        read_table(char)
+    double = _mat73(tmp_path / "d.mat", TABLE, "double")
+    np.testing.assert_array_equal(read_table(double), TABLE)
+
+
+def test_integer_tables_are_numbers(tmp_path: Path) -> None:
+    np.save(tmp_path / "ints.npy", np.arange(40, dtype=np.int16).reshape(8, 5))
+    table = read_table(tmp_path / "ints.npy")
+    assert table.dtype == np.float64
+    np.testing.assert_array_equal(table, np.arange(40.0).reshape(8, 5))

@@ -119,3 +119,22 @@ def test_bad_npy_hdf5_and_paths_are_refused_in_one_line(tmp_path):
             read_trajectory_file(path)
         message = str(error.value)
         assert "\n" not in message and str(path) in message, message
+
+
+@pytest.mark.parametrize(
+    ("arrays", "message"),
+    [
+        (
+            {"time": TIME, "q": Q > 0.5},
+            "q holds bool values (dtype bool); allowed: a numeric table",
+        ),
+        ({"time": TIME.astype("S8"), "q": Q}, "time holds bytes values (dtype |S8)"),
+        ({"time": TIME, "q": Q + 1j}, "q holds complex numbers; allowed: a real table"),
+    ],
+)
+def test_hdf5_series_of_other_values_than_numbers_are_refused(tmp_path, arrays, message):
+    path = _h5(tmp_path / "t.h5", **arrays)
+    with pytest.raises(InputFileError) as error:
+        read_trajectory_file(path)
+    assert str(error.value).startswith(f"{path}: {message}")
+    assert error.value.parameter == "file"

@@ -60,8 +60,9 @@ class IdentifyRequest:
             :func:`~aaria_pin.apps.identify.benchmark.tool_tip_cdf` gives its curves)
 
     Raises:
-        ParameterError: no file, several files outside the data-set mode, or an option of
-            another mode (its ``parameter`` names it).
+        ParameterError: no file, or several files outside the data-set mode.
+        OptionConflictError: an option of another mode (its ``parameter`` names it, its
+            ``other`` the mode's option: ``holdout`` without ``dynamics``).
     """
 
     files: tuple[Path, ...]
@@ -92,21 +93,29 @@ class IdentifyRequest:
                 value=files,
                 allowed="one run file, or data sets in the data-set mode",
             )
-        one_run = "one run's identification, not the data-set mode"
-        data_set = "the data-set mode only"
-        for parameter, given, allowed in (
-            ("run", self.dataset and self.run is not None, one_run + " (it takes every run)"),
-            ("urdf", self.urdf is not None and (self.dynamics or self.dataset), "kinematics"),
-            ("holdout", self.holdout is not None and not self.dynamics, "the dynamics only"),
-            ("parameters", self.parameters and (self.dataset or not self.dynamics), one_run),
-            ("workers", self.workers is not None and not self.dataset, data_set),
-            ("limit", self.limit is not None and not self.dataset, data_set),
-            ("plot", self.plot is not None and not self.dataset, data_set),
+        self._refuse_conflicts()
+
+    def _refuse_conflicts(self) -> None:
+        """Refuse an option of another mode (it would be ignored), naming the mode's option."""
+        from aaria_pin.core.conflicts import OptionConflictError
+
+        for parameter, given, other, given_with in (
+            ("run", self.run is not None, "dataset", True),  # the data sets' every run
+            ("urdf", self.urdf is not None, "dynamics", True),
+            ("urdf", self.urdf is not None, "dataset", True),
+            ("holdout", self.holdout is not None, "dynamics", False),
+            ("parameters", self.parameters, "dataset", True),
+            ("parameters", self.parameters, "dynamics", False),
+            ("workers", self.workers is not None, "dataset", False),
+            ("limit", self.limit is not None, "dataset", False),
+            ("plot", self.plot is not None, "dataset", False),
         ):
-            if given:
+            if given and getattr(self, other) == given_with:
                 value = getattr(self, parameter)
                 value = str(value) if isinstance(value, Path) else value
-                raise ParameterError(parameter=parameter, value=value, allowed=allowed)
+                raise OptionConflictError(
+                    parameter=parameter, other=other, given_with=given_with, value=value
+                )
 
 
 @dataclass(frozen=True)

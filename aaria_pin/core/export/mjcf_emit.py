@@ -48,7 +48,7 @@ from aaria_pin.core.export.mjcf_bodies import (
 from aaria_pin.core.model import GRAVITY
 from aaria_pin.core.record import ImuMount
 from aaria_pin.core.se3 import Array
-from aaria_pin.core.trajectory import DEFAULT_RATE
+from aaria_pin.core.trajectory import DEFAULT_RATE, check_rate
 from aaria_pin.core.urdf_emitter import exact_number, exact_numbers
 from aaria_pin.core.urdf_parse import parse_urdf
 from aaria_pin.core.urdf_tree import UrdfDocument, UrdfJoint
@@ -214,10 +214,10 @@ def emit_mjcf(
         ModelError: an IMU's parent or the tool frame is not in the URDF, or a name of
             :data:`BASE_JOINTS` is a joint of the URDF; with ``"auto"``, MuJoCo cannot compile
             the model for another reason.
-        ParameterError: a rate that is not positive and finite, or gravity not 3 numbers.
+        ParameterError: a rate outside ``(0, MAX_RATE]``
+            (:func:`~aaria_pin.core.trajectory.check_rate`), or gravity not 3 numbers.
     """
-    if not (np.isfinite(rate) and rate > 0):
-        raise ParameterError(parameter="rate", value=rate, allowed="a finite rate > 0 Hz")
+    check_rate(rate)
     gravity_vector = np.asarray(gravity, dtype=float)
     if gravity_vector.shape != (3,) or not np.all(np.isfinite(gravity_vector)):
         raise ParameterError(parameter="gravity", value=gravity, allowed="3 finite numbers")
