@@ -235,21 +235,21 @@ def read_config_file(path: str | Path) -> dict[str, Any]:
         raw = file.read_bytes()
     except OSError as exc:
         raise InputFileError(
-            f"{file}: cannot be read ({exc.strerror})", parameter="path", value=str(file)
+            f"{file}: cannot be read ({exc.strerror})", parameter="file", value=str(file)
         ) from None
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise InputFileError(
             f"{file}: byte {exc.start} is not UTF-8 text; allowed: a TOML file in UTF-8",
-            parameter="path",
+            parameter="file",
             value=str(file),
         ) from None
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputFileError(
-            f"{file}: not valid TOML ({exc})", parameter="path", value=str(file)
+            f"{file}: not valid TOML ({exc})", parameter="file", value=str(file)
         ) from None
 
 

@@ -315,7 +315,7 @@ def simulate_from_run_file(
     try:
         return dh_request_from_record(read_run_inputs(path), **overrides).record()
     except InputFileError as exc:
-        raise InputFileError(f"{path}: {exc}", element=str(path), parameter="path") from None
+        raise InputFileError(f"{path}: {exc}", element=str(path), parameter="file") from None
 
 
 register_kind(RunKind("dh", _remake, lambda record: "senSenDH" in record.tables))

@@ -71,7 +71,7 @@ def _damaged_data_set(file: Path, is_dataset: bool) -> Iterator[None]:
         raise InputFileError(
             f"{file}: a damaged data set ({first_line(exc)}); allowed: a complete aaria_pin"
             " data set (make it again)",
-            parameter="path",
+            parameter="file",
         ) from None
 
 

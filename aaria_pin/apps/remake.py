@@ -101,7 +101,7 @@ def remake_run(path: str | os.PathLike[str], **overrides: Any) -> RunRecord:
     except InputFileError as exc:
         if str(path) in str(exc):
             raise
-        raise InputFileError(f"{path}: {exc}", element=str(path), parameter="path") from None
+        raise InputFileError(f"{path}: {exc}", element=str(path), parameter="file") from None
 
 
 def simulate_urdf_from_run_file(path: str | os.PathLike[str], **overrides: Any) -> RunRecord:

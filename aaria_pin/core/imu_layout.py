@@ -207,12 +207,12 @@ def check_slot_mounts(
 
 
 def _refused(file: Path, text: str, element: str | None = None) -> InputFileError:
-    """The error of layout ``file``: ``"<file>: [<element>: ]<text>"``, ``path`` at fault.
+    """The error of layout ``file``: ``"<file>: [<element>: ]<text>"``, ``file`` at fault.
 
     No ``allowed`` field: the CLI prints the message as written (it names the file).
     """
     where = f"{file}: {element}" if element else str(file)
-    return InputFileError(f"{where}: {text}", parameter="path", value=str(file), element=element)
+    return InputFileError(f"{where}: {text}", parameter="file", value=str(file), element=element)
 
 
 def _vector(entry: dict[str, Any], key: str, file: Path, element: str) -> list[float]:

@@ -191,7 +191,7 @@ def _known_kind(header: RunFile) -> str:
     raise InputFileError(
         f"{header.path}: not a run file the viewers know; allowed: {', '.join(kinds)} run files"
         " (.h5 or .mat)",
-        parameter="path",
+        parameter="file",
         value=str(header.path),
     )
 
