@@ -22,6 +22,7 @@ from typing import Any, TypedDict, Unpack
 import numpy as np
 from numpy.typing import ArrayLike
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import DEFAULT_HARMONICS, FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ImuNoiseModel
 from aaria_pin.core.record import ImuMount, RunRecord
@@ -78,6 +79,7 @@ MotionInput = Motion | JointTrajectory | FourierExcitation | None
 Fourier excitation."""
 
 
+@checked
 def urdf_fourier_excitation(
     loaded: UrdfRobot,
     duration: float = DEFAULT_DURATION,
@@ -227,6 +229,7 @@ def _request(robot: RunRobot, options: LoadedRobotOptions) -> RunRequest:
     return RunRequest(robot, motion, settings, options.get("seed", 0))
 
 
+@checked
 def urdf_request(urdf: str, **options: Unpack[UrdfRunOptions]) -> RunRequest:
     """A run of a URDF robot, as the engine's inputs (checked once here).
 
@@ -329,6 +332,7 @@ class _UrdfLegacy(_UrdfSettings, _UrdfLoad, total=False):
     """:class:`UrdfRunOptions` but the tables (the deprecated producers take those)."""
 
 
+@checked
 def simulate_urdf_run(
     urdf: str,
     joint_table: ArrayLike | None = None,

@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin._version import __version__
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.run.chunks import chunk_bounds, join_chunks
 from aaria_pin.core.run.motion import Motion, SineTable
@@ -65,6 +66,7 @@ def noise_seed(seeds: Seeds) -> int | np.random.SeedSequence:
     return seeds
 
 
+@checked
 def simulate(
     robot: RunRobot,
     motion: Motion | None = None,
@@ -98,6 +100,7 @@ def simulate(
     return join_chunks(simulate_pieces(robot, motion, whole, seeds, sensors))
 
 
+@checked
 def simulate_pieces(
     robot: RunRobot,
     motion: Motion | None = None,
@@ -191,6 +194,7 @@ def simulate_pieces(
         )
 
 
+@checked
 @dataclass(frozen=True)
 class RunRequest:
     """One run's inputs as the engine takes them: what a producer of a robot kind builds.
