@@ -21,6 +21,10 @@ aaria_pin`` (and the ``aaria`` command line) stays fast: Pinocchio, h5py and sci
 a model, a file or a simulation needs them. Type checkers see the real objects through the
 ``TYPE_CHECKING`` imports. ``simulate_run`` and ``simulate_urdf_run`` are the entry points of
 earlier releases (use :func:`simulate`).
+
+Every public function and input class checks the types of its arguments
+(:func:`aaria_pin.core.arguments.checked`): a wrong type raises :class:`ParameterTypeError`, a
+:class:`ParameterError` that is also a ``TypeError``, naming the parameter in one line.
 """
 
 from __future__ import annotations
@@ -38,7 +42,9 @@ from aaria_pin.errors import (
     ModelError,
     OutputFileError,
     ParameterError,
+    ParameterTypeError,
     TableError,
+    TableTypeError,
     UrdfError,
 )
 
@@ -176,6 +182,7 @@ __all__ = [
     "ModelError",
     "OutputFileError",
     "ParameterError",
+    "ParameterTypeError",
     "Preset",
     "RobotDescription",
     "RobotModel",
@@ -186,6 +193,7 @@ __all__ = [
     "SampledTrajectory",
     "SineTable",
     "TableError",
+    "TableTypeError",
     "TorqueDrive",
     "UrdfError",
     "UrdfRobot",

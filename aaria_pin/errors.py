@@ -35,6 +35,7 @@ __all__ = [
     "ParameterError",
     "ParameterTypeError",
     "TableError",
+    "TableTypeError",
     "UrdfError",
     "plain_message",
 ]
@@ -166,6 +167,13 @@ class ParameterTypeError(ParameterError, TypeError):
 
     Also a :class:`TypeError`, as Python's own error for a wrong type is, so a caller catches it
     either way; as every :class:`AariaError` it names its ``parameter`` and is one line.
+    """
+
+
+class TableTypeError(TableError, ParameterTypeError):
+    """An array or table argument of the wrong type (text, booleans, objects, None).
+
+    A :class:`TableError` (as a table's bad values are) and a :class:`ParameterTypeError`.
     """
 
 

@@ -82,7 +82,12 @@ CHECKED_WHEN_USED = {
 """Arrays whose VALUES a spec or request keeps unchecked until a run uses it (their types are
 checked when given): a NaN or a wrong shape is refused by the run, naming the table."""
 
-VALUE_NAMES = {"dh_table": "table", "joint_table": "table", "base_table": "table", "rotation": "matrix"}
+VALUE_NAMES = {
+    "dh_table": "table",
+    "joint_table": "table",
+    "base_table": "table",
+    "rotation": "matrix",
+}
 """The parameter a shared validator names for a bad VALUE of a table (the DH and oscillation
 table checks name ``table``, the rotation check ``matrix``)."""
 
@@ -107,7 +112,7 @@ def _parts(text: str) -> set[str]:
     """The members of an annotation's top-level union, aliases expanded."""
     parts, depth, start = set(), 0, 0
     for index, char in enumerate(text + "|"):
-        depth += char in "[(" and 1 or (char in "])" and -1 or 0)
+        depth += 1 if char in "[(" else -1 if char in "])" else 0
         if char == "|" and depth == 0:
             part = text[start:index].strip()
             parts |= _parts(ALIASES[part]) if part in ALIASES else {part}
@@ -172,7 +177,7 @@ def _cases_of(kinds: set[str]) -> Iterator[tuple[str, str]]:
     if not kinds & {"text", "path"}:
         yield "text", TYPE
     if not numeric and "bool" not in kinds:
-        yield "int", "array" in kinds and VALUE or TYPE
+        yield "int", VALUE if "array" in kinds else TYPE
     if numeric and "bool" not in kinds:
         yield "True", TYPE
     yield "object", TYPE
@@ -193,7 +198,7 @@ def parameters(function: Callable[..., Any]) -> dict[str, str]:
             (options,) = typing.get_args(hints[parameter.name])
             for key, value in options.__annotations__.items():
                 found[key] = getattr(value, "__forward_arg__", str(value))
-        elif parameter.kind not in (inspect.Parameter.VAR_KEYWORD, inspect.Parameter.VAR_POSITIONAL):
+        elif parameter.kind not in (parameter.VAR_KEYWORD, parameter.VAR_POSITIONAL):
             found[parameter.name] = text
     return found
 
