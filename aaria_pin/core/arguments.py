@@ -42,7 +42,7 @@ import typing
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import PurePath
-from types import NoneType, UnionType
+from types import FunctionType, NoneType, UnionType
 from typing import Any, TypeVar
 
 from aaria_pin.errors import ParameterError, ParameterTypeError, TableTypeError
@@ -86,15 +86,20 @@ def checked(target: F) -> F:
 
 def _wrapped(function: Callable[..., Any]) -> Callable[..., Any]:
     plan: list[_Plan] = []
+    build = _Plan.of
 
-    @functools.wraps(function)
     def call(*args: Any, **kwargs: Any) -> Any:
         if not plan:
-            plan.append(_Plan.of(function))
+            plan.append(build(function))
         plan[0].check(args, kwargs)
         return function(*args, **kwargs)
 
-    return call
+    # The wrapper runs in the function's own module (it reads only its closure), so a trace of
+    # the calls sees the function's layer call the function, not the core call up into it.
+    scope = getattr(function, "__globals__", None)
+    if scope is not None:
+        call = FunctionType(call.__code__, scope, call.__name__, None, call.__closure__)
+    return functools.wraps(function)(call)
 
 
 @dataclass(frozen=True)
@@ -154,7 +159,7 @@ class _Plan:
             if kind is _UNKNOWN:
                 if not self.more_keywords:
                     raise ParameterTypeError(
-                        f"{name} is not a parameter of {self.name}; allowed: "
+                        f"{self.name} got an unexpected keyword argument {name!r}; allowed: "
                         + ", ".join(self.keyword),
                         parameter=name,
                     )
@@ -396,7 +401,10 @@ def _protocol_kind(protocol: type) -> _Kind:
         on_class = [hasattr(kind, member) for member in members]
         if all(on_class):
             known.add(kind)
-        return all(found or member in own for found, member in zip(on_class, members, strict=True))
+        return all(
+            found or member in own or hasattr(value, member)  # the last: a __getattr__
+            for found, member in zip(on_class, members, strict=True)
+        )
 
     return _Kind(accepts, f"a {protocol.__name__}")
 
