@@ -304,7 +304,11 @@ class Valid:
             "generate_dataset": lambda: {"path": self.new_path(".h5"), "spec": self.spec},
             "get_preset": lambda: {"name": "aaria-fig2"},
             "identify_dynamics": lambda: {"record": self.record},
-            "identify_kinematics": lambda: {"record": self.record, "max_iterations": 2},
+            "identify_kinematics": lambda: {
+                "record": self.record,
+                "max_iterations": 1,
+                "max_fit_samples": 20,
+            },
             "load_urdf_robot": lambda: {"urdf": self.urdf},
             "matrix_from_angles": lambda: {"angles": [0.1, 0.2, 0.3], "seq": "xyz"},
             "open_record": lambda: {"path": self.run_file},
