@@ -19,8 +19,13 @@ sequence: :func:`matrix_from_angles`, :func:`angles_from_matrix`::
 Every name below is imported on first use (:mod:`aaria_pin.core.lazy_exports`), so ``import
 aaria_pin`` (and the ``aaria`` command line) stays fast: Pinocchio, h5py and scipy load only when
 a model, a file or a simulation needs them. Type checkers see the real objects through the
-``TYPE_CHECKING`` imports. ``simulate_run`` and ``simulate_urdf_run`` are the entry points of
-earlier releases (use :func:`simulate`).
+``TYPE_CHECKING`` imports. ``simulate_run`` and ``simulate_urdf_run``, the entry points of
+earlier releases, still answer here for one release (with a ``DeprecationWarning``; use
+:func:`simulate`) but are no longer listed in ``__all__``.
+
+Every public function and input class checks the types of its arguments
+(:func:`aaria_pin.core.arguments.checked`): a wrong type raises :class:`ParameterTypeError`, a
+:class:`ParameterError` that is also a ``TypeError``, naming the parameter in one line.
 """
 
 from __future__ import annotations
@@ -38,7 +43,9 @@ from aaria_pin.errors import (
     ModelError,
     OutputFileError,
     ParameterError,
+    ParameterTypeError,
     TableError,
+    TableTypeError,
     UrdfError,
 )
 
@@ -47,7 +54,7 @@ if TYPE_CHECKING:
     from aaria_pin.aaria.dh import KinematicChain, chain_from_table
     from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
     from aaria_pin.aaria.presets import Preset, get_preset
-    from aaria_pin.aaria.simulate import dh_fourier_excitation, dh_request, simulate_run
+    from aaria_pin.aaria.simulate import dh_fourier_excitation, dh_request
     from aaria_pin.apps.dataset import (
         DatasetJob,
         DatasetReport,
@@ -79,7 +86,7 @@ if TYPE_CHECKING:
     from aaria_pin.core.urdf import RobotDescription
     from aaria_pin.core.urdf_emitter import emit_urdf
     from aaria_pin.core.urdf_robot import UrdfRobot, load_urdf_robot
-    from aaria_pin.core.urdf_run import simulate_urdf_run, urdf_fourier_excitation, urdf_request
+    from aaria_pin.core.urdf_run import urdf_fourier_excitation, urdf_request
     from aaria_pin.files.dataset.reader import DatasetReader
     from aaria_pin.files.dataset.windows import WindowDataset
     from aaria_pin.files.io import read_table
@@ -176,6 +183,7 @@ __all__ = [
     "ModelError",
     "OutputFileError",
     "ParameterError",
+    "ParameterTypeError",
     "Preset",
     "RobotDescription",
     "RobotModel",
@@ -186,6 +194,7 @@ __all__ = [
     "SampledTrajectory",
     "SineTable",
     "TableError",
+    "TableTypeError",
     "TorqueDrive",
     "UrdfError",
     "UrdfRobot",
@@ -218,8 +227,6 @@ __all__ = [
     "replay_in_mujoco",
     "simulate",
     "simulate_pieces",
-    "simulate_run",
-    "simulate_urdf_run",
     "trajectory_from_samples",
     "urdf_fourier_excitation",
     "urdf_request",

@@ -16,7 +16,8 @@ error also has ``allowed``; an error whose message must reach the user as writte
 file, or the table by its title) leaves ``allowed`` out of the fields.
 
 An :class:`OutputFileError` and an :class:`InputFileError` are also :class:`OSError`, so code that
-handles file errors catches them.
+handles file errors catches them; a :class:`ParameterTypeError` (an argument of the wrong type) is
+also a :class:`TypeError`.
 """
 
 from __future__ import annotations
@@ -32,7 +33,9 @@ __all__ = [
     "NoSpaceError",
     "OutputFileError",
     "ParameterError",
+    "ParameterTypeError",
     "TableError",
+    "TableTypeError",
     "UrdfError",
     "plain_message",
 ]
@@ -157,6 +160,21 @@ class TableError(AariaError):
 
 class ParameterError(AariaError):
     """A scalar parameter (density, cross-section, rate, duration, ...) is out of range."""
+
+
+class ParameterTypeError(ParameterError, TypeError):
+    """An argument of the wrong type (None, text for a number, an object for a path, ...).
+
+    Also a :class:`TypeError`, as Python's own error for a wrong type is, so a caller catches it
+    either way; as every :class:`AariaError` it names its ``parameter`` and is one line.
+    """
+
+
+class TableTypeError(TableError, ParameterTypeError):
+    """An array or table argument of the wrong type (text, booleans, objects, None).
+
+    A :class:`TableError` (as a table's bad values are) and a :class:`ParameterTypeError`.
+    """
 
 
 class InputFileError(AariaError, OSError):

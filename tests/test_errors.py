@@ -130,3 +130,17 @@ def test_numpy_reprs_in_a_given_message_are_made_plain() -> None:
     assert str(TableError(f"flag {np.False_!r}; allowed: True")) == "flag False; allowed: True"
     # text that merely mentions NumPy is left alone
     assert str(ModelError("np.linalg failed; allowed: x")) == "np.linalg failed; allowed: x"
+
+
+def test_a_wrong_type_is_a_parameter_error_and_a_type_error() -> None:
+    from aaria_pin.errors import ParameterTypeError, TableTypeError
+
+    error = ParameterTypeError(parameter="duration", value="1", allowed="a number")
+    assert isinstance(error, ParameterError) and isinstance(error, TypeError)
+    assert isinstance(error, AariaError) and isinstance(error, ValueError)
+    assert str(error) == "duration is '1'; allowed: a number"
+    assert error.for_flag({"duration": "--duration"}) == "--duration is '1'; allowed: a number"
+    table = TableTypeError(parameter="dh_table", value=None, allowed="a numeric array")
+    assert isinstance(table, TableError) and isinstance(table, ParameterTypeError)
+    with pytest.raises(TypeError):
+        raise table

@@ -22,6 +22,7 @@ from numpy.typing import ArrayLike
 from aaria_pin.aaria.dh_robot import BodyDimensions, DHRobot, build_dh_robot
 from aaria_pin.aaria.sensen import JOINT_NAMES, N_MODULES, sensen_view
 from aaria_pin.aaria.sine_tables import default_joint_table, joint_trajectory, validate_joint_table
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.core.record import ColumnView, ImuMount
@@ -268,6 +269,7 @@ class DHArmRun(DHImuSlots):
         }
 
 
+@checked
 @dataclass(frozen=True)
 class DHArmSpec:
     """The inputs of a DH arm beside its DH table (what :func:`dh_arm` builds it from).
@@ -290,6 +292,7 @@ class DHArmSpec:
     keep_urdf: bool = True
 
 
+@checked
 def dh_arm(dh_table: ArrayLike, spec: DHArmSpec | None = None) -> DHArmRun:
     """An Aaria arm of a DH table as the run engine's robot, its tables checked.
 
@@ -318,6 +321,7 @@ def dh_arm(dh_table: ArrayLike, spec: DHArmSpec | None = None) -> DHArmRun:
     return DHArmRun(arm, model, senSenJ, senSenB, spec.robot_name, spec.keep_urdf)
 
 
+@checked
 def preset_arm(name: str, spec: DHArmSpec | None = None) -> DHArmRun:
     """An Aaria preset's arm as the run engine's robot: its table, joint and base tables.
 

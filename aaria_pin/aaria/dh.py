@@ -33,6 +33,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.se3 import Array, chain, rot_x, rot_z, translation
 from aaria_pin.core.tables import finite_table
 from aaria_pin.errors import TableError
@@ -348,6 +349,7 @@ def chain_from_modified(table: ArrayLike) -> KinematicChain:
     return _chain_from_generic(validate_dh_table(table, "modified"), "modified")
 
 
+@checked
 def chain_from_table(table: ArrayLike, convention: Convention = "aaria") -> KinematicChain:
     """Build the chain of a table in the given convention.
 

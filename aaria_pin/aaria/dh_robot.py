@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.aaria.dh import Convention, KinematicChain, chain_from_table
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.inertia import ALUMINIUM_DENSITY, Inertia, Part
 from aaria_pin.core.se3 import Array, translation
 from aaria_pin.core.urdf import JointDescription, LinkDescription, RobotDescription
@@ -64,6 +65,7 @@ _SEGMENT_EPS = 1e-12
 _IMU_B_FRACTION = 0.9
 
 
+@checked
 @dataclass(frozen=True)
 class BodyDimensions:
     """Dimensions and densities of the bodies built around a DH chain.
@@ -422,6 +424,7 @@ def mount_imu_slots(slots: tuple[ImuSlot, ...], imu_mount: ArrayLike) -> tuple[I
     return tuple(moved)
 
 
+@checked
 def build_dh_robot(
     table: ArrayLike,
     convention: Convention = "aaria",

@@ -20,6 +20,7 @@ import numpy as np
 
 from aaria_pin.aaria.dh import Convention
 from aaria_pin.aaria.sine_tables import default_base_table
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.inertia import Inertia
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
@@ -168,6 +169,7 @@ def preset_names() -> tuple[str, ...]:
     return tuple(sorted(PRESETS))
 
 
+@checked
 def get_preset(name: str) -> Preset:
     """Look a preset up by name.
 

@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike
 from aaria_pin.aaria.arm_run import DH_ROBOT, DHArmSpec, dh_arm
 from aaria_pin.aaria.dh_robot import BodyDimensions
 from aaria_pin.aaria.sensen import N_MODULES
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ImuNoiseModel
 from aaria_pin.core.record import RunRecord
@@ -133,6 +134,7 @@ swings within ±1 rad (the sine default's 0.6 rad amplitude, a little wider), a 
 along its whole rail."""
 
 
+@checked
 def dh_fourier_excitation(
     dh_table: ArrayLike,
     duration: float = DEFAULT_DURATION,
@@ -199,6 +201,7 @@ def dh_fourier_excitation(
     return excitation
 
 
+@checked
 def dh_request(dh_table: ArrayLike, **options: Unpack[DhRunOptions]) -> RunRequest:
     """A DH run of an Aaria arm on a moving base, as the engine's inputs (checked once here).
 

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.trajectory import BaseMotion
 from aaria_pin.core.urdf_parse import parse_urdf
@@ -241,6 +242,7 @@ def record_moving_base(record: RunRecord) -> bool:
     return not np.array_equal(record.base_pose, np.broadcast_to(np.eye(4), record.base_pose.shape))
 
 
+@checked
 def record_mjcf(
     record: RunRecord,
     *,
@@ -287,6 +289,7 @@ def record_mjcf(
     )
 
 
+@checked
 def replay_in_mujoco(
     record: RunRecord, xml: str, base: BaseMotion | None = None
 ) -> tuple[Array, Array]:

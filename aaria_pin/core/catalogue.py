@@ -17,6 +17,7 @@ from functools import cache
 from importlib import metadata
 from pathlib import Path
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.errors import InputFileError, ParameterError
 
 __all__ = ["RobotEntry", "find_robot", "robot_catalogue", "robots_folder"]
@@ -86,6 +87,7 @@ def robot_catalogue() -> dict[str, RobotEntry]:
     return {entry.name: entry for entry in sorted(entries, key=lambda e: e.name)}
 
 
+@checked
 def find_robot(name: str) -> RobotEntry:
     """A robot of example-robot-data by name (or ``<folder>/<file>``).
 

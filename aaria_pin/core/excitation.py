@@ -20,6 +20,7 @@ from typing import Any, TypedDict, Unpack
 import numpy as np
 from numpy.typing import ArrayLike
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import (
     MAX_SAMPLES,
@@ -341,6 +342,7 @@ def fourier_excitation(
     )
 
 
+@checked
 def fourier_motion(
     n_joints: int,
     duration: float,

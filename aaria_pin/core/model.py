@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.urdf import JointDescription, RobotDescription
 from aaria_pin.errors import ModelError
 
@@ -306,6 +307,7 @@ def model_from_description(
     return _finish(model, None, moving_base, base_frame, tool_frame, sensor_frames)
 
 
+@checked
 def build_model(
     urdf: str,
     *,

@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
@@ -82,6 +83,7 @@ VIEW_UNITS = "see columns: s, rad or m, rad/s, m/s^2"
 """The ``units`` of a view of time, joint values and IMU signals (e.g. ``senSen``)."""
 
 
+@checked
 @dataclass(frozen=True)
 class ImuMount:
     """An IMU rigidly mounted on a frame of the robot.

@@ -34,6 +34,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
@@ -157,6 +158,7 @@ def _finite(value: ArrayLike, parameter: str, trailing: tuple[int, ...], copy: b
     return arr
 
 
+@checked
 def matrix_from_angles(angles: ArrayLike, seq: str) -> Array:
     """Rotation matrices from angles in a sequence.
 
@@ -241,6 +243,7 @@ def _angle_about(axis: int, M: Array) -> Array:
     return np.arctan2(M[..., j, i], M[..., i, i])
 
 
+@checked
 def angles_from_matrix(
     matrix: ArrayLike, seq: str, lock_tolerance: float = LOCK_TOLERANCE
 ) -> Angles:

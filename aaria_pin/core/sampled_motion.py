@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import (
     DEFAULT_RATE,
@@ -54,6 +55,7 @@ def _column_matrix(values: ArrayLike, n_samples: int, name: str) -> Array:
     return array
 
 
+@checked
 def trajectory_from_samples(
     time: ArrayLike,
     q: ArrayLike,

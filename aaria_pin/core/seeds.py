@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.errors import ParameterError
 
 if TYPE_CHECKING:
@@ -31,6 +32,7 @@ SINGLE_STREAMS = {"fourier": 1}
 ``name`` is ``SeedSequence(S, spawn_key=(SINGLE_STREAMS[name],))``."""
 
 
+@checked
 @dataclass(frozen=True)
 class RunSeeds:
     """The named random streams of one run: the one place they are derived from its seed.

@@ -17,6 +17,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.se3 import Array, rpy_from_matrix
 from aaria_pin.core.urdf import (
     JOINT_KINDS,
@@ -279,6 +280,7 @@ def _check_names(description: RobotDescription, materials: Sequence[Material]) -
             )
 
 
+@checked
 def emit_urdf(description: RobotDescription) -> str:
     """Write a robot description as URDF text.
 

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.model import RobotModel, build_model
 from aaria_pin.core.oscillation import JOINT_COLUMNS, row_span
 from aaria_pin.core.record import ImuMount
@@ -132,6 +133,7 @@ def _default_tool(summary: UrdfSummary) -> str:
     return max(leaves, key=actuated_depth)  # the first of the deepest
 
 
+@checked
 def load_urdf_robot(
     urdf: str,
     *,

@@ -21,6 +21,7 @@ from typing import Any, TypedDict, Unpack
 import numpy as np
 from numpy.typing import ArrayLike
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import DEFAULT_HARMONICS, FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ImuNoiseModel
 from aaria_pin.core.record import ImuMount, RunRecord
@@ -76,6 +77,7 @@ MotionInput = Motion | JointTrajectory | FourierExcitation | None
 Fourier excitation."""
 
 
+@checked
 def urdf_fourier_excitation(
     loaded: UrdfRobot,
     duration: float = DEFAULT_DURATION,
@@ -225,6 +227,7 @@ def _request(robot: RunRobot, options: LoadedRobotOptions) -> RunRequest:
     return RunRequest(robot, motion, settings, options.get("seed", 0))
 
 
+@checked
 def urdf_request(urdf: str, **options: Unpack[UrdfRunOptions]) -> RunRequest:
     """A run of a URDF robot, as the engine's inputs (checked once here).
 

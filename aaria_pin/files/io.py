@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.oscillation import BASE_COLUMNS, JOINT_COLUMNS
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError
@@ -64,6 +65,7 @@ _RUN_TABLE_ALIASES = {"senSenB": ("senSenB", "base_table"), "base_table": ("base
 """Stored names tried in a run file, in order: a DH run's base table is a URDF run's too."""
 
 
+@checked
 def read_table(
     path: str | os.PathLike[str],
     mat_name: str = "senSenDH",

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import os
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import RunRecord
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.dataset.reader import DatasetReader
@@ -25,6 +26,7 @@ from aaria_pin.files.runfile import read_run
 __all__ = ["open_record"]
 
 
+@checked
 def open_record(path: str | os.PathLike[str], run: int | None = None) -> RunRecord:
     """One run as a record: a run file's (any version or robot), or run ``run`` of a data set.
 

@@ -164,7 +164,7 @@ def test_a_record_in_memory_and_a_data_set_run_are_drawn_as_their_files(
     np.testing.assert_array_equal(in_memory.frame_poses(samples), from_file.frame_poses(samples))
     tool = from_file.frame_poses(samples)[:, from_file.scene.frames.index("tool0")]
     np.testing.assert_allclose(tool, record.tool_pose, atol=1e-9)
-    with pytest.raises(ParameterError, match="run is for a data set; .* is a run file") as bad:
+    with pytest.raises(ParameterError, match=r"run is for a data set; .* is a run file") as bad:
         sources.load_run_view(ur5_run, run=1)
     assert bad.value.parameter == "run"
     dataset = Path(__file__).parents[1] / "fixtures" / "v0_1_0" / "ur5_dataset.h5"

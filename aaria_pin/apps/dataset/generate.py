@@ -52,6 +52,7 @@ from aaria_pin.apps.dataset.spec import (
 )
 from aaria_pin.apps.dataset.urdf_spec import UrdfDatasetSpec, UrdfSource
 from aaria_pin.core._malloc import tune_malloc
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.dataset.manifest import read_manifest_shards, remove_unused_shards
@@ -105,6 +106,7 @@ def _incomplete_runs(complete: np.ndarray, skip: set[int]) -> Iterator[int]:
                 yield run
 
 
+@checked
 def generate_dataset(
     path: str | os.PathLike[str],
     spec: DatasetSpec,

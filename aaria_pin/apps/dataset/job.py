@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TypedDict
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.errors import ParameterError
 
 __all__ = [
@@ -64,6 +65,7 @@ class DatasetJobOptions(TypedDict, total=False):
     command: str
 
 
+@checked
 @dataclass(frozen=True)
 class DatasetJob:
     """How a data set is made (not what it holds): its workers, resume, reports.

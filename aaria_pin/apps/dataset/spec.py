@@ -23,6 +23,7 @@ import numpy as np
 
 from aaria_pin._version import __version__
 from aaria_pin.aaria.randomize import PARTS, RandomConfig, random_base_table
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
@@ -74,6 +75,7 @@ class RunInputs:
         return " ".join(f"{name}={table.tolist()}" for name, table in self.tables.items())
 
 
+@checked
 @dataclass(frozen=True)
 class DatasetSettings:
     """The settings of a data set's runs that do not depend on where its parts come from.

@@ -28,6 +28,7 @@ from aaria_pin.apps.dataset.config import load_dataset_config
 from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
 from aaria_pin.apps.dataset.spec import DatasetSettings
 from aaria_pin.apps.dataset.urdf_spec import UrdfDatasetSpec, UrdfSource
+from aaria_pin.core.arguments import checked
 from aaria_pin.errors import ParameterError
 
 if TYPE_CHECKING:
@@ -36,6 +37,7 @@ if TYPE_CHECKING:
 __all__ = ["DatasetSources", "spec_from_sources"]
 
 
+@checked
 @dataclass(frozen=True)
 class DatasetSources(DatasetSettings):
     """What a data set is made from, as names and paths (read by :func:`spec_from_sources`).

@@ -62,6 +62,7 @@ from aaria_pin.apps.identify.geometry_structure import (
     table_of,
 )
 from aaria_pin.apps.identify.geometry_truth import truth_errors
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
@@ -109,6 +110,7 @@ def _measured_data(
     return layout, data, measured, weights
 
 
+@checked
 def identify_kinematics(
     record: RunRecord,
     *,

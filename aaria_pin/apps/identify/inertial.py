@@ -39,6 +39,7 @@ from aaria_pin.apps.identify.inertial_regressor import (
 )
 from aaria_pin.apps.identify.inertial_result import DynamicIdentification
 from aaria_pin.apps.record_model import record_base, record_columns, record_model
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
@@ -132,6 +133,7 @@ class _Sums:
             return error / np.where(signal > 0, signal, np.nan), error
 
 
+@checked
 def identify_dynamics(
     record: RunRecord,
     *,

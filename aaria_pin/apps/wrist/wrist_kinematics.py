@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.aaria.presets import WRIST_D3
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.rotations import angles_from_matrix, as_rotation, half_open
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
@@ -78,6 +79,7 @@ def _joint_angles(joints: ArrayLike) -> Array:
     return q
 
 
+@checked
 def wrist_fk(joints: ArrayLike, d3: float = WRIST_D3) -> Array:
     """Tool poses of the wrist, equation (9) of the report, vectorized.
 
@@ -279,6 +281,7 @@ def wrist_ik_batch(rotations: ArrayLike) -> WristBatch:
     return WristBatch(solutions, first.locked, residual)
 
 
+@checked
 def wrist_ik(rotation: ArrayLike, limits: ArrayLike | None = None) -> WristSolutions:
     """Every joint solution of the wrist for a tool rotation.
 

@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin._version import __version__
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.record import SERIES, RunRecord
 from aaria_pin.core.run.chunks import chunk_bounds, join_chunks
@@ -64,6 +65,7 @@ def noise_seed(seeds: Seeds) -> int | np.random.SeedSequence:
     return seeds
 
 
+@checked
 def simulate(
     robot: RunRobot,
     motion: Motion | None = None,
@@ -97,6 +99,7 @@ def simulate(
     return join_chunks(simulate_pieces(robot, motion, whole, seeds, sensors))
 
 
+@checked
 def simulate_pieces(
     robot: RunRobot,
     motion: Motion | None = None,
@@ -220,6 +223,7 @@ def _rounded(record: RunRecord, dtype: str) -> RunRecord:
     return replace(record, **rounded)
 
 
+@checked
 @dataclass(frozen=True)
 class RunRequest:
     """One run's inputs as the engine takes them: what a producer of a robot kind builds.

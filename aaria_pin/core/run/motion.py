@@ -19,6 +19,7 @@ from typing import Any, ClassVar, Protocol, Self
 import numpy as np
 from numpy.typing import ArrayLike
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import FourierExcitation
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.sampled_motion import check_trajectory
@@ -127,6 +128,7 @@ def _model_columns(robot: RunRobot, q: Array, qd: Array, qdd: Array) -> tuple[Ar
     return tuple(np.ascontiguousarray(x[:, robot.columns]) for x in (q, qd, qdd))
 
 
+@checked
 @dataclass(frozen=True)
 class SampledTrajectory(FollowedMotion):
     """A given trajectory of the run's samples, one column per record joint column.
@@ -187,6 +189,7 @@ class SampledTrajectory(FollowedMotion):
         )
 
 
+@checked
 @dataclass(frozen=True)
 class FourierMotion(FollowedMotion):
     """A Fourier excitation, one row per record joint column.
@@ -251,6 +254,7 @@ class FourierMotion(FollowedMotion):
         return cls(FourierExcitation.from_table(table, float(settings["base_frequency"]), settings))
 
 
+@checked
 @dataclass(frozen=True)
 class TorqueDrive:
     """The joints move under given torques by forward dynamics, from ``start``'s state at t = 0.

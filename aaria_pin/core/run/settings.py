@@ -14,6 +14,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, noise_attributes
 from aaria_pin.core.model import GRAVITY
 from aaria_pin.core.run.chunks import CHUNK_SAMPLES
@@ -89,6 +90,7 @@ def sampling_attributes(
     }
 
 
+@checked
 @dataclass(frozen=True)
 class RunSettings:
     """What every run takes beside its robot and its motion, checked once here.

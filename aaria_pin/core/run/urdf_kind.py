@@ -13,6 +13,7 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.oscillation import base_motion, default_base_table, validate_base_table
 from aaria_pin.core.record import ColumnView, ImuMount
@@ -136,6 +137,7 @@ class UrdfRobotRun:
         return attributes
 
 
+@checked
 @dataclass(frozen=True)
 class UrdfRunSpec:
     """The inputs of a URDF robot's run beside the robot (what :func:`urdf_robot_run` takes).
@@ -158,6 +160,7 @@ class UrdfRunSpec:
     urdf_dir: str | None = None
 
 
+@checked
 def urdf_robot_run(loaded: UrdfRobot, spec: UrdfRunSpec | None = None) -> UrdfRobotRun:
     """A loaded URDF robot as the run engine's robot, its tables checked.
 

@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import SERIES, ColumnView, RunRecord, mounts_from_poses
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, ParameterError
@@ -66,6 +67,7 @@ _NOISE_STREAM = 3
 """The noise stream of a run when the file records none (as the engine draws it)."""
 
 
+@checked
 class DatasetReader:
     """A data set file opened for reading.
 

@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import SERIES, RunRecord
 from aaria_pin.core.record_checks import check_kind_layout, check_record
 from aaria_pin.errors import InputFileError
@@ -46,6 +47,7 @@ from aaria_pin.files.runfile._mat import (
 )
 
 
+@checked
 def read_run(path: str | os.PathLike[str]) -> RunRecord:
     """Read any run file: written by :func:`write_run`, or by aaria_pin 0.1.0 (every kind).
 
@@ -65,6 +67,7 @@ def read_run(path: str | os.PathLike[str]) -> RunRecord:
     return _read(path, series=True)
 
 
+@checked
 def read_run_inputs(path: str | os.PathLike[str]) -> RunRecord:
     """The record of a run file without its time series: what re-making the run needs.
 

@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import SERIES, RunRecord, record_shapes
 from aaria_pin.errors import OutputFileError
 from aaria_pin.files._stored import encode_attributes, first_line
@@ -77,6 +78,7 @@ def _check_output(final: Path, compression: str | None, mat_version: str | None 
     return suffix
 
 
+@checked
 def write_run(
     path: str | os.PathLike[str],
     record: RunRecord,
