@@ -80,12 +80,11 @@ def inputs(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A DH run (``run.h5``) and a two-run data set (``ds.h5``), made by the tool."""
     folder = tmp_path_factory.mktemp("inputs")
     for argv in (
-        ["simulate", "--preset", "aaria-fig2", "--duration", "0.2", "-o", "run.h5"],
-        ["dataset", "--preset", "aaria-fig2", "-n", "2", "--duration", "0.2", "--workers", "1"]
-        + ["-o", "ds.h5"],
+        "simulate --preset aaria-fig2 --duration 0.2 -o run.h5",
+        "dataset --preset aaria-fig2 -n 2 --duration 0.2 --workers 1 -o ds.h5",
     ):
         done = subprocess.run(
-            [sys.executable, "-m", "aaria_pin.cli", *argv],
+            [sys.executable, "-m", "aaria_pin.cli", *argv.split()],
             cwd=folder,
             capture_output=True,
             text=True,
@@ -130,12 +129,13 @@ def _snapshot(folder: Path) -> dict[str, str]:
     }
 
 
-def _run_full(device: Device, inputs: Path, argv: list[str], free: int) -> None:
+def _run_full(device: Device, inputs: Path, argv: str, free: int) -> None:
     """Run ``aaria argv`` on the device with ``free`` bytes left; assert the one failure."""
     device.fill(free)
     before = _snapshot(device.folder)
     words = [
-        word.replace("{dev}", str(device.folder)).replace("{in}", str(inputs)) for word in argv
+        word.replace("{dev}", str(device.folder)).replace("{in}", str(inputs))
+        for word in argv.split()
     ]
     done = subprocess.run(
         [sys.executable, "-m", "aaria_pin.cli", *words],
@@ -154,43 +154,36 @@ def _run_full(device: Device, inputs: Path, argv: list[str], free: int) -> None:
 
 
 WRITERS = {
-    "simulate .h5 over a file": ["simulate", "--preset", "aaria-fig2", "--duration", "0.2"]
-    + ["-o", "{dev}/existing.h5"],
-    "simulate .mat": ["simulate", "--preset", "aaria-fig2", "--duration", "0.2"]
-    + ["-o", "{dev}/x.mat"],
-    "dataset": ["dataset", "--preset", "aaria-fig2", "-n", "2", "--duration", "0.2"]
-    + ["--workers", "1", "-o", "{dev}/new.h5"],
-    "urdf": ["urdf", "--preset", "aaria-fig2", "-o", "{dev}/x.urdf"],
-    "mjcf": ["mjcf", "--preset", "aaria-fig2", "-o", "{dev}/x.xml"],
-    "identify": ["identify", "--dynamics", "{in}/run.h5", "-o", "{dev}/x.json"],
-    "template": ["template", "dh", "-o", "{dev}/x.csv"],
-    "dataset-stats --store": ["dataset-stats", "--store", "{dev}/ds.h5"],
-    "arm urdf": ["arm", "urdf", "-o", "{dev}/arm"],
-    "wrist simulate": ["wrist", "simulate", "10", "20", "30", "--duration", "2.5"]
-    + ["-o", "{dev}/w.h5"],
+    "simulate .h5 over a file": "simulate --preset aaria-fig2 --duration 0.2 -o {dev}/existing.h5",
+    "simulate .mat": "simulate --preset aaria-fig2 --duration 0.2 -o {dev}/x.mat",
+    "dataset": "dataset --preset aaria-fig2 -n 2 --duration 0.2 --workers 1 -o {dev}/new.h5",
+    "urdf": "urdf --preset aaria-fig2 -o {dev}/x.urdf",
+    "mjcf": "mjcf --preset aaria-fig2 -o {dev}/x.xml",
+    "identify": "identify --dynamics {in}/run.h5 -o {dev}/x.json",
+    "template": "template dh -o {dev}/x.csv",
+    "dataset-stats --store": "dataset-stats --store {dev}/ds.h5",
+    "arm urdf": "arm urdf -o {dev}/arm",
+    "wrist simulate": "wrist simulate 10 20 30 --duration 2.5 -o {dev}/w.h5",
 }
 """Every command that writes a file, its output on the small device ({dev}; inputs: {in})."""
 
 
 @pytest.mark.parametrize("argv", list(WRITERS.values()), ids=list(WRITERS))
-def test_every_writer_on_a_full_device(full: Device, inputs: Path, argv: list[str]) -> None:
+def test_every_writer_on_a_full_device(full: Device, inputs: Path, argv: str) -> None:
     """No byte left: the lock's stamp (or the run file's size check) is the first to fail."""
     _run_full(full, inputs, argv, free=0)
 
 
 LARGE = {
-    "simulate .h5": ["simulate", "--preset", "aaria-fig2", "--duration", "20"]
-    + ["-o", "{dev}/existing.h5"],
-    "simulate .mat": ["simulate", "--preset", "aaria-fig2", "--duration", "20"]
-    + ["-o", "{dev}/x.mat"],
-    "simulate .h5 gzip": ["simulate", "--preset", "aaria-fig2", "--duration", "20"]
-    + ["--compress", "gzip", "-o", "{dev}/x.h5"],
+    "simulate .h5": "simulate --preset aaria-fig2 --duration 20 -o {dev}/existing.h5",
+    "simulate .mat": "simulate --preset aaria-fig2 --duration 20 -o {dev}/x.mat",
+    "simulate .h5 gzip": "simulate --preset aaria-fig2 --duration 20 --compress gzip -o {dev}/x.h5",
 }
 """Runs larger than the room left (20 s: 2.3 MB of series)."""
 
 
 @pytest.mark.parametrize("argv", list(LARGE.values()), ids=list(LARGE))
-def test_a_large_run_on_a_nearly_full_device(full: Device, inputs: Path, argv: list[str]) -> None:
+def test_a_large_run_on_a_nearly_full_device(full: Device, inputs: Path, argv: str) -> None:
     """48 kB left: the lock and the temporary are made, the run does not fit."""
     if not full.mounted and "gzip" in argv:
         pytest.skip("a file-size limit is not a full device: emptying the file frees nothing")

@@ -9,10 +9,6 @@ import click
 from aaria_pin.errors import AariaError, NoSpaceError
 
 EXIT_BAD_INPUT = 2
-"""The exit status of bad input: a usage error, or an :class:`~aaria_pin.errors.AariaError`."""
-
-EXIT_FAILURE = 1
-"""The exit status of a job the machine failed (no space left on the device: NoSpaceError)."""
 
 PARAMETER_FLAGS = {"joint_table": "--joints", "base_table": "--base", "path": "-o/--output"}
 PARAMETER_FLAGS.update(table="--dh", dh_table="--dh")
@@ -91,21 +87,10 @@ class _Main(AariaGroup):
 
                 gc.freeze()
 
-    def make_context(
-        self,
-        info_name: str | None,
-        args: list[str],
-        parent: click.Context | None = None,
-        **extra: Any,
-    ) -> click.Context:
-        """As click's; a usage error of the top level (``aaria --frob``) is one line, exit 2.
-
-        Click would print its usage, a hint and the error on three lines; a subcommand's usage
-        errors are one line (:meth:`invoke`), so are these. ``aaria`` alone still prints the
-        help.
-        """
+    def make_context(self, *args: Any, **kwargs: Any) -> click.Context:
+        """As click's; a top-level usage error (``aaria --frob``) is one line (exit 2) too."""
         try:
-            return super().make_context(info_name, args, parent, **extra)
+            return super().make_context(*args, **kwargs)
         except click.exceptions.NoArgsIsHelpError:
             raise
         except click.UsageError as exc:
@@ -113,12 +98,11 @@ class _Main(AariaGroup):
             raise click.exceptions.Exit(EXIT_BAD_INPUT) from None
 
     def invoke(self, ctx: click.Context) -> Any:
-        """Run the command; the toolkit's errors become one line (exit 2; a full disk exit 1)."""
         try:
             return super().invoke(ctx)
         except NoSpaceError as exc:  # the input was fine: exit 1, as any failed job
             click.echo(f"aaria: error: {' '.join(str(exc).split())}", err=True)
-            ctx.exit(EXIT_FAILURE)
+            ctx.exit(1)
         except AariaError as exc:
             message = flag_message(exc, ctx.meta.get(_COMMAND))
         except click.UsageError as exc:  # bad options of a command: one line too

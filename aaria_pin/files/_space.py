@@ -92,9 +92,7 @@ def check_space(final: str | os.PathLike[str], nbytes: int) -> None:
         raise no_space_error(final)
 
 
-def close_hdf5(
-    handle: Any, *, failed: bool, make_room: Callable[[], None] | None = None
-) -> None:
+def close_hdf5(handle: Any, *, failed: bool, make_room: Callable[[], None] | None = None) -> None:
     """Close an h5py file written under a temporary name, safely also on a full device.
 
     The file is flushed, then closed. After a failure (``failed``, or a flush that fails) the
@@ -158,9 +156,9 @@ def _close_all(handle: Any, *, retry: bool) -> None:
 def spare_room(final: str | os.PathLike[str], nbytes: int) -> Iterator[Callable[[], None]]:
     """Hold ``nbytes`` of the device beside ``final`` while a file is written in place.
 
-    A hidden file of that size (``.aaria-spare.<random>``) is allocated (``posix_fallocate``) before the block and removed
-    after it; the block gets a function that removes it at once, to call when a write failed
-    so that closing the file finds room (see the module docstring).
+    A hidden file of that size (``.aaria-spare.<random>``) is allocated (``posix_fallocate``)
+    before the block and removed after it; the block gets a function that removes it at once,
+    to call when a write failed so that closing the file finds room (see the module docstring).
 
     Args:
         final: the file written in place

@@ -24,7 +24,6 @@ written.
 from __future__ import annotations
 
 import contextlib
-import errno
 import os
 import re
 import shutil
@@ -162,9 +161,9 @@ def check_output(
 
     Raises:
         OutputFileError: ``-``; another suffix; a file or folder name longer than the file
-            system takes (:func:`check_name_lengths`); a missing or unwritable folder; a folder, block device or socket at ``path``; an
-            existing file when ``overwrite`` is false; an output another aaria process is
-            writing.
+            system takes (:func:`check_name_lengths`); a missing or unwritable folder; a
+            folder, block device or socket at ``path``; an existing file when ``overwrite`` is
+            false; an output another aaria process is writing.
     """
     if os.fspath(path) in ("-", ""):
         raise _refused(
@@ -252,8 +251,11 @@ def _is_device(final: Path) -> bool:
 
 
 def write_failure(final: Path, exc: BaseException) -> OutputFileError:
-    """The one-line error of a write of ``final`` that failed with ``exc`` (an OSError of h5py,
-    scipy or the system): :class:`~aaria_pin.errors.NoSpaceError` when the device is full."""
+    """The one-line error of a write of ``final`` that failed with ``exc``.
+
+    ``exc`` is an error of h5py, scipy or the system: a full device gives the
+    :class:`~aaria_pin.errors.NoSpaceError`, anything else "X: cannot be written (reason)".
+    """
     if no_space(exc):
         return no_space_error(final)
     reason = (str(exc).strip().splitlines() or [type(exc).__name__])[0]

@@ -17,9 +17,9 @@ import numpy as np
 
 from aaria_pin.core.record import SERIES, RunRecord, record_shapes
 from aaria_pin.errors import OutputFileError
+from aaria_pin.files._space import check_space
 from aaria_pin.files._stored import encode_attributes
 from aaria_pin.files.detection import RUN_SUFFIXES
-from aaria_pin.files._space import check_space
 from aaria_pin.files.paths import atomic_output, no_space, write_failure
 from aaria_pin.files.runfile._columns import RunStream, checked_arrays
 from aaria_pin.files.runfile._hdf5 import _Hdf5Stream
@@ -252,10 +252,10 @@ class RunFileWriter:
         return mat_attribute_variables(self.final, encoded) if self._mat else encoded
 
     def _size(self) -> int:
-        """The bytes the file's data take [bytes]: its series at full length, its tables, views
-        (real arrays in a ``.mat``), names and URDF.
+        """The bytes the file's data take [bytes].
 
-        An uncompressed file is that plus its metadata
+        Its series at full length, its tables, views (real arrays in a ``.mat``), names and
+        URDF. An uncompressed file is that plus its metadata
         (:data:`~aaria_pin.files._space.METADATA_BYTES` at most), checked before the file is
         made; a compressed one is checked against it too, as a bound: its series are held in
         HDF5's chunk cache until the file is closed, and a full device met there (measured:
@@ -267,7 +267,8 @@ class RunFileWriter:
             row = data.itemsize * int(np.prod(data.shape[1:], dtype=np.int64))
             total += row * self.samples if name in SERIES else data.nbytes
         if self._mat:
-            total += sum(8 * len(view.columns) * self.samples for view in self._first.views.values())
+            views = self._first.views.values()
+            total += sum(8 * len(view.columns) * self.samples for view in views)
         return int(total)
 
     def __enter__(self) -> RunFileWriter:
