@@ -14,14 +14,7 @@ import pytest
 
 from aaria_pin.errors import NoSpaceError
 from aaria_pin.files import _space
-from aaria_pin.files._space import (
-    METADATA_BYTES,
-    check_space,
-    close_hdf5,
-    no_space,
-    no_space_error,
-    spare_room,
-)
+from aaria_pin.files._space import check_space, close_hdf5, no_space, no_space_error, spare_room
 
 
 def test_the_one_wording_names_the_output() -> None:
@@ -53,7 +46,7 @@ def _free(monkeypatch: pytest.MonkeyPatch, free: int) -> None:
 
 
 def test_check_space_counts_the_metadata(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    _free(monkeypatch, 10_000 + METADATA_BYTES)
+    _free(monkeypatch, 10_000 + _space.METADATA_BYTES)
     check_space(tmp_path / "run.h5", 10_000)  # exactly room: fine
     with pytest.raises(NoSpaceError, match=r"writing .*run\.h5; nothing was replaced"):
         check_space(tmp_path / "run.h5", 10_001)

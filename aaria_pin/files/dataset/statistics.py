@@ -181,7 +181,13 @@ def store_statistics(
                 parameter="path",
             ) from None
         try:
-            _store(handle, statistics, split, seed, fractions, runs)
+            shares = np.asarray(fractions, float)
+            _store(
+                handle,
+                statistics,
+                split,
+                {"seed": int(seed), "fractions": shares, "runs": int(runs)},
+            )
         except BaseException as exc:
             close_hdf5(handle, failed=True, make_room=free_spare)
             if no_space(exc):
@@ -197,22 +203,18 @@ def _store(
     handle: Any,
     statistics: Mapping[str, tuple[np.ndarray, np.ndarray, int]],
     split: str | None,
-    seed: int,
-    fractions: Sequence[float],
-    runs: int,
+    marks: Mapping[str, Any],
 ) -> None:
-    """Write the statistics into the open file (as :func:`store_statistics`), flushed."""
+    """Write the statistics into the open file (as :func:`store_statistics`), flushed.
+
+    ``marks`` are the split's attributes beside its name (seed, fractions, runs).
+    """
     group_name = _split_group(split)
     partial = f"{STATISTICS_GROUP}/.{split or _ALL_RUNS}.partial"
     if partial in handle:
         del handle[partial]
     group = handle.require_group(STATISTICS_GROUP).create_group(partial.split("/")[1])
-    group.attrs.update(
-        split=split or _ALL_RUNS,
-        seed=int(seed),
-        fractions=np.asarray(fractions, float),
-        runs=int(runs),
-    )
+    group.attrs.update(split=split or _ALL_RUNS, **marks)
     opened = [group]  # closed with the file, not one by one (see store_statistics)
     for name, (mean, std, count) in statistics.items():
         entry = group.create_group(name)
