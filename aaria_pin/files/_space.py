@@ -130,26 +130,32 @@ def close_hdf5(handle: Any, *, failed: bool, make_room: Callable[[], None] | Non
 
 
 def _close_all(handle: Any, *, retry: bool) -> None:
-    """Close the file and its objects; with ``retry``, again while each try closes some.
+    """Close the file and its objects; with ``retry``, try again while it fails (a few times).
 
-    On a full device each failing close still closes the object it failed on (HDF5 drops it),
-    so trying again until the file itself is closed ends every identifier: measured, a failed
-    flush makes the first close fail on the file ("slist already enabled?"), a compressed
-    series' dirty chunks make each close fail on one dataset.
+    On a full device each failing close still closes objects (HDF5 drops the one it failed
+    on), so trying again ends every identifier: measured, a failed flush makes the first close
+    or two fail ("slist already enabled?"), a compressed series' dirty chunks make each close
+    fail on one dataset.
     """
     from h5py import h5f
 
     def still_open() -> int:
         return int(h5f.get_obj_count(handle.id, h5f.OBJ_ALL)) if handle.id.valid else 0
 
+    stuck = 0
     while True:
         before = still_open()
         try:
             handle.close()
             return
         except BaseException:
-            if not retry or not handle.id.valid or still_open() >= before:
+            stuck = stuck + 1 if still_open() >= before else 0
+            if not retry or not handle.id.valid or stuck >= _CLOSE_TRIES:
                 raise
+
+
+_CLOSE_TRIES = 4
+"""Closes of a failed HDF5 file tried in a row without closing anything, before giving up."""
 
 
 @contextlib.contextmanager

@@ -16,7 +16,10 @@ Every output goes through :func:`atomic_output`:
   to) and a name longer than the file system allows are refused in one line.
 
 Running out of space (``ENOSPC``, ``EDQUOT``, ``EFBIG``) while writing is one line, "no space
-left on device writing X", with the temporary removed and nothing replaced.
+left on device writing X; nothing was replaced", with the temporary removed (and the lock).
+A device with less than :data:`~aaria_pin.files._space.METADATA_BYTES` free is refused before
+the lock is taken: HDF5 meeting a full device while it lays a file out can crash the process
+(measured with 8 kB left, :mod:`aaria_pin.files._space`).
 :func:`check_outputs` runs the same checks on every output of a command before the first one is
 written.
 """
@@ -34,7 +37,7 @@ from pathlib import Path
 
 from aaria_pin.errors import AariaError, InputFileError, OutputFileError
 from aaria_pin.files._locks import hidden_stem, lock_holder, name_max, output_lock
-from aaria_pin.files._space import no_space, no_space_error
+from aaria_pin.files._space import check_space, no_space, no_space_error
 
 __all__ = [
     "atomic_output",
@@ -329,6 +332,7 @@ def atomic_output(path: str | os.PathLike[str], *, overwrite: bool = True) -> It
             yield temporary
         return
     folder = final.parent if str(final.parent) else Path(".")
+    check_space(final, 0)  # a device all but full: refused before HDF5 can meet it mid-layout
     with output_lock(final):
         stem = hidden_stem(final)
         _remove_stale_temporaries(final, stem)

@@ -47,3 +47,22 @@ def test_write_failure_tells_a_full_device_from_other_errors(tmp_path: Path) -> 
     other = write_failure(final, OSError(errno.EIO, "Can't write data\nmore lines"))
     assert type(other) is OutputFileError
     assert str(other) == f"{final}: cannot be written ([Errno 5] Can't write data)"
+
+
+def test_an_output_on_a_device_all_but_full_is_refused_before_the_lock(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import shutil
+
+    from aaria_pin.files import _space
+    from aaria_pin.files.paths import atomic_output
+
+    usage = shutil.disk_usage(tmp_path)
+    low = type(usage)(usage.total, usage.used, _space.METADATA_BYTES - 1)
+    monkeypatch.setattr(_space.shutil, "disk_usage", lambda _: low)
+    with (
+        pytest.raises(NoSpaceError, match="nothing was replaced"),
+        atomic_output(tmp_path / "a.h5"),
+    ):
+        pytest.fail("the block must not run")
+    assert list(tmp_path.iterdir()) == []
