@@ -16,15 +16,26 @@ held them was dropped, ``H5D_close`` ran over that memory and the process died w
 - an HDF5 file written under a temporary name is closed by :func:`close_hdf5`: it is flushed
   first (a failure there is reported while every identifier can still be closed), and after
   any failure the temporary is truncated to nothing before it is closed, which gives HDF5 back
-  the room its closing writes need (the file is removed next anyway); closing then succeeds
-  and invalidates every identifier, so none is closed again later;
+  the room its closing writes need (the file is removed next anyway); the close is tried again
+  while it fails (after a failed flush HDF5 fails a close or two with "slist already
+  enabled?" before it closes the file), so every identifier is invalid when it returns;
 - a write into an existing file (which cannot be truncated) holds a reserve of the device for
-  as long as it writes (:func:`spare_room`); on a failure the reserve is freed before the file
-  is closed (:func:`close_hdf5` with ``make_room``), so the close has the room it needs;
-- a write whose size is known beforehand (a run file's preallocated, uncompressed series: the
-  bytes of the series, the tables and the names) is checked against the device's free space
-  first (:func:`check_space`; ``os.statvfs``, a few µs), so a long simulation is not computed
-  for a file that cannot hold it.
+  as long as it writes (:func:`spare_room`) and keeps every object it opens until the file is
+  closed (h5py closing a dropped object ignores a failure, which breaks the file the same
+  way); on a failure the reserve is freed before the file is closed (:func:`close_hdf5` with
+  ``make_room``), so the close has the room it needs;
+- a run file's size (its preallocated series, tables, names and URDF) is checked against the
+  device's free space before it is made (:func:`check_space`; ``os.statvfs``, a few µs), so a
+  long simulation is not computed for a file that cannot hold it; a compressed one is checked
+  against its uncompressed size, as a bound: its chunks wait in HDF5's chunk cache until the
+  close, and a full device met there ("Can't destroy cache") left the file open for good;
+- every output is refused when the device has less than :data:`METADATA_BYTES` free
+  (``atomic_output``): with 8 kB left a data set's layout failed inside h5py's own closing of
+  the objects it drops, which crashed the process too.
+
+Not covered: a device that fills up (another process writing) between the check and the end
+of a compressed run file, or while a ``.mat`` v7.3 lays out its variables, can still meet
+HDF5's failure inside a close h5py ignores.
 """
 
 from __future__ import annotations
