@@ -87,6 +87,16 @@ class _Main(AariaGroup):
 
                 gc.freeze()
 
+    def make_context(self, *args: Any, **kwargs: Any) -> click.Context:
+        """As click's; a top-level usage error (``aaria --frob``) is one line (exit 2) too."""
+        try:
+            return super().make_context(*args, **kwargs)
+        except click.exceptions.NoArgsIsHelpError:
+            raise
+        except click.UsageError as exc:
+            click.echo(f"aaria: error: {' '.join(exc.format_message().split())}", err=True)
+            raise click.exceptions.Exit(EXIT_BAD_INPUT) from None
+
     def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)

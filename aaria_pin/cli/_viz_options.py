@@ -35,10 +35,12 @@ def check_output(path: Path, what: str, suffixes: tuple[str, ...]) -> None:
         OutputFileError: naming the path and what is allowed (one line).
     """
     from aaria_pin.errors import OutputFileError
+    from aaria_pin.files.paths import check_name_lengths
     from aaria_pin.files.paths import check_output as check_output_path
 
     if str(path) in ("-", ""):
         check_output_path(path)  # refused: this command does not write to standard output
+    check_name_lengths(path)  # before the folder is looked at (ENAMETOOLONG)
     if path.suffix.lower() not in suffixes:
         is_not = f"suffix {path.suffix!r} is not one of a {what}"
         raise OutputFileError(f"{path}: {is_not}; allowed: {', '.join(suffixes)}", parameter="path")

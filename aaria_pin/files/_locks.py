@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import functools
 import hashlib
 import os
 import threading
@@ -21,6 +22,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from aaria_pin.errors import OutputFileError
+from aaria_pin.files._space import no_space, no_space_error
 
 if TYPE_CHECKING:
     from filelock import UnixFileLock
@@ -104,16 +106,24 @@ def _pid_in(descriptor: int) -> int:
         return 0
 
 
-def _stamp(descriptor: int) -> None:
+def _stamp(lock_path: Path, descriptor: int) -> None:
     """Write our pid into the lock file just locked (``filelock``'s ``on_acquired``).
 
     The stamp is written, then the file trimmed to it: truncating to zero first made ext4 write
     the file out when the descriptor closed (auto_da_alloc: a file truncated to zero and written
     again is flushed on close), 2.5-4 ms of every output (more on a busy disk) against 0.14 ms so.
+    When the stamp cannot be written (a full device), the lock file is removed while it is
+    still locked (a waiting opener sees it gone) and the error raised: ``filelock`` then
+    releases the lock, and :func:`_acquire` reports it.
     """
     stamp = f"{os.getpid()}\n".encode()
-    os.pwrite(descriptor, stamp, 0)
-    os.ftruncate(descriptor, len(stamp))
+    try:
+        os.pwrite(descriptor, stamp, 0)
+        os.ftruncate(descriptor, len(stamp))
+    except OSError:
+        with contextlib.suppress(OSError):
+            os.unlink(lock_path)
+        raise
 
 
 def _refused(final: Path, text: str, allowed: str) -> OutputFileError:
@@ -163,6 +173,7 @@ def output_lock(path: str | os.PathLike[str]) -> Iterator[Path]:
     Raises:
         OutputFileError: another process holds the lock (naming its pid), or the lock file
             cannot be made in the output's folder.
+        NoSpaceError: no room on the device for the lock file or its stamp (nothing is left).
     """
     final = Path(os.path.realpath(path)) if os.path.islink(path) else Path(path)
     lock_path = _lock_path(final)
@@ -198,7 +209,7 @@ def _acquire(final: Path, lock_path: Path) -> UnixFileLock:
         thread_local=False,  # re-entrant in the process, whichever thread
         blocking=False,
         fallback_to_soft=False,  # a soft lock a crash leaves stays held
-        on_acquired=_stamp,
+        on_acquired=functools.partial(_stamp, lock_path),
     )
     for _ in range(_ATTEMPTS):
         try:
@@ -209,6 +220,8 @@ def _acquire(final: Path, lock_path: Path) -> UnixFileLock:
                 raise _busy(final, pid) from None
             continue  # its holder removed the file as we opened it: try the new one
         except OSError as exc:
+            if no_space(exc):  # the lock file or its stamp: no room for either
+                raise no_space_error(final) from None
             raise _unlockable(final, exc.strerror or str(exc)) from None
         return lock
     raise _busy(final, 0)

@@ -16,7 +16,10 @@ Every output goes through :func:`atomic_output`:
   to) and a name longer than the file system allows are refused in one line.
 
 Running out of space (``ENOSPC``, ``EDQUOT``, ``EFBIG``) while writing is one line, "no space
-left on device writing X", with the temporary removed and nothing replaced.
+left on device writing X; nothing was replaced", with the temporary removed (and the lock).
+A device with less than :data:`~aaria_pin.files._space.METADATA_BYTES` free is refused before
+the lock is taken: HDF5 meeting a full device while it lays a file out can crash the process
+(measured with 8 kB left, :mod:`aaria_pin.files._space`).
 :func:`check_outputs` runs the same checks on every output of a command before the first one is
 written.
 """
@@ -24,7 +27,6 @@ written.
 from __future__ import annotations
 
 import contextlib
-import errno
 import os
 import re
 import shutil
@@ -33,21 +35,21 @@ import tempfile
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
-from aaria_pin.errors import AariaError, InputFileError, NoSpaceError, OutputFileError
+from aaria_pin.errors import AariaError, InputFileError, OutputFileError
 from aaria_pin.files._locks import hidden_stem, lock_holder, name_max, output_lock
+from aaria_pin.files._space import check_space, no_space, no_space_error
 
 __all__ = [
     "atomic_output",
+    "check_name_lengths",
     "check_output",
     "check_outputs",
     "existing_input",
     "no_space",
     "output_lock",
+    "write_failure",
     "write_text_atomic",
 ]
-
-_NO_SPACE = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
-_NO_SPACE_TEXT = ("No space left on device", "Disk quota exceeded", "File too large", "errno = 28")
 
 
 def existing_input(path: str | os.PathLike[str], suffixes: Sequence[str] | None, kind: str) -> Path:
@@ -111,6 +113,39 @@ def _refused(final: Path | str, what: str, allowed: str) -> OutputFileError:
     )
 
 
+_PATH_MAX = 4096
+"""The longest path Linux takes [bytes] (``PATH_MAX``)."""
+
+
+def check_name_lengths(path: str | os.PathLike[str]) -> None:
+    """Refuse an output path with a file or folder name longer than its file system takes.
+
+    Every name of the path is checked (a 300-character folder too, which the system refuses
+    with ``ENAMETOOLONG`` at the first look), and the whole path against ``PATH_MAX``.
+    :func:`check_output` runs it first; a command that makes the output's folder runs it on
+    the files it will write there.
+
+    Args:
+        path: the output file (its folders need not exist)
+
+    Raises:
+        OutputFileError: a name longer than the limit of the file system of its nearest
+            existing folder (255 bytes on most), or a path longer than 4096 bytes.
+    """
+    encoded = os.fsencode(os.fspath(path))
+    if len(encoded) >= _PATH_MAX:
+        shown = os.fspath(path)[:60] + "…"
+        raise _refused(shown, f"is a path of {len(encoded)} bytes", f"at most {_PATH_MAX - 1}")
+    existing = Path(path).parent
+    while str(existing) not in ("", ".", existing.anchor) and not os.path.isdir(existing):
+        existing = existing.parent
+    limit = name_max(existing if str(existing) else Path("."))
+    for name in Path(path).parts:
+        size = len(os.fsencode(name))
+        if size > limit:
+            raise _refused(name[:40] + "…", f"is a name of {size} bytes", f"at most {limit} bytes")
+
+
 def check_output(
     path: str | os.PathLike[str],
     *,
@@ -128,10 +163,10 @@ def check_output(
         The path to write: ``path``, or the target of a symbolic link.
 
     Raises:
-        OutputFileError: ``-``; another suffix; a name longer than the file system takes; a
-            missing or unwritable folder; a folder, block device or socket at ``path``; an
-            existing file when ``overwrite`` is false; an output another aaria process is
-            writing.
+        OutputFileError: ``-``; another suffix; a file or folder name longer than the file
+            system takes (:func:`check_name_lengths`); a missing or unwritable folder; a
+            folder, block device or socket at ``path``; an existing file when ``overwrite`` is
+            false; an output another aaria process is writing.
     """
     if os.fspath(path) in ("-", ""):
         raise _refused(
@@ -139,14 +174,9 @@ def check_output(
             "is not a file path",
             "a file path (this command does not write to standard output)",
         )
+    check_name_lengths(path)
     given = Path(path)
     final = Path(os.path.realpath(given)) if os.path.islink(given) else given
-    size = len(os.fsencode(final.name))
-    limit = name_max(final.parent if final.parent.is_dir() else Path("."))
-    if size > limit:
-        raise _refused(
-            final.name[:40] + "…", f"is a name of {size} bytes", f"at most {limit} bytes"
-        )
     if suffixes is not None and final.suffix.lower() not in suffixes:
         raise _refused(final, f"has the suffix {final.suffix!r}", ", ".join(suffixes))
     try:
@@ -223,21 +253,16 @@ def _is_device(final: Path) -> bool:
     return stat.S_ISCHR(mode) or stat.S_ISFIFO(mode)
 
 
-def no_space(exc: BaseException) -> bool:
-    """Whether an error says the file system ran out of room."""
-    if isinstance(exc, OSError) and exc.errno in _NO_SPACE:
-        return True
-    text = str(exc)
-    return isinstance(exc, OSError | RuntimeError) and any(t in text for t in _NO_SPACE_TEXT)
+def write_failure(final: Path, exc: BaseException) -> OutputFileError:
+    """The one-line error of a write of ``final`` that failed with ``exc``.
 
-
-def _no_space_error(final: Path) -> NoSpaceError:
-    return NoSpaceError(
-        f"no space left on device writing {final}; nothing was replaced",
-        parameter="path",
-        value=str(final),
-        element=str(final),
-    )
+    ``exc`` is an error of h5py, scipy or the system: a full device gives the
+    :class:`~aaria_pin.errors.NoSpaceError`, anything else "X: cannot be written (reason)".
+    """
+    if no_space(exc):
+        return no_space_error(final)
+    reason = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+    return OutputFileError(f"{final}: cannot be written ({reason})", parameter="path")
 
 
 _TEMPORARY = re.compile(r"\.(?P<pid>\d+)\.[A-Za-z0-9_]{8}\.tmp")
@@ -307,14 +332,15 @@ def atomic_output(path: str | os.PathLike[str], *, overwrite: bool = True) -> It
             yield temporary
         return
     folder = final.parent if str(final.parent) else Path(".")
+    check_space(final, 0)  # a device all but full: refused before HDF5 can meet it mid-layout
     with output_lock(final):
         stem = hidden_stem(final)
         _remove_stale_temporaries(final, stem)
         try:
             temporary = _new_temporary(folder, stem, final.suffix)
         except OSError as exc:
-            if exc.errno in _NO_SPACE:
-                raise _no_space_error(final) from None
+            if no_space(exc):
+                raise no_space_error(final) from None
             raise _refused(
                 final,
                 f"cannot be written in {folder} ({exc.strerror})",
@@ -326,7 +352,7 @@ def atomic_output(path: str | os.PathLike[str], *, overwrite: bool = True) -> It
         except BaseException as exc:
             temporary.unlink(missing_ok=True)
             if no_space(exc):
-                raise _no_space_error(final) from None
+                raise no_space_error(final) from None
             raise
 
 
@@ -365,7 +391,7 @@ def _through_device(final: Path) -> Iterator[Path]:
                 shutil.copyfileobj(source, target, 1 << 20)
     except BaseException as exc:
         if no_space(exc):
-            raise _no_space_error(final) from None
+            raise no_space_error(final) from None
         if isinstance(exc, OSError) and not isinstance(exc, AariaError):
             raise _refused(
                 final, f"cannot be written ({exc.strerror})", "a writable file, device or FIFO"

@@ -8,6 +8,7 @@ from pathlib import Path
 import click
 import numpy as np
 import pytest
+from click.testing import CliRunner
 
 from aaria_pin.cli._app import flag_message
 from aaria_pin.errors import AariaError, InputFileError, OutputFileError
@@ -55,3 +56,45 @@ def test_the_readers_and_writers_name_input_and_output_apart(tmp_path: Path) -> 
     assert "-o/--output" not in " ".join(flag_message(e, demo) for e in inputs)
     output = _raised(lambda: check_output(tmp_path / "no folder" / "run.h5"))
     assert isinstance(output, OutputFileError) and output.parameter == "path"
+
+
+@pytest.mark.parametrize(
+    ("argv", "line"),
+    [
+        (["--frob"], "aaria: error: No such option '--frob'."),
+        (["--version", "--frob"], "aaria: error: No such option '--frob'."),
+        (["urdf", "--preset", "aaria-fig2"], "aaria: error: Missing option '-o' / '--output'."),
+        (["mjcf", "--preset", "aaria-fig2"], "aaria: error: Missing option '-o' / '--output'."),
+    ],
+)
+def test_usage_errors_are_one_line_at_every_level(argv: list[str], line: str) -> None:
+    from aaria_pin.cli import main
+
+    result = CliRunner().invoke(main, argv)
+    assert result.exit_code == 2
+    assert result.stderr.splitlines() == [line]
+    assert result.stdout == ""
+
+
+def test_aaria_alone_still_prints_its_help() -> None:
+    from aaria_pin.cli import main
+
+    result = CliRunner().invoke(main, [], prog_name="aaria")
+    assert "Usage: aaria [OPTIONS] COMMAND [ARGS]..." in result.output
+    assert "Commands:" in result.output and "aaria: error" not in result.output
+
+
+def test_a_full_device_exits_1(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The input was fine, the machine was not: exit 1, the NoSpaceError's line as it is."""
+    from aaria_pin.cli import main
+    from aaria_pin.files import io, paths
+
+    def full(*_: object, **__: object) -> None:
+        raise paths.no_space_error(tmp_path / "dh.csv")
+
+    monkeypatch.setattr(io, "write_text_atomic", full)
+    result = CliRunner().invoke(main, ["template", "dh", "-o", str(tmp_path / "dh.csv")])
+    assert result.exit_code == 1
+    assert result.stderr.splitlines() == [
+        f"aaria: error: no space left on device writing {tmp_path / 'dh.csv'}; nothing was replaced"
+    ]

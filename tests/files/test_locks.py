@@ -105,3 +105,23 @@ def test_a_symbolic_link_locks_its_target(tmp_path: Path) -> None:
         assert final == real
         assert (real.parent / ".out.h5.lock").exists()
         assert not (tmp_path / ".link.h5.lock").exists()
+
+
+def test_a_stamp_that_cannot_be_written_leaves_no_lock(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A full device: the lock is released, its file removed, the error the one NoSpaceError."""
+    from aaria_pin.errors import NoSpaceError
+
+    def full(*_: object) -> int:
+        raise OSError(28, "No space left on device")
+
+    target = tmp_path / "out.h5"
+    with monkeypatch.context() as patch:
+        patch.setattr(os, "pwrite", full)
+        with pytest.raises(NoSpaceError, match=r"no space left on device writing .*out\.h5"):
+            with output_lock(target):
+                pytest.fail("the block must not run")
+    assert list(tmp_path.iterdir()) == []
+    with output_lock(target):  # taken again at once: nothing was left held
+        assert lock_holder(target) is None

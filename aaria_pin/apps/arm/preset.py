@@ -324,9 +324,11 @@ def write_arm_urdf(
     """
     from aaria_pin.errors import OutputFileError
     from aaria_pin.files.io import write_text_atomic
+    from aaria_pin.files.paths import check_name_lengths
 
     root = Path(folder)
     meshes = root / "meshes"
+    check_name_lengths(root / "pick_place_arm.urdf")  # a name too long: before any folder
     made = [p for p in (root, meshes) if not p.exists()]  # outermost first
     try:
         meshes.mkdir(parents=True, exist_ok=True)

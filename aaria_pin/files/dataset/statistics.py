@@ -29,6 +29,15 @@ import numpy as np
 
 from aaria_pin.core.record import ColumnView
 from aaria_pin.errors import InputFileError, OutputFileError
+from aaria_pin.files._space import (
+    METADATA_BYTES,
+    check_space,
+    close_hdf5,
+    no_space,
+    no_space_error,
+    spare_room,
+)
+from aaria_pin.files.paths import write_failure
 
 __all__ = [
     "BLOCK_BYTES",
@@ -45,6 +54,10 @@ BLOCK_BYTES = 64 * 2**20
 """About how many float64 bytes of one array a block of runs holds while it is reduced."""
 
 _ALL_RUNS = "all"
+
+_ENTRY_BYTES = 8192
+"""The HDF5 metadata of one array's stored statistics, at most [bytes] (a group, two datasets,
+an attribute)."""
 """The subgroup of statistics over every complete run (no split)."""
 
 
@@ -143,40 +156,76 @@ def store_statistics(
         fractions: the split's fractions
         runs: how many runs they are over
 
+    The statistics are written in place, holding a reserve of the device meanwhile
+    (:func:`~aaria_pin.files._space.spare_room`): on a full device the reserve is freed, the
+    file closed cleanly (HDF5 left to meet a full device here crashed the process) and the
+    stored statistics of the split are kept.
+
     Raises:
         OutputFileError: the file cannot be opened for writing (read-only, or open elsewhere).
+        NoSpaceError: no room on the device (checked first: twice the statistics' bytes and
+            their metadata).
     """
     import h5py
 
+    file = Path(path)
+    size = sum(2 * np.asarray(mean).nbytes + _ENTRY_BYTES for mean, _, _ in statistics.values())
+    with spare_room(file, size + METADATA_BYTES) as free_spare:
+        check_space(file, size)
+        try:
+            handle = h5py.File(file, "r+")
+        except OSError as exc:
+            raise OutputFileError(
+                f"{path}: cannot store statistics in it ({exc}); allowed: a writable data set "
+                "that no other handle in this process has open",
+                parameter="path",
+            ) from None
+        try:
+            shares = np.asarray(fractions, float)
+            _store(
+                handle,
+                statistics,
+                split,
+                {"seed": int(seed), "fractions": shares, "runs": int(runs)},
+            )
+        except BaseException as exc:
+            close_hdf5(handle, failed=True, make_room=free_spare)
+            if no_space(exc):
+                raise no_space_error(file) from None
+            raise
+        try:
+            close_hdf5(handle, failed=False, make_room=free_spare)
+        except (OSError, RuntimeError) as exc:
+            raise write_failure(file, exc) from None
+
+
+def _store(
+    handle: Any,
+    statistics: Mapping[str, tuple[np.ndarray, np.ndarray, int]],
+    split: str | None,
+    marks: Mapping[str, Any],
+) -> None:
+    """Write the statistics into the open file (as :func:`store_statistics`), flushed.
+
+    ``marks`` are the split's attributes beside its name (seed, fractions, runs).
+    """
     group_name = _split_group(split)
     partial = f"{STATISTICS_GROUP}/.{split or _ALL_RUNS}.partial"
-    try:
-        handle = h5py.File(Path(path), "r+")
-    except OSError as exc:
-        raise OutputFileError(
-            f"{path}: cannot store statistics in it ({exc}); allowed: a writable data set "
-            "that no other handle in this process has open",
-            parameter="path",
-        ) from None
-    with handle:
-        if partial in handle:
-            del handle[partial]
-        group = handle.require_group(STATISTICS_GROUP).create_group(partial.split("/")[1])
-        group.attrs.update(
-            split=split or _ALL_RUNS,
-            seed=int(seed),
-            fractions=np.asarray(fractions, float),
-            runs=int(runs),
-        )
-        for name, (mean, std, count) in statistics.items():
-            entry = group.create_group(name)
-            entry.attrs["count"] = int(count)
-            entry.create_dataset("mean", data=np.asarray(mean, np.float64))
-            entry.create_dataset("std", data=np.asarray(std, np.float64))
-        handle.flush()
-        if group_name in handle:
-            del handle[group_name]
-        handle.move(partial, group_name)
+    if partial in handle:
+        del handle[partial]
+    group = handle.require_group(STATISTICS_GROUP).create_group(partial.split("/")[1])
+    group.attrs.update(split=split or _ALL_RUNS, **marks)
+    opened = [group]  # closed with the file, not one by one (see store_statistics)
+    for name, (mean, std, count) in statistics.items():
+        entry = group.create_group(name)
+        entry.attrs["count"] = int(count)
+        opened.append(entry)
+        opened.append(entry.create_dataset("mean", data=np.asarray(mean, np.float64)))
+        opened.append(entry.create_dataset("std", data=np.asarray(std, np.float64)))
+    handle.flush()
+    if group_name in handle:
+        del handle[group_name]
+    handle.move(partial, group_name)
 
 
 def read_statistics(

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from aaria_pin.errors import InputFileError, NoSpaceError, OutputFileError
+from aaria_pin.files._space import close_hdf5
 from aaria_pin.files._stored import (
     NAME_LISTS,
     create_virtual_view,
@@ -99,7 +100,7 @@ class DatasetFile:
         file = Path(path)
         with atomic_output(file) as temporary:
             handle = _new_file(temporary, n_runs, samples, dtype, attributes, layout)
-            handle.close()
+            close_hdf5(handle, failed=False)
         return cls._open(file)
 
     @classmethod
@@ -277,6 +278,28 @@ def _new_file(
         handle = h5py.File(path, "w", track_order=True)
     except OSError as exc:
         raise OutputFileError(f"{path}: cannot be created ({exc})", parameter="path") from None
+    try:
+        _lay_out(handle, n_runs, samples, dtype, attributes, layout, raw_attributes, virtual)
+    except BaseException:
+        close_hdf5(handle, failed=True)  # a full device: no identifier left to crash on
+        raise
+    return handle
+
+
+def _lay_out(
+    handle: Any,
+    n_runs: int,
+    samples: int,
+    dtype: str,
+    attributes: Mapping[str, Any],
+    layout: DatasetLayout,
+    raw_attributes: Mapping[str, Any] | None,
+    virtual: Mapping[str, Any] | None,
+) -> None:
+    """The body of :func:`_new_file`: everything but the file."""
+    import h5py
+
+    path = Path(handle.filename)
     handle.attrs["format"] = DATASET_FORMAT
     handle.attrs["format_version"] = DATASET_FORMAT_VERSION
     handle.attrs["N"] = n_runs
@@ -315,7 +338,6 @@ def _new_file(
     handle.create_dataset("complete", shape=(n_runs,), dtype="u1", fillvalue=0)
     handle.create_dataset("failed", shape=(n_runs,), dtype="u1", fillvalue=0)
     handle.flush()
-    return handle
 
 
 def check_dataset_path(path: Path, resume: bool, overwrite: bool, exists: bool = True) -> None:

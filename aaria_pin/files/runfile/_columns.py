@@ -78,7 +78,7 @@ class RunStream:
         try:
             self._lay_out(first, arrays, samples, compression)
         except BaseException:
-            self.handle.close()  # the caller removes the temporary file
+            self.close(None)  # a failed file: closed safely; the caller removes it
             raise
 
     def _open(self, file: Path) -> Any:

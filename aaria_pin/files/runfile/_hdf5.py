@@ -17,6 +17,7 @@ import numpy as np
 from aaria_pin.core.record import SERIES, VIEW_UNITS, ColumnView, RunRecord, record_shapes
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError
+from aaria_pin.files._space import close_hdf5
 from aaria_pin.files._stored import (
     NAME_LISTS,
     STORED_NAMES,
@@ -150,12 +151,18 @@ class _Hdf5Stream(RunStream):
             dataset.write(h5s.create_simple(data.shape), stored, data)
 
     def close(self, attributes: list[tuple[str, Any]] | None) -> None:
-        """Write the root attributes (unless None: a failed file) and close the file."""
+        """Write the root attributes (unless None: a failed file) and close the file.
+
+        Through :func:`~aaria_pin.files._space.close_hdf5` (flushed, then closed; a failed file
+        emptied first), so a full device never leaves HDF5 identifiers to crash the process.
+        """
         try:
             if attributes is not None:
                 write_attributes(self.handle.id, attributes)
-        finally:
-            self.handle.close()
+        except BaseException:
+            close_hdf5(self.handle, failed=True)
+            raise
+        close_hdf5(self.handle, failed=attributes is None)
 
 
 def _new_dataset(

@@ -44,6 +44,7 @@ import numpy as np
 from aaria_pin.core.record import SERIES, ColumnView, RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import OutputFileError
+from aaria_pin.files._space import close_hdf5
 from aaria_pin.files._stored import damaged_errors, read_errors
 from aaria_pin.files.runfile._columns import COLUMNS_SUFFIX, RunStream, chunk_rows
 
@@ -258,8 +259,10 @@ class _Mat73Stream(RunStream):
             if attributes is not None:
                 for name, value in attributes:
                     _put_value(self.handle, name, value)
-        finally:
-            self.handle.close()
+        except BaseException:
+            close_hdf5(self.handle, failed=True)
+            raise
+        close_hdf5(self.handle, failed=attributes is None)
         if attributes is not None:
             with self.file.open("r+b") as stream:
                 stream.write(mat73_header())

@@ -18,9 +18,10 @@ import numpy as np
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import SERIES, RunRecord, record_shapes
 from aaria_pin.errors import OutputFileError
-from aaria_pin.files._stored import encode_attributes, first_line
+from aaria_pin.files._space import check_space
+from aaria_pin.files._stored import encode_attributes
 from aaria_pin.files.detection import RUN_SUFFIXES
-from aaria_pin.files.paths import atomic_output
+from aaria_pin.files.paths import atomic_output, no_space, write_failure
 from aaria_pin.files.runfile._attributes import NOT_RECORD_ATTRIBUTES
 from aaria_pin.files.runfile._checksums import CHECKSUMS_ATTRIBUTE, Checksums
 from aaria_pin.files.runfile._columns import RunStream, checked_arrays
@@ -126,9 +127,7 @@ def write_run(
         try:
             _write_mat(temporary, contents)
         except OSError as exc:
-            raise OutputFileError(
-                f"{final}: cannot be written ({first_line(exc)})", parameter="path"
-            ) from None
+            raise write_failure(final, exc) from None
     return final
 
 
@@ -273,7 +272,28 @@ class RunFileWriter:
             encoded.append((CHECKSUMS_ATTRIBUTE, checksums))
         return mat_attribute_variables(self.final, encoded) if self._mat else encoded
 
+    def _size(self) -> int:
+        """The bytes the file's data take [bytes].
+
+        Its series at full length, its tables, views (real arrays in a ``.mat``), names and
+        URDF. An uncompressed file is that plus its metadata
+        (:data:`~aaria_pin.files._space.METADATA_BYTES` at most), checked before the file is
+        made; a compressed one is checked against it too, as a bound: its series are held in
+        HDF5's chunk cache until the file is closed, and a full device met there (measured:
+        "Can't destroy cache (slist already enabled?)") leaves identifiers no close can end.
+        """
+        total = len(self._first.urdf.encode("utf-8"))
+        total += sum(len(name) + 8 for name in (*self._first.joint_names, *self._first.imu_names))
+        for name, data in self._arrays.items():
+            row = data.itemsize * int(np.prod(data.shape[1:], dtype=np.int64))
+            total += row * self.samples if name in SERIES else data.nbytes
+        if self._mat:
+            views = self._first.views.values()
+            total += sum(8 * len(view.columns) * self.samples for view in views)
+        return int(total)
+
     def __enter__(self) -> RunFileWriter:
+        check_space(self.final, self._size())  # a full device refused before any work
         stack = contextlib.ExitStack()
         temporary = stack.enter_context(atomic_output(self.final))
         try:
@@ -284,9 +304,7 @@ class RunFileWriter:
         except BaseException as exc:
             stack.__exit__(type(exc), exc, exc.__traceback__)
             if isinstance(exc, OSError):
-                raise OutputFileError(
-                    f"{self.final}: cannot be written ({first_line(exc)})", parameter="path"
-                ) from None
+                raise write_failure(self.final, exc) from None
             raise
         self._stack = stack
         self._arrays = {}  # the first piece's copies are not needed again
@@ -333,9 +351,7 @@ class RunFileWriter:
             for name, data in arrays.items():
                 self._checksums.update(name, data)
         except OSError as exc:
-            raise OutputFileError(
-                f"{self.final}: cannot be written ({first_line(exc)})", parameter="path"
-            ) from None
+            raise write_failure(self.final, exc) from None
         self._written += n
         self._attributes = chunk.attributes
 
@@ -385,11 +401,8 @@ class RunFileWriter:
         except BaseException as caught:
             if error is None:
                 error = caught
-                if isinstance(caught, OSError):
-                    error = OutputFileError(
-                        f"{self.final}: cannot be written ({first_line(caught)})",
-                        parameter="path",
-                    )
+                if isinstance(caught, OSError) or no_space(caught):
+                    error = write_failure(self.final, caught)
         if error is None:
             stack.close()  # renames the file onto its destination
             return
