@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Any
+import warnings
+from typing import Any, TextIO
 
 import click
 
@@ -48,6 +49,22 @@ def flag_message(error: AariaError, command: click.Command | None) -> str:
     if name in flags and message.startswith(f"{name} "):  # "run is …" → "--run is …"
         message = flags[name] + message[len(name) :]
     return " ".join(message.split())
+
+
+def _one_line_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: TextIO | None = None,
+    line: str | None = None,
+) -> None:
+    """A warning as the command line shows it: one line, ``aaria: warning: …``, on stderr.
+
+    Python's own form is two lines (file:line and the source line), noise to a user of the
+    command (e.g. a run file of 0.3.0, whose arrays carry no checksums to verify).
+    """
+    click.echo(f"aaria: warning: {' '.join(str(message).split())}", err=True)
 
 
 class AariaGroup(click.Group):
@@ -98,6 +115,11 @@ class _Main(AariaGroup):
             raise click.exceptions.Exit(EXIT_BAD_INPUT) from None
 
     def invoke(self, ctx: click.Context) -> Any:
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line_warning
+            return self._invoke(ctx)
+
+    def _invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
         except NoSpaceError as exc:  # the input was fine: exit 1, as any failed job

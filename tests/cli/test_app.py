@@ -98,3 +98,21 @@ def test_a_full_device_exits_1(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) 
     assert result.stderr.splitlines() == [
         f"aaria: error: no space left on device writing {tmp_path / 'dh.csv'}; nothing was replaced"
     ]
+
+
+def test_a_warning_is_one_line_on_stderr() -> None:
+    """Python's two-line warning (file:line, source line) becomes ``aaria: warning: …``."""
+    import subprocess
+    import sys
+
+    old = Path(__file__).parents[1] / "fixtures" / "v0_3_0" / "dh_run.h5"
+    done = subprocess.run(
+        [sys.executable, "-m", "aaria_pin.cli", "torques", str(old)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0
+    lines = done.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("aaria: warning: ")
+    assert "cannot be verified" in lines[0]
