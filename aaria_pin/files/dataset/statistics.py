@@ -29,6 +29,7 @@ import numpy as np
 
 from aaria_pin.core.record import ColumnView
 from aaria_pin.errors import InputFileError, OutputFileError
+from aaria_pin.files.dataset.verify import RunCheck
 
 __all__ = [
     "BLOCK_BYTES",
@@ -66,6 +67,7 @@ def channel_statistics(
     names: Sequence[str],
     series: Sequence[bool],
     runs: np.ndarray,
+    check: RunCheck | None = None,
     block_bytes: int = BLOCK_BYTES,
 ) -> dict[str, tuple[np.ndarray, np.ndarray, int]]:
     """Per-channel mean, std and count of arrays over some runs, in one streaming pass.
@@ -75,11 +77,16 @@ def channel_statistics(
         names: arrays or views (N × … each)
         series: for each name, whether axis 1 is time (reduced too) or part of the channel
         runs: the runs, increasing (complete ones)
+        check: how each run's array is read and checked (:class:`~.verify.RunCheck`: damaged
+            runs and NaN refused); None reads them as stored
         block_bytes: float64 bytes of one array a block of runs may hold
 
     Returns:
         ``{name: (mean, std, count)}``, mean and std float64 of the channel shape, count the
         values per channel.
+
+    Raises:
+        InputFileError: with ``check``, a damaged run or one holding a NaN or an infinity.
     """
     result: dict[str, tuple[np.ndarray, np.ndarray, int]] = {}
     runs = np.asarray(runs, dtype=np.int64)
@@ -93,7 +100,9 @@ def channel_statistics(
             block = runs[first : first + per_block]
             stored = np.empty((len(block), *dataset.shape[1:]), dtype=dataset.dtype)
             for row, run in enumerate(block):  # a run a read: h5py's list index took 3x longer
-                stored[row] = dataset[int(run)]
+                stored[row] = (
+                    dataset[int(run)] if check is None else check.checked(handle, name, int(run))
+                )
             values = stored.astype(np.float64).reshape(-1, *channel)
             mean = values.mean(axis=0)
             m2 = ((values - mean) ** 2).sum(axis=0)
