@@ -139,6 +139,7 @@ class DatasetReport:
         failures: failed runs and their errors
         seconds: wall time of this job [s]
         shards: shard files this job wrote (0: one file, local workers)
+        remade: runs flagged complete that a resumed job found damaged and made again
     """
 
     path: Path
@@ -147,6 +148,7 @@ class DatasetReport:
     failures: dict[int, str]
     seconds: float
     shards: int = 0
+    remade: tuple[int, ...] = ()
 
 
 def software_versions() -> dict[str, str]:
