@@ -23,9 +23,20 @@ def _numbers(_ctx: click.Context, param: click.Parameter, text: str) -> tuple[fl
 
 
 def _names(
-    _ctx: click.Context, _param: click.Parameter, text: str | None
+    _ctx: click.Context, param: click.Parameter, text: str | None
 ) -> tuple[str, ...] | None:
-    return tuple(part.strip() for part in text.split(",") if part.strip()) if text else None
+    from aaria_pin.errors import ParameterError
+
+    if text is None:
+        return None
+    names = tuple(part.strip() for part in text.split(",") if part.strip())
+    if not names:
+        raise ParameterError(
+            parameter=param.name,
+            value=text,
+            allowed="array or view names, comma-separated (senSen, signals, imu, q, tau, …)",
+        )
+    return names
 
 
 @click.command(

@@ -164,8 +164,8 @@ def generate_dataset(
         saved = _saved_runs(target[0])
         shown = "no run" if not saved else f"{saved}/{spec.n_runs} runs"
         raise DatasetJobStoppedError(
-            f"interrupted: {shown} saved in {target[0]}; the same command goes on"
-            f"{'' if target[0] != file else ' with --resume'}",
+            f"interrupted: {shown} saved in {target[0]}; the same command"
+            f"{' with --resume' if target[0] == file else ''} goes on",
             saved,
             spec.n_runs,
             exit_status=130,

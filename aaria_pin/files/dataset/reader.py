@@ -214,7 +214,7 @@ class DatasetReader:
         arrays = {}
         for name in names:
             if name in views:  # a view's numbers are its series': those are verified
-                self._check.verify_run(self._handle, index, view_sources([name], views)[1:])
+                self._check.verify_run(self._handle, index, view_sources([name], views))
                 arrays[name] = self._check.read(self._handle, name, index)
                 self._check.finite(name, index, arrays[name])
             else:
@@ -263,6 +263,21 @@ class DatasetReader:
                 _NOISE_STREAM if header.noise_stream is None else header.noise_stream,
             ),
         )
+
+    @property
+    def verifiable(self) -> bool:
+        """Whether the file records checksums of its runs' numbers (format version 2)."""
+        return self._check.verifiable
+
+    def check_run(self, index: int) -> None:
+        """Read every stored array of a complete run whole, check it finite and verify it.
+
+        Raises:
+            ParameterError: index out of range, or a run that is not complete.
+            InputFileError: the run is damaged or holds a NaN or an infinity (see :meth:`run`).
+        """
+        self._check_run(index)
+        self._check.verify_run(self._handle, index, self.stored_names)
 
     @property
     def series_names(self) -> tuple[str, ...]:

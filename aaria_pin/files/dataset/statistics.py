@@ -165,7 +165,7 @@ def store_statistics(
         raise OutputFileError(
             f"{path}: cannot store statistics in it ({exc}); allowed: a writable data set "
             "that no other handle in this process has open",
-            parameter="path",
+            parameter="file",
         ) from None
     with handle:
         if partial in handle:
