@@ -35,8 +35,10 @@ it can check (missing, another suffix, not a run file or data set)."""
 @click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
 @json_option("Print {path, kind, runs, checked, ok, damaged: [{run, error}], notes} as JSON.")
 def check(file: Path, as_json: bool) -> None:
-    """Verify FILE whole: a data set's complete runs (checksums, readability, finite numbers),
-    or a run file; exit 1 when damage is found.
+    """Verify FILE whole and list its damaged runs; exit 1 when damage is found.
+
+    A data set: every complete run read, checked finite and compared with its checksum. A run
+    file: read whole.
     """
     from aaria_pin.apps.check import check_file
 

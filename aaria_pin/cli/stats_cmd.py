@@ -22,9 +22,7 @@ def _numbers(_ctx: click.Context, param: click.Parameter, text: str) -> tuple[fl
         ) from None
 
 
-def _names(
-    _ctx: click.Context, param: click.Parameter, text: str | None
-) -> tuple[str, ...] | None:
+def _names(_ctx: click.Context, param: click.Parameter, text: str | None) -> tuple[str, ...] | None:
     from aaria_pin.errors import ParameterError
 
     if text is None:

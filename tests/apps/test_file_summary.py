@@ -53,7 +53,7 @@ def test_a_damaged_data_set_is_one_input_error(tmp_path: Path) -> None:
         del handle["q"]
     with pytest.raises(InputFileError, match="a damaged data set") as caught:
         describe_file(path)
-    assert caught.value.parameter == "path"
+    assert caught.value.parameter == "file"
 
 
 def test_statistics_of_every_run_against_numpy(tmp_path: Path) -> None:

@@ -75,7 +75,8 @@ def test_a_damaged_chunk_is_run_k_damaged(made: Path, tmp_path: Path, door: str)
     with DatasetReader(path) as reader:
         reader.run(0)  # the other runs still read
         reader.record(2)
-        with pytest.raises(InputFileError, match=r"^run 1 of .*chunk\.h5 is damaged \((tau|imu)") as bad:
+        damage = r"^run 1 of .*chunk\.h5 is damaged \((tau|imu)"
+        with pytest.raises(InputFileError, match=damage) as bad:
             READS[door](reader)
     assert bad.value.parameter == "file" and "\n" not in str(bad.value)
 
@@ -91,7 +92,8 @@ def test_nan_is_refused_with_array_run_and_index(made: Path, tmp_path: Path, doo
         READS[door](reader)
     text = str(bad.value)
     assert text.startswith(f"run 1 of {path}: array ")
-    assert re.search(r"'tau' holds (nan|inf) at index \[5, 2\]|'imu' holds nan at index \[5, 0, 2\]", text)
+    where = r"'tau' holds (nan|inf) at index \[5, 2\]|'imu' holds nan at index \[5, 0, 2\]"
+    assert re.search(where, text)
     assert bad.value.parameter == "file"
 
 

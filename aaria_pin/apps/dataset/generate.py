@@ -54,8 +54,8 @@ from aaria_pin.apps.dataset.urdf_spec import UrdfDatasetSpec, UrdfSource
 from aaria_pin.core._malloc import tune_malloc
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, OutputFileError, ParameterError
-from aaria_pin.files.dataset.manifest import read_manifest_shards, remove_unused_shards
 from aaria_pin.files._stored import first_line
+from aaria_pin.files.dataset.manifest import read_manifest_shards, remove_unused_shards
 from aaria_pin.files.dataset.resume import damaged_runs, dataset_progress, read_dataset_attributes
 from aaria_pin.files.dataset.store import DatasetFile, check_dataset_path, partial_path
 from aaria_pin.files.paths import no_space
@@ -175,8 +175,9 @@ def generate_dataset(
 
 
 def _target(file: Path, spec: DatasetSpec, job: DatasetJob) -> tuple[Path, bool]:
-    """The file a local job writes, ``file`` or its partial (:func:`~.store.partial_path`), and
-    whether it continues it.
+    """The file a local job writes (``file`` or its partial) and whether it continues it.
+
+    The partial is :func:`~aaria_pin.files.dataset.store.partial_path`.
 
     An overwrite of an existing data set builds the new one beside it, in the partial, and
     replaces it at the end: the old data set stays whole until then. A partial left by a

@@ -138,7 +138,7 @@ class DatasetReader:
         self.layout: DatasetLayout | None = None
         if self.version == LEGACY_VERSION:
             self.names: tuple[str, ...] = legacy_names(self._handle)
-            shapes = {name: None for name in self.names}
+            shapes: dict[str, tuple[int, ...] | None] = dict.fromkeys(self.names)
         else:
             self.layout = read_layout(self._handle)
             self.names = (*self.layout.names, *self.layout.views)
