@@ -56,6 +56,16 @@ class FileCheck:
         """Whether nothing is damaged."""
         return not self.damaged
 
+    def report(self) -> str:
+        """The text ``aaria check`` prints: a summary line, notes, then one line per damage."""
+        what = "data set" if self.kind == "dataset" else "run file"
+        runs = f", {self.checked} of {self.runs} runs complete" if self.kind == "dataset" else ""
+        state = "all intact" if self.ok else f"{len(self.damaged)} damaged"
+        head = f"{self.path}: {what}: damaged" if None in self.damaged else f"{self.path}: "
+        head += "" if None in self.damaged else f"{what}{runs}: {state}"
+        notes = [f"note: {note}" for note in self.notes]
+        return "\n".join([head, *notes, *self.damaged.values()])
+
     def to_json(self) -> dict[str, Any]:
         """A JSON-ready dict: the fields, ``damaged`` as a list of ``{run, error}``, ``ok``."""
         return {

@@ -22,19 +22,8 @@ def _numbers(_ctx: click.Context, param: click.Parameter, text: str) -> tuple[fl
         ) from None
 
 
-def _names(_ctx: click.Context, param: click.Parameter, text: str | None) -> tuple[str, ...] | None:
-    from aaria_pin.errors import ParameterError
-
-    if text is None:
-        return None
-    names = tuple(part.strip() for part in text.split(",") if part.strip())
-    if not names:
-        raise ParameterError(
-            parameter=param.name,
-            value=text,
-            allowed="array or view names, comma-separated (senSen, signals, imu, q, tau, …)",
-        )
-    return names
+def _names(_ctx: click.Context, _param: click.Parameter, text: str | None) -> Any:
+    return None if text is None else tuple(p.strip() for p in text.split(",") if p.strip())
 
 
 @click.command(

@@ -102,7 +102,7 @@ def test_nan_through_the_command_line(made: Path, tmp_path: Path) -> None:
 def test_dataset_stats_refuses_empty_names(made: Path) -> None:
     status, out, err = run_cli("dataset-stats", str(made), "--names", "")
     assert status == 2 and out == "" and len(err.splitlines()) == 1
-    assert err.startswith("aaria: error: --names is ''; allowed: array or view names")
+    assert err.startswith("aaria: error: --names is ''; allowed: time, q, qd, qdd, tau,")
 
 
 def test_identify_dataset_without_a_complete_run(made: Path, tmp_path: Path) -> None:

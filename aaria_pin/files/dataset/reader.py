@@ -309,7 +309,7 @@ class DatasetReader:
         if unknown or not names:
             raise ParameterError(
                 parameter="names",
-                value=unknown[0] if unknown else tuple(names),
+                value=unknown[0] if unknown else ",".join(names),
                 allowed=", ".join(self.names),
             )
         return tuple(names)
