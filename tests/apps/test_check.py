@@ -13,7 +13,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
-from conftest import run_cli
+from dataset_damage import flip_chunk, small_dataset
 
 from aaria_pin.apps.check import check_file
 from aaria_pin.errors import InputFileError
@@ -23,23 +23,7 @@ FIXTURES = Path(__file__).parents[1] / "fixtures"
 
 @pytest.fixture(scope="module")
 def made(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    path = tmp_path_factory.mktemp("check") / "ds.h5"
-    status, _, err = run_cli(
-        "dataset", "-n", "3", "--duration", "0.2", "--rate", "100", "-o", str(path), "--quiet"
-    )
-    assert status == 0, err
-    return path
-
-
-def flip_chunk(path: Path, name: str, run: int) -> None:
-    with h5py.File(path, "r") as handle:
-        dataset = handle[name]
-        info = dataset.id.get_chunk_info_by_coord((run,) + (0,) * (dataset.ndim - 1))
-    with path.open("r+b") as stream:
-        stream.seek(info.byte_offset + info.size // 2)
-        data = stream.read(8)
-        stream.seek(info.byte_offset + info.size // 2)
-        stream.write(bytes(b ^ 0xFF for b in data))
+    return small_dataset(tmp_path_factory.mktemp("check") / "ds.h5")
 
 
 def test_an_intact_data_set_is_ok(made: Path) -> None:

@@ -14,16 +14,12 @@ import h5py
 import numpy as np
 import pytest
 from conftest import run_cli
+from dataset_damage import flip_chunk, small_dataset
 
 
 @pytest.fixture(scope="module")
 def made(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    path = tmp_path_factory.mktemp("cli_check") / "ds.h5"
-    status, _, err = run_cli(
-        "dataset", "-n", "3", "--duration", "0.2", "--rate", "100", "-o", str(path), "--quiet"
-    )
-    assert status == 0, err
-    return path
+    return small_dataset(tmp_path_factory.mktemp("cli_check") / "ds.h5")
 
 
 @pytest.fixture
@@ -31,13 +27,7 @@ def damaged(made: Path, tmp_path: Path) -> Path:
     """Run 1's tau bytes flipped inside its stored chunk."""
     path = tmp_path / "bad.h5"
     shutil.copy(made, path)
-    with h5py.File(path, "r") as handle:
-        info = handle["tau"].id.get_chunk_info_by_coord((1, 0, 0))
-    with path.open("r+b") as stream:
-        stream.seek(info.byte_offset + info.size // 2)
-        data = stream.read(8)
-        stream.seek(info.byte_offset + info.size // 2)
-        stream.write(bytes(b ^ 0xFF for b in data))
+    flip_chunk(path, "tau", 1)
     return path
 
 
