@@ -114,14 +114,8 @@ class RunCheck:
         except READ_ERRORS as exc:
             raise damaged_run(self.path, run, f"{name}: {first_line(exc)}") from None
 
-    def finite(self, name: str, run: int, array: np.ndarray, offset: int = 0) -> None:
-        """Refuse a NaN or an infinity, naming the array, the run and the first index.
-
-        Args:
-            name: the array
-            run: the run
-            array: what was read of it
-            offset: the sample of the array's first row (a window's start)
+    def finite(self, name: str, run: int, array: np.ndarray) -> None:
+        """Refuse a NaN or an infinity in a run's whole array, naming the array, run and index.
 
         Raises:
             InputFileError: not finite.
@@ -129,10 +123,8 @@ class RunCheck:
         bad = first_bad_index(array)
         if bad is None:
             return
-        index = (bad[0] + offset, *bad[1:]) if bad else bad
-        value = array[bad]
         raise InputFileError(
-            f"run {run} of {self.path}: array {name!r} holds {value} at index {list(index)}; "
+            f"run {run} of {self.path}: array {name!r} holds {array[bad]} at index {list(bad)}; "
             "allowed: finite numbers (the simulator never writes one: the file was changed)",
             parameter="file",
             value=str(self.path),
@@ -219,7 +211,7 @@ def check_arrays(
             )
         stored = tuple(handle[name].shape or ())
         if stored[:1] != (n_runs,) or (shape is not None and stored[1:] != tuple(shape)):
-            wanted = "N × …" if shape is None else " × ".join(map(str, (n_runs, *shape)))
+            wanted = f"{n_runs} × …" if shape is None else " × ".join(map(str, (n_runs, *shape)))
             raise InputFileError(
                 f"{path}: a damaged data set: array {name!r} has shape "
                 f"{' × '.join(map(str, stored)) or 'scalar'}; allowed: {wanted} (N = {n_runs})",
