@@ -90,3 +90,30 @@ def test_resume_of_a_complete_data_set_remakes_a_damaged_run(tmp_path: Path) -> 
     assert_same_arrays(damaged, clean)
     status, out, _ = run_cli("dataset", "-n", "3", *SMALL, "-o", str(damaged), "--resume")
     assert status == 0 and "already complete (3/3 runs); nothing to do" in out
+
+
+def test_a_left_partial_is_continued_by_resume_or_started_anew(tmp_path: Path) -> None:
+    """A partial of the job's settings is continued (--resume too); one of others is not."""
+    old = tmp_path / "ds.h5"
+    status, _, err = run_cli("dataset", "-n", "3", *SMALL, "-o", str(old))
+    assert status == 0, err
+    new_settings = ["dataset", "-n", "3", "--seed", "4", *SMALL]
+    partial = partial_path(old)
+    status, _, err = run_cli(*new_settings, "-o", str(partial))  # as a killed overwrite left it
+    assert status == 0, err
+    with h5py.File(partial, "r+") as handle:
+        handle["complete"][1] = 0
+    before = sha256(old)
+    status, out, err = run_cli("dataset", "-n", "3", *SMALL, "-o", str(old), "--resume")
+    assert status == 0 and "nothing to do" in out and sha256(old) == before  # other settings
+    status, out, err = run_cli(*new_settings, "-o", str(old), "--resume")
+    assert status == 0, err
+    assert "3/3 runs complete (1 in this job" in out and not partial.exists()
+    clean = tmp_path / "clean.h5"
+    status, _, err = run_cli(*new_settings, "-o", str(clean))
+    assert status == 0, err
+    assert_same_arrays(old, clean)
+    status, _, err = run_cli(*new_settings, "-o", str(partial))  # a partial of seed 4 again
+    assert status == 0, err
+    status, out, err = run_cli("dataset", "-n", "3", *SMALL, "-o", str(old), "--overwrite")
+    assert status == 0 and "(3 in this job" in out and not partial.exists()  # seed 0: anew
