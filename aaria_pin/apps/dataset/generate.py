@@ -124,7 +124,11 @@ def generate_dataset(
     fixed input and one draw of the random ones) are checked, and run 0 made, before the output
     is touched (:func:`~.spec.check_first_run`). Resuming a one-file data set that is complete
     (every run flagged, no failure, and its card, which a job stores after its last flush)
-    returns at once without reading its runs; a manifest's resume always checks its shards.
+    changes nothing when every run's chunks match their checksums (a damaged run is made
+    again and listed in :attr:`~.job.DatasetReport.remade`); a manifest's resume always checks
+    its shards. An overwrite builds the new data set beside the old one
+    (:func:`~aaria_pin.files.dataset.store.partial_path`) and replaces it once complete: a
+    killed overwrite leaves the old data set whole, and the same job continues its partial.
 
     Args:
         path: the ``.h5`` file
@@ -248,8 +252,9 @@ def _generate(
     local workers write and whether to continue it (:func:`_target`); one other than ``file``
     (an overwrite's partial) replaces ``file`` once complete, card included.
     """
-    target, resume = building
     from aaria_pin.files.io import output_lock
+
+    target, resume = building
 
     tune_malloc()
     # Run 0 checks the inputs before the output is touched; it loads Pinocchio and the compiled

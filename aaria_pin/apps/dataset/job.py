@@ -74,7 +74,7 @@ class DatasetJob:
         shards: the folder of the shards, on storage every Dask worker reaches (with
             ``scheduler`` only; default the output's folder)
         resume: continue an existing file (same spec), redoing the runs that are not complete
-        overwrite: replace an existing file (and its shards)
+        overwrite: replace an existing file (and its shards) once the new one is complete
         progress: called as ``progress(done, total, seconds)`` after each run (each shard on a
             cluster)
         estimate: called once before the bulk of the runs with the job's expected size and
