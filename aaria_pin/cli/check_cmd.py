@@ -8,11 +8,11 @@ import click
 from aaria_pin.cli._options import json_option
 
 
-@click.command(epilog="Exit status: 0 nothing damaged, 1 damage found, 2 not a file to check.")
+@click.command(epilog="\b\nExamples:\n  aaria check ds.h5  # exit 0 intact, 1 damaged, 2 bad input")
 @click.argument("file", type=click.Path(path_type=Path, dir_okay=False))
 @json_option("Print {path, kind, runs, checked, ok, damaged: [{run, error}], notes} as JSON.")
 def check(file: Path, as_json: bool) -> None:
-    """Read FILE whole (each complete run of a data set: finite, its checksum); list damage."""
+    """Verify FILE whole, listing damaged runs (exit 1 if any); a data set's against checksums."""
     from aaria_pin.apps.check import check_file
 
     result = check_file(file)
