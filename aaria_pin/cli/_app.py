@@ -142,9 +142,9 @@ def main() -> None:
 def _register() -> None:
     from importlib import import_module
 
-    for module in ("arm", "dataset", "identify", "info", "mjcf", "plot", "render", "robots"):
+    for module in ("arm", "check", "dataset", "identify", "info", "mjcf", "plot", "render"):
         main.add_command(getattr(import_module(f"aaria_pin.cli.{module}_cmd"), module))
-    for module in ("simulate", "stats", "template", "torques", "urdf", "view", "wrist"):
+    for module in ("robots", "simulate", "stats", "template", "torques", "urdf", "view", "wrist"):
         name = "dataset_stats" if module == "stats" else module
         main.add_command(getattr(import_module(f"aaria_pin.cli.{module}_cmd"), name))
 

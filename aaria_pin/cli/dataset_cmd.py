@@ -106,10 +106,10 @@ Examples:
 @click.option(
     "--resume",
     is_flag=True,
-    help="Continue an interrupted data set file (the same settings); a complete one is left"
-    " as it is.",
+    help="Continue an interrupted data set file (the same settings); its complete runs are"
+    " verified and a damaged one made again.",
 )
-@click.option("--overwrite", is_flag=True, help="Replace an existing file.")
+@click.option("--overwrite", is_flag=True, help="Replace an existing file (once the new one is).")
 @click.option("--quiet", is_flag=True, help="No estimate, no progress bar or lines.")
 @click.option(
     "--progress-every",
@@ -161,6 +161,7 @@ def dataset(output: Path, quiet: bool, progress_every: float, **flags: Any) -> N
         click.echo(f"\naaria: {exc}" if sys.stderr.isatty() else f"aaria: {exc}", err=True)
         raise SystemExit(exc.exit_status) from None
     n_runs = spec.n_runs
+    click.echo("".join(f"run {run} was damaged; re-made\n" for run in report.remade), nl=False)
     if job.resume and report.written == 0 and report.complete == n_runs and not report.failures:
         click.echo(f"{report.path}: already complete ({n_runs}/{n_runs} runs); nothing to do")
         return

@@ -22,10 +22,8 @@ def _numbers(_ctx: click.Context, param: click.Parameter, text: str) -> tuple[fl
         ) from None
 
 
-def _names(
-    _ctx: click.Context, _param: click.Parameter, text: str | None
-) -> tuple[str, ...] | None:
-    return tuple(part.strip() for part in text.split(",") if part.strip()) if text else None
+def _names(_ctx: click.Context, _param: click.Parameter, text: str | None) -> Any:
+    return None if text is None else tuple(p.strip() for p in text.split(",") if p.strip())
 
 
 @click.command(

@@ -29,6 +29,7 @@ from aaria_pin.core.record import RunRecord
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.dataset.manifest import missing_shards, shard_files
 from aaria_pin.files.dataset.reader import DatasetReader
+from aaria_pin.files.dataset.store import partial_path
 
 pytest.importorskip("distributed")
 pytestmark = pytest.mark.slow
@@ -333,3 +334,24 @@ def test_shards_need_a_scheduler(reference: Path, tmp_path: Path) -> None:
             copy, DhDatasetSpec(**SETTINGS), scheduler="tcp://127.0.0.1:9", resume=True
         )
     assert copy.read_bytes() == reference.read_bytes()
+
+
+def test_an_overwrite_keeps_the_old_data_set_until_the_new_one_is_whole(
+    cluster: Cluster, reference: Path, tmp_path: Path
+) -> None:
+    path = tmp_path / "ds.h5"
+    spec = DhDatasetSpec(**SETTINGS)
+    generate_dataset(path, spec, scheduler=cluster.address)
+    old_shards = sorted(tmp_path.glob("ds-*.h5"))
+    before = path.read_bytes()
+    seen: list[tuple[bool, bool, bool]] = []
+
+    def look(done: int, total: int, seconds: float) -> None:  # while the new shards come
+        whole = path.read_bytes() == before and all(shard.is_file() for shard in old_shards)
+        seen.append((whole, partial_path(path).is_file(), len(list(tmp_path.glob("ds-*.h5"))) > 0))
+
+    report = generate_dataset(path, spec, scheduler=cluster.address, overwrite=True, progress=look)
+    assert report.complete == RUNS and seen and all(all(step) for step in seen)
+    assert not partial_path(path).exists()
+    assert not any(shard.exists() for shard in old_shards)  # the old data set's, removed
+    _assert_same(reference, path)

@@ -61,4 +61,4 @@ def test_typed_from_plain_values_and_a_damaged_header_is_refused() -> None:
     assert header.kind == "dh" and header.written_by is None
     with pytest.raises(InputFileError, match="no 'N' or 'samples'") as bad:
         DatasetHeader.from_attributes({"N": 4}, 2, "x.h5")
-    assert bad.value.parameter == "path"
+    assert bad.value.parameter == "file"

@@ -54,10 +54,11 @@ from aaria_pin.apps.dataset.urdf_spec import UrdfDatasetSpec, UrdfSource
 from aaria_pin.core._malloc import tune_malloc
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.se3 import Array
-from aaria_pin.errors import ParameterError
+from aaria_pin.errors import InputFileError, OutputFileError, ParameterError
+from aaria_pin.files._stored import first_line
 from aaria_pin.files.dataset.manifest import read_manifest_shards, remove_unused_shards
-from aaria_pin.files.dataset.resume import dataset_progress, read_dataset_attributes
-from aaria_pin.files.dataset.store import DatasetFile, check_dataset_path
+from aaria_pin.files.dataset.resume import damaged_runs, dataset_progress, read_dataset_attributes
+from aaria_pin.files.dataset.store import DatasetFile, check_dataset_path, partial_path
 from aaria_pin.files.paths import no_space
 
 __all__ = [
@@ -125,7 +126,11 @@ def generate_dataset(
     fixed input and one draw of the random ones) are checked, and run 0 made, before the output
     is touched (:func:`~.spec.check_first_run`). Resuming a one-file data set that is complete
     (every run flagged, no failure, and its card, which a job stores after its last flush)
-    returns at once without reading its runs; a manifest's resume always checks its shards.
+    changes nothing when every run's chunks match their checksums (a damaged run is made
+    again and listed in :attr:`~.job.DatasetReport.remade`); a manifest's resume always checks
+    its shards. An overwrite builds the new data set beside the old one
+    (:func:`~aaria_pin.files.dataset.store.partial_path`) and replaces it once complete: a
+    killed overwrite leaves the old data set whole, and the same job continues its partial.
 
     Args:
         path: the ``.h5`` file
@@ -151,26 +156,52 @@ def generate_dataset(
     file = Path(path)
     job = replace(job or DatasetJob(), **options)
     check_dataset_path(file, job.resume, job.overwrite)  # also: its lock held elsewhere
-    if job.resume:  # compare settings read-only first: a mismatch changes nothing
+    target = _target(file, spec, job)
+    if job.resume and target[0] == file:  # settings read-only first: a mismatch changes nothing
         stored = read_dataset_attributes(file)
         _check_resume(file, spec, job, stored)
         if job.scheduler is None:  # a manifest's resume checks its shards: they may be gone
             complete, total, no_failure = dataset_progress(file)
-            if complete == total and no_failure and "card" in stored:  # its job ended
+            if complete == total and no_failure and "card" in stored and not damaged_runs(file):
                 return DatasetReport(file, 0, complete, {}, time.perf_counter() - start)
     try:
-        return _generate(file, spec, job, start)
+        return _generate(file, target, spec, job, start)
     except KeyboardInterrupt:
-        saved = _saved_runs(file)
+        saved = _saved_runs(target[0])
         shown = "no run" if not saved else f"{saved}/{spec.n_runs} runs"
         raise DatasetJobStoppedError(
-            f"interrupted: {shown} saved in {file}; the same command with --resume goes on",
+            f"interrupted: {shown} saved in {target[0]}; the same command"
+            f"{' with --resume' if target[0] == file else ''} goes on",
             saved,
             spec.n_runs,
             exit_status=130,
             parameter="path",
             value=str(file),
         ) from None
+
+
+def _target(file: Path, spec: DatasetSpec, job: DatasetJob) -> tuple[Path, bool]:
+    """The file a local job writes (``file`` or its partial) and whether it continues it.
+
+    The partial is :func:`~aaria_pin.files.dataset.store.partial_path`.
+
+    An overwrite of an existing data set builds the new one beside it, in the partial, and
+    replaces it at the end: the old data set stays whole until then. A partial left by a
+    killed overwrite is continued by the same command (``overwrite`` or ``resume``) when it
+    holds the same settings; else an overwrite starts it anew. A job on a Dask cluster writes
+    its manifest in place.
+    """
+    partial = partial_path(file)
+    if job.scheduler is not None:
+        return file, job.resume
+    if (job.resume or job.overwrite) and partial.is_file():
+        try:
+            stored = read_dataset_attributes(partial)
+        except InputFileError:  # killed while it was laid out: start it anew
+            stored = None
+        if stored is not None and not spec.mismatches(stored) and "shard_prefix" not in stored:
+            return partial, True
+    return (partial, False) if job.overwrite and file.exists() else (file, job.resume)
 
 
 def _check_resume(file: Path, spec: DatasetSpec, job: DatasetJob, stored: dict[str, Any]) -> None:
@@ -212,14 +243,20 @@ def _saved_runs(file: Path) -> int | None:
         return None
 
 
-def _generate(file: Path, spec: DatasetSpec, job: DatasetJob, start: float) -> DatasetReport:
-    """:func:`generate_dataset` after its read-only checks.
+def _generate(
+    file: Path, building: tuple[Path, bool], spec: DatasetSpec, job: DatasetJob, start: float
+) -> DatasetReport:
+    """:func:`generate_dataset` after its read-only checks; local workers write ``building``.
 
     Run 0 is made (its inputs checked) and the local workers are started before the output's
     lock is taken, so no worker inherits the lock (a killed job's lock goes with its main
-    process); the lock is then held until the file is complete.
+    process); the lock is then held until the file is complete. ``building`` is the file the
+    local workers write and whether to continue it (:func:`_target`); one other than ``file``
+    (an overwrite's partial) replaces ``file`` once complete, card included.
     """
     from aaria_pin.files.io import output_lock
+
+    target, resume = building
 
     tune_malloc()
     # Run 0 checks the inputs before the output is touched; it loads Pinocchio and the compiled
@@ -248,15 +285,34 @@ def _generate(file: Path, spec: DatasetSpec, job: DatasetJob, start: float) -> D
         with output_lock(file):
             try:
                 check_dataset_path(file, job.resume, job.overwrite)
-                written, complete, failures = _write_local(
-                    file, spec, job, attributes, runner, head, start
+                written, complete, failures, remade = _write_local(
+                    target, spec, job, attributes, runner, head, start, resume
                 )
             finally:
                 runner.close()  # a worker started after the file was opened holds it open
-            store_card(file)
+            store_card(target)
+            if target != file:
+                _replace(target, file)
     finally:
         runner.close()
-    return DatasetReport(file, written, complete, failures, time.perf_counter() - start)
+    seconds = time.perf_counter() - start
+    return DatasetReport(file, written, complete, failures, seconds, remade=tuple(remade))
+
+
+def _replace(partial: Path, file: Path) -> None:
+    """Put a complete overwrite's data set in place of the old one, then drop the old shards."""
+    previous = read_manifest_shards(file) if file.is_file() else None
+    try:
+        os.replace(partial, file)
+    except OSError as exc:
+        raise OutputFileError(
+            f"{file}: cannot be replaced by the new data set ({first_line(exc)}); allowed: a "
+            f"writable folder (the new data set is complete in {partial})",
+            parameter="path",
+            value=str(file),
+        ) from None
+    if previous is not None:  # the shards of the data set this one replaced
+        remove_unused_shards(previous.folder, previous.prefix, set())
 
 
 def _write_local(
@@ -267,23 +323,27 @@ def _write_local(
     runner: LocalRunner,
     head: _Head,
     start: float,
-) -> tuple[int, int, dict[int, str]]:
-    """Make (or reopen) the file and write every run it still needs; written, complete, failed.
+    resume: bool,
+) -> tuple[int, int, dict[int, str], list[int]]:
+    """Make (or reopen) the file and write every run it still needs.
+
+    ``file`` is the output, or an overwrite's partial; ``resume``: continue it.
+
+    Returns:
+        Runs written, runs complete, failures, and the runs flagged complete that were found
+        damaged and made again.
 
     Raises:
         DatasetJobStoppedError: no space left on the device (the runs flagged so far kept).
     """
-    previous = read_manifest_shards(file) if job.overwrite and file.is_file() else None
     written = 0
-    if job.resume:
+    if resume:
         store = DatasetFile.open_for_resume(file)
         store.clear_failures()
     else:
         store = DatasetFile.create(
             file, spec.n_runs, spec.samples, spec.dtype, attributes, spec.layout()
         )
-        if previous is not None:  # the shards of the data set this one replaces
-            remove_unused_shards(previous.folder, previous.prefix, set())
     try:
         complete_flags = store.complete_runs()
         todo = int(complete_flags.size - np.count_nonzero(complete_flags))
@@ -327,4 +387,4 @@ def _write_local(
             ) from None
         raise
     store.close()
-    return written, complete, failures
+    return written, complete, failures, store.damaged

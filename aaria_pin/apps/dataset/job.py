@@ -76,7 +76,7 @@ class DatasetJob:
         shards: the folder of the shards, on storage every Dask worker reaches (with
             ``scheduler`` only; default the output's folder)
         resume: continue an existing file (same spec), redoing the runs that are not complete
-        overwrite: replace an existing file (and its shards)
+        overwrite: replace an existing file (and its shards) once the new one is complete
         progress: called as ``progress(done, total, seconds)`` after each run (each shard on a
             cluster)
         estimate: called once before the bulk of the runs with the job's expected size and
@@ -141,6 +141,7 @@ class DatasetReport:
         failures: failed runs and their errors
         seconds: wall time of this job [s]
         shards: shard files this job wrote (0: one file, local workers)
+        remade: runs flagged complete that a resumed job found damaged and made again
     """
 
     path: Path
@@ -149,6 +150,7 @@ class DatasetReport:
     failures: dict[int, str]
     seconds: float
     shards: int = 0
+    remade: tuple[int, ...] = ()
 
 
 def software_versions() -> dict[str, str]:

@@ -16,11 +16,15 @@ that still fails, or a shard that cannot be written (no space, no permission: on
 :class:`~aaria_pin.errors.OutputFileError` line naming the shard), fails the runs of that shard
 alone. ``resume`` checks every shard of the job on the workers
 (:func:`~aaria_pin.files.dataset.manifest.verify_shard`: chunk CRC-32s against the stored ones),
-keeps the intact rows and makes the rest.
+keeps the intact rows and makes the rest. An overwrite writes its manifest beside the old data
+set (:func:`~aaria_pin.files.dataset.store.partial_path`) and renames it over the old one once
+every task has answered, then deletes the old data set's shards: a killed overwrite leaves the
+old data set whole (the next overwrite deletes the killed one's shards and starts anew).
 """
 
 from __future__ import annotations
 
+import os
 import time
 import uuid
 from collections.abc import Sequence
@@ -45,6 +49,7 @@ from aaria_pin.files.dataset.manifest import (
     verify_shard,
     write_manifest,
 )
+from aaria_pin.files.dataset.store import partial_path
 
 __all__ = [
     "SHARD_SAMPLES",
@@ -277,6 +282,8 @@ def generate_sharded(
             parameter="scheduler", value=None, allowed="a Dask scheduler's address"
         )
     previous = read_manifest_shards(file) if file.is_file() else None  # the caller checked
+    # An overwrite writes its manifest beside the old data set and replaces it at the end.
+    manifest = partial_path(file) if file.is_file() and not resume else file
     folder = Path(shards) if shards is not None else None
     if folder is None:
         folder = previous.folder if resume and previous is not None else file.parent
@@ -301,11 +308,12 @@ def generate_sharded(
             job.keep(client.gather(futures), spec.n_runs)
         else:
             prefix = f"{file.stem}-{uuid.uuid4().hex[:8]}"
+            stale = read_manifest_shards(manifest) if manifest != file else None
+            if stale is not None:  # a killed overwrite's shards
+                remove_unused_shards(stale.folder, stale.prefix, set())
             kept = ManifestShards(folder, prefix, {})
             new = ManifestContents(kept, spec.n_runs, spec.samples, spec.dtype, attributes, layout)
-            write_manifest(file, new)
-            if previous is not None:  # the overwritten data set's shards
-                remove_unused_shards(previous.folder, previous.prefix, set())
+            write_manifest(manifest, new)
         todo = [k for k in range(spec.n_runs) if k not in job.locations]
         threads = max(1, sum(client.nthreads().values()))
         size = shard_runs(spec.samples, len(todo), threads)
@@ -343,12 +351,13 @@ def generate_sharded(
             ManifestShards(folder, prefix, raw or {}), spec.n_runs, spec.samples, spec.dtype,
             {} if resume else attributes, layout, job.locations, job.checksums, job.failures,
         )  # fmt: skip
-        write_manifest(file, contents)
+        write_manifest(manifest, contents)
         if lost is not None:  # the runs so far are in the manifest; their shards are kept
             raise DatasetJobStoppedError(
                 f"lost the Dask scheduler at {scheduler} ({type(lost).__name__}:"
                 f" {first_line(lost) or 'closed'}): {len(job.locations)}/{spec.n_runs} runs saved"
-                f" in {file}; the same command with --resume goes on once a scheduler is there",
+                f" in {manifest}; the same command with --resume goes on once a scheduler is"
+                " there",
                 len(job.locations),
                 spec.n_runs,
                 parameter="path",
@@ -356,6 +365,10 @@ def generate_sharded(
             )
         used = {location.shard for location in job.locations.values()}
         remove_unused_shards(folder, prefix, used)
+        if manifest != file:  # the new data set is whole: it replaces the old one
+            os.replace(manifest, file)
+            if previous is not None:  # the overwritten data set's shards
+                remove_unused_shards(previous.folder, previous.prefix, set())
     finally:
         client.close()
         quiet.restore()

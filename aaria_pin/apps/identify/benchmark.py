@@ -191,10 +191,10 @@ def benchmark_datasets(
         One result per run, in data set and run order.
 
     Raises:
-        InputFileError: a file that is not a readable data set.
+        InputFileError: a file that is not a readable data set, or one without a complete run.
         ParameterError: a data set of URDF robots, a limit below 1.
     """
-    from aaria_pin.errors import ParameterError
+    from aaria_pin.errors import InputFileError, ParameterError
     from aaria_pin.files.dataset.reader import DatasetReader
 
     if limit is not None and limit < 1:
@@ -213,6 +213,13 @@ def benchmark_datasets(
                     allowed="a data set of DH arms",
                 )
             runs = [int(k) for k in np.flatnonzero(reader.complete)]
+        if not runs:
+            raise InputFileError(
+                f"{path}: no complete run; allowed: a data set with a complete run "
+                "(aaria dataset --resume completes it)",
+                parameter="file",
+                value=str(path),
+            )
         tasks += [(str(path), k, dynamics, holdout) for k in runs[:limit]]
     results: list[RunAccuracy] = []
     for result in _run_tasks(tasks, workers):

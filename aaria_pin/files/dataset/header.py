@@ -8,6 +8,7 @@ are stored with (a rate stored as an int stays one), so what is printed from the
 
 from __future__ import annotations
 
+import math
 import os
 import shlex
 from collections.abc import Mapping
@@ -17,6 +18,38 @@ from typing import Any
 from aaria_pin.errors import InputFileError
 
 __all__ = ["DatasetHeader"]
+
+
+_NUMBERS = {
+    "N": True,
+    "samples": True,
+    "seed": True,
+    "noise_stream": True,
+    "rate": False,
+    "duration": False,
+}
+"""The numeric attributes a header reads (True: an integer), all >= 0 where present."""
+
+
+def _check_number(path: str | os.PathLike[str], key: str, value: Any, integer: bool) -> None:
+    """Refuse an attribute that is not a number >= 0 (an integer where ``integer``); None passes.
+
+    Raises:
+        InputFileError: naming the attribute and its value.
+    """
+    if value is None:
+        return
+    kind = "an integer" if integer else "a number"
+    number = getattr(value, "item", lambda: value)() if getattr(value, "ndim", 0) == 0 else value
+    ok = isinstance(number, int | float) and not isinstance(number, bool)
+    if ok and integer:
+        ok = isinstance(number, int) or (math.isfinite(number) and float(number).is_integer())
+    if not ok or not math.isfinite(number) or number < 0:
+        raise InputFileError(
+            f"{path}: attribute {key!r} is {number!r}; allowed: {kind} >= 0 (a damaged data set)",
+            parameter="file",
+            value=str(path),
+        )
 
 
 @dataclass(frozen=True)
@@ -89,16 +122,19 @@ class DatasetHeader:
             path: the file, for the message
 
         Raises:
-            InputFileError: no ``N`` or ``samples`` (``parameter="path"``).
+            InputFileError: no ``N`` or ``samples``, or an attribute of the wrong type or
+                range (``parameter="file"``).
         """
         values = dict(attributes)
         if "N" not in values or "samples" not in values:
             raise InputFileError(
                 f"{path}: a damaged data set: no 'N' or 'samples' attribute; allowed: a "
                 "complete aaria_pin data set",
-                parameter="path",
+                parameter="file",
                 value=str(path),
             )
+        for key, integer in _NUMBERS.items():
+            _check_number(path, key, values.get(key), integer)
         robot = values.get("robot")
         info = values.get("robot_info") if format_version != 1 else None
         if format_version == 1 and isinstance(robot, dict):

@@ -46,6 +46,7 @@ __all__ = [
     "STATUS_DATASETS",
     "DatasetLayout",
     "EncodedRun",
+    "array_checksum",
     "encode_run",
     "read_layout",
     "signals_view",
@@ -344,6 +345,23 @@ def encode_run(layout: DatasetLayout, record: RunRecord, dtype: str) -> EncodedR
             chunks.append(data)
         encoded[name] = (chunks, checksum)
     return encoded
+
+
+def array_checksum(array: Array, chunk: tuple[int, ...]) -> int:
+    """The CRC-32 ``checksum`` records for one run's array: of its chunks before deflate.
+
+    The same number :func:`encode_run` records (its chunks' shuffled bytes, in storage order),
+    computed from the numbers, so a reader checks what it read without the stored bytes.
+
+    Args:
+        array: one run's array, in its stored dtype
+        chunk: its chunk (:meth:`DatasetLayout.chunk`)
+    """
+    _, _, crc32 = codec()
+    checksum = 0
+    for block in _chunk_blocks(np.asarray(array), chunk):
+        checksum = crc32(block, checksum)
+    return int(checksum)
 
 
 def run_arrays(layout: DatasetLayout, record: RunRecord, dtype: str) -> dict[str, Array]:

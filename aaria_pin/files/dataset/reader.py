@@ -34,7 +34,7 @@ from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import SERIES, ColumnView, RunRecord, mounts_from_poses
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, ParameterError
-from aaria_pin.files._stored import decode_attributes
+from aaria_pin.files._stored import decode_attributes, first_line
 from aaria_pin.files.dataset.header import DatasetHeader
 from aaria_pin.files.dataset.layout import (
     DATASET_FORMAT,
@@ -51,6 +51,7 @@ from aaria_pin.files.dataset.statistics import (
     store_statistics,
     view_statistics,
 )
+from aaria_pin.files.dataset.verify import READ_ERRORS, check_arrays, run_check
 from aaria_pin.files.dataset.windows import (
     DEFAULT_FRACTIONS,
     WindowCut,
@@ -84,7 +85,10 @@ class DatasetReader:
         layout: the fixed per-run layout (version 2; None for version 1)
 
     Raises:
-        InputFileError: missing, unreadable, not a data set, or of an unknown version.
+        InputFileError: missing, unreadable, not a data set, of an unknown version, or
+            damaged: an attribute of the wrong type, an array missing or of the wrong shape
+            (``parameter="file"``). A run's own damage is found when it is read (see
+            :mod:`.verify`).
     """
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
@@ -95,46 +99,60 @@ class DatasetReader:
             self._handle = h5py.File(self.path, "r")
         except OSError as exc:
             raise InputFileError(
-                f"{self.path}: cannot be read as a data set ({exc})", parameter="path"
+                f"{self.path}: cannot be read as a data set ({first_line(exc)})", parameter="file"
             ) from None
+        try:
+            self._open()
+        except InputFileError:
+            self._handle.close()
+            raise
+        except READ_ERRORS as exc:  # a damaged header, layout or bookkeeping array
+            self._handle.close()
+            raise InputFileError(
+                f"{self.path}: a damaged data set ({first_line(exc)}); allowed: a complete "
+                "aaria_pin data set (make it again)",
+                parameter="file",
+            ) from None
+
+    def _open(self) -> None:
+        """Read and check the header, the layout and the flags (see the class)."""
         attrs = self._handle.attrs
         if attrs.get("format") != DATASET_FORMAT:
-            self._handle.close()
-            raise InputFileError(f"{self.path}: not an aaria_pin data set", parameter="path")
+            raise InputFileError(f"{self.path}: not an aaria_pin data set", parameter="file")
         self.version = int(attrs.get("format_version", LEGACY_VERSION))
         if self.version not in (LEGACY_VERSION, DATASET_FORMAT_VERSION):
-            self._handle.close()
             raise InputFileError(
                 f"{self.path}: data set format version is {self.version}; allowed: "
                 f"{LEGACY_VERSION}, {DATASET_FORMAT_VERSION} (a newer aaria_pin wrote it)",
-                parameter="path",
+                parameter="file",
             )
         if self.version == DATASET_FORMAT_VERSION:
             missing = missing_shards(self._handle, self.path)
             if missing:
-                self._handle.close()
                 raise InputFileError(
                     f"{self.path}: its shard {missing[0]} is missing ({len(missing)} missing); "
                     "allowed: the data set's folder with all its shards",
-                    parameter="path",
+                    parameter="file",
                 )
-        if "complete" not in self._handle:
-            self._handle.close()
-            raise InputFileError(
-                f"{self.path}: a damaged data set: no 'complete' array; "
-                "allowed: a complete aaria_pin data set (make it again)",
-                parameter="path",
-            )
         self.header = DatasetHeader.from_attributes(
             decode_attributes(attrs, self.path), self.version, self.path
         )
-        self.complete = self._handle["complete"][()].astype(bool)
         self.layout: DatasetLayout | None = None
         if self.version == LEGACY_VERSION:
             self.names: tuple[str, ...] = legacy_names(self._handle)
+            shapes: dict[str, tuple[int, ...] | None] = dict.fromkeys(self.names)
         else:
             self.layout = read_layout(self._handle)
             self.names = (*self.layout.names, *self.layout.views)
+            shapes = {
+                **self.layout.shapes(self.samples),
+                **dict.fromkeys(self.layout.views),
+                "checksum": (len(self.layout.names),),
+            }
+        n_runs = self.header.n_runs
+        check_arrays(self._handle, self.path, n_runs, shapes)
+        self.complete = self._handle["complete"][()].astype(bool)
+        self._check = run_check(self._handle, self.path, n_runs, self.layout)
 
     def __len__(self) -> int:
         return self.header.n_runs
@@ -184,6 +202,8 @@ class DatasetReader:
 
         Raises:
             ParameterError: index out of range, a run that is not complete, or an unknown name.
+            InputFileError: the run is damaged (unreadable, or other numbers than its
+                checksum's) or holds a NaN or an infinity (see :mod:`.verify`).
         """
         self._check_run(index)
         names = self.stored_names if names is None else names
@@ -192,7 +212,16 @@ class DatasetReader:
             raise ParameterError(
                 f"array {unknown[0]!r}; allowed: {', '.join(self.names)}", parameter="names"
             )
-        return {name: self._handle[name][index] for name in names}
+        views = self._views
+        arrays = {}
+        for name in names:
+            if name in views:  # a view's numbers are its series': those are verified
+                self._check.verify_run(self._handle, index, view_sources([name], views))
+                arrays[name] = self._check.read(self._handle, name, index)
+                self._check.finite(name, index, arrays[name])
+            else:
+                arrays[name] = self._check.checked(self._handle, name, index)
+        return arrays
 
     def record(self, index: int) -> RunRecord:
         """Run ``index`` as a run record (arrays in float64), whatever the format version.
@@ -202,13 +231,18 @@ class DatasetReader:
 
         Raises:
             ParameterError: index out of range, or a run that is not complete.
+            InputFileError: the run is damaged or not finite (see :meth:`run`).
         """
         self._check_run(index)
         header = self.header
         if self.layout is None:
+            self._check.verify_run(self._handle, index, self.names)  # readable and finite
             return legacy_record(self._handle, index, header)
         layout = self.layout
-        arrays = {name: np.asarray(self._handle[name][index], dtype=float) for name in layout.names}
+        arrays = {
+            name: np.asarray(self._check.checked(self._handle, name, index), dtype=float)
+            for name in layout.names
+        }
         mounts = mounts_from_poses(layout.imu_names, layout.imu_parents, arrays["imu_mount"])
         return RunRecord(
             time=arrays["time"],
@@ -231,6 +265,21 @@ class DatasetReader:
                 _NOISE_STREAM if header.noise_stream is None else header.noise_stream,
             ),
         )
+
+    @property
+    def verifiable(self) -> bool:
+        """Whether the file records checksums of its runs' numbers (format version 2)."""
+        return self._check.verifiable
+
+    def check_run(self, index: int) -> None:
+        """Read every stored array of a complete run whole, check it finite and verify it.
+
+        Raises:
+            ParameterError: index out of range, or a run that is not complete.
+            InputFileError: the run is damaged or holds a NaN or an infinity (see :meth:`run`).
+        """
+        self._check_run(index)
+        self._check.verify_run(self._handle, index, self.stored_names)
 
     @property
     def series_names(self) -> tuple[str, ...]:
@@ -262,7 +311,7 @@ class DatasetReader:
         if unknown or not names:
             raise ParameterError(
                 parameter="names",
-                value=unknown[0] if unknown else tuple(names),
+                value=unknown[0] if unknown else ",".join(names),
                 allowed=", ".join(self.names),
             )
         return tuple(names)
@@ -336,7 +385,11 @@ class DatasetReader:
         statistics = self._normalisation(chosen, seed, fractions) if normalise else None
         cut = WindowCut(length, stride, chosen, self._views, self._constants, self.samples)
         return WindowDataset(
-            self.path, cut, WindowSplit(runs, split, seed, tuple(fractions)), statistics
+            self.path,
+            cut,
+            WindowSplit(runs, split, seed, tuple(fractions)),
+            statistics,
+            copy.deepcopy(self._check),
         )
 
     def statistics(
@@ -384,7 +437,7 @@ class DatasetReader:
         sources = view_sources(chosen, views)
         constants = self._constants
         stored = channel_statistics(
-            self._handle, sources, [name not in constants for name in sources], runs
+            self._handle, sources, [name not in constants for name in sources], runs, self._check
         )
         computed = {
             name: view_statistics(views[name], stored) if name in views else stored[name]

@@ -29,6 +29,7 @@ from aaria_pin.files.dataset.layout import (
 __all__ = [
     "COPY_BLOCK_RUNS",
     "copy_intact_runs",
+    "damaged_runs",
     "dataset_progress",
     "open_read_only",
     "read_dataset_attributes",
@@ -132,9 +133,15 @@ def _verified_runs(
         yield intact, damaged
 
 
-def copy_intact_runs(old: Any, new: Any, layout: DatasetLayout) -> None:
-    """Copy the chunk bytes of every complete run whose CRC-32 matches into ``new``."""
-    for intact, _ in _verified_runs(old, layout):
+def copy_intact_runs(old: Any, new: Any, layout: DatasetLayout) -> list[int]:
+    """Copy the chunk bytes of every complete run whose CRC-32 matches into ``new``.
+
+    Returns:
+        The runs flagged complete that were damaged (left out, to be made again).
+    """
+    damaged_runs: list[int] = []
+    for intact, damaged in _verified_runs(old, layout):
+        damaged_runs += damaged
         for _, chunks, _ in intact:
             for name, where, data in chunks:
                 new[name].id.write_direct_chunk(where, data)
@@ -143,14 +150,17 @@ def copy_intact_runs(old: Any, new: Any, layout: DatasetLayout) -> None:
             new["checksum"][runs] = np.array([plain for _, _, plain in intact], dtype="u4")
             new["complete"][runs] = 1
     new.flush()
+    return damaged_runs
 
 
-def unflag_damaged_runs(handle: Any, layout: DatasetLayout) -> None:
-    """In place, clear the flag of every damaged complete run (to redo).
+def unflag_damaged_runs(handle: Any, layout: DatasetLayout) -> list[int]:
+    """In place, clear the flag of every damaged complete run (to redo); returns those runs.
 
     The intact ones get their plain CRC-32s, as a copy would store them.
     """
+    damaged_runs: list[int] = []
     for intact, damaged in _verified_runs(handle, layout):
+        damaged_runs += damaged
         if damaged:
             handle["complete"][damaged] = 0
             handle["failed"][damaged] = 0
@@ -158,6 +168,24 @@ def unflag_damaged_runs(handle: Any, layout: DatasetLayout) -> None:
             runs = [run for run, _, _ in intact]
             handle["checksum"][runs] = np.array([plain for _, _, plain in intact], dtype="u4")
     handle.flush()
+    return damaged_runs
+
+
+def damaged_runs(path: str | os.PathLike[str]) -> list[int]:
+    """The runs flagged complete whose chunks do not inflate or differ from their checksums.
+
+    Read-only: every complete run's stored chunks are read and their CRC-32s compared with
+    ``checksum`` (as a resumed job does before it keeps a run).
+
+    Raises:
+        InputFileError: as :meth:`DatasetFile.open_for_resume`.
+    """
+    handle = open_read_only(Path(path))
+    try:
+        layout = read_layout(handle)
+        return [run for _, damaged in _verified_runs(handle, layout) for run in damaged]
+    finally:
+        handle.close()
 
 
 def read_run_chunks(

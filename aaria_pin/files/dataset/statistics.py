@@ -37,6 +37,7 @@ from aaria_pin.files._space import (
     no_space_error,
     spare_room,
 )
+from aaria_pin.files.dataset.verify import RunCheck
 from aaria_pin.files.paths import write_failure
 
 __all__ = [
@@ -79,6 +80,7 @@ def channel_statistics(
     names: Sequence[str],
     series: Sequence[bool],
     runs: np.ndarray,
+    check: RunCheck | None = None,
     block_bytes: int = BLOCK_BYTES,
 ) -> dict[str, tuple[np.ndarray, np.ndarray, int]]:
     """Per-channel mean, std and count of arrays over some runs, in one streaming pass.
@@ -88,11 +90,16 @@ def channel_statistics(
         names: arrays or views (N × … each)
         series: for each name, whether axis 1 is time (reduced too) or part of the channel
         runs: the runs, increasing (complete ones)
+        check: how each run's array is read and checked (:class:`~.verify.RunCheck`: damaged
+            runs and NaN refused); None reads them as stored
         block_bytes: float64 bytes of one array a block of runs may hold
 
     Returns:
         ``{name: (mean, std, count)}``, mean and std float64 of the channel shape, count the
         values per channel.
+
+    Raises:
+        InputFileError: with ``check``, a damaged run or one holding a NaN or an infinity.
     """
     result: dict[str, tuple[np.ndarray, np.ndarray, int]] = {}
     runs = np.asarray(runs, dtype=np.int64)
@@ -106,7 +113,9 @@ def channel_statistics(
             block = runs[first : first + per_block]
             stored = np.empty((len(block), *dataset.shape[1:]), dtype=dataset.dtype)
             for row, run in enumerate(block):  # a run a read: h5py's list index took 3x longer
-                stored[row] = dataset[int(run)]
+                stored[row] = (
+                    dataset[int(run)] if check is None else check.checked(handle, name, int(run))
+                )
             values = stored.astype(np.float64).reshape(-1, *channel)
             mean = values.mean(axis=0)
             m2 = ((values - mean) ** 2).sum(axis=0)
@@ -178,7 +187,7 @@ def store_statistics(
             raise OutputFileError(
                 f"{path}: cannot store statistics in it ({exc}); allowed: a writable data set "
                 "that no other handle in this process has open",
-                parameter="path",
+                parameter="file",
             ) from None
         try:
             shares = np.asarray(fractions, float)

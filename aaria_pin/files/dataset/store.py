@@ -40,6 +40,7 @@ from aaria_pin.files.io import atomic_output
 __all__ = [
     "DatasetFile",
     "check_dataset_path",
+    "partial_path",
 ]
 
 
@@ -70,6 +71,7 @@ class DatasetFile:
         self.layout = read_layout(handle)
         self._chunks = {name: _chunk_targets(handle[name]) for name in self.layout.names}
         self._pending: dict[int, list[int]] = {}  # run -> checksums, written at the next flush
+        self.damaged: list[int] = []  # runs flagged complete found damaged on resume (redone)
 
     @classmethod
     def create(
@@ -123,7 +125,8 @@ class DatasetFile:
         pointing past the end of the file; the copy starts from clean metadata. When the device
         has no room for the copy (a job stopped by a full disk, resumed after a little space
         was freed), the file is continued where it is instead: the flags of damaged runs are
-        cleared in place and only the runs to redo need room.
+        cleared in place and only the runs to redo need room. The runs flagged complete but
+        found damaged are :attr:`damaged`.
 
         Raises:
             InputFileError: missing, unreadable, of format version 1, or not a complete data
@@ -131,16 +134,21 @@ class DatasetFile:
         """
         file = Path(path)
         try:
-            cls._copy_for_resume(file)
+            damaged = cls._copy_for_resume(file)
         except NoSpaceError:  # no room for a second copy: continue the file in place
             resumed = cls._open(file)
-            unflag_damaged_runs(resumed._handle, resumed.layout)
+            resumed.damaged = unflag_damaged_runs(resumed._handle, resumed.layout)
             return resumed
-        return cls._open(file)
+        resumed = cls._open(file)
+        resumed.damaged = damaged
+        return resumed
 
     @classmethod
-    def _copy_for_resume(cls, file: Path) -> None:
-        """Replace ``file`` by a fresh copy of its intact runs (see :meth:`open_for_resume`)."""
+    def _copy_for_resume(cls, file: Path) -> list[int]:
+        """Replace ``file`` by a fresh copy of its intact runs; the damaged ones (flagged complete).
+
+        See :meth:`open_for_resume`.
+        """
         old = open_read_only(file)
         try:
             attrs = dict(old.attrs)
@@ -151,10 +159,11 @@ class DatasetFile:
             layout = read_layout(old)
             with atomic_output(file) as temporary:
                 new = _new_file(temporary, n_runs, samples, dtype, {}, layout, raw_attributes=attrs)
-                copy_intact_runs(old, new, layout)
+                damaged = copy_intact_runs(old, new, layout)
                 new.close()
         finally:
             old.close()
+        return damaged
 
     @property
     def attributes(self) -> dict[str, Any]:
@@ -338,6 +347,17 @@ def _lay_out(
     handle.create_dataset("complete", shape=(n_runs,), dtype="u1", fillvalue=0)
     handle.create_dataset("failed", shape=(n_runs,), dtype="u1", fillvalue=0)
     handle.flush()
+
+
+def partial_path(path: str | os.PathLike[str]) -> Path:
+    """Where an overwrite builds the new data set beside the old one: ``.NAME.partial.h5``.
+
+    A hidden sibling, so it is on the same file system and replaces the old file with one
+    ``os.replace`` once complete; a killed overwrite leaves it there, and the same command
+    (or ``--resume``) continues it.
+    """
+    file = Path(path)
+    return file.with_name(f".{file.stem}.partial{file.suffix}")
 
 
 def check_dataset_path(path: Path, resume: bool, overwrite: bool, exists: bool = True) -> None:

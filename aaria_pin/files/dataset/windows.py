@@ -36,6 +36,7 @@ import numpy as np
 
 from aaria_pin.core.record import ColumnView
 from aaria_pin.errors import ParameterError
+from aaria_pin.files.dataset.verify import RunCheck
 
 __all__ = [
     "DEFAULT_FRACTIONS",
@@ -198,6 +199,9 @@ class WindowDataset:
             and samples per run)
         split: the runs to cut and the split they are
         statistics: per-channel ``(mean, std)`` by name to normalise with, or None
+        check: how runs are checked as they are read (:class:`~.verify.RunCheck`: each run's
+            arrays read whole, finite and verified against their checksums once per process);
+            None reads them as stored, errors made one line
 
     Attributes:
         path, length, stride, names, runs, split, seed, fractions, statistics: as given
@@ -210,6 +214,7 @@ class WindowDataset:
         cut: WindowCut,
         split: WindowSplit,
         statistics: Statistics | None = None,
+        check: RunCheck | None = None,
     ) -> None:
         self.path = Path(path).resolve()  # a pickled copy may run in another folder
         self.length = int(cut.length)
@@ -225,6 +230,7 @@ class WindowDataset:
         self.fractions = tuple(float(f) for f in split.fractions)
         self.statistics = dict(statistics) if statistics is not None else None
         self.windows_per_run = (self.samples - self.length) // self.stride + 1
+        self._check = check if check is not None else RunCheck(self.path, 0)
         self._handle: Any = None
         self._datasets: list[Any] = []
         self._pid = -1
@@ -258,7 +264,7 @@ class WindowDataset:
     def _read(self, run: int, samples: slice) -> dict[str, np.ndarray]:
         """The names' arrays of one run over some samples (constants whole), normalised."""
         stored = {
-            name: dataset[run] if constant else dataset[run, samples]
+            name: self._stored(dataset, name, run, samples if not constant else slice(None))
             for name, constant, dataset in zip(
                 self._sources, self._constant, self._arrays(), strict=True
             )
@@ -271,6 +277,18 @@ class WindowDataset:
             for name, array in items.items():
                 items[name] = normalised(array, *self.statistics[name])
         return items
+
+    def _stored(self, dataset: Any, name: str, run: int, samples: slice) -> np.ndarray:
+        """A stored array of a run over some samples; the run's whole array checked once.
+
+        The first read of an array of a run in this process reads it whole, checks that it is
+        finite and verifies it against its checksum (:class:`~.verify.RunCheck`); later reads
+        read only the samples asked for (their errors still ours).
+        """
+        check = self._check
+        if check.n_runs and not check.is_checked(name, run):
+            return check.checked(self._handle, name, run, dataset)[samples]
+        return check.read(dataset, name, run, None if samples == slice(None) else samples)
 
     def __getitem__(self, index: int) -> dict[str, np.ndarray]:
         run, start = self.locate(int(index))
