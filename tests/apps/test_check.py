@@ -41,7 +41,7 @@ def test_every_damaged_run_is_listed(made: Path, tmp_path: Path) -> None:
     result = check_file(path)
     assert sorted(result.damaged) == [0, 2]  # run 1 intact
     assert "run 0 of" in result.damaged[0] and "is damaged (imu" in result.damaged[0]
-    assert "array 'qd' holds nan at index [7, 3]" in result.damaged[2]
+    assert "qd has NaN at sample 7, joint 3" in result.damaged[2]
     assert result.to_json()["damaged"][0]["run"] == 0 and not result.to_json()["ok"]
 
 

@@ -84,8 +84,8 @@ def test_nan_through_the_command_line(made: Path, tmp_path: Path) -> None:
     status, _, err = run_cli("torques", str(path), "--run", "0")
     assert status == 2
     assert (
-        err == f"aaria: error: run 0 of {path}: array 'tau' holds nan at index [3, 4]; "
-        "allowed: finite numbers (the simulator never writes one: the file was changed)\n"
+        err == f"aaria: error: run 0 of {path}: tau has NaN at sample 3, joint 4; "
+        "allowed: finite values\n"
     )
 
 

@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from aaria_pin.core.record_checks import check_finite
 from aaria_pin.errors import InputFileError
 from aaria_pin.files._stored import first_line
 from aaria_pin.files.dataset.layout import array_checksum
@@ -36,7 +37,6 @@ __all__ = [
     "RunCheck",
     "check_arrays",
     "damaged_run",
-    "first_bad_index",
     "run_check",
 ]
 
@@ -53,14 +53,6 @@ def damaged_run(path: str | os.PathLike[str], run: int, why: str) -> InputFileEr
         parameter="file",
         value=str(path),
     )
-
-
-def first_bad_index(array: np.ndarray) -> tuple[int, ...] | None:
-    """The first index (C order) of a NaN or infinity in a float array, None if all finite."""
-    if not np.issubdtype(array.dtype, np.floating) or np.isfinite(array).all():
-        return None
-    flat = int(np.flatnonzero(~np.isfinite(array.ravel()))[0])
-    return tuple(int(i) for i in np.unravel_index(flat, array.shape))
 
 
 @dataclass
@@ -118,17 +110,10 @@ class RunCheck:
         """Refuse a NaN or an infinity in a run's whole array, naming the array, run and index.
 
         Raises:
-            InputFileError: not finite.
+            InputFileError: not finite (:func:`~aaria_pin.core.record_checks.check_finite`:
+                ``"run K of FILE: tau has NaN at sample 5, joint 2; allowed: finite values"``).
         """
-        bad = first_bad_index(array)
-        if bad is None:
-            return
-        raise InputFileError(
-            f"run {run} of {self.path}: array {name!r} holds {array[bad]} at index {list(bad)}; "
-            "allowed: finite numbers (the simulator never writes one: the file was changed)",
-            parameter="file",
-            value=str(self.path),
-        )
+        check_finite({name: array}, f"run {run} of {self.path}")
 
     def verify(self, handle: Any, name: str, run: int, array: np.ndarray) -> None:
         """Compare a whole stored array of a run with its checksum.
