@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import warnings
-from typing import Any, TextIO
+from typing import Any
 
 import click
 
@@ -18,6 +18,9 @@ output's: an input file's error names ``file`` or its caller's parameter, never 
 
 COMMAND_FLAGS: dict[str, dict[str, str]] = {}
 """A command's own exceptions (command name → parameter → flag), over the rules above."""
+
+_FAILED = "aaria_pin.failed"
+"""The key of ``ctx.meta`` set when a command ended in an error (its warnings are not shown)."""
 
 _COMMAND = "aaria_pin.command"
 """The key of ``ctx.meta`` (shared by the nested contexts) naming the command that runs."""
@@ -51,20 +54,10 @@ def flag_message(error: AariaError, command: click.Command | None) -> str:
     return " ".join(message.split())
 
 
-def _one_line_warning(
-    message: Warning | str,
-    category: type[Warning],
-    filename: str,
-    lineno: int,
-    file: TextIO | None = None,
-    line: str | None = None,
-) -> None:
-    """A warning as the command line shows it: one line, ``aaria: warning: …``, on stderr.
-
-    Python's own form is two lines (file:line and the source line), noise to a user of the
-    command (e.g. a run file of 0.3.0, whose arrays carry no checksums to verify).
-    """
-    click.echo(f"aaria: warning: {' '.join(str(message).split())}", err=True)
+def _show_warnings(caught: list[warnings.WarningMessage]) -> None:
+    """A command's warnings, one line each on stderr, once it has run (an error: its line only)."""
+    for warning in caught:
+        click.echo(f"aaria: warning: {' '.join(str(warning.message).split())}", err=True)
 
 
 class AariaGroup(click.Group):
@@ -115,21 +108,26 @@ class _Main(AariaGroup):
             raise click.exceptions.Exit(EXIT_BAD_INPUT) from None
 
     def invoke(self, ctx: click.Context) -> Any:
-        with warnings.catch_warnings():
-            warnings.showwarning = _one_line_warning
-            return self._invoke(ctx)
+        with warnings.catch_warnings(record=True) as caught:
+            try:
+                return self._invoke(ctx)
+            finally:
+                if not ctx.meta.get(_FAILED):
+                    _show_warnings(caught)
 
     def _invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
         except NoSpaceError as exc:  # the input was fine: exit 1, as any failed job
             click.echo(f"aaria: error: {' '.join(str(exc).split())}", err=True)
+            ctx.meta[_FAILED] = True
             ctx.exit(1)
         except AariaError as exc:
             message = flag_message(exc, ctx.meta.get(_COMMAND))
         except click.UsageError as exc:  # bad options of a command: one line too
             message = " ".join(exc.format_message().split())
         click.echo(f"aaria: error: {message}", err=True)
+        ctx.meta[_FAILED] = True
         ctx.exit(EXIT_BAD_INPUT)
 
 
