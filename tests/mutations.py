@@ -263,11 +263,6 @@ def inject_mat_nonfinite(path: Path, draw: Any) -> str:
     return f"{value} written into {name!r} at flat index {index}"
 
 
-def resave_mat(path: Path) -> None:
-    """Read a ``.mat`` file's variables and write them back unchanged (the mutators' path)."""
-    _save_mat(path, _load_mat(path))
-
-
 MUTATORS: dict[str, dict[str, Mutator]] = {
     "h5": {
         "truncate": truncate,

@@ -84,7 +84,7 @@ def _commands(name: str, run: int) -> list[list[str]]:
     return commands
 
 
-def _contents(folder: Path, leave: set[str] = frozenset()) -> dict[str, Any]:  # type: ignore[assignment]
+def _contents(folder: Path, leave: frozenset[str] | set[str] = frozenset()) -> dict[str, Any]:
     """The files of ``folder`` by name, but those in ``leave``: an HDF5 file by its attributes
     and arrays (HDF5 keeps a time stamp in its headers), any other file by its bytes."""
     import h5py
@@ -293,6 +293,74 @@ def test_nan_in_the_imu_signals_is_refused_before_identification(
         handle["imu"][5, 3, 2] = np.nan
     line = _one_line_exit_2(tmp_path, ["identify", "dh.h5"])
     assert "imu" in line and "nan" in line.lower(), line
+
+
+CHECKED = ("time", "q", "qd", "qdd", "tau", "imu", "base_pose", "tool_pose", "base_wrench")
+"""Series of every run whose damage ``aaria check`` must find."""
+
+
+def _damage_run(path: Path, data: st.DataObject) -> tuple[int, str]:
+    """Damage one run of a data set (inverted bytes in its chunk, or a NaN or inf written
+    into it); return the run and what was done."""
+    import h5py
+
+    with h5py.File(path, "r") as handle:
+        runs = handle["tau"].shape[0]
+    run = data.draw(st.integers(0, runs - 1))
+    array = data.draw(st.sampled_from(CHECKED))
+    if data.draw(st.booleans()):
+        _damage_chunk(path, array, run)
+        return run, f"inverted bytes in run {run}'s chunk of {array!r}"
+    value = data.draw(st.sampled_from([np.nan, np.inf, -np.inf]))
+    with h5py.File(path, "r+") as handle:
+        rows = np.array(handle[array][run])
+        index = data.draw(st.integers(0, rows.size - 1))
+        rows.flat[index] = value
+        handle[array][run] = rows
+    return run, f"{value} written into run {run}'s {array!r} at flat index {index}"
+
+
+def test_check_finds_every_damaged_run(originals: Path, tmp_path: Path) -> None:
+    """``aaria check`` verifies the checksums of a whole data set: exit 1, the run named."""
+    if "check" not in main.commands:
+        pytest.skip("no 'aaria check' command (issue 28, wt/dataset)")
+
+    @CAMPAIGN
+    @given(data=st.data())
+    def case(data: st.DataObject) -> None:
+        work = tmp_path / f"work{COUNTS['mutations']}"
+        work.mkdir()
+        shutil.copyfile(originals / "ds.h5", work / "ds.h5")
+        run, done = _damage_run(work / "ds.h5", data)
+        COUNTS["mutations"] += 1
+        status, stdout, stderr, exception, written = _invoke(work, ["check", "ds.h5"])
+        COUNTS["invocations"] += 1
+        assert status == 1, (done, status, stdout, stderr, exception)
+        assert f"run {run}" in stdout + stderr, (done, stdout, stderr)
+        assert "Traceback" not in stdout + stderr and not written, (done, stderr)
+
+    case()
+
+
+def test_check_finds_damage_in_a_run_file(originals: Path, tmp_path: Path) -> None:
+    """Run files carry checksums: ``aaria check`` finds inverted bytes in any of their arrays."""
+    if "check" not in main.commands:
+        pytest.skip("no 'aaria check' command (issue 28, wt/dataset)")
+
+    @CAMPAIGN
+    @given(data=st.data(), name=st.sampled_from(["dh.h5", "ur5.h5", "wrist.h5"]))
+    def case(data: st.DataObject, name: str) -> None:
+        work = tmp_path / f"work{COUNTS['mutations']}"
+        work.mkdir()
+        shutil.copyfile(originals / name, work / name)
+        done = MUTATORS["h5"]["flip_bytes"](work / name, data.draw)
+        COUNTS["mutations"] += 1
+        status, stdout, stderr, exception, written = _invoke(work, ["check", name])
+        COUNTS["invocations"] += 1
+        assert status == 1, (done, status, stdout, stderr, exception)
+        assert "Traceback" not in stdout + stderr and not written, (done, stderr)
+
+    case()
 
 
 SUBPROCESS_CASES = [
