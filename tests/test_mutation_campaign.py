@@ -238,6 +238,71 @@ def test_a_damaged_file_is_refused_in_one_line_or_read_as_intact(
     campaign()
 
 
+def _record_state(record: Any) -> tuple[Any, ...]:
+    """A run record as plain, comparable values: its arrays (bytes, or lists for strings)
+    and its decoded attributes."""
+    arrays = {
+        name: (value.shape, value.dtype.str, value.tobytes())
+        if value.dtype.kind in "biuf"
+        else repr(value.tolist())
+        for name, value in record.arrays().items()
+    }
+    return arrays, repr(record.attributes)
+
+
+def _read(path: Path) -> list[Any]:
+    """What the Python readers give for ``path``: per run, its state or the error raised."""
+    from aaria_pin import DatasetReader, read_run
+    from aaria_pin.errors import InputFileError
+
+    def attempt(read: Any, *args: Any) -> Any:
+        try:
+            return _record_state(read(*args))
+        except InputFileError as error:
+            return error
+
+    if FILES[path.name] != "dataset":
+        return [attempt(read_run, path)]
+    try:
+        reader = DatasetReader(path)
+    except InputFileError as error:
+        return [error]
+    with reader:
+        return [attempt(reader.record, run) for run in range(3)]
+
+
+@pytest.mark.parametrize(("name", "mutator"), PAIRS)
+def test_the_python_readers_refuse_a_damaged_file_or_read_it_as_intact(
+    name: str, mutator: str, originals: Path, tmp_path: Path
+) -> None:
+    """``read_run`` and ``DatasetReader.record`` on a damaged copy: each run reads exactly as
+    intact, or raises InputFileError (an OSError) with one line naming the file argument;
+    never another exception (KeyError, ValueError, h5py's OSError, zlib.error...)."""
+    intact = _read(originals / name)
+
+    @settings(CAMPAIGN, max_examples=2 * EXAMPLES)
+    @given(data=st.data())
+    def case(data: st.DataObject) -> None:
+        work = tmp_path / f"py{COUNTS['mutations']}"
+        work.mkdir()
+        shutil.copyfile(originals / name, work / name)
+        done = MUTATORS[FILES[name]][mutator](work / name, data.draw)
+        COUNTS["mutations"] += 1
+        got = _read(work / name)
+        for run, (state, before) in enumerate(zip(got, intact, strict=False)):
+            if isinstance(state, Exception):
+                assert len(str(state).splitlines()) == 1, (done, run, str(state))
+                assert getattr(state, "parameter", None) == "file", (done, run, state)
+            elif state != before:
+                arrays, attributes = state
+                names = set(arrays) | set(before[0])
+                differ = sorted(k for k in names if arrays.get(k) != before[0].get(k))
+                differ += ["attributes"] if attributes != before[1] else []
+                raise AssertionError(f"{done}: run {run} is read with other {differ}")
+
+    case()
+
+
 # --- the issue's own cases, by name -------------------------------------------------------
 
 
