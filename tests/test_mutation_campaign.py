@@ -250,7 +250,7 @@ def _record_state(record: Any) -> tuple[Any, ...]:
     return arrays, repr(record.attributes)
 
 
-def _read(path: Path) -> list[Any]:
+def _read(path: Path, fmt: str) -> list[Any]:
     """What the Python readers give for ``path``: per run, its state or the error raised."""
     from aaria_pin import DatasetReader, read_run
     from aaria_pin.errors import InputFileError
@@ -261,14 +261,34 @@ def _read(path: Path) -> list[Any]:
         except InputFileError as error:
             return error
 
-    if FILES[path.name] != "dataset":
+    if fmt != "dataset":
         return [attempt(read_run, path)]
     try:
         reader = DatasetReader(path)
     except InputFileError as error:
         return [error]
     with reader:
-        return [attempt(reader.record, run) for run in range(3)]
+        return [attempt(reader.record, run) for run in range(len(reader.complete))]
+
+
+def _read_damaged(source: Path, fmt: str, mutator: str, data: Any, work: Path) -> None:
+    """Damage a copy of ``source`` with ``mutator``; assert that the Python readers give each
+    run as they give the intact file's, or refuse it with a one-line InputFileError."""
+    intact = _read(source, fmt)
+    shutil.copyfile(source, work / source.name)
+    done = MUTATORS[fmt][mutator](work / source.name, data.draw)
+    COUNTS["mutations"] += 1
+    got = _read(work / source.name, fmt)
+    for run, (state, before) in enumerate(zip(got, intact, strict=False)):
+        if isinstance(state, Exception):
+            assert len(str(state).splitlines()) == 1, (done, run, str(state))
+            assert getattr(state, "parameter", None) == "file", (done, run, state)
+        elif state != before:
+            arrays, attributes = state
+            names = set(arrays) | set(before[0])
+            differ = sorted(k for k in names if arrays.get(k) != before[0].get(k))
+            differ += ["attributes"] if attributes != before[1] else []
+            raise AssertionError(f"{done}: run {run} is read with other {differ}")
 
 
 @pytest.mark.parametrize(("name", "mutator"), PAIRS)
@@ -278,27 +298,42 @@ def test_the_python_readers_refuse_a_damaged_file_or_read_it_as_intact(
     """``read_run`` and ``DatasetReader.record`` on a damaged copy: each run reads exactly as
     intact, or raises InputFileError (an OSError) with one line naming the file argument;
     never another exception (KeyError, ValueError, h5py's OSError, zlib.error...)."""
-    intact = _read(originals / name)
 
     @settings(CAMPAIGN, max_examples=2 * EXAMPLES)
     @given(data=st.data())
     def case(data: st.DataObject) -> None:
         work = tmp_path / f"py{COUNTS['mutations']}"
         work.mkdir()
-        shutil.copyfile(originals / name, work / name)
-        done = MUTATORS[FILES[name]][mutator](work / name, data.draw)
-        COUNTS["mutations"] += 1
-        got = _read(work / name)
-        for run, (state, before) in enumerate(zip(got, intact, strict=False)):
-            if isinstance(state, Exception):
-                assert len(str(state).splitlines()) == 1, (done, run, str(state))
-                assert getattr(state, "parameter", None) == "file", (done, run, state)
-            elif state != before:
-                arrays, attributes = state
-                names = set(arrays) | set(before[0])
-                differ = sorted(k for k in names if arrays.get(k) != before[0].get(k))
-                differ += ["attributes"] if attributes != before[1] else []
-                raise AssertionError(f"{done}: run {run} is read with other {differ}")
+        _read_damaged(originals / name, FILES[name], mutator, data, work)
+
+    case()
+
+
+FIXTURES = Path(__file__).parent / "fixtures"
+LEGACY = {
+    "v0_1_0/dh_run.h5": "h5",
+    "v0_1_0/dh_run.mat": "mat",
+    "v0_1_0/dh_dataset.h5": "dataset",
+    "v0_2_0/dh_run.h5": "h5",
+    "v0_3_0/dh_dataset.h5": "dataset",
+}
+"""Files of earlier versions (no checksums in their run files: inverted bytes are left out)."""
+LEGACY_MUTATORS = ("truncate", "delete_array", "attribute_type", "broken_json", "nonfinite")
+
+
+@pytest.mark.parametrize("mutator", LEGACY_MUTATORS)
+@pytest.mark.parametrize("name", sorted(LEGACY))
+def test_the_python_readers_refuse_a_damaged_old_file_or_read_it_as_intact(
+    name: str, mutator: str, tmp_path: Path
+) -> None:
+    """Old files keep reading, and damage to them is refused as in new files."""
+
+    @settings(CAMPAIGN, max_examples=2 * EXAMPLES)
+    @given(data=st.data())
+    def case(data: st.DataObject) -> None:
+        work = tmp_path / f"old{COUNTS['mutations']}"
+        work.mkdir()
+        _read_damaged(FIXTURES / name, LEGACY[name], mutator, data, work)
 
     case()
 
