@@ -9,8 +9,9 @@ runner on ``aaria_pin.cli.main``). The invariant, per command:
 
 - either it succeeds exactly as on the intact file (same exit status, stdout, stderr and output
   file contents: the damage lies in a region that command does not read),
-- or it refuses the file: exit 2 (``check``: 1 or 2), exactly one stderr line starting
-  ``aaria: error:``, no traceback (the exception is click's SystemExit), nothing written.
+- or it refuses the file: exit 2, exactly one stderr line starting ``aaria: error:``, no
+  traceback (the exception is click's SystemExit), nothing written. ``check`` may also exit 1
+  (damage found), listing the damage on stdout.
 
 A few cases run in a process of their own, to catch a crash of the C libraries (a negative
 return code: SIGSEGV, SIGABRT). ``pytest -s`` prints the counts: files, mutations, invocations.
@@ -189,10 +190,11 @@ def _problem(
         return f"{type(exception).__name__}: {exception}"
     if "Traceback" in stdout + stderr:
         return f"a traceback: {stderr[-300:]!r}"
-    if argv[0] != "check" and (len(lines) != 1 or not lines[0].startswith("aaria: error: ")):
+    if argv[0] == "check" and status == 1:  # damage found: listed on stdout, a run a line
+        if not stdout.strip():
+            return "check: exit 1 but nothing listed"
+    elif len(lines) != 1 or not lines[0].startswith("aaria: error: "):
         return f"stderr is not one 'aaria: error:' line: {stderr[:400]!r}"
-    if argv[0] == "check" and not any(line.startswith("aaria: error: ") for line in lines):
-        return f"check: no 'aaria: error:' line: {stderr[:400]!r}"
     if written:
         return f"wrote {sorted(written)} although it failed"
     return None
