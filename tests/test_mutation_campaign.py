@@ -7,14 +7,17 @@ broken JSON, ``N`` < 0, NaN or inf in a series), hypothesis draws the offsets, a
 attributes; the damaged copy then goes through every command that reads it, in process (click's
 runner on ``aaria_pin.cli.main``). The invariant, per command:
 
-- either it succeeds exactly as on the intact file (same exit status, stdout, stderr and output
-  file contents: the damage lies in a region that command does not read),
+- either it succeeds exactly as on the intact file (exit 0, the same stdout and output file
+  contents: the damage lies in a region that command does not read),
 - or it refuses the file: exit 2, exactly one stderr line starting ``aaria: error:``, no
   traceback (the exception is click's SystemExit), nothing written. ``check`` may also exit 1
   (damage found), listing the damage on stdout.
 
-A few cases run in a process of their own, to catch a crash of the C libraries (a negative
-return code: SIGSEGV, SIGABRT). ``pytest -s`` prints the counts: files, mutations, invocations.
+The Python readers (``read_run``, ``DatasetReader.record``) get the same damage, on these files
+and on the 0.1/0.2/0.3 fixtures: each run reads as intact or raises a one-line InputFileError.
+``aaria check`` must find every damaged run. A few cases run in a process of their own, to
+catch a crash of the C libraries (a negative return code: SIGSEGV, SIGABRT). ``pytest -s``
+prints the counts: files, mutations, invocations.
 The number of examples per file × mutator is ``AARIA_CAMPAIGN_EXAMPLES`` (default 3), drawn
 from a fixed seed so that the suite is repeatable; raise it (and unset the seed with
 ``AARIA_CAMPAIGN_RANDOM=1``) for a deeper search.
