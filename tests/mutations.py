@@ -37,6 +37,22 @@ SERIES = ("time", "q", "qd", "qdd", "tau", "imu", "base_pose", "tool_pose", "bas
 """Arrays with a time axis: the measured and simulated series of a run."""
 
 
+def invoke_in(folder: Path, argv: list[str]) -> Any:
+    """Run ``aaria argv`` in process (click's runner) with ``folder`` as the working folder."""
+    import os
+
+    from click.testing import CliRunner
+
+    from aaria_pin.cli import main
+
+    old = Path.cwd()
+    os.chdir(folder)
+    try:
+        return CliRunner().invoke(main, argv)
+    finally:
+        os.chdir(old)
+
+
 def _numeric_arrays(handle: Any) -> list[str]:
     """Names of the numeric (float or integer) arrays at the top of an HDF5 file."""
     import h5py
@@ -263,16 +279,50 @@ def inject_mat_nonfinite(path: Path, draw: Any) -> str:
     return f"{value} written into {name!r} at flat index {index}"
 
 
+def damage_chunk(path: Path, array: str, run: int) -> None:
+    """Invert 16 bytes in the middle of run ``run``'s chunk of a data set's ``array`` (its
+    compressed data no longer inflates)."""
+    import h5py
+
+    with h5py.File(path, "r") as handle:
+        dset = handle[array]
+        info = dset.id.get_chunk_info_by_coord((run,) + (0,) * (dset.ndim - 1))
+    _flip(path, info.byte_offset + info.size // 2, min(16, info.size // 2))
+
+
+def damage_run(path: Path, draw: Any) -> tuple[int, str]:
+    """Damage one drawn run of a data set: inverted bytes in its chunk of a series, or a NaN
+    or infinity written into it. Returns the run and what was done."""
+    import h5py
+
+    with h5py.File(path, "r") as handle:
+        runs = handle["tau"].shape[0]
+    run = draw(st.integers(0, runs - 1))
+    array = draw(st.sampled_from(SERIES))
+    if draw(st.booleans()):
+        damage_chunk(path, array, run)
+        return run, f"inverted bytes in run {run}'s chunk of {array!r}"
+    value = _bad_number(draw)
+    with h5py.File(path, "r+") as handle:
+        rows = np.array(handle[array][run])
+        index = draw(st.integers(0, rows.size - 1))
+        rows.flat[index] = value
+        handle[array][run] = rows
+    return run, f"{value} written into run {run}'s {array!r} at flat index {index}"
+
+
+H5_MUTATORS: dict[str, Mutator] = {
+    "truncate": truncate,
+    "flip_bytes": flip_h5_data,
+    "delete_array": delete_h5_array,
+    "attribute_type": retype_h5_attribute,
+    "bogus_kind": bogus_kind,
+    "broken_json": break_json,
+    "nonfinite": inject_h5_nonfinite,
+}
+
 MUTATORS: dict[str, dict[str, Mutator]] = {
-    "h5": {
-        "truncate": truncate,
-        "flip_bytes": flip_h5_data,
-        "delete_array": delete_h5_array,
-        "attribute_type": retype_h5_attribute,
-        "bogus_kind": bogus_kind,
-        "broken_json": break_json,
-        "nonfinite": inject_h5_nonfinite,
-    },
+    "h5": H5_MUTATORS,
     "mat": {
         "truncate": truncate,
         "flip_bytes": flip_mat_data,
@@ -282,15 +332,6 @@ MUTATORS: dict[str, dict[str, Mutator]] = {
         "broken_json": break_json,
         "nonfinite": inject_mat_nonfinite,
     },
-    "dataset": {
-        "truncate": truncate,
-        "flip_bytes": flip_h5_data,
-        "delete_array": delete_h5_array,
-        "attribute_type": retype_h5_attribute,
-        "bogus_kind": bogus_kind,
-        "broken_json": break_json,
-        "negative_count": negative_count,
-        "nonfinite": inject_h5_nonfinite,
-    },
+    "dataset": {**H5_MUTATORS, "negative_count": negative_count},
 }
 """The mutators that apply to each file format, by name."""

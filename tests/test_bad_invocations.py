@@ -14,7 +14,6 @@ must be unchanged afterwards.
 
 from __future__ import annotations
 
-import os
 import re
 import shlex
 from collections.abc import Iterator
@@ -22,21 +21,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 
-from aaria_pin.cli import main
+from tests.mutations import invoke_in
 
 LONG = "d" * 300
 """A folder name longer than any file system takes (255 bytes)."""
 
 
 def _run(folder: Path, argv: list[str]) -> tuple[int, str, str, BaseException | None]:
-    old = Path.cwd()
-    os.chdir(folder)
-    try:
-        result = CliRunner().invoke(main, argv)
-    finally:
-        os.chdir(old)
+    result = invoke_in(folder, argv)
     return result.exit_code, result.stdout, result.stderr, result.exception
 
 

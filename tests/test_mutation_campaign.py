@@ -36,12 +36,11 @@ from typing import Any
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
 from aaria_pin.cli import main
-from tests.mutations import MUTATORS
+from tests.mutations import MUTATORS, damage_chunk, damage_run, invoke_in
 
 EXAMPLES = int(os.environ.get("AARIA_CAMPAIGN_EXAMPLES", "3"))
 """Mutated copies per file × mutator."""
@@ -117,12 +116,7 @@ def _invoke(
         again unless ``keep``).
     """
     before = {path.name for path in folder.iterdir()}
-    old = Path.cwd()
-    os.chdir(folder)
-    try:
-        result = CliRunner().invoke(main, argv)
-    finally:
-        os.chdir(old)
+    result = invoke_in(folder, argv)
     written = _contents(folder, before)
     for name in written if not keep else ():
         (folder / name).unlink()
@@ -276,24 +270,33 @@ def _read(path: Path, fmt: str) -> list[Any]:
         return [attempt(reader.record, run) for run in range(len(reader.complete))]
 
 
-def _read_damaged(source: Path, fmt: str, mutator: str, data: Any, work: Path) -> None:
-    """Damage a copy of ``source`` with ``mutator``; assert that the Python readers give each
-    run as they give the intact file's, or refuse it with a one-line InputFileError."""
+def _read_damaged(source: Path, fmt: str, mutator: str, work: Path) -> None:
+    """Damage copies of ``source`` with ``mutator`` (hypothesis drawing); assert that the
+    Python readers give each run as they give the intact file's, or refuse it with a one-line
+    InputFileError naming the file argument."""
     intact = _read(source, fmt)
-    shutil.copyfile(source, work / source.name)
-    done = MUTATORS[fmt][mutator](work / source.name, data.draw)
-    COUNTS["mutations"] += 1
-    got = _read(work / source.name, fmt)
-    for run, (state, before) in enumerate(zip(got, intact, strict=False)):
-        if isinstance(state, Exception):
-            assert len(str(state).splitlines()) == 1, (done, run, str(state))
-            assert getattr(state, "parameter", None) == "file", (done, run, state)
-        elif state != before:
-            arrays, attributes = state
-            names = set(arrays) | set(before[0])
-            differ = sorted(k for k in names if arrays.get(k) != before[0].get(k))
-            differ += ["attributes"] if attributes != before[1] else []
-            raise AssertionError(f"{done}: run {run} is read with other {differ}")
+
+    @settings(CAMPAIGN, max_examples=2 * EXAMPLES)
+    @given(data=st.data())
+    def case(data: st.DataObject) -> None:
+        folder = work / f"py{COUNTS['mutations']}"
+        folder.mkdir()
+        shutil.copyfile(source, folder / source.name)
+        done = MUTATORS[fmt][mutator](folder / source.name, data.draw)
+        COUNTS["mutations"] += 1
+        got = _read(folder / source.name, fmt)
+        for run, (state, before) in enumerate(zip(got, intact, strict=False)):
+            if isinstance(state, Exception):
+                assert len(str(state).splitlines()) == 1, (done, run, str(state))
+                assert getattr(state, "parameter", None) == "file", (done, run, state)
+            elif state != before:
+                arrays, attributes = state
+                names = set(arrays) | set(before[0])
+                differ = sorted(k for k in names if arrays.get(k) != before[0].get(k))
+                differ += ["attributes"] if attributes != before[1] else []
+                raise AssertionError(f"{done}: run {run} is read with other {differ}")
+
+    case()
 
 
 @pytest.mark.parametrize(("name", "mutator"), PAIRS)
@@ -303,15 +306,7 @@ def test_the_python_readers_refuse_a_damaged_file_or_read_it_as_intact(
     """``read_run`` and ``DatasetReader.record`` on a damaged copy: each run reads exactly as
     intact, or raises InputFileError (an OSError) with one line naming the file argument;
     never another exception (KeyError, ValueError, h5py's OSError, zlib.error...)."""
-
-    @settings(CAMPAIGN, max_examples=2 * EXAMPLES)
-    @given(data=st.data())
-    def case(data: st.DataObject) -> None:
-        work = tmp_path / f"py{COUNTS['mutations']}"
-        work.mkdir()
-        _read_damaged(originals / name, FILES[name], mutator, data, work)
-
-    case()
+    _read_damaged(originals / name, FILES[name], mutator, tmp_path)
 
 
 FIXTURES = Path(__file__).parent / "fixtures"
@@ -332,15 +327,7 @@ def test_the_python_readers_refuse_a_damaged_old_file_or_read_it_as_intact(
     name: str, mutator: str, tmp_path: Path
 ) -> None:
     """Old files keep reading, and damage to them is refused as in new files."""
-
-    @settings(CAMPAIGN, max_examples=2 * EXAMPLES)
-    @given(data=st.data())
-    def case(data: st.DataObject) -> None:
-        work = tmp_path / f"old{COUNTS['mutations']}"
-        work.mkdir()
-        _read_damaged(FIXTURES / name, LEGACY[name], mutator, data, work)
-
-    case()
+    _read_damaged(FIXTURES / name, LEGACY[name], mutator, tmp_path)
 
 
 # --- the issue's own cases, by name -------------------------------------------------------
@@ -358,24 +345,10 @@ def _one_line_exit_2(folder: Path, argv: list[str]) -> str:
     return lines[0]
 
 
-def _damage_chunk(path: Path, array: str, run: int) -> None:
-    """Invert 16 bytes in the middle of run ``run``'s chunk of ``array`` (gzip: unreadable)."""
-    import h5py
-
-    with h5py.File(path, "r") as handle:
-        dset = handle[array]
-        info = dset.id.get_chunk_info_by_coord((run,) + (0,) * (dset.ndim - 1))
-    with path.open("r+b") as stream:
-        stream.seek(info.byte_offset + info.size // 2)
-        old = stream.read(16)
-        stream.seek(info.byte_offset + info.size // 2)
-        stream.write(bytes(b ^ 0xFF for b in old))
-
-
 def test_a_damaged_chunk_names_the_run(originals: Path, tmp_path: Path) -> None:
     """The issue's first traceback: bytes overwritten inside run 1's ``tau`` of a data set."""
     shutil.copyfile(originals / "ds.h5", tmp_path / "ds.h5")
-    _damage_chunk(tmp_path / "ds.h5", "tau", 1)
+    damage_chunk(tmp_path / "ds.h5", "tau", 1)
     for argv in (
         ["torques", "ds.h5", "--run", "1"],
         ["view", "ds.h5", "--run", "1", "-o", "v.html"],
@@ -400,31 +373,6 @@ def test_nan_in_the_imu_signals_is_refused_before_identification(
     assert "imu" in line and "nan" in line.lower(), line
 
 
-CHECKED = ("time", "q", "qd", "qdd", "tau", "imu", "base_pose", "tool_pose", "base_wrench")
-"""Series of every run whose damage ``aaria check`` must find."""
-
-
-def _damage_run(path: Path, data: st.DataObject) -> tuple[int, str]:
-    """Damage one run of a data set (inverted bytes in its chunk, or a NaN or inf written
-    into it); return the run and what was done."""
-    import h5py
-
-    with h5py.File(path, "r") as handle:
-        runs = handle["tau"].shape[0]
-    run = data.draw(st.integers(0, runs - 1))
-    array = data.draw(st.sampled_from(CHECKED))
-    if data.draw(st.booleans()):
-        _damage_chunk(path, array, run)
-        return run, f"inverted bytes in run {run}'s chunk of {array!r}"
-    value = data.draw(st.sampled_from([np.nan, np.inf, -np.inf]))
-    with h5py.File(path, "r+") as handle:
-        rows = np.array(handle[array][run])
-        index = data.draw(st.integers(0, rows.size - 1))
-        rows.flat[index] = value
-        handle[array][run] = rows
-    return run, f"{value} written into run {run}'s {array!r} at flat index {index}"
-
-
 def test_check_finds_every_damaged_run(originals: Path, tmp_path: Path) -> None:
     """``aaria check`` verifies the checksums of a whole data set: exit 1, the run named."""
     if "check" not in main.commands:
@@ -436,7 +384,7 @@ def test_check_finds_every_damaged_run(originals: Path, tmp_path: Path) -> None:
         work = tmp_path / f"work{COUNTS['mutations']}"
         work.mkdir()
         shutil.copyfile(originals / "ds.h5", work / "ds.h5")
-        run, done = _damage_run(work / "ds.h5", data)
+        run, done = damage_run(work / "ds.h5", data.draw)
         COUNTS["mutations"] += 1
         status, stdout, stderr, exception, written = _invoke(work, ["check", "ds.h5"])
         COUNTS["invocations"] += 1
