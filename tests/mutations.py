@@ -148,6 +148,48 @@ def delete_mat_variable(path: Path, draw: Any) -> str:
     return f"deleted variable {name!r}"
 
 
+def _other_layout(data: np.ndarray, draw: Any) -> tuple[np.ndarray, str]:
+    """``data`` with another shape (a column or a sample short, a transposed table) or of
+    another type (booleans, text)."""
+    change = draw(st.sampled_from(["last axis short", "first axis short", "bool", "text"]))
+    if change == "last axis short" and data.shape and data.shape[-1] > 1:
+        return data[..., :-1], change
+    if change == "first axis short" and data.shape and data.shape[0] > 1:
+        return data[:-1], change
+    if change == "bool":
+        return data != 0, change
+    return data.astype("S24"), "text"
+
+
+def relayout_h5_array(path: Path, draw: Any) -> str:
+    """Store one numeric array again with another shape or type (a layout of another kind)."""
+    import h5py
+
+    with h5py.File(path, "r+") as handle:
+        name = draw(st.sampled_from(_numeric_arrays(handle)))
+        data, change = _other_layout(np.array(handle[name]), draw)
+        attributes = dict(handle[name].attrs)
+        del handle[name]
+        handle[name] = data
+        handle[name].attrs.update(attributes)
+    return f"array {name!r} stored again as {change} {data.dtype} {data.shape}"
+
+
+def relayout_mat_variable(path: Path, draw: Any) -> str:
+    """Store one numeric variable of a ``.mat`` file again with another shape or type."""
+    contents = _load_mat(path)
+    names = sorted(
+        n
+        for n, value in contents.items()
+        if not n.startswith(MAT_ATTRIBUTE) and np.asarray(value).dtype.kind in "fiu"
+    )
+    name = draw(st.sampled_from(names))
+    data, change = _other_layout(np.asarray(contents[name]), draw)
+    contents[name] = data.astype(str) if change == "text" else data
+    _save_mat(path, contents)
+    return f"variable {name!r} stored again as {change} {data.dtype} {data.shape}"
+
+
 def _other_type(value: Any, draw: Any) -> Any:
     """A value of another type than ``value``: text for a number, a number for text."""
     if isinstance(value, (str, bytes)):
@@ -315,6 +357,7 @@ H5_MUTATORS: dict[str, Mutator] = {
     "truncate": truncate,
     "flip_bytes": flip_h5_data,
     "delete_array": delete_h5_array,
+    "array_layout": relayout_h5_array,
     "attribute_type": retype_h5_attribute,
     "bogus_kind": bogus_kind,
     "broken_json": break_json,
@@ -327,6 +370,7 @@ MUTATORS: dict[str, dict[str, Mutator]] = {
         "truncate": truncate,
         "flip_bytes": flip_mat_data,
         "delete_array": delete_mat_variable,
+        "array_layout": relayout_mat_variable,
         "attribute_type": retype_mat_attribute,
         "bogus_kind": bogus_kind,
         "broken_json": break_json,

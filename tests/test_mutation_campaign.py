@@ -2,10 +2,11 @@
 
 Real files are made once by the tool itself (a 0.2 s DH run as ``.h5`` and ``.mat``, a ur5 run,
 a wrist run, a 3-run data set). For each file × mutator (``tests/mutations.py``: truncate,
-invert bytes in an array's stored data, delete an array, retype an attribute, a bogus ``kind``,
-broken JSON, ``N`` < 0, NaN or inf in a series), hypothesis draws the offsets, arrays and
-attributes; the damaged copy then goes through every command that reads it, in process (click's
-runner on ``aaria_pin.cli.main``). The invariant, per command:
+invert bytes in an array's stored data, delete an array, store one with another shape or type,
+retype an attribute, a bogus ``kind``, broken JSON, ``N`` < 0, NaN or inf in a series),
+hypothesis draws the offsets, arrays and attributes; the damaged copy then goes through every
+command that reads it, in process (click's runner on ``aaria_pin.cli.main``). The invariant,
+per command:
 
 - either it succeeds exactly as on the intact file (exit 0, the same stdout and output file
   contents: the damage lies in a region that command does not read),
