@@ -83,6 +83,11 @@ CASES = [
     ("dataset -n 2 --duration 0.2 -o {long}/d.h5", ["bytes|too long|name"]),
     ("plot {dh.h5} -o {long}/p.png", ["bytes|too long|name"]),
     ("view {dh.h5} -o {long}/v.html", ["bytes|too long|name"]),
+    ("template dh -o {long}/t.csv", ["bytes|too long|name"]),
+    ("torques {dh.h5} --plot {long}/t.png", ["bytes|too long|name"]),
+    ("identify --dynamics {dh.h5} -o {long}/i.json", ["bytes|too long|name"]),
+    ("render --preset aaria-fig2 -o {long}/r.png", ["bytes|too long|name"]),
+    ("wrist simulate 60 45 -30 --duration 0.2 -o {long}/w.h5", ["bytes|too long|name"]),
     # click's usage errors at the top level
     ("--frob", ["--frob"]),
     # options without the mode they belong to
