@@ -41,7 +41,7 @@ from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
 from aaria_pin.cli import main
-from tests.mutations import MUTATORS, damage_chunk, damage_run, invoke_in
+from tests.mutations import MUTATORS, SERIES, damage_chunk, damage_run, invoke_in
 
 EXAMPLES = int(os.environ.get("AARIA_CAMPAIGN_EXAMPLES", "3"))
 """Mutated copies per file × mutator."""
@@ -392,6 +392,36 @@ def test_check_finds_every_damaged_run(originals: Path, tmp_path: Path) -> None:
         assert status == 1, (done, status, stdout, stderr, exception)
         assert f"run {run}" in stdout + stderr, (done, stdout, stderr)
         assert "Traceback" not in stdout + stderr and not written, (done, stderr)
+
+    case()
+
+
+def _runs(path: Path) -> dict[str, bytes]:
+    """Every per-run array of a data set, as bytes."""
+    import h5py
+
+    with h5py.File(path, "r") as handle:
+        return {name: np.asarray(handle[name]).tobytes() for name in SERIES}
+
+
+def test_resume_remakes_every_damaged_run(originals: Path, tmp_path: Path) -> None:
+    """``dataset --resume`` over a complete data set verifies it and re-makes a damaged run:
+    afterwards every run's series are the intact file's, bit for bit."""
+    expected = _runs(originals / "ds.h5")
+
+    @CAMPAIGN
+    @given(data=st.data())
+    def case(data: st.DataObject) -> None:
+        work = tmp_path / f"resume{COUNTS['mutations']}"
+        work.mkdir()
+        shutil.copyfile(originals / "ds.h5", work / "ds.h5")
+        _, done = damage_run(work / "ds.h5", data.draw)
+        COUNTS["mutations"] += 1
+        status, _, stderr, exception, _ = _invoke(work, [*MAKE["ds.h5"].split(), "--resume"])
+        COUNTS["invocations"] += 1
+        assert status == 0, (done, status, stderr, exception)
+        got = _runs(work / "ds.h5")
+        assert got == expected, (done, sorted(k for k in got if got[k] != expected[k]))
 
     case()
 
