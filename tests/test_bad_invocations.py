@@ -101,14 +101,20 @@ CASES = [
     ),
     # a value that selects nothing
     ("dataset-stats {ds.h5} --names ''", ["--names"]),
-    # tables that are not numbers (the flag or the table named)
-    ("urdf --dh {bool.npy} -o r.urdf", ["--dh|DH table"]),
-    ("urdf --dh {text.npy} -o r.urdf", ["--dh|DH table"]),
-    ("simulate --dh {text.npy} --duration 0.2 -o s.h5", ["--dh|DH table"]),
-    (SIM + " --joints {zeros_bool.npy} -o s.h5", ["--joints|joint oscillation table"]),
-    (SIM + " --joints {zeros_text.npy} -o s.h5", ["--joints|joint oscillation table"]),
-    (SIM + " --base {base_text.npy} -o s.h5", ["--base|base oscillation table"]),
-    (SIM + " --drive torque --torques {bool_tau.npy} -o s.h5", ["--torques|torque"]),
+    # tables that are not numbers (the flag, the table or its file named)
+    ("urdf --dh {bool.npy} -o r.urdf", ["--dh|DH table|bool.npy"]),
+    ("urdf --dh {text.npy} -o r.urdf", ["--dh|DH table|text.npy"]),
+    ("simulate --dh {text.npy} --duration 0.2 -o s.h5", ["--dh|DH table|text.npy"]),
+    (
+        SIM + " --joints {zeros_bool.npy} -o s.h5",
+        ["--joints|joint oscillation table|zeros_bool.npy"],
+    ),
+    (
+        SIM + " --joints {zeros_text.npy} -o s.h5",
+        ["--joints|joint oscillation table|zeros_text.npy"],
+    ),
+    (SIM + " --base {base_text.npy} -o s.h5", ["--base|base oscillation table|base_text.npy"]),
+    (SIM + " --drive torque --torques {bool_tau.npy} -o s.h5", ["--torques|bool_tau.npy"]),
     # an IMU mount whose parents are not links of this robot
     (SIM + " --imu-mount {ur5.h5} -o s.h5", ["--imu-mount"]),
     # the rate bound
