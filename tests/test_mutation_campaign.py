@@ -355,7 +355,7 @@ def test_a_damaged_chunk_names_the_run(originals: Path, tmp_path: Path) -> None:
         ["view", "ds.h5", "--run", "1", "-o", "v.html"],
         ["render", "--from", "ds.h5", "--run", "1", "-o", "r.png"],
         ["identify", "--dynamics", "ds.h5", "--run", "1"],
-        ["dataset-stats", "ds.h5", "--split", "all"],
+        ["dataset-stats", "ds.h5", "--split", "all", "--names", "tau"],
     ):
         line = _one_line_exit_2(tmp_path, argv)
         assert "run 1" in line and "damaged" in line, line
