@@ -19,7 +19,7 @@ and on the 0.1/0.2/0.3 fixtures: each run reads as intact or raises a one-line I
 ``aaria check`` must find every damaged run. A few cases run in a process of their own, to
 catch a crash of the C libraries (a negative return code: SIGSEGV, SIGABRT). ``pytest -s``
 prints the counts: files, mutations, invocations.
-The number of examples per file × mutator is ``AARIA_CAMPAIGN_EXAMPLES`` (default 3), drawn
+The number of examples per file × mutator is ``AARIA_CAMPAIGN_EXAMPLES`` (default 6), drawn
 from a fixed seed so that the suite is repeatable; raise it (and unset the seed with
 ``AARIA_CAMPAIGN_RANDOM=1``) for a deeper search.
 """
@@ -43,7 +43,7 @@ from hypothesis import strategies as st
 from aaria_pin.cli import main
 from tests.mutations import MUTATORS, SERIES, damage_chunk, damage_run, invoke_in
 
-EXAMPLES = int(os.environ.get("AARIA_CAMPAIGN_EXAMPLES", "3"))
+EXAMPLES = int(os.environ.get("AARIA_CAMPAIGN_EXAMPLES", "6"))
 """Mutated copies per file × mutator."""
 
 CAMPAIGN = settings(
