@@ -35,6 +35,7 @@ from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError
 
 __all__ = [
+    "ATTRIBUTE_TYPES",
     "KIND_TABLES",
     "check_attributes",
     "check_finite",
@@ -55,8 +56,67 @@ A wrist run keeps its targets as a table (``targets``) or, written by 0.1.0, as 
 ``targets_rad``; a pick-and-place run keeps its task in attributes: neither requires a table.
 """
 
-_TEXT_ATTRIBUTES = ("kind", "robot", "source", "drive", "motion", "base_frame", "tool_frame")
-"""Shared attributes that are text when present."""
+ATTRIBUTE_TYPES: Mapping[str, str] = {
+    **dict.fromkeys(
+        (
+            "kind",
+            "robot",
+            "source",
+            "drive",
+            "motion",
+            "base_frame",
+            "tool_frame",
+            "base_wrench_frame",
+            "branch",
+            "command",
+            "dtype",
+            "payload_joint",
+            "preset",
+            "profile",
+            "task",
+            "urdf_dir",
+            "version",
+        ),
+        "text",
+    ),
+    **dict.fromkeys(
+        ("rate", "duration", "acceleration_rad_s2", "speed_rad_s", "start_s"), "number"
+    ),
+    **dict.fromkeys(("N", "samples", "seed", "noise_stream", "format_version", "run"), "integer"),
+    **dict.fromkeys(("moving_base", "noise"), "bool"),
+    **dict.fromkeys(
+        (
+            "gravity",
+            "held_interval",
+            "peak_payload_share",
+            "phase_end",
+            "phase_start",
+            "place",
+            "targets_rad",
+        ),
+        "numbers",
+    ),
+}
+"""The type of each attribute a run of any kind (or version) may carry, when present.
+
+``text`` a str; ``number`` a finite real (not a bool); ``integer`` a whole number; ``bool``
+true or false (MATLAB may re-save a bool as 0 or 1); ``numbers`` finite reals (a vector; the
+``gravity`` three). Attributes not listed (a kind's own, JSON-decoded ones) are left to the code
+that reads them.
+"""
+
+_ALLOWED_OF = {
+    "gravity": "three finite numbers [m/s²]",
+    "rate": "a positive number",
+    "duration": "a positive number",
+}
+_ALLOWED = {
+    "text": "text",
+    "number": "a finite number",
+    "integer": "an integer",
+    "bool": "true or false",
+    "numbers": "finite numbers",
+}
 
 
 def record_source(file: str | os.PathLike[str], run: int | None = None) -> str:
@@ -115,29 +175,40 @@ def check_attributes(attributes: Mapping[str, Any], source: str) -> None:
     """
     from aaria_pin.core.run_metadata import RunMetadata
 
-    for name in _TEXT_ATTRIBUTES:
+    for name, kind in ATTRIBUTE_TYPES.items():
         value = attributes.get(name)
-        if value is not None and not isinstance(value, str):
+        if value is not None and not _is_of_type(name, value, kind):
+            allowed = _ALLOWED_OF.get(name, _ALLOWED[kind])
             raise InputFileError(
-                f"{source}: attribute {name!r} is {value!r}; allowed: text",
+                f"{source}: attribute {name!r} is {value!r}; allowed: {allowed}",
                 parameter="file",
             )
-    for name in ("rate", "duration"):
-        value = attributes.get(name)
-        if value is not None and (isinstance(value, (bool, str)) or not np.isscalar(value)):
-            raise InputFileError(
-                f"{source}: attribute {name!r} is {value!r}; allowed: a positive number",
-                parameter="file",
-            )
-    noise = attributes.get("noise")
-    if noise is not None and noise not in (True, False):  # MATLAB may re-save a bool as 0 or 1
-        raise InputFileError(
-            f"{source}: attribute 'noise' is {noise!r}; allowed: true or false", parameter="file"
-        )
     try:
         RunMetadata.from_attributes(attributes)
     except (InputFileError, ValueError, TypeError) as exc:
         raise InputFileError(f"{source}: {exc}", parameter="file") from None
+
+
+def _is_of_type(name: str, value: Any, kind: str) -> bool:
+    """Whether an attribute's value is of its :data:`ATTRIBUTE_TYPES` type."""
+    if kind == "text":
+        return isinstance(value, str)
+    if kind == "bool":
+        return isinstance(value, (bool, np.bool_)) or (
+            isinstance(value, (int, np.integer)) and value in (0, 1)
+        )
+    if isinstance(value, (str, bytes, bool, np.bool_)):
+        return False
+    try:
+        numbers = np.asarray(value)
+    except (TypeError, ValueError):
+        return False
+    if numbers.dtype.kind not in "iuf" or not np.isfinite(numbers).all():
+        return False
+    if kind == "numbers":
+        return numbers.ndim <= 1 and (name != "gravity" or numbers.shape == (3,))
+    scalar = numbers.ndim == 0 or numbers.size == 1
+    return scalar and (kind == "number" or float(numbers.reshape(-1)[0]).is_integer())
 
 
 def check_finite(arrays: Mapping[str, Array], source: str) -> None:

@@ -14,10 +14,9 @@ Example::
         train = ds.windows(200, names=("senSen", "tau"), split="train", normalise=True)
     train[0]["senSen"]                            # a map-style dataset (any DataLoader)
 
-Data sets of both format versions read: version 2 (one layout for every robot, views as HDF5
-virtual datasets) and version 1, written by aaria_pin 0.1 (:mod:`.legacy_datasets`). Only
-complete runs are read; each run is one chunk (a few for poses) on disk, so a window costs one
-run's read.
+Both format versions read: 2 (one layout for every robot, views as HDF5 virtual datasets) and
+1, of aaria_pin 0.1 (:mod:`.legacy_datasets`). Only complete runs are read, and checked (damage,
+checksums, NaN, attributes); a run is one chunk (a few for poses): a window is one run's read.
 """
 
 from __future__ import annotations
@@ -32,6 +31,7 @@ import numpy as np
 
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import SERIES, ColumnView, RunRecord, mounts_from_poses
+from aaria_pin.core.record_checks import check_record, record_source
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, ParameterError
 from aaria_pin.files._stored import decode_attributes, first_line
@@ -233,11 +233,16 @@ class DatasetReader:
             ParameterError: index out of range, or a run that is not complete.
             InputFileError: the run is damaged or not finite (see :meth:`run`).
         """
+        record = self._record(index)
+        check_record(record, record_source(self.path, index))  # as a run file's
+        return record
+
+    def _record(self, index: int) -> RunRecord:
+        """Run ``index`` as read (:meth:`record` before its attributes are checked)."""
         self._check_run(index)
-        header = self.header
         if self.layout is None:
             self._check.verify_run(self._handle, index, self.names)  # readable and finite
-            return legacy_record(self._handle, index, header)
+            return legacy_record(self._handle, index, self.header)
         layout = self.layout
         arrays = {
             name: np.asarray(self._check.checked(self._handle, name, index), dtype=float)
@@ -260,9 +265,9 @@ class DatasetReader:
             tables={name: arrays[name] for name in layout.tables},
             views=dict(layout.views),
             attributes=record_attributes(
-                header.attributes,
+                self.header.attributes,
                 index,
-                _NOISE_STREAM if header.noise_stream is None else header.noise_stream,
+                _NOISE_STREAM if self.header.noise_stream is None else self.header.noise_stream,
             ),
         )
 

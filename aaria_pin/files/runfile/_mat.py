@@ -132,7 +132,7 @@ def _mat_errors(file: Path, damaged: bool = False) -> Iterator[None]:
         ) from None
     except InputFileError:
         raise
-    except (MatReadError, OSError, ValueError, TypeError, EOFError, zlib.error) as exc:
+    except (MatReadError, OSError, ValueError, TypeError, EOFError, IndexError, zlib.error) as exc:
         if damaged:
             raise damaged_file(file, first_line(exc)) from None
         raise InputFileError(
