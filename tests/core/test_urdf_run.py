@@ -21,7 +21,7 @@ from aaria_pin.core.urdf_robot import (
     read_urdf_file,
     urdf_joint_trajectory,
 )
-from aaria_pin.core.urdf_run import simulate_urdf_run
+from aaria_pin.core.urdf_run import simulate_urdf_run, urdf_request
 from aaria_pin.files.runfile import read_run, write_run
 
 BASE_TABLE = np.array(
@@ -302,3 +302,18 @@ def test_the_deprecated_urdf_producers_warn_and_equal_the_request(tmp_path: Path
         np.testing.assert_array_equal(other.tau, expected.tau)
     np.testing.assert_array_equal(from_loaded.tau, loaded.tau)
     assert expected.n_samples == 21 and np.abs(expected.tau).max() > 0
+
+
+def test_a_base_table_with_a_held_base_is_refused_naming_both() -> None:
+    from aaria_pin.core.conflicts import OptionConflictError
+    from aaria_pin.core.oscillation import default_base_table
+
+    entry = find_robot("ur5")
+    with pytest.raises(OptionConflictError) as error:
+        urdf_request(
+            entry.urdf.read_text(),
+            urdf_dir=entry.urdf.parent,
+            moving_base=False,
+            base_table=default_base_table(),
+        )
+    assert error.value.parameter == "base_table" and "moving_base" in str(error.value)

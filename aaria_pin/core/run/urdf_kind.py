@@ -145,8 +145,8 @@ class UrdfRunSpec:
     Attributes:
         joint_table: n × 5 joint oscillation table, one row per actuated joint in model order
             (None: :func:`~aaria_pin.core.urdf_robot.default_urdf_joint_table`)
-        base_table: 2 × 4 or 6 × 4 base oscillation table (None: a gentle motion; ignored and
-            not stored on a fixed base)
+        base_table: 2 × 4 or 6 × 4 base oscillation table (None: a gentle motion; not stored
+            on a fixed base, refused with ``moving_base`` False)
         moving_base: False holds a free-flyer robot's base at rest at the origin (its base
             wrench is then the fixed mount's load); None: moving if the model has a free-flyer
         source: where the URDF came from, stored as an attribute
@@ -166,8 +166,16 @@ def urdf_robot_run(loaded: UrdfRobot, spec: UrdfRunSpec | None = None) -> UrdfRo
 
     Raises:
         TableError, ParameterError: a bad joint or base table.
+        OptionConflictError: a base table given with ``moving_base`` False (it would be
+            ignored).
     """
+    from aaria_pin.core.conflicts import OptionConflictError
+
     spec = UrdfRunSpec() if spec is None else spec
+    if spec.moving_base is False and spec.base_table is not None:
+        raise OptionConflictError(
+            parameter="base_table", other="moving_base", given_with=True, other_value="False"
+        )
     robot = loaded.robot
     moving = robot.moving_base if spec.moving_base is None else spec.moving_base
     moving = moving and robot.moving_base
