@@ -114,9 +114,7 @@ Examples:
 @click.option(
     "--progress-every",
     type=click.FloatRange(0),
-    default=10.0,
-    show_default=True,
-    help="Seconds between progress lines when stderr is not a terminal.",
+    help="Seconds between progress lines when stderr is not a terminal (default 10).",
 )
 @click.option(
     "--print-config",
@@ -126,7 +124,7 @@ Examples:
     callback=_print_config,
     help="Print the default configuration and exit.",
 )
-def dataset(output: Path, quiet: bool, progress_every: float, **flags: Any) -> None:
+def dataset(output: Path, quiet: bool, progress_every: float | None, **flags: Any) -> None:
     """Simulate N random runs (MODE 1) or N runs of one arm (MODE 2) into a data set.
 
     With --robot NAME or --urdf FILE the arm is that URDF robot: its joint and base motions

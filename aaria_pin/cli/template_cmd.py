@@ -34,10 +34,13 @@ def template(kind: str, output: Path | None, overwrite: bool) -> None:
     it and pass it to the command it names.
     """
     from aaria_pin.aaria.templates import template_text
+    from aaria_pin.core.conflicts import OptionConflictError
     from aaria_pin.files.io import write_text_atomic
 
     text = template_text(kind)
     if output is None or str(output) == "-":
+        if overwrite:  # nothing to replace: say so rather than ignore it
+            raise OptionConflictError(parameter="overwrite", other="output", given_with=False)
         click.echo(text, nl=False)
         return
     write_text_atomic(output, text, overwrite=overwrite)

@@ -9,7 +9,15 @@ from aaria_pin.apps.dataset.progress import estimate_report, progress_report
 
 
 def test_quiet_gives_no_reports() -> None:
-    assert progress_report(True, 1.0) is None and estimate_report(True) is None
+    assert progress_report(True) is None and estimate_report(True) is None
+
+
+def test_a_progress_interval_with_quiet_is_refused_naming_both() -> None:
+    from aaria_pin.core.conflicts import OptionConflictError
+
+    with pytest.raises(OptionConflictError) as error:
+        progress_report(True, 1.0)
+    assert error.value.parameter == "progress_every" and "quiet" in str(error.value)
 
 
 def test_progress_lines_come_every_so_often_and_at_the_end(

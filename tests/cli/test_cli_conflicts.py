@@ -69,6 +69,9 @@ def _argv(text: str, inputs: Path) -> list[str]:
 
 
 CONFLICTS = [
+    # options that would be ignored
+    ("dataset -n 2 --quiet --progress-every 5 -o d.h5", "--progress-every is given with --quiet"),
+    ("template dh --overwrite", "--overwrite is given without --output"),
     # identify: an option of another mode (the library's IdentifyRequest)
     ("identify {run.h5} --parameters", "--parameters is given without --dynamics"),
     ("identify {run.h5} --holdout 0.3", "--holdout is given without --dynamics"),

@@ -16,20 +16,34 @@ if TYPE_CHECKING:
     from aaria_pin.apps.dataset.job import DatasetEstimate
 
 
-def progress_report(quiet: bool, every: float) -> Callable[[int, int, float], None] | None:
-    """The progress report: a bar on a terminal, else a plain line every ``every`` seconds.
+PROGRESS_EVERY = 10.0
+"""Seconds between two progress lines of a batch job's log, by default [s]."""
+
+
+def progress_report(
+    quiet: bool, progress_every: float | None = None
+) -> Callable[[int, int, float], None] | None:
+    """The progress report: a bar on a terminal, else a plain line every ``progress_every`` s.
 
     A batch job's log (stderr not a terminal) gets lines ``aaria: 120/10000 runs, 35.2 runs/s,
-    ETA 281 s`` at most every ``every`` seconds, and the last one when the job ends; a terminal
-    gets click's progress bar.
+    ETA 281 s`` at most every ``progress_every`` seconds, and the last one when the job ends; a
+    terminal gets click's progress bar.
 
     Args:
         quiet: no report at all (returns ``None``)
-        every: seconds between two lines [s]
+        progress_every: seconds between two lines [s] (None: :data:`PROGRESS_EVERY`)
 
     Returns:
         The callback ``(done, total, seconds)``, or ``None`` when quiet.
+
+    Raises:
+        OptionConflictError: ``progress_every`` given with ``quiet`` (it would be ignored).
     """
+    from aaria_pin.core.conflicts import OptionConflictError
+
+    if quiet and progress_every is not None:
+        raise OptionConflictError(parameter="progress_every", other="quiet", given_with=True)
+    every = PROGRESS_EVERY if progress_every is None else progress_every
     if quiet:
         return None
     if sys.stderr.isatty():
