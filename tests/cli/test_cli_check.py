@@ -106,3 +106,19 @@ def test_identify_dataset_without_a_complete_run(made: Path, tmp_path: Path) -> 
         err == f"aaria: error: {path}: no complete run; allowed: a data set with a complete "
         "run (aaria dataset --resume completes it)\n"
     )
+
+
+def test_a_damaged_mat_run_file_is_damage_exit_1(tmp_path: Path) -> None:
+    """Bytes of a .mat's compressed variables that no longer inflate: damage, not bad input."""
+    path = tmp_path / "run.mat"
+    status, _, _ = run_cli(
+        "simulate", "--preset", "aaria-fig2", "--duration", "0.3", "-o", str(path)
+    )
+    assert status == 0
+    data = bytearray(path.read_bytes())
+    middle = len(data) // 2
+    data[middle : middle + 64] = bytes(b ^ 0xFF for b in data[middle : middle + 64])
+    path.write_bytes(bytes(data))
+    status, out, err = run_cli("check", str(path))
+    assert status == 1 and err == ""
+    assert out.splitlines()[0].startswith(f"{path}: run file") and "damaged" in out
