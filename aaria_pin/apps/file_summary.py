@@ -211,13 +211,19 @@ def statistics_report(
     Raises:
         InputFileError: a missing file, a folder, or not a data set.
         ParameterError: an unknown name or split, bad fractions.
+        OptionConflictError: a seed or fractions other than the defaults with ``split="all"``
+            (they choose a split: with every run they would be ignored).
     """
     import numpy as np
 
+    from aaria_pin.core.conflicts import OptionConflictError
     from aaria_pin.files.dataset.reader import DatasetReader
     from aaria_pin.files.io import existing_input
 
     chosen = None if split == "all" else split
+    if chosen is None and (seed != 0 or tuple(fractions) != (0.8, 0.1, 0.1)):
+        name = "seed" if seed != 0 else "fractions"
+        raise OptionConflictError(parameter=name, other="split", given_with=True, other_value="all")
     existing_input(path, None, "data set")  # a missing file or a folder in one line
     with DatasetReader(path) as reader:
         statistics = reader.statistics(

@@ -72,6 +72,11 @@ CONFLICTS = [
     # options that would be ignored
     ("dataset -n 2 --quiet --progress-every 5 -o d.h5", "--progress-every is given with --quiet"),
     ("template dh --overwrite", "--overwrite is given without --output"),
+    ("dataset-stats {ds.h5} --split all --seed 5", "--seed is given with --split all"),
+    (
+        "dataset-stats {ds.h5} --split all --fractions 0.5,0.3,0.2",
+        "--fractions is given with --split all",
+    ),
     # identify: an option of another mode (the library's IdentifyRequest)
     ("identify {run.h5} --parameters", "--parameters is given without --dynamics"),
     ("identify {run.h5} --holdout 0.3", "--holdout is given without --dynamics"),
