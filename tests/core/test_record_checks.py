@@ -128,5 +128,13 @@ def test_attributes_of_the_wrong_type_are_refused(attributes: dict, message: str
 
 
 def test_matlab_numbers_for_a_bool_and_a_seed_are_accepted() -> None:
-    check_attributes({"noise": 1, "seed": 4.0, "rate": 100, "duration": 1}, "run.mat")
-    check_attributes({}, "run.h5")  # every shared attribute has a default
+    """MATLAB re-saves a bool as 0/1 and an integer as a double: read as the same settings."""
+    from aaria_pin.core.run_metadata import RunMetadata
+
+    matlab = {"noise": 1, "seed": 4.0, "rate": 100, "duration": 1}
+    assert check_attributes(matlab, "run.mat") is None  # accepted, not refused
+    meta = RunMetadata.from_attributes(matlab)
+    assert (meta.noise, meta.seed, meta.rate, meta.duration) == (True, 4, 100.0, 1.0)
+    assert check_attributes({}, "run.h5") is None  # every shared attribute has a default
+    with pytest.raises(InputFileError):
+        check_attributes({"noise": 2}, "run.mat")  # 0 and 1 only
