@@ -137,7 +137,7 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     choice = MotionChoice.from_options(params)
     if stored is not None:
         overrides.update(dh_motion(choice, stored, overrides, stored.tables["senSenDH"]))
-        chunks = dh_request_from_record(stored, **overrides).pieces()
+        chunks = dh_request_from_record(stored, source=str(from_run), **overrides).pieces()
     else:
         table, table_convention, name = load_table_source(preset, dh_file, flags["convention"])
         if table_convention != "aaria":
