@@ -48,7 +48,7 @@ from aaria_pin.core.trajectory import (
     MAX_SAMPLES,
     JointTrajectory,
 )
-from aaria_pin.errors import InputFileError
+from aaria_pin.errors import InputFileError, ParameterError
 
 __all__ = [
     "DEFAULT_DURATION",
@@ -238,7 +238,9 @@ def dh_request(dh_table: ArrayLike, **options: Unpack[DhRunOptions]) -> RunReque
     return RunRequest(dh_arm(dh_table, spec), run_motion, settings, options.get("seed", 0))
 
 
-def dh_request_from_record(stored: RunRecord, **overrides: Unpack[DhRunOptions]) -> RunRequest:
+def dh_request_from_record(
+    stored: RunRecord, *, source: str | None = None, **overrides: Unpack[DhRunOptions]
+) -> RunRequest:
     """The DH run a record holds the inputs of, as the engine's inputs.
 
     The tables (``senSenDH``, ``senSenJ``, ``senSenB``, ``torque_table`` for a run driven by
@@ -248,13 +250,15 @@ def dh_request_from_record(stored: RunRecord, **overrides: Unpack[DhRunOptions])
 
     Args:
         stored: a DH run's record (e.g. read from its run file)
+        source: the file it was read from, to name in a message about its own IMU mounts
         **overrides: :class:`DhRunOptions`
 
     Returns:
         The run's inputs; with no overrides their record equals the stored one.
 
     Raises:
-        InputFileError: the record lacks a table, or its body dimensions cannot be used.
+        InputFileError: the record lacks a table, or its body dimensions or its IMU mounts
+            (not replaced by ``imu_mount``) cannot be used (then ``parameter="file"``).
     """
     missing = [name for name in ("senSenDH", "senSenJ", "senSenB") if name not in stored.tables]
     if missing:
@@ -285,7 +289,13 @@ def dh_request_from_record(stored: RunRecord, **overrides: Unpack[DhRunOptions])
                 f"body_dimensions cannot be used ({exc})", parameter="body_dimensions"
             ) from None
     options.update(overrides)
-    return dh_request(stored.tables["senSenDH"], **options)
+    try:
+        return dh_request(stored.tables["senSenDH"], **options)
+    except ParameterError as exc:
+        if exc.parameter != "imu_mount" or "imu_mount" in overrides:
+            raise
+        prefix = "" if source is None else f"{source}: "
+        raise InputFileError(f"{prefix}{exc}", parameter="file") from None
 
 
 def _remake(stored: RunRecord, **overrides: Any) -> RunRecord:

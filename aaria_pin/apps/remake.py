@@ -22,7 +22,14 @@ from typing import Any
 from aaria_pin.core.record import RunRecord
 from aaria_pin.errors import InputFileError
 
-__all__ = ["RUN_KINDS", "remake_record", "remake_run", "run_kind", "simulate_urdf_from_run_file"]
+__all__ = [
+    "RUN_KINDS",
+    "remake_file_record",
+    "remake_record",
+    "remake_run",
+    "run_kind",
+    "simulate_urdf_from_run_file",
+]
 
 RUN_KINDS = ("dh", "urdf", "wrist", "pick-place")
 """The kinds of run (``attributes["kind"]``) that can be re-made, registered by their modules."""
@@ -96,6 +103,17 @@ def remake_run(path: str | os.PathLike[str], **overrides: Any) -> RunRecord:
     from aaria_pin.files.runfile import read_run_inputs
 
     stored = read_run_inputs(path)  # the inputs only: the stored series are not read
+    return remake_file_record(stored, path, **overrides)
+
+
+def remake_file_record(
+    stored: RunRecord, path: str | os.PathLike[str], **overrides: Any
+) -> RunRecord:
+    """:func:`remake_record` of a record read from ``path``: its errors name the file.
+
+    Raises:
+        InputFileError: a run that cannot be re-made, ``"FILE: ..."`` (``parameter="file"``).
+    """
     try:
         return remake_record(stored, **overrides)
     except InputFileError as exc:

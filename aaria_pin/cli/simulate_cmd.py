@@ -137,7 +137,7 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     choice = MotionChoice.from_options(params)
     if stored is not None:
         overrides.update(dh_motion(choice, stored, overrides, stored.tables["senSenDH"]))
-        chunks = dh_request_from_record(stored, **overrides).pieces()
+        chunks = dh_request_from_record(stored, source=str(from_run), **overrides).pieces()
     else:
         table, table_convention, name = load_table_source(preset, dh_file, flags["convention"])
         if table_convention != "aaria":
@@ -163,14 +163,14 @@ def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str) -> None:
         click.UsageError: any option beside ``--from``, ``-o`` and ``--compress`` (they are DH
             or URDF options).
     """
-    from aaria_pin.apps.remake import remake_record
+    from aaria_pin.apps.remake import remake_file_record
     from aaria_pin.files.runfile import write_run
 
     for option in simulate.params:
         if option.name not in ("from_run", "output", "compress", None) and given(option.name):
             flag = max(option.opts, key=len)
             raise click.UsageError(f"{flag} does not apply to a {kind} run (--from)")
-    record = remake_record(stored)
+    record = remake_file_record(stored, params["from_run"])
     output = params["output"]
     compress = params["compress"]
     write_run(output, record, compression=None if compress == "none" else compress)

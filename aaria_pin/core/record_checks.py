@@ -13,7 +13,8 @@ run of a data set) and what is wrong:
   ``seed`` an integer, ``noise`` a bool, names text), read by
   :meth:`~aaria_pin.core.run_metadata.RunMetadata.from_attributes`;
 - finite data (:func:`check_finite`): the simulator never writes a NaN or an infinity, so one in
-  a stored series is damage; the message names the array, the run and the first bad sample.
+  a stored series is damage; the message names the array, the run and the first bad sample;
+- increasing time (:func:`check_time`): the sample times strictly increase (2+ samples).
 
 Example::
 
@@ -41,6 +42,7 @@ __all__ = [
     "check_finite",
     "check_kind_layout",
     "check_record",
+    "check_time",
     "record_source",
 ]
 
@@ -135,12 +137,36 @@ def check_record(record: RunRecord, source: str, series: bool = True) -> None:
 
     Raises:
         InputFileError: an unknown kind, a table of its kind missing, an attribute of the
-            wrong type, or a NaN or infinity in an array (``parameter="file"``).
+            wrong type, a NaN or infinity in an array, or sample times that do not strictly
+            increase (``parameter="file"``).
     """
     check_attributes(record.attributes, source)
     check_kind_layout(record, source)
     arrays = record.arrays()
     check_finite({k: v for k, v in arrays.items() if series or k not in SERIES}, source)
+    if series:
+        check_time(record.time, source)
+
+
+def check_time(time: Array, source: str) -> None:
+    """Refuse sample times that are not strictly increasing (2+ samples; finite, checked before).
+
+    Raises:
+        InputFileError: ``"FILE: time decreases at sample 5; allowed: strictly increasing
+            times"`` (``parameter="file"``).
+    """
+    values = np.asarray(time, dtype=float).reshape(-1)
+    if values.size < 2:
+        return
+    steps = np.diff(values)
+    if (steps > 0).all():
+        return
+    sample = int(np.flatnonzero(~(steps > 0))[0]) + 1
+    what = "repeats" if steps[sample - 1] == 0 else "decreases"
+    raise InputFileError(
+        f"{source}: time {what} at sample {sample}; allowed: strictly increasing times",
+        parameter="file",
+    )
 
 
 def check_kind_layout(record: RunRecord, source: str) -> None:

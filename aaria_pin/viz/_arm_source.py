@@ -168,7 +168,7 @@ def _load(file: str | os.PathLike[str]) -> RunView:
     try:
         task = stored_task(view.record)
     except InputFileError as exc:
-        raise InputFileError(f"{file}: {exc}", parameter="run") from None
+        raise InputFileError(f"{file}: {exc}", parameter="file") from None
     if task is None:  # the loader of pick-place runs: the probe said it is one
         raise InputFileError(f"{file}: not a pick-place run", parameter="run")
     c = task.cylinder

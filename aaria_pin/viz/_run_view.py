@@ -236,7 +236,8 @@ class RunFile:
     """A run to draw: its file, and its record, read once.
 
     Every run kind's probe is given one (it is path-like: ``os.fspath`` gives the file, so a
-    probe or a loader written for a path takes it too). The record is read on first use
+    probe or a loader written for a path takes it too; ``str`` gives the file, or ``run K of
+    FILE``, for a message). The record is read on first use
     (:attr:`record`) and kept, so the probes and the loader read the file once.
 
     Attributes:
@@ -250,6 +251,12 @@ class RunFile:
 
     def __fspath__(self) -> str:
         return os.fspath(self.path)
+
+    def __str__(self) -> str:
+        """How a message names the run: ``FILE``, or ``run K of FILE`` for a data set's run."""
+        from aaria_pin.core.record_checks import record_source
+
+        return record_source(self.path, self.run)
 
     @property
     def title(self) -> str:

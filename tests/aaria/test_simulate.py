@@ -288,3 +288,23 @@ def test_the_deprecated_dh_producers_warn_and_equal_the_request() -> None:
         np.testing.assert_array_equal(other.imu, expected.imu)
         np.testing.assert_array_equal(other.q, expected.q)
     assert expected.n_samples == 21 and np.abs(expected.imu).max() > 0
+
+
+def test_a_stored_mount_that_is_not_rigid_names_the_file_not_the_option() -> None:
+    from aaria_pin.aaria.simulate import dh_request, dh_request_from_record
+    from aaria_pin.errors import InputFileError, ParameterError
+
+    fig2 = get_preset("aaria-fig2")
+    from dataclasses import replace
+
+    whole = dh_request(fig2.table, duration=0.2, rate=20.0).record()
+    bent = replace(whole.imu_mounts[0], T_parent_imu=np.diag([2.0, 1.0, 1.0, 1.0]))
+    stored = replace(whole, imu_mounts=(bent, *whole.imu_mounts[1:]))
+    with pytest.raises(InputFileError) as error:
+        dh_request_from_record(stored, source="run.h5")
+    assert error.value.parameter == "file"
+    message = str(error.value)
+    assert message.startswith("run.h5: imu_mount of ") and "not a rigid" in message
+    with pytest.raises(ParameterError) as given:  # the mounts given replace the file's
+        dh_request_from_record(stored, imu_mount=stored.imu_mount)
+    assert given.value.parameter == "imu_mount"

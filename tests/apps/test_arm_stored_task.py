@@ -58,3 +58,65 @@ def test_damaged_task_attributes_are_an_input_file_error(damage: dict[str, objec
     with pytest.raises(InputFileError, match="pick-place attributes cannot be used") as error:
         stored_task(damaged)
     assert error.value.parameter == "record"
+
+
+@pytest.mark.parametrize(
+    "cylinder", [[1, 2], "round", {"x": 0.3}, {"x": "a", "y": 0, "radius": 1, "height": 1}]
+)
+def test_a_malformed_cylinder_is_refused_in_one_line(cylinder: object) -> None:
+    from aaria_pin.apps.arm.run import stored_cylinder
+
+    with pytest.raises(InputFileError, match=r"^attribute 'cylinder' is .*; allowed: an object"):
+        stored_cylinder({"cylinder": cylinder})
+    record = open_record(FIXTURES / "v0_3_0" / "pick_place_run.h5")
+    damaged = replace(record, attributes={**record.attributes, "cylinder": cylinder})
+    with pytest.raises(InputFileError, match="attribute 'cylinder' is"):
+        stored_task(damaged)
+
+
+def test_a_preset_or_source_that_is_not_text_is_refused() -> None:
+    from aaria_pin.apps.arm.run import stored_preset
+
+    assert stored_preset({}) == "pick-place-arm"
+    assert stored_preset({"preset": "", "source": "pick-place-arm"}) == "pick-place-arm"
+    for name in ("preset", "source"):
+        with pytest.raises(InputFileError, match=rf"^attribute '{name}' is 3; allowed") as error:
+            stored_preset({name: 3})
+        assert error.value.parameter == "file"
+
+
+@pytest.mark.filterwarnings("ignore")
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["simulate", "--from", "{file}", "-o", "{out}"],
+        ["plot", "{file}", "-o", "{out}.png"],
+        ["render", "--from", "{file}", "-o", "{out}.png"],
+    ],
+)
+def test_the_cli_names_the_file_of_a_malformed_cylinder(tmp_path: Path, argv: list[str]) -> None:
+    import shutil
+
+    import h5py
+    from click.testing import CliRunner
+
+    from aaria_pin.cli import main
+
+    file = tmp_path / "pp.h5"
+    shutil.copy(FIXTURES / "v0_3_0" / "pick_place_run.h5", file)
+    with h5py.File(file, "r+") as handle:
+        handle.attrs.pop("checksums", None)
+        handle.attrs["cylinder_json"] = "[1, 2]"
+    names = {"file": str(file), "out": str(tmp_path / "out.h5")}
+    result = CliRunner().invoke(main, [a.format(**names) for a in argv])
+    assert result.exit_code == 2, result.output
+    last = result.stderr.strip().splitlines()[-1]
+    assert last.startswith(f"aaria: error: {file}: "), last
+    assert "attribute 'cylinder' is [1, 2]" in last and "RunFile(" not in last
+
+
+def test_a_run_file_is_named_by_its_path_and_a_data_set_run_by_its_index() -> None:
+    from aaria_pin.viz._run_view import dataset_run, run_file
+
+    assert str(run_file("a/run.h5")) == "a/run.h5"
+    assert str(dataset_run("ds.h5", 3)) == "run 3 of ds.h5"

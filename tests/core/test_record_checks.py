@@ -138,3 +138,18 @@ def test_matlab_numbers_for_a_bool_and_a_seed_are_accepted() -> None:
     assert check_attributes({}, "run.h5") is None  # every shared attribute has a default
     with pytest.raises(InputFileError):
         check_attributes({"noise": 2}, "run.mat")  # 0 and 1 only
+
+
+@pytest.mark.parametrize(("value", "what"), [(-1.0, "decreases"), (0.04, "repeats")])
+def test_times_that_do_not_strictly_increase_are_refused(value: float, what: str) -> None:
+    record = _record()
+    record.time[5] = value
+    with pytest.raises(InputFileError) as error:
+        check_record(record, "run.h5")
+    assert str(error.value) == (
+        f"run.h5: time {what} at sample 5; allowed: strictly increasing times"
+    )
+    assert error.value.parameter == "file"
+    check_record(record, "run.h5", series=False)  # the series were not read
+    one = _record(samples=1)
+    check_record(one, "run.h5")  # a single sample has no order to check

@@ -278,17 +278,27 @@ def stored_cylinder(attributes: Mapping[str, Any]) -> Cylinder:
     """The cylinder a pick-and-place record's ``cylinder`` attribute describes.
 
     Raises:
-        KeyError, TypeError, ValueError: an attribute that is missing or not numbers.
+        KeyError: no ``cylinder`` attribute.
+        InputFileError: one that is not an object of the numbers ``x``, ``y``, ``radius``,
+            ``height``, ``mass`` (``parameter="file"``).
         ParameterError: a cylinder that is not physical (as :class:`Cylinder`).
     """
+    from aaria_pin.errors import InputFileError
+
     c = attributes["cylinder"]
-    return Cylinder(
-        float(c["x"]),
-        float(c["y"]),
-        radius=float(c["radius"]),
-        height=float(c["height"]),
-        mass=float(c["mass"]),
-    )
+    try:
+        if not isinstance(c, Mapping):
+            raise TypeError
+        x, y, radius, height, mass = (
+            float(c[key]) for key in ("x", "y", "radius", "height", "mass")
+        )
+    except (KeyError, TypeError, ValueError):
+        raise InputFileError(
+            f"attribute 'cylinder' is {c!r}; allowed: an object of the numbers x, y, radius,"
+            " height, mass",
+            parameter="file",
+        ) from None
+    return Cylinder(x, y, radius=radius, height=height, mass=mass)
 
 
 def stored_preset(attributes: Mapping[str, Any]) -> str:
@@ -296,7 +306,19 @@ def stored_preset(attributes: Mapping[str, Any]) -> str:
 
     Its ``preset`` attribute, else its ``source``, else ``"pick-place-arm"`` (a 0.1.0 file may
     name none).
+
+    Raises:
+        InputFileError: a ``preset`` or ``source`` that is not text (``parameter="file"``).
     """
+    from aaria_pin.errors import InputFileError
+
+    for name in ("preset", "source"):
+        value = attributes.get(name)
+        if value is not None and not isinstance(value, str):
+            raise InputFileError(
+                f"attribute {name!r} is {value!r}; allowed: an arm preset's name (text)",
+                parameter="file",
+            )
     return str(attributes.get("preset") or attributes.get("source") or PICK_PLACE_ROBOT)
 
 
