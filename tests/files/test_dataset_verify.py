@@ -189,3 +189,24 @@ def test_any_flipped_chunk_is_found_or_harmless(
         assert set(check_file(path).damaged) == failed
 
     flipped()
+
+
+@pytest.mark.parametrize(
+    "name", ["tau", "signals", "urdf", "imu_names", "imu_mount", "complete", "checksum", "failed"]
+)
+def test_an_array_replaced_by_a_group_is_one_line(made: Path, tmp_path: Path, name: str) -> None:
+    def regroup(handle: h5py.File) -> None:
+        del handle[name]
+        handle.create_group(name)
+
+    path = changed(made, tmp_path, regroup)
+    with pytest.raises(InputFileError) as caught:
+        DatasetReader(path)
+    assert str(caught.value) == (
+        f"{path}: {name!r} is not an array; allowed: an array (re-make the file)"
+    )
+    assert caught.value.parameter == "file"
+    from aaria_pin.files.source import open_record
+
+    with pytest.raises(InputFileError, match=re.escape(f"{name!r} is not an array")):
+        open_record(path, run=0)

@@ -29,7 +29,7 @@ import numpy as np
 
 from aaria_pin.core.record_checks import check_finite
 from aaria_pin.errors import InputFileError
-from aaria_pin.files._stored import first_line
+from aaria_pin.files._stored import HDF5_READ_ERRORS, first_line, require_arrays
 from aaria_pin.files.dataset.layout import array_checksum
 
 __all__ = [
@@ -40,7 +40,7 @@ __all__ = [
     "run_check",
 ]
 
-READ_ERRORS = (OSError, RuntimeError, ValueError, KeyError, TypeError)
+READ_ERRORS = HDF5_READ_ERRORS
 """What h5py raises on a damaged file: a chunk that does not inflate (OSError), a broken index
 or a missing source."""
 
@@ -186,6 +186,7 @@ def check_arrays(
     Raises:
         InputFileError: naming the first array missing or of the wrong shape.
     """
+    require_arrays(handle, path, (*shapes, "complete", "failed"))
     for name, shape in {**shapes, "complete": ()}.items():
         if name not in handle:
             raise InputFileError(
