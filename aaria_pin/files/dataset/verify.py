@@ -36,6 +36,7 @@ __all__ = [
     "READ_ERRORS",
     "RunCheck",
     "check_arrays",
+    "check_flags",
     "damaged_run",
     "run_check",
 ]
@@ -201,6 +202,39 @@ def check_arrays(
             raise InputFileError(
                 f"{path}: a damaged data set: array {name!r} has shape "
                 f"{' × '.join(map(str, stored)) or 'scalar'}; allowed: {wanted} (N = {n_runs})",
+                parameter="file",
+                value=str(path),
+            )
+    check_flags(handle, path, n_runs)
+
+
+def check_flags(handle: Any, path: Path, n_runs: int) -> None:
+    """Refuse ``complete``/``failed`` other than N integers 0 or 1, a ``checksum`` not unsigned.
+
+    Raises:
+        InputFileError: naming the first such array (``parameter="file"``).
+    """
+    for name, allowed in (
+        ("complete", f"{n_runs} integers 0 or 1"),
+        ("failed", f"{n_runs} integers 0 or 1"),
+        ("checksum", "unsigned integers (CRC-32)"),
+    ):
+        if name not in handle:
+            continue
+        dataset = handle[name]
+        if name == "checksum":
+            wrong = dataset.dtype.kind != "u"
+        else:
+            values = np.asarray(dataset[()])
+            wrong = (
+                values.shape != (n_runs,)
+                or values.dtype.kind not in "biu"
+                or not bool(np.isin(values, (0, 1)).all())
+            )
+        if wrong:
+            raise InputFileError(
+                f"{path}: a damaged data set: array {name!r} is not "
+                f"{allowed}; allowed: {allowed} (make the data set again)",
                 parameter="file",
                 value=str(path),
             )
