@@ -25,6 +25,7 @@ from aaria_pin.core.record import SERIES, UNITS, ColumnSource, ColumnView
 from aaria_pin.errors import AariaError, InputFileError, OutputFileError
 
 __all__ = [
+    "HDF5_READ_ERRORS",
     "JSON_SUFFIX",
     "NAME_LISTS",
     "STORED_NAMES",
@@ -38,6 +39,7 @@ __all__ = [
     "decode_attributes",
     "encode_attributes",
     "first_line",
+    "require_arrays",
     "units_of",
     "view_blocks",
     "write_attributes",
@@ -413,6 +415,10 @@ def first_line(exc: BaseException) -> str:
     return text.splitlines()[0] if text else type(exc).__name__
 
 
+HDF5_READ_ERRORS = (OSError, RuntimeError, ValueError, TypeError, KeyError)
+"""What h5py raises reading a damaged file (RuntimeError: damaged metadata)."""
+
+
 @contextlib.contextmanager
 def read_errors(file: str | os.PathLike[str], what: str) -> Iterator[None]:
     """Turn h5py's (or the OS's) errors on reading ``file`` into a one-line InputFileError.
@@ -425,12 +431,22 @@ def read_errors(file: str | os.PathLike[str], what: str) -> Iterator[None]:
         yield
     except InputFileError:
         raise
-    except (OSError, ValueError, TypeError, KeyError) as exc:
+    except HDF5_READ_ERRORS as exc:
         raise InputFileError(
             f"{file}: cannot be read as {what} ({first_line(exc)})",
             parameter="file",
             value=str(file),
         ) from None
+
+
+def require_arrays(handle: Any, file: str | os.PathLike[str], names: Iterable[str]) -> None:
+    """Refuse a member of ``names`` of an open HDF5 file that is not an array (InputFileError)."""
+    import h5py
+
+    for name in names:
+        if name in handle and not isinstance(handle.get(name), h5py.Dataset):
+            what = f"{file}: {name!r} is not an array; allowed: an array (re-make the file)"
+            raise InputFileError(what, parameter="file", value=str(file))
 
 
 class DamagedFileError(InputFileError):
@@ -476,7 +492,7 @@ def damaged_errors(file: str | os.PathLike[str], source: str | None = None) -> I
         yield
     except InputFileError:
         raise
-    except (OSError, ValueError, TypeError, KeyError, EOFError, zlib.error) as exc:
+    except (*HDF5_READ_ERRORS, EOFError, zlib.error) as exc:
         if isinstance(exc, AariaError):
             raise
         raise damaged_file(file, first_line(exc), source) from None

@@ -70,7 +70,7 @@ def file_format(path: str | os.PathLike[str]) -> FileFormat:
         try:
             with h5py.File(file, "r") as handle:
                 mark = handle.attrs.get("format")
-        except OSError as exc:
+        except (OSError, RuntimeError) as exc:
             if not has_hdf5_signature(file) or "unable to lock" in str(exc).lower():
                 raise  # not HDF5 at all, or held by a writer: not damage
             with damaged_errors(file):

@@ -189,3 +189,51 @@ def test_any_flipped_chunk_is_found_or_harmless(
         assert set(check_file(path).damaged) == failed
 
     flipped()
+
+
+@pytest.mark.parametrize(
+    "name", ["tau", "signals", "urdf", "imu_names", "imu_mount", "complete", "checksum", "failed"]
+)
+def test_an_array_replaced_by_a_group_is_one_line(made: Path, tmp_path: Path, name: str) -> None:
+    def regroup(handle: h5py.File) -> None:
+        del handle[name]
+        handle.create_group(name)
+
+    path = changed(made, tmp_path, regroup)
+    with pytest.raises(InputFileError) as caught:
+        DatasetReader(path)
+    assert str(caught.value) == (
+        f"{path}: {name!r} is not an array; allowed: an array (re-make the file)"
+    )
+    assert caught.value.parameter == "file"
+    from aaria_pin.files.source import open_record
+
+    with pytest.raises(InputFileError, match=re.escape(f"{name!r} is not an array")):
+        open_record(path, run=0)
+
+
+@pytest.mark.parametrize(
+    ("name", "values", "allowed"),
+    [
+        ("complete", [0.5, 1.0, 1.0], "3 integers 0 or 1"),
+        ("complete", [7, 1, 1], "3 integers 0 or 1"),
+        ("failed", [0, 2, 0], "3 integers 0 or 1"),
+        ("checksum", "float", "unsigned integers (CRC-32)"),
+    ],
+)
+def test_flags_and_checksums_of_another_kind_are_one_line(
+    made: Path, tmp_path: Path, name: str, values: object, allowed: str
+) -> None:
+    def replace(handle: h5py.File) -> None:
+        old = handle[name][()]
+        del handle[name]
+        handle[name] = old.astype(float) + 0.5 if values == "float" else np.array(values)
+
+    path = changed(made, tmp_path, replace)
+    with pytest.raises(InputFileError) as caught:
+        DatasetReader(path)
+    assert str(caught.value) == (
+        f"{path}: a damaged data set: array {name!r} is not {allowed}; allowed: {allowed} "
+        "(make the data set again)"
+    )
+    assert caught.value.parameter == "file"

@@ -35,7 +35,7 @@ from aaria_pin.core.record import (
 )
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
-from aaria_pin.files._stored import NAME_LISTS, STORED_NAMES
+from aaria_pin.files._stored import NAME_LISTS, STORED_NAMES, require_arrays
 from aaria_pin.files.detection import DATASET_FORMAT
 
 __all__ = [
@@ -416,7 +416,15 @@ def record_attributes(
 
 
 def read_layout(handle: Any) -> DatasetLayout:
-    """The layout of an open version 2 data set file."""
+    """The layout of an open version 2 data set file.
+
+    Raises:
+        InputFileError: a name list, ``urdf``, a per-run array, a view or a status array
+            that is not an array (an HDF5 group).
+    """
+    require_arrays(handle, handle.filename, (*NAME_LISTS, "urdf", *STATUS_DATASETS))
     names = {name: tuple(handle[name].asstr()[()]) for name in NAME_LISTS}
     urdf = handle["urdf"].asstr()[()] if "urdf" in handle else ""
-    return DatasetLayout.from_json(handle.attrs["layout_json"], names, urdf)
+    layout = DatasetLayout.from_json(handle.attrs["layout_json"], names, urdf)
+    require_arrays(handle, handle.filename, (*layout.names, *layout.views))
+    return layout

@@ -97,7 +97,7 @@ class DatasetReader:
         self.path = Path(path)
         try:
             self._handle = h5py.File(self.path, "r")
-        except OSError as exc:
+        except READ_ERRORS as exc:
             raise InputFileError(
                 f"{self.path}: cannot be read as a data set ({first_line(exc)})", parameter="file"
             ) from None

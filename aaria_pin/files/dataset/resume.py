@@ -25,6 +25,7 @@ from aaria_pin.files.dataset.layout import (
     codec,
     read_layout,
 )
+from aaria_pin.files.dataset.verify import check_arrays
 
 __all__ = [
     "COPY_BLOCK_RUNS",
@@ -78,6 +79,11 @@ def open_read_only(file: Path) -> Any:
         raise InputFileError(
             f"{file}: not a complete aaria_pin data set; cannot resume it", parameter="path"
         )
+    try:
+        check_arrays(handle, file, int(handle["complete"].shape[0]), {"checksum": None})
+    except InputFileError:
+        handle.close()
+        raise
     return handle
 
 

@@ -29,18 +29,19 @@ import numpy as np
 
 from aaria_pin.core.record_checks import check_finite
 from aaria_pin.errors import InputFileError
-from aaria_pin.files._stored import first_line
+from aaria_pin.files._stored import HDF5_READ_ERRORS, first_line, require_arrays
 from aaria_pin.files.dataset.layout import array_checksum
 
 __all__ = [
     "READ_ERRORS",
     "RunCheck",
     "check_arrays",
+    "check_flags",
     "damaged_run",
     "run_check",
 ]
 
-READ_ERRORS = (OSError, RuntimeError, ValueError, KeyError, TypeError)
+READ_ERRORS = HDF5_READ_ERRORS
 """What h5py raises on a damaged file: a chunk that does not inflate (OSError), a broken index
 or a missing source."""
 
@@ -186,6 +187,7 @@ def check_arrays(
     Raises:
         InputFileError: naming the first array missing or of the wrong shape.
     """
+    require_arrays(handle, path, (*shapes, "complete", "failed"))
     for name, shape in {**shapes, "complete": ()}.items():
         if name not in handle:
             raise InputFileError(
@@ -200,6 +202,39 @@ def check_arrays(
             raise InputFileError(
                 f"{path}: a damaged data set: array {name!r} has shape "
                 f"{' × '.join(map(str, stored)) or 'scalar'}; allowed: {wanted} (N = {n_runs})",
+                parameter="file",
+                value=str(path),
+            )
+    check_flags(handle, path, n_runs)
+
+
+def check_flags(handle: Any, path: Path, n_runs: int) -> None:
+    """Refuse ``complete``/``failed`` other than N integers 0 or 1, a ``checksum`` not unsigned.
+
+    Raises:
+        InputFileError: naming the first such array (``parameter="file"``).
+    """
+    for name, allowed in (
+        ("complete", f"{n_runs} integers 0 or 1"),
+        ("failed", f"{n_runs} integers 0 or 1"),
+        ("checksum", "unsigned integers (CRC-32)"),
+    ):
+        if name not in handle:
+            continue
+        dataset = handle[name]
+        if name == "checksum":
+            wrong = dataset.dtype.kind != "u"
+        else:
+            values = np.asarray(dataset[()])
+            wrong = (
+                values.shape != (n_runs,)
+                or values.dtype.kind not in "biu"
+                or not bool(np.isin(values, (0, 1)).all())
+            )
+        if wrong:
+            raise InputFileError(
+                f"{path}: a damaged data set: array {name!r} is not "
+                f"{allowed}; allowed: {allowed} (make the data set again)",
                 parameter="file",
                 value=str(path),
             )
