@@ -36,8 +36,12 @@ import numpy as np
 
 from aaria_pin.errors import OutputFileError
 from aaria_pin.files._stored import first_line
-from aaria_pin.files.dataset.layout import DatasetLayout, EncodedRun, chunk_origins
-from aaria_pin.files.dataset.resume import read_run_chunks
+from aaria_pin.files.dataset.layout import (
+    DatasetLayout,
+    EncodedRun,
+    chunk_origins,
+    read_run_chunks,
+)
 from aaria_pin.files.dataset.store import _new_file
 from aaria_pin.files.paths import atomic_output
 

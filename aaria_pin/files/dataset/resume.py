@@ -1,15 +1,15 @@
 """Resuming a data set: open it read-only, verify each complete run's chunks, keep the intact.
 
 A run flagged complete is intact when its stored chunks inflate and their CRC-32s are those
-``checksum`` recorded (:func:`read_run_chunks`); a resumed job copies the intact runs into a
-fresh file (:func:`copy_intact_runs`) or, with no room for a copy, clears the flags of the
-damaged ones in place (:func:`unflag_damaged_runs`).
+``checksum`` recorded (:func:`~.layout.read_run_chunks`); a resumed job copies the intact
+runs into a fresh file (:func:`copy_intact_runs`) or, with no room for a copy, clears the flags
+of the damaged ones in place (:func:`unflag_damaged_runs`).
 """
 
 from __future__ import annotations
 
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -21,9 +21,8 @@ from aaria_pin.files.dataset.layout import (
     DATASET_FORMAT,
     DATASET_FORMAT_VERSION,
     DatasetLayout,
-    chunk_origins,
-    codec,
     read_layout,
+    read_run_chunks,
 )
 from aaria_pin.files.dataset.verify import check_arrays
 
@@ -34,7 +33,6 @@ __all__ = [
     "dataset_progress",
     "open_read_only",
     "read_dataset_attributes",
-    "read_run_chunks",
     "unflag_damaged_runs",
 ]
 
@@ -192,40 +190,6 @@ def damaged_runs(path: str | os.PathLike[str]) -> list[int]:
         return [run for _, damaged in _verified_runs(handle, layout) for run in damaged]
     finally:
         handle.close()
-
-
-def read_run_chunks(
-    handle: Any, names: Sequence[str], row: int
-) -> tuple[list[tuple[str, tuple[int, ...], bytes]], list[int], list[int]]:
-    """The stored chunk bytes of one run (row ``row`` of each array) and each array's CRC-32s.
-
-    Returns:
-        ``(name, chunk origin with the row, bytes)`` of every chunk in storage order; the
-        CRC-32 of each array's chunks once inflated, in ``names`` order (what ``checksum``
-        records, :func:`~.layout.encode_run`); and the CRC-32 of their stored (deflated) bytes
-        (what files written before the checksums were of uncompressed bytes recorded).
-
-    Raises:
-        OSError, KeyError, RuntimeError, zlib.error: a chunk or an array cannot be read or
-            inflated.
-    """
-    _, decompress, crc32 = codec()  # ISA-L's CRC-32: 4 µs a 200 kB chunk against zlib's 49
-    chunks, plain, stored = [], [], []
-    for name in names:
-        dataset = handle[name]
-        plain_crc = stored_crc = 0
-        for origin in chunk_origins(dataset.shape[1:], dataset.chunks[1:]):
-            where = (row, *origin)
-            _, data = dataset.id.read_direct_chunk(where)
-            stored_crc = crc32(data, stored_crc)
-            try:
-                plain_crc = crc32(decompress(data), plain_crc)
-            except Exception as exc:  # isal's and zlib's own error classes
-                raise OSError(f"chunk {where} of {name} cannot be inflated ({exc})") from None
-            chunks.append((name, where, data))
-        plain.append(plain_crc)
-        stored.append(stored_crc)
-    return chunks, plain, stored
 
 
 def dataset_progress(path: str | os.PathLike[str]) -> tuple[int, int, bool]:

@@ -136,7 +136,7 @@ class RunCheck:
 
     def _deflated_match(self, handle: Any, name: str, run: int, recorded: int) -> bool:
         """Whether an early 0.2 file's checksum (of the deflated chunks) matches the array's."""
-        from aaria_pin.files.dataset.resume import read_run_chunks
+        from aaria_pin.files.dataset.layout import read_run_chunks
 
         dataset = handle[name]
         if dataset.is_virtual or dataset.chunks is None:
