@@ -105,6 +105,7 @@ def _check_dataset(file: Path) -> FileCheck:
     """Every complete run of a data set, each checked whole (see the module docstring)."""
     import numpy as np
 
+    from aaria_pin.core.record_checks import check_attributes, check_kind
     from aaria_pin.errors import InputFileError
     from aaria_pin.files.dataset.reader import DatasetReader
 
@@ -115,6 +116,12 @@ def _check_dataset(file: Path) -> FileCheck:
     damaged: dict[int | None, str] = {}
     with reader:
         complete = [int(run) for run in np.flatnonzero(reader.complete)]
+        try:  # the attributes every run shares (kind, rate, ...), as a command checks them
+            if reader.layout is not None:  # version 1 (0.1) stores them in its own forms
+                check_attributes(reader.attributes, str(file))
+                check_kind(reader.attributes, str(file))
+        except InputFileError as exc:
+            return FileCheck(file, "dataset", len(reader), len(complete), {None: str(exc)})
         for run in complete:
             try:
                 reader.check_run(run)

@@ -40,6 +40,7 @@ __all__ = [
     "KIND_TABLES",
     "check_attributes",
     "check_finite",
+    "check_kind",
     "check_kind_layout",
     "check_record",
     "check_time",
@@ -169,20 +170,30 @@ def check_time(time: Array, source: str) -> None:
     )
 
 
+def check_kind(attributes: Mapping[str, Any], source: str) -> str | None:
+    """The ``kind`` attribute, refused unless a known kind (None: a file from before kinds).
+
+    Raises:
+        InputFileError: as :func:`check_record`.
+    """
+    kind = attributes.get("kind")
+    if kind is not None and (not isinstance(kind, str) or kind not in KIND_TABLES):
+        raise InputFileError(
+            f"{source}: attribute 'kind' is {kind!r}; allowed: {', '.join(KIND_TABLES)}",
+            parameter="file",
+        )
+    return kind
+
+
 def check_kind_layout(record: RunRecord, source: str) -> None:
     """Refuse an unknown ``kind`` or a run without the tables its kind keeps.
 
     Raises:
         InputFileError: as :func:`check_record`.
     """
-    kind = record.attributes.get("kind")
+    kind = check_kind(record.attributes, source)
     if kind is None:
         return  # written before kinds were stored: recognised by its tables when re-made
-    if not isinstance(kind, str) or kind not in KIND_TABLES:
-        raise InputFileError(
-            f"{source}: attribute 'kind' is {kind!r}; allowed: {', '.join(KIND_TABLES)}",
-            parameter="file",
-        )
     required = KIND_TABLES[kind]
     missing = [name for name in required if name not in record.tables]
     if missing:

@@ -69,3 +69,29 @@ def test_what_is_not_a_file_to_check_raises(tmp_path: Path) -> None:
     with pytest.raises(InputFileError) as bad:
         check_file(other)
     assert bad.value.parameter == "file"
+
+
+def test_a_data_set_attribute_a_command_refuses_is_found_by_check(tmp_path: Path) -> None:
+    """``check`` and ``torques`` agree: a bogus kind or a rate of 0 is damage to both."""
+    from aaria_pin.files.dataset.reader import DatasetReader
+
+    made = small_dataset(tmp_path / "ds.h5")
+    for name, value in (("kind", "bogus"), ("rate", 0.0)):
+        path = tmp_path / f"{name}.h5"
+        shutil.copy(made, path)
+        with h5py.File(path, "r+") as handle:
+            handle.attrs[name] = value
+        result = check_file(path)
+        assert not result.ok and None in result.damaged, name
+        with DatasetReader(path) as reader, pytest.raises(InputFileError) as refused:
+            reader.record(0)
+        assert name in str(refused.value) and name in result.damaged[None]
+
+
+def test_every_fixture_of_earlier_versions_checks_intact() -> None:
+    """No false alarm: the 0.1, 0.2 and 0.3 files (run files and data sets) are intact."""
+    fixtures = Path(__file__).parents[1] / "fixtures"
+    files = sorted(p for p in fixtures.glob("v0_*/*") if p.suffix in (".h5", ".mat"))
+    assert len(files) > 10
+    for path in files:
+        assert check_file(path).ok, path
