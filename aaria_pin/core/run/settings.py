@@ -139,15 +139,12 @@ class RunSettings:
             )
         if isinstance(self.threads, bool) or self.threads < 1:
             raise ParameterError(parameter="threads", value=self.threads, allowed=">= 1")
-        try:
-            gravity = np.asarray(self.gravity, dtype=float)
-        except (TypeError, ValueError):
-            gravity = np.full(1, np.nan)
-        if gravity.shape != (3,) or not np.isfinite(gravity).all():
+        gravity = _gravity_vector(self.gravity)
+        if gravity is None:
             raise ParameterError(
                 parameter="gravity", value=self.gravity, allowed="three finite numbers [m/s²]"
             )
-        object.__setattr__(self, "gravity", tuple(float(g) for g in gravity))
+        object.__setattr__(self, "gravity", gravity)
         if self.dtype not in DTYPES:
             raise ParameterError(parameter="dtype", value=self.dtype, allowed=", ".join(DTYPES))
 
@@ -203,13 +200,21 @@ def _stored_gravity(attributes: Mapping[str, Any]) -> tuple[float, float, float]
         InputFileError: a stored gravity that is not three finite numbers.
     """
     stored = attributes.get("gravity", GRAVITY_VECTOR)
-    try:
-        gravity = np.asarray(stored, dtype=float)
-    except (TypeError, ValueError):
-        gravity = np.full(1, np.nan)
-    if gravity.shape != (3,) or not np.isfinite(gravity).all():
+    gravity = _gravity_vector(stored)
+    if gravity is None:
         raise InputFileError(
             f"the run's attribute 'gravity' is {stored!r}; allowed: three finite numbers [m/s²]",
             parameter="gravity",
         )
+    return gravity
+
+
+def _gravity_vector(value: Any) -> tuple[float, float, float] | None:
+    """``value`` as three finite numbers [m/s²], or None (the one rule, given or stored)."""
+    try:
+        gravity = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return None
+    if gravity.shape != (3,) or not np.isfinite(gravity).all():
+        return None
     return (float(gravity[0]), float(gravity[1]), float(gravity[2]))
