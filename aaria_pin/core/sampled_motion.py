@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.core.arguments import checked
+from aaria_pin.core.oscillation import RANGE_TOLERANCE
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import (
     DEFAULT_RATE,
@@ -198,7 +199,7 @@ def check_trajectory(
     low = np.broadcast_to(np.asarray(lower, dtype=float), (n_joints,))
     high = np.broadcast_to(np.asarray(upper, dtype=float), (n_joints,))
     q_min, q_max = arrays["q"].min(axis=0), arrays["q"].max(axis=0)
-    outside = (q_min < low - 1e-12) | (q_max > high + 1e-12)
+    outside = (q_min < low - RANGE_TOLERANCE) | (q_max > high + RANGE_TOLERANCE)
     if np.any(outside):
         j = int(np.argmax(outside))
         raise ParameterError(

@@ -234,7 +234,7 @@ class DatasetReader:
             InputFileError: the run is damaged or not finite (see :meth:`run`).
         """
         record = self._record(index)
-        check_record(record, record_source(self.path, index))  # as a run file's
+        check_record(record, record_source(self.path, index), finite=False)  # read: checked
         return record
 
     def _record(self, index: int) -> RunRecord:
