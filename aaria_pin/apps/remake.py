@@ -23,7 +23,6 @@ from aaria_pin.core.record import RunRecord
 from aaria_pin.errors import InputFileError
 
 __all__ = [
-    "RUN_KINDS",
     "remake_file_record",
     "remake_record",
     "remake_run",
@@ -31,17 +30,14 @@ __all__ = [
     "simulate_urdf_from_run_file",
 ]
 
-RUN_KINDS = ("dh", "urdf", "wrist", "pick-place")
-"""The kinds of run (``attributes["kind"]``) that can be re-made, registered by their modules."""
-
-
 _KIND_MODULES = (
     "aaria_pin.aaria.simulate",
     "aaria_pin.core.urdf_run",
     "aaria_pin.apps.wrist.run",
     "aaria_pin.apps.arm.run",
 )
-"""The modules that define the kinds of :data:`RUN_KINDS`, in that order."""
+"""The modules that register the run kinds that can be re-made (``attributes["kind"]``: dh,
+urdf, wrist, pick-place; :data:`~aaria_pin.core.record_checks.KIND_TABLES`)."""
 
 
 def _registered() -> None:
@@ -132,16 +128,10 @@ def simulate_urdf_from_run_file(path: str | os.PathLike[str], **overrides: Any) 
     Returns:
         The run record; with no overrides it equals the stored one.
     """
-    import warnings
-
+    from aaria_pin.core.run.deprecation import warn_deprecated
     from aaria_pin.core.urdf_run import urdf_request_from_record
     from aaria_pin.files.runfile import read_run_inputs
 
-    warnings.warn(
-        "simulate_urdf_from_run_file is deprecated; use aaria_pin.apps.remake.remake_run(path, "
-        "**overrides) (it goes in the next release)",
-        DeprecationWarning,
-        stacklevel=2,
-    )
+    warn_deprecated("simulate_urdf_from_run_file", "aaria_pin.apps.remake.remake_run(path, **o)")
 
     return urdf_request_from_record(read_run_inputs(path), **overrides).record()
