@@ -27,6 +27,10 @@ DATASET_STREAMS = ("structure", "joints", "base", "noise")
 ``SeedSequence(S, spawn_key=(k, DATASET_STREAMS.index(name)))``. The order is part of the file
 format: every data set since 0.2 was drawn from it (``noise_stream`` 3 is stored in the file)."""
 
+SENSOR_PARTS = ("imu", "encoder", "torque_sensor", "actuator")
+"""The sensor-error streams of a run, children of its sensor seed (:func:`sensor_sequence`):
+part ``name`` is spawn-key element ``SENSOR_PARTS.index(name)`` below it. Part of the file format."""
+
 SINGLE_STREAMS = {"fourier": 1}
 """The streams of a single run with ``--seed S`` beside its noise (``default_rng(S)``): stream
 ``name`` is ``SeedSequence(S, spawn_key=(SINGLE_STREAMS[name],))``."""
@@ -140,3 +144,36 @@ def stored_seed(attributes: dict[str, Any]) -> int | np.random.SeedSequence:
     if "noise_spawn_key" in attributes:  # a run of a data set
         return np.random.SeedSequence(seed, spawn_key=tuple(attributes["noise_spawn_key"]))
     return int(seed)
+
+
+SENSOR_SEED_PART = {"single": 2, "dataset": 4}
+"""The spawn-key part of a run's sensor-error seed beside its noise seed: ``SeedSequence(S,
+spawn_key=(2,))`` for a single run with seed S, ``SeedSequence(S, spawn_key=(k, 4))`` for run k of
+a data set (its noise is part 3). New in 0.4: the IMU noise of earlier runs is unchanged, and a
+run whose every new term is off draws nothing from it."""
+
+
+def sensor_sequence(noise_seed: int | np.random.SeedSequence, part: str) -> np.random.SeedSequence:
+    """The ``SeedSequence`` of a run's sensor-error stream ``part`` (:data:`SENSOR_PARTS`).
+
+    Derived from the run's noise seed (which every run file records), so ``--from`` re-derives
+    it: a single run's integer seed S gives ``SeedSequence(S, spawn_key=(2, i))``, a data set
+    run's noise ``SeedSequence(S, spawn_key=(k, 3))`` gives ``SeedSequence(S, spawn_key=(k, 4, i))``
+    with ``i = SENSOR_PARTS.index(part)``.
+
+    Raises:
+        ParameterError: an unknown part (parameter ``stream``).
+    """
+    import numpy as np
+
+    if part not in SENSOR_PARTS:
+        raise ParameterError(parameter="stream", value=part, allowed=", ".join(SENSOR_PARTS))
+    index = SENSOR_PARTS.index(part)
+    if isinstance(noise_seed, np.random.SeedSequence):
+        key = tuple(noise_seed.spawn_key)
+        head = key[:-1] if key else ()
+        return np.random.SeedSequence(
+            noise_seed.entropy, spawn_key=(*head, SENSOR_SEED_PART["dataset"], index)
+        )
+    check_seed(noise_seed)
+    return np.random.SeedSequence(int(noise_seed), spawn_key=(SENSOR_SEED_PART["single"], index))

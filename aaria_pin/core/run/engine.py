@@ -24,6 +24,7 @@ from aaria_pin.core.arguments import checked
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.record import SERIES, RunRecord
 from aaria_pin.core.run.chunks import chunk_bounds, join_chunks
+from aaria_pin.core.run.measured import run_sensors
 from aaria_pin.core.run.motion import Motion, SineTable
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.run.sensor import Sensor, SensorState, measure, sensor_attributes
@@ -135,11 +136,13 @@ def simulate_pieces(
     settings = RunSettings() if settings is None else settings
     seed = noise_seed(seeds)
     run_motion: Motion = SineTable() if motion is None else motion
-    samples = settings.samples(whole=run_motion.whole)
+    whole = run_motion.whole or settings.needs_whole_run
+    samples = settings.samples(whole=whole)
     run_motion = run_motion.checked(robot, samples, settings.rate)
     motion_tables, motion_attributes = run_motion.record(robot)
     tables = {**robot.tables, **motion_tables}
-    pieces = chunk_bounds(samples, None if run_motion.whole else settings.chunk)
+    pieces = chunk_bounds(samples, None if whole else settings.chunk)
+    sensors = (*run_sensors(robot, settings, seed), *sensors)  # type: ignore[arg-type]
     stream = noise_stream(
         samples,
         len(robot.imu_frames),

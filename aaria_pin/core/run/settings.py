@@ -16,6 +16,7 @@ import numpy as np
 
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, noise_attributes
+from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
 from aaria_pin.core.model import GRAVITY
 from aaria_pin.core.run.chunks import CHUNK_SAMPLES
 from aaria_pin.core.run_metadata import stored_sampling
@@ -112,6 +113,9 @@ class RunSettings:
             memory exactly what a ``float32`` data set stores and reads back (the series are
             rounded to float32 and held as float64, as :func:`~aaria_pin.files.source.open_record`
             returns them); the computation is float64 either way
+        encoder: the joint encoders (None: none; the record then has no ``q_measured``)
+        torque_sensor: the joint torque sensors (None: none; no ``tau_measured``)
+        actuator: the joints' motors and gearboxes (None: none; no ``tau_motor``)
 
     Raises:
         ParameterError: a duration or rate outside its range or giving fewer than two samples
@@ -127,6 +131,9 @@ class RunSettings:
     threads: int = 1
     gravity: tuple[float, float, float] = GRAVITY_VECTOR
     dtype: Literal["float64", "float32"] = "float64"
+    encoder: EncoderModel | None = None
+    torque_sensor: TorqueSensorModel | None = None
+    actuator: ActuatorModel | None = None
 
     def __post_init__(self) -> None:
         sample_count(self.duration, self.rate, None)  # ranges, and two samples at least
@@ -147,6 +154,11 @@ class RunSettings:
         object.__setattr__(self, "gravity", gravity)
         if self.dtype not in DTYPES:
             raise ParameterError(parameter="dtype", value=self.dtype, allowed=", ".join(DTYPES))
+
+    @property
+    def needs_whole_run(self) -> bool:
+        """Whether the run must be computed in one piece (IMU terms over the whole run)."""
+        return bool(self.noise and getattr(self.noise_model, "needs_whole_run", False))
 
     def samples(self, whole: bool = False) -> int:
         """T, the run's samples, within the bound of a run in pieces or (``whole``) held whole.
