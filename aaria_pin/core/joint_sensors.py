@@ -11,8 +11,23 @@ kg. 0 turns a term off.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, fields
+from typing import Any, TypeVar
+
+import numpy as np
+
+from aaria_pin.errors import ParameterError
+
+__all__ = [
+    "ActuatorModel",
+    "EncoderModel",
+    "JointValue",
+    "TorqueSensorModel",
+    "model_attributes",
+    "model_from_attributes",
+    "per_joint",
+]
 
 JointValue = float | Sequence[float]
 """One value for every joint, or one per joint (record order)."""
@@ -75,3 +90,45 @@ class ActuatorModel:
     stribeck_torque: JointValue = 0.0
     stribeck_velocity: JointValue = 0.1
     torque_limit: JointValue = 0.0
+
+
+Model = TypeVar("Model", EncoderModel, TorqueSensorModel, ActuatorModel)
+
+
+def per_joint(value: JointValue, joints: int, name: str) -> np.ndarray:
+    """A model's value for each of ``joints`` joints, float64 (a number repeated, or checked).
+
+    Raises:
+        ParameterError: a sequence of another length (parameter ``name``).
+    """
+    values = np.asarray(value, dtype=float)
+    if values.ndim == 0:
+        return np.full(joints, float(values))
+    if values.shape != (joints,):
+        raise ParameterError(
+            f"{name} has {values.size} values; allowed: one number or {joints} (one per joint)",
+            parameter=name,
+            value=value,
+            allowed=f"one number or {joints} values",
+        )
+    return values.copy()
+
+
+def model_attributes(model: EncoderModel | TorqueSensorModel | ActuatorModel) -> dict[str, Any]:
+    """A model's fields as a run records them: numbers, or lists of per-joint numbers."""
+    out: dict[str, Any] = {}
+    for f in fields(model):
+        value = getattr(model, f.name)
+        out[f.name] = float(value) if np.ndim(value) == 0 else [float(v) for v in value]
+    return out
+
+
+def model_from_attributes(cls: type[Model], stored: Mapping[str, Any]) -> Model:
+    """The model a run's attributes record (:func:`model_attributes`); missing keys: defaults."""
+    known = {f.name for f in fields(cls)}
+    values = {
+        key: float(value) if np.ndim(value) == 0 else tuple(float(v) for v in value)
+        for key, value in stored.items()
+        if key in known
+    }
+    return cls(**values)

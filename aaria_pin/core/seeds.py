@@ -22,14 +22,16 @@ if TYPE_CHECKING:
 MAX_SEED = 2**63 - 1
 """Largest noise seed (it is stored as a 64-bit attribute)."""
 
-DATASET_STREAMS = ("structure", "joints", "base", "noise")
+DATASET_STREAMS = ("structure", "joints", "base", "noise", "sensor_errors", "hardware")
 """The streams of run k of a data set with seed S, in spawn-key order: stream ``name`` is
 ``SeedSequence(S, spawn_key=(k, DATASET_STREAMS.index(name)))``. The order is part of the file
-format: every data set since 0.2 was drawn from it (``noise_stream`` 3 is stored in the file)."""
+format: every data set since 0.2 was drawn from it (``noise_stream`` 3 is stored in the file).
+0.4 added ``sensor_errors`` (4: the parent of a run's sensor-error streams,
+:func:`sensor_sequence`) and ``hardware`` (5: the run's draw of the configured hardware ranges)."""
 
 SENSOR_PARTS = ("imu", "encoder", "torque_sensor", "actuator")
 """The sensor-error streams of a run, children of its sensor seed (:func:`sensor_sequence`):
-part ``name`` is spawn-key element ``SENSOR_PARTS.index(name)`` below it. Part of the file format."""
+part ``name`` is spawn-key element ``SENSOR_PARTS.index(name)`` below it (file format)."""
 
 SINGLE_STREAMS = {"fourier": 1}
 """The streams of a single run with ``--seed S`` beside its noise (``default_rng(S)``): stream
