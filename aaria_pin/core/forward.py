@@ -10,6 +10,14 @@ between samples.
 Pinocchio's ABA is not used here: it would let the base react to the joints' motion, while the
 base here is prescribed. Solving the joints' block of the CRBA mass matrix against the RNEA bias
 is the same dynamics with the base's motion imposed.
+
+With an actuator (:class:`~aaria_pin.core.joint_sensors.ActuatorModel`) the torques are the
+motors' and the joints obey ``(M_jj(q) + diag(armature))·qdd = tau - friction(qd) - b``: the
+reflected rotor inertia is added to the joints' block (what Pinocchio's ``model.armature``
+adds in its CRBA, added here so the shared model is left alone and ``tau`` stays rigid-body)
+and the friction (:func:`~aaria_pin.core.actuator.friction`) is taken from the motor torque.
+A Coulomb term with a small ``coulomb_velocity`` makes the equations stiff: the fixed step may
+then need more ``substeps``.
 """
 
 from __future__ import annotations
@@ -18,6 +26,8 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike
 
+from aaria_pin.core.actuator import armature, friction
+from aaria_pin.core.joint_sensors import ActuatorModel
 from aaria_pin.core.kinematics import full_state, joint_configuration
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.se3 import Array
@@ -80,6 +90,7 @@ def forward_simulate(
     q0: ArrayLike,
     v0: ArrayLike,
     substeps: int = DEFAULT_SUBSTEPS,
+    actuator: ActuatorModel | None = None,
 ) -> JointTrajectory:
     """Integrate the joints' motion under given torques, the base prescribed.
 
@@ -91,6 +102,8 @@ def forward_simulate(
         q0: initial joint values [rad or m]
         v0: initial joint velocities [rad/s or m/s]
         substeps: Runge–Kutta steps per sample
+        actuator: the joints' motors, model order (None: the torques act on the joints as
+            they are); with one, ``torques`` are motor torques
 
     Returns:
         Joint values, velocities and accelerations at the sample times.
@@ -103,6 +116,7 @@ def forward_simulate(
     zeros = np.zeros((T, n))
     q_base, v_base, a_base = full_state(robot, base, JointTrajectory(time, zeros, zeros, zeros))
     nb_q, nb_v = robot.base_nq, robot.base_nv
+    rotor = np.zeros(n) if actuator is None else armature(actuator, n)
     if model.nq - nb_q == n:
 
         def configuration(q: Array) -> Array:
@@ -129,6 +143,9 @@ def forward_simulate(
         block = np.triu(mass)[nb_v:, nb_v:]
         block = block + np.triu(block, 1).T
         torque = (1 - w) * tau[i] + w * tau[i + 1]
+        if actuator is not None:
+            block = block + np.diag(rotor)
+            torque = torque - friction(actuator, v)
         return np.linalg.solve(block, torque - bias)
 
     q = np.empty((T, n))

@@ -1,4 +1,4 @@
-"""The joint-side hardware models of a run: encoders, torque sensors, actuators (CONTRACT STUB).
+"""The joint-side hardware models of a run: encoders, torque sensors, actuators.
 
 These dataclasses are the contract the engine, the configuration, the files and the MJCF export
 share; their behaviour is built in their own modules (``core/encoder.py``,
@@ -6,27 +6,36 @@ share; their behaviour is built in their own modules (``core/encoder.py``,
 
 Every value is SI, per joint: a number applies to every joint, a sequence gives one value per
 joint in the record's joint order. Revolute joints read rad, N·m, kg·m²; prismatic joints m, N,
-kg. 0 turns a term off.
+kg. 0 turns a term off. Each model checks its values when it is made (:func:`check_fields`):
+finite numbers, none negative, ``gear_ratio``, ``coulomb_velocity`` and ``stribeck_velocity``
+above 0 and ``scale_error`` below 1; a bad one is one line naming its field.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, fields
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
 from aaria_pin.errors import ParameterError
 
+if TYPE_CHECKING:
+    from aaria_pin.core.model import RobotModel
+
 __all__ = [
     "ActuatorModel",
     "EncoderModel",
+    "JointColumns",
     "JointValue",
     "TorqueSensorModel",
+    "check_fields",
     "model_attributes",
     "model_from_attributes",
     "per_joint",
+    "prismatic_joints",
+    "select_joints",
 ]
 
 JointValue = float | Sequence[float]
@@ -49,6 +58,9 @@ class EncoderModel:
     noise: JointValue = 0.0
     offset: JointValue = 0.0
 
+    def __post_init__(self) -> None:
+        check_fields(self)
+
 
 @dataclass(frozen=True)
 class TorqueSensorModel:
@@ -65,6 +77,9 @@ class TorqueSensorModel:
     bias: JointValue = 0.0
     resolution: JointValue = 0.0
     scale_error: JointValue = 0.0
+
+    def __post_init__(self) -> None:
+        check_fields(self, below={"scale_error": 1.0})
 
 
 @dataclass(frozen=True)
@@ -91,8 +106,85 @@ class ActuatorModel:
     stribeck_velocity: JointValue = 0.1
     torque_limit: JointValue = 0.0
 
+    def __post_init__(self) -> None:
+        check_fields(self, positive=("gear_ratio", "coulomb_velocity", "stribeck_velocity"))
+
 
 Model = TypeVar("Model", EncoderModel, TorqueSensorModel, ActuatorModel)
+
+
+@dataclass(frozen=True)
+class JointColumns:
+    """A piece of a run's joint motion and torques as the record holds them (record columns).
+
+    What the joint channels (encoders, torque sensors, actuators) measure, T × n each.
+
+    Attributes:
+        time: the piece's sample times, T [s]
+        q: joint values [rad or m]
+        qd: joint velocities [rad/s or m/s]
+        qdd: joint accelerations [rad/s² or m/s²]
+        tau: the rigid-body (RNEA) joint torques [N·m or N]
+    """
+
+    time: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    tau: np.ndarray
+
+
+def check_fields(
+    model: EncoderModel | TorqueSensorModel | ActuatorModel,
+    positive: tuple[str, ...] = (),
+    below: Mapping[str, float] | None = None,
+) -> None:
+    """Refuse a model field that is not a finite number >= 0 (or a sequence of them).
+
+    Each field may be one number or a non-empty flat sequence (one per joint); the sequence is
+    kept as a tuple of floats, so the model stays hashable and records the same.
+
+    Args:
+        model: the model, checked field by field in declaration order
+        positive: the fields that must be > 0 (not only >= 0)
+        below: an upper bound (exclusive) of some fields
+
+    Raises:
+        ParameterError: a value that is not such a number (parameter: the field's name).
+    """
+    limits = below or {}
+    for f in fields(model):
+        name, value = f.name, getattr(model, f.name)
+        floor = "> 0" if name in positive else ">= 0"
+        allowed = f"finite numbers {floor}" + (f" and < {limits[name]:g}" if name in limits else "")
+        allowed += " (one, or one per joint)"
+        try:
+            values = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise ParameterError(parameter=name, value=value, allowed=allowed) from None
+        good = values.ndim <= 1 and values.size > 0 and bool(np.isfinite(values).all())
+        good = good and bool((values > 0).all() if name in positive else (values >= 0).all())
+        good = good and (name not in limits or bool((values < limits[name]).all()))
+        if not good:
+            raise ParameterError(parameter=name, value=value, allowed=allowed)
+        if values.ndim == 1:
+            object.__setattr__(model, name, tuple(float(v) for v in values))
+
+
+def prismatic_joints(robot: RobotModel) -> np.ndarray:
+    """Which of the model's joints (model order, its base apart) slide: a bool per joint.
+
+    Read from the Pinocchio model's joint types (``JointModelPX``/``PY``/``PZ``,
+    ``JointModelPrismaticUnaligned``); every other joint of one degree of freedom turns.
+    """
+    model = robot.model
+    out = np.zeros(robot.n_joints, dtype=bool)
+    for joint in model.joints[1:]:
+        index = joint.idx_v - robot.base_nv
+        if 0 <= index < robot.n_joints:
+            kind = joint.shortname()
+            out[index] = kind.startswith("JointModelPrismatic") or kind[:-1] == "JointModelP"
+    return out
 
 
 def per_joint(value: JointValue, joints: int, name: str) -> np.ndarray:
@@ -112,6 +204,26 @@ def per_joint(value: JointValue, joints: int, name: str) -> np.ndarray:
             allowed=f"one number or {joints} values",
         )
     return values.copy()
+
+
+def select_joints(model: Model, joints: int, columns: Sequence[int] | None) -> Model:
+    """The model of some of ``joints`` joints: per-joint values taken at ``columns``.
+
+    Turns a model of the record's joint columns into one of a robot model's joints (an Aaria
+    arm's empty modules are record columns without a joint).
+
+    Args:
+        model: the model, one value or ``joints`` values per field
+        joints: the joints ``model`` describes
+        columns: the joints kept, in their new order (None: all, as they are)
+    """
+    if columns is None:
+        return model
+    values = {
+        f.name: tuple(float(v) for v in per_joint(getattr(model, f.name), joints, f.name)[columns])
+        for f in fields(model)
+    }
+    return type(model)(**values)
 
 
 def model_attributes(model: EncoderModel | TorqueSensorModel | ActuatorModel) -> dict[str, Any]:

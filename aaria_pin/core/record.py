@@ -28,6 +28,26 @@ number is stored once) and the run's ``attributes`` (rate, duration, seed, noise
 
 An IMU whose ``parent`` is ``""`` is a slot left empty (an Aaria module of link type 0): its pose
 and its signals are zero.
+
+A run with joint hardware (``RunSettings.encoder``, ``torque_sensor``, ``actuator``) keeps
+beside them, as tables, one column per joint of ``joint_names``:
+
+======================= ======= ==============================================================
+name                    shape   what
+======================= ======= ==============================================================
+``q_measured``          T × n   what the encoders report [rad or m] (``q`` stays the true value)
+``tau_measured``        T × n   what the joint torque sensors report [N·m or N]
+``tau_motor``           T × n   the torque the motor gives: ``tau + tau_armature + tau_friction``
+``tau_armature``        T × n   the reflected rotor inertia's torque ``armature·qdd``
+``tau_friction``        T × n   the joint friction torque (viscous, Coulomb, Stribeck)
+``encoder_offset``      n       each encoder's zero offset drawn for the run [rad or m]
+``torque_sensor_bias``  n       each torque sensor's zero offset drawn for the run [N·m or N]
+``torque_sensor_scale`` n       each torque sensor's scale error drawn for the run [1]
+======================= ======= ==============================================================
+
+The first five (:data:`JOINT_SERIES`) have a time axis: a data set stores them in its dtype,
+as the series, and a run in pieces fills them piece by piece. ``tau`` stays the rigid-body
+(RNEA) torque.
 """
 
 from __future__ import annotations
@@ -47,6 +67,8 @@ if TYPE_CHECKING:
 
 __all__ = [
     "IMU_SIGNALS",
+    "JOINT_RUN_TABLES",
+    "JOINT_SERIES",
     "SERIES",
     "VIEW_UNITS",
     "ColumnSource",
@@ -64,6 +86,12 @@ IMU_SIGNALS = ("wx", "wy", "wz", "fx", "fy", "fz")
 
 SERIES = ("time", "q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pose", "imu")
 """The time series of a record (leading axis T), in file order."""
+
+JOINT_SERIES = ("q_measured", "tau_measured", "tau_motor", "tau_armature", "tau_friction")
+"""The joint hardware's optional tables with a time axis (T × n), in record order."""
+
+JOINT_RUN_TABLES = ("encoder_offset", "torque_sensor_bias", "torque_sensor_scale")
+"""The joint hardware's optional per-run tables (n: one value per joint, float64)."""
 
 UNITS = {
     "time": "s",

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.record import SERIES, RunRecord
+from aaria_pin.core.record import JOINT_SERIES, SERIES, RunRecord
 
 __all__ = ["CHUNK_SAMPLES", "chunk_bounds", "join_chunks", "run_length"]
 
@@ -87,8 +87,9 @@ def join_chunks(chunks: Iterable[RunRecord]) -> RunRecord:
     """One record of a run from its pieces in time order (the last piece's other fields).
 
     A single piece is returned as it is; the attributes, tables, views and names come from
-    the last piece, whose attributes cover the whole run (the tables of extra sensors, which
-    hold each piece's signals, are put together as the series are).
+    the last piece, whose attributes cover the whole run (the tables of extra sensors and the
+    joint channels' time-axis tables, which hold each piece's signals, are put together as the
+    series are).
     """
     from dataclasses import replace
 
@@ -100,10 +101,10 @@ def join_chunks(chunks: Iterable[RunRecord]) -> RunRecord:
     }
     last = pieces[-1]
     sensors = last.attributes.get("sensors", {})  # a sensor's table is its piece's signals
-    if sensors:
+    timed = [d["table"] for d in sensors.values()] + [n for n in JOINT_SERIES if n in last.tables]
+    if timed:
         tables = dict(last.tables)
-        for described in sensors.values():
-            name = described["table"]
+        for name in timed:
             tables[name] = np.concatenate([p.tables[name] for p in pieces])
         series["tables"] = tables
     return replace(last, **series)

@@ -5,7 +5,9 @@ run's samples (held whole or in pieces), the motion checked once against the rob
 pieces (:func:`~aaria_pin.core.run.chunks.chunk_bounds`), the run's IMU noise stream (so the
 pieces' noise is the whole run's), and per piece the base motion, the joint motion (the torque
 drive integrates the whole run in one piece), the series
-(:func:`~aaria_pin.core.run.series.simulate_series`), the peak torques so far and the record.
+(:func:`~aaria_pin.core.run.series.simulate_series`), the peak torques so far, the joint
+channels (encoders, torque sensors, actuators: :func:`~aaria_pin.core.run.measured.run_sensors`)
+and the record.
 :func:`simulate` is the same run held whole.
 """
 
@@ -21,13 +23,20 @@ from numpy.typing import ArrayLike
 
 from aaria_pin._version import __version__
 from aaria_pin.core.arguments import checked
+from aaria_pin.core.joint_sensors import JointColumns
 from aaria_pin.core.model import RobotModel
-from aaria_pin.core.record import SERIES, RunRecord
+from aaria_pin.core.record import JOINT_SERIES, SERIES, RunRecord
 from aaria_pin.core.run.chunks import chunk_bounds, join_chunks
-from aaria_pin.core.run.measured import run_sensors
-from aaria_pin.core.run.motion import Motion, SineTable
+from aaria_pin.core.run.measured import joint_model_attributes, run_sensors
+from aaria_pin.core.run.motion import Motion, SineTable, actuated
 from aaria_pin.core.run.robot import RunRobot
-from aaria_pin.core.run.sensor import Sensor, SensorState, measure, sensor_attributes
+from aaria_pin.core.run.sensor import (
+    Sensor,
+    SensorState,
+    measure,
+    measure_channels,
+    sensor_attributes,
+)
 from aaria_pin.core.run.series import (
     ImuSlots,
     Payload,
@@ -138,11 +147,12 @@ def simulate_pieces(
     run_motion: Motion = SineTable() if motion is None else motion
     whole = run_motion.whole or settings.needs_whole_run
     samples = settings.samples(whole=whole)
-    run_motion = run_motion.checked(robot, samples, settings.rate)
+    run_motion = actuated(run_motion.checked(robot, samples, settings.rate), settings.actuator)
     motion_tables, motion_attributes = run_motion.record(robot)
     tables = {**robot.tables, **motion_tables}
     pieces = chunk_bounds(samples, None if whole else settings.chunk)
-    sensors = (*run_sensors(robot, settings, seed), *sensors)  # type: ignore[arg-type]
+    channels = run_sensors(robot, settings, seed)
+    run_tables = {k: v for c in channels for k, v in c.run_tables().items()}
     stream = noise_stream(
         samples,
         len(robot.imu_frames),
@@ -152,7 +162,11 @@ def simulate_pieces(
         settings.noise_model,
         len(pieces),
     )
-    sampling = {**settings.attributes(seed), **sensor_attributes(tuple(sensors))}
+    sampling = {
+        **settings.attributes(seed),
+        **joint_model_attributes(settings),
+        **sensor_attributes(tuple(sensors)),
+    }
     model = robot.model
     imus = ImuSlots(robot.imu_frames, robot.imu_slots, robot.n_slots)
     peaks = np.zeros(model.n_joints)
@@ -167,17 +181,26 @@ def simulate_pieces(
                 series = carry_payload(series, payload, base, trajectory, start, settings.threads)
         if len(series.tau):
             np.maximum(peaks, np.abs(series.tau).max(axis=0), out=peaks)
+        joints = JointColumns(
+            times,
+            *(robot.record_columns(x) for x in (trajectory.q, trajectory.qd, trajectory.qdd)),
+            robot.record_columns(series.tau),
+        )
         piece_tables = tables
         if sensors:
             state = SensorState(times, trajectory, base, series)
             piece_tables = {**tables, **measure(robot, state, tuple(sensors))}
+        channel_attributes: dict[str, Any] = {}
+        if channels:
+            piece_tables = {**piece_tables, **run_tables, **measure_channels(channels, joints)}
+            channel_attributes = {k: v for c in channels for k, v in c.attributes().items()}
         record = RunRecord(
             time=times,
             joint_names=robot.joint_names,
-            q=robot.record_columns(trajectory.q),
-            qd=robot.record_columns(trajectory.qd),
-            qdd=robot.record_columns(trajectory.qdd),
-            tau=robot.record_columns(series.tau),
+            q=joints.q,
+            qd=joints.qd,
+            qdd=joints.qdd,
+            tau=joints.tau,
             base_pose=series.base_pose,
             base_wrench=series.base_wrench,
             tool_pose=series.tool_pose,
@@ -190,6 +213,7 @@ def simulate_pieces(
                 "kind": robot.kind,
                 **robot.attributes(peaks),
                 **sampling,
+                **channel_attributes,
                 "drive": run_motion.drive,
                 **motion_attributes,
                 "version": __version__,
@@ -215,14 +239,20 @@ def _world_gravity(model: RobotModel, gravity: tuple[float, float, float]) -> It
 
 
 def _rounded(record: RunRecord, dtype: str) -> RunRecord:
-    """The record's series rounded to ``dtype`` and held as float64.
+    """The record's series (and time-axis tables) rounded to ``dtype`` and held as float64.
 
     That is what a data set of that dtype stores and
     :func:`~aaria_pin.files.source.open_record` reads back.
     """
     if dtype == "float64":
         return record
-    rounded = {name: getattr(record, name).astype(dtype).astype(np.float64) for name in SERIES}
+    rounded: dict[str, Any] = {
+        name: getattr(record, name).astype(dtype).astype(np.float64) for name in SERIES
+    }
+    rounded["tables"] = {
+        name: np.asarray(t).astype(dtype).astype(np.float64) if name in JOINT_SERIES else t
+        for name, t in record.tables.items()
+    }
     return replace(record, **rounded)
 
 

@@ -1,21 +1,262 @@
-"""The run's built-in joint channels (encoders, torque sensors, actuators): CONTRACT STUB.
+"""The run's built-in joint channels: encoders, torque sensors, actuators.
 
-:func:`run_sensors` turns a run's settings into the per-run sensor objects the engine measures
-with (each drawing its per-run values from its own stream of the run's sensor seed).
+:func:`run_sensors` turns a run's settings into the per-run channel objects the engine measures
+with (:class:`~aaria_pin.core.run.sensor.Channel`), in this order: the actuators
+(:class:`ActuatorStream`), the encoders (:class:`~aaria_pin.core.encoder.EncoderStream`), the
+torque sensors (:class:`~aaria_pin.core.torque_sensor.TorqueSensorStream`); each draws its
+per-run values from its own stream of the run's sensor seed. A run whose models are all None
+has no channel and draws nothing. :func:`joint_model_attributes` records the models (the
+attributes ``encoder``, ``torque_sensor``, ``actuator``) and :func:`joint_models_from_attributes`
+reads them back; :func:`joint_table_shapes` is the tables a run of those settings adds.
+
+The actuators' torques are those a prescribed motion needs; a motor torque beyond its limit is
+not clipped (that would change the motion): the run records per joint the limit, the peak
+``|tau_motor|`` and whether it went beyond (the attribute ``actuator_limits``) and warns once
+(:class:`TorqueLimitWarning`).
 """
 
 from __future__ import annotations
 
+import warnings
+from collections.abc import Mapping
+from typing import Any, Protocol
+
 import numpy as np
 
+from aaria_pin.core.actuator import actuator_torques
+from aaria_pin.core.encoder import EncoderStream
+from aaria_pin.core.joint_sensors import (
+    ActuatorModel,
+    EncoderModel,
+    JointColumns,
+    TorqueSensorModel,
+    model_attributes,
+    model_from_attributes,
+    per_joint,
+    prismatic_joints,
+)
 from aaria_pin.core.run.robot import RunRobot
-from aaria_pin.core.run.settings import RunSettings
+from aaria_pin.core.run.sensor import Channel
+from aaria_pin.core.se3 import Array
+from aaria_pin.core.torque_sensor import TorqueSensorStream
+from aaria_pin.errors import InputFileError, ParameterError
 
-__all__ = ["run_sensors"]
+__all__ = [
+    "JOINT_MODELS",
+    "ActuatorStream",
+    "JointHardware",
+    "TorqueLimitWarning",
+    "joint_model_attributes",
+    "joint_models_from_attributes",
+    "joint_table_shapes",
+    "record_joint_values",
+    "run_sensors",
+]
+
+JOINT_MODELS: dict[str, type[EncoderModel] | type[TorqueSensorModel] | type[ActuatorModel]] = {
+    "encoder": EncoderModel,
+    "torque_sensor": TorqueSensorModel,
+    "actuator": ActuatorModel,
+}
+"""The joint models by their ``RunSettings`` field and run attribute."""
+
+_TABLES = {
+    "actuator": ((), ("tau_motor", "tau_armature", "tau_friction")),
+    "encoder": (("encoder_offset",), ("q_measured",)),
+    "torque_sensor": (("torque_sensor_bias", "torque_sensor_scale"), ("tau_measured",)),
+}
+"""Each model's per-run tables and time-axis tables (the record's ``JOINT_RUN_TABLES`` and
+``JOINT_SERIES``)."""
+
+
+class JointHardware(Protocol):
+    """The joint models of a run's settings (:class:`~aaria_pin.core.run.settings.RunSettings`).
+
+    A protocol, so that the settings can read their models back with
+    :func:`joint_models_from_attributes` without an import cycle.
+    """
+
+    @property
+    def encoder(self) -> EncoderModel | None:
+        """The encoders (None: none)."""
+        ...
+
+    @property
+    def torque_sensor(self) -> TorqueSensorModel | None:
+        """The torque sensors (None: none)."""
+        ...
+
+    @property
+    def actuator(self) -> ActuatorModel | None:
+        """The actuators (None: none)."""
+        ...
+
+
+class TorqueLimitWarning(UserWarning):
+    """A prescribed motion needs more motor torque than a joint's limit (it is not clipped)."""
+
+
+class ActuatorStream:
+    """One run's actuators: the motor torque's parts per piece, the peaks and limits so far.
+
+    Args:
+        model: the actuators
+        limits: each joint's torque limit, n (inf: none) [N·m or N]
+        joint_names: the record's joint columns (for the warning)
+    """
+
+    name = "actuator"
+
+    def __init__(self, model: ActuatorModel, limits: Array, joint_names: tuple[str, ...]) -> None:
+        self.model = model
+        self.limits = limits
+        self.joint_names = joint_names
+        self.peaks = np.zeros(limits.size)
+        self._warned = False
+
+    def tables(self, joints: JointColumns) -> dict[str, Array]:
+        """``tau_motor``, ``tau_armature``, ``tau_friction`` of the next piece (T × n each).
+
+        Warns (:class:`TorqueLimitWarning`, once per run) at the first sample whose
+        ``|tau_motor|`` is beyond a joint's limit.
+        """
+        parts = actuator_torques(self.model, joints.qd, joints.qdd)
+        motor = joints.tau + parts.armature + parts.friction
+        size = np.abs(motor)
+        if size.size:
+            np.maximum(self.peaks, size.max(axis=0), out=self.peaks)
+        over = size > self.limits
+        if not self._warned and over.any():
+            self._warned = True
+            sample, joint = np.argwhere(over)[0]
+            warnings.warn(
+                f"tau_motor of joint {self.joint_names[joint]} is {motor[sample, joint]:.6g} at "
+                f"t = {joints.time[sample]:.6g} s; allowed: |tau_motor| <= its torque limit "
+                f"{self.limits[joint]:.6g} (the motion is kept, not clipped)",
+                TorqueLimitWarning,
+                stacklevel=2,
+            )
+        return {"tau_motor": motor, "tau_armature": parts.armature, "tau_friction": parts.friction}
+
+    def run_tables(self) -> dict[str, Array]:
+        """None: the actuators draw nothing."""
+        return {}
+
+    def attributes(self) -> dict[str, Any]:
+        """``actuator_limits``: per joint the limit (0: none), the peak and whether beyond it."""
+        limit = np.where(np.isfinite(self.limits), self.limits, 0.0)
+        return {
+            "actuator_limits": {
+                "torque_limit": [float(v) for v in limit],
+                "tau_motor_peak": [float(v) for v in self.peaks],
+                "exceeded": [bool(v) for v in self.peaks > self.limits],
+            }
+        }
+
+
+def record_joint_values(robot: RunRobot, values: Array, empty: Any) -> Array:
+    """Per-model-joint values (n_model) as the record's joint columns (``empty`` elsewhere)."""
+    n = len(robot.joint_names)
+    if robot.columns is None:
+        return np.asarray(values).copy()
+    out = np.full(n, empty, dtype=np.asarray(values).dtype)
+    out[robot.columns] = values
+    return out
+
+
+def torque_limits(robot: RunRobot, model: ActuatorModel) -> Array:
+    """Each record joint's motor torque limit (the model's effort limit where 0; inf: none)."""
+    n = len(robot.joint_names)
+    given = per_joint(model.torque_limit, n, "torque_limit")
+    pin_model = robot.model
+    effort = np.asarray(pin_model.model.effortLimit, dtype=float)[pin_model.base_nv :]
+    effort = np.where((effort > 0) & (effort < 1e300), effort, np.inf)
+    from_model = record_joint_values(robot, effort, np.inf)
+    return np.where(given > 0, given, from_model)
 
 
 def run_sensors(
-    robot: RunRobot, settings: RunSettings, seed: int | np.random.SeedSequence
-) -> tuple[object, ...]:
-    """The run's encoder, torque-sensor and actuator channels (none while every model is off)."""
-    return ()
+    robot: RunRobot, settings: JointHardware, seed: int | np.random.SeedSequence
+) -> tuple[Channel, ...]:
+    """The run's actuator, encoder and torque-sensor channels (none while every model is off).
+
+    Args:
+        robot: the run's robot (its model says which joints slide, and their effort limits)
+        settings: the run's settings (``actuator``, ``encoder``, ``torque_sensor``)
+        seed: the run's noise seed (:func:`~aaria_pin.core.seeds.sensor_sequence`)
+
+    Raises:
+        ParameterError: a per-joint value of another length than the record's joints.
+    """
+    n = len(robot.joint_names)
+    channels: list[Channel] = []
+    if settings.actuator is not None:
+        channels.append(
+            ActuatorStream(
+                settings.actuator, torque_limits(robot, settings.actuator), robot.joint_names
+            )
+        )
+    if settings.encoder is not None:
+        prismatic = record_joint_values(robot, prismatic_joints(robot.model), False)
+        channels.append(EncoderStream(settings.encoder, prismatic, seed))
+    if settings.torque_sensor is not None:
+        channels.append(TorqueSensorStream(settings.torque_sensor, n, seed))
+    return tuple(channels)
+
+
+def joint_model_attributes(settings: JointHardware) -> dict[str, Any]:
+    """The attributes ``encoder``, ``torque_sensor``, ``actuator`` of the models that are on."""
+    return {
+        name: model_attributes(model)
+        for name in JOINT_MODELS
+        if (model := getattr(settings, name)) is not None
+    }
+
+
+def joint_models_from_attributes(attributes: Mapping[str, Any]) -> dict[str, Any]:
+    """The joint models a run's attributes record: ``{"encoder": ..., ...}`` (None: absent).
+
+    The inverse of :func:`joint_model_attributes`, as ``RunSettings`` fields.
+
+    Raises:
+        InputFileError: a recorded model that is not a table of its fields, or whose values
+            are not allowed (parameter ``file``).
+    """
+    models: dict[str, Any] = {}
+    for name, cls in JOINT_MODELS.items():
+        stored = attributes.get(name)
+        if stored is None:
+            models[name] = None
+            continue
+        if not isinstance(stored, Mapping):
+            raise InputFileError(
+                f"the run's attribute {name!r} is {stored!r}; allowed: a table of the "
+                f"{cls.__name__} fields",
+                parameter="file",
+            )
+        try:
+            models[name] = model_from_attributes(cls, stored)  # type: ignore[type-var]
+        except (ParameterError, TypeError, ValueError) as exc:
+            raise InputFileError(f"the run's attribute {name!r}: {exc}", parameter="file") from None
+    return models
+
+
+def joint_table_shapes(
+    settings: JointHardware, samples: int, joints: int
+) -> dict[str, tuple[int, ...]]:
+    """The tables a run of ``settings`` adds, in record order: per-run tables, then T × n ones.
+
+    The record puts them after its other tables (the robot's, the motion's, the user sensors').
+    """
+    on = [name for name in run_order() if getattr(settings, name) is not None]
+    shapes: dict[str, tuple[int, ...]] = {}
+    for name in on:
+        shapes.update({table: (joints,) for table in _TABLES[name][0]})
+    for name in on:
+        shapes.update({table: (samples, joints) for table in _TABLES[name][1]})
+    return shapes
+
+
+def run_order() -> tuple[str, ...]:
+    """The order of the channels (:func:`run_sensors`): actuator, encoder, torque_sensor."""
+    return ("actuator", "encoder", "torque_sensor")

@@ -13,7 +13,7 @@ Adding a motion is one class here (or in any module) plus its entry in :data:`MO
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar, Protocol, Self
 
 import numpy as np
@@ -21,6 +21,7 @@ from numpy.typing import ArrayLike
 
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import FourierExcitation
+from aaria_pin.core.joint_sensors import ActuatorModel, select_joints
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.sampled_motion import check_trajectory
 from aaria_pin.core.se3 import Array
@@ -35,6 +36,7 @@ __all__ = [
     "SampledTrajectory",
     "SineTable",
     "TorqueDrive",
+    "actuated",
     "as_motion",
     "motion_from_record",
 ]
@@ -260,16 +262,20 @@ class TorqueDrive:
     """The joints move under given torques by forward dynamics, from ``start``'s state at t = 0.
 
     Stored as ``start``'s tables and attributes, the table ``torque_table`` and ``drive``
-    ``torque``; computed in one piece.
+    ``torque``; computed in one piece. With an actuator (the run's ``RunSettings.actuator``,
+    set by the engine: :func:`actuated`) the torques are motor torques: the forward dynamics
+    add the armature and take off the friction.
 
     Attributes:
         torques: (T, n) joint torques [N·m] or forces [N] by record column (columns of an Aaria
             arm's empty modules are ignored)
         start: the motion whose values and velocities at t = 0 start the run
+        actuator: the joints' motors, by record column (None: none)
     """
 
     torques: ArrayLike
     start: Motion = field(default_factory=SineTable)
+    actuator: ActuatorModel | None = None
     drive: ClassVar[str] = "torque"
     whole: ClassVar[bool] = True
 
@@ -285,7 +291,7 @@ class TorqueDrive:
         start = self.start.checked(robot, samples, rate)
         n_columns = len(robot.joint_names)
         tau = check_torques(self.torques, samples, n_columns, robot.torque_name)
-        return TorqueDrive(tau, start)
+        return TorqueDrive(tau, start, self.actuator)
 
     def trajectory(
         self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion
@@ -296,12 +302,28 @@ class TorqueDrive:
         initial = self.start.trajectory(robot, span, times, base)
         torques = np.asarray(self.torques, dtype=float)
         tau = torques if robot.columns is None else torques[:, robot.columns]
-        return forward_simulate(robot.model, base, tau, times, initial.q[0], initial.qd[0])
+        motors = self.actuator
+        if motors is not None:
+            motors = select_joints(motors, torques.shape[1], robot.columns)
+        return forward_simulate(
+            robot.model, base, tau, times, initial.q[0], initial.qd[0], actuator=motors
+        )
 
     def record(self, robot: RunRobot) -> tuple[dict[str, Array], dict[str, Any]]:
         """The starting motion's, and ``torque_table``."""
         tables, attributes = self.start.record(robot)
         return {**tables, "torque_table": np.asarray(self.torques, dtype=float)}, attributes
+
+
+def actuated(motion: Motion, actuator: ActuatorModel | None) -> Motion:
+    """The motion as the run's actuators drive it: a torque drive's torques are motor torques.
+
+    A :class:`TorqueDrive` takes the run's actuator (``RunSettings.actuator``, the one the run
+    records); any other motion is followed as given.
+    """
+    if isinstance(motion, TorqueDrive) and motion.actuator != actuator:
+        return replace(motion, actuator=actuator)
+    return motion
 
 
 MOTIONS: dict[str, Callable[[dict[str, Array], dict[str, Any]], Motion]] = {

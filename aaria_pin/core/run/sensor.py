@@ -9,6 +9,13 @@ Any other sensor given to the engine (``simulate(..., sensors=[...])``) is recor
 table ``sensor_<name>`` (T × columns) and described in the attribute ``sensors`` (columns,
 units, noise stream). :func:`register_sensor` makes a sensor known by name (:func:`sensor`),
 so adding one is one module plus its registration.
+
+The run's built-in joint channels (encoders, torque sensors, actuators) are :class:`Channel`
+objects instead, made per run from its settings
+(:func:`~aaria_pin.core.run.measured.run_sensors`): each names its own tables, keeps per-run
+tables (the values it drew) and attributes, and reads the piece's joint columns
+(:class:`~aaria_pin.core.joint_sensors.JointColumns`). They are not listed in ``sensors``:
+their models are recorded as the attributes ``encoder``, ``torque_sensor``, ``actuator``.
 """
 
 from __future__ import annotations
@@ -19,7 +26,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from aaria_pin.core.record import IMU_SIGNALS
+from aaria_pin.core.joint_sensors import JointColumns
+from aaria_pin.core.record import IMU_SIGNALS, JOINT_SERIES
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.run.series import RunSeries
 from aaria_pin.core.se3 import Array
@@ -29,6 +37,7 @@ from aaria_pin.errors import ParameterError
 __all__ = [
     "IMU",
     "SENSOR_TABLE_PREFIX",
+    "Channel",
     "ImuSensor",
     "Sensor",
     "SensorState",
@@ -86,6 +95,49 @@ class Sensor(Protocol):
         ...
 
 
+class Channel(Protocol):
+    """A built-in channel of one run (see the module docstring); it may keep state per run."""
+
+    @property
+    def name(self) -> str:
+        """Its name (``encoder``, ``torque_sensor``, ``actuator``)."""
+        ...
+
+    def tables(self, joints: JointColumns) -> dict[str, Array]:
+        """Its time-axis tables of the next piece (T × n each), pieces given in time order."""
+        ...
+
+    def run_tables(self) -> dict[str, Array]:
+        """Its per-run tables (no time axis): the values drawn for the run."""
+        ...
+
+    def attributes(self) -> dict[str, Any]:
+        """Its attributes, covering the pieces measured so far."""
+        ...
+
+
+def measure_channels(channels: tuple[Channel, ...], joints: JointColumns) -> dict[str, Array]:
+    """The channels' time-axis tables of a piece, in channel order.
+
+    Raises:
+        ParameterError: a table that is not T × n (parameter ``sensors``).
+    """
+    tables: dict[str, Array] = {}
+    shape = joints.q.shape
+    for channel in channels:
+        for name, values in channel.tables(joints).items():
+            if values.shape != shape:
+                raise ParameterError(
+                    f"channel {channel.name!r} gives {name} of shape {values.shape}; allowed: "
+                    f"{shape}",
+                    parameter="sensors",
+                    value=values.shape,
+                    allowed=str(shape),
+                )
+            tables[name] = values
+    return tables
+
+
 @dataclass(frozen=True)
 class ImuSensor:
     """The IMUs (ADIS16485-like noise): ``[wx wy wz fx fy fz]`` per IMU slot.
@@ -138,8 +190,12 @@ def sensor_table(name: str) -> str:
 
 
 def is_sensor_table(name: str) -> bool:
-    """Whether a record table holds a sensor's signals (T × columns: a time axis)."""
-    return name.startswith(SENSOR_TABLE_PREFIX)
+    """Whether a record table holds a sensor's signals (T × columns: a time axis).
+
+    A user sensor's ``sensor_<name>``, or a joint channel's table
+    (:data:`~aaria_pin.core.record.JOINT_SERIES`: ``q_measured``, ``tau_motor``, ...).
+    """
+    return name.startswith(SENSOR_TABLE_PREFIX) or name in JOINT_SERIES
 
 
 def sensor_attributes(sensors: tuple[Sensor, ...]) -> dict[str, Any]:
