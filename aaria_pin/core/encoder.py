@@ -12,7 +12,7 @@ An :class:`EncoderStream` is one run's encoders: it draws the offsets when it is
 noise piece by piece in time order (from the run's ``encoder`` stream,
 :func:`~aaria_pin.core.seeds.sensor_sequence`), so a run in pieces reads what the run held
 whole reads, bit for bit. The record keeps ``q`` (true), ``q_measured`` (T × n) and
-``encoder_offset`` (n).
+``encoder_offset`` (1 × n).
 """
 
 from __future__ import annotations
@@ -94,8 +94,8 @@ class EncoderStream:
         return {"q_measured": encoder_reading(joints.q, self.offset, self.step, noise)}
 
     def run_tables(self) -> dict[str, Array]:
-        """``encoder_offset`` (n) [rad or m]."""
-        return {"encoder_offset": self.offset.copy()}
+        """``encoder_offset`` (1 × n) [rad or m]."""
+        return {"encoder_offset": self.offset[None, :].copy()}
 
     def attributes(self) -> dict[str, Any]:
         """None: the model is recorded as the run's ``encoder`` attribute."""

@@ -40,13 +40,14 @@ name                    shape   what
 ``tau_motor``           T × n   the torque the motor gives: ``tau + tau_armature + tau_friction``
 ``tau_armature``        T × n   the reflected rotor inertia's torque ``armature·qdd``
 ``tau_friction``        T × n   the joint friction torque (viscous, Coulomb, Stribeck)
-``encoder_offset``      n       each encoder's zero offset drawn for the run [rad or m]
-``torque_sensor_bias``  n       each torque sensor's zero offset drawn for the run [N·m or N]
-``torque_sensor_scale`` n       each torque sensor's scale error drawn for the run [1]
+``encoder_offset``      1 × n   each encoder's zero offset drawn for the run [rad or m]
+``torque_sensor_bias``  1 × n   each torque sensor's zero offset drawn for the run [N·m or N]
+``torque_sensor_scale`` 1 × n   each torque sensor's scale error drawn for the run [1]
 ======================= ======= ==============================================================
 
 The first five (:data:`JOINT_SERIES`) have a time axis: a data set stores them in its dtype,
-as the series, and a run in pieces fills them piece by piece. ``tau`` stays the rigid-body
+as the series, and a run in pieces fills them piece by piece. The last three are rows
+(1 × n), as a run file stores a table of one axis. ``tau`` stays the rigid-body
 (RNEA) torque.
 """
 
@@ -91,7 +92,8 @@ JOINT_SERIES = ("q_measured", "tau_measured", "tau_motor", "tau_armature", "tau_
 """The joint hardware's optional tables with a time axis (T × n), in record order."""
 
 JOINT_RUN_TABLES = ("encoder_offset", "torque_sensor_bias", "torque_sensor_scale")
-"""The joint hardware's optional per-run tables (n: one value per joint, float64)."""
+"""The joint hardware's optional per-run tables (1 × n: one value per joint, float64; a row,
+as the files store a table of one axis)."""
 
 UNITS = {
     "time": "s",

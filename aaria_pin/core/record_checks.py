@@ -14,7 +14,10 @@ run of a data set) and what is wrong:
   :meth:`~aaria_pin.core.run_metadata.RunMetadata.from_attributes`;
 - finite data (:func:`check_finite`): the simulator never writes a NaN or an infinity, so one in
   a stored series is damage; the message names the array, the run and the first bad sample;
-- increasing time (:func:`check_time`): the sample times strictly increase (2+ samples).
+- increasing time (:func:`check_time`): the sample times strictly increase (2+ samples);
+- the joint hardware's optional tables (:func:`check_joint_tables`): ``q_measured``,
+  ``tau_measured``, ``tau_motor``, ``tau_armature``, ``tau_friction`` are T × n and
+  ``encoder_offset``, ``torque_sensor_bias``, ``torque_sensor_scale`` are 1 × n.
 
 Example::
 
@@ -31,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.record import SERIES, RunRecord
+from aaria_pin.core.record import JOINT_RUN_TABLES, JOINT_SERIES, SERIES, RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError
 
@@ -40,6 +43,7 @@ __all__ = [
     "KIND_TABLES",
     "check_attributes",
     "check_finite",
+    "check_joint_tables",
     "check_kind",
     "check_kind_layout",
     "check_record",
@@ -140,11 +144,12 @@ def check_record(record: RunRecord, source: str, series: bool = True, finite: bo
 
     Raises:
         InputFileError: an unknown kind, a table of its kind missing, an attribute of the
-            wrong type, a NaN or infinity in an array, or sample times that do not strictly
-            increase (``parameter="file"``).
+            wrong type, a joint hardware table of the wrong shape, a NaN or infinity in an
+            array, or sample times that do not strictly increase (``parameter="file"``).
     """
     check_attributes(record.attributes, source)
     check_kind_layout(record, source)
+    check_joint_tables(record, source, series)
     if finite:
         arrays = record.arrays()
         check_finite({k: v for k, v in arrays.items() if series or k not in SERIES}, source)
@@ -205,6 +210,34 @@ def check_kind_layout(record: RunRecord, source: str) -> None:
             + ", ".join(required),
             parameter="file",
         )
+
+
+def check_joint_tables(record: RunRecord, source: str, series: bool = True) -> None:
+    """Refuse a joint hardware table (``q_measured``, ``encoder_offset``, ...) of another shape.
+
+    Each is optional; one that is there is T × n (:data:`~aaria_pin.core.record.JOINT_SERIES`,
+    its rows checked only with ``series``) or 1 × n
+    (:data:`~aaria_pin.core.record.JOINT_RUN_TABLES`),
+    n the record's joints.
+
+    Raises:
+        InputFileError: ``"FILE: array q_measured has shape (10, 5); allowed: (10, 6) (T × n)"``
+            (``parameter="file"``).
+    """
+    n = len(record.joint_names)
+    expected = {name: ((record.n_samples if series else None), n) for name in JOINT_SERIES}
+    expected.update({name: (1, n) for name in JOINT_RUN_TABLES})
+    for name, shape in expected.items():
+        if name not in record.tables:
+            continue
+        given = np.shape(record.tables[name])
+        if len(given) != len(shape) or any(e is not None and g != e for g, e in zip(given, shape)):
+            what = "T × n" if name in JOINT_SERIES else "1 × n, one per joint"
+            allowed = "(" + ", ".join("T" if e is None else str(e) for e in shape) + ")"
+            raise InputFileError(
+                f"{source}: array {name} has shape {given}; allowed: {allowed} ({what})",
+                parameter="file",
+            )
 
 
 def check_attributes(attributes: Mapping[str, Any], source: str) -> None:
@@ -291,15 +324,17 @@ _AXES = {
     "tool_pose": ("row", "column"),
     "base_wrench": ("component",),
     "imu_mount": ("IMU", "row", "column"),
+    **{name: ("joint",) for name in JOINT_SERIES},
+    **{name: ("row", "joint") for name in JOINT_RUN_TABLES},
 }
 """How a message names the axes of an array after its first (the sample, for a series)."""
 
 
 def _position(name: str, index: tuple[Any, ...]) -> str:
     """Where in an array an index is: ``sample 17, joint 2`` (0-based, as numpy counts)."""
-    if name == "imu_mount":
+    if name in ("imu_mount", *JOINT_RUN_TABLES):
         axes: tuple[str, ...] = _AXES[name]
-    elif name in SERIES:
+    elif name in SERIES or name in JOINT_SERIES:
         axes = ("sample", *_AXES.get(name, ()))
     else:
         axes = ("row", "column")

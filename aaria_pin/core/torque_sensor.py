@@ -13,8 +13,8 @@ torque sensor sits between the gearbox's output and the link (Franka Emika's and
 actuator on, ``tau_motor`` is what the motor gives and ``tau_measured`` still reads ``tau``
 (with its errors). That split is what makes such sensors worth having for identification.
 
-The record keeps ``tau`` (true), ``tau_measured`` (T × n), ``torque_sensor_bias`` (n) and
-``torque_sensor_scale`` (n).
+The record keeps ``tau`` (true), ``tau_measured`` (T × n), ``torque_sensor_bias`` (1 × n) and
+``torque_sensor_scale`` (1 × n).
 """
 
 from __future__ import annotations
@@ -84,8 +84,11 @@ class TorqueSensorStream:
         return {"tau_measured": reading}
 
     def run_tables(self) -> dict[str, Array]:
-        """``torque_sensor_bias`` (n) [N·m or N] and ``torque_sensor_scale`` (n) [1]."""
-        return {"torque_sensor_bias": self.bias.copy(), "torque_sensor_scale": self.scale.copy()}
+        """``torque_sensor_bias`` (1 × n) [N·m or N] and ``torque_sensor_scale`` (1 × n) [1]."""
+        return {
+            "torque_sensor_bias": self.bias[None, :].copy(),
+            "torque_sensor_scale": self.scale[None, :].copy(),
+        }
 
     def attributes(self) -> dict[str, Any]:
         """None: the model is recorded as the run's ``torque_sensor`` attribute."""

@@ -251,7 +251,7 @@ def joint_table_shapes(
     on = [name for name in run_order() if getattr(settings, name) is not None]
     shapes: dict[str, tuple[int, ...]] = {}
     for name in on:
-        shapes.update({table: (joints,) for table in _TABLES[name][0]})
+        shapes.update({table: (1, joints) for table in _TABLES[name][0]})
     for name in on:
         shapes.update({table: (samples, joints) for table in _TABLES[name][1]})
     return shapes
