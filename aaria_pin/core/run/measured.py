@@ -34,6 +34,7 @@ from aaria_pin.core.joint_sensors import (
     model_from_attributes,
     per_joint,
     prismatic_joints,
+    select_joints,
 )
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.run.sensor import Channel
@@ -189,6 +190,10 @@ def run_sensors(
         ParameterError: a per-joint value of another length than the record's joints.
     """
     n = len(robot.joint_names)
+    for name in JOINT_MODELS:  # a per-joint value of another length: refused before any piece
+        model = getattr(settings, name)
+        if model is not None:
+            select_joints(model, n, list(range(n)))
     channels: list[Channel] = []
     if settings.actuator is not None:
         channels.append(
