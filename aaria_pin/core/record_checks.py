@@ -231,7 +231,8 @@ def check_joint_tables(record: RunRecord, source: str, series: bool = True) -> N
         if name not in record.tables:
             continue
         given = np.shape(record.tables[name])
-        if len(given) != len(shape) or any(e is not None and g != e for g, e in zip(given, shape)):
+        same = len(given) == len(shape)
+        if not (same and all(e is None or g == e for g, e in zip(given, shape, strict=True))):
             what = "T × n" if name in JOINT_SERIES else "1 × n, one per joint"
             allowed = "(" + ", ".join("T" if e is None else str(e) for e in shape) + ")"
             raise InputFileError(

@@ -183,7 +183,9 @@ def simulate_pieces(
             np.maximum(peaks, np.abs(series.tau).max(axis=0), out=peaks)
         joints = JointColumns(
             times,
-            *(robot.record_columns(x) for x in (trajectory.q, trajectory.qd, trajectory.qdd)),
+            robot.record_columns(trajectory.q),
+            robot.record_columns(trajectory.qd),
+            robot.record_columns(trajectory.qdd),
             robot.record_columns(series.tau),
         )
         piece_tables = tables
