@@ -153,3 +153,39 @@ def test_times_that_do_not_strictly_increase_are_refused(value: float, what: str
     check_record(record, "run.h5", series=False)  # the series were not read
     one = _record(samples=1)
     check_record(one, "run.h5")  # a single sample has no order to check
+
+
+def _with_tables(**tables: np.ndarray) -> RunRecord:
+    from dataclasses import replace
+
+    record = _record()
+    return replace(record, tables={**record.tables, **tables})
+
+
+def test_the_joint_hardware_tables_are_optional_and_checked_when_there() -> None:
+    good = _with_tables(
+        q_measured=np.zeros((20, 3)), tau_motor=np.zeros((20, 3)), encoder_offset=np.zeros((1, 3))
+    )
+    check_record(good, "run.h5")
+    for name, table, allowed in [
+        ("q_measured", np.zeros((19, 3)), "(20, 3) (T × n)"),
+        ("tau_friction", np.zeros((20, 2)), "(20, 3) (T × n)"),
+        ("torque_sensor_bias", np.zeros(3), "(1, 3) (1 × n, one per joint)"),
+    ]:
+        with pytest.raises(InputFileError) as caught:
+            check_record(_with_tables(**{name: table}), "run.h5")
+        assert str(caught.value) == (
+            f"run.h5: array {name} has shape {table.shape}; allowed: {allowed}"
+        )
+        assert caught.value.parameter == "file"
+
+
+def test_a_nan_in_a_joint_hardware_table_names_its_sample_and_joint() -> None:
+    measured = np.zeros((20, 3))
+    measured[7, 2] = np.nan
+    with pytest.raises(InputFileError, match=r"q_measured has NaN at sample 7, joint 2;"):
+        check_record(_with_tables(q_measured=measured), "run.h5")
+    offset = np.zeros((1, 3))
+    offset[0, 1] = np.inf
+    with pytest.raises(InputFileError, match=r"encoder_offset has inf at row 0, joint 1;"):
+        check_record(_with_tables(encoder_offset=offset), "run.h5")

@@ -222,3 +222,19 @@ def test_a_per_joint_value_of_another_length_is_refused_before_any_piece() -> No
     pieces = simulate_pieces(ap.preset_arm("aaria-fig2"), None, settings, 0)
     with pytest.raises(ap.ParameterError, match="viscous has 2 values; allowed: one number or 6"):
         next(pieces)
+
+
+@pytest.mark.parametrize("suffix", [".h5", ".mat"])
+def test_a_run_file_written_in_pieces_holds_the_whole_runs_joint_tables(
+    fig2: RunRecord, tmp_path: Path, suffix: str
+) -> None:
+    from aaria_pin.files.runfile import write_run_pieces
+
+    settings = RunSettings(0.5, 100.0, chunk=8, **ALL)
+    pieces = simulate_pieces(ap.preset_arm("aaria-fig2"), None, settings, 4)
+    path = tmp_path / f"run{suffix}"
+    write_run_pieces(path, pieces, None, mat_version="7.3")
+    stored = read_run(path)
+    for name in (*JOINT_SERIES, *JOINT_RUN_TABLES):
+        np.testing.assert_array_equal(stored.tables[name], fig2.tables[name])
+    assert stored.attributes["actuator_limits"] == fig2.attributes["actuator_limits"]

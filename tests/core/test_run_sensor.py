@@ -149,3 +149,12 @@ def test_a_run_streamed_in_pieces_keeps_its_whole_sensor_table(tmp_path: Path, s
     np.testing.assert_array_equal(
         stored.tables["sensor_tool_height"][:, 0], stored.tool_pose[:, 2, 3]
     )
+
+
+def test_the_joint_channels_time_axis_tables_are_sensor_tables() -> None:
+    from aaria_pin.core.record import JOINT_RUN_TABLES, JOINT_SERIES
+    from aaria_pin.core.run.sensor import is_sensor_table
+
+    assert all(is_sensor_table(name) for name in JOINT_SERIES)
+    assert not any(is_sensor_table(name) for name in (*JOINT_RUN_TABLES, "senSenDH", "tau"))
+    assert is_sensor_table("sensor_toy")
