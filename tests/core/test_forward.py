@@ -106,3 +106,44 @@ def test_cli_drive_torque(tmp_path: Path) -> None:
         ["simulate", "--preset", "aaria-fig3", "--drive", "torque", "-o", str(tmp_path / "x.h5")],
     )
     assert missing.exit_code == 2 and "--torques FILE" in missing.stderr
+
+
+def test_the_actuator_adds_its_armature_and_friction_as_pinocchio_does() -> None:
+    """The first acceleration equals Pinocchio's ABA with ``model.armature`` set."""
+    from aaria_pin.core.joint_sensors import ActuatorModel
+
+    robot = build_dh_robot(get_preset("aaria-fig3").table).model(moving_base=False)
+    motors = ActuatorModel(rotor_inertia=[1e-5, 2e-5, 3e-5, 1e-5, 2e-5], gear_ratio=60.0,
+                           viscous=0.7, coulomb=0.2, coulomb_velocity=0.5)  # fmt: skip
+    time = sample_times(0.01, 100)
+    q0 = np.array([0.01, 0.02, -0.03, 0.3, -0.5])
+    v0 = np.array([0.05, -0.1, 0.08, 0.6, 0.9])
+    tau = np.tile([1.0, -2.0, 0.5, 0.3, -0.1], (time.size, 1))
+    run = forward_simulate(robot, BaseMotion.resting(time.size), tau, time, q0, v0, actuator=motors)
+    model = pin.Model(robot.model)
+    armature = np.array([1e-5, 2e-5, 3e-5, 1e-5, 2e-5]) * 60.0**2
+    model.armature = armature
+    friction = 0.7 * v0 + 0.2 * np.tanh(v0 / 0.5)
+    expected = pin.aba(model, model.createData(), q0, v0, tau[0] - friction)
+    np.testing.assert_allclose(run.qdd[0], expected, rtol=1e-10, atol=1e-12)
+    assert np.array_equal(robot.model.armature, np.zeros(5))  # the shared model is left alone
+
+
+def test_viscous_friction_takes_the_energy_it_dissipates() -> None:
+    """No torque: the energy, rotors included, falls by ``∫ viscous·qd² dt``."""
+    from aaria_pin.core.joint_sensors import ActuatorModel
+
+    robot = build_dh_robot(get_preset("aaria-fig3").table).model(moving_base=False)
+    motors = ActuatorModel(rotor_inertia=2e-5, gear_ratio=50.0, viscous=0.05)
+    time = sample_times(2.0, 200)
+    q0 = np.array([0.0, 0.02, -0.03, 0.3, -0.5])
+    v0 = np.array([0.05, -0.1, 0.08, 0.6, 0.9])
+    zeros = np.zeros((time.size, 5))
+    run = forward_simulate(
+        robot, BaseMotion.resting(time.size), zeros, time, q0, v0, actuator=motors
+    )
+    energy = _energy(robot.model, run.q, run.qd) + 0.5 * (2e-5 * 50.0**2 * run.qd**2).sum(axis=1)
+    power = 0.05 * (run.qd**2).sum(axis=1)
+    dissipated = np.concatenate([[0.0], np.cumsum((power[1:] + power[:-1]) / 2 * np.diff(time))])
+    assert dissipated[-1] > 1e-3  # the friction matters over the run
+    np.testing.assert_allclose(energy[0] - energy, dissipated, atol=1e-3 * dissipated[-1])
