@@ -238,3 +238,17 @@ def test_a_run_file_written_in_pieces_holds_the_whole_runs_joint_tables(
     for name in (*JOINT_SERIES, *JOINT_RUN_TABLES):
         np.testing.assert_array_equal(stored.tables[name], fig2.tables[name])
     assert stored.attributes["actuator_limits"] == fig2.attributes["actuator_limits"]
+
+
+def test_an_empty_modules_column_reads_zero_in_every_joint_table() -> None:
+    robot = ap.preset_arm("aaria-fig3")  # module 2 empty: a record column without a joint
+    assert robot.columns is not None
+    empty = sorted(set(range(6)) - set(robot.columns))
+    assert empty == [1] and (robot.tables["senSenDH"][1, 4] == 0)
+    motors = ActuatorModel(rotor_inertia=1e-5, gear_ratio=10.0, viscous=1.0)
+    settings = RunSettings(0.2, 100.0, noise=False, **{**ALL, "actuator": motors})
+    record = simulate(robot, settings=settings, seeds=2)
+    for name in (*JOINT_SERIES, *JOINT_RUN_TABLES):
+        table = record.tables[name]
+        assert (table[:, empty] == 0).all(), name
+        assert (table[:, robot.columns] != 0).any(), name

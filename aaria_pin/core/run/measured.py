@@ -46,6 +46,7 @@ __all__ = [
     "JOINT_MODELS",
     "ActuatorStream",
     "JointHardware",
+    "OnJoints",
     "TorqueLimitWarning",
     "joint_model_attributes",
     "joint_models_from_attributes",
@@ -155,6 +156,40 @@ class ActuatorStream:
         }
 
 
+class OnJoints:
+    """A channel whose record columns without a model joint read 0 (an Aaria arm's empty modules).
+
+    An empty module has no joint, so no encoder, sensor or motor: its columns are zero, as its
+    ``q`` and ``tau`` are. The channel still draws for every column, so its draws do not depend
+    on which modules are empty.
+
+    Args:
+        inner: the channel
+        present: which record columns are a model joint, a bool per column
+    """
+
+    def __init__(self, inner: Channel, present: Array) -> None:
+        self.inner = inner
+        self.present = present
+
+    @property
+    def name(self) -> str:
+        """The channel's name."""
+        return self.inner.name
+
+    def tables(self, joints: JointColumns) -> dict[str, Array]:
+        """The channel's tables, zero in the empty columns."""
+        return {k: np.where(self.present, v, 0.0) for k, v in self.inner.tables(joints).items()}
+
+    def run_tables(self) -> dict[str, Array]:
+        """The channel's per-run tables, zero in the empty columns."""
+        return {k: np.where(self.present, v, 0.0) for k, v in self.inner.run_tables().items()}
+
+    def attributes(self) -> dict[str, Any]:
+        """The channel's attributes."""
+        return self.inner.attributes()
+
+
 def record_joint_values(robot: RunRobot, values: Array, empty: Any) -> Array:
     """Per-model-joint values (n_model) as the record's joint columns (``empty`` elsewhere)."""
     n = len(robot.joint_names)
@@ -206,7 +241,10 @@ def run_sensors(
         channels.append(EncoderStream(settings.encoder, prismatic, seed))
     if settings.torque_sensor is not None:
         channels.append(TorqueSensorStream(settings.torque_sensor, n, seed))
-    return tuple(channels)
+    if robot.columns is None or len(robot.columns) == n:
+        return tuple(channels)
+    present = record_joint_values(robot, np.ones(len(robot.columns), dtype=bool), False)
+    return tuple(OnJoints(channel, present) for channel in channels)
 
 
 def joint_model_attributes(settings: JointHardware) -> dict[str, Any]:
