@@ -185,13 +185,33 @@ def test_torque_replay_through_the_actuator_follows_the_prescribed_motion() -> N
     assert np.abs(rigid.q - prescribed.q).max() > 100 * np.abs(driven.q - prescribed.q).max()
 
 
-@pytest.mark.parametrize("kind", ["dh", "urdf", "wrist"])
+def _pick_place(settings: RunSettings) -> RunRecord:
+    """The pick-and-place arm's run through the engine, its settings given (the app's own
+    ``simulate_pick_place`` makes its settings)."""
+    from aaria_pin.apps.arm.payload import payload_inertia, with_payload
+    from aaria_pin.apps.arm.run import PickPlaceRobot, simulate_pick_place
+    from aaria_pin.apps.arm.task import Cylinder
+    from aaria_pin.core.run.series import Payload
+
+    run = simulate_pick_place(Cylinder(0.5, 0.2), (-0.3, 0.4), rate=5.0)
+    model = with_payload(run.robot.model, payload_inertia(run.dims, run.cylinder))
+    arm = PickPlaceRobot(run.robot, Payload(replace(run.robot, model=model), run.path.held))
+    path = run.path
+    motion = SampledTrajectory(JointTrajectory(path.time, path.q, path.qd, path.qdd))
+    record = simulate(arm, motion, replace(settings, duration=float(path.time[-1]), rate=5.0))
+    np.testing.assert_array_equal(record.tau, run.tau)  # the app's run, the payload carried
+    return record
+
+
+@pytest.mark.parametrize("kind", ["dh", "urdf", "wrist", "pick-place"])
 def test_every_robot_kind_records_the_joint_tables(kind: str) -> None:
     models = {**ALL, "actuator": ActuatorModel(rotor_inertia=1e-5, gear_ratio=100.0, viscous=0.1)}
     settings = RunSettings(0.2, 100.0, noise=False, **models)
     if kind == "wrist":
         motion = PointToPoint(np.array([0.5, 0.4, -0.3]), 2.0, 10.0, "trapezoid", 0.0)
         record = simulate(wrist_robot(), motion, settings)
+    elif kind == "pick-place":
+        record = _pick_place(settings)
     else:
         robot = ap.preset_arm("aaria-fig2") if kind == "dh" else _ur5()
         record = simulate(robot, settings=settings)
@@ -199,8 +219,11 @@ def test_every_robot_kind_records_the_joint_tables(kind: str) -> None:
     assert record.attributes["kind"] == kind
     for name in JOINT_SERIES:
         assert record.tables[name].shape == (record.n_samples, n)
+    tables = record.tables
+    motor = record.tau + tables["tau_armature"] + tables["tau_friction"]
+    np.testing.assert_array_equal(tables["tau_motor"], motor)
     step = 2 * np.pi / 2**14
-    if kind != "dh":  # every joint revolute
+    if kind in ("urdf", "wrist"):  # every joint revolute
         counts = (record.tables["q_measured"] - record.tables["encoder_offset"]) / step
         np.testing.assert_allclose(counts, np.round(counts), rtol=0, atol=1e-6)
 
