@@ -99,8 +99,11 @@ def test_the_models_add_tables_and_attributes_and_leave_the_rest_bit_for_bit(
     assert "sensors" not in fig2.attributes  # built-in channels are not user sensors
 
 
-def test_models_are_recorded_and_read_back_from_a_run_file(fig2: RunRecord, tmp_path: Path) -> None:
-    stored = read_run(write_run(tmp_path / "run.h5", fig2))
+@pytest.mark.parametrize("suffix", [".h5", ".mat"])
+def test_models_are_recorded_and_read_back_from_a_run_file(
+    fig2: RunRecord, tmp_path: Path, suffix: str
+) -> None:
+    stored = read_run(write_run(tmp_path / f"run{suffix}", fig2))
     assert joint_models_from_attributes(stored.attributes) == ALL
     assert joint_models_from_attributes({}) == dict.fromkeys(ALL)
     assert joint_model_attributes(RunSettings()) == {}
