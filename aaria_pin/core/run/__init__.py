@@ -7,6 +7,7 @@
 - :mod:`~aaria_pin.core.run.motion`: the motions (sine table, Fourier, sampled trajectory,
   torque drive) and how each stores and loads itself
 - :mod:`~aaria_pin.core.run.sensor`: the sensors (the IMU; any other registered one)
+- :mod:`~aaria_pin.core.run.measured`: the joint channels (encoders, torque sensors, actuators)
 - :mod:`~aaria_pin.core.run.series`: the series every run computes (IMUs, tool, torques, wrench)
 - :mod:`~aaria_pin.core.run.chunks`: a long run in time pieces
 - :mod:`~aaria_pin.core.run.engine`: :func:`simulate` and :func:`simulate_pieces`
