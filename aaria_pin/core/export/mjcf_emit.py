@@ -169,7 +169,7 @@ def _write(
         "  <!-- written by aaria_pin from the URDF; a body per link, a site, a gyro and an"
         " accelerometer per IMU -->\n"
         + settings.comment
-        +         '  <compiler angle="radian" inertiafromgeom="false" autolimits="true"'
+        + '  <compiler angle="radian" inertiafromgeom="false" autolimits="true"'
         f' balanceinertia="{str(settings.balance).lower()}"/>\n'
         f'  <option timestep="{exact_number(1.0 / settings.rate)}"'
         f' gravity="{exact_numbers(settings.gravity)}"/>\n'
