@@ -250,7 +250,7 @@ def record_mjcf(
     rate: float | None = None,
     balance_inertia: BalanceInertia = False,
 ) -> tuple[str, tuple[str, ...]]:
-    """The MJCF of a run's robot: its URDF, IMU mounts, gravity, rate and tool frame.
+    """The MJCF of a run's robot: its URDF, IMU mounts, gravity, rate, tool frame, actuators.
 
     A record without its URDF (a DH or wrist run of 0.1.0) is re-made from its inputs first
     (:func:`aaria_pin.apps.remake.remake_record`) for the URDF of its robot.
@@ -269,6 +269,7 @@ def record_mjcf(
         ModelError: as :func:`~aaria_pin.core.export.mjcf_emit.emit_mjcf`.
     """
     from aaria_pin.core.export.mjcf_emit import emit_mjcf
+    from aaria_pin.core.joint_sensors import ActuatorModel, model_from_attributes
     from aaria_pin.core.model import GRAVITY
 
     urdf = record.urdf
@@ -277,6 +278,7 @@ def record_mjcf(
 
         urdf = remake_record(record).urdf
     metadata = record.metadata
+    actuator = record.attributes.get("actuator")
     return emit_mjcf(
         urdf,
         record.imu_mounts,
@@ -286,6 +288,8 @@ def record_mjcf(
         urdf_dir=metadata.urdf_dir or None,
         tool_frame=metadata.tool_frame or None,
         balance_inertia=balance_inertia,
+        actuator=model_from_attributes(ActuatorModel, actuator) if actuator else None,
+        joint_names=record.joint_names,
     )
 
 

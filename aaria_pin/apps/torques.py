@@ -15,11 +15,17 @@ with its moving base: gravity ``g(q)`` (RNEA at zero velocity and acceleration),
 centrifugal ``C(q, v)·v`` (RNEA at zero acceleration, less gravity) and inertial ``M(q)·a`` (the
 full RNEA less the zero-acceleration one), so the three add up to the RNEA torque at every
 sample.
+
+A run with actuators (:mod:`aaria_pin.core.actuator`: the tables ``tau_armature``,
+``tau_friction`` and ``tau_motor = tau + tau_armature + tau_friction``) also gets the motor's
+split (:func:`motor_torques`): per joint the peak and RMS of the rigid-body, armature, friction
+and motor torques, and the motor's torque limit with whether ``tau_motor`` exceeds it.
 """
 
 from __future__ import annotations
 
 import os
+from dataclasses import asdict, dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -38,7 +44,10 @@ if TYPE_CHECKING:  # Pinocchio loads only where a model is used
     from aaria_pin.core.model import RobotModel
 
 __all__ = [
+    "MOTOR_PARTS",
+    "MotorTorques",
     "dataset_torque_report",
+    "motor_torques",
     "record_torque_report",
     "run_torque_report",
     "torque_split",
@@ -49,6 +58,10 @@ _TERMS = ("gravity", "coriolis", "inertial")
 
 _DH_TYPES = {1: "revolute", 2: "prismatic"}
 """Link type (column 5 of an Aaria table) → joint kind; 0 is an empty module."""
+
+MOTOR_PARTS = {"rigid": "tau", "armature": "tau_armature", "friction": "tau_friction",
+               "motor": "tau_motor"}  # fmt: skip
+"""The parts of a joint's motor torque and the record's table of each (``tau`` the series)."""
 
 _TRAJECTORY = ("time", "q", "qd", "qdd")
 _BASE = ("position", "velocity", "acceleration", "rotation", "omega", "omega_dot")
@@ -118,6 +131,71 @@ def _rms(x: Array) -> Array:
     return np.sqrt(np.mean(np.square(x), axis=0))
 
 
+@dataclass(frozen=True)
+class MotorTorques:
+    """One joint's motor torque split: ``motor = rigid + armature + friction`` [N·m or N].
+
+    Attributes:
+        joint: the joint's name
+        peak: the peak |value| of each part of :data:`MOTOR_PARTS`
+        rms: the RMS of each part
+        limit: the motor's torque limit (:func:`~aaria_pin.core.actuator.torque_limits`), None
+            when it has none
+        exceeded: the peak motor torque is above the limit
+    """
+
+    joint: str
+    peak: dict[str, float]
+    rms: dict[str, float]
+    limit: float | None
+    exceeded: bool
+
+
+def motor_torques(
+    record: RunRecord, robot: RobotModel | None = None
+) -> tuple[MotorTorques, ...] | None:
+    """Each joint's motor torque split, in the model's joint order (None: a run without it).
+
+    Args:
+        record: the run; its tables ``tau_armature``, ``tau_friction``, ``tau_motor`` and its
+            ``actuator`` attribute (the limits; default :class:`ActuatorModel`'s)
+        robot: the run's model, for its effort limits (default
+            :func:`~aaria_pin.apps.record_model.record_model`)
+
+    Returns:
+        A :class:`MotorTorques` per joint of the model, or None when the run lacks a table.
+
+    Raises:
+        InputFileError: a record whose model cannot be rebuilt.
+    """
+    from aaria_pin.core.actuator import model_effort_limits, torque_limits
+    from aaria_pin.core.joint_sensors import ActuatorModel, model_from_attributes
+
+    if any(table not in record.tables for table in list(MOTOR_PARTS.values())[1:]):
+        return None
+    robot = record_model(record, moving_base=False) if robot is None else robot
+    columns = record_columns(record, robot)
+    actuator = model_from_attributes(ActuatorModel, record.attributes.get("actuator") or {})
+    effort = model_effort_limits(robot, columns, len(record.joint_names))
+    limits = torque_limits(actuator, effort)[columns]
+    parts = {
+        part: np.asarray(record.tau if table == "tau" else record.tables[table], dtype=float)
+        for part, table in MOTOR_PARTS.items()
+    }
+    peaks = {part: np.abs(values[:, columns]).max(axis=0) for part, values in parts.items()}
+    rms = {part: _rms(values[:, columns]) for part, values in parts.items()}
+    return tuple(
+        MotorTorques(
+            joint=name,
+            peak={part: float(peaks[part][k]) for part in MOTOR_PARTS},
+            rms={part: float(rms[part][k]) for part in MOTOR_PARTS},
+            limit=float(limits[k]) if np.isfinite(limits[k]) else None,
+            exceeded=bool(peaks["motor"][k] > limits[k]),
+        )
+        for k, name in enumerate(robot.joint_names)
+    )
+
+
 def record_torque_report(record: RunRecord) -> dict[str, Any]:
     """Per joint torque statistics of any run, and the base wrench peaks.
 
@@ -129,7 +207,8 @@ def record_torque_report(record: RunRecord) -> dict[str, Any]:
         its name, type, unit, peak |tau|, RMS, RMS of each term of the split and its share of
         their sum, peak |tau·qd| and mean mechanical power, net and absolute mechanical
         energy), ``base_wrench_peak`` (per component), ``split_residual`` (largest
-        ``|g + C·v + M·a - tau|``), ``samples``.
+        ``|g + C·v + M·a - tau|``), ``samples``. A run with actuators: each joint's
+        ``motor``, its :class:`MotorTorques` as a dictionary (:func:`motor_torques`).
 
     Raises:
         InputFileError: a record whose model cannot be rebuilt
@@ -184,6 +263,8 @@ def record_torque_report(record: RunRecord) -> dict[str, Any]:
                 "energy_abs_J": float(np.trapezoid(np.abs(power[:, index]), dx=dt)),
             }
         )
+    for joint, motor in zip(joints, motor_torques(record, robot) or (), strict=False):
+        joint["motor"] = asdict(motor)
     wrench_peak = np.abs(np.asarray(record.base_wrench, dtype=float)).max(axis=0)
     return {
         "samples": int(time.size),
@@ -315,7 +396,31 @@ def torque_text(report: dict[str, Any], one_run: bool = True) -> str:
         )
     peaks = report["base_wrench_peak"].items()
     units = ", ".join(f"{k} {v:.4g} {'N' if k.startswith('f') else 'N*m'}" for k, v in peaks)
-    return "\n".join([*lines, "base wrench peaks: " + units])
+    return "\n".join([*lines, "base wrench peaks: " + units, *_motor_lines(report, width)])
+
+
+def _motor_lines(report: dict[str, Any], width: int) -> list[str]:
+    """The motor split's table (:func:`motor_torques`); none for a run without actuators."""
+    joints = [joint for joint in report["joints"] if "motor" in joint]
+    if not joints:
+        return []
+    heads = "".join(f" {'peak ' + part:>13} {'rms ' + part:>12}" for part in MOTOR_PARTS)
+    lines = [
+        "motor torque = rigid (tau) + armature + friction:",
+        f"{'module':<7} {'joint':<{width}}{heads} {'limit':>10}",
+    ]
+    for joint in joints:
+        motor = joint["motor"]
+        values = "".join(
+            f" {motor['peak'][part]:>13.4g} {motor['rms'][part]:>12.4g}" for part in MOTOR_PARTS
+        )
+        limit = "none" if motor["limit"] is None else f"{motor['limit']:.4g}"
+        flag = "  EXCEEDED" if motor["exceeded"] else ""
+        lines.append(
+            f"{joint['module']:<7} {joint['joint']:<{width}}{values} {limit:>10}"
+            f" {joint['unit']}{flag}"
+        )
+    return lines
 
 
 def run_torque_report(

@@ -81,7 +81,7 @@ Examples:
     "--from",
     "from_run",
     type=_FILE,
-    help="A run file (any kind): its URDF, IMU mounts, gravity, rate and base.",
+    help="A run file (any kind): its URDF, IMU mounts, gravity, rate, base and actuators.",
 )
 @click.option("--density", type=float, help="DH arm: body density [kg/m^3] (default 2700).")
 @click.option(

@@ -100,3 +100,22 @@ def test_bad_options_exit_2_and_write_nothing(
     code, _, stderr = run_mjcf(*args, "-o", str(out))
     assert code == 2 and message in stderr and len(stderr.strip().splitlines()) == 1
     assert not out.exists()
+
+
+def test_a_run_with_actuators_carries_them(tmp_path: Path) -> None:
+    from dataclasses import replace
+
+    from aaria_pin.core.actuator import ActuatorModel
+    from aaria_pin.core.joint_sensors import model_attributes
+    from aaria_pin.files.runfile import write_run
+
+    run = ap.simulate_run(ap.get_preset("aaria-fig2").table, duration=0.1, noise=False)
+    model = ActuatorModel(rotor_inertia=1e-4, gear_ratio=[50.0, 100, 100, 100, 50, 20], coulomb=2.0)
+    stored = {**run.attributes, "actuator": model_attributes(model)}
+    write_run(tmp_path / "run.h5", replace(run, attributes=stored))
+    code, _, _ = run_mjcf("--from", str(tmp_path / "run.h5"), "-o", str(tmp_path / "run.xml"))
+    compiled = mujoco.MjModel.from_xml_path(str(tmp_path / "run.xml"))
+    assert code == 0 and compiled.nv == 6 + 6  # the base chain (no actuator) and the joints
+    np.testing.assert_allclose(compiled.dof_armature[6:], [0.25, 1, 1, 1, 0.25, 0.04], rtol=1e-14)
+    assert compiled.dof_frictionloss[6:].tolist() == [2.0] * 6 and not np.any(compiled.dof_damping)
+    assert "stribeck_torque = 0.0" in (tmp_path / "run.xml").read_text()

@@ -274,8 +274,16 @@ def floored_links(document: UrdfDocument, base: str | None) -> set[str]:
     return {link for link in moving if negligible(link)}
 
 
-def mjcf_joint(joint: UrdfJoint) -> str:
-    """The MJCF joint of a URDF revolute, continuous or prismatic joint."""
+def mjcf_joint(joint: UrdfJoint, attributes: str = "") -> str:
+    """The MJCF joint of a URDF revolute, continuous or prismatic joint.
+
+    Args:
+        joint: the URDF joint
+        attributes: more attributes, written last (e.g. its actuator's, with a leading space)
+
+    Returns:
+        The ``<joint …/>`` element.
+    """
     axis = np.array(joint.axis, dtype=float)
     axis = axis / np.linalg.norm(axis)
     limits = ' limited="false"'
@@ -284,5 +292,6 @@ def mjcf_joint(joint: UrdfJoint) -> str:
         limits = f' limited="true" range="{exact_numbers((joint.lower, joint.upper))}"'
     kind = "slide" if joint.kind == "prismatic" else "hinge"
     return (
-        f'<joint name={quoteattr(joint.name)} type="{kind}" axis="{exact_numbers(axis)}"{limits}/>'
+        f'<joint name={quoteattr(joint.name)} type="{kind}" axis="{exact_numbers(axis)}"{limits}'
+        f"{attributes}/>"
     )

@@ -30,11 +30,13 @@ import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, TypedDict, Unpack
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from aaria_pin.core.arguments import checked
+from aaria_pin.core.export.mjcf_actuators import actuator_comment, joint_actuator_attributes
 from aaria_pin.core.export.mjcf_bodies import (
     MeshAssets,
     body_name,
@@ -45,6 +47,7 @@ from aaria_pin.core.export.mjcf_bodies import (
     mjcf_joint,
     placement,
 )
+from aaria_pin.core.joint_sensors import ActuatorModel
 from aaria_pin.core.model import GRAVITY
 from aaria_pin.core.record import ImuMount
 from aaria_pin.core.se3 import Array
@@ -57,7 +60,14 @@ from aaria_pin.errors import ModelError, ParameterError
 if TYPE_CHECKING:
     import mujoco
 
-__all__ = ["BASE_JOINTS", "BalanceInertia", "emit_mjcf", "load_mjcf", "sensor_names"]
+__all__ = [
+    "BASE_JOINTS",
+    "BalanceInertia",
+    "MjcfOptions",
+    "emit_mjcf",
+    "load_mjcf",
+    "sensor_names",
+]
 
 BASE_JOINTS = ("base_x", "base_y", "base_z", "base_rx", "base_ry", "base_rz")
 """The moving base's joints: slides along world x, y, z, then hinges about x, new y, newer z."""
@@ -86,13 +96,14 @@ def _base_chain() -> list[str]:
 def _worldbody(
     document: UrdfDocument,
     sites: dict[str, list[str]],
-    moving_base: bool,
+    settings: _Settings,
     meshes: MeshAssets,
 ) -> str:
     """The ``<body>`` tree from the root link, indented inside ``<worldbody>``."""
     children: dict[str, list[UrdfJoint]] = {}
     for joint in document.joints:  # document order
         children.setdefault(joint.parent, []).append(joint)
+    moving_base = settings.moving_base
     floored = floored_links(document, document.root_link if moving_base else None)
 
     def body(name: str, depth: int, joint: UrdfJoint | None) -> str:
@@ -104,7 +115,7 @@ def _worldbody(
         else:
             head += placement(joint.origin.xyz, joint.origin.rotation())
             if joint.kind != "fixed":
-                lines.append(mjcf_joint(joint))
+                lines.append(mjcf_joint(joint, settings.joints.get(joint.name, "")))
         link = document.link(name)
         inertial = link_inertial(link, name in floored)
         lines += [inertial] if inertial else []
@@ -128,6 +139,8 @@ class _Settings:
     folder: Path | None
     tool_frame: str | None
     balance: bool
+    joints: dict[str, str]
+    comment: str
 
 
 def _write(
@@ -136,7 +149,7 @@ def _write(
     """The MJCF text and the mesh files left out."""
     meshes = MeshAssets(settings.folder)
     sites = link_sites(document, imu_mounts, settings.tool_frame)
-    tree = _worldbody(document, sites, settings.moving_base, meshes)
+    tree = _worldbody(document, sites, settings, meshes)
     sensors = "".join(
         f'    <gyro name="{gyro}" site={quoteattr(mount.name)}/>\n'
         f'    <accelerometer name="{accelerometer}" site={quoteattr(mount.name)}/>\n'
@@ -155,7 +168,8 @@ def _write(
         f"<mujoco model={quoteattr(document.name)}>\n"
         "  <!-- written by aaria_pin from the URDF; a body per link, a site, a gyro and an"
         " accelerometer per IMU -->\n"
-        '  <compiler angle="radian" inertiafromgeom="false" autolimits="true"'
+        + settings.comment
+        + '  <compiler angle="radian" inertiafromgeom="false" autolimits="true"'
         f' balanceinertia="{str(settings.balance).lower()}"/>\n'
         f'  <option timestep="{exact_number(1.0 / settings.rate)}"'
         f' gravity="{exact_numbers(settings.gravity)}"/>\n'
@@ -178,26 +192,15 @@ def _mujoco_installed() -> bool:
     return find_spec("mujoco") is not None
 
 
-def emit_mjcf(
-    urdf: str,
-    imu_mounts: Sequence[ImuMount],
-    *,
-    moving_base: bool = True,
-    gravity: Sequence[float] | Array = GRAVITY,
-    rate: float = DEFAULT_RATE,
-    urdf_dir: str | os.PathLike[str] | None = None,
-    tool_frame: str | None = None,
-    balance_inertia: BalanceInertia = False,
-) -> tuple[str, tuple[str, ...]]:
-    """The MJCF of a URDF robot with a site, a gyro and an accelerometer per IMU.
+class MjcfOptions(TypedDict, total=False):
+    """The options of :func:`emit_mjcf` (every key optional; defaults below).
 
-    Args:
-        urdf: the URDF text (parsed and checked by :func:`~aaria_pin.core.urdf_parse.parse_urdf`)
-        imu_mounts: the IMUs, in record order (an empty slot, parent ``""``, gets none)
+    Attributes:
         moving_base: the root link on the 6-DOF chain :data:`BASE_JOINTS`; else fixed at the
-            world origin
-        gravity: gravity in the world [m/s²]
-        rate: sample rate [Hz]; the timestep is ``1/rate`` [s]
+            world origin (default True)
+        gravity: gravity in the world [m/s²] (default :data:`~aaria_pin.core.model.GRAVITY`)
+        rate: sample rate [Hz]; the timestep is ``1/rate`` [s] (default
+            :data:`~aaria_pin.core.trajectory.DEFAULT_RATE`)
         urdf_dir: the URDF's folder, for relative mesh paths
         tool_frame: a link or joint to mark with a site of its name (no sensor), or None
         balance_inertia: let MuJoCo raise principal moments that break ``A + B >= C``
@@ -205,6 +208,37 @@ def emit_mjcf(
             ``sensor_mount_link``); those links' dynamics then differ from the URDF's.
             ``"auto"``: compile the model (when ``mujoco`` is installed) and only if MuJoCo
             refuses such an inertia write it balanced, with a warning naming the link
+            (default False)
+        actuator: the joints' motors (:mod:`~aaria_pin.core.export.mjcf_actuators`: each
+            joint's ``armature``, ``damping``, ``frictionloss`` and force range, and a comment
+            naming the terms MuJoCo has none for); None (default): none, the joints'
+            ``<default>`` zeros
+        joint_names: the joints ``actuator``'s per-joint values belong to, in their order (a
+            run's record columns; default the URDF's joints that are not fixed, in document
+            order)
+    """
+
+    moving_base: bool
+    gravity: Sequence[float] | Array
+    rate: float
+    urdf_dir: str | os.PathLike[str] | None
+    tool_frame: str | None
+    balance_inertia: BalanceInertia
+    actuator: ActuatorModel | None
+    joint_names: Sequence[str] | None
+
+
+@checked
+def emit_mjcf(
+    urdf: str, imu_mounts: Sequence[ImuMount], **options: Unpack[MjcfOptions]
+) -> tuple[str, tuple[str, ...]]:
+    """The MJCF of a URDF robot with a site, a gyro and an accelerometer per IMU.
+
+    Args:
+        urdf: the URDF text (parsed and checked by :func:`~aaria_pin.core.urdf_parse.parse_urdf`)
+        imu_mounts: the IMUs, in record order (an empty slot, parent ``""``, gets none)
+        **options: the base, gravity, rate, mesh folder, tool frame, inertia balancing and
+            actuators (:class:`MjcfOptions`)
 
     Returns:
         The MJCF text, and the mesh files that were left out (not STL or OBJ, or not found).
@@ -215,8 +249,14 @@ def emit_mjcf(
             :data:`BASE_JOINTS` is a joint of the URDF; with ``"auto"``, MuJoCo cannot compile
             the model for another reason.
         ParameterError: a rate outside ``(0, MAX_RATE]``
-            (:func:`~aaria_pin.core.trajectory.check_rate`), or gravity not 3 numbers.
+            (:func:`~aaria_pin.core.trajectory.check_rate`), gravity not 3 numbers, or an
+            actuator's per-joint values not one per joint of ``joint_names``.
     """
+    moving_base = options.get("moving_base", True)
+    gravity = options.get("gravity", GRAVITY)
+    rate = options.get("rate", DEFAULT_RATE)
+    urdf_dir, tool_frame = options.get("urdf_dir"), options.get("tool_frame")
+    balance_inertia = options.get("balance_inertia", False)
     check_rate(rate)
     gravity_vector = np.asarray(gravity, dtype=float)
     if gravity_vector.shape != (3,) or not np.all(np.isfinite(gravity_vector)):
@@ -235,8 +275,24 @@ def emit_mjcf(
             element=clash[0],
         )
     folder = None if urdf_dir is None else Path(urdf_dir)
+    actuator = options.get("actuator")
+    joints: dict[str, str] = {}
+    comment = ""
+    if actuator is not None:
+        names = options.get("joint_names")
+        if names is None:
+            names = [joint.name for joint in document.joints if joint.kind != "fixed"]
+        joints = joint_actuator_attributes(actuator, names, document)
+        comment = f"  {actuator_comment(actuator)}\n"
     settings = _Settings(
-        moving_base, gravity_vector, rate, folder, tool_frame, balance_inertia is True
+        moving_base,
+        gravity_vector,
+        rate,
+        folder,
+        tool_frame,
+        balance_inertia is True,
+        joints,
+        comment,
     )
     text, skipped = _write(document, imu_mounts, settings)
     if balance_inertia != "auto" or not _mujoco_installed():

@@ -103,6 +103,7 @@ def replay_motion(
     record: RunRecord,
     xml: str,
     base: BaseMotion | Callable[[], BaseMotion] | None = None,
+    frictionloss: bool = False,
 ) -> tuple[Array, Array]:
     """MuJoCo's IMU readings and joint torques along a run's motion.
 
@@ -113,14 +114,23 @@ def replay_motion(
     torques); with those applied (``qfrc_applied``) ``mj_forward`` reproduces the accelerations
     and its ``sensordata`` are MuJoCo's gyro (angular velocity) and accelerometer (specific
     force: acceleration less gravity) readings in each site's axes. Constraints are disabled
-    (no contacts or limits act). One call into MuJoCo per sample (MuJoCo has no batched
-    inverse dynamics): a check of a run, not a data path.
+    (no contacts or limits act; with ``frictionloss`` the joints' friction loss does). One
+    call into MuJoCo per sample (MuJoCo has no batched inverse dynamics): a check of a run,
+    not a data path.
+
+    The torques are the motor's where the MJCF carries actuators
+    (:mod:`~aaria_pin.core.export.mjcf_actuators`): ``armature`` is in MuJoCo's mass matrix and
+    ``damping`` a passive force, so they hold ``tau + armature·qdd + damping·qd``; the friction
+    loss is a constraint, left out unless ``frictionloss``: then ``+frictionloss·sign(qd)``
+    once MuJoCo's soft constraint saturates (at a speed well away from rest).
 
     Args:
         record: the run (its joints must be joints of the MJCF, its IMUs sites with sensors)
         xml: the MJCF of the run's robot (:func:`~aaria_pin.core.export.mjcf_emit.emit_mjcf`)
         base: the base motion on a moving base, or a function giving it (called only when
             the MJCF has the base chain)
+        frictionloss: let the joints' friction loss act (MuJoCo's frictionloss constraint;
+            contacts, limits and equalities stay disabled)
 
     Returns:
         IMU signals ``[wx wy wz fx fy fz]``, T × S × 6 in the record's IMU order (zeros in
@@ -134,7 +144,10 @@ def replay_motion(
     import mujoco
 
     model = load_mjcf(xml)
-    model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
+    disabled = mujoco.mjtDisableBit
+    off = (disabled.mjDSBL_CONTACT, disabled.mjDSBL_LIMIT, disabled.mjDSBL_EQUALITY)
+    for flag in off if frictionloss else (disabled.mjDSBL_CONSTRAINT,):
+        model.opt.disableflags |= int(flag)
     data = mujoco.MjData(model)
     samples = record.n_samples
     qpos = np.zeros((samples, model.nq))
