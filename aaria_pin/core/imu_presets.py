@@ -1,17 +1,271 @@
-"""IMU device presets: data-sheet parts by name (CONTRACT STUB: only the ADIS16485 so far)."""
+"""IMU device presets: data-sheet parts by name, each with the data-sheet rows it was made from.
+
+Every preset's numbers come from its data sheet (:data:`PRESET_ROWS`: name, value, unit and the
+table it is in). A term the data sheet does not specify is off (0) in the preset. Conventions
+(``docs/guide/imu.md``):
+
+* a data sheet's typical ``±x`` tolerance (scale factor, cross-axis, turn-on offset) is taken as
+  the 1σ of the per-run draw;
+* noise densities are one-sided (the Allan ARW/VRW is ``N/√2``, :mod:`aaria_pin.core.imu_noise`);
+* the in-run bias stability ``b`` is the σ of the Gauss–Markov bias (T = 100 s), as the
+  ADIS16485 of 0.3 has it;
+* the resolution is the part's widest output word (ADIS16470: 32-bit outputs, ICM-42688-P:
+  the 19/18-bit FIFO words) so that quantisation does not swamp the noise (notes 0.3);
+* a part whose noise differs by axis (BMI088, ICM-42688-P: z noisier) uses the x/y value.
+"""
 
 from __future__ import annotations
 
-from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
+from typing import Any
+
+import numpy as np
+
+from aaria_pin.core.imu_model import STANDARD_GRAVITY, ImuNoiseModel, SensorNoise
 from aaria_pin.errors import ParameterError
 
-__all__ = ["DEFAULT_IMU_MODEL", "IMU_PRESETS", "imu_preset"]
+__all__ = [
+    "ADIS16485",
+    "DATASHEET_ROWS",
+    "DEFAULT_IMU_MODEL",
+    "IMU_PRESETS",
+    "PRESET_ROWS",
+    "PRESET_SOURCES",
+    "imu_preset",
+]
+
+_DEG = np.pi / 180.0
+_G = STANDARD_GRAVITY
+_DEG_H = _DEG / 3600.0  # °/h in rad/s
+_DEG_G = _DEG / _G  # °/s per g in rad/s per m/s²
+
+DATASHEET_ROWS: tuple[tuple[str, float, str], ...] = (
+    ("gyro range", 450.0, "+/- deg/s"),
+    ("gyro resolution", 0.02, "deg/s per LSB"),
+    ("gyro rate noise density", 0.0066, "deg/s/sqrt(Hz)"),
+    ("gyro in-run bias stability", 6.25, "deg/h (1 sigma)"),
+    ("gyro angle random walk", 0.3, "deg/sqrt(h)"),
+    ("accel range", 5.0, "+/- g"),
+    ("accel resolution", 0.25, "mg per LSB"),
+    ("accel noise density", 0.067, "mg/sqrt(Hz)"),
+    ("accel in-run bias stability", 32.0, "ug (1 sigma)"),
+    ("accel velocity random walk", 0.023, "m/s/sqrt(h)"),
+    ("bandwidth", 330.0, "Hz"),
+    ("internal sample rate", 2460.0, "SPS"),
+)
+"""ADIS16485 data-sheet values in their original units: (name, value, unit) rows."""
+
+ADIS16485 = ImuNoiseModel(
+    gyro=SensorNoise(
+        range=450.0 * _DEG,  # ±450 °/s
+        lsb=0.02 * _DEG,  # 0.02 °/s per LSB
+        noise_density=0.0066 * _DEG,  # 0.0066 °/s/√Hz
+        bias_stability=6.25 * _DEG / 3600.0,  # 6.25 °/h
+        random_walk=0.3 * _DEG / 60.0,  # 0.3 °/√h; √h = 60 √s
+    ),
+    accel=SensorNoise(
+        range=5.0 * STANDARD_GRAVITY,  # ±5 g
+        lsb=0.25e-3 * STANDARD_GRAVITY,  # 0.25 mg per LSB
+        noise_density=0.067e-3 * STANDARD_GRAVITY,  # 0.067 mg/√Hz
+        bias_stability=32e-6 * STANDARD_GRAVITY,  # 32 µg
+        random_walk=0.023 / 60.0,  # 0.023 m/s/√h
+    ),
+    bandwidth_hz=330.0,
+    internal_rate_hz=2460.0,
+    bias_correlation_time=100.0,
+)
+"""The ADIS16485 of the data sheet (:data:`DATASHEET_ROWS`), in SI units: the 0.3 numbers."""
+
+_ADIS16485_TABLE = "ADI ADIS16485 data sheet Rev. D, Table 1"
+_ADIS16470_TABLE = "ADI ADIS16470 data sheet Rev. C, Table 1"
+_ADIS16470_DRIVER = "Linux drivers/iio/imu/adis16475.c (ADIS16470 chip info)"
+_BMI_GYRO = "Bosch BST-BMI088-DS000-19 rev 1.9, Table 5"
+_BMI_ACCEL = "Bosch BST-BMI088-DS000-19 rev 1.9, Table 4"
+_ICM_GYRO = "TDK DS-000347 rev 1.8, Table 1"
+_ICM_ACCEL = "TDK DS-000347 rev 1.8, Table 2"
+_MPU_GYRO = "InvenSense PS-MPU-6000A-00 rev 3.4, section 6.1 (p. 12)"
+_MPU_ACCEL = "InvenSense PS-MPU-6000A-00 rev 3.4, section 6.2 (p. 13)"
+
+PresetRow = tuple[str, float, str, str]
+"""A data-sheet row of a preset: (quantity, value, unit as the data sheet gives it, source)."""
+
+PRESET_ROWS: dict[str, tuple[PresetRow, ...]] = {
+    "adis16485": tuple((*row, _ADIS16485_TABLE) for row in DATASHEET_ROWS),
+    "adis16470": (
+        ("gyro range", 2000.0, "+/- deg/s", _ADIS16470_TABLE),
+        ("gyro resolution, 32-bit output", 0.1 / 65536, "deg/s per LSB", _ADIS16470_DRIVER),
+        ("gyro rate noise density", 0.008, "deg/s/sqrt(Hz)", _ADIS16470_TABLE),
+        ("gyro in-run bias stability", 8.0, "deg/h", _ADIS16470_TABLE),
+        ("accel range", 40.0, "+/- g", _ADIS16470_TABLE),
+        ("accel resolution, 32-bit output", 1.25 / 65536, "mg per LSB", _ADIS16470_DRIVER),
+        ("accel noise density", 0.1, "mg/sqrt(Hz)", f"{_ADIS16470_TABLE} (via a secondary copy)"),
+        ("accel in-run bias stability", 13.0, "ug", _ADIS16470_TABLE),
+        ("internal sample rate", 2000.0, "SPS", _ADIS16470_DRIVER),
+        ("Bartlett filter -3 dB, FILT_CTRL = 0", 720.0, "Hz", _ADIS16470_DRIVER),
+    ),
+    "bmi088": (
+        ("gyro range (reset)", 2000.0, "+/- deg/s", _BMI_GYRO),
+        ("gyro resolution", 1.0 / 16.384, "deg/s per LSB", _BMI_GYRO),
+        ("gyro rate noise density", 0.014, "deg/s/sqrt(Hz)", _BMI_GYRO),
+        ("gyro zero-rate offset", 1.0, "+/- deg/s", _BMI_GYRO),
+        ("gyro sensitivity tolerance", 1.0, "+/- %", _BMI_GYRO),
+        ("gyro non-linearity", 0.05, "+/- %FS", _BMI_GYRO),
+        ("gyro cross-axis sensitivity", 1.0, "%", _BMI_GYRO),
+        ("gyro g-sensitivity (max)", 0.1, "deg/s/g", _BMI_GYRO),
+        ("accel range (reset)", 6.0, "+/- g", _BMI_ACCEL),
+        ("accel resolution", 1000.0 / 5460.0, "mg per LSB", _BMI_ACCEL),
+        ("accel noise density x, y (z: 190)", 160.0, "ug/sqrt(Hz)", _BMI_ACCEL),
+        ("accel zero-g offset", 20.0, "mg", _BMI_ACCEL),
+        ("accel non-linearity", 0.5, "%FS", _BMI_ACCEL),
+        ("accel cross-axis sensitivity", 0.5, "%", _BMI_ACCEL),
+        ("accel alignment error to package", 0.5, "deg", _BMI_ACCEL),
+        ("accel bandwidth, ODR 100 Hz normal (reset)", 40.0, "Hz", "BMI088 DS, Table 8"),
+    ),
+    "icm42688p": (
+        ("gyro range (default)", 2000.0, "+/- deg/s", _ICM_GYRO),
+        ("gyro resolution, 19-bit FIFO word", 2000.0 / 2**18, "deg/s per LSB", _ICM_GYRO),
+        ("gyro rate noise density", 0.0028, "deg/s/sqrt(Hz)", _ICM_GYRO),
+        ("gyro initial zero-rate offset (board level)", 0.5, "+/- deg/s", _ICM_GYRO),
+        ("gyro sensitivity tolerance", 0.5, "+/- %", _ICM_GYRO),
+        ("gyro non-linearity", 0.1, "+/- %", _ICM_GYRO),
+        ("gyro cross-axis sensitivity", 1.25, "+/- %", _ICM_GYRO),
+        ("accel range (default)", 16.0, "+/- g", _ICM_ACCEL),
+        ("accel resolution, 18-bit FIFO word", 1000.0 / 8192.0, "mg per LSB", _ICM_ACCEL),
+        ("accel noise density x, y (z: 70)", 65.0, "ug/sqrt(Hz)", _ICM_ACCEL),
+        ("accel initial zero-g offset (board level)", 20.0, "+/- mg", _ICM_ACCEL),
+        ("accel sensitivity tolerance", 0.5, "+/- %", _ICM_ACCEL),
+        ("accel non-linearity", 0.1, "+/- %", _ICM_ACCEL),
+        ("accel cross-axis sensitivity", 1.0, "+/- %", _ICM_ACCEL),
+    ),
+    "mpu6050": (
+        ("gyro range (FS_SEL = 0)", 250.0, "+/- deg/s", _MPU_GYRO),
+        ("gyro resolution", 1.0 / 131.0, "deg/s per LSB", _MPU_GYRO),
+        ("gyro rate noise density", 0.005, "deg/s/sqrt(Hz)", _MPU_GYRO),
+        ("gyro initial ZRO tolerance", 20.0, "+/- deg/s", _MPU_GYRO),
+        ("gyro sensitivity scale factor tolerance", 3.0, "+/- %", _MPU_GYRO),
+        ("gyro non-linearity", 0.2, "%", _MPU_GYRO),
+        ("gyro cross-axis sensitivity", 2.0, "+/- %", _MPU_GYRO),
+        ("gyro linear acceleration sensitivity", 0.1, "deg/s/g", _MPU_GYRO),
+        ("accel range (AFS_SEL = 0)", 2.0, "+/- g", _MPU_ACCEL),
+        ("accel resolution", 1000.0 / 16384.0, "mg per LSB", _MPU_ACCEL),
+        ("accel power spectral density", 400.0, "ug/sqrt(Hz)", _MPU_ACCEL),
+        ("accel zero-g output x, y (z: 80)", 50.0, "+/- mg", _MPU_ACCEL),
+        ("accel initial calibration tolerance", 3.0, "+/- %", _MPU_ACCEL),
+        ("accel non-linearity", 0.5, "%", _MPU_ACCEL),
+        ("accel cross-axis sensitivity", 2.0, "+/- %", _MPU_ACCEL),
+    ),
+}
+"""Each preset's data-sheet rows, original units (the docs' table and the template's comments)."""
+
+PRESET_SOURCES: dict[str, str] = {
+    "adis16485": "Analog Devices ADIS16485 data sheet Rev. D (the Aaria paper's IMU)",
+    "adis16470": "Analog Devices ADIS16470 data sheet Rev. C; Linux adis16475.c",
+    "bmi088": "Bosch Sensortec BMI088 data sheet BST-BMI088-DS000-19 rev 1.9 (2024)",
+    "icm42688p": "TDK InvenSense ICM-42688-P data sheet DS-000347 rev 1.8 (2023)",
+    "mpu6050": "InvenSense MPU-6000/MPU-6050 product specification PS-MPU-6000A-00 rev 3.4",
+}
+"""The data sheet of each preset."""
+
+
+def _sensor(**values: Any) -> SensorNoise:
+    """A sensor's terms; ``random_walk`` (reference only) 0 where the data sheet gives none."""
+    return SensorNoise(**{"random_walk": 0.0, "bias_stability": 0.0, **values})
+
+
+IMU_PRESETS: dict[str, ImuNoiseModel] = {
+    "adis16485": ADIS16485,
+    "adis16470": ImuNoiseModel(
+        gyro=_sensor(
+            range=2000.0 * _DEG,
+            lsb=0.1 * _DEG / 65536,
+            noise_density=0.008 * _DEG,
+            bias_stability=8.0 * _DEG_H,
+        ),
+        accel=_sensor(
+            range=40.0 * _G,
+            lsb=1.25e-3 * _G / 65536,
+            noise_density=0.1e-3 * _G,
+            bias_stability=13e-6 * _G,
+        ),
+        bandwidth_hz=720.0,
+        internal_rate_hz=2000.0,
+        decimation_order=2,
+    ),
+    "bmi088": ImuNoiseModel(
+        gyro=_sensor(
+            range=2000.0 * _DEG,
+            lsb=_DEG / 16.384,
+            noise_density=0.014 * _DEG,
+            bias_offset=1.0 * _DEG,
+            scale_error=0.01,
+            nonlinearity=0.0005,
+            cross_axis=0.01,
+            g_sensitivity=0.1 * _DEG_G,
+        ),
+        accel=_sensor(
+            range=6.0 * _G,
+            lsb=_G / 5460.0,
+            noise_density=160e-6 * _G,
+            bias_offset=20e-3 * _G,
+            nonlinearity=0.005,
+            cross_axis=0.005,
+            misalignment=0.5 * _DEG,
+        ),
+        bandwidth_hz=40.0,
+        internal_rate_hz=100.0,
+        decimation_order=3,
+    ),
+    "icm42688p": ImuNoiseModel(
+        gyro=_sensor(
+            range=2000.0 * _DEG,
+            lsb=2000.0 * _DEG / 2**18,
+            noise_density=0.0028 * _DEG,
+            bias_offset=0.5 * _DEG,
+            scale_error=0.005,
+            nonlinearity=0.001,
+            cross_axis=0.0125,
+        ),
+        accel=_sensor(
+            range=16.0 * _G,
+            lsb=_G / 8192.0,
+            noise_density=65e-6 * _G,
+            bias_offset=20e-3 * _G,
+            scale_error=0.005,
+            nonlinearity=0.001,
+            cross_axis=0.01,
+        ),
+        bandwidth_hz=498.0,
+        internal_rate_hz=1000.0,
+        decimation_order=3,
+    ),
+    "mpu6050": ImuNoiseModel(
+        gyro=_sensor(
+            range=250.0 * _DEG,
+            lsb=_DEG / 131.0,
+            noise_density=0.005 * _DEG,
+            bias_offset=20.0 * _DEG,
+            scale_error=0.03,
+            nonlinearity=0.002,
+            cross_axis=0.02,
+            g_sensitivity=0.1 * _DEG_G,
+        ),
+        accel=_sensor(
+            range=2.0 * _G,
+            lsb=_G / 16384.0,
+            noise_density=400e-6 * _G,
+            bias_offset=50e-3 * _G,
+            scale_error=0.03,
+            nonlinearity=0.005,
+            cross_axis=0.02,
+        ),
+        bandwidth_hz=256.0,
+        internal_rate_hz=8000.0,
+        decimation_order=3,
+    ),
+}
+"""The device presets by name (lower case); see :data:`PRESET_ROWS` for their sources."""
 
 DEFAULT_IMU_MODEL = "adis16485"
 """The preset every run uses unless told otherwise (the Aaria paper's part)."""
-
-IMU_PRESETS: dict[str, ImuNoiseModel] = {"adis16485": ADIS16485}
-"""The device presets by name (lower case)."""
 
 
 def imu_preset(name: str) -> ImuNoiseModel:

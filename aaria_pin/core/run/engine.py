@@ -32,6 +32,7 @@ from aaria_pin.core.run.series import (
     ImuSlots,
     Payload,
     carry_payload,
+    imu_errors,
     noise_stream,
     simulate_series,
 )
@@ -143,18 +144,22 @@ def simulate_pieces(
     tables = {**robot.tables, **motion_tables}
     pieces = chunk_bounds(samples, None if whole else settings.chunk)
     sensors = (*run_sensors(robot, settings, seed), *sensors)  # type: ignore[arg-type]
+    imus = ImuSlots(robot.imu_frames, robot.imu_slots, robot.n_slots)
+    errors = imu_errors(settings, seed, samples, imus)
+    imus = replace(imus, errors=errors)
+    if errors is not None:
+        tables = {**tables, **errors.tables}
     stream = noise_stream(
         samples,
         len(robot.imu_frames),
         settings.rate,
         seed,
         settings.noise,
-        settings.noise_model,
+        settings.noise_model if errors is None else errors.noise_model,
         len(pieces),
     )
     sampling = {**settings.attributes(seed), **sensor_attributes(tuple(sensors))}
     model = robot.model
-    imus = ImuSlots(robot.imu_frames, robot.imu_slots, robot.n_slots)
     peaks = np.zeros(model.n_joints)
     payload: Payload | None = getattr(robot, "payload", None)  # a load it carries, if any
     for start, stop in pieces:
