@@ -70,14 +70,13 @@ _SENSORS = ("gyro", "accel")
 
 def _rotation(theta: Array) -> Array:
     """``exp([θ]×)`` of rotation vectors, (..., 3) → (..., 3, 3) (Rodrigues)."""
-    angle = np.linalg.norm(theta, axis=-1)[..., None, None]
-    safe = np.where(angle > 0.0, angle, 1.0)
-    k = theta[..., None, :] / safe[..., 0]
-    x, y, z = k[..., 0, 0], k[..., 0, 1], k[..., 0, 2]
-    zero = np.zeros_like(x)
-    skew = np.stack([zero, -z, y, z, zero, -x, -y, x, zero], axis=-1).reshape(*x.shape, 3, 3)
-    eye = np.broadcast_to(np.eye(3), skew.shape)
-    return eye + np.sin(angle) * skew + (1.0 - np.cos(angle)) * (skew @ skew)
+    angle = np.linalg.norm(theta, axis=-1)
+    k = theta / np.where(angle > 0.0, angle, 1.0)[..., None]
+    zero = np.zeros_like(angle)
+    x, y, z = k[..., 0], k[..., 1], k[..., 2]
+    skew = np.stack([zero, -z, y, z, zero, -x, -y, x, zero], axis=-1).reshape(*angle.shape, 3, 3)
+    sin, cos = np.sin(angle)[..., None, None], np.cos(angle)[..., None, None]
+    return np.eye(3) + sin * skew + (1.0 - cos) * (skew @ skew)
 
 
 @dataclass(frozen=True)
