@@ -16,6 +16,8 @@ table it is in). A term the data sheet does not specify is off (0) in the preset
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -28,8 +30,12 @@ __all__ = [
     "DATASHEET_ROWS",
     "DEFAULT_IMU_MODEL",
     "IMU_PRESETS",
+    "MODEL_FIELDS",
     "PRESET_ROWS",
     "PRESET_SOURCES",
+    "SENSOR_FIELDS",
+    "imu_model_from_toml",
+    "imu_model_toml",
     "imu_preset",
 ]
 
@@ -280,3 +286,146 @@ def imu_preset(name: str) -> ImuNoiseModel:
             parameter="imu_model", value=name, allowed=", ".join(sorted(IMU_PRESETS))
         )
     return IMU_PRESETS[key]
+
+
+SENSOR_FIELDS: dict[str, tuple[str, str]] = {
+    "range": ("{u}", "full scale, the output saturates at +/-range"),
+    "lsb": ("{u}", "quantisation step, one LSB"),
+    "noise_density": ("{u}/sqrt(Hz)", "white noise density, one-sided (ADEV N/sqrt(2 tau))"),
+    "bias_stability": ("{u}", "in-run bias instability: sigma of the Gauss-Markov bias"),
+    "random_walk": ("{w}", "data-sheet ARW/VRW, kept for reference (0: not given)"),
+    "scale_error": ("1", "scale-factor error per axis, 1 sigma, < 1"),
+    "nonlinearity": ("1 (of FS)", "best-fit-line non-linearity, fraction of full scale, < 1"),
+    "cross_axis": ("1", "cross-axis sensitivity, each off-diagonal, 1 sigma, < 1"),
+    "misalignment": ("rad", "axis misalignment, random rotation angle per axis, 1 sigma"),
+    "alignment": ("3 x 3", "a fixed rotation applied after the random one (rows)"),
+    "g_sensitivity": ("rad/s per m/s^2", "gyroscope g-sensitivity, each entry, 1 sigma"),
+    "bias_offset": ("{u}", "turn-on bias per axis, 1 sigma"),
+    "bias_random_walk": ("{u}/sqrt(s)", "bias random walk K (ADEV K*sqrt(tau/3))"),
+}
+"""The unit and meaning of each :class:`SensorNoise` field (``{u}``: the sensor's unit)."""
+
+MODEL_FIELDS: dict[str, tuple[str, str]] = {
+    "bandwidth_hz": ("Hz", "sensor bandwidth, reference only"),
+    "internal_rate_hz": ("Hz", "internal sample rate, reference only"),
+    "bias_correlation_time": ("s", "correlation time of the Gauss-Markov bias"),
+    "time_offset": ("s", "fixed offset of every IMU's sampling instants"),
+    "time_offset_sigma": ("s", "random offset per IMU per run, 1 sigma"),
+    "jitter": ("s", "sample-time jitter, 1 sigma per sample"),
+    "decimation": ("1", "D: sample at D x the run's rate, filter, keep every D-th (1: off)"),
+    "decimation_order": ("1", "filter: 1 boxcar, 2 Bartlett, 3 smoother low-pass"),
+}
+"""The unit and meaning of each per-IMU field of :class:`ImuNoiseModel`."""
+
+_SENSOR_UNITS = {"gyro": ("rad/s", "rad/sqrt(s)"), "accel": ("m/s^2", "m/s/sqrt(s)")}
+
+
+def _toml_value(value: Any) -> str:
+    if isinstance(value, tuple):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if isinstance(value, int):
+        return str(value)
+    return repr(float(value))
+
+
+def imu_model_toml(name: str) -> str:
+    """The TOML text of preset ``name``: every field with its unit, the data sheet's rows.
+
+    ``[imu]`` names the preset and holds the per-IMU fields, ``[imu.gyro]`` and
+    ``[imu.accel]`` the sensors'; :func:`imu_model_from_toml` reads it back to the preset.
+
+    Raises:
+        ParameterError: an unknown preset (parameter ``imu_model``).
+    """
+    model = imu_preset(name)
+    key = str(name).lower()
+    lines = [
+        f"# IMU model {key}: {PRESET_SOURCES[key]}.",
+        "# SI units; 0 turns a term off. Edit any value; keys left out keep the preset's.",
+        "# A data-sheet tolerance +/-x is drawn as 1 sigma = x. Data-sheet rows (original units):",
+        *(
+            f"#   {row}: {value:g} {unit} ({source})"
+            for row, value, unit, source in PRESET_ROWS[key]
+        ),
+        "# A term without a row above is not specified by the data sheet and is off.",
+        "",
+        "[imu]",
+        f'preset = "{key}"',
+    ]
+    for field_name, (unit, text) in MODEL_FIELDS.items():
+        lines.append(f"{field_name} = {_toml_value(getattr(model, field_name))}  # [{unit}] {text}")
+    for sensor in ("gyro", "accel"):
+        u, w = _SENSOR_UNITS[sensor]
+        lines += ["", f"[imu.{sensor}]"]
+        noise: SensorNoise = getattr(model, sensor)
+        for field_name, (unit, text) in SENSOR_FIELDS.items():
+            value = getattr(noise, field_name)
+            if field_name == "g_sensitivity" and sensor == "accel":
+                continue
+            shown = f"[{unit.format(u=u, w=w)}] {text}"
+            if value is None:
+                lines.append(f"# {field_name} = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]  # {shown}")
+                continue
+            lines.append(f"{field_name} = {_toml_value(value)}  # {shown}")
+    return "\n".join(lines) + "\n"
+
+
+def _refuse_key(where: str, key: str, known: Any) -> ParameterError:
+    return ParameterError(
+        f"{where}: unknown key {key!r}; allowed: {', '.join(known)}",
+        parameter=key,
+        value=key,
+        allowed=", ".join(known),
+    )
+
+
+def _number(where: str, key: str, value: Any) -> Any:
+    """A TOML value as its field takes it: a number, or (``alignment``) rows of numbers."""
+    if key == "alignment":
+        return value
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ParameterError(
+            f"{where}.{key} is {value!r}; allowed: a number", parameter=key, value=value,
+            allowed="a number",
+        )  # fmt: skip
+    return value
+
+
+def imu_model_from_toml(mapping: Mapping[str, Any]) -> ImuNoiseModel:
+    """An IMU model from the ``[imu]`` table of a TOML document: a preset and its overrides.
+
+    Args:
+        mapping: the ``[imu]`` table as read (``preset`` a name of :data:`IMU_PRESETS`, default
+            :data:`DEFAULT_IMU_MODEL`; per-IMU fields; ``gyro`` and ``accel`` tables), or a whole
+            document whose only table is ``imu``
+
+    Returns:
+        The preset with the given fields replaced.
+
+    Raises:
+        ParameterError: an unknown key (parameter: that key), an unknown preset (``imu_model``),
+            a value that is not a number or out of its field's range (parameter: the field).
+    """
+    table: Mapping[str, Any] = mapping
+    if set(mapping) == {"imu"} and isinstance(mapping["imu"], Mapping):
+        table = mapping["imu"]
+    known = ["preset", *MODEL_FIELDS, "gyro", "accel"]
+    for key in table:
+        if key not in known:
+            raise _refuse_key("imu", key, known)
+    model = imu_preset(table.get("preset", DEFAULT_IMU_MODEL))
+    sensors: dict[str, SensorNoise] = {}
+    for sensor in ("gyro", "accel"):
+        given = table.get(sensor, {})
+        if not isinstance(given, Mapping):
+            raise ParameterError(
+                f"imu.{sensor} is {given!r}; allowed: a table [imu.{sensor}]",
+                parameter=sensor, value=given, allowed=f"a table [imu.{sensor}]",
+            )  # fmt: skip
+        for key in given:
+            if key not in SENSOR_FIELDS:
+                raise _refuse_key(f"imu.{sensor}", key, list(SENSOR_FIELDS))
+        values = {k: _number(f"imu.{sensor}", k, v) for k, v in given.items()}
+        sensors[sensor] = replace(getattr(model, sensor), **values)
+    top = {k: _number("imu", k, v) for k, v in table.items() if k in MODEL_FIELDS}
+    return replace(model, gyro=sensors["gyro"], accel=sensors["accel"], **top)
