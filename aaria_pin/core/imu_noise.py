@@ -366,11 +366,20 @@ MODEL_ATTRIBUTE_KEYS = {
 """The attribute key of each per-IMU field of :class:`ImuNoiseModel` (unit in the key)."""
 
 
+_OLD_FIELDS = ("range", "lsb", "noise_density", "bias_stability", "random_walk")
+_OLD_MODEL_FIELDS = ("bandwidth_hz", "internal_rate_hz", "bias_correlation_time")
+_OFF_VALUES = {"decimation": 1, "decimation_order": 1}  # the off value of a 0.4 field, if not 0
+
+
 def noise_attributes(model: ImuNoiseModel = ADIS16485) -> dict[str, Any]:
     """The model's parameters as a flat dictionary, SI units in the keys (for HDF5 attributes).
 
-    Every field is recorded (:func:`attribute_key`, :data:`MODEL_ATTRIBUTE_KEYS`), numbers as
-    floats; a sensor's fixed ``alignment`` only when given (nine numbers, row by row).
+    The 13 fields of 0.3 are always recorded; a field added in 0.4 is recorded when it is not
+    its off value (0; 1 for ``decimation`` and ``decimation_order``; None for ``alignment``,
+    recorded as its nine numbers row by row), so a run whose new terms are all off records
+    exactly what it did in 0.3, and a key left out reads back as off
+    (:func:`~aaria_pin.core.imu_attributes.noise_model_from_attributes`). Keys:
+    :func:`attribute_key`, :data:`MODEL_ATTRIBUTE_KEYS`.
 
     Args:
         model: noise model
@@ -383,13 +392,15 @@ def noise_attributes(model: ImuNoiseModel = ADIS16485) -> dict[str, Any]:
         noise: SensorNoise = getattr(model, sensor)
         for f in fields(noise):
             value = getattr(noise, f.name)
-            if sensor == "accel" and f.name == "g_sensitivity":
-                continue  # a gyroscope term (always 0 for an accelerometer)
-            if f.name == "alignment":
-                if value is not None:
-                    attributes[attribute_key(sensor, f.name)] = [float(v) for r in value for v in r]
+            if f.name not in _OLD_FIELDS and not value:
                 continue
-            attributes[attribute_key(sensor, f.name)] = float(value)
+            if f.name == "alignment":
+                value = [float(v) for row in value for v in row]
+            attributes[attribute_key(sensor, f.name)] = (
+                value if f.name == "alignment" else float(value)
+            )
     for name, key in MODEL_ATTRIBUTE_KEYS.items():
-        attributes[key] = float(getattr(model, name))
+        value = getattr(model, name)
+        if name in _OLD_MODEL_FIELDS or value != _OFF_VALUES.get(name, 0):
+            attributes[key] = float(value)
     return attributes
