@@ -12,7 +12,7 @@ import aaria_pin as ap
 from aaria_pin.core.allan import allan_deviation
 from aaria_pin.core.imu_errors import TERMS, draw_imu_errors
 from aaria_pin.core.imu_model import ImuNoiseModel, SensorNoise
-from aaria_pin.core.imu_presets import ADIS16485
+from aaria_pin.core.imu_presets import ADIS16485, IMU_PRESETS
 from aaria_pin.core.seeds import sensor_sequence
 
 RATE = 100.0
@@ -141,3 +141,17 @@ def test_a_fraction_of_one_or_more_is_refused(term: str) -> None:
     with pytest.raises(ap.ParameterError, match=rf"^{term} is 1.0; allowed: .*< 1") as caught:
         _clean(**{term: 1.0})
     assert caught.value.parameter == term
+
+
+def test_a_run_in_pieces_is_the_run_held_whole() -> None:
+    """Per-sample terms (axes, biases) keep a run in pieces bit for bit the whole run's."""
+    model = IMU_PRESETS["mpu6050"]
+    assert model.new_terms and not model.needs_whole_run
+    seeds = ap.RunSeeds(9, run=2)  # a data set's run: its noise seed is a SeedSequence
+    settings = ap.RunSettings(duration=1.0, rate=100.0, noise_model=model, chunk=17)
+    arm = ap.preset_arm("aaria-fig2")
+    pieces = list(ap.simulate_pieces(arm, settings=settings, seeds=seeds))
+    whole = ap.simulate(arm, settings=settings, seeds=seeds)
+    assert len(pieces) == 6
+    assert np.array_equal(np.concatenate([p.imu for p in pieces]), whole.imu)
+    assert np.array_equal(pieces[0].tables["imu_error_matrix"], whole.tables["imu_error_matrix"])
