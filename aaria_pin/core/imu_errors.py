@@ -158,9 +158,14 @@ class ImuErrors:
             out += walk[start : start + m][:, list(self.slots)]
         if self.decimation_rng is not None:
             density = np.repeat([model.gyro.noise_density, model.accel.noise_density], 3)
-            taps = decimation_filter(model.decimation, model.decimation_order)
+            shape = (out.shape[0], out.shape[1])
             out += filtered_white_noise(
-                self.decimation_rng, out.shape[:2], density, self.rate, taps, model.decimation
+                self.decimation_rng,
+                shape,
+                density,
+                self.rate,
+                model.decimation,
+                model.decimation_order,
             )
         return out
 

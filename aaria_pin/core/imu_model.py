@@ -170,7 +170,11 @@ class ImuNoiseModel:
                 parameter="time_offset", value=self.time_offset, allowed="a finite number [s]"
             )
         decimation = self.decimation
-        if not (float(decimation).is_integer() and 1 <= decimation <= 4096):
+        try:
+            whole = float(decimation).is_integer() and 1 <= decimation <= 4096
+        except (TypeError, ValueError):
+            whole = False
+        if not whole or isinstance(decimation, bool):
             raise ParameterError(
                 parameter="decimation", value=decimation, allowed="a whole number 1 to 4096"
             )

@@ -11,7 +11,9 @@ decimation filter (:func:`decimation_filter`; ``h = [1]`` without decimation). T
 signals ``x`` at instants off the run's grid come from a cubic spline through the run's exact
 samples (``scipy.interpolate.CubicSpline``, not-a-knot ends, extrapolated past them): the
 engine's motions are smooth, and ``tests/core/test_imu_timing.py`` measures the spline's error
-against exact signals computed at the shifted instants. The filter's white noise is drawn at
+against exact signals computed at the shifted instants. Instants before the run's first sample
+(a negative offset, the filter's window of the first outputs: ``order·(D - 1)/(D·rate)`` s) or
+after its last extrapolate the spline's end pieces. The filter's white noise is drawn at
 the internal rate ``D·rate`` (:func:`filtered_white_noise`), so the Allan deviation of the
 output at τ much longer than the filter is the part's ``N/√(2τ)``.
 """
@@ -22,7 +24,7 @@ import numpy as np
 
 from aaria_pin.core.se3 import Array
 
-__all__ = ["decimation_filter", "filtered_white_noise", "sampled_signals"]
+__all__ = ["BLOCK_NUMBERS", "decimation_filter", "filtered_white_noise", "sampled_signals"]
 
 
 def decimation_filter(decimation: int, order: int) -> Array:
@@ -45,6 +47,10 @@ def decimation_filter(decimation: int, order: int) -> Array:
     return taps
 
 
+BLOCK_NUMBERS = 2**21
+"""Numbers per block (16 MiB of float64) when a run's samples are filtered a block at a time."""
+
+
 def sampled_signals(
     exact: Array,
     rate: float,
@@ -54,6 +60,10 @@ def sampled_signals(
     decimation: int,
 ) -> Array:
     """The exact signals as the IMUs sample them: shifted, jittered and filtered.
+
+    Each output sample is its own window of L = ``taps.size`` spline values (a jittered
+    output's window moves with it), evaluated in blocks of at most :data:`BLOCK_NUMBERS`
+    numbers: the memory does not grow with D, the time grows as T·L.
 
     Args:
         exact: the exact signals at the run's samples, (T, n_imu, 6), T >= 4
@@ -71,15 +81,24 @@ def sampled_signals(
     samples, n_imu = exact.shape[:2]
     times = np.arange(samples) / rate
     lags = np.arange(taps.size) / (decimation * rate)
+    block = max(1, BLOCK_NUMBERS // (6 * taps.size))
     out = np.empty_like(exact)
     for imu in range(n_imu):
         spline = CubicSpline(times, exact[:, imu], axis=0)
         instants = times + offsets[imu]
         if jitter is not None:
             instants = instants + jitter[:, imu]
-        window = spline((instants[:, None] - lags[None, :]).ravel())
-        out[:, imu] = np.einsum("j,tjc->tc", taps, window.reshape(samples, taps.size, 6))
+        for first in range(0, samples, block):
+            at = instants[first : first + block]
+            window = spline((at[:, None] - lags[None, :]).ravel()).reshape(at.size, taps.size, 6)
+            out[first : first + at.size, imu] = np.einsum("j,tjc->tc", taps, window)
     return out
+
+
+def _moving_average(values: Array, width: int) -> Array:
+    """The ``width``-sample moving average along axis 0, "valid" part (len - width + 1 rows)."""
+    total = np.concatenate([np.zeros((1, *values.shape[1:])), np.cumsum(values, axis=0)])
+    return (total[width:] - total[:-width]) / width
 
 
 def filtered_white_noise(
@@ -87,28 +106,38 @@ def filtered_white_noise(
     shape: tuple[int, int],
     density: Array,
     rate: float,
-    taps: Array,
     decimation: int,
+    order: int,
 ) -> Array:
     """White noise drawn at the internal rate ``D·rate``, filtered and decimated.
 
+    The internal samples are drawn in time order (L - 1 before the run's first output, then D
+    per output, L = ``order·(D - 1) + 1``), a block of outputs at a time (:data:`BLOCK_NUMBERS`),
+    and filtered by ``order`` moving averages of D samples (:func:`decimation_filter`'s taps).
+
     Args:
-        rng: the generator (one ``(T·D + L - 1, n_imu, 6)`` standard-normal draw)
+        rng: the generator
         shape: (T, n_imu)
         density: the noise density of each of the six axes, (6,) [u/√Hz], one-sided
         rate: the output rate [Hz]
-        taps: the decimation filter, L taps
         decimation: D
+        order: the filter's order
 
     Returns:
-        The output noise, (T, n_imu, 6): per internal sample ``N·√(D·rate/2)``, filtered by
-        ``h``, every D-th value (output k at internal sample ``k·D + L - 1``).
+        The output noise, (T, n_imu, 6): per internal sample ``N·√(D·rate/2)``, filtered, and
+        output k the filter's value at internal sample ``k·D`` (time ``t_k``).
     """
     samples, n_imu = shape
-    internal = rng.standard_normal((samples * decimation + taps.size - 1, n_imu, 6))
-    internal *= density * np.sqrt(decimation * rate / 2.0)
-    out = np.zeros((samples, n_imu, 6))
-    last = taps.size - 1
-    for j, h in enumerate(taps):  # output k is Σ_j h_j · w[k·D + L - 1 - j]
-        out += h * internal[last - j : last - j + samples * decimation : decimation]
+    held = rng.standard_normal((order * (decimation - 1), n_imu, 6))
+    block = max(1, BLOCK_NUMBERS // (decimation * n_imu * 6))
+    out = np.empty((samples, n_imu, 6))
+    for first in range(0, samples, block):
+        count = min(block, samples - first)
+        internal = np.concatenate([held, rng.standard_normal((count * decimation, n_imu, 6))])
+        held = internal[internal.shape[0] - held.shape[0] :]
+        filtered = internal
+        for _ in range(order):
+            filtered = _moving_average(filtered, decimation)
+        out[first : first + count] = filtered[::decimation]
+    out *= density * np.sqrt(decimation * rate / 2.0)
     return out

@@ -86,13 +86,35 @@ def test_decimation_filter_of_a_sine_is_its_moving_average(decimation: int, orde
 def test_decimated_white_noise_keeps_its_allan_deviation(order: int) -> None:
     """At τ much longer than the filter the ADEV is N/√(2τ) for every filter (unity DC gain)."""
     rate, density = 50.0, np.full(6, 1e-3)
-    noise = filtered_white_noise(np.random.default_rng(order), (40_000, 1), density, rate,
-                                 decimation_filter(8, order), 8)  # fmt: skip
+    noise = filtered_white_noise(np.random.default_rng(order), (40_000, 1), density, rate, 8,
+                                 order)  # fmt: skip
     taus = np.array([2.0, 5.0])
     adev = np.mean([allan_deviation(noise[:, 0, a], rate, taus) for a in range(6)], axis=0)
     np.testing.assert_allclose(adev, 1e-3 / np.sqrt(2 * taus), rtol=0.05)
-    if order == 1:  # the boxcar average of D samples: per-sample σ as without decimation
-        assert noise.std() == pytest.approx(1e-3 * np.sqrt(rate / 2), rel=0.02)
+    # per-sample σ: N·√(D·rate/2)·√(Σh²); the boxcar's Σh² = 1/D keeps σ as without decimation
+    taps = decimation_filter(8, order)
+    expected = 1e-3 * np.sqrt(8 * rate / 2 * np.sum(taps**2))
+    assert noise.std() == pytest.approx(expected, rel=0.02)
+
+
+def test_decimated_noise_in_blocks_is_the_filter_of_one_draw(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Against the taps applied to one whole draw of the same standard normals."""
+    from aaria_pin.core import imu_timing
+
+    decimation, order, samples = 5, 3, 50
+    taps = decimation_filter(decimation, order)
+    normals = np.random.default_rng(4).standard_normal((samples * decimation + taps.size - 1, 2, 6))
+    want = np.zeros((samples, 2, 6))
+    last = taps.size - 1
+    for j, h in enumerate(taps):  # output k is Σ_j h_j · w[k·D + L - 1 - j]
+        want += h * normals[last - j : last - j + samples * decimation : decimation]
+    want *= np.sqrt(decimation * 10.0 / 2.0)
+    monkeypatch.setattr(imu_timing, "BLOCK_NUMBERS", 7 * decimation * 2 * 6)  # 7 per block
+    got = filtered_white_noise(np.random.default_rng(4), (samples, 2), np.ones(6), 10.0,
+                               decimation, order)  # fmt: skip
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12)
 
 
 def test_a_decimated_run_keeps_one_time_axis() -> None:
