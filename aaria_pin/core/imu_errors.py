@@ -48,7 +48,7 @@ from aaria_pin.core.imu_timing import (
 )
 from aaria_pin.core.se3 import Array
 
-__all__ = ["TERMS", "ImuErrors", "draw_imu_errors"]
+__all__ = ["TERMS", "ImuErrors", "draw_imu_errors", "imu_error_shapes"]
 
 TERMS = (
     "scale",
@@ -179,36 +179,83 @@ def _sensor_values(sensors: tuple[SensorNoise, SensorNoise], name: str) -> Array
     return np.array([getattr(s, name) for s in sensors], dtype=np.float64)
 
 
+_SHAPES = {  # each table's shape for T samples and S slots (in draw order)
+    "scale": lambda t, s: (s, 6),
+    "cross_axis": lambda t, s: (s, 2, 3, 3),
+    "misalignment": lambda t, s: (s, 2, 3, 3),
+    "matrix": lambda t, s: (s, 2, 3, 3),
+    "g_sensitivity": lambda t, s: (s, 3, 3),
+    "nonlinearity": lambda t, s: (s, 6),
+    "bias_offset": lambda t, s: (s, 6),
+    "time_offset": lambda t, s: (s,),
+    "jitter": lambda t, s: (t, s),
+    "bias_random_walk": lambda t, s: (t, s, 6),
+}
+
+
+def _tables_on(model: ImuNoiseModel) -> list[str]:
+    """The tables (names without ``imu_error_``) a run of ``model`` draws, in draw order."""
+    sensors = (model.gyro, model.accel)
+    on = {
+        "scale": any(s.scale_error for s in sensors),
+        "cross_axis": any(s.cross_axis for s in sensors),
+        "misalignment": any(s.misalignment or s.alignment is not None for s in sensors),
+        "matrix": any(s.matrix_terms for s in sensors),
+        "g_sensitivity": bool(model.gyro.g_sensitivity),
+        "nonlinearity": any(s.nonlinearity for s in sensors),
+        "bias_offset": any(s.bias_offset for s in sensors),
+        "time_offset": bool(model.time_offset or model.time_offset_sigma),
+        "jitter": bool(model.jitter),
+        "bias_random_walk": any(s.bias_random_walk for s in sensors),
+    }
+    return [name for name in _SHAPES if on[name]]
+
+
+def imu_error_shapes(
+    model: ImuNoiseModel, samples: int, n_slots: int
+) -> dict[str, tuple[int, ...]]:
+    """The ``imu_error_*`` tables a run of ``model`` records and their shapes (a layout's).
+
+    Args:
+        model: the IMU model (with noise on; a run without noise records none)
+        samples: T, the run's samples
+        n_slots: S, the record's IMU slots
+
+    Returns:
+        ``{"imu_error_matrix": (S, 2, 3, 3), ...}``, in the record's order.
+    """
+    return {f"imu_error_{name}": _SHAPES[name](samples, n_slots) for name in _tables_on(model)}
+
+
 def _matrices(
-    parent: np.random.SeedSequence, sensors: tuple[SensorNoise, SensorNoise], n_slots: int
+    parent: np.random.SeedSequence, model: ImuNoiseModel, on: list[str], n_slots: int
 ) -> dict[str, Array]:
     """The axis matrices' tables: scale, cross-axis, misalignment and their product."""
+    sensors = (model.gyro, model.accel)
     tables: dict[str, Array] = {}
     scale = np.ones((n_slots, 2, 3))
     cross = np.broadcast_to(np.eye(3), (n_slots, 2, 3, 3)).copy()
     rotation = cross.copy()
-    sigma = _sensor_values(sensors, "scale_error")
-    if sigma.any():
-        drawn = _term_rng(parent, "scale").standard_normal((n_slots, 2, 3)) * sigma[:, None]
+    if "scale" in on:
+        sigma = _sensor_values(sensors, "scale_error")[:, None]
+        drawn = _term_rng(parent, "scale").standard_normal((n_slots, 2, 3)) * sigma
         scale += drawn
         tables["scale"] = drawn.reshape(n_slots, 6)
-    sigma = _sensor_values(sensors, "cross_axis")
-    if sigma.any():
+    if "cross_axis" in on:
         drawn = _term_rng(parent, "cross_axis").standard_normal((n_slots, 2, 6))
         rows, cols = np.nonzero(~np.eye(3, dtype=bool))
-        cross[:, :, rows, cols] += drawn * sigma[:, None]
+        cross[:, :, rows, cols] += drawn * _sensor_values(sensors, "cross_axis")[:, None]
         tables["cross_axis"] = cross
-    sigma = _sensor_values(sensors, "misalignment")
-    fixed = [s.alignment for s in sensors]
-    if sigma.any() or any(a is not None for a in fixed):
+    if "misalignment" in on:
+        sigma = _sensor_values(sensors, "misalignment")
         if sigma.any():
             theta = _term_rng(parent, "misalignment").standard_normal((n_slots, 2, 3))
             rotation = _rotation(theta * sigma[:, None])
-        for s, alignment in enumerate(fixed):
-            if alignment is not None:
-                rotation[:, s] = rotation[:, s] @ np.asarray(alignment)
+        for s, sensor in enumerate(sensors):
+            if sensor.alignment is not None:
+                rotation[:, s] = rotation[:, s] @ np.asarray(sensor.alignment)
         tables["misalignment"] = rotation
-    if tables:
+    if "matrix" in on:
         tables["matrix"] = scale[..., :, None] * cross @ rotation
     return tables
 
@@ -233,33 +280,36 @@ def draw_imu_errors(
         n_slots: S, the record's IMU slots
 
     Returns:
-        The errors, their tables named ``imu_error_*`` (module docstring).
+        The errors, their tables named ``imu_error_*`` (module docstring,
+        :func:`imu_error_shapes`).
     """
     if not model.new_terms or not slots:
         return None
+    on = _tables_on(model)
     sensors = (model.gyro, model.accel)
-    tables = _matrices(sequence, sensors, n_slots)
+    tables = _matrices(sequence, model, on, n_slots)
     per_axis = np.repeat
-    if model.gyro.g_sensitivity:
+    if "g_sensitivity" in on:
         rng = _term_rng(sequence, "g_sensitivity")
         tables["g_sensitivity"] = rng.standard_normal((n_slots, 3, 3)) * model.gyro.g_sensitivity
-    nonlinearity = per_axis(_sensor_values(sensors, "nonlinearity"), 3)
-    if nonlinearity.any():
+    if "nonlinearity" in on:
         signs = _term_rng(sequence, "nonlinearity").choice([-1.0, 1.0], (n_slots, 6))
-        k2 = 1.5 * nonlinearity / per_axis(_sensor_values(sensors, "range"), 3)
-        tables["nonlinearity"] = signs * k2
-    offset = per_axis(_sensor_values(sensors, "bias_offset"), 3)
-    if offset.any():
-        tables["bias_offset"] = _term_rng(sequence, "bias_offset").standard_normal((n_slots, 6))
-        tables["bias_offset"] *= offset
-    if model.time_offset or model.time_offset_sigma:
+        nonlinearity = per_axis(_sensor_values(sensors, "nonlinearity"), 3)
+        tables["nonlinearity"] = (
+            signs * 1.5 * nonlinearity / per_axis(_sensor_values(sensors, "range"), 3)
+        )
+    if "bias_offset" in on:
+        offset = per_axis(_sensor_values(sensors, "bias_offset"), 3)
+        drawn = _term_rng(sequence, "bias_offset").standard_normal((n_slots, 6))
+        tables["bias_offset"] = drawn * offset
+    if "time_offset" in on:
         drawn = _term_rng(sequence, "time_offset").standard_normal(n_slots)
         tables["time_offset"] = model.time_offset + model.time_offset_sigma * drawn
-    if model.jitter:
+    if "jitter" in on:
         rng = _term_rng(sequence, "jitter")
         tables["jitter"] = rng.standard_normal((samples, n_slots)) * model.jitter
-    walk = per_axis(_sensor_values(sensors, "bias_random_walk"), 3)
-    if walk.any():
+    if "bias_random_walk" in on:
+        walk = per_axis(_sensor_values(sensors, "bias_random_walk"), 3)
         steps = _term_rng(sequence, "bias_random_walk").standard_normal((samples, n_slots, 6))
         tables["bias_random_walk"] = np.cumsum(steps * (walk / np.sqrt(rate)), axis=0)
     empty = np.setdiff1d(np.arange(n_slots), slots)
@@ -273,6 +323,6 @@ def draw_imu_errors(
         model,
         rate,
         tuple(slots),
-        {f"imu_error_{name}": np.ascontiguousarray(t, np.float64) for name, t in tables.items()},
+        {f"imu_error_{name}": np.ascontiguousarray(tables[name], np.float64) for name in on},
         decimation,
     )

@@ -10,7 +10,7 @@ import pytest
 
 import aaria_pin as ap
 from aaria_pin.core.allan import allan_deviation
-from aaria_pin.core.imu_errors import TERMS, draw_imu_errors
+from aaria_pin.core.imu_errors import TERMS, draw_imu_errors, imu_error_shapes
 from aaria_pin.core.imu_model import ImuNoiseModel, SensorNoise
 from aaria_pin.core.imu_presets import ADIS16485, IMU_PRESETS
 from aaria_pin.core.seeds import sensor_sequence
@@ -155,3 +155,18 @@ def test_a_run_in_pieces_is_the_run_held_whole() -> None:
     assert len(pieces) == 6
     assert np.array_equal(np.concatenate([p.imu for p in pieces]), whole.imu)
     assert np.array_equal(pieces[0].tables["imu_error_matrix"], whole.tables["imu_error_matrix"])
+
+
+def test_the_shapes_a_layout_declares_are_those_drawn() -> None:
+    """imu_error_shapes (what a data set's layout needs before a run) against a drawn run."""
+    everything = ImuNoiseModel(
+        _clean(scale_error=0.01, cross_axis=0.01, misalignment=0.01, g_sensitivity=1e-4,
+               nonlinearity=0.001, bias_offset=0.01, bias_random_walk=1e-4),
+        _clean(alignment=np.eye(3)), time_offset=0.001, jitter=1e-5, decimation=2,
+    )  # fmt: skip
+    for model in (everything, *IMU_PRESETS.values()):
+        errors = draw_imu_errors(model, sensor_sequence(5, "imu"), 30, RATE, (0, 1, 3), 4)
+        shapes = imu_error_shapes(model, 30, 4)
+        drawn = {} if errors is None else {k: v.shape for k, v in errors.tables.items()}
+        assert list(drawn.items()) == list(shapes.items())
+    assert len(imu_error_shapes(everything, 30, 4)) == 10
