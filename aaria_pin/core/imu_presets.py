@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from aaria_pin.core.imu_datasheets import DATASHEET_ROWS, PRESET_ROWS, PRESET_SOURCES
 from aaria_pin.core.imu_model import STANDARD_GRAVITY, ImuNoiseModel, SensorNoise
 from aaria_pin.errors import ParameterError
 
@@ -30,6 +31,7 @@ __all__ = [
     "DATASHEET_ROWS",
     "DEFAULT_IMU_MODEL",
     "IMU_PRESETS",
+    "MODEL_CHOICES",
     "MODEL_FIELDS",
     "PRESET_ROWS",
     "PRESET_SOURCES",
@@ -43,22 +45,6 @@ _DEG = np.pi / 180.0
 _G = STANDARD_GRAVITY
 _DEG_H = _DEG / 3600.0  # °/h in rad/s
 _DEG_G = _DEG / _G  # °/s per g in rad/s per m/s²
-
-DATASHEET_ROWS: tuple[tuple[str, float, str], ...] = (
-    ("gyro range", 450.0, "+/- deg/s"),
-    ("gyro resolution", 0.02, "deg/s per LSB"),
-    ("gyro rate noise density", 0.0066, "deg/s/sqrt(Hz)"),
-    ("gyro in-run bias stability", 6.25, "deg/h (1 sigma)"),
-    ("gyro angle random walk", 0.3, "deg/sqrt(h)"),
-    ("accel range", 5.0, "+/- g"),
-    ("accel resolution", 0.25, "mg per LSB"),
-    ("accel noise density", 0.067, "mg/sqrt(Hz)"),
-    ("accel in-run bias stability", 32.0, "ug (1 sigma)"),
-    ("accel velocity random walk", 0.023, "m/s/sqrt(h)"),
-    ("bandwidth", 330.0, "Hz"),
-    ("internal sample rate", 2460.0, "SPS"),
-)
-"""ADIS16485 data-sheet values in their original units: (name, value, unit) rows."""
 
 ADIS16485 = ImuNoiseModel(
     gyro=SensorNoise(
@@ -80,96 +66,6 @@ ADIS16485 = ImuNoiseModel(
     bias_correlation_time=100.0,
 )
 """The ADIS16485 of the data sheet (:data:`DATASHEET_ROWS`), in SI units: the 0.3 numbers."""
-
-_ADIS16485_TABLE = "ADI ADIS16485 data sheet Rev. D, Table 1"
-_ADIS16470_TABLE = "ADI ADIS16470 data sheet Rev. C, Table 1"
-_ADIS16470_DRIVER = "Linux drivers/iio/imu/adis16475.c (ADIS16470 chip info)"
-_BMI_GYRO = "Bosch BST-BMI088-DS000-19 rev 1.9, Table 5"
-_BMI_ACCEL = "Bosch BST-BMI088-DS000-19 rev 1.9, Table 4"
-_ICM_GYRO = "TDK DS-000347 rev 1.8, Table 1"
-_ICM_ACCEL = "TDK DS-000347 rev 1.8, Table 2"
-_MPU_GYRO = "InvenSense PS-MPU-6000A-00 rev 3.4, section 6.1 (p. 12)"
-_MPU_ACCEL = "InvenSense PS-MPU-6000A-00 rev 3.4, section 6.2 (p. 13)"
-
-PresetRow = tuple[str, float, str, str]
-"""A data-sheet row of a preset: (quantity, value, unit as the data sheet gives it, source)."""
-
-PRESET_ROWS: dict[str, tuple[PresetRow, ...]] = {
-    "adis16485": tuple((*row, _ADIS16485_TABLE) for row in DATASHEET_ROWS),
-    "adis16470": (
-        ("gyro range", 2000.0, "+/- deg/s", _ADIS16470_TABLE),
-        ("gyro resolution, 32-bit output", 0.1 / 65536, "deg/s per LSB", _ADIS16470_DRIVER),
-        ("gyro rate noise density", 0.008, "deg/s/sqrt(Hz)", _ADIS16470_TABLE),
-        ("gyro in-run bias stability", 8.0, "deg/h", _ADIS16470_TABLE),
-        ("accel range", 40.0, "+/- g", _ADIS16470_TABLE),
-        ("accel resolution, 32-bit output", 1.25 / 65536, "mg per LSB", _ADIS16470_DRIVER),
-        ("accel noise density", 0.1, "mg/sqrt(Hz)", f"{_ADIS16470_TABLE} (via a secondary copy)"),
-        ("accel in-run bias stability", 13.0, "ug", _ADIS16470_TABLE),
-        ("internal sample rate", 2000.0, "SPS", _ADIS16470_DRIVER),
-        ("Bartlett filter -3 dB, FILT_CTRL = 0", 720.0, "Hz", _ADIS16470_DRIVER),
-    ),
-    "bmi088": (
-        ("gyro range (reset)", 2000.0, "+/- deg/s", _BMI_GYRO),
-        ("gyro resolution", 1.0 / 16.384, "deg/s per LSB", _BMI_GYRO),
-        ("gyro rate noise density", 0.014, "deg/s/sqrt(Hz)", _BMI_GYRO),
-        ("gyro zero-rate offset", 1.0, "+/- deg/s", _BMI_GYRO),
-        ("gyro sensitivity tolerance", 1.0, "+/- %", _BMI_GYRO),
-        ("gyro non-linearity", 0.05, "+/- %FS", _BMI_GYRO),
-        ("gyro cross-axis sensitivity", 1.0, "%", _BMI_GYRO),
-        ("gyro g-sensitivity (max)", 0.1, "deg/s/g", _BMI_GYRO),
-        ("accel range (reset)", 6.0, "+/- g", _BMI_ACCEL),
-        ("accel resolution", 1000.0 / 5460.0, "mg per LSB", _BMI_ACCEL),
-        ("accel noise density x, y (z: 190)", 160.0, "ug/sqrt(Hz)", _BMI_ACCEL),
-        ("accel zero-g offset", 20.0, "mg", _BMI_ACCEL),
-        ("accel non-linearity", 0.5, "%FS", _BMI_ACCEL),
-        ("accel cross-axis sensitivity", 0.5, "%", _BMI_ACCEL),
-        ("accel alignment error to package", 0.5, "deg", _BMI_ACCEL),
-        ("accel bandwidth, ODR 100 Hz normal (reset)", 40.0, "Hz", "BMI088 DS, Table 8"),
-    ),
-    "icm42688p": (
-        ("gyro range (default)", 2000.0, "+/- deg/s", _ICM_GYRO),
-        ("gyro resolution, 19-bit FIFO word", 2000.0 / 2**18, "deg/s per LSB", _ICM_GYRO),
-        ("gyro rate noise density", 0.0028, "deg/s/sqrt(Hz)", _ICM_GYRO),
-        ("gyro initial zero-rate offset (board level)", 0.5, "+/- deg/s", _ICM_GYRO),
-        ("gyro sensitivity tolerance", 0.5, "+/- %", _ICM_GYRO),
-        ("gyro non-linearity", 0.1, "+/- %", _ICM_GYRO),
-        ("gyro cross-axis sensitivity", 1.25, "+/- %", _ICM_GYRO),
-        ("accel range (default)", 16.0, "+/- g", _ICM_ACCEL),
-        ("accel resolution, 18-bit FIFO word", 1000.0 / 8192.0, "mg per LSB", _ICM_ACCEL),
-        ("accel noise density x, y (z: 70)", 65.0, "ug/sqrt(Hz)", _ICM_ACCEL),
-        ("accel initial zero-g offset (board level)", 20.0, "+/- mg", _ICM_ACCEL),
-        ("accel sensitivity tolerance", 0.5, "+/- %", _ICM_ACCEL),
-        ("accel non-linearity", 0.1, "+/- %", _ICM_ACCEL),
-        ("accel cross-axis sensitivity", 1.0, "+/- %", _ICM_ACCEL),
-    ),
-    "mpu6050": (
-        ("gyro range (FS_SEL = 0)", 250.0, "+/- deg/s", _MPU_GYRO),
-        ("gyro resolution", 1.0 / 131.0, "deg/s per LSB", _MPU_GYRO),
-        ("gyro rate noise density", 0.005, "deg/s/sqrt(Hz)", _MPU_GYRO),
-        ("gyro initial ZRO tolerance", 20.0, "+/- deg/s", _MPU_GYRO),
-        ("gyro sensitivity scale factor tolerance", 3.0, "+/- %", _MPU_GYRO),
-        ("gyro non-linearity", 0.2, "%", _MPU_GYRO),
-        ("gyro cross-axis sensitivity", 2.0, "+/- %", _MPU_GYRO),
-        ("gyro linear acceleration sensitivity", 0.1, "deg/s/g", _MPU_GYRO),
-        ("accel range (AFS_SEL = 0)", 2.0, "+/- g", _MPU_ACCEL),
-        ("accel resolution", 1000.0 / 16384.0, "mg per LSB", _MPU_ACCEL),
-        ("accel power spectral density", 400.0, "ug/sqrt(Hz)", _MPU_ACCEL),
-        ("accel zero-g output x, y (z: 80)", 50.0, "+/- mg", _MPU_ACCEL),
-        ("accel initial calibration tolerance", 3.0, "+/- %", _MPU_ACCEL),
-        ("accel non-linearity", 0.5, "%", _MPU_ACCEL),
-        ("accel cross-axis sensitivity", 2.0, "+/- %", _MPU_ACCEL),
-    ),
-}
-"""Each preset's data-sheet rows, original units (the docs' table and the template's comments)."""
-
-PRESET_SOURCES: dict[str, str] = {
-    "adis16485": "Analog Devices ADIS16485 data sheet Rev. D (the Aaria paper's IMU)",
-    "adis16470": "Analog Devices ADIS16470 data sheet Rev. C; Linux adis16475.c",
-    "bmi088": "Bosch Sensortec BMI088 data sheet BST-BMI088-DS000-19 rev 1.9 (2024)",
-    "icm42688p": "TDK InvenSense ICM-42688-P data sheet DS-000347 rev 1.8 (2023)",
-    "mpu6050": "InvenSense MPU-6000/MPU-6050 product specification PS-MPU-6000A-00 rev 3.4",
-}
-"""The data sheet of each preset."""
 
 
 def _sensor(**values: Any) -> SensorNoise:
@@ -328,32 +224,57 @@ def _toml_value(value: Any) -> str:
     return repr(float(value))
 
 
+MODEL_CHOICES = ("bias_correlation_time", "decimation_order")
+"""Fields a preset sets without a data-sheet row: the Gauss–Markov bias's correlation time
+(100 s, the 0.3 model's) and the decimation filter (the part's kind of filter, docs)."""
+
+
+def _field_sources(key: str) -> dict[str, str]:
+    """Each field's data-sheet rows of preset ``key``, as one comment's text."""
+    sources: dict[str, list[str]] = {}
+    for quantity, value, unit, where, field in PRESET_ROWS[key]:
+        sources.setdefault(field, []).append(f"{quantity}: {value:g} {unit} ({where})")
+    return {field: "; ".join(rows) for field, rows in sources.items()}
+
+
+def _source_comment(sources: dict[str, str], field: str, value: Any) -> str:
+    """The comment line above a field: its data-sheet rows, or why it has none."""
+    name = field.rsplit(".", 1)[-1]
+    if field in sources:
+        return f"# data sheet: {sources[field]}"
+    if name in MODEL_CHOICES:
+        return "# not a data-sheet value: the model's choice"
+    if value is None or not value or (name == "decimation" and value == 1):
+        return "# not specified by the data sheet: off"
+    return "# not a data-sheet value"
+
+
 def imu_model_toml(name: str) -> str:
-    """The TOML text of preset ``name``: every field with its unit, the data sheet's rows.
+    """The TOML text of preset ``name``: every field with its unit and its data-sheet source.
 
     ``[imu]`` names the preset and holds the per-IMU fields, ``[imu.gyro]`` and
-    ``[imu.accel]`` the sensors'; :func:`imu_model_from_toml` reads it back to the preset.
+    ``[imu.accel]`` the sensors'; :func:`imu_model_from_toml` reads it back to the preset. Above
+    each field a comment gives the data-sheet rows it comes from (:data:`PRESET_ROWS`) or says
+    that the data sheet does not specify it (the term is then off).
 
     Raises:
         ParameterError: an unknown preset (parameter ``imu_model``).
     """
     model = imu_preset(name)
     key = str(name).lower()
+    sources = _field_sources(key)
     lines = [
         f"# IMU model {key}: {PRESET_SOURCES[key]}.",
         "# SI units; 0 turns a term off. Edit any value; keys left out keep the preset's.",
-        "# A data-sheet tolerance +/-x is drawn as 1 sigma = x. Data-sheet rows (original units):",
-        *(
-            f"#   {row}: {value:g} {unit} ({source})"
-            for row, value, unit, source in PRESET_ROWS[key]
-        ),
-        "# A term without a row above is not specified by the data sheet and is off.",
+        "# A data-sheet tolerance +/-x is drawn as 1 sigma = x (docs/guide/imu.md).",
         "",
         "[imu]",
         f'preset = "{key}"',
     ]
     for field_name, (unit, text) in MODEL_FIELDS.items():
-        lines.append(f"{field_name} = {_toml_value(getattr(model, field_name))}  # [{unit}] {text}")
+        value = getattr(model, field_name)
+        lines.append(_source_comment(sources, field_name, value))
+        lines.append(f"{field_name} = {_toml_value(value)}  # [{unit}] {text}")
     for sensor in ("gyro", "accel"):
         u, w = _SENSOR_UNITS[sensor]
         lines += ["", f"[imu.{sensor}]"]
@@ -362,6 +283,7 @@ def imu_model_toml(name: str) -> str:
             value = getattr(noise, field_name)
             if field_name == "g_sensitivity" and sensor == "accel":
                 continue
+            lines.append(_source_comment(sources, f"{sensor}.{field_name}", value))
             shown = f"[{unit.format(u=u, w=w)}] {text}"
             if value is None:
                 lines.append(f"# {field_name} = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]  # {shown}")

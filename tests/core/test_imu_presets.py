@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import tomllib
 
@@ -11,10 +12,12 @@ import pytest
 import aaria_pin as ap
 from aaria_pin.aaria.arm_run import DHArmSpec
 from aaria_pin.core.allan import allan_deviation
+from aaria_pin.core.imu_model import ImuNoiseModel, SensorNoise
 from aaria_pin.core.imu_presets import (
     ADIS16485,
     DEFAULT_IMU_MODEL,
     IMU_PRESETS,
+    MODEL_CHOICES,
     PRESET_ROWS,
     imu_model_from_toml,
     imu_model_toml,
@@ -121,7 +124,7 @@ def test_bias_instability_of_the_datasheet(preset: str, figure: str) -> None:
 def test_si_values_are_the_datasheet_rows() -> None:
     """Each preset's SI numbers against its rows, converted here from the data sheet's units."""
     for name, model in IMU_PRESETS.items():
-        rows = {row: value for row, value, _, _ in PRESET_ROWS[name]}
+        rows = {row: value for row, value, *_ in PRESET_ROWS[name]}
         gyro_range = next(v for r, v in rows.items() if r.startswith("gyro range"))
         accel_range = next(v for r, v in rows.items() if r.startswith("accel range"))
         assert model.gyro.range == pytest.approx(gyro_range * DEG)
@@ -133,10 +136,31 @@ def test_si_values_are_the_datasheet_rows() -> None:
         assert (model.gyro.noise_density, model.accel.noise_density) == pytest.approx(
             DENSITIES[name]
         )
-        assert all(isinstance(source, str) and source for *_, source in PRESET_ROWS[name])
+        assert all(isinstance(where, str) and where for *_, where, _ in PRESET_ROWS[name])
     bmi = IMU_PRESETS["bmi088"]
     assert bmi.gyro.scale_error == 0.01 and bmi.accel.scale_error == 0.0  # not specified: off
     assert bmi.gyro.bias_stability == 0.0  # the data sheet gives no in-run stability
+
+
+def _value(model: ap.ImuNoiseModel, field: str) -> object:
+    sensor, _, name = field.rpartition(".")
+    return getattr(getattr(model, sensor), name) if sensor else getattr(model, name)
+
+
+@pytest.mark.parametrize("preset", sorted(IMU_PRESETS))
+def test_a_term_is_on_exactly_when_the_datasheet_gives_it(preset: str) -> None:
+    """Every row sets a field that is on; every field on has a row (or is a model choice)."""
+    model = IMU_PRESETS[preset]
+    from_rows = {field for *_, field in PRESET_ROWS[preset]}
+    assert all(_value(model, field) for field in from_rows)
+    sensor_fields = [f"{s}.{f.name}" for s in ("gyro", "accel")
+                     for f in dataclasses.fields(SensorNoise)]  # fmt: skip
+    model_fields = [f.name for f in dataclasses.fields(ImuNoiseModel)][2:]
+    for field in (*sensor_fields, *model_fields):
+        value = _value(model, field)
+        on = value is not None and value != 0 and not (field == "decimation" and value == 1)
+        if on and field not in from_rows:
+            assert field in MODEL_CHOICES, f"{preset}: {field} is on without a data-sheet row"
 
 
 def test_default_is_the_adis16485_of_before() -> None:
@@ -157,6 +181,7 @@ def test_toml_of_a_preset_reads_back_to_it(preset: str) -> None:
     assert "[imu.gyro]" in text and "[imu.accel]" in text and "# [rad/s] full scale" in text
     for row, *_ in PRESET_ROWS[preset]:
         assert row in text
+    assert "# not specified by the data sheet: off" in text
 
 
 def test_toml_overrides_a_preset() -> None:
