@@ -1,9 +1,13 @@
-"""Noise model of an inertial measurement unit, after the Analog Devices ADIS16485.
+"""Noise of an inertial measurement unit: white noise, in-run bias, saturation, quantisation.
 
 :func:`add_imu_noise` turns exact IMU signals (angular velocity and specific force) into
 measurements: white noise plus a slowly wandering bias, saturated to the sensor's range and
-quantised to its resolution. :func:`allan_deviation` is the usual check of such noise, and
-:func:`noise_attributes` flattens a model into numbers that can be stored next to a data set.
+quantised to its resolution. :func:`noise_attributes` flattens a model into numbers that can be
+stored next to a data set. The model's parameters are :mod:`~aaria_pin.core.imu_model`'s, the
+parts :mod:`~aaria_pin.core.imu_presets`' (the ADIS16485 by default); the terms drawn once per
+run (scale, axes, turn-on bias, time offset, …) are applied before this noise by
+:mod:`~aaria_pin.core.imu_errors`. :func:`~aaria_pin.core.allan.allan_deviation` (re-exported
+here) is the usual check of the noise.
 
 Noise convention: the noise density ``N`` is a one-sided spectral density, so white noise sampled
 at ``rate`` Hz (bandwidth ``rate/2``) has a per-sample standard deviation ``N·√(rate/2)``, and its
@@ -14,10 +18,14 @@ For the ADIS16485 that gives 0.28 °/√h and 0.028 m/s/√h against the data sh
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import fields
+from typing import Any
 
 import numpy as np
 
+from aaria_pin.core.allan import allan_deviation, check_rate
+from aaria_pin.core.imu_model import STANDARD_GRAVITY, ImuNoiseModel, SensorNoise
+from aaria_pin.core.imu_presets import ADIS16485, DATASHEET_ROWS
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
@@ -25,6 +33,7 @@ __all__ = [
     "ADIS16485",
     "BIAS_KNOTS_PER_CORRELATION_TIME",
     "DATASHEET_ROWS",
+    "MODEL_ATTRIBUTE_KEYS",
     "SKIP_BLOCK",
     "STANDARD_GRAVITY",
     "ImuNoiseModel",
@@ -32,6 +41,7 @@ __all__ = [
     "SensorNoise",
     "add_imu_noise",
     "allan_deviation",
+    "attribute_key",
     "noise_attributes",
 ]
 
@@ -40,120 +50,6 @@ BIAS_KNOTS_PER_CORRELATION_TIME = 200
 
 SKIP_BLOCK = 2**20
 """Standard normals per block when :class:`ImuNoiseStream` skips a run's white noise (8 MiB)."""
-
-STANDARD_GRAVITY = 9.80665
-"""Standard gravity, the data sheet's g [m/s²]."""
-
-_DEG = np.pi / 180.0
-
-
-def _check(name: str, value: float, allow_zero: bool = False) -> None:
-    ok = value >= 0.0 if allow_zero else value > 0.0
-    if not (np.isfinite(value) and ok):
-        bound = ">= 0" if allow_zero else "> 0"
-        raise ParameterError(
-            f"{name} is {value!r}; allowed: a finite number {bound}",
-            parameter=name,
-            value=value,
-            allowed=f"a finite number {bound}",
-        )
-
-
-@dataclass(frozen=True)
-class SensorNoise:
-    """Noise parameters of one sensor type (gyroscope or accelerometer), per axis, SI units.
-
-    The unit ``u`` is rad/s for a gyroscope and m/s² for an accelerometer.
-
-    Attributes:
-        range: full scale, the output saturates at ±range [u]
-        lsb: quantisation step, one least significant bit [u]
-        noise_density: white noise density [u/√Hz]
-        bias_stability: in-run bias stability, the bias's standard deviation (1σ) [u]
-        random_walk: angle [rad/√s] or velocity [m/s/√s] random walk as listed in the data sheet;
-            kept for reference, the white noise is generated from ``noise_density``
-    """
-
-    range: float
-    lsb: float
-    noise_density: float
-    bias_stability: float
-    random_walk: float
-
-    def __post_init__(self) -> None:
-        for f in fields(self):
-            _check(f.name, getattr(self, f.name), allow_zero=f.name not in ("range", "lsb"))
-
-
-@dataclass(frozen=True)
-class ImuNoiseModel:
-    """Noise model of a six-axis IMU.
-
-    Attributes:
-        gyro: gyroscope noise [rad/s]
-        accel: accelerometer noise [m/s²]
-        bandwidth_hz: sensor bandwidth [Hz]; kept for reference, no filter is applied
-        internal_rate_hz: internal sample rate [Hz]; kept for reference
-        bias_correlation_time: correlation time of the Gauss–Markov bias [s]
-    """
-
-    gyro: SensorNoise
-    accel: SensorNoise
-    bandwidth_hz: float = 330.0
-    internal_rate_hz: float = 2460.0
-    bias_correlation_time: float = 100.0
-
-    def __post_init__(self) -> None:
-        for name in ("bandwidth_hz", "internal_rate_hz", "bias_correlation_time"):
-            _check(name, getattr(self, name))
-
-
-DATASHEET_ROWS: tuple[tuple[str, float, str], ...] = (
-    ("gyro range", 450.0, "+/- deg/s"),
-    ("gyro resolution", 0.02, "deg/s per LSB"),
-    ("gyro rate noise density", 0.0066, "deg/s/sqrt(Hz)"),
-    ("gyro in-run bias stability", 6.25, "deg/h (1 sigma)"),
-    ("gyro angle random walk", 0.3, "deg/sqrt(h)"),
-    ("accel range", 5.0, "+/- g"),
-    ("accel resolution", 0.25, "mg per LSB"),
-    ("accel noise density", 0.067, "mg/sqrt(Hz)"),
-    ("accel in-run bias stability", 32.0, "ug (1 sigma)"),
-    ("accel velocity random walk", 0.023, "m/s/sqrt(h)"),
-    ("bandwidth", 330.0, "Hz"),
-    ("internal sample rate", 2460.0, "SPS"),
-)
-"""ADIS16485 data-sheet values in their original units: (name, value, unit) rows."""
-
-ADIS16485 = ImuNoiseModel(
-    gyro=SensorNoise(
-        range=450.0 * _DEG,  # ±450 °/s
-        lsb=0.02 * _DEG,  # 0.02 °/s per LSB
-        noise_density=0.0066 * _DEG,  # 0.0066 °/s/√Hz
-        bias_stability=6.25 * _DEG / 3600.0,  # 6.25 °/h
-        random_walk=0.3 * _DEG / 60.0,  # 0.3 °/√h; √h = 60 √s
-    ),
-    accel=SensorNoise(
-        range=5.0 * STANDARD_GRAVITY,  # ±5 g
-        lsb=0.25e-3 * STANDARD_GRAVITY,  # 0.25 mg per LSB
-        noise_density=0.067e-3 * STANDARD_GRAVITY,  # 0.067 mg/√Hz
-        bias_stability=32e-6 * STANDARD_GRAVITY,  # 32 µg
-        random_walk=0.023 / 60.0,  # 0.023 m/s/√h
-    ),
-    bandwidth_hz=330.0,
-    internal_rate_hz=2460.0,
-    bias_correlation_time=100.0,
-)
-"""The ADIS16485 of the data sheet (:data:`DATASHEET_ROWS`), in SI units."""
-
-
-def _check_rate(rate: float) -> None:
-    if not (np.isfinite(rate) and rate > 0.0):
-        raise ParameterError(
-            f"sample rate is {rate!r} Hz; allowed: a finite rate > 0",
-            parameter="rate",
-            value=rate,
-            allowed="a finite rate > 0 Hz",
-        )
 
 
 def _per_axis(model: ImuNoiseModel, name: str) -> Array:
@@ -320,7 +216,7 @@ def add_imu_noise(
         ParameterError: the rate is not finite and > 0, or the signals are not a finite
             (T, n_imu, 6) array with T, n_imu >= 1.
     """
-    _check_rate(rate)
+    check_rate(rate)
     exact = _checked_signals(signals)
     n, n_imu = exact.shape[:2]
     measured = rng.standard_normal(exact.shape).reshape(n, -1)
@@ -366,7 +262,7 @@ class ImuNoiseStream:
     ) -> None:
         import copy
 
-        _check_rate(rate)
+        check_rate(rate)
         if samples < 1 or n_imu < 1:
             raise ParameterError(
                 f"noise stream of {samples} samples and {n_imu} IMUs; allowed: both >= 1",
@@ -429,8 +325,61 @@ class ImuNoiseStream:
         return measured.reshape(exact.shape)
 
 
-def noise_attributes(model: ImuNoiseModel = ADIS16485) -> dict[str, float]:
+_UNITS = {"gyro": "rad_s", "accel": "m_s2"}
+_WALK_UNITS = {"gyro": "rad_sqrts", "accel": "m_s_sqrts"}
+
+
+def attribute_key(sensor: str, name: str) -> str:
+    """The attribute key of field ``name`` of sensor ``sensor`` (``gyro``/``accel``), unit in it.
+
+    E.g. ``gyro_noise_density_rad_s_sqrtHz``, ``accel_bias_random_walk_m_s2_sqrts``.
+    """
+    u = _UNITS[sensor]
+    unit = {
+        "range": u,
+        "lsb": u,
+        "noise_density": f"{u}_sqrtHz",
+        "bias_stability": u,
+        "random_walk": _WALK_UNITS[sensor],
+        "scale_error": "frac",
+        "nonlinearity": "frac_fs",
+        "cross_axis": "frac",
+        "misalignment": "rad",
+        "alignment": "matrix",
+        "g_sensitivity": "rad_s_per_m_s2",
+        "bias_offset": u,
+        "bias_random_walk": f"{u}_sqrts",
+    }[name]
+    return f"{sensor}_{name}_{unit}"
+
+
+MODEL_ATTRIBUTE_KEYS = {
+    "bandwidth_hz": "bandwidth_hz",
+    "internal_rate_hz": "internal_rate_hz",
+    "bias_correlation_time": "bias_correlation_time_s",
+    "time_offset": "time_offset_s",
+    "time_offset_sigma": "time_offset_sigma_s",
+    "jitter": "jitter_s",
+    "decimation": "decimation",
+    "decimation_order": "decimation_order",
+}
+"""The attribute key of each per-IMU field of :class:`ImuNoiseModel` (unit in the key)."""
+
+
+_OLD_FIELDS = ("range", "lsb", "noise_density", "bias_stability", "random_walk")
+_OLD_MODEL_FIELDS = ("bandwidth_hz", "internal_rate_hz", "bias_correlation_time")
+_OFF_VALUES = {"decimation": 1, "decimation_order": 1}  # the off value of a 0.4 field, if not 0
+
+
+def noise_attributes(model: ImuNoiseModel = ADIS16485) -> dict[str, Any]:
     """The model's parameters as a flat dictionary, SI units in the keys (for HDF5 attributes).
+
+    The 13 fields of 0.3 are always recorded; a field added in 0.4 is recorded when it is not
+    its off value (0; 1 for ``decimation`` and ``decimation_order``; None for ``alignment``,
+    recorded as its nine numbers row by row), so a run whose new terms are all off records
+    exactly what it did in 0.3, and a key left out reads back as off
+    (:func:`~aaria_pin.core.imu_attributes.noise_model_from_attributes`). Keys:
+    :func:`attribute_key`, :data:`MODEL_ATTRIBUTE_KEYS`.
 
     Args:
         model: noise model
@@ -438,61 +387,20 @@ def noise_attributes(model: ImuNoiseModel = ADIS16485) -> dict[str, float]:
     Returns:
         ``{"gyro_range_rad_s": ..., "accel_noise_density_m_s2_sqrtHz": ..., ...}``.
     """
-    units = {"gyro": ("rad_s", "rad_sqrts"), "accel": ("m_s2", "m_s_sqrts")}
-    attributes: dict[str, float] = {}
-    for sensor, (u, walk) in units.items():
+    attributes: dict[str, Any] = {}
+    for sensor in ("gyro", "accel"):
         noise: SensorNoise = getattr(model, sensor)
-        for name, unit in (
-            ("range", u),
-            ("lsb", u),
-            ("noise_density", f"{u}_sqrtHz"),
-            ("bias_stability", u),
-            ("random_walk", walk),
-        ):
-            attributes[f"{sensor}_{name}_{unit}"] = float(getattr(noise, name))
-    attributes["bandwidth_hz"] = float(model.bandwidth_hz)
-    attributes["internal_rate_hz"] = float(model.internal_rate_hz)
-    attributes["bias_correlation_time_s"] = float(model.bias_correlation_time)
-    return attributes
-
-
-def allan_deviation(x: Array, rate: float, taus: Array) -> Array:
-    """Overlapping Allan deviation of a rate signal.
-
-    With ``θ`` the cumulative integral of ``x`` (``θ_0 = 0``, N + 1 values) and ``m = τ·rate``
-    samples per cluster, ``σ²(τ) = Σ_k (θ_{k+2m} - 2θ_{k+m} + θ_k)² / (2τ²(N + 1 - 2m))``.
-
-    Args:
-        x: 1-D rate signal (N samples) [u]
-        rate: sample rate [Hz]
-        taus: averaging times [s], each rounded to a whole number m >= 1 of samples with
-            2m <= N; the value returned is for ``m/rate``
-
-    Returns:
-        Allan deviation at each averaging time [u], shape of ``taus``.
-
-    Raises:
-        ParameterError: the rate, the signal or an averaging time is out of range.
-    """
-    _check_rate(rate)
-    signal = np.asarray(x, dtype=np.float64)
-    if signal.ndim != 1 or not np.all(np.isfinite(signal)):
-        raise ParameterError(
-            f"Allan deviation signal has shape {signal.shape}; allowed: a finite 1-D array",
-            parameter="x",
-        )
-    n = signal.size
-    theta = np.concatenate(([0.0], np.cumsum(signal) / rate))
-    tau_array = np.asarray(taus, dtype=np.float64)
-    out = np.empty(tau_array.shape)
-    for index, tau in np.ndenumerate(tau_array):
-        m = int(np.rint(tau * rate)) if np.isfinite(tau) else 0
-        if m < 1 or 2 * m > n:
-            raise ParameterError(
-                f"averaging time {tau!r} s is {m} samples; allowed: 1 to {n // 2} samples "
-                f"({1.0 / rate:g} to {(n // 2) / rate:g} s)",
-                parameter="taus",
+        for f in fields(noise):
+            value = getattr(noise, f.name)
+            if f.name not in _OLD_FIELDS and not value:
+                continue
+            if f.name == "alignment":
+                value = [float(v) for row in value for v in row]
+            attributes[attribute_key(sensor, f.name)] = (
+                value if f.name == "alignment" else float(value)
             )
-        d = theta[2 * m :] - 2.0 * theta[m:-m] + theta[: -2 * m]
-        out[index] = np.sqrt(np.mean(d * d) / 2.0) * rate / m
-    return out
+    for name, key in MODEL_ATTRIBUTE_KEYS.items():
+        value = getattr(model, name)
+        if name in _OLD_MODEL_FIELDS or value != _OFF_VALUES.get(name, 0):
+            attributes[key] = float(value)
+    return attributes

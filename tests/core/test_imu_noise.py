@@ -199,7 +199,14 @@ def test_noise_attributes() -> None:
     assert attributes["accel_bias_stability_m_s2"] == ACCEL.bias_stability
     assert attributes["accel_random_walk_m_s_sqrts"] == ACCEL.random_walk
     assert attributes["bias_correlation_time_s"] == 100.0
+    # 0.3's 13 keys; a term of 0.4 only when it is on (files of 0.3 are made again exactly)
     assert len(attributes) == 13
+    turned_on = dataclasses.replace(
+        ADIS16485, gyro=dataclasses.replace(GYRO, scale_error=0.01), jitter=1e-5, decimation=2
+    )
+    more = noise_attributes(turned_on)
+    assert set(more) - set(attributes) == {"gyro_scale_error_frac", "jitter_s", "decimation"}
+    assert more["gyro_scale_error_frac"] == 0.01 and more["decimation"] == 2.0
     assert all(isinstance(value, float) for value in attributes.values())
 
 

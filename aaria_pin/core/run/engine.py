@@ -41,6 +41,7 @@ from aaria_pin.core.run.series import (
     ImuSlots,
     Payload,
     carry_payload,
+    imu_errors,
     noise_stream,
     simulate_series,
 )
@@ -153,13 +154,18 @@ def simulate_pieces(
     pieces = chunk_bounds(samples, None if whole else settings.chunk)
     channels = run_sensors(robot, settings, seed)
     run_tables = {k: v for c in channels for k, v in c.run_tables().items()}
+    imus = ImuSlots(robot.imu_frames, robot.imu_slots, robot.n_slots)
+    errors = imu_errors(settings, seed, samples, imus)
+    imus = replace(imus, errors=errors)
+    if errors is not None:
+        tables = {**tables, **errors.tables}
     stream = noise_stream(
         samples,
         len(robot.imu_frames),
         settings.rate,
         seed,
         settings.noise,
-        settings.noise_model,
+        settings.noise_model if errors is None else errors.noise_model,
         len(pieces),
     )
     sampling = {
@@ -168,7 +174,6 @@ def simulate_pieces(
         **sensor_attributes(tuple(sensors)),
     }
     model = robot.model
-    imus = ImuSlots(robot.imu_frames, robot.imu_slots, robot.n_slots)
     peaks = np.zeros(model.n_joints)
     payload: Payload | None = getattr(robot, "payload", None)  # a load it carries, if any
     for start, stop in pieces:

@@ -3,7 +3,8 @@
 The engine (:mod:`aaria_pin.core.run.engine`) gives :func:`simulate_series` a robot's model, its
 joint trajectory and its base motion over a piece of the run: IMU kinematics over the whole time
 grid in one compiled pass (:func:`~aaria_pin.core.kinematics.trajectory_signals`),
-ADIS16485-like noise if asked (:func:`~aaria_pin.core.imu_noise.add_imu_noise`), torques and the
+the IMU errors and noise if asked (:mod:`~aaria_pin.core.imu_errors`,
+:func:`~aaria_pin.core.imu_noise.add_imu_noise`), torques and the
 base wrench by Pinocchio's batched RNEA (:func:`~aaria_pin.core.dynamics.inverse_dynamics`).
 """
 
@@ -15,13 +16,22 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from aaria_pin.core.imu_errors import ImuErrors, draw_imu_errors
 from aaria_pin.core.imu_noise import ImuNoiseModel, ImuNoiseStream
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.run.settings import RunSettings
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 
-__all__ = ["ImuSlots", "Payload", "RunSeries", "carry_payload", "noise_stream", "simulate_series"]
+__all__ = [
+    "ImuSlots",
+    "Payload",
+    "RunSeries",
+    "carry_payload",
+    "imu_errors",
+    "noise_stream",
+    "simulate_series",
+]
 
 
 def noise_stream(
@@ -68,11 +78,46 @@ class ImuSlots:
         slots: the record slot each of ``frames`` fills (None: 0, 1, …); the other slots stay
             zero (empty slots)
         n_slots: S, the record's IMU slots (None: ``len(frames)``)
+        errors: the run's IMU errors drawn once (:func:`imu_errors`; None: every term off)
     """
 
     frames: Sequence[str]
     slots: Sequence[int] | None = None
     n_slots: int | None = None
+    errors: ImuErrors | None = None
+
+    @property
+    def record_slots(self) -> list[int]:
+        """The record slot of each frame (``slots``, or 0, 1, … by default)."""
+        return list(range(len(self.frames))) if self.slots is None else list(self.slots)
+
+    @property
+    def slot_count(self) -> int:
+        """S, the record's IMU slots (``n_slots``, or one per frame by default)."""
+        return len(self.frames) if self.n_slots is None else self.n_slots
+
+
+def imu_errors(
+    settings: RunSettings, seed: int | np.random.SeedSequence, samples: int, imus: ImuSlots
+) -> ImuErrors | None:
+    """The run's IMU errors drawn once (:func:`~aaria_pin.core.imu_errors.draw_imu_errors`).
+
+    None without noise, without an IMU, or with every term of 0.4 off (nothing is drawn).
+
+    Args:
+        settings: the run's settings (``noise``, ``noise_model``, ``rate``)
+        seed: the run's noise seed (its IMU sensor-error stream is derived from it)
+        samples: T, the run's samples
+        imus: the run's IMUs and their record slots
+    """
+    from aaria_pin.core.seeds import sensor_sequence
+
+    slots = tuple(imus.record_slots)
+    if not settings.noise or not slots or not settings.noise_model.new_terms:
+        return None
+    sequence = sensor_sequence(seed, "imu")
+    model = settings.noise_model
+    return draw_imu_errors(model, sequence, samples, settings.rate, slots, imus.slot_count)
 
 
 @dataclass(frozen=True)
@@ -164,8 +209,7 @@ def simulate_series(
 
     samples = trajectory.q.shape[0]
     imu_frames, noise = list(imus.frames), settings.noise
-    slots = list(range(len(imu_frames))) if imus.slots is None else list(imus.slots)
-    n_imu_slots = len(imu_frames) if imus.n_slots is None else imus.n_slots
+    slots, n_imu_slots = imus.record_slots, imus.slot_count
     # No empty slot: the noisy measurements are the record's array as they come (no zeros, no
     # scatter: a 6.7 MB copy and its page faults, 1–1.5 ms of a 10,000-sample run of 14 IMUs),
     # and no array is made for them beforehand.
@@ -186,11 +230,13 @@ def simulate_series(
     )
     imu = exact if record_imu is None else record_imu
     if noise and slots:
+        model = settings.noise_model
+        if imus.errors is not None:  # the terms drawn once per run, before the noise
+            exact, model = imus.errors.sensed(exact, start), imus.errors.noise_model
         if noise_stream is not None:
             measured = noise_stream.measure(exact, start)
         else:
-            rng = np.random.default_rng(seed)
-            measured = add_imu_noise(exact, settings.rate, rng, settings.noise_model)
+            measured = add_imu_noise(exact, settings.rate, np.random.default_rng(seed), model)
         if record_imu is None:
             imu = measured  # a new (T, S, 6) array: the record's, without a copy
         else:
