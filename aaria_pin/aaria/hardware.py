@@ -29,50 +29,49 @@ import dataclasses
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, SensorNoise, noise_attributes
-from aaria_pin.core.imu_presets import IMU_PRESETS, imu_preset
+from aaria_pin.aaria.hardware_toml import (
+    IMU_TABLE,
+    JOINT_MODELS,
+    SENSORS,
+    JointModel,
+    Range,
+    TableReader,
+)
+from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, noise_attributes
+from aaria_pin.core.imu_presets import imu_preset
 from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
 from aaria_pin.core.run.settings import joint_model_attributes
 from aaria_pin.errors import AariaError, ParameterError
 
 __all__ = [
     "HARDWARE_TABLES",
+    "HARDWARE_VALUES",
     "JOINT_MODELS",
+    "LEGACY_IMU_TABLE",
     "Hardware",
     "HardwareConfig",
     "Range",
     "hardware_leaves",
+    "hardware_run_options",
     "imu_model_option",
     "load_hardware",
 ]
 
-JointModel = EncoderModel | TorqueSensorModel | ActuatorModel
-JOINT_MODELS: dict[str, type[JointModel]] = {
-    "encoder": EncoderModel,
-    "torque_sensor": TorqueSensorModel,
-    "actuator": ActuatorModel,
-}
-"""The joint hardware tables and their models (each also a :class:`RunSettings` field)."""
-IMU_TABLE = "imu"
 LEGACY_IMU_TABLE = "noise"
 """The IMU table of the configurations written before issue 24 (read as ``[imu]``)."""
 HARDWARE_TABLES = (IMU_TABLE, *JOINT_MODELS)
-"""The tables of a hardware file, in the order their ranges are drawn."""
-_SENSORS = ("gyro", "accel")
+"""The tables of a hardware file, in the order their ranges are drawn (``noise``, the older
+name of ``imu``, in its place)."""
+HARDWARE_VALUES = "hardware_values"
+"""A data set run's table of the values drawn from the config's ranges (float64; the file's
+attribute ``hardware_names`` names each by its attribute path, ``encoder/noise/0``)."""
 
 Pick = Callable[[str, float, float, int | None], Any]
 """What becomes of a range ``[low, high]`` at a key: (path, low, high, joints or None)."""
-
-
-class Range(NamedTuple):
-    """A range ``[low, high]`` of a data set's configuration, drawn per run."""
-
-    low: float
-    high: float
 
 
 @dataclass(frozen=True)
@@ -90,6 +89,19 @@ class Hardware:
     encoder: EncoderModel | None = None
     torque_sensor: TorqueSensorModel | None = None
     actuator: ActuatorModel | None = None
+
+    def tables(self, samples: int, joints: int) -> dict[str, tuple[int, ...]]:
+        """The shapes of the tables a run of T = ``samples`` records of its joint hardware."""
+        shapes: dict[str, tuple[int, ...]] = {}
+        if self.encoder is not None:
+            shapes.update(q_measured=(samples, joints), encoder_offset=(joints,))
+        if self.torque_sensor is not None:
+            shapes.update(tau_measured=(samples, joints), torque_sensor_bias=(joints,),
+                          torque_sensor_scale=(joints,))  # fmt: skip
+        if self.actuator is not None:
+            motor = ("tau_motor", "tau_armature", "tau_friction")
+            shapes.update({name: (samples, joints) for name in motor})
+        return shapes
 
     def options(self) -> dict[str, Any]:
         """The run options (:class:`~aaria_pin.core.run.RunSettings` fields) they set."""
@@ -160,8 +172,8 @@ class HardwareConfig:
             ParameterError: an unknown table or key, a value of the wrong type, a range with
                 low > high (or given where none is allowed), or a value its model refuses.
         """
-        reading = cls({}, imu_model, where, parameter)
-        known = (*HARDWARE_TABLES, LEGACY_IMU_TABLE)
+        reading = TableReader(where, parameter)
+        known = (IMU_TABLE, LEGACY_IMU_TABLE, *JOINT_MODELS)
         unknown = sorted(set(data) - set(known))
         if unknown:
             raise reading.refused(unknown[0], data[unknown[0]], "one of " + ", ".join(known))
@@ -173,16 +185,11 @@ class HardwareConfig:
         for name in known:
             if name in data:
                 table = IMU_TABLE if name == LEGACY_IMU_TABLE else name
-                tables[table] = reading.table(name, data[name], table, ranges)
-        config = cls({k: tables[k] for k in HARDWARE_TABLES if k in tables}, *reading.context)
+                tables[name] = reading.table(name, data[name], table, ranges)
+        config = cls(tables, imu_model, where, parameter)
         config.hardware(lambda path, low, high, n: low, 1)  # both ends checked by their models
         config.hardware(lambda path, low, high, n: high, 1)
         return config
-
-    @property
-    def context(self) -> tuple[ImuNoiseModel | None, str, str]:
-        """``imu_model``, ``where`` and ``parameter`` (for a config made from this one)."""
-        return self.imu_model, self.where, self.parameter
 
     def with_imu_model(self, model: ImuNoiseModel | None) -> HardwareConfig:
         """The same tables over another ``--imu-model`` (None: keep this one's)."""
@@ -207,8 +214,9 @@ class HardwareConfig:
                 preset is given (a re-made run's stored model)
         """
         built = self.hardware(_no_range, 0, base_imu).options()
-        given = {"noise_model"} if self.imu_model is not None or IMU_TABLE in self.tables else set()
-        given |= set(self.tables) - {IMU_TABLE}
+        imu_given = self.imu_model is not None or self.imu_table is not None
+        given = {"noise_model"} if imu_given else set()
+        given |= set(self.tables) & set(JOINT_MODELS)
         return {key: value for key, value in built.items() if key in given}
 
     def nominal(self, joints: int) -> Hardware:
@@ -230,6 +238,23 @@ class HardwareConfig:
         """
         return self.hardware(lambda path, low, high, n: rng.uniform(low, high, n), joints)
 
+    def ranged_names(self, joints: int) -> tuple[str, ...]:
+        """The attribute paths (:func:`hardware_leaves`) of the values a run draws."""
+        low, high = (hardware_leaves(h.attributes()) for h in self.ends(joints))
+        return tuple(name for name, value in low.items() if value != high.get(name))
+
+    def run_hardware(self, seed: int, run: int, joints: int) -> Hardware:
+        """Run ``run``'s hardware in a data set of seed ``seed``.
+
+        Each range is drawn from the run's ``hardware`` stream
+        (:class:`~aaria_pin.core.seeds.RunSeeds`); without ranges every run has the same.
+        """
+        from aaria_pin.core.seeds import RunSeeds
+
+        if not self.ranged:
+            return self.nominal(joints)
+        return self.draw(RunSeeds(seed, run).generator("hardware"), joints)
+
     def hardware(self, pick: Pick, joints: int, base_imu: ImuNoiseModel = ADIS16485) -> Hardware:
         """The models of the tables, each range replaced by ``pick(path, low, high, n)``.
 
@@ -241,20 +266,25 @@ class HardwareConfig:
         for name, table in self.tables.items():
             per_joint = joints if name in JOINT_MODELS else None
             values[name] = _resolved(table, pick, per_joint, name)
-        if IMU_TABLE in values:
-            imu = self._imu(values[IMU_TABLE], imu)
+        if self.imu_table is not None:
+            imu = self._imu(values[self.imu_table], imu, self.imu_table)
         models = {name: self._joint(name, values[name]) for name in JOINT_MODELS if name in values}
         return Hardware(imu, **models)  # type: ignore[arg-type]
 
-    def _imu(self, values: Mapping[str, Any], base: ImuNoiseModel) -> ImuNoiseModel:
+    @property
+    def imu_table(self) -> str | None:
+        """The IMU table as the file names it: ``imu``, the older ``noise``, or None."""
+        return next((name for name in (IMU_TABLE, LEGACY_IMU_TABLE) if name in self.tables), None)
+
+    def _imu(self, values: Mapping[str, Any], base: ImuNoiseModel, name: str) -> ImuNoiseModel:
         if "preset" in values and self.imu_model is None:
             base = imu_preset(values["preset"])
-        changes = {k: v for k, v in values.items() if k not in ("preset", *_SENSORS)}
-        for sensor in _SENSORS:
+        changes = {k: v for k, v in values.items() if k not in ("preset", *SENSORS)}
+        for sensor in SENSORS:
             if sensor in values:
-                with self.naming(f"{IMU_TABLE}.{sensor}"):
+                with self.naming(f"{name}.{sensor}"):
                     changes[sensor] = dataclasses.replace(getattr(base, sensor), **values[sensor])
-        with self.naming(IMU_TABLE):
+        with self.naming(name):
             return dataclasses.replace(base, **changes)
 
     def _joint(self, name: str, values: Mapping[str, Any]) -> JointModel:
@@ -268,98 +298,6 @@ class HardwareConfig:
     def naming(self, path: str) -> _Naming:
         """A context that re-raises a model's refusal as ``WHERE: PATH.MESSAGE``."""
         return _Naming(self, path)
-
-    def refused(self, path: str, value: Any, allowed: str) -> ParameterError:
-        """``WHERE: PATH is VALUE; allowed: ALLOWED`` (parameter :attr:`parameter`)."""
-        return ParameterError(
-            f"{self.where}: {path} is {value!r}; allowed: {allowed}",
-            parameter=self.parameter,
-            value=value,
-            element=path,
-        )
-
-    def table(self, name: str, data: Any, table: str, ranges: bool) -> dict[str, Any]:
-        """One table checked: its keys, and each value's type (a number, a range, a list)."""
-        if not isinstance(data, Mapping):
-            raise self.refused(name, data, f"a table [{name}]")
-        if table == IMU_TABLE:
-            return self._imu_table(name, data, ranges)
-        return self._values(name, data, JOINT_MODELS[table], ranges, per_joint=True)
-
-    def _imu_table(self, name: str, data: Mapping[str, Any], ranges: bool) -> dict[str, Any]:
-        model_keys = [f.name for f in dataclasses.fields(ImuNoiseModel)]
-        keys = ["preset", *model_keys] if name == IMU_TABLE else model_keys
-        self._known(name, data, keys)
-        out: dict[str, Any] = {}
-        if "preset" in data:
-            preset = data["preset"]
-            if not isinstance(preset, str) or preset.lower() not in IMU_PRESETS:
-                raise self.refused(f"{name}.preset", preset, ", ".join(sorted(IMU_PRESETS)))
-            out["preset"] = preset.lower()
-        top = {k: v for k, v in data.items() if k not in ("preset", *_SENSORS)}
-        out.update(self._values(name, top, ImuNoiseModel, ranges, per_joint=False))
-        for sensor in _SENSORS:
-            if sensor in data:
-                where = f"{name}.{sensor}"
-                if not isinstance(data[sensor], Mapping):
-                    raise self.refused(where, data[sensor], f"a table [{where}]")
-                out[sensor] = self._values(where, data[sensor], SensorNoise, ranges, False)
-        return out
-
-    def _known(self, name: str, data: Mapping[str, Any], keys: list[str]) -> None:
-        unknown = sorted(set(data) - set(keys))
-        if unknown:
-            raise ParameterError(
-                f"{self.where}: unknown key {name}.{unknown[0]}; allowed: {', '.join(keys)}",
-                parameter=self.parameter,
-                value=unknown[0],
-                element=name,
-            )
-
-    def _values(
-        self, name: str, data: Mapping[str, Any], model: type, ranges: bool, per_joint: bool
-    ) -> dict[str, Any]:
-        """A model's values in its field order, each a number, a range or (joints) a list."""
-        names = [f.name for f in dataclasses.fields(model) if f.name not in _SENSORS]
-        self._known(name, data, names)
-        defaults = {f.name: f.default for f in dataclasses.fields(model)}
-        out: dict[str, Any] = {}
-        for key in names:
-            if key not in data:
-                continue
-            value, path = data[key], f"{name}.{key}"
-            default = defaults[key]
-            if isinstance(default, str) or (isinstance(default, bool) and not per_joint):
-                out[key] = value  # checked by the model
-            elif ranges and _range_given(value):
-                out[key] = self._range(path, value)
-            elif _is_number(value):
-                out[key] = float(value)
-            elif per_joint and isinstance(value, list) and value:
-                out[key] = [
-                    self._joint_entry(f"{path}[{i}]", v, ranges) for i, v in enumerate(value)
-                ]
-            elif not per_joint and not _range_given(value) and isinstance(value, list):
-                out[key] = value  # a matrix or vector field: checked by the model
-            else:
-                allowed = "a number" + (", a range [low, high]" if ranges else "")
-                raise self.refused(
-                    path, value, allowed + (", or one per joint" if per_joint else "")
-                )
-        return out
-
-    def _joint_entry(self, path: str, value: Any, ranges: bool) -> Any:
-        if ranges and _range_given(value):
-            return self._range(path, value)
-        if _is_number(value):
-            return float(value)
-        raise self.refused(path, value, "a number" + (" or a range [low, high]" if ranges else ""))
-
-    def _range(self, path: str, value: list[Any]) -> Range:
-        low, high = float(value[0]), float(value[1])
-        if not (np.isfinite(low) and np.isfinite(high) and low <= high):
-            raise self.refused(path, value, "a range [low, high] of finite numbers, low <= high")
-        return Range(low, high)
 
 
 class _Naming:
@@ -411,11 +349,39 @@ def imu_model_option(value: str | Path, parameter: str = "imu_model") -> ImuNois
     if not (text.lower().endswith(".toml") or Path(text).is_file()):
         return imu_preset(text)
     config = load_hardware(text, parameter)
-    other = [name for name in config.tables if name != IMU_TABLE]
-    if other or IMU_TABLE not in config.tables:
+    other = [name for name in config.tables if name != config.imu_table]
+    if other or config.imu_table is None:
         shown = other[0] if other else "(no [imu] table)"
-        raise config.refused(shown, "a table", "an [imu] table only (an IMU model file)")
+        reader = TableReader(config.where, config.parameter)
+        raise reader.refused(shown, "a table", "an [imu] table only (an IMU model file)")
     return config.hardware(_no_range, 0).imu
+
+
+def hardware_run_options(
+    imu_model: str | Path | None,
+    hardware_file: str | Path | None,
+    stored: Mapping[str, Any] | None = None,
+) -> dict[str, Any]:
+    """The run options ``--imu-model`` and ``--hardware`` set (nothing when neither is given).
+
+    Args:
+        imu_model: a preset name or an IMU model file (:func:`imu_model_option`)
+        hardware_file: a hardware file (:func:`load_hardware`): the tables it gives
+        stored: the attributes of the run re-made (``--from``): its IMU model is the base of
+            the file's ``[imu]`` values when no preset is named; what neither option sets
+            stays as stored
+
+    Raises:
+        ParameterError, InputFileError: as :func:`imu_model_option`, :func:`load_hardware`.
+    """
+    from aaria_pin.core.run.settings import stored_hardware
+
+    model = None if imu_model is None else imu_model_option(imu_model)
+    if hardware_file is None:
+        return {} if model is None else {"noise_model": model}
+    config = load_hardware(hardware_file, imu_model=model)
+    base = ADIS16485 if stored is None else stored_hardware(stored)["noise_model"]
+    return config.options(base)
 
 
 def _no_range(path: str, low: float, high: float, joints: int | None) -> Any:
@@ -454,15 +420,6 @@ def _ranges(table: Any) -> list[Range]:
     if isinstance(table, list):
         return [r for value in table for r in _ranges(value)]
     return []
-
-
-def _is_number(value: Any) -> bool:
-    return isinstance(value, int | float) and not isinstance(value, bool)
-
-
-def _range_given(value: Any) -> bool:
-    """A TOML value written as a range: a list of two numbers."""
-    return isinstance(value, list) and len(value) == 2 and all(_is_number(v) for v in value)
 
 
 def _plain(value: Any) -> Any:

@@ -11,6 +11,7 @@ from aaria_pin.cli._options import (
     fourier_options,
     given,
     grid_options,
+    hardware_options,
     load_table_source,
     robot_source_options,
     sampling_overrides,
@@ -31,6 +32,7 @@ Examples:
   aaria simulate --robot ur5 --motion fourier --harmonics 3 --base-frequency 0.2 -o ur5.h5
   aaria simulate --robot ur5 --trajectory motion.csv -o mine.h5   # time,<joint>,... columns
   aaria simulate --from f.h5 --seed 3 -o again.h5           # the same motion, other noise
+  aaria simulate --robot ur5 --imu-model bmi088 --hardware hw.toml -o real.h5
   aaria simulate --dh table.csv --drive torque --torques tau.npy -o fwd.mat"""
 )
 @table_source_options
@@ -73,6 +75,7 @@ Examples:
     "through every sample).",
 )
 @click.option("--noise/--no-noise", default=None, help="IMU noise on (default) or off.")
+@hardware_options
 @shown("--compress", default="none", type=click.Choice(["none", "gzip", "lzf"]),
        help="HDF5 filter of the time series (gzip: smaller, MATLAB-readable, slower).")  # fmt: skip
 @click.option("-o", "--output", type=_FILE, required=True, help="Run file: .h5 or .mat.")
@@ -121,7 +124,7 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
                       ("fixed_base", "--fixed-base")):  # fmt: skip
         if flags[key] not in (None, False):
             raise click.UsageError(f"{flag} is for URDF robots (--robot or --urdf)")
-    overrides = sampling_overrides(params)
+    overrides = sampling_overrides(params, stored)
     if flags["joints_file"] is not None:
         overrides["joint_table"] = read_table(flags["joints_file"], "senSenJ")
     if flags["base_file"] is not None:
