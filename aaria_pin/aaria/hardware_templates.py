@@ -89,7 +89,8 @@ def imu_model_template(name: str = DEFAULT_IMU_MODEL) -> str:
 # IMU model {name.lower()} (aaria simulate|dataset --imu-model FILE.toml; or the [imu] table of
 # a hardware file, aaria template hardware). Every value in SI units, per axis; 0 turns a term
 # off; a key left out keeps the preset's value. The unit u is rad/s for the gyroscope and
-# m/s^2 for the accelerometer. The values are the preset's, written to read back bit for bit.
+# m/s^2 for the accelerometer. The values are the preset's, written to read back bit for bit;
+# the data sheet each comes from: docs/guide/imu.md.
 
 {imu_table(model, name.lower())}"""
 
