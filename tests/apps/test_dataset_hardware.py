@@ -134,3 +134,23 @@ def test_a_urdf_data_set_draws_per_joint_values(tmp_path: Path) -> None:
     first, second = spec.run_hardware(0), spec.run_hardware(1)
     assert first.imu.accel.noise_density != second.imu.accel.noise_density
     assert spec.run_settings(1).noise_model == second.imu
+
+
+def test_the_card_lists_every_hardware_term_with_its_range_and_unit(tmp_path: Path) -> None:
+    from aaria_pin.apps.dataset.card_file import dataset_card
+    from aaria_pin.apps.dataset.card_text import card_text
+
+    tables = {**TABLES, "encoder": {"noise": [0.0, 1.0e-3]}, "actuator": {"viscous": 0.5}}
+    hardware = HardwareConfig.from_mapping(tables, "ranges.toml", "config", ranges=True)
+    path = tmp_path / "card.h5"
+    generate_dataset(path, DhDatasetSpec(**{**SETTINGS, "n_runs": 2}, hardware=hardware))
+    card = dataset_card(path)
+    assert card.hardware == tables and card.joint_hardware["actuator"]["viscous"] == 0.5
+    assert "torque_sensor" not in card.joint_hardware
+    text = card_text(card)
+    assert "gyro_noise_density_rad_s_sqrtHz = 0.0002 (drawn per run from [0.0001, 0.0003]" in text
+    assert "bias_correlation_time_s = 100 (drawn per run from [50, 150]" in text
+    assert "  viscous = 0.5 [N·m·s/rad or N·s/m]\n" in text
+    assert "tables: tau_motor [N*m or N (T x n)], tau_armature" in text
+    assert "torque_sensor: off (no tau_measured, torque_sensor_bias, torque_sensor_scale)" in text
+    assert "noise = [0.0005, 0.0005, 0.0005, 0.0005, 0.0005, 0.0005] [rad or m] (drawn" in text

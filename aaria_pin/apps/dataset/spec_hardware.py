@@ -11,6 +11,7 @@ the file's attribute ``hardware_names``) so a run read back has its own models.
 from __future__ import annotations
 
 from dataclasses import replace
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -46,6 +47,18 @@ class HardwareSpec:
         """The robot's fixed per-run layout (the spec's robot)."""
         raise NotImplementedError
 
+    def inputs(self, run: int) -> Any:
+        """The inputs of run ``run`` (the spec's)."""
+        raise NotImplementedError
+
+    def run_robot(self, inputs: Any) -> Any:
+        """The engine's robot of a run (the spec's)."""
+        raise NotImplementedError
+
+    def run_motion(self, inputs: Any) -> Any:
+        """The engine's motion of a run (the spec's)."""
+        raise NotImplementedError
+
     @property
     def samples(self) -> int:
         """Samples per run T (the spec's)."""
@@ -78,10 +91,44 @@ class HardwareSpec:
         return self.hardware.ranged_names(self.joints) if self.hardware.ranged else ()
 
     def hardware_tables(self, joints: int) -> dict[str, tuple[int, ...]]:
-        """The per-run tables of the joint hardware and of the drawn values, by shape."""
-        tables = self.run_hardware(None).tables(self.samples, joints)
+        """The per-run tables of the hardware and of the drawn values, by shape.
+
+        The tables the engine records of the hardware (the joint channels' ``q_measured`` …,
+        the IMU's drawn errors ``imu_error_*``) are those of a two-sample run of run 0's inputs
+        (:attr:`probed_tables`), a time-axis table (a series) taking the data set's T; where
+        that run cannot be made, the joint channels' tables of the contract
+        (:meth:`~aaria_pin.aaria.hardware.Hardware.tables`).
+        """
+        if not self.hardware.tables and self.hardware.imu_model is None:
+            tables: dict[str, tuple[int, ...]] = {}
+        else:
+            probed = self.probed_tables
+            tables = (
+                self.run_hardware(None).tables(self.samples, joints) if probed is None else probed
+            )
         names = self.hardware_names()
         return {**tables, HARDWARE_VALUES: (len(names),)} if names else tables
+
+    @cached_property
+    def probed_tables(self) -> dict[str, tuple[int, ...]] | None:
+        """The hardware's tables in a two-sample run of run 0's inputs (None: it failed)."""
+        from aaria_pin.core.run import simulate
+        from aaria_pin.core.run.sensor import is_sensor_table
+        from aaria_pin.errors import AariaError
+
+        try:
+            inputs = self.inputs(0)
+            settings = replace(self.run_settings(0), duration=1.0 / self.rate)
+            robot, motion = self.run_robot(inputs), self.run_motion(inputs)
+            record = simulate(robot, motion, settings, inputs.noise_seed)
+        except (AariaError, ValueError):
+            return None
+        inputs_tables = set(self.robot_layout().tables)
+        return {
+            name: (self.samples, *np.shape(table)[1:]) if is_sensor_table(name) else np.shape(table)
+            for name, table in record.tables.items()
+            if name not in inputs_tables
+        }
 
     def with_drawn_values(self, run: int, record: RunRecord) -> RunRecord:
         """Run ``run``'s record with its drawn values (``hardware_values``) when it has some."""

@@ -157,12 +157,12 @@ class DatasetLayout:
         mine = {
             "joint names": self.joint_names,
             "IMU names": self.imu_names,
-            "tables": tuple(self.tables),
+            "tables": tuple(sorted(self.tables)),  # the record's order may differ: the file's
         }
         theirs = {
             "joint names": record.joint_names,
             "IMU names": record.imu_names,
-            "tables": tuple(record.tables),
+            "tables": tuple(sorted(record.tables)),
         }
         for what, expected in mine.items():
             if theirs[what] != expected:
