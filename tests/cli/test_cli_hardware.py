@@ -133,3 +133,28 @@ def test_from_keeps_the_stored_models_unless_a_flag_replaces_them(
     replaced = read_run(other)
     assert replaced.attributes["noise_parameters"] == noise_attributes(ADIS16485)
     assert replaced.attributes["torque_sensor"] == stored.attributes["torque_sensor"]
+
+
+def test_from_a_data_set_run_re_makes_it_with_its_drawn_models(tmp_path: Path) -> None:
+    from aaria_pin.files.dataset.reader import DatasetReader
+    from aaria_pin.files.runfile import read_run
+
+    config = tmp_path / "ranges.toml"
+    config.write_text("[imu.gyro]\nnoise_density = [1.0e-4, 3.0e-4]\n")
+    data = tmp_path / "ds.h5"
+    code, stderr = _run("dataset", "-n", "3", *SHORT, "--preset", "aaria-fig2", "--config",
+                        str(config), "--quiet", "-o", str(data))  # fmt: skip
+    assert code == 0, stderr
+    output = tmp_path / "run2.h5"
+    code, stderr = _run("simulate", "--from", str(data), "--run", "2", "-o", str(output))
+    assert code == 0, stderr
+    with DatasetReader(data) as reader:
+        stored = reader.record(2)
+        other = reader.record(1).attributes["noise_parameters"]
+    remade = read_run(output)
+    assert remade.attributes["noise_parameters"] == stored.attributes["noise_parameters"] != other
+    for name in ("q", "tau", "imu", "base_wrench"):  # the data set stores float32
+        again = np.asarray(getattr(remade, name), dtype=np.float32)
+        np.testing.assert_array_equal(again, getattr(stored, name), err_msg=name)
+    code, stderr = _run("simulate", "--preset", "aaria-fig2", "--run", "2", "-o", str(output))
+    assert code == 2 and "--run K goes with --from DATA_SET" in stderr
