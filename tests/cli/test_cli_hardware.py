@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 from pathlib import Path
 
@@ -158,3 +159,26 @@ def test_from_a_data_set_run_re_makes_it_with_its_drawn_models(tmp_path: Path) -
         np.testing.assert_array_equal(again, getattr(stored, name), err_msg=name)
     code, stderr = _run("simulate", "--preset", "aaria-fig2", "--run", "2", "-o", str(output))
     assert code == 2 and "--run K goes with --from DATA_SET" in stderr
+
+
+@pytest.mark.parametrize("table", ["torque_sensor", "imu.gyro"])
+def test_a_scale_error_of_one_or_more_is_refused(tmp_path: Path, table: str) -> None:
+    import dataclasses as dc
+
+    from aaria_pin.core.imu_noise import SensorNoise
+    from aaria_pin.core.joint_sensors import TorqueSensorModel
+    from aaria_pin.errors import ParameterError
+
+    model = TorqueSensorModel if table == "torque_sensor" else SensorNoise
+    if "scale_error" not in {f.name for f in dc.fields(model)}:
+        pytest.skip(f"{model.__name__} has no scale_error yet (the IMU helper's part)")
+    if model is TorqueSensorModel:
+        with contextlib.suppress(ParameterError):
+            TorqueSensorModel(scale_error=1.5)
+            pytest.skip("TorqueSensorModel does not check scale_error yet (the joints helper's)")
+    (tmp_path / "hw.toml").write_text(f"[{table}]\nscale_error = 1.5\n")
+    output = tmp_path / "run.h5"
+    code, stderr = _run("simulate", "--robot", "ur5", *SHORT, "--hardware",
+                        str(tmp_path / "hw.toml"), "-o", str(output))  # fmt: skip
+    assert code == 2 and stderr.count("\n") == 1, stderr
+    assert f"hw.toml: {table}.scale_error is 1.5; allowed:" in stderr and not output.exists()
