@@ -94,10 +94,10 @@ class Hardware:
         """The shapes of the tables a run of T = ``samples`` records of its joint hardware."""
         shapes: dict[str, tuple[int, ...]] = {}
         if self.encoder is not None:
-            shapes.update(q_measured=(samples, joints), encoder_offset=(joints,))
+            shapes.update(q_measured=(samples, joints), encoder_offset=(1, joints))
         if self.torque_sensor is not None:
-            shapes.update(tau_measured=(samples, joints), torque_sensor_bias=(joints,),
-                          torque_sensor_scale=(joints,))  # fmt: skip
+            shapes.update(tau_measured=(samples, joints), torque_sensor_bias=(1, joints),
+                          torque_sensor_scale=(1, joints))  # fmt: skip
         if self.actuator is not None:
             motor = ("tau_motor", "tau_armature", "tau_friction")
             shapes.update({name: (samples, joints) for name in motor})

@@ -21,6 +21,8 @@ from aaria_pin.core.imu_presets import IMU_PRESETS
 from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
 from aaria_pin.errors import ParameterError
 
+PRESETS = ", ".join(sorted(IMU_PRESETS))
+"""The presets an unknown name is told of."""
 FULL = {
     "imu": {"preset": "adis16485", "bias_correlation_time": 50.0,
             "gyro": {"noise_density": 2.0e-4}, "accel": {"bias_stability": 1.0e-3}},
@@ -94,7 +96,7 @@ def test_a_stored_model_is_the_base_of_the_imu_values_when_no_preset_is_named(
     [
         ({"imu": {"gyro": {"noise_density": -1.0}}},
          "hw.toml: imu.gyro.noise_density is -1.0; allowed: a finite number >= 0"),
-        ({"imu": {"preset": "adis99"}}, "hw.toml: imu.preset is 'adis99'; allowed: adis16485"),
+        ({"imu": {"preset": "adis99"}}, f"hw.toml: imu.preset is 'adis99'; allowed: {PRESETS}"),
         ({"encoder": {"nosie": 1.0}}, "hw.toml: unknown key encoder.nosie; allowed:"),
         ({"sensor": {}}, "hw.toml: sensor is {}; allowed: one of imu, noise, encoder"),
         ({"encoder": {"noise": "low"}}, "hw.toml: encoder.noise is 'low'; allowed: a number"),

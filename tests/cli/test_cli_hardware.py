@@ -12,8 +12,11 @@ from click.testing import CliRunner
 
 from aaria_pin.cli import main
 from aaria_pin.core.imu_noise import ADIS16485, noise_attributes
+from aaria_pin.core.imu_presets import IMU_PRESETS
 
 SHORT = ["--duration", "0.2", "--rate", "100"]
+PRESETS = ", ".join(sorted(IMU_PRESETS))
+"""The presets an unknown name is told of."""
 
 
 def _run(*args: str) -> tuple[int, str]:
@@ -32,7 +35,7 @@ def _attributes(path: Path) -> dict[str, object]:
     [
         ("[imu.gyro]\nnoise_density = -1.0\n",
          "hw.toml: imu.gyro.noise_density is -1.0; allowed: a finite number >= 0"),
-        ('[imu]\npreset = "adis1"\n', "hw.toml: imu.preset is 'adis1'; allowed: adis16485"),
+        ('[imu]\npreset = "adis1"\n', f"hw.toml: imu.preset is 'adis1'; allowed: {PRESETS}"),
         ("[encoder]\nnoize = 1.0\n", "hw.toml: unknown key encoder.noize; allowed:"),
         ("[torque_sensor]\nbias = true\n", "hw.toml: torque_sensor.bias is True; allowed: a"),
         ("[imu]\ngyro = 1.0\n", "hw.toml: imu.gyro is 1.0; allowed: a table [imu.gyro]"),
@@ -56,7 +59,7 @@ def test_an_unknown_preset_names_the_flag(tmp_path: Path) -> None:
     output = tmp_path / "run.h5"
     code, stderr = _run("simulate", "--robot", "ur5", *SHORT, "--imu-model", "nope", "-o",
                         str(output))  # fmt: skip
-    assert code == 2 and stderr == "aaria: error: --imu-model is 'nope'; allowed: adis16485\n"
+    assert code == 2 and stderr == f"aaria: error: --imu-model is 'nope'; allowed: {PRESETS}\n"
     assert not output.exists()
     code, stderr = _run("dataset", "-n", "2", *SHORT, "--imu-model", "nope", "-o", str(output))
     assert code == 2 and "--imu-model is 'nope'" in stderr and not output.exists()

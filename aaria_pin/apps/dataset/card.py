@@ -56,9 +56,9 @@ MAX_LISTED_RUNS = 100
 MAX_LISTED_STRUCTURES = 30
 """Most structures the text lists (the card holds them all: at most 3^6 - 1)."""
 HARDWARE_TABLE_UNITS = {
-    "encoder": {"q_measured": "rad or m (T x n)", "encoder_offset": "rad or m (n)"},
-    "torque_sensor": {"tau_measured": "N*m or N (T x n)", "torque_sensor_bias": "N*m or N (n)",
-                      "torque_sensor_scale": "1 (n)"},
+    "encoder": {"q_measured": "rad or m (T x n)", "encoder_offset": "rad or m (1 x n)"},
+    "torque_sensor": {"tau_measured": "N*m or N (T x n)", "torque_sensor_bias": "N*m or N (1 x n)",
+                      "torque_sensor_scale": "1 (1 x n)"},
     "actuator": {"tau_motor": "N*m or N (T x n)", "tau_armature": "N*m or N (T x n)",
                  "tau_friction": "N*m or N (T x n)"},
 }  # fmt: skip

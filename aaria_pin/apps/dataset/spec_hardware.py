@@ -23,7 +23,10 @@ if TYPE_CHECKING:
     from aaria_pin.core.record import RunRecord
     from aaria_pin.core.run import RunSettings
 
-__all__ = ["HardwareSpec"]
+__all__ = ["PROBED_RUNS", "HardwareSpec"]
+
+PROBED_RUNS = 8
+"""Runs tried, in order, for the two-sample run that tells the hardware's tables."""
 
 
 class HardwareSpec:
@@ -38,6 +41,7 @@ class HardwareSpec:
     """
 
     hardware: HardwareConfig
+    n_runs: int
     seed: int
     duration: float
     rate: float
@@ -96,7 +100,7 @@ class HardwareSpec:
         The tables the engine records of the hardware (the joint channels' ``q_measured`` …,
         the IMU's drawn errors ``imu_error_*``) are those of a two-sample run of run 0's inputs
         (:attr:`probed_tables`), a time-axis table (a series) taking the data set's T; where
-        that run cannot be made, the joint channels' tables of the contract
+        no such run can be made, the joint channels' tables of the contract
         (:meth:`~aaria_pin.aaria.hardware.Hardware.tables`).
         """
         if not self.hardware.tables and self.hardware.imu_model is None:
@@ -111,17 +115,25 @@ class HardwareSpec:
 
     @cached_property
     def probed_tables(self) -> dict[str, tuple[int, ...]] | None:
-        """The hardware's tables in a two-sample run of run 0's inputs (None: it failed)."""
+        """The hardware's tables in a two-sample run (None: no such run can be made).
+
+        The run is the first of runs 0 to :data:`PROBED_RUNS` - 1 that can be made.
+        """
         from aaria_pin.core.run import simulate
         from aaria_pin.core.run.sensor import is_sensor_table
         from aaria_pin.errors import AariaError
 
-        try:
-            inputs = self.inputs(0)
-            settings = replace(self.run_settings(0), duration=1.0 / self.rate)
-            robot, motion = self.run_robot(inputs), self.run_motion(inputs)
-            record = simulate(robot, motion, settings, inputs.noise_seed)
-        except (AariaError, ValueError):
+        record = None
+        for run in range(min(self.n_runs, PROBED_RUNS)):
+            try:
+                inputs = self.inputs(run)
+                settings = replace(self.run_settings(run), duration=1.0 / self.rate)
+                robot, motion = self.run_robot(inputs), self.run_motion(inputs)
+                record = simulate(robot, motion, settings, inputs.noise_seed)
+                break
+            except (AariaError, ValueError):
+                continue
+        if record is None:
             return None
         inputs_tables = set(self.robot_layout().tables)
         return {
