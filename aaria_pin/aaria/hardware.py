@@ -239,9 +239,14 @@ class HardwareConfig:
         return self.hardware(lambda path, low, high, n: rng.uniform(low, high, n), joints)
 
     def ranged_names(self, joints: int) -> tuple[str, ...]:
-        """The attribute paths (:func:`hardware_leaves`) of the values a run draws."""
+        """The attribute paths (:func:`hardware_leaves`) of the values a run draws.
+
+        A path one end of its range does not record (an IMU term at its off value is left out
+        of ``noise_parameters``) is one too; a run that does not record it stores NaN there.
+        """
         low, high = (hardware_leaves(h.attributes()) for h in self.ends(joints))
-        return tuple(name for name, value in low.items() if value != high.get(name))
+        names = {**dict.fromkeys(low), **dict.fromkeys(high)}  # a term off is not recorded
+        return tuple(name for name in names if low.get(name) != high.get(name))
 
     def run_hardware(self, seed: int, run: int, joints: int) -> Hardware:
         """Run ``run``'s hardware in a data set of seed ``seed``.

@@ -143,12 +143,15 @@ class HardwareSpec:
         }
 
     def with_drawn_values(self, run: int, record: RunRecord) -> RunRecord:
-        """Run ``run``'s record with its drawn values (``hardware_values``) when it has some."""
+        """Run ``run``'s record with its drawn values (``hardware_values``) when it has some.
+
+        A value the run's attributes leave out (an IMU term drawn at its off value) is NaN.
+        """
         names = self.hardware_names()
         if not names:
             return record
         drawn = hardware_leaves(self.run_hardware(run).attributes())
-        values = np.array([drawn[name] for name in names], dtype=np.float64)
+        values = np.array([drawn.get(name, np.nan) for name in names], dtype=np.float64)
         return replace(record, tables={**record.tables, HARDWARE_VALUES: values})
 
     def hardware_attributes(self) -> dict[str, Any]:

@@ -411,7 +411,8 @@ def record_attributes(
     with ``noise_spawn_key`` ``[run, noise_stream]`` (the run's noise stream, so
     :func:`~aaria_pin.core.seeds.stored_seed` gives it back) and ``run``. A data set whose
     hardware has ranges gives each run its own values: ``drawn`` (its table
-    ``hardware_values``) at the attribute paths of ``hardware_names`` (``encoder/noise/0``).
+    ``hardware_values``) at the attribute paths of ``hardware_names`` (``encoder/noise/0``;
+    NaN: a key the run leaves out).
     """
     attributes = {k: v for k, v in file_attributes.items() if k not in _DATASET_ONLY}
     names = file_attributes.get("hardware_names") or []
@@ -423,7 +424,12 @@ def record_attributes(
             target: Any = attributes
             for key in parents:
                 target = target[int(key)] if isinstance(target, list) else target[key]
-            target[int(last) if isinstance(target, list) else last] = float(value)
+            if isinstance(target, list):
+                target[int(last)] = float(value)
+            elif np.isnan(value):
+                target.pop(last, None)  # a term the run does not record (off)
+            else:
+                target[last] = float(value)
     info = file_attributes.get("robot_info") or {}
     for key in ("source", "moving_base", "base_frame", "tool_frame"):
         if key in info:
