@@ -27,6 +27,7 @@ from aaria_pin.aaria.sensen import N_MODULES
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ImuNoiseModel
+from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.run import (
     UNITS,
@@ -42,6 +43,7 @@ from aaria_pin.core.run import (
 )
 from aaria_pin.core.run.deprecation import deprecated_producer, warn_deprecated
 from aaria_pin.core.run.robot import RunKind, register_kind
+from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
     DEFAULT_RATE,
@@ -76,6 +78,9 @@ class _DhSettings(TypedDict, total=False):
     seed: int | np.random.SeedSequence
     noise: bool
     noise_model: ImuNoiseModel
+    encoder: EncoderModel | None
+    torque_sensor: TorqueSensorModel | None
+    actuator: ActuatorModel | None
     dims: BodyDimensions | None
     imu_mount: ArrayLike | None
     torques: ArrayLike | None
@@ -96,7 +101,11 @@ class DhRunOptions(_DhSettings, RunTables, total=False):
         rate: sample rate [Hz]
         seed: seed of the IMU noise, 0 to 2⁶³ - 1 (or a ``SeedSequence``, as data sets use)
         noise: add IMU noise (``False`` gives the exact signals)
-        noise_model: IMU noise parameters
+        noise_model: IMU noise parameters (a preset:
+            :func:`~aaria_pin.core.imu_presets.imu_preset`)
+        encoder: the joint encoders (the table ``q_measured``; None: none)
+        torque_sensor: the joint torque sensors (``tau_measured``; None: none)
+        actuator: the joints' motors and gearboxes (``tau_motor``; None: none)
         dims: body dimensions and densities
         imu_mount: 14 × 4 × 4 pose of each IMU slot in its parent frame, slot order as in
             ``senSen`` (default: :func:`~aaria_pin.aaria.dh_robot.default_imu_slots`); entries of
@@ -246,7 +255,8 @@ def dh_request_from_record(
     The tables (``senSenDH``, ``senSenJ``, ``senSenB``, ``torque_table`` for a run driven by
     torques, ``joint_trajectory`` or ``fourier_coefficients`` for a run that follows a given
     motion), the IMU mounts, the body dimensions, the robot's name and the rate, duration,
-    seed and noise setting come from the record; ``overrides`` replace them.
+    seed, noise setting and hardware (IMU model, joint models) come from the record;
+    ``overrides`` replace them.
 
     Args:
         stored: a DH run's record (e.g. read from its run file)
@@ -278,6 +288,7 @@ def dh_request_from_record(
         "imu_mount": stored.imu_mount,
         "robot_name": meta.robot or DH_ROBOT,
         "motion": motion_from_record(stored.tables, stored.attributes, drive=False),
+        **stored_hardware(stored.attributes),  # type: ignore[typeddict-item]
     }
     if "torque_table" in stored.tables:
         options["torques"] = stored.tables["torque_table"]

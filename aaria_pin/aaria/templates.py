@@ -1,4 +1,6 @@
-"""Commented, valid input files to start from: ``aaria template dh|joints|base|imu-layout|config``.
+"""Commented, valid input files to start from: ``aaria template KIND``.
+
+The kinds: dh, joints, base, imu-layout, config, imu-model, hardware.
 
 Each template is a file the commands read as it is (and simulate): the tables are CSV with ``#``
 comments and a header row of the column names the readers check
@@ -14,6 +16,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from aaria_pin.aaria.dh import AARIA_COLUMNS, chain_from_table
+from aaria_pin.aaria.hardware_templates import hardware_template, imu_model_template, imu_table
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.randomize import default_config_toml
 from aaria_pin.aaria.sine_tables import (
@@ -23,6 +26,7 @@ from aaria_pin.aaria.sine_tables import (
     default_joint_table,
 )
 from aaria_pin.core.imu_noise import ADIS16485, DATASHEET_ROWS
+from aaria_pin.core.imu_presets import DEFAULT_IMU_MODEL
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
@@ -135,45 +139,19 @@ rpy = [0.0, 0.0, 1.5707963267948966]
 """
 
 
-_NOISE_KEYS: tuple[tuple[str, str, float, str], ...] = (
-    ("gyro", "range", ADIS16485.gyro.range, "full scale, saturates at +/- [rad/s]"),
-    ("gyro", "lsb", ADIS16485.gyro.lsb, "quantisation step [rad/s]"),
-    ("gyro", "noise_density", ADIS16485.gyro.noise_density, "white noise [rad/s/sqrt(Hz)]"),
-    ("gyro", "bias_stability", ADIS16485.gyro.bias_stability, "in-run bias, 1 sigma [rad/s]"),
-    ("gyro", "random_walk", ADIS16485.gyro.random_walk, "angle random walk [rad/sqrt(s)]"),
-    ("accel", "range", ADIS16485.accel.range, "full scale, saturates at +/- [m/s^2]"),
-    ("accel", "lsb", ADIS16485.accel.lsb, "quantisation step [m/s^2]"),
-    ("accel", "noise_density", ADIS16485.accel.noise_density, "white noise [m/s^2/sqrt(Hz)]"),
-    ("accel", "bias_stability", ADIS16485.accel.bias_stability, "in-run bias, 1 sigma [m/s^2]"),
-    ("accel", "random_walk", ADIS16485.accel.random_walk, "velocity random walk [m/s/sqrt(s)]"),
-)
-
-
 def _config() -> str:
     datasheet = "\n".join(f"#   {name}: {value:g} {unit}" for name, value, unit in DATASHEET_ROWS)
-    sensors = "\n\n".join(
-        f"[noise.{sensor}]\n"
-        + "\n".join(
-            f"{key} = {value!r}  # {what}"
-            for name, key, value, what in _NOISE_KEYS
-            if name == sensor
-        )
-        for sensor in ("gyro", "accel")
-    )
     return f"""\
 {default_config_toml().rstrip()}
 
-# IMU noise (--noise): the Analog Devices ADIS16485 data sheet,
+# Hardware: the tables of a hardware file (aaria template hardware: [imu], [encoder],
+# [torque_sensor], [actuator], each explained); a table left out is off ([imu]: the
+# --imu-model preset). Any number may be a range [low, high], drawn for each run.
+#
+# IMU (--noise): the Analog Devices ADIS16485 data sheet,
 {datasheet}
-# in SI units per axis (the model of aaria_pin.core.imu_noise.ADIS16485); a key left out keeps
-# its ADIS16485 value.
-[noise]
-bandwidth_hz = {ADIS16485.bandwidth_hz!r}  # sensor bandwidth [Hz]
-internal_rate_hz = {ADIS16485.internal_rate_hz!r}  # internal sample rate [Hz]
-bias_correlation_time = {ADIS16485.bias_correlation_time!r}  # Gauss-Markov bias [s]
-
-{sensors}
-"""
+# in SI units per axis (the preset adis16485); a key left out keeps the preset's value.
+{imu_table(ADIS16485, DEFAULT_IMU_MODEL)}"""
 
 
 _TEMPLATES: dict[str, Callable[[], str]] = {
@@ -182,6 +160,8 @@ _TEMPLATES: dict[str, Callable[[], str]] = {
     "base": _base,
     "imu-layout": _imu_layout,
     "config": _config,
+    "imu-model": imu_model_template,
+    "hardware": hardware_template,
 }
 
 TEMPLATE_KINDS: tuple[str, ...] = tuple(_TEMPLATES)
@@ -193,21 +173,28 @@ TEMPLATE_FILES: dict[str, str] = {
     "base": "base.csv",
     "imu-layout": "imu_layout.toml",
     "config": "config.toml",
+    "imu-model": "imu_model.toml",
+    "hardware": "hardware.toml",
 }
 """A file name for each template (its suffix is the one the commands read)."""
 
 
-def template_text(kind: str) -> str:
+def template_text(kind: str, imu_model: str | None = None) -> str:
     """The text of a template file.
 
     Args:
         kind: one of :data:`TEMPLATE_KINDS`
+        imu_model: the preset of the ``imu-model`` template (default ``adis16485``)
 
     Raises:
-        ParameterError: an unknown kind.
+        ParameterError: an unknown kind, an unknown preset, or a preset for another kind.
     """
     if kind not in _TEMPLATES:
         raise ParameterError(
             parameter="kind", value=kind, allowed=", ".join(TEMPLATE_KINDS), element=None
         )
+    if imu_model is not None:
+        if kind != "imu-model":
+            raise ParameterError(parameter="imu_model", value=imu_model, allowed="imu-model only")
+        return imu_model_template(imu_model)
     return _TEMPLATES[kind]()

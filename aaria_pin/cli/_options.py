@@ -148,10 +148,24 @@ robot_source_options = stacked(
 """``--robot NAME | --urdf FILE`` and the URDF robot's tool, IMU and base options."""
 
 
-def sampling_overrides(params: dict[str, Any]) -> dict[str, Any]:
-    """``duration``, ``rate``, ``seed`` and ``noise`` of a command's options, where given."""
+hardware_options = stacked(
+    click.option("--imu-model", help="IMU model: a preset (adis16485, the default; adis16470,"
+                 " bmi088, icm42688p, mpu6050) or a TOML file (aaria template imu-model)."),
+    click.option("--hardware", "hardware_file", type=_FILE, help="TOML file of [imu], [encoder],"
+                 " [torque_sensor], [actuator] (aaria template hardware); with --from the stored"
+                 " ones stay unless given."),
+)  # fmt: skip
+"""``--imu-model NAME|FILE`` and ``--hardware FILE``: the run's IMU and joint hardware."""
+
+
+def sampling_overrides(params: dict[str, Any], stored: Any = None) -> dict[str, Any]:
+    """``duration``, ``rate``, ``seed``, ``noise`` and the hardware options, where given."""
+    from aaria_pin.aaria.hardware import hardware_run_options
+
     keys = ("duration", "rate", "seed", "noise")
-    return {key: params[key] for key in keys if params.get(key) is not None}
+    hardware = (params.get("imu_model"), params.get("hardware_file"), stored and stored.attributes)
+    return {**{key: params[key] for key in keys if params.get(key) is not None},
+            **hardware_run_options(*hardware)}  # fmt: skip
 
 
 def torque_overrides(params: dict[str, Any]) -> dict[str, Any]:

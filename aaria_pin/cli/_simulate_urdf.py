@@ -48,7 +48,7 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     from aaria_pin.files.runfile import write_run_pieces
 
     _refuse_options_without_effect(params)
-    overrides = sampling_overrides(params)
+    overrides = sampling_overrides(params, stored)
     if params["tool_frame"] is not None:
         overrides["tool_frame"] = params["tool_frame"]
     if params["imu_layout_file"] is not None:

@@ -44,71 +44,49 @@ Examples:
   aaria dataset -n 200 --preset aaria-fig2 -o fig2.h5    # one arm, random motions
   aaria dataset -n 200 --robot ur5 --duration 5 -o ur5.h5
   aaria dataset -n 1000 --motion fourier --duration 30 --rate 200 -o ident.h5  # excitation
-  aaria dataset -n 1000 --config ranges.toml -o ds.h5    # ranges, noise: aaria template config
+  aaria dataset -n 1000 --config ranges.toml -o ds.h5    # ranges, hardware: aaria template config
   aaria dataset -n 1000 --seed 7 -o random.h5 --resume   # go on after Ctrl-C or a crash
   aaria dataset -n 100000 --scheduler tcp://head:8786 -o big.h5"""
 )
 @click.option("-n", "n_runs", type=int, required=True, help="Number of runs N.")
 @click.option("-o", "--output", type=_FILE, required=True, help="Data set file (.h5).")
-@click.option(
-    "--seed",
-    type=click.IntRange(0, MAX_SEED),
-    default=0,
-    show_default=True,
-    help="Seed of the whole data set: run k is the same for a given seed and k, whatever the"
-    " workers.",
-)
+@click.option("--seed", type=click.IntRange(0, MAX_SEED), default=0, show_default=True,
+              help="Seed of the whole data set: run k is the same for a given seed and k, whatever"
+              " the workers.")  # fmt: skip
 @click.option("--workers", type=click.IntRange(1, 1024), help="Local worker processes [cores].")
-@click.option(
-    "--scheduler",
-    help="Address of a Dask distributed scheduler (tcp://host:8786), instead of local workers.",
-)
-@click.option(
-    "--shards",
-    type=click.Path(path_type=Path, file_okay=False),
-    help="With --scheduler: folder of the workers' shard files [the output's folder].",
-)
+@click.option("--scheduler",
+              help="Address of a Dask distributed scheduler (tcp://host:8786), instead of local"
+              " workers.")  # fmt: skip
+@click.option("--shards", type=click.Path(path_type=Path, file_okay=False),
+              help="With --scheduler: folder of the workers' shard files [the output's"
+              " folder].")  # fmt: skip
 @grid_options(10.0, 100.0)
 @click.option("--noise/--no-noise", default=True, show_default=True, help="IMU noise.")
-@click.option(
-    "--dtype",
-    type=click.Choice(["float32", "float64"]),
-    default="float32",
-    show_default=True,
-    help="Number type of the stored series (time, joints, IMU signals, torques, poses); the"
-    " input tables stay float64.",
-)
-@click.option(
-    "--config",
-    "config_file",
-    type=_FILE,
-    help="TOML file of ranges and of the IMU noise ([noise]; see aaria template config).",
-)
-@click.option(
-    "--vary",
-    help="What is random, comma separated (default: structure,joints,base less the parts given"
-    " by --preset/--dh, --joints, --base).",
-)
+@click.option("--imu-model", help="IMU model: a preset (adis16485, the default; adis16470,"
+              " bmi088, icm42688p, mpu6050) or a TOML file; the config's [imu] values go over"
+              " it.")  # fmt: skip
+@click.option("--dtype", type=click.Choice(["float32", "float64"]), default="float32",
+              show_default=True, help="Number type of the stored series (time, joints, IMU"
+              " signals, torques, poses); the input tables stay float64.")  # fmt: skip
+@click.option("--config", "config_file", type=_FILE,
+              help="TOML file of ranges and of the hardware: [imu], [encoder], [torque_sensor],"
+              " [actuator], any number a range [low, high] drawn per run (aaria template config,"
+              " aaria template hardware).")  # fmt: skip
+@click.option("--vary",
+              help="What is random, comma separated (default: structure,joints,base less the parts"
+              " given by --preset/--dh, --joints, --base).")  # fmt: skip
 @table_source_options
 @robot_source_options
 @click.option("--joints", "joints_file", type=_FILE, help="Fixed joint oscillation table.")
 @click.option("--base", "base_file", type=_FILE, help="Fixed base oscillation table.")
-@click.option(
-    "--motion",
-    type=click.Choice(["sine", "fourier"]),
-    default="sine",
-    show_default=True,
-    help="Joint motion of each run: the joint table's sines, or a Fourier excitation drawn from"
-    " the run's joint stream (per joint a finite Fourier series within its limits; stored as"
-    " the table fourier_coefficients).",
-)
+@click.option("--motion", type=click.Choice(["sine", "fourier"]), default="sine",
+              show_default=True, help="Joint motion of each run: the joint table's sines, or a"
+              " Fourier excitation drawn from the run's joint stream (per joint a finite Fourier"
+              " series within its limits; stored as the table fourier_coefficients).")  # fmt: skip
 @fourier_options
-@click.option(
-    "--resume",
-    is_flag=True,
-    help="Continue an interrupted data set file (the same settings); its complete runs are"
-    " verified and a damaged one made again.",
-)
+@click.option("--resume", is_flag=True,
+              help="Continue an interrupted data set file (the same settings); its complete runs"
+              " are verified and a damaged one made again.")  # fmt: skip
 @click.option("--overwrite", is_flag=True, help="Replace an existing file (once the new one is).")
 @click.option("--quiet", is_flag=True, help="No estimate, no progress bar or lines.")
 @click.option(

@@ -11,6 +11,7 @@ from aaria_pin.cli._options import (
     fourier_options,
     given,
     grid_options,
+    hardware_options,
     load_table_source,
     robot_source_options,
     sampling_overrides,
@@ -31,6 +32,8 @@ Examples:
   aaria simulate --robot ur5 --motion fourier --harmonics 3 --base-frequency 0.2 -o ur5.h5
   aaria simulate --robot ur5 --trajectory motion.csv -o mine.h5   # time,<joint>,... columns
   aaria simulate --from f.h5 --seed 3 -o again.h5           # the same motion, other noise
+  aaria simulate --from ds.h5 --run 4 -o run4.h5           # run 4 of a data set, re-made
+  aaria simulate --robot ur5 --imu-model bmi088 --hardware hw.toml -o real.h5
   aaria simulate --dh table.csv --drive torque --torques tau.npy -o fwd.mat"""
 )
 @table_source_options
@@ -42,6 +45,7 @@ Examples:
 @click.option("--from", "from_run", type=_FILE,
               help="Re-make the run stored in this run file (any kind); the options given beside"
               " it replace the stored ones.")  # fmt: skip
+@click.option("--run", "run_index", type=click.IntRange(0), help="With --from a data set: its run.")
 @grid_options()
 @click.option("--seed", type=click.IntRange(0, MAX_SEED), help="Seed of the IMU noise (default 0).")
 @click.option("--density", type=float, help="Density of every body [kg/m^3] (default 2700).")
@@ -73,6 +77,7 @@ Examples:
     "through every sample).",
 )
 @click.option("--noise/--no-noise", default=None, help="IMU noise on (default) or off.")
+@hardware_options
 @shown("--compress", default="none", type=click.Choice(["none", "gzip", "lzf"]),
        help="HDF5 filter of the time series (gzip: smaller, MATLAB-readable, slower).")  # fmt: skip
 @click.option("-o", "--output", type=_FILE, required=True, help="Run file: .h5 or .mat.")
@@ -106,9 +111,13 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     if from_run is not None:
         from aaria_pin.apps.remake import run_kind
         from aaria_pin.files.runfile import read_run_inputs
+        from aaria_pin.files.source import open_record
 
-        stored = read_run_inputs(from_run)  # the inputs, not the stored series
+        run = flags["run_index"]  # a data set's run, or a run file's inputs (not its series)
+        stored = read_run_inputs(from_run) if run is None else open_record(from_run, run)
         kind = run_kind(stored)
+    elif flags["run_index"] is not None:
+        raise click.UsageError("--run K goes with --from DATA_SET")
     if flags["robot"] is not None or flags["urdf_file"] is not None:
         kind = "urdf"
     if kind == "urdf":
@@ -121,7 +130,7 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
                       ("fixed_base", "--fixed-base")):  # fmt: skip
         if flags[key] not in (None, False):
             raise click.UsageError(f"{flag} is for URDF robots (--robot or --urdf)")
-    overrides = sampling_overrides(params)
+    overrides = sampling_overrides(params, stored)
     if flags["joints_file"] is not None:
         overrides["joint_table"] = read_table(flags["joints_file"], "senSenJ")
     if flags["base_file"] is not None:
@@ -167,16 +176,13 @@ def _remake_as_stored(params: dict[str, Any], stored: Any, kind: str) -> None:
     from aaria_pin.files.runfile import write_run
 
     for option in simulate.params:
-        if option.name not in ("from_run", "output", "compress", None) and given(option.name):
-            flag = max(option.opts, key=len)
-            raise click.UsageError(f"{flag} does not apply to a {kind} run (--from)")
+        kept = option.name in ("from_run", "run_index", "output", "compress", None)
+        if not kept and given(option.name):
+            raise click.UsageError(f"{max(option.opts, key=len)} does not apply to a {kind} run"
+                                   " (--from)")  # fmt: skip
     record = remake_file_record(stored, params["from_run"])
-    output = params["output"]
-    compress = params["compress"]
+    output, compress, meta = params["output"], params["compress"], record.metadata
     write_run(output, record, compression=None if compress == "none" else compress)
-    meta = record.metadata
-    click.echo(
-        f"wrote {output}: {meta.robot} ({kind}), {record.n_samples} samples at "
-        f"{meta.rate:g} Hz, peak |tau| {abs(record.tau).max():.4g} "
-        "(N*m, N for a prismatic joint)"
-    )
+    peak = abs(record.tau).max()
+    click.echo(f"wrote {output}: {meta.robot} ({kind}), {record.n_samples} samples at {meta.rate:g}"
+               f" Hz, peak |tau| {peak:.4g} (N*m, N for a prismatic joint)")  # fmt: skip

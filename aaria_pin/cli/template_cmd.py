@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-KINDS = ("dh", "joints", "base", "imu-layout", "config")
+KINDS = ("dh", "joints", "base", "imu-layout", "config", "imu-model", "hardware")
 """The templates (those of :data:`aaria_pin.aaria.templates.TEMPLATE_KINDS`, kept light here)."""
 
 
@@ -18,6 +18,8 @@ Examples:
   aaria template base -o base.csv          # aaria simulate ... --base base.csv
   aaria template imu-layout -o imus.toml   # aaria simulate --robot ur5 --imu-layout imus.toml
   aaria template config -o ranges.toml     # aaria dataset -n 100 --config ranges.toml -o ds.h5
+  aaria template imu-model --imu-model bmi088 -o imu.toml  # aaria simulate --imu-model imu.toml
+  aaria template hardware -o hw.toml       # aaria simulate --robot ur5 --hardware hw.toml
   aaria template dh                        # print it"""
 )
 @click.argument("kind", type=click.Choice(KINDS))
@@ -26,18 +28,19 @@ Examples:
     help="File to write (default, or '-': print it).",
 )  # fmt: skip
 @click.option("--overwrite", is_flag=True, help="Replace an existing file.")
-def template(kind: str, output: Path | None, overwrite: bool) -> None:
+@click.option("--imu-model", help="The preset of the imu-model template (default adis16485).")
+def template(kind: str, output: Path | None, overwrite: bool, imu_model: str | None) -> None:
     """Write a commented input file to start from.
 
-    A DH, joint or base table (CSV), an IMU layout or a data-set configuration (TOML). Each is
-    valid as written (the paper's Figure 2 arm, the default motions, the default ranges): edit
-    it and pass it to the command it names.
+    A DH, joint or base table (CSV), an IMU layout, a data-set configuration, an IMU model or
+    a hardware file (TOML). Each is valid as written (the paper's Figure 2 arm, the default
+    motions, ranges and hardware): edit it and pass it to the command it names.
     """
     from aaria_pin.aaria.templates import template_text
     from aaria_pin.core.conflicts import OptionConflictError
     from aaria_pin.files.io import write_text_atomic
 
-    text = template_text(kind)
+    text = template_text(kind, imu_model)
     if output is None or str(output) == "-":
         if overwrite:  # nothing to replace: say so rather than ignore it
             raise OptionConflictError(parameter="overwrite", other="output", given_with=False)

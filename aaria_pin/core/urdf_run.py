@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import DEFAULT_HARMONICS, FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ImuNoiseModel
+from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
 from aaria_pin.core.record import ImuMount, RunRecord
 from aaria_pin.core.run import (
     Motion,
@@ -39,6 +40,7 @@ from aaria_pin.core.run import (
     register_kind,
 )
 from aaria_pin.core.run.deprecation import deprecated_producer
+from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.run.urdf_kind import UrdfRunSpec, urdf_robot_run
 from aaria_pin.core.trajectory import (
     DEFAULT_DURATION,
@@ -152,6 +154,9 @@ class _UrdfSettings(TypedDict, total=False):
     seed: int | np.random.SeedSequence
     noise: bool
     noise_model: ImuNoiseModel
+    encoder: EncoderModel | None
+    torque_sensor: TorqueSensorModel | None
+    actuator: ActuatorModel | None
     threads: int
     torques: ArrayLike | None
     motion: MotionInput
@@ -174,7 +179,11 @@ class LoadedRobotOptions(_UrdfSettings, RunTables, total=False):
         rate: sample rate [Hz]
         seed: seed of the IMU noise, 0 to 2⁶³ - 1, or a ``SeedSequence``
         noise: add IMU noise (``False`` gives the exact signals)
-        noise_model: IMU noise parameters
+        noise_model: IMU noise parameters (a preset:
+            :func:`~aaria_pin.core.imu_presets.imu_preset`)
+        encoder: the joint encoders (the table ``q_measured``; None: none)
+        torque_sensor: the joint torque sensors (``tau_measured``; None: none)
+        actuator: the joints' motors and gearboxes (``tau_motor``; None: none)
         threads: worker threads of the batched RNEA
         torques: (T, n) joint torques [N·m] or forces [N], model order: the joints then move
             under them by forward dynamics, starting from the joint table's values and
@@ -290,7 +299,8 @@ def urdf_request_from_record(stored: RunRecord, **overrides: Unpack[UrdfRunOptio
     """The URDF robot's run a record holds the inputs of, as the engine's inputs.
 
     The URDF, joint and base tables, IMU layout, tool frame, base mode, rate, duration, seed
-    and noise setting come from the record (and the URDF's folder, for its meshes, if it is
+    noise setting and hardware (IMU model, joint
+    models) come from the record (and the URDF's folder, for its meshes, if it is
     still there); ``overrides`` replace them.
 
     Args:
@@ -314,6 +324,7 @@ def urdf_request_from_record(stored: RunRecord, **overrides: Unpack[UrdfRunOptio
         "seed": meta.seed,
         "noise": meta.noise,
         "motion": motion_from_record(stored.tables, stored.attributes, drive=False),
+        **stored_hardware(stored.attributes),  # type: ignore[typeddict-item]
     }
     if "torque_table" in stored.tables:
         options["torques"] = stored.tables["torque_table"]

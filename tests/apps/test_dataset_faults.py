@@ -338,7 +338,8 @@ def test_noise_model_from_the_config(tmp_path: Path) -> None:
         "a = [0.5, 0.9]\n[noise]\nbias_correlation_time = 50.0\n"
         "[noise.gyro]\nnoise_density = 2.0e-4\n"
     )
-    ranges, model = load_dataset_config(config)
+    ranges, hardware = load_dataset_config(config)
+    model = hardware.nominal(0).imu
     assert ranges.a == (0.5, 0.9)
     assert model.bias_correlation_time == 50.0 and model.gyro.noise_density == 2.0e-4
     assert model.accel == ADIS16485.accel and model.gyro.range == ADIS16485.gyro.range

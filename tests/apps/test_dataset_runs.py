@@ -14,7 +14,7 @@ from aaria_pin.apps.dataset.runs import simulate_inputs
 def test_a_dh_run_is_simulate_run_of_its_drawn_tables() -> None:
     spec = DhDatasetSpec(n_runs=3, seed=4, duration=0.2)
     inputs = spec.inputs(2)
-    record = simulate_inputs(spec, inputs)
+    record = simulate_inputs(spec, inputs, spec.run_settings(2))
     with warnings.catch_warnings():  # the single-run producer, perhaps deprecated
         warnings.simplefilter("ignore", DeprecationWarning)
         written_out = simulate_run(  # its arguments given by hand
@@ -40,7 +40,7 @@ def test_a_urdf_run_is_simulate_urdf_run_of_its_drawn_tables() -> None:
         n_runs=2, seed=3, duration=0.2, vary=("joints", "base"), robot=UrdfSource(urdf, "ur5")
     )
     inputs = spec.inputs(1)
-    record = simulate_inputs(spec, inputs)
+    record = simulate_inputs(spec, inputs, spec.run_settings(1))
     with warnings.catch_warnings():  # the single-run producer, perhaps deprecated
         warnings.simplefilter("ignore", DeprecationWarning)
         written_out = simulate_urdf_run(

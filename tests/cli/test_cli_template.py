@@ -91,9 +91,10 @@ def test_the_config_template_is_the_default_configuration(tmp_path: Path) -> Non
     from aaria_pin.core.imu_noise import ADIS16485
     from aaria_pin.core.seeds import RunSeeds
 
-    config, noise = load_dataset_config(_write(tmp_path, "config", "ranges.toml"))
+    config, hardware = load_dataset_config(_write(tmp_path, "config", "ranges.toml"))
     assert config == RandomConfig()
-    assert noise == ADIS16485  # the [noise] tables hold the data sheet's values, as read
+    assert hardware.nominal(0).imu == ADIS16485  # the [imu] tables: the data sheet's values
+    assert hardware.nominal(0).encoder is None  # no joint hardware unless given
     table = random_dh_table(config, RunSeeds(0, 0).generator("structure"))
     assert simulate_run(table, duration=0.05).imu.shape == (6, 14, 6)
 

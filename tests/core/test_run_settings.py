@@ -79,3 +79,41 @@ def test_float32_dtype_rounds_the_series_as_a_float32_data_set_stores_them():
         np.testing.assert_array_equal(values.astype(np.float32).astype(np.float64), values)
         spacing = np.spacing(np.abs(getattr(exact, name)).astype(np.float32)).astype(np.float64)
         assert (np.abs(values - getattr(exact, name)) <= spacing / 2 + 1e-300).all()
+
+
+def test_the_hardware_models_are_recorded_and_read_back() -> None:
+    import dataclasses
+
+    from aaria_pin.core.imu_noise import ADIS16485
+    from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
+
+    imu = dataclasses.replace(ADIS16485, bias_correlation_time=30.0)
+    models = {
+        "encoder": EncoderModel(counts_per_revolution=4096.0, noise=(1e-5, 2e-5, 3e-5)),
+        "torque_sensor": TorqueSensorModel(noise=0.1, scale_error=0.01),
+        "actuator": ActuatorModel(viscous=0.5, gear_ratio=50.0),
+    }
+    settings = RunSettings(duration=0.5, rate=40.0, noise_model=imu, **models)
+    attributes = settings.attributes(3)
+    assert attributes["encoder"]["noise"] == [1e-5, 2e-5, 3e-5]  # plain values, per joint
+    assert attributes["actuator"]["gear_ratio"] == 50.0
+    back = RunSettings.from_attributes(attributes)
+    assert back.noise_model == imu
+    assert (back.encoder, back.torque_sensor, back.actuator) == tuple(models.values())
+
+
+def test_a_run_without_hardware_attributes_reads_back_today_s_defaults() -> None:
+    from aaria_pin.core.imu_noise import ADIS16485
+
+    attributes = RunSettings(duration=0.5, rate=40.0).attributes(0)
+    assert not {"encoder", "torque_sensor", "actuator"} & set(attributes)  # as runs before
+    del attributes["noise_parameters"]  # a file written before any noise model was recorded
+    back = RunSettings.from_attributes(attributes)
+    assert back.noise_model == ADIS16485
+    assert back.encoder is None and back.torque_sensor is None and back.actuator is None
+
+
+def test_a_stored_model_that_is_not_a_table_is_an_input_file_error() -> None:
+    attributes = {**RunSettings(duration=0.5, rate=40.0).attributes(0), "encoder": 3.0}
+    with pytest.raises(InputFileError, match=r"attribute 'encoder' is 3.0; allowed: a table"):
+        RunSettings.from_attributes(attributes)

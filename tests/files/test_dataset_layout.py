@@ -113,3 +113,22 @@ def test_views_stay_valid_when_the_file_is_moved(sets: dict[str, Path], tmp_path
         record = reader.record(1)
     np.testing.assert_array_equal(record.signals(), signals)
     assert record.joint_names[0] == "shoulder_pan_joint" and record.imu_mounts[3].parent
+
+
+def test_a_run_s_drawn_hardware_values_go_into_its_attributes() -> None:
+    from aaria_pin.files.dataset.layout import record_attributes
+
+    names = ["noise_parameters/gyro_noise_density_rad_s_sqrtHz", "encoder/noise/1",
+             "noise_parameters/gyro_scale_error"]  # fmt: skip
+    stored = {
+        "noise_parameters": {"gyro_noise_density_rad_s_sqrtHz": 2.0, "gyro_scale_error": 0.5},
+        "encoder": {"noise": [0.5, 0.5]},
+        "hardware_names": names,
+        "hardware": {"imu": {}},
+    }
+    run = record_attributes(stored, 3, 3, np.array([1.5, 0.25, np.nan]))
+    assert run["noise_parameters"] == {"gyro_noise_density_rad_s_sqrtHz": 1.5}  # NaN: left out
+    assert run["encoder"] == {"noise": [0.5, 0.25]}
+    assert "hardware_names" not in run and "hardware" not in run  # the data set's, not the run's
+    assert stored["encoder"] == {"noise": [0.5, 0.5]}  # the file's attributes untouched
+    assert record_attributes(stored, 3, 3)["encoder"] == {"noise": [0.5, 0.5]}

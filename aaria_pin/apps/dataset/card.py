@@ -5,7 +5,8 @@ the aaria_pin that wrote it, the generating command and versions (attributes ``c
 ``versions_json``; older files lack them), the robot (random Aaria DH arms, one DH arm, or a URDF
 robot), the runs (complete, failed, not done), samples, rate, duration, dtype and seed, the ranges
 the random parts were drawn from (``config_json``, for the parts in ``vary``) and the fixed
-tables, the IMU noise model, every stored array and view with its shape, units and frame, the
+tables, the IMU noise model and the joint hardware (values, ranges, the tables they add), every
+stored array and view with its shape, units and frame, the
 counts of complete runs by structure (the link type of each module, from every run's stored
 ``senSenDH`` read as one array) and by number of active modules, and the failures grouped by
 their message.
@@ -37,6 +38,7 @@ from typing import Any
 __all__ = [
     "CARD_ATTRIBUTE",
     "CARD_VERSION",
+    "HARDWARE_TABLE_UNITS",
     "MAX_LISTED_RUNS",
     "MAX_LISTED_STRUCTURES",
     "CardColumn",
@@ -53,6 +55,14 @@ MAX_LISTED_RUNS = 100
 """Most run indices a failure group lists (its count is exact; ``failures_json`` has them all)."""
 MAX_LISTED_STRUCTURES = 30
 """Most structures the text lists (the card holds them all: at most 3^6 - 1)."""
+HARDWARE_TABLE_UNITS = {
+    "encoder": {"q_measured": "rad or m (T x n)", "encoder_offset": "rad or m (1 x n)"},
+    "torque_sensor": {"tau_measured": "N*m or N (T x n)", "torque_sensor_bias": "N*m or N (1 x n)",
+                      "torque_sensor_scale": "1 (1 x n)"},
+    "actuator": {"tau_motor": "N*m or N (T x n)", "tau_armature": "N*m or N (T x n)",
+                 "tau_friction": "N*m or N (T x n)"},
+}  # fmt: skip
+"""The tables a run records of each joint model, with their units (and shapes)."""
 
 
 @dataclass(frozen=True)
@@ -150,6 +160,11 @@ class DatasetCard:
         noise_parameters: the noise model's parameters (SI units in the keys)
         noise_model: the named model the parameters equal (``""``: none known)
         noise_stream: run k's noise is ``SeedSequence(seed, spawn_key=(k, noise_stream))``
+        hardware: the hardware tables of the config as given (``[imu]``, ``[encoder]``, ...;
+            a range ``[low, high]`` drawn per run), empty: none given
+        joint_hardware: the joint models the file records (``encoder``, ``torque_sensor``,
+            ``actuator``; a ranged value at its middle), each field with its value
+        drawn: the attribute paths of the values each run draws (its ``hardware_values``)
         columns: every stored array and view
         structures: complete runs by structure (link type per module, e.g. ``"R R P 0 R R"``),
             most frequent first; empty for a URDF robot
@@ -189,6 +204,9 @@ class DatasetCard:
     active_modules: dict[str, int] = field(default_factory=dict)
     module_link_types: tuple[dict[str, int], ...] = ()
     failures: tuple[FailureGroup, ...] = ()
+    hardware: dict[str, Any] = field(default_factory=dict)
+    joint_hardware: dict[str, dict[str, Any]] = field(default_factory=dict)
+    drawn: tuple[str, ...] = ()
     card_version: int = CARD_VERSION
 
     def to_dict(self) -> dict[str, Any]:
@@ -201,6 +219,7 @@ class DatasetCard:
         values = dict(data)
         values["vary"] = tuple(values["vary"])
         values["module_link_types"] = tuple(values["module_link_types"])
+        values["drawn"] = tuple(values.get("drawn", ()))
         values["columns"] = tuple(
             CardColumn(
                 **{

@@ -149,6 +149,13 @@ def reader_card(reader: DatasetReader) -> DatasetCard:
         active_modules=active,
         module_link_types=per_module,
         failures=_failure_groups(failures),
+        hardware=dict(header.attributes.get("hardware") or {}),
+        joint_hardware={
+            name: dict(header.attributes[name])
+            for name in ("encoder", "torque_sensor", "actuator")
+            if isinstance(header.attributes.get(name), Mapping)
+        },
+        drawn=tuple(header.attributes.get("hardware_names") or ()),
     )
 
 
@@ -204,13 +211,15 @@ def _ranges(config: Mapping[str, Any], vary: Sequence[str], kind: str) -> dict[s
 
 
 def _noise_model(parameters: Mapping[str, Any]) -> str:
-    """``"ADIS16485"`` when the parameters are that model's (the one the engine uses)."""
-    from aaria_pin.core.imu_noise import ADIS16485, noise_attributes
+    """The preset the parameters are (``"ADIS16485"``, the default, ...; ``""``: none)."""
+    from aaria_pin.core.imu_noise import noise_attributes
+    from aaria_pin.core.imu_presets import IMU_PRESETS
 
-    known = noise_attributes(ADIS16485)
-    if parameters and set(parameters) == set(known):
-        if all(np.isclose(float(parameters[k]), v, rtol=1e-12) for k, v in known.items()):
-            return "ADIS16485"
+    for name, model in IMU_PRESETS.items():
+        known = noise_attributes(model)
+        if parameters and set(parameters) == set(known):
+            if all(np.isclose(float(parameters[k]), v, rtol=1e-12) for k, v in known.items()):
+                return name.upper()
     return ""
 
 

@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import re
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from aaria_pin.aaria.randomize import PARTS
-from aaria_pin.apps.dataset.card import MAX_LISTED_STRUCTURES, DatasetCard
+from aaria_pin.apps.dataset.card import HARDWARE_TABLE_UNITS, MAX_LISTED_STRUCTURES, DatasetCard
 
 __all__ = ["card_text"]
 
@@ -24,6 +25,53 @@ def _value(value: Any) -> str:
     if isinstance(value, list):
         return "[" + ", ".join(_value(v) for v in value) + "]"
     return str(value)
+
+
+def _drawn(card: DatasetCard, path: str) -> str:
+    """`` (drawn per run from RANGE; here its middle)`` for a value each run draws, else ``""``."""
+    if not any(name == path or name.startswith(f"{path}/") for name in card.drawn):
+        return ""
+    given = _given(card.hardware, path)
+    return f" (drawn per run from {_value(given)}; here its middle)"
+
+
+def _given(tables: Mapping[str, Any], path: str) -> Any:
+    """The config's value (a range) of a recorded attribute path (``noise_parameters/KEY``)."""
+    section, key = path.split("/")[:2]
+    if section != "noise_parameters":
+        return tables.get(section, {}).get(key)
+    imu = tables.get("imu", tables.get("noise", {}))
+    for sensor in ("gyro", "accel"):
+        for field, value in imu.get(sensor, {}).items():
+            if key.startswith(f"{sensor}_{field}_"):
+                return value
+    return next((v for f, v in imu.items() if key == f or key.startswith(f"{f}_")), None)
+
+
+def _hardware_lines(card: DatasetCard) -> list[str]:
+    """The joint hardware: each model's values and units, the tables it adds; the config."""
+    from aaria_pin.aaria.hardware_templates import field_notes
+    from aaria_pin.aaria.hardware_toml import JOINT_MODELS
+
+    lines = ["", "## Joint hardware"]
+    for name, cls in JOINT_MODELS.items():
+        model = card.joint_hardware.get(name)
+        if model is None:
+            lines.append(f"{name}: off (no {', '.join(HARDWARE_TABLE_UNITS[name])})")
+            continue
+        lines.append(f"{name}: on")
+        units = {k: re.findall(r"\[([^]]+)\]", note) for k, note in field_notes(cls).items()}
+        for key, value in model.items():
+            unit = f" [{units[key][-1]}]" if units.get(key) else ""
+            lines.append(f"  {key} = {_value(value)}{unit}{_drawn(card, f'{name}/{key}')}")
+        tables = HARDWARE_TABLE_UNITS[name]
+        lines.append("  tables: " + ", ".join(f"{t} [{u}]" for t, u in tables.items()))
+    if card.hardware:
+        lines.append(f"config tables as given (a [low, high] drawn per run): {card.hardware}")
+    if card.drawn:
+        lines.append(f"drawn per run ({len(card.drawn)} values, hardware_values): "
+                     + ", ".join(card.drawn))  # fmt: skip
+    return lines
 
 
 def _count(count: int, what: str = "run") -> str:
@@ -83,7 +131,11 @@ def card_text(card: DatasetCard) -> str:
         lines.append(
             f"on{model}: run k's noise from SeedSequence(seed, spawn_key=(k, {card.noise_stream}))"
         )
-        lines += [f"  {key} = {_value(value)}" for key, value in card.noise_parameters.items()]
+        lines += [
+            f"  {key} = {_value(value)}{_drawn(card, f'noise_parameters/{key}')}"
+            for key, value in card.noise_parameters.items()
+        ]
+    lines += _hardware_lines(card)
 
     lines += ["", "## Columns"]
     width = max((len(column.name) for column in card.columns), default=0) + 2

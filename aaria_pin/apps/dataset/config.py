@@ -1,21 +1,24 @@
-"""A data set's configuration file: the ranges of the random parts and the IMU noise model.
+"""A data set's configuration file: the ranges of the random parts and the run's hardware.
 
 ``aaria dataset --config FILE`` reads a TOML file whose top-level keys are those of
 :class:`~aaria_pin.aaria.randomize.RandomConfig` (ranges ``[low, high]``, choices, probabilities;
-missing keys keep their defaults) and, optionally, a ``[noise]`` table of the IMU noise model
-(:class:`~aaria_pin.core.imu_noise.ImuNoiseModel`: ``bandwidth_hz``, ``internal_rate_hz``,
-``bias_correlation_time``, and the sub-tables ``[noise.gyro]`` and ``[noise.accel]`` with the
-fields of :class:`~aaria_pin.core.imu_noise.SensorNoise`: ``range``, ``lsb``,
-``noise_density``, ``bias_stability``, ``random_walk``, SI units per axis). A noise key not
-given keeps the ADIS16485 data-sheet value (:data:`~aaria_pin.core.imu_noise.ADIS16485`)::
+missing keys keep their defaults) and, optionally, the hardware tables of
+:mod:`aaria_pin.aaria.hardware`: ``[imu]`` (``preset`` and the IMU model's fields, sub-tables
+``[imu.gyro]`` and ``[imu.accel]``; the older ``[noise]`` table reads as ``[imu]``),
+``[encoder]``, ``[torque_sensor]`` and ``[actuator]``. In them any number may be a range
+``[low, high]``, drawn for each run from its ``hardware`` stream (per joint for a joint model's
+field), so a data set spans sensor qualities::
 
     a = [0.5, 0.9]            # link lengths [m]
 
-    [noise]
-    bias_correlation_time = 50.0
+    [imu]
+    preset = "bmi088"
 
-    [noise.gyro]
-    noise_density = 2.0e-4    # [rad/s/sqrt(Hz)]
+    [imu.gyro]
+    noise_density = [1.0e-4, 3.0e-4]    # [rad/s/sqrt(Hz)], drawn per run
+
+    [encoder]
+    counts_per_revolution = 4096.0
 
 Every value is checked for its type before use: a range given as text (``a = "long"``) is
 refused naming the key, and a file that is not UTF-8 is refused in one line.
@@ -28,45 +31,38 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from aaria_pin.aaria.randomize import (
-    RandomConfig,
-    config_from_mapping,
-    read_config_file,
-    refuse_unknown_keys,
-)
-from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, SensorNoise
-from aaria_pin.errors import AariaError, ParameterError
+from aaria_pin.aaria.hardware import HARDWARE_TABLES, LEGACY_IMU_TABLE, HardwareConfig
+from aaria_pin.aaria.randomize import RandomConfig, config_from_mapping, read_config_file
+from aaria_pin.core.imu_noise import ImuNoiseModel
+from aaria_pin.errors import ParameterError
 
-__all__ = ["NOISE_TABLE", "load_dataset_config", "noise_model_from_mapping"]
-
-NOISE_TABLE = "noise"
-"""The TOML table of the IMU noise model in a data set's configuration."""
-
-_SENSORS = ("gyro", "accel")
+__all__ = ["load_dataset_config"]
 
 
 def load_dataset_config(
-    path: str | Path | None,
-) -> tuple[RandomConfig, ImuNoiseModel]:
+    path: str | Path | None, imu_model: ImuNoiseModel | None = None
+) -> tuple[RandomConfig, HardwareConfig]:
     """Read a data set's configuration file (see the module docstring).
 
     Args:
         path: the TOML file (None: the defaults)
+        imu_model: the ``--imu-model`` flag's model (the base of the ``[imu]`` values)
 
     Returns:
-        The ranges of the random parts, and the IMU noise model.
+        The ranges of the random parts, and the hardware tables (ranges allowed).
 
     Raises:
         InputFileError: the file is missing, unreadable, not UTF-8 or not TOML.
         ParameterError: an unknown key, a value of the wrong type, or out of its allowed set.
     """
     if path is None:
-        return RandomConfig(), ADIS16485
+        return RandomConfig(), HardwareConfig({}, imu_model, "config", "config")
     file = Path(path)
     data = read_config_file(file)
-    noise = data.pop(NOISE_TABLE, {})
+    tables = {key: data.pop(key) for key in (*HARDWARE_TABLES, LEGACY_IMU_TABLE) if key in data}
     _check_value_types(data, str(file))
-    return config_from_mapping(data, str(file)), noise_model_from_mapping(noise, str(file))
+    hardware = HardwareConfig.from_mapping(tables, str(file), "config", True, imu_model)
+    return config_from_mapping(data, str(file)), hardware
 
 
 def _check_value_types(data: Mapping[str, Any], where: str) -> None:
@@ -88,54 +84,6 @@ def _check_value_types(data: Mapping[str, Any], where: str) -> None:
         if not numbers:
             example = "[" + ", ".join(f"{v:g}" for v in default) + "]"
             raise _refused(f"{where}: {key}", value, f"a list of numbers, e.g. {example}", key)
-
-
-def noise_model_from_mapping(data: Any, where: str = "config") -> ImuNoiseModel:
-    """An IMU noise model from a ``[noise]`` table; keys not given keep ADIS16485's values.
-
-    Raises:
-        ParameterError: not a table, an unknown key, or a value that is not a finite number
-            of its allowed range.
-    """
-    if not isinstance(data, Mapping):
-        raise _refused(f"{where}: {NOISE_TABLE}", data, f"a table [{NOISE_TABLE}]", NOISE_TABLE)
-    model_keys = [f.name for f in dataclasses.fields(ImuNoiseModel)]
-    refuse_unknown_keys(data, model_keys, f"{where}: {NOISE_TABLE}")
-    changes: dict[str, Any] = {}
-    for key, value in data.items():
-        name = f"{NOISE_TABLE}.{key}"
-        if key in _SENSORS:
-            changes[key] = _sensor(getattr(ADIS16485, key), value, f"{where}: {name}")
-        else:
-            changes[key] = _number(value, f"{where}: {name}")
-    try:
-        return dataclasses.replace(ADIS16485, **changes)
-    except AariaError as exc:
-        raise ParameterError(
-            f"{where}: {NOISE_TABLE}.{exc}",
-            parameter="config",
-            value=exc.value,
-            element=NOISE_TABLE,
-        ) from None
-
-
-def _sensor(base: SensorNoise, data: Any, where: str) -> SensorNoise:
-    if not isinstance(data, Mapping):
-        raise _refused(where, data, "a table of its noise parameters", where)
-    refuse_unknown_keys(data, [f.name for f in dataclasses.fields(SensorNoise)], where)
-    values = {key: _number(value, f"{where}.{key}") for key, value in data.items()}
-    try:
-        return dataclasses.replace(base, **values)
-    except AariaError as exc:
-        raise ParameterError(
-            f"{where}.{exc}", parameter="config", value=exc.value, element=where
-        ) from None
-
-
-def _number(value: Any, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise _refused(where, value, "a number", where)
-    return float(value)
 
 
 def _refused(name: str, value: Any, allowed: str, element: str) -> ParameterError:

@@ -5,7 +5,8 @@ and hands them to :func:`simulate_inputs`, which runs the engine
 (:func:`~aaria_pin.core.run.simulate`) on the spec's robot of those inputs (its kind's adapter,
 :meth:`~.spec.DatasetSpec.run_robot`: :func:`~aaria_pin.aaria.arm_run.dh_arm` for an Aaria DH
 arm, :func:`~aaria_pin.core.run.urdf_kind.urdf_robot_run` for a URDF robot), its motion
-(:meth:`~.spec.DatasetSpec.run_motion`), its settings (:meth:`~.spec.DatasetSpec.run_settings`),
+(:meth:`~.spec.DatasetSpec.run_motion`), its settings (:meth:`~.spec.DatasetSpec.run_settings`:
+its hardware drawn from the config's ranges),
 the run's noise stream and the spec's extra sensors.
 
 The specs are typed ``Any`` here: this module imports no other module of the data sets (the spec
@@ -22,13 +23,14 @@ if TYPE_CHECKING:
 __all__ = ["simulate_inputs"]
 
 
-def simulate_inputs(spec: Any, inputs: Any) -> RunRecord:
+def simulate_inputs(spec: Any, inputs: Any, settings: Any) -> RunRecord:
     """The run made from its inputs by the run engine.
 
     Args:
-        spec: the data set (a :class:`~.spec.DatasetSpec`: its sampling, noise and motion
-            settings, its robot)
+        spec: the data set (a :class:`~.spec.DatasetSpec`: its motion settings, its robot)
         inputs: the run's input tables and noise seed (a :class:`~.spec.RunInputs`)
+        settings: the run's settings (:meth:`~.spec.DatasetSpec.run_settings`: sampling,
+            noise, its hardware)
 
     Returns:
         The run as a record (every series in float64).
@@ -36,4 +38,4 @@ def simulate_inputs(spec: Any, inputs: Any) -> RunRecord:
     from aaria_pin.core.run import simulate
 
     robot, motion = spec.run_robot(inputs), spec.run_motion(inputs)
-    return simulate(robot, motion, spec.run_settings(), inputs.noise_seed, spec.sensors)
+    return simulate(robot, motion, settings, inputs.noise_seed, spec.sensors)

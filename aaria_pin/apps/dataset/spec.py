@@ -22,9 +22,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from aaria_pin._version import __version__
+from aaria_pin.aaria.hardware import HardwareConfig
 from aaria_pin.aaria.randomize import PARTS, RandomConfig, random_base_table
+from aaria_pin.apps.dataset.spec_hardware import HardwareSpec
 from aaria_pin.core.arguments import checked
-from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.seeds import DATASET_STREAMS, RunSeeds, check_seed
@@ -33,7 +34,7 @@ from aaria_pin.errors import AariaError, OutputFileError, ParameterError
 from aaria_pin.files.dataset.layout import DatasetLayout, EncodedRun, encode_run, run_arrays
 
 if TYPE_CHECKING:
-    from aaria_pin.core.run import Motion, RunRobot, RunSettings, Sensor
+    from aaria_pin.core.run import Motion, RunRobot, Sensor
 
 __all__ = [
     "MAX_RUNS",
@@ -113,7 +114,7 @@ class DatasetSettings:
 
 
 @dataclass(frozen=True)
-class DatasetSpec(DatasetSettings, ABC):
+class DatasetSpec(DatasetSettings, HardwareSpec, ABC):
     """What a data set holds: its settings (:class:`DatasetSettings`) and random parts.
 
     A subclass adds its robot.
@@ -125,8 +126,12 @@ class DatasetSpec(DatasetSettings, ABC):
             the robot's default table)
         base_table: the fixed base oscillation table when the base does not vary (default:
             :func:`~aaria_pin.core.oscillation.default_base_table`)
-        noise_model: the IMU noise model (default: the ADIS16485 data sheet; recorded in the
-            file's ``noise_parameters``)
+        hardware: the IMU model and the joint models, each number fixed or a range drawn per
+            run (:class:`~aaria_pin.aaria.hardware.HardwareConfig`; default the ADIS16485 and
+            no joint hardware); recorded in the file's ``noise_parameters``, ``encoder``,
+            ``torque_sensor``, ``actuator`` (ranges at their middle), ``hardware`` (the tables)
+            and, with ranges, per run the table ``hardware_values`` of the drawn values (their
+            attribute paths in ``hardware_names``; a run read back has its own values)
         sensors: sensors beside the IMUs (:mod:`~aaria_pin.core.run.sensor`): each run
             stores the table ``sensor_<name>`` (T × its columns, in the data set's dtype); the
             file's attribute ``sensors`` gives their columns and units
@@ -136,7 +141,7 @@ class DatasetSpec(DatasetSettings, ABC):
     vary: tuple[str, ...] = PARTS
     joint_table: Array | None = None
     base_table: Array | None = None
-    noise_model: ImuNoiseModel = ADIS16485
+    hardware: HardwareConfig = field(default_factory=HardwareConfig)
     sensors: tuple[Sensor, ...] = ()
 
     def __post_init__(self) -> None:
@@ -218,12 +223,6 @@ class DatasetSpec(DatasetSettings, ABC):
             )
         )
 
-    def run_settings(self) -> RunSettings:
-        """The engine's settings of every run: duration, rate, noise (a run held whole)."""
-        from aaria_pin.core.run import RunSettings
-
-        return RunSettings(self.duration, self.rate, None, self.noise, self.noise_model)
-
     def motion_attributes(self) -> dict[str, Any]:
         """``motion`` and ``fourier`` of a Fourier data set; nothing for sines (as before)."""
         if self.motion == "sine":
@@ -254,9 +253,14 @@ class DatasetSpec(DatasetSettings, ABC):
         """The robot's fixed per-run layout: joints, IMUs, tables, views, URDF."""
 
     def layout(self) -> DatasetLayout:
-        """The fixed per-run layout: the robot's, and a table per extra sensor (T × columns)."""
+        """The fixed per-run layout: the robot's, a table per extra sensor (T × columns).
+
+        And the tables of the joint hardware and the drawn values
+        (:meth:`~.spec_hardware.HardwareSpec.hardware_tables`).
+        """
         layout = self.robot_layout()
-        if not self.sensors:
+        hardware = self.hardware_tables(len(layout.joint_names))
+        if not self.sensors and not hardware:
             return layout
         from dataclasses import replace
 
@@ -264,7 +268,7 @@ class DatasetSpec(DatasetSettings, ABC):
 
         samples = self.samples
         tables = {sensor_table(s.name): (samples, len(s.columns)) for s in self.sensors}
-        return replace(layout, tables={**layout.tables, **tables})
+        return replace(layout, tables={**layout.tables, **hardware, **tables})
 
     @abstractmethod
     def inputs(self, run: int) -> RunInputs:
@@ -291,7 +295,9 @@ class DatasetSpec(DatasetSettings, ABC):
         """Run ``run`` as a record, a pure function of the spec and ``run``."""
         from aaria_pin.apps.dataset.runs import simulate_inputs
 
-        return simulate_inputs(self, self.inputs(run))
+        return self.with_drawn_values(
+            run, simulate_inputs(self, self.inputs(run), self.run_settings(run))
+        )
 
     def arrays(self, run: int) -> dict[str, Array]:
         """The stored arrays of run ``run`` by name, in the data set's dtypes."""
@@ -342,6 +348,7 @@ class DatasetSpec(DatasetSettings, ABC):
             **({"robot_info": info} if (info := self.robot_attributes()) else {}),
             **self.run_settings().attributes(self.seed),
             **sensor_attributes(self.sensors),
+            **self.hardware_attributes(),
             "noise_stream": NOISE_STREAM,
             "vary": list(self.vary),
             "config": self.config.as_dict(),
@@ -357,26 +364,10 @@ class DatasetSpec(DatasetSettings, ABC):
     def mismatches(self, stored: dict[str, Any]) -> list[str]:
         """Names of the settings that differ from a stored data set's attributes."""
         mine = {**self.attributes(), "N": self.n_runs, "samples": self.samples, "dtype": self.dtype}
-        keys = (
-            "version",
-            "noise_parameters",
-            "N",
-            "samples",
-            "dtype",
-            "seed",
-            "rate",
-            "duration",
-            "noise",
-            "vary",
-            "config",
-            "fixed_tables",
-            "kind",
-            "robot",
-            "robot_info",
-            "motion",
-            "fourier",
-            "sensors",
-        )
+        keys = ("version", "noise_parameters", "N", "samples", "dtype", "seed", "rate",
+                "duration", "noise", "vary", "config", "fixed_tables", "kind", "robot",
+                "robot_info", "motion", "fourier", "sensors", "hardware", "hardware_names",
+                "encoder", "torque_sensor", "actuator")  # fmt: skip
         return [key for key in keys if _plain(stored.get(key)) != _plain(mine.get(key))]
 
 

@@ -11,7 +11,8 @@
   base); a part both given and asked to vary is refused;
 - the motion: the joint tables' sines, or a Fourier excitation (a preset's sines are then
   dropped);
-- the ranges and the IMU noise of the config file (:func:`~.config.load_dataset_config`).
+- the ranges and the hardware (IMU model, joint models, fixed or ranged) of the config file
+  (:func:`~.config.load_dataset_config`) over the ``imu_model`` preset.
 
 Each rule is checked once, here or in the spec's own checks, before any run is made.
 """
@@ -23,6 +24,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from aaria_pin.aaria.hardware import imu_model_option
 from aaria_pin.aaria.randomize import PARTS
 from aaria_pin.apps.dataset.config import load_dataset_config
 from aaria_pin.apps.dataset.dh_spec import DhDatasetSpec
@@ -46,7 +48,10 @@ class DatasetSources(DatasetSettings):
     ``motion``, ``harmonics``, ``base_frequency``) are those of :class:`~.spec.DatasetSettings`.
 
     Attributes:
-        config_file: TOML file of ranges and IMU noise (None: the defaults)
+        config_file: TOML file of ranges and hardware tables (None: the defaults)
+        imu_model: the IMU model: a preset name or an IMU model file
+            (:func:`~aaria_pin.aaria.hardware.imu_model_option`; None: the ADIS16485); the
+            config's ``[imu]`` values go over it
         vary: the random parts, a comma-separated text or a sequence (None: every part that
             no fixed table or robot pins down)
         preset: a built-in Aaria table (``aaria-fig2``); fixes the structure, gives the joint
@@ -63,6 +68,7 @@ class DatasetSources(DatasetSettings):
     """
 
     config_file: str | Path | None = None
+    imu_model: str | Path | None = None
     vary: str | Sequence[str] | None = None
     preset: str | None = None
     dh_file: str | Path | None = None
@@ -126,11 +132,12 @@ def spec_from_sources(sources: DatasetSources) -> DatasetSpec:
         from aaria_pin.files.paths import existing_input
 
         existing_input(sources.config_file, None, "config")  # a FIFO: one line, never a wait
-    config, noise_model = load_dataset_config(sources.config_file)
+    imu_model = None if sources.imu_model is None else imu_model_option(sources.imu_model)
+    config, hardware = load_dataset_config(sources.config_file, imu_model)
     settings: dict[str, Any] = {
         **{item.name: getattr(sources, item.name) for item in fields(DatasetSettings)},
         "config": config,
-        "noise_model": noise_model,
+        "hardware": hardware,
         "vary": vary,
     }
     if robot is not None:

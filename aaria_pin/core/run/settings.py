@@ -15,8 +15,15 @@ from typing import Any, Literal
 import numpy as np
 
 from aaria_pin.core.arguments import checked
+from aaria_pin.core.imu_attributes import noise_model_from_attributes
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, noise_attributes
-from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
+from aaria_pin.core.joint_sensors import (
+    ActuatorModel,
+    EncoderModel,
+    TorqueSensorModel,
+    model_attributes,
+    model_from_attributes,
+)
 from aaria_pin.core.model import GRAVITY
 from aaria_pin.core.run.chunks import CHUNK_SAMPLES
 from aaria_pin.core.run_metadata import stored_sampling
@@ -37,7 +44,9 @@ __all__ = [
     "GRAVITY_VECTOR",
     "UNITS",
     "RunSettings",
+    "joint_model_attributes",
     "sampling_attributes",
+    "stored_hardware",
 ]
 
 GRAVITY_VECTOR: tuple[float, float, float] = (
@@ -89,6 +98,43 @@ def sampling_attributes(
         "gravity": [float(g) for g in gravity],
         "units": UNITS,
     }
+
+
+def joint_model_attributes(
+    encoder: EncoderModel | None,
+    torque_sensor: TorqueSensorModel | None,
+    actuator: ActuatorModel | None,
+) -> dict[str, Any]:
+    """The attributes ``encoder``, ``torque_sensor``, ``actuator`` of the models on (None: none)."""
+    models = {"encoder": encoder, "torque_sensor": torque_sensor, "actuator": actuator}
+    return {name: model_attributes(model) for name, model in models.items() if model is not None}
+
+
+def stored_hardware(attributes: Mapping[str, Any]) -> dict[str, Any]:
+    """The hardware a run's attributes record, as :class:`RunSettings` fields.
+
+    ``noise_model`` from ``noise_parameters`` (none: the ADIS16485), and ``encoder``,
+    ``torque_sensor``, ``actuator`` (absent: None, that hardware off), so a run re-made from its
+    record (``--from``) uses the models it was made with; a file written before has none.
+
+    Raises:
+        InputFileError: a stored model that is not a table (``parameter`` its name).
+    """
+    classes: dict[str, Any] = {"encoder": EncoderModel, "torque_sensor": TorqueSensorModel,
+                               "actuator": ActuatorModel}  # fmt: skip
+    hardware: dict[str, Any] = {}
+    for name, stored in (("noise_parameters", attributes.get("noise_parameters")),
+                         *((key, attributes.get(key)) for key in classes)):  # fmt: skip
+        if stored is not None and not isinstance(stored, Mapping):
+            raise InputFileError(
+                f"the run's attribute {name!r} is {stored!r}; allowed: a table of its values",
+                parameter=name,
+            )
+    hardware["noise_model"] = noise_model_from_attributes(attributes.get("noise_parameters"))
+    for key, cls in classes.items():
+        stored = attributes.get(key)
+        hardware[key] = None if stored is None else model_from_attributes(cls, stored)
+    return hardware
 
 
 @checked
@@ -183,10 +229,14 @@ class RunSettings:
 
     @classmethod
     def from_attributes(cls, attributes: dict[str, Any], **overrides: Any) -> RunSettings:
-        """The settings a record's attributes hold (:func:`stored_sampling`), ``overrides`` applied.
+        """The settings a record's attributes hold, ``overrides`` applied.
+
+        The sampling (:func:`stored_sampling`), the gravity and the hardware
+        (:func:`stored_hardware`: the IMU model, the joint models).
 
         Raises:
-            InputFileError: a stored duration or rate that is not a positive number.
+            InputFileError: a stored duration or rate that is not a positive number, or a
+                stored model that is not a table.
         """
         stored = stored_sampling(attributes)
         values: dict[str, Any] = {
@@ -194,15 +244,23 @@ class RunSettings:
             "rate": stored["rate"],
             "noise": stored["noise"],
             "gravity": _stored_gravity(attributes),
+            **stored_hardware(attributes),
         }
         values.update(overrides)
         return cls(**values)
 
     def attributes(self, seed: int | np.random.SeedSequence) -> dict[str, Any]:
-        """The attributes every run records (:func:`sampling_attributes`)."""
-        return sampling_attributes(
-            self.rate, self.duration, seed, self.noise, self.noise_model, self.gravity
-        )
+        """The attributes every run records: :func:`sampling_attributes` and the joint models.
+
+        The joint models as :func:`joint_model_attributes` (none when they are off, as in
+        the runs made before).
+        """
+        return {
+            **sampling_attributes(
+                self.rate, self.duration, seed, self.noise, self.noise_model, self.gravity
+            ),
+            **joint_model_attributes(self.encoder, self.torque_sensor, self.actuator),
+        }
 
 
 def _stored_gravity(attributes: Mapping[str, Any]) -> tuple[float, float, float]:

@@ -17,6 +17,7 @@ than the whole block on a UR5.
 
 from __future__ import annotations
 
+import copy
 import itertools
 import json
 from collections.abc import Iterator, Mapping, Sequence
@@ -156,12 +157,12 @@ class DatasetLayout:
         mine = {
             "joint names": self.joint_names,
             "IMU names": self.imu_names,
-            "tables": tuple(self.tables),
+            "tables": tuple(sorted(self.tables)),  # the record's order may differ: the file's
         }
         theirs = {
             "joint names": record.joint_names,
             "IMU names": record.imu_names,
-            "tables": tuple(record.tables),
+            "tables": tuple(sorted(record.tables)),
         }
         for what, expected in mine.items():
             if theirs[what] != expected:
@@ -394,21 +395,41 @@ _DATASET_ONLY = (
     "shard_dir",
     "shard_prefix",
     "card",
+    "hardware",
+    "hardware_names",
 )
 """File attributes that describe the data set, not one of its runs."""
 
 
 def record_attributes(
-    file_attributes: Mapping[str, Any], run: int, noise_stream: int
+    file_attributes: Mapping[str, Any], run: int, noise_stream: int, drawn: Array | None = None
 ) -> dict[str, Any]:
     """The attributes of run ``run``'s record: the data set's, its noise seed, its index.
 
     The record gets what a single run records: ``kind``, ``robot`` (a name), rate, duration,
-    noise settings, gravity, units, version, the robot's frames; ``seed`` with
-    ``noise_spawn_key`` ``[run, noise_stream]`` (the run's noise stream, so
-    :func:`~aaria_pin.core.seeds.stored_seed` gives it back) and ``run``.
+    noise settings, gravity, units, version, the robot's frames, its hardware models; ``seed``
+    with ``noise_spawn_key`` ``[run, noise_stream]`` (the run's noise stream, so
+    :func:`~aaria_pin.core.seeds.stored_seed` gives it back) and ``run``. A data set whose
+    hardware has ranges gives each run its own values: ``drawn`` (its table
+    ``hardware_values``) at the attribute paths of ``hardware_names`` (``encoder/noise/0``;
+    NaN: a key the run leaves out).
     """
     attributes = {k: v for k, v in file_attributes.items() if k not in _DATASET_ONLY}
+    names = file_attributes.get("hardware_names") or []
+    if drawn is not None and len(names) == np.size(drawn):
+        attributes.update(copy.deepcopy({name.split("/")[0]: attributes[name.split("/")[0]]
+                                         for name in names}))  # fmt: skip
+        for name, value in zip(names, np.asarray(drawn, dtype=float).ravel(), strict=True):
+            *parents, last = name.split("/")
+            target: Any = attributes
+            for key in parents:
+                target = target[int(key)] if isinstance(target, list) else target[key]
+            if isinstance(target, list):
+                target[int(last)] = float(value)
+            elif np.isnan(value):
+                target.pop(last, None)  # a term the run does not record (off)
+            else:
+                target[last] = float(value)
     info = file_attributes.get("robot_info") or {}
     for key in ("source", "moving_base", "base_frame", "tool_frame"):
         if key in info:

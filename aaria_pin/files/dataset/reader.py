@@ -249,6 +249,7 @@ class DatasetReader:
             for name in layout.names
         }
         mounts = mounts_from_poses(layout.imu_names, layout.imu_parents, arrays["imu_mount"])
+        stream = _NOISE_STREAM if self.header.noise_stream is None else self.header.noise_stream
         return RunRecord(
             time=arrays["time"],
             joint_names=layout.joint_names,
@@ -265,9 +266,7 @@ class DatasetReader:
             tables={name: arrays[name] for name in layout.tables},
             views=dict(layout.views),
             attributes=record_attributes(
-                self.header.attributes,
-                index,
-                _NOISE_STREAM if self.header.noise_stream is None else self.header.noise_stream,
+                self.header.attributes, index, stream, arrays.get("hardware_values")
             ),
         )
 
