@@ -44,7 +44,7 @@ from aaria_pin.aaria.hardware_toml import (
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, noise_attributes
 from aaria_pin.core.imu_presets import imu_preset
 from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
-from aaria_pin.core.run.settings import joint_model_attributes
+from aaria_pin.core.run.measured import joint_model_attributes
 from aaria_pin.errors import AariaError, ParameterError
 
 __all__ = [
@@ -90,19 +90,6 @@ class Hardware:
     torque_sensor: TorqueSensorModel | None = None
     actuator: ActuatorModel | None = None
 
-    def tables(self, samples: int, joints: int) -> dict[str, tuple[int, ...]]:
-        """The shapes of the tables a run of T = ``samples`` records of its joint hardware."""
-        shapes: dict[str, tuple[int, ...]] = {}
-        if self.encoder is not None:
-            shapes.update(q_measured=(samples, joints), encoder_offset=(1, joints))
-        if self.torque_sensor is not None:
-            shapes.update(tau_measured=(samples, joints), torque_sensor_bias=(1, joints),
-                          torque_sensor_scale=(1, joints))  # fmt: skip
-        if self.actuator is not None:
-            motor = ("tau_motor", "tau_armature", "tau_friction")
-            shapes.update({name: (samples, joints) for name in motor})
-        return shapes
-
     def options(self) -> dict[str, Any]:
         """The run options (:class:`~aaria_pin.core.run.RunSettings` fields) they set."""
         return {
@@ -116,7 +103,7 @@ class Hardware:
         """What a run records of them: ``noise_parameters``, ``encoder``, ... (those on)."""
         return {
             "noise_parameters": noise_attributes(self.imu),
-            **joint_model_attributes(self.encoder, self.torque_sensor, self.actuator),
+            **joint_model_attributes(self),
         }
 
 

@@ -11,7 +11,6 @@ the file's attribute ``hardware_names``) so a run read back has its own models.
 from __future__ import annotations
 
 from dataclasses import replace
-from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -23,10 +22,7 @@ if TYPE_CHECKING:
     from aaria_pin.core.record import RunRecord
     from aaria_pin.core.run import RunSettings
 
-__all__ = ["PROBED_RUNS", "HardwareSpec"]
-
-PROBED_RUNS = 8
-"""Runs tried, in order, for the two-sample run that tells the hardware's tables."""
+__all__ = ["HardwareSpec"]
 
 
 class HardwareSpec:
@@ -97,50 +93,22 @@ class HardwareSpec:
     def hardware_tables(self, joints: int) -> dict[str, tuple[int, ...]]:
         """The per-run tables of the hardware and of the drawn values, by shape.
 
-        The tables the engine records of the hardware (the joint channels' ``q_measured`` …,
-        the IMU's drawn errors ``imu_error_*``) are those of a two-sample run of run 0's inputs
-        (:attr:`probed_tables`), a time-axis table (a series) taking the data set's T; where
-        no such run can be made, the joint channels' tables of the contract
-        (:meth:`~aaria_pin.aaria.hardware.Hardware.tables`).
+        The tables the engine records of the hardware: the IMU's drawn errors
+        (:func:`~aaria_pin.core.imu_errors.imu_error_shapes`) and the joint channels'
+        (:func:`~aaria_pin.core.run.measured.joint_table_shapes`), of the run with every range at
+        its middle (a range's values are all on or all off alike), then ``hardware_values``.
         """
-        if not self.hardware.tables and self.hardware.imu_model is None:
-            tables: dict[str, tuple[int, ...]] = {}
-        else:
-            probed = self.probed_tables
-            tables = (
-                self.run_hardware(None).tables(self.samples, joints) if probed is None else probed
-            )
+        from aaria_pin.core.imu_errors import imu_error_shapes
+        from aaria_pin.core.run.measured import joint_table_shapes
+
+        settings = self.run_settings(None)
+        tables: dict[str, tuple[int, ...]] = {}
+        if settings.noise:
+            slots = len(self.robot_layout().imu_names)
+            tables.update(imu_error_shapes(settings.noise_model, self.samples, slots))
+        tables.update(joint_table_shapes(settings, self.samples, joints))
         names = self.hardware_names()
         return {**tables, HARDWARE_VALUES: (len(names),)} if names else tables
-
-    @cached_property
-    def probed_tables(self) -> dict[str, tuple[int, ...]] | None:
-        """The hardware's tables in a two-sample run (None: no such run can be made).
-
-        The run is the first of runs 0 to :data:`PROBED_RUNS` - 1 that can be made.
-        """
-        from aaria_pin.core.run import simulate
-        from aaria_pin.core.run.sensor import is_sensor_table
-        from aaria_pin.errors import AariaError
-
-        record = None
-        for run in range(min(self.n_runs, PROBED_RUNS)):
-            try:
-                inputs = self.inputs(run)
-                settings = replace(self.run_settings(run), duration=1.0 / self.rate)
-                robot, motion = self.run_robot(inputs), self.run_motion(inputs)
-                record = simulate(robot, motion, settings, inputs.noise_seed)
-                break
-            except (AariaError, ValueError):
-                continue
-        if record is None:
-            return None
-        inputs_tables = set(self.robot_layout().tables)
-        return {
-            name: (self.samples, *np.shape(table)[1:]) if is_sensor_table(name) else np.shape(table)
-            for name, table in record.tables.items()
-            if name not in inputs_tables
-        }
 
     def with_drawn_values(self, run: int, record: RunRecord) -> RunRecord:
         """Run ``run``'s record with its drawn values (``hardware_values``) when it has some.

@@ -27,7 +27,7 @@ from aaria_pin.core.joint_sensors import JointColumns
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.record import JOINT_SERIES, SERIES, RunRecord
 from aaria_pin.core.run.chunks import chunk_bounds, join_chunks
-from aaria_pin.core.run.measured import joint_model_attributes, run_sensors
+from aaria_pin.core.run.measured import run_sensors
 from aaria_pin.core.run.motion import Motion, SineTable, actuated
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.run.sensor import (
@@ -170,7 +170,6 @@ def simulate_pieces(
     )
     sampling = {
         **settings.attributes(seed),
-        **joint_model_attributes(settings),
         **sensor_attributes(tuple(sensors)),
     }
     model = robot.model

@@ -21,8 +21,6 @@ from aaria_pin.core.joint_sensors import (
     ActuatorModel,
     EncoderModel,
     TorqueSensorModel,
-    model_attributes,
-    model_from_attributes,
 )
 from aaria_pin.core.model import GRAVITY
 from aaria_pin.core.run.chunks import CHUNK_SAMPLES
@@ -44,7 +42,6 @@ __all__ = [
     "GRAVITY_VECTOR",
     "UNITS",
     "RunSettings",
-    "joint_model_attributes",
     "sampling_attributes",
     "stored_hardware",
 ]
@@ -100,16 +97,6 @@ def sampling_attributes(
     }
 
 
-def joint_model_attributes(
-    encoder: EncoderModel | None,
-    torque_sensor: TorqueSensorModel | None,
-    actuator: ActuatorModel | None,
-) -> dict[str, Any]:
-    """The attributes ``encoder``, ``torque_sensor``, ``actuator`` of the models on (None: none)."""
-    models = {"encoder": encoder, "torque_sensor": torque_sensor, "actuator": actuator}
-    return {name: model_attributes(model) for name, model in models.items() if model is not None}
-
-
 def stored_hardware(attributes: Mapping[str, Any]) -> dict[str, Any]:
     """The hardware a run's attributes record, as :class:`RunSettings` fields.
 
@@ -120,20 +107,16 @@ def stored_hardware(attributes: Mapping[str, Any]) -> dict[str, Any]:
     Raises:
         InputFileError: a stored model that is not a table (``parameter`` its name).
     """
-    classes: dict[str, Any] = {"encoder": EncoderModel, "torque_sensor": TorqueSensorModel,
-                               "actuator": ActuatorModel}  # fmt: skip
-    hardware: dict[str, Any] = {}
-    for name, stored in (("noise_parameters", attributes.get("noise_parameters")),
-                         *((key, attributes.get(key)) for key in classes)):  # fmt: skip
-        if stored is not None and not isinstance(stored, Mapping):
-            raise InputFileError(
-                f"the run's attribute {name!r} is {stored!r}; allowed: a table of its values",
-                parameter=name,
-            )
-    hardware["noise_model"] = noise_model_from_attributes(attributes.get("noise_parameters"))
-    for key, cls in classes.items():
-        stored = attributes.get(key)
-        hardware[key] = None if stored is None else model_from_attributes(cls, stored)
+    from aaria_pin.core.run.measured import joint_models_from_attributes
+
+    stored = attributes.get("noise_parameters")
+    if stored is not None and not isinstance(stored, Mapping):
+        raise InputFileError(
+            f"the run's attribute 'noise_parameters' is {stored!r}; allowed: a table of its values",
+            parameter="noise_parameters",
+        )
+    hardware: dict[str, Any] = {"noise_model": noise_model_from_attributes(stored)}
+    hardware.update(joint_models_from_attributes(attributes))
     return hardware
 
 
@@ -259,7 +242,7 @@ class RunSettings:
             **sampling_attributes(
                 self.rate, self.duration, seed, self.noise, self.noise_model, self.gravity
             ),
-            **joint_model_attributes(self.encoder, self.torque_sensor, self.actuator),
+            **_joint_model_attributes(self),
         }
 
 
@@ -288,3 +271,13 @@ def _gravity_vector(value: Any) -> tuple[float, float, float] | None:
     if gravity.shape != (3,) or not np.isfinite(gravity).all():
         return None
     return (float(gravity[0]), float(gravity[1]), float(gravity[2]))
+
+
+def _joint_model_attributes(settings: RunSettings) -> dict[str, Any]:
+    """The joint models' attributes (:func:`~aaria_pin.core.run.measured.joint_model_attributes`).
+
+    Imported here: that module imports the engine's sensors, which import these settings.
+    """
+    from aaria_pin.core.run.measured import joint_model_attributes
+
+    return joint_model_attributes(settings)
