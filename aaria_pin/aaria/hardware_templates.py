@@ -12,11 +12,10 @@ import dataclasses
 import json
 from typing import Any
 
-from aaria_pin.aaria.hardware_toml import IMU_TABLE, JOINT_MODELS, SENSORS
-from aaria_pin.core.imu_noise import ImuNoiseModel
-from aaria_pin.core.imu_presets import DEFAULT_IMU_MODEL, IMU_PRESETS, imu_preset
+from aaria_pin.aaria.hardware_toml import JOINT_MODELS
+from aaria_pin.core.imu_presets import DEFAULT_IMU_MODEL, imu_model_toml
 
-__all__ = ["hardware_template", "imu_model_template", "imu_table"]
+__all__ = ["hardware_template", "imu_model_template"]
 
 
 def field_notes(cls: type) -> dict[str, str]:
@@ -67,32 +66,19 @@ def _lines(model: Any, skip: tuple[str, ...] = ()) -> list[str]:
     return lines
 
 
-def imu_table(model: ImuNoiseModel, preset: str, table: str = IMU_TABLE) -> str:
-    """The ``[imu]``, ``[imu.gyro]`` and ``[imu.accel]`` tables of a model, every field given."""
-    head = [f"[{table}]"]
-    if table == IMU_TABLE:
-        head.append(f'preset = "{preset}"  # one of {", ".join(sorted(IMU_PRESETS))}')
-    parts = ["\n".join(head + _lines(model, SENSORS))]
-    for sensor in SENSORS:
-        parts.append("\n".join([f"[{table}.{sensor}]", *_lines(getattr(model, sensor))]))
-    return "\n\n".join(parts) + "\n"
-
-
 def imu_model_template(name: str = DEFAULT_IMU_MODEL) -> str:
     """``aaria template imu-model [--imu-model NAME]``: a preset's IMU model, every field.
+
+    The preset's TOML (:func:`~aaria_pin.core.imu_presets.imu_model_toml`: each value with its
+    unit and data-sheet source), read by ``--imu-model FILE.toml`` back to the preset.
 
     Raises:
         ParameterError: an unknown preset (parameter ``imu_model``).
     """
-    model = imu_preset(name)
     return f"""\
-# IMU model {name.lower()} (aaria simulate|dataset --imu-model FILE.toml; or the [imu] table of
-# a hardware file, aaria template hardware). Every value in SI units, per axis; 0 turns a term
-# off; a key left out keeps the preset's value. The unit u is rad/s for the gyroscope and
-# m/s^2 for the accelerometer. The values are the preset's, written to read back bit for bit;
-# the data sheet each comes from: docs/guide/imu.md.
-
-{imu_table(model, name.lower())}"""
+# aaria simulate|dataset --imu-model FILE.toml reads this file; it is also the [imu] table of a
+# hardware file (aaria template hardware).
+{imu_model_toml(name)}"""
 
 
 def hardware_template() -> str:
@@ -101,7 +87,7 @@ def hardware_template() -> str:
     for name, cls in JOINT_MODELS.items():
         doc = (cls.__doc__ or "").strip().splitlines()[0]
         joints.append("\n".join([f"# {doc}", f"[{name}]", *_lines(cls())]))
-    imu = imu_table(imu_preset(DEFAULT_IMU_MODEL), DEFAULT_IMU_MODEL)
+    imu = imu_model_toml(DEFAULT_IMU_MODEL)
     joint_tables = "\n\n".join(joints)
     return f"""\
 # Hardware of a run (aaria simulate --hardware FILE; the same tables in a data set's config,

@@ -16,7 +16,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from aaria_pin.aaria.dh import AARIA_COLUMNS, chain_from_table
-from aaria_pin.aaria.hardware_templates import hardware_template, imu_model_template, imu_table
+from aaria_pin.aaria.hardware_templates import hardware_template, imu_model_template
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.randomize import default_config_toml
 from aaria_pin.aaria.sine_tables import (
@@ -25,8 +25,7 @@ from aaria_pin.aaria.sine_tables import (
     default_base_table,
     default_joint_table,
 )
-from aaria_pin.core.imu_noise import ADIS16485, DATASHEET_ROWS
-from aaria_pin.core.imu_presets import DEFAULT_IMU_MODEL
+from aaria_pin.core.imu_presets import DEFAULT_IMU_MODEL, imu_model_toml
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
@@ -140,7 +139,6 @@ rpy = [0.0, 0.0, 1.5707963267948966]
 
 
 def _config() -> str:
-    datasheet = "\n".join(f"#   {name}: {value:g} {unit}" for name, value, unit in DATASHEET_ROWS)
     return f"""\
 {default_config_toml().rstrip()}
 
@@ -148,10 +146,9 @@ def _config() -> str:
 # [torque_sensor], [actuator], each explained); a table left out is off ([imu]: the
 # --imu-model preset). Any number may be a range [low, high], drawn for each run.
 #
-# IMU (--noise): the Analog Devices ADIS16485 data sheet,
-{datasheet}
-# in SI units per axis (the preset adis16485); a key left out keeps the preset's value.
-{imu_table(ADIS16485, DEFAULT_IMU_MODEL)}"""
+# IMU (--noise): the preset adis16485 (aaria template imu-model --imu-model NAME: another);
+# a key left out keeps the preset's value.
+{imu_model_toml(DEFAULT_IMU_MODEL)}"""
 
 
 _TEMPLATES: dict[str, Callable[[], str]] = {

@@ -16,8 +16,6 @@ table it is in). A term the data sheet does not specify is off (0) in the preset
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -36,7 +34,6 @@ __all__ = [
     "PRESET_ROWS",
     "PRESET_SOURCES",
     "SENSOR_FIELDS",
-    "imu_model_from_toml",
     "imu_model_toml",
     "imu_preset",
 ]
@@ -290,64 +287,3 @@ def imu_model_toml(name: str) -> str:
                 continue
             lines.append(f"{field_name} = {_toml_value(value)}  # {shown}")
     return "\n".join(lines) + "\n"
-
-
-def _refuse_key(where: str, key: str, known: Any) -> ParameterError:
-    return ParameterError(
-        f"{where}: unknown key {key!r}; allowed: {', '.join(known)}",
-        parameter=key,
-        value=key,
-        allowed=", ".join(known),
-    )
-
-
-def _number(where: str, key: str, value: Any) -> Any:
-    """A TOML value as its field takes it: a number, or (``alignment``) rows of numbers."""
-    if key == "alignment":
-        return value
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ParameterError(
-            f"{where}.{key} is {value!r}; allowed: a number", parameter=key, value=value,
-            allowed="a number",
-        )  # fmt: skip
-    return value
-
-
-def imu_model_from_toml(mapping: Mapping[str, Any]) -> ImuNoiseModel:
-    """An IMU model from the ``[imu]`` table of a TOML document: a preset and its overrides.
-
-    Args:
-        mapping: the ``[imu]`` table as read (``preset`` a name of :data:`IMU_PRESETS`, default
-            :data:`DEFAULT_IMU_MODEL`; per-IMU fields; ``gyro`` and ``accel`` tables), or a whole
-            document whose only table is ``imu``
-
-    Returns:
-        The preset with the given fields replaced.
-
-    Raises:
-        ParameterError: an unknown key (parameter: that key), an unknown preset (``imu_model``),
-            a value that is not a number or out of its field's range (parameter: the field).
-    """
-    table: Mapping[str, Any] = mapping
-    if set(mapping) == {"imu"} and isinstance(mapping["imu"], Mapping):
-        table = mapping["imu"]
-    known = ["preset", *MODEL_FIELDS, "gyro", "accel"]
-    for key in table:
-        if key not in known:
-            raise _refuse_key("imu", key, known)
-    model = imu_preset(table.get("preset", DEFAULT_IMU_MODEL))
-    sensors: dict[str, SensorNoise] = {}
-    for sensor in ("gyro", "accel"):
-        given = table.get(sensor, {})
-        if not isinstance(given, Mapping):
-            raise ParameterError(
-                f"imu.{sensor} is {given!r}; allowed: a table [imu.{sensor}]",
-                parameter=sensor, value=given, allowed=f"a table [imu.{sensor}]",
-            )  # fmt: skip
-        for key in given:
-            if key not in SENSOR_FIELDS:
-                raise _refuse_key(f"imu.{sensor}", key, list(SENSOR_FIELDS))
-        values = {k: _number(f"imu.{sensor}", k, v) for k, v in given.items()}
-        sensors[sensor] = replace(getattr(model, sensor), **values)
-    top = {k: _number("imu", k, v) for k, v in table.items() if k in MODEL_FIELDS}
-    return replace(model, gyro=sensors["gyro"], accel=sensors["accel"], **top)
