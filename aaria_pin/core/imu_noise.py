@@ -371,7 +371,7 @@ _OLD_MODEL_FIELDS = ("bandwidth_hz", "internal_rate_hz", "bias_correlation_time"
 _OFF_VALUES = {"decimation": 1, "decimation_order": 1}  # the off value of a 0.4 field, if not 0
 
 
-def noise_attributes(model: ImuNoiseModel = ADIS16485) -> dict[str, Any]:
+def noise_attributes(model: ImuNoiseModel = ADIS16485, every: bool = False) -> dict[str, Any]:
     """The model's parameters as a flat dictionary, SI units in the keys (for HDF5 attributes).
 
     The 13 fields of 0.3 are always recorded; a field added in 0.4 is recorded when it is not
@@ -383,6 +383,7 @@ def noise_attributes(model: ImuNoiseModel = ADIS16485) -> dict[str, Any]:
 
     Args:
         model: noise model
+        every: record the fields that are off too (the data card lists every term)
 
     Returns:
         ``{"gyro_range_rad_s": ..., "accel_noise_density_m_s2_sqrtHz": ..., ...}``.
@@ -392,7 +393,7 @@ def noise_attributes(model: ImuNoiseModel = ADIS16485) -> dict[str, Any]:
         noise: SensorNoise = getattr(model, sensor)
         for f in fields(noise):
             value = getattr(noise, f.name)
-            if f.name not in _OLD_FIELDS and not value:
+            if f.name not in _OLD_FIELDS and not value and not (every and value is not None):
                 continue
             if f.name == "alignment":
                 value = [float(v) for row in value for v in row]
@@ -401,6 +402,6 @@ def noise_attributes(model: ImuNoiseModel = ADIS16485) -> dict[str, Any]:
             )
     for name, key in MODEL_ATTRIBUTE_KEYS.items():
         value = getattr(model, name)
-        if name in _OLD_MODEL_FIELDS or value != _OFF_VALUES.get(name, 0):
+        if every or name in _OLD_MODEL_FIELDS or value != _OFF_VALUES.get(name, 0):
             attributes[key] = float(value)
     return attributes

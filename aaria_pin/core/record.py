@@ -67,6 +67,7 @@ if TYPE_CHECKING:
     from aaria_pin.core.run_metadata import RunMetadata
 
 __all__ = [
+    "HARDWARE_UNITS",
     "IMU_SIGNALS",
     "JOINT_RUN_TABLES",
     "JOINT_SERIES",
@@ -108,6 +109,29 @@ UNITS = {
     "imu_mount": "m (4x4 homogeneous transform in the parent frame)",
 }
 """The ``units`` attribute of each stored array."""
+
+HARDWARE_UNITS = {
+    "q_measured": "rad or m (T x n)",
+    "tau_measured": "N*m or N (T x n)",
+    "tau_motor": "N*m or N (T x n)",
+    "tau_armature": "N*m or N (T x n)",
+    "tau_friction": "N*m or N (T x n)",
+    "encoder_offset": "rad or m (1 x n)",
+    "torque_sensor_bias": "N*m or N (1 x n)",
+    "torque_sensor_scale": "1 (1 x n)",
+    "imu_error_scale": "1 (S x 6, [wx wy wz fx fy fz])",
+    "imu_error_cross_axis": "1 (S x 2 x 3 x 3, gyro then accel)",
+    "imu_error_misalignment": "1 (S x 2 x 3 x 3 rotations, gyro then accel)",
+    "imu_error_matrix": "1 (S x 2 x 3 x 3, gyro then accel)",
+    "imu_error_g_sensitivity": "rad/s per m/s^2 (S x 3 x 3)",
+    "imu_error_nonlinearity": "s/rad (wx wy wz), s^2/m (fx fy fz) (S x 6)",
+    "imu_error_bias_offset": "rad/s (wx wy wz), m/s^2 (fx fy fz) (S x 6)",
+    "imu_error_time_offset": "s (S)",
+    "imu_error_jitter": "s (T x S)",
+    "imu_error_bias_random_walk": "rad/s (wx wy wz), m/s^2 (fx fy fz) (T x S x 6)",
+}
+"""The ``units`` (and shape) of the hardware's optional tables: the joint channels' and the IMU's
+drawn errors (docs/guide/joint-sensors.md, docs/guide/imu.md)."""
 
 VIEW_UNITS = "see columns: s, rad or m, rad/s, m/s^2"
 """The ``units`` of a view of time, joint values and IMU signals (e.g. ``senSen``)."""

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.record import SERIES, UNITS, ColumnSource, ColumnView
+from aaria_pin.core.record import HARDWARE_UNITS, SERIES, UNITS, ColumnSource, ColumnView
 from aaria_pin.errors import AariaError, InputFileError, OutputFileError
 
 __all__ = [
@@ -85,7 +85,7 @@ def crc32_function() -> Any:
 
 def units_of(name: str) -> str:
     """The ``units`` attribute of a stored array by name (``""`` for an unknown table)."""
-    return UNITS.get(name, TABLE_UNITS.get(name, ""))
+    return UNITS.get(name, TABLE_UNITS.get(name, HARDWARE_UNITS.get(name, "")))
 
 
 def view_blocks(view: ColumnView) -> list[tuple[int, int, ColumnSource]]:

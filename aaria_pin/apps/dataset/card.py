@@ -35,6 +35,8 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
+from aaria_pin.core.record import HARDWARE_UNITS
+
 __all__ = [
     "CARD_ATTRIBUTE",
     "CARD_VERSION",
@@ -56,12 +58,13 @@ MAX_LISTED_RUNS = 100
 MAX_LISTED_STRUCTURES = 30
 """Most structures the text lists (the card holds them all: at most 3^6 - 1)."""
 HARDWARE_TABLE_UNITS = {
-    "encoder": {"q_measured": "rad or m (T x n)", "encoder_offset": "rad or m (1 x n)"},
-    "torque_sensor": {"tau_measured": "N*m or N (T x n)", "torque_sensor_bias": "N*m or N (1 x n)",
-                      "torque_sensor_scale": "1 (1 x n)"},
-    "actuator": {"tau_motor": "N*m or N (T x n)", "tau_armature": "N*m or N (T x n)",
-                 "tau_friction": "N*m or N (T x n)"},
-}  # fmt: skip
+    model: {name: HARDWARE_UNITS[name] for name in names}
+    for model, names in (
+        ("encoder", ("q_measured", "encoder_offset")),
+        ("torque_sensor", ("tau_measured", "torque_sensor_bias", "torque_sensor_scale")),
+        ("actuator", ("tau_motor", "tau_armature", "tau_friction")),
+    )
+}
 """The tables a run records of each joint model, with their units (and shapes)."""
 
 

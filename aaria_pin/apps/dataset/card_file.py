@@ -29,7 +29,7 @@ from aaria_pin.apps.dataset.card import (
     FailureGroup,
 )
 from aaria_pin.apps.dataset.spec import NOISE_STREAM
-from aaria_pin.core.record import IMU_SIGNALS, SERIES, ColumnView
+from aaria_pin.core.record import IMU_SIGNALS, JOINT_SERIES, SERIES, ColumnView
 from aaria_pin.errors import InputFileError
 from aaria_pin.files._stored import units_of
 from aaria_pin.files.dataset.header import DatasetHeader
@@ -141,7 +141,7 @@ def reader_card(reader: DatasetReader) -> DatasetCard:
             if _FIXED_PART.get(name) not in vary  # a preset's tables of a varied part: unused
         },
         noise=None if header.noise is None else bool(header.noise),
-        noise_parameters={k: float(v) for k, v in parameters.items()},
+        noise_parameters=_every_noise_term(parameters),
         noise_model=_noise_model(parameters),
         noise_stream=NOISE_STREAM if header.noise_stream is None else header.noise_stream,
         columns=columns,
@@ -210,6 +210,17 @@ def _ranges(config: Mapping[str, Any], vary: Sequence[str], kind: str) -> dict[s
     return ranges
 
 
+def _every_noise_term(parameters: Mapping[str, Any]) -> dict[str, float]:
+    """Every IMU term of the recorded model, those off (not recorded) at their off value."""
+    from aaria_pin.core.imu_attributes import noise_model_from_attributes
+    from aaria_pin.core.imu_noise import noise_attributes
+
+    if not parameters:
+        return {}
+    every = noise_attributes(noise_model_from_attributes(parameters), every=True)
+    return {key: float(value) for key, value in every.items() if np.ndim(value) == 0}
+
+
 def _noise_model(parameters: Mapping[str, Any]) -> str:
     """The preset the parameters are (``"ADIS16485"``, the default, ...; ``""``: none)."""
     from aaria_pin.core.imu_noise import noise_attributes
@@ -243,7 +254,7 @@ def _column(handle: Any, name: str, virtual: bool, view: ColumnView | None) -> C
         role = "view" if virtual else "table of columns"
         fallback = view.units or "see columns"
     else:
-        role = "series" if name in SERIES else "input"
+        role = "series" if name in SERIES or name in JOINT_SERIES else "input"
         fallback = units_of(name)
     return CardColumn(
         name=name,
