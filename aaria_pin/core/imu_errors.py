@@ -26,7 +26,7 @@ for every record slot (rows of empty slots are then zeroed), only when it is on:
 * time offset ``δ = time_offset + N(0, time_offset_sigma²)`` per IMU; ``imu_error_time_offset`` S;
 * jitter ``ε``: ``N(0, jitter²)`` per sample and IMU; ``imu_error_jitter`` T × S;
 * bias random walk ``b_k = b_{k-1} + K·w_k/√rate`` (``b_{-1} = 0``);
-  ``imu_error_bias_random_walk`` T × S × 6;
+  ``imu_error_bias_random_walk`` T × (S·6), slot by slot ``[wx wy wz fx fy fz]``;
 * decimation: the filter's white noise, standard normals at ``D·rate`` (not stored: re-drawn
   from the seed).
 
@@ -155,7 +155,7 @@ class ImuErrors:
             out[..., :3] += np.einsum("iab,tib->tia", sensitivity, truth[..., 3:])
         walk = self.tables.get("imu_error_bias_random_walk")
         if walk is not None:
-            out += walk[start : start + m][:, list(self.slots)]
+            out += walk[start : start + m].reshape(m, -1, 6)[:, list(self.slots)]
         if self.decimation_rng is not None:
             density = np.repeat([model.gyro.noise_density, model.accel.noise_density], 3)
             shape = (out.shape[0], out.shape[1])
@@ -189,7 +189,7 @@ _SHAPES = {  # each table's shape for T samples and S slots (in draw order)
     "bias_offset": lambda t, s: (s, 6),
     "time_offset": lambda t, s: (s,),
     "jitter": lambda t, s: (t, s),
-    "bias_random_walk": lambda t, s: (t, s, 6),
+    "bias_random_walk": lambda t, s: (t, 6 * s),
 }
 
 
@@ -318,6 +318,8 @@ def draw_imu_errors(
             table[:, empty] = 0.0
         else:
             table[empty] = 0.0
+    if "bias_random_walk" in tables:  # stored T × (S·6), slot by slot, as a series table is
+        tables["bias_random_walk"] = tables["bias_random_walk"].reshape(samples, 6 * n_slots)
     decimation = _term_rng(sequence, "decimation") if model.decimation > 1 else None
     return ImuErrors(
         model,

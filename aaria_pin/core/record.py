@@ -72,6 +72,7 @@ __all__ = [
     "JOINT_RUN_TABLES",
     "JOINT_SERIES",
     "SERIES",
+    "TIMED_HARDWARE",
     "VIEW_UNITS",
     "ColumnSource",
     "ColumnView",
@@ -91,6 +92,11 @@ SERIES = ("time", "q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pos
 
 JOINT_SERIES = ("q_measured", "tau_measured", "tau_motor", "tau_armature", "tau_friction")
 """The joint hardware's optional tables with a time axis (T × n), in record order."""
+
+TIMED_HARDWARE = (*JOINT_SERIES, "imu_error_jitter", "imu_error_bias_random_walk")
+"""The hardware's tables with a time axis: the joint channels' and the IMU's drawn jitter and
+bias random walk. A data set stores them in its dtype, as the series (a run with the IMU's
+two is computed in one piece)."""
 
 JOINT_RUN_TABLES = ("encoder_offset", "torque_sensor_bias", "torque_sensor_scale")
 """The joint hardware's optional per-run tables (1 × n: one value per joint, float64; a row,
@@ -128,7 +134,7 @@ HARDWARE_UNITS = {
     "imu_error_bias_offset": "rad/s (wx wy wz), m/s^2 (fx fy fz) (S x 6)",
     "imu_error_time_offset": "s (S)",
     "imu_error_jitter": "s (T x S)",
-    "imu_error_bias_random_walk": "rad/s (wx wy wz), m/s^2 (fx fy fz) (T x S x 6)",
+    "imu_error_bias_random_walk": "rad/s (wx wy wz), m/s^2 (fx fy fz) (T x 6S, slot by slot)",
 }
 """The ``units`` (and shape) of the hardware's optional tables: the joint channels' and the IMU's
 drawn errors (docs/guide/joint-sensors.md, docs/guide/imu.md)."""

@@ -129,7 +129,8 @@ def test_bias_random_walk_has_its_allan_slope() -> None:
     assert model.needs_whole_run
     errors = draw_imu_errors(model, sensor_sequence(1, "imu"), 200_000, RATE, (0,), 1)
     assert errors is not None
-    series = errors.tables["imu_error_bias_random_walk"][:, 0, :3]
+    table = errors.tables["imu_error_bias_random_walk"]  # T × 6S
+    series = table.reshape(table.shape[0], -1, 6)[:, 0, :3]
     taus = np.array([1.0, 3.0, 10.0])
     adev = np.mean([allan_deviation(series[:, a], RATE, taus) for a in range(3)], axis=0)
     # discrete random walk q = K/√rate: AVAR(m) = q²(2m² + 1)/(6m), i.e. K²τ/3 for m >> 1

@@ -29,7 +29,7 @@ from aaria_pin.apps.dataset.card import (
     FailureGroup,
 )
 from aaria_pin.apps.dataset.spec import NOISE_STREAM
-from aaria_pin.core.record import IMU_SIGNALS, JOINT_SERIES, SERIES, ColumnView
+from aaria_pin.core.record import IMU_SIGNALS, SERIES, TIMED_HARDWARE, ColumnView
 from aaria_pin.errors import InputFileError
 from aaria_pin.files._stored import units_of
 from aaria_pin.files.dataset.header import DatasetHeader
@@ -254,7 +254,7 @@ def _column(handle: Any, name: str, virtual: bool, view: ColumnView | None) -> C
         role = "view" if virtual else "table of columns"
         fallback = view.units or "see columns"
     else:
-        role = "series" if name in SERIES or name in JOINT_SERIES else "input"
+        role = "series" if name in SERIES or name in TIMED_HARDWARE else "input"
         fallback = units_of(name)
     return CardColumn(
         name=name,

@@ -25,7 +25,7 @@ from aaria_pin._version import __version__
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.joint_sensors import JointColumns
 from aaria_pin.core.model import RobotModel
-from aaria_pin.core.record import JOINT_SERIES, SERIES, RunRecord
+from aaria_pin.core.record import SERIES, TIMED_HARDWARE, RunRecord
 from aaria_pin.core.run.chunks import chunk_bounds, join_chunks
 from aaria_pin.core.run.measured import run_sensors
 from aaria_pin.core.run.motion import Motion, SineTable, actuated
@@ -256,7 +256,7 @@ def _rounded(record: RunRecord, dtype: str) -> RunRecord:
         name: getattr(record, name).astype(dtype).astype(np.float64) for name in SERIES
     }
     rounded["tables"] = {
-        name: np.asarray(t).astype(dtype).astype(np.float64) if name in JOINT_SERIES else t
+        name: np.asarray(t).astype(dtype).astype(np.float64) if name in TIMED_HARDWARE else t
         for name, t in record.tables.items()
     }
     return replace(record, **rounded)

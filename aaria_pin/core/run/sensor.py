@@ -27,7 +27,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from aaria_pin.core.joint_sensors import JointColumns
-from aaria_pin.core.record import IMU_SIGNALS, JOINT_SERIES
+from aaria_pin.core.record import IMU_SIGNALS, TIMED_HARDWARE
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.run.series import RunSeries
 from aaria_pin.core.se3 import Array
@@ -192,10 +192,11 @@ def sensor_table(name: str) -> str:
 def is_sensor_table(name: str) -> bool:
     """Whether a record table holds a sensor's signals (T × columns: a time axis).
 
-    A user sensor's ``sensor_<name>``, or a joint channel's table
-    (:data:`~aaria_pin.core.record.JOINT_SERIES`: ``q_measured``, ``tau_motor``, ...).
+    A user sensor's ``sensor_<name>``, or a hardware table with a time axis
+    (:data:`~aaria_pin.core.record.TIMED_HARDWARE`: ``q_measured``, ``tau_motor``, ...,
+    ``imu_error_jitter``).
     """
-    return name.startswith(SENSOR_TABLE_PREFIX) or name in JOINT_SERIES
+    return name.startswith(SENSOR_TABLE_PREFIX) or name in TIMED_HARDWARE
 
 
 def sensor_attributes(sensors: tuple[Sensor, ...]) -> dict[str, Any]:
