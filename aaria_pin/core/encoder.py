@@ -1,4 +1,4 @@
-"""Joint encoders: what a run's encoders report, ``q_measured = o + Δ·round((q + n - o)/Δ)``.
+"""Joint encoders: what a run's encoders report, ``q_measured = o + Δ·round((q + n)/Δ)``.
 
 ``Δ`` is one count, ``2π/counts_per_revolution`` [rad] for a revolute joint and
 ``1/counts_per_metre`` [m] for a prismatic one (which joint is which comes from the robot's
@@ -47,7 +47,11 @@ def encoder_steps(model: EncoderModel, prismatic: Array) -> Array:
 
 
 def encoder_reading(q: Array, offset: Array, step: Array, noise: Array | None = None) -> Array:
-    """What the encoders report: ``o + Δ·round((q + n - o)/Δ)``, or ``q + n`` where ``Δ`` is 0.
+    """What the encoders report: ``o + Δ·round((q + n)/Δ)``, or ``q + n + o`` where ``Δ`` is 0.
+
+    The offset ``o`` is where the encoder's zero sits from the joint's: the reading is shifted by
+    it (a miscalibrated zero, as identification must find), and it is a whole number of counts
+    from ``o``.
 
     Args:
         q: the true joint values, T × n [rad or m]
@@ -58,8 +62,7 @@ def encoder_reading(q: Array, offset: Array, step: Array, noise: Array | None = 
     seen = q if noise is None else q + noise
     counted = step > 0
     safe = np.where(counted, step, 1.0)
-    grid = offset + safe * np.round((seen - offset) / safe)
-    return np.where(counted, grid, seen)
+    return offset + np.where(counted, safe * np.round(seen / safe), seen)
 
 
 class EncoderStream:

@@ -44,7 +44,7 @@ JointValue = float | Sequence[float]
 
 @dataclass(frozen=True)
 class EncoderModel:
-    """A joint encoder: ``q_measured = o + Δ·round((q + n - o)/Δ)``.
+    """A joint encoder: ``q_measured = o + Δ·round((q + n)/Δ)``.
 
     Attributes:
         counts_per_revolution: counts per revolution of a revolute joint (0: no quantisation)

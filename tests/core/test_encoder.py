@@ -17,11 +17,11 @@ COUNTS = {"counts_per_revolution": 4096.0, "counts_per_metre": 20000.0}
 
 
 def test_a_reading_by_hand() -> None:
-    q = np.array([[0.26, 0.0], [0.24, -0.11]])
-    got = encoder_reading(q, np.array([0.01, 0.0]), np.array([0.1, 0.0]))
-    # joint 1: 0.01 + 0.1·round((q - 0.01)/0.1): 0.25 → 2.5 → 2 (half to even), 0.23 → 2
-    np.testing.assert_allclose(got[:, 0], [0.21, 0.21])
-    np.testing.assert_array_equal(got[:, 1], q[:, 1])  # no counts: q itself
+    q = np.array([[0.25, 0.0], [0.34, -0.11]])
+    got = encoder_reading(q, np.array([0.01, 0.02]), np.array([0.1, 0.0]))
+    # joint 1: 0.01 + 0.1·round(q/0.1): 2.5 → 2 (half to even), 3.4 → 3
+    np.testing.assert_allclose(got[:, 0], [0.21, 0.31])
+    np.testing.assert_array_equal(got[:, 1], q[:, 1] + 0.02)  # no counts: q + its offset
 
 
 def test_every_reading_is_a_whole_number_of_counts_from_the_offset(tmp_path: Path) -> None:
@@ -36,8 +36,11 @@ def test_every_reading_is_a_whole_number_of_counts_from_the_offset(tmp_path: Pat
     assert offset.shape == (1, 6) and (offset != 0).all()
     counts = (stored.tables["q_measured"] - offset) / step
     np.testing.assert_allclose(counts, np.round(counts), rtol=0, atol=1e-6)
-    error = stored.tables["q_measured"] - stored.q  # the reading is near q: offset, noise, count
-    assert (np.abs(error) < np.abs(offset) + 5 * 2e-4 + step).all()
+    error = stored.tables["q_measured"] - offset - stored.q  # q shifted by its offset
+    assert (np.abs(error) < 5 * 2e-4 + step).all()
+    # the offset is in the reading (a miscalibrated zero), not only a sub-count shift
+    mean_shift = (stored.tables["q_measured"] - stored.q).mean(axis=0)
+    np.testing.assert_allclose(mean_shift, offset[0], atol=step.max() + 1e-4)
     np.testing.assert_array_equal(stored.q, record.q)  # q stays the true value
     assert prismatic.any() and not prismatic.all()
 
