@@ -35,15 +35,21 @@ import numpy as np
 
 from aaria_pin.aaria.hardware_toml import (
     IMU_TABLE,
-    JOINT_MODELS,
     SENSORS,
-    JointModel,
+    WHOLE_COUNTS,
     Range,
     TableReader,
+    field_of,
 )
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, noise_attributes
 from aaria_pin.core.imu_presets import imu_preset
-from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
+from aaria_pin.core.joint_sensors import (
+    JOINT_MODELS,
+    ActuatorModel,
+    EncoderModel,
+    JointModel,
+    TorqueSensorModel,
+)
 from aaria_pin.core.run.measured import joint_model_attributes
 from aaria_pin.errors import AariaError, ParameterError
 
@@ -208,7 +214,9 @@ class HardwareConfig:
 
     def nominal(self, joints: int) -> Hardware:
         """The hardware with every range at its middle (a data set's file attributes)."""
-        return self.hardware(lambda path, low, high, n: _sized(0.5 * (low + high), n), joints)
+        return self.hardware(
+            lambda path, low, high, n: _counted(path, _sized(0.5 * (low + high), n)), joints
+        )
 
     def ends(self, joints: int) -> tuple[Hardware, Hardware]:
         """The hardware with every range at its low end, and at its high end (per joint)."""
@@ -223,7 +231,9 @@ class HardwareConfig:
         The draws follow :data:`HARDWARE_TABLES`, then each model's field order, so a run's
         values are a pure function of its generator (a data set's ``hardware`` stream).
         """
-        return self.hardware(lambda path, low, high, n: rng.uniform(low, high, n), joints)
+        return self.hardware(
+            lambda path, low, high, n: _counted(path, rng.uniform(low, high, n)), joints
+        )
 
     def ranged_names(self, joints: int) -> tuple[str, ...]:
         """The attribute paths (:func:`hardware_leaves`) of the values a run draws.
@@ -380,6 +390,11 @@ def _no_range(path: str, low: float, high: float, joints: int | None) -> Any:
     raise ParameterError(
         f"{path} is a range; allowed: a number", parameter=path
     )  # pragma: no cover
+
+
+def _counted(path: str, value: Any) -> Any:
+    """A drawn value as its field takes it: whole counts for an encoder's resolution."""
+    return np.rint(value) if field_of(path) in WHOLE_COUNTS else value
 
 
 def _sized(value: float, joints: int | None) -> Any:

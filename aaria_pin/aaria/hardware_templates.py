@@ -12,8 +12,8 @@ import dataclasses
 import json
 from typing import Any
 
-from aaria_pin.aaria.hardware_toml import JOINT_MODELS
 from aaria_pin.core.imu_presets import DEFAULT_IMU_MODEL, imu_model_toml
+from aaria_pin.core.joint_sensors import JOINT_MODELS
 
 __all__ = ["hardware_template", "imu_model_template"]
 

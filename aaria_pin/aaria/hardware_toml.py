@@ -16,18 +16,11 @@ import numpy as np
 
 from aaria_pin.core.imu_noise import ImuNoiseModel, SensorNoise
 from aaria_pin.core.imu_presets import IMU_PRESETS
-from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
+from aaria_pin.core.joint_sensors import JOINT_MODELS
 from aaria_pin.errors import ParameterError
 
-__all__ = ["IMU_TABLE", "JOINT_MODELS", "SENSORS", "Range", "TableReader"]
+__all__ = ["IMU_TABLE", "NOT_DRAWN", "SENSORS", "WHOLE_COUNTS", "Range", "TableReader", "field_of"]
 
-JointModel = EncoderModel | TorqueSensorModel | ActuatorModel
-JOINT_MODELS: dict[str, type[JointModel]] = {
-    "encoder": EncoderModel,
-    "torque_sensor": TorqueSensorModel,
-    "actuator": ActuatorModel,
-}
-"""The joint hardware tables and their models (each also a :class:`RunSettings` field)."""
 IMU_TABLE = "imu"
 SENSORS = ("gyro", "accel")
 """The sub-tables of ``[imu]``: the fields of :class:`~aaria_pin.core.imu_noise.SensorNoise`."""
@@ -139,10 +132,24 @@ class TableReader:
         raise self.refused(path, value, "a number" + (" or a range [low, high]" if ranges else ""))
 
     def _range(self, path: str, value: list[Any]) -> Range:
+        if field_of(path) in NOT_DRAWN:
+            raise self.refused(path, value, "a whole number (a filter setting is not drawn)")
         low, high = float(value[0]), float(value[1])
         if not (np.isfinite(low) and np.isfinite(high) and low <= high):
             raise self.refused(path, value, "a range [low, high] of finite numbers, low <= high")
         return Range(low, high)
+
+
+NOT_DRAWN = ("decimation", "decimation_order")
+"""The IMU fields a data set's config may not give as a range (whole-number filter settings)."""
+
+WHOLE_COUNTS = ("counts_per_revolution", "counts_per_metre")
+"""The fields a range draws as whole numbers (an encoder has a whole number of counts)."""
+
+
+def field_of(path: str) -> str:
+    """The field a value's path names: ``encoder.noise[2]`` → ``noise``."""
+    return path.rsplit(".", 1)[-1].split("[", 1)[0]
 
 
 def _is_number(value: Any) -> bool:

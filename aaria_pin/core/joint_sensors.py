@@ -25,9 +25,11 @@ if TYPE_CHECKING:
     from aaria_pin.core.model import RobotModel
 
 __all__ = [
+    "JOINT_MODELS",
     "ActuatorModel",
     "EncoderModel",
     "JointColumns",
+    "JointModel",
     "JointValue",
     "TorqueSensorModel",
     "check_fields",
@@ -109,6 +111,17 @@ class ActuatorModel:
     def __post_init__(self) -> None:
         check_fields(self, positive=("gear_ratio", "coulomb_velocity", "stribeck_velocity"))
 
+
+JointModel = EncoderModel | TorqueSensorModel | ActuatorModel
+"""Any of the joint hardware models."""
+
+JOINT_MODELS: dict[str, type[JointModel]] = {
+    "encoder": EncoderModel,
+    "torque_sensor": TorqueSensorModel,
+    "actuator": ActuatorModel,
+}
+"""The joint models by their name: the ``RunSettings`` field, the run attribute and the
+hardware file's table."""
 
 Model = TypeVar("Model", EncoderModel, TorqueSensorModel, ActuatorModel)
 

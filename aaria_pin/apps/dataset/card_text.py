@@ -51,7 +51,7 @@ def _given(tables: Mapping[str, Any], path: str) -> Any:
 def _hardware_lines(card: DatasetCard) -> list[str]:
     """The joint hardware: each model's values and units, the tables it adds; the config."""
     from aaria_pin.aaria.hardware_templates import field_notes
-    from aaria_pin.aaria.hardware_toml import JOINT_MODELS
+    from aaria_pin.core.joint_sensors import JOINT_MODELS
 
     lines = ["", "## Joint hardware"]
     for name, cls in JOINT_MODELS.items():

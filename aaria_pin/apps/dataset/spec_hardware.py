@@ -95,18 +95,27 @@ class HardwareSpec:
 
         The tables the engine records of the hardware: the IMU's drawn errors
         (:func:`~aaria_pin.core.imu_errors.imu_error_shapes`) and the joint channels'
-        (:func:`~aaria_pin.core.run.measured.joint_table_shapes`), of the run with every range at
-        its middle (a range's values are all on or all off alike), then ``hardware_values``.
+        (:func:`~aaria_pin.core.run.measured.joint_table_shapes`), of the runs with every range
+        at its middle, its low and its high end (a term whose range holds 0, such as a time
+        offset in [-0.01, 0.01], is on in every run but at the middle), then
+        ``hardware_values``.
+
+        Raises:
+            ParameterError: a joint model's per-joint value that has not one value per joint
+                (parameter ``config``), before any run is made.
         """
         from aaria_pin.core.imu_errors import imu_error_shapes
-        from aaria_pin.core.run.measured import joint_table_shapes
+        from aaria_pin.core.run import RunSettings
+        from aaria_pin.core.run.measured import check_joint_values, joint_table_shapes
 
-        settings = self.run_settings(None)
         tables: dict[str, tuple[int, ...]] = {}
-        if settings.noise:
-            slots = len(self.robot_layout().imu_names)
-            tables.update(imu_error_shapes(settings.noise_model, self.samples, slots))
-        tables.update(joint_table_shapes(settings, self.samples, joints))
+        slots = len(self.robot_layout().imu_names)
+        for hardware in (self.run_hardware(None), *self.hardware.ends(self.joints)):
+            settings = RunSettings(self.duration, self.rate, None, self.noise, **hardware.options())
+            check_joint_values(settings, joints, parameter="config")
+            if settings.noise:
+                tables.update(imu_error_shapes(settings.noise_model, self.samples, slots))
+            tables.update(joint_table_shapes(settings, self.samples, joints))
         names = self.hardware_names()
         return {**tables, HARDWARE_VALUES: (len(names),)} if names else tables
 

@@ -26,6 +26,7 @@ import numpy as np
 from aaria_pin.core.actuator import actuator_torques
 from aaria_pin.core.encoder import EncoderStream
 from aaria_pin.core.joint_sensors import (
+    JOINT_MODELS,
     ActuatorModel,
     EncoderModel,
     JointColumns,
@@ -43,11 +44,11 @@ from aaria_pin.core.torque_sensor import TorqueSensorStream
 from aaria_pin.errors import InputFileError, ParameterError
 
 __all__ = [
-    "JOINT_MODELS",
     "ActuatorStream",
     "JointHardware",
     "OnJoints",
     "TorqueLimitWarning",
+    "check_joint_values",
     "joint_model_attributes",
     "joint_models_from_attributes",
     "joint_table_shapes",
@@ -55,12 +56,6 @@ __all__ = [
     "run_sensors",
 ]
 
-JOINT_MODELS: dict[str, type[EncoderModel] | type[TorqueSensorModel] | type[ActuatorModel]] = {
-    "encoder": EncoderModel,
-    "torque_sensor": TorqueSensorModel,
-    "actuator": ActuatorModel,
-}
-"""The joint models by their ``RunSettings`` field and run attribute."""
 
 _TABLES = {
     "actuator": ((), ("tau_motor", "tau_armature", "tau_friction")),
@@ -211,6 +206,29 @@ def torque_limits(robot: RunRobot, model: ActuatorModel) -> Array:
     return np.where(given > 0, given, from_model)
 
 
+def check_joint_values(settings: JointHardware, joints: int, parameter: str | None = None) -> None:
+    """Refuse a joint model's per-joint value that has not one value per joint.
+
+    Args:
+        settings: the models (``RunSettings`` or a hardware value)
+        joints: n, the record's joints
+        parameter: the parameter the error names (None: the model's name, e.g. ``encoder``)
+
+    Raises:
+        ParameterError: ``encoder.noise has 3 values; allowed: one number or 6 (one per joint)``.
+    """
+    for name in JOINT_MODELS:
+        model = getattr(settings, name)
+        if model is None:
+            continue
+        try:
+            select_joints(model, joints, list(range(joints)))
+        except ParameterError as exc:
+            raise ParameterError(
+                f"{name}.{exc}", parameter=parameter or name, value=exc.value, element=name
+            ) from None
+
+
 def run_sensors(
     robot: RunRobot, settings: JointHardware, seed: int | np.random.SeedSequence
 ) -> tuple[Channel, ...]:
@@ -225,10 +243,7 @@ def run_sensors(
         ParameterError: a per-joint value of another length than the record's joints.
     """
     n = len(robot.joint_names)
-    for name in JOINT_MODELS:  # a per-joint value of another length: refused before any piece
-        model = getattr(settings, name)
-        if model is not None:
-            select_joints(model, n, list(range(n)))
+    check_joint_values(settings, n)  # refused before any piece
     channels: list[Channel] = []
     if settings.actuator is not None:
         channels.append(

@@ -289,10 +289,11 @@ class DatasetReader:
     def series_names(self) -> tuple[str, ...]:
         """The names of :attr:`names` with a time axis (axis 1), the per-run constants apart.
 
-        Series and views have one; the input tables and ``imu_mount`` do not.
+        Series, views and sensor tables (``q_measured``) have one; the layout's inputs do not.
         """
-        views = set(self.layout.views) if self.layout is not None else {"senSen", "signals"}
-        return tuple(name for name in self.names if name in SERIES or name in views)
+        if self.layout is not None:
+            return tuple(name for name in self.names if name not in self.layout.inputs)
+        return tuple(name for name in self.names if name in SERIES or name in ("senSen", "signals"))
 
     @property
     def _views(self) -> dict[str, ColumnView]:
