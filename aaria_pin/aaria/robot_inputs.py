@@ -101,9 +101,11 @@ def read_torques(path: str | os.PathLike[str]) -> tuple[Any, dict[str, float]]:
     """Joint torques to drive a run with, and the time grid they were sampled on.
 
     Args:
-        path: an HDF5 run file (its ``tau``; its ``rate`` [Hz] and ``duration`` [s] are the
+        path: an HDF5 run file (its ``tau_motor``, what its motors gave, when it was made with
+            an actuator, else its ``tau``; its ``rate`` [Hz] and ``duration`` [s] are the
             grid, the defaults for a file that stores none) or a T × n table (CSV, ``.npy``,
-            or a ``.mat`` holding ``tau``, such as a ``.mat`` run file; no grid)
+            or a ``.mat`` holding ``tau``, such as a ``.mat`` run file; no grid). A run with an
+            actuator replays with the same actuator (``--hardware``): its motion again
 
     Returns:
         The (T, n) torques [N·m or N] and ``{"rate": …, "duration": …}`` (empty for a table).
@@ -119,7 +121,8 @@ def read_torques(path: str | os.PathLike[str]) -> tuple[Any, dict[str, float]]:
 
     run = read_run(path)
     metadata = run.metadata
-    return run.tau, {"duration": metadata.duration, "rate": metadata.rate}
+    tau = run.tables["tau_motor"] if "tau_motor" in run.tables else run.tau
+    return tau, {"duration": metadata.duration, "rate": metadata.rate}
 
 
 def robot_name(stem: str) -> str:

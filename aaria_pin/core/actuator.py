@@ -160,7 +160,7 @@ def model_effort_limits(
         module of an Aaria arm) and where the model gives none (0).
     """
     effort = np.asarray(robot_model.model.effortLimit, dtype=float)[robot_model.base_nv :]
-    effort = np.where(effort > 0, effort, np.inf)
+    effort = np.where((effort > 0) & (effort < 1e300), effort, np.inf)  # unset: huge or 0
     where = list(range(effort.size)) if columns is None else list(columns)
     out = np.full(effort.size if joints is None else joints, np.inf)
     out[where] = effort

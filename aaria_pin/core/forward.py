@@ -26,7 +26,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike
 
-from aaria_pin.core.actuator import armature, friction
+from aaria_pin.core.actuator import armature, friction, model_effort_limits, torque_limits
 from aaria_pin.core.joint_sensors import ActuatorModel
 from aaria_pin.core.kinematics import full_state, joint_configuration
 from aaria_pin.core.model import RobotModel
@@ -103,7 +103,8 @@ def forward_simulate(
         v0: initial joint velocities [rad/s or m/s]
         substeps: Runge–Kutta steps per sample
         actuator: the joints' motors, model order (None: the torques act on the joints as
-            they are); with one, ``torques`` are motor torques
+            they are); with one, ``torques`` are motor torques, saturated at each motor's torque
+            limit (:func:`~aaria_pin.core.actuator.torque_limits`) as a real drive does
 
     Returns:
         Joint values, velocities and accelerations at the sample times.
@@ -117,6 +118,9 @@ def forward_simulate(
     q_base, v_base, a_base = full_state(robot, base, JointTrajectory(time, zeros, zeros, zeros))
     nb_q, nb_v = robot.base_nq, robot.base_nv
     rotor = np.zeros(n) if actuator is None else armature(actuator, n)
+    if actuator is not None:
+        limit = torque_limits(actuator, model_effort_limits(robot))
+        tau = np.clip(tau, -limit, limit)
     if model.nq - nb_q == n:
 
         def configuration(q: Array) -> Array:

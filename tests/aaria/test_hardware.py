@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import aaria_pin as ap
 from aaria_pin.aaria.hardware import (
     Hardware,
     HardwareConfig,
@@ -218,3 +219,18 @@ def test_the_hardware_template_is_every_model_at_its_default(tmp_path: Path) -> 
         "torque_sensor": TorqueSensorModel(),
         "actuator": ActuatorModel(),
     }
+
+
+def test_a_run_with_an_actuator_replays_its_motor_torques(tmp_path: Path) -> None:
+    """``--torques RUN.h5`` reads a run's ``tau_motor`` when it has one (what its motors gave)."""
+    from aaria_pin.aaria.robot_inputs import read_torques
+    from aaria_pin.core.joint_sensors import ActuatorModel
+    from aaria_pin.files.runfile import write_run
+
+    motors = ActuatorModel(rotor_inertia=1e-5, gear_ratio=100.0, viscous=0.5)
+    settings = ap.RunSettings(duration=0.2, noise=False, actuator=motors)
+    record = ap.simulate(ap.preset_arm("aaria-fig2"), settings=settings)
+    write_run(tmp_path / "run.h5", record)
+    tau, grid = read_torques(tmp_path / "run.h5")
+    assert np.array_equal(tau, record.tables["tau_motor"]) and not np.array_equal(tau, record.tau)
+    assert grid == {"duration": 0.2, "rate": 100.0}

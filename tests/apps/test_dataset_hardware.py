@@ -8,6 +8,7 @@ read back re-makes bit for bit with its own models.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import h5py
@@ -154,3 +155,43 @@ def test_the_card_lists_every_hardware_term_with_its_range_and_unit(tmp_path: Pa
     assert "tables: tau_motor [N*m or N (T x n)], tau_armature" in text
     assert "torque_sensor: off (no tau_measured, torque_sensor_bias, torque_sensor_scale)" in text
     assert "noise = [0.0005, 0.0005, 0.0005, 0.0005, 0.0005, 0.0005] [rad or m] (drawn" in text
+
+
+def test_a_range_around_zero_and_whole_counts(tmp_path: Path) -> None:
+    """A time offset in [-5, 5] ms is on in every run (its middle, 0, is off): the layout holds
+    its table; encoder counts drawn from a range are whole; the encoder's series window."""
+    from aaria_pin.files.dataset.reader import DatasetReader
+
+    encoder = {"counts_per_revolution": [1000.0, 5000.0], "counts_per_metre": 1e5}
+    tables = {"imu": {"time_offset": [-0.005, 0.005]}, "encoder": encoder}
+    hardware = HardwareConfig.from_mapping(tables, "ranges.toml", "config", ranges=True)
+    path = tmp_path / "zero.h5"
+    generate_dataset(path, DhDatasetSpec(**{**SETTINGS, "n_runs": 3}, hardware=hardware), workers=1)
+    with DatasetReader(path) as reader:
+        assert reader.complete.all()
+        offsets = [
+            float(reader.record(k).tables["imu_error_time_offset"].ravel()[0]) for k in range(3)
+        ]
+        counts = np.array([reader.record(k).attributes["encoder"]["counts_per_revolution"]
+                           for k in range(3)])  # fmt: skip
+        assert "q_measured" in reader.series_names
+        _, _, window = next(iter(reader.windows(5, names=("q", "q_measured"))))
+    assert all(-0.005 <= o <= 0.005 and o != 0.0 for o in offsets)
+    assert np.array_equal(counts, np.rint(counts)) and ((counts >= 1000) & (counts <= 5000)).all()
+    assert window["q"].shape == window["q_measured"].shape == (5, 6)
+
+
+@pytest.mark.parametrize(
+    ("tables", "said"),
+    [({"imu": {"decimation": [1, 4]}}, "imu.decimation is [1, 4]; allowed: a whole number"),
+     ({"encoder": {"noise": [1e-4, 2e-4, 3e-4]}}, "encoder.noise has 3 values; allowed: one")],
+)  # fmt: skip
+def test_refused_before_any_run(tmp_path: Path, tables: dict[str, object], said: str) -> None:
+    """A range of a filter setting, a per-joint list of another length: one line, no file."""
+    from aaria_pin.errors import ParameterError
+
+    path = tmp_path / "refused.h5"
+    with pytest.raises(ParameterError, match=re.escape(said)) as caught:
+        hardware = HardwareConfig.from_mapping(tables, "ranges.toml", "config", ranges=True)
+        generate_dataset(path, DhDatasetSpec(**SETTINGS, hardware=hardware), workers=1)
+    assert caught.value.parameter == "config" and not path.exists()

@@ -147,3 +147,22 @@ def test_viscous_friction_takes_the_energy_it_dissipates() -> None:
     dissipated = np.concatenate([[0.0], np.cumsum((power[1:] + power[:-1]) / 2 * np.diff(time))])
     assert dissipated[-1] > 1e-3  # the friction matters over the run
     np.testing.assert_allclose(energy[0] - energy, dissipated, atol=1e-3 * dissipated[-1])
+
+
+def test_a_motor_saturates_at_its_torque_limit() -> None:
+    """Torques beyond a motor's limit act as the limit itself: a drive cannot give more."""
+    from aaria_pin.core.joint_sensors import ActuatorModel
+
+    robot = build_dh_robot(get_preset("aaria-fig3").table).model(moving_base=False)
+    limit = np.array([3.0, 2.0, 1.0, 2.0, 1.0])
+    motors = ActuatorModel(viscous=0.1, torque_limit=tuple(limit))
+    time = sample_times(0.2, 100)
+    q0, v0 = np.zeros(5), np.zeros(5)
+    base = BaseMotion.resting(time.size)
+    pushed = np.tile(10.0 * limit * np.array([1, -1, 1, -1, 1]), (time.size, 1))
+    at_limit = np.tile(limit * np.array([1, -1, 1, -1, 1]), (time.size, 1))
+    run = forward_simulate(robot, base, pushed, time, q0, v0, actuator=motors)
+    expected = forward_simulate(robot, base, at_limit, time, q0, v0, actuator=motors)
+    np.testing.assert_array_equal(run.q, expected.q)
+    free = forward_simulate(robot, base, pushed, time, q0, v0)  # no motor: no limit
+    assert np.abs(free.q - run.q).max() > 1e-3

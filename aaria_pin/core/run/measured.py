@@ -23,7 +23,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from aaria_pin.core.actuator import actuator_torques
+from aaria_pin.core.actuator import actuator_torques, model_effort_limits, torque_limits
 from aaria_pin.core.encoder import EncoderStream
 from aaria_pin.core.joint_sensors import (
     JOINT_MODELS,
@@ -33,7 +33,6 @@ from aaria_pin.core.joint_sensors import (
     TorqueSensorModel,
     model_attributes,
     model_from_attributes,
-    per_joint,
     prismatic_joints,
     select_joints,
 )
@@ -195,15 +194,10 @@ def record_joint_values(robot: RunRobot, values: Array, empty: Any) -> Array:
     return out
 
 
-def torque_limits(robot: RunRobot, model: ActuatorModel) -> Array:
+def motor_limits(robot: RunRobot, model: ActuatorModel) -> Array:
     """Each record joint's motor torque limit (the model's effort limit where 0; inf: none)."""
-    n = len(robot.joint_names)
-    given = per_joint(model.torque_limit, n, "torque_limit")
-    pin_model = robot.model
-    effort = np.asarray(pin_model.model.effortLimit, dtype=float)[pin_model.base_nv :]
-    effort = np.where((effort > 0) & (effort < 1e300), effort, np.inf)
-    from_model = record_joint_values(robot, effort, np.inf)
-    return np.where(given > 0, given, from_model)
+    effort = model_effort_limits(robot.model, robot.columns, len(robot.joint_names))
+    return torque_limits(model, effort)
 
 
 def check_joint_values(settings: JointHardware, joints: int, parameter: str | None = None) -> None:
@@ -248,7 +242,7 @@ def run_sensors(
     if settings.actuator is not None:
         channels.append(
             ActuatorStream(
-                settings.actuator, torque_limits(robot, settings.actuator), robot.joint_names
+                settings.actuator, motor_limits(robot, settings.actuator), robot.joint_names
             )
         )
     if settings.encoder is not None:
