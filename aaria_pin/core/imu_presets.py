@@ -202,7 +202,11 @@ MODEL_FIELDS: dict[str, tuple[str, str]] = {
     "bandwidth_hz": ("Hz", "sensor bandwidth, reference only"),
     "internal_rate_hz": ("Hz", "internal sample rate, reference only"),
     "bias_correlation_time": ("s", "correlation time of the Gauss-Markov bias"),
-    "time_offset": ("s", "fixed offset of every IMU's sampling instants"),
+    "time_offset": (
+        "s",
+        "fixed offset of every IMU's sampling instants (the sample stamped t "
+        "is the signal at t + offset: a bus latency L is -L)",
+    ),
     "time_offset_sigma": ("s", "random offset per IMU per run, 1 sigma"),
     "jitter": ("s", "sample-time jitter, 1 sigma per sample"),
     "decimation": ("1", "D: sample at D x the run's rate, filter, keep every D-th (1: off)"),
@@ -262,7 +266,7 @@ def imu_model_toml(name: str) -> str:
     sources = _field_sources(key)
     lines = [
         f"# IMU model {key}: {PRESET_SOURCES[key]}.",
-        "# SI units; 0 turns a term off. Edit any value; keys left out keep the preset's.",
+        "# SI units; 0 turns a term off (range and lsb: not 0). Keys left out keep the preset's.",
         "# A data-sheet tolerance +/-x is drawn as 1 sigma = x (docs/guide/imu.md).",
         "",
         "[imu]",

@@ -36,6 +36,9 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from aaria_pin.core.record import HARDWARE_UNITS
+from aaria_pin.core.run.measured import JOINT_TABLES
+
+_CARD_ORDER = {"encoder": 0, "torque_sensor": 1, "actuator": 2}
 
 __all__ = [
     "CARD_ATTRIBUTE",
@@ -58,12 +61,8 @@ MAX_LISTED_RUNS = 100
 MAX_LISTED_STRUCTURES = 30
 """Most structures the text lists (the card holds them all: at most 3^6 - 1)."""
 HARDWARE_TABLE_UNITS = {
-    model: {name: HARDWARE_UNITS[name] for name in names}
-    for model, names in (
-        ("encoder", ("q_measured", "encoder_offset")),
-        ("torque_sensor", ("tau_measured", "torque_sensor_bias", "torque_sensor_scale")),
-        ("actuator", ("tau_motor", "tau_armature", "tau_friction")),
-    )
+    model: {name: HARDWARE_UNITS[name] for name in (*per_run, *timed)}
+    for model, (per_run, timed) in sorted(JOINT_TABLES.items(), key=lambda t: _CARD_ORDER[t[0]])
 }
 """The tables a run records of each joint model, with their units (and shapes)."""
 

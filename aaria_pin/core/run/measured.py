@@ -43,6 +43,7 @@ from aaria_pin.core.torque_sensor import TorqueSensorStream
 from aaria_pin.errors import InputFileError, ParameterError
 
 __all__ = [
+    "JOINT_TABLES",
     "ActuatorStream",
     "JointHardware",
     "OnJoints",
@@ -56,7 +57,7 @@ __all__ = [
 ]
 
 
-_TABLES = {
+JOINT_TABLES = {
     "actuator": ((), ("tau_motor", "tau_armature", "tau_friction")),
     "encoder": (("encoder_offset",), ("q_measured",)),
     "torque_sensor": (("torque_sensor_bias", "torque_sensor_scale"), ("tau_measured",)),
@@ -303,9 +304,9 @@ def joint_table_shapes(
     on = [name for name in run_order() if getattr(settings, name) is not None]
     shapes: dict[str, tuple[int, ...]] = {}
     for name in on:
-        shapes.update({table: (1, joints) for table in _TABLES[name][0]})
+        shapes.update({table: (1, joints) for table in JOINT_TABLES[name][0]})
     for name in on:
-        shapes.update({table: (samples, joints) for table in _TABLES[name][1]})
+        shapes.update({table: (samples, joints) for table in JOINT_TABLES[name][1]})
     return shapes
 
 
