@@ -49,8 +49,8 @@ from aaria_pin.core.joint_sensors import (
     EncoderModel,
     JointModel,
     TorqueSensorModel,
+    joint_model_attributes,
 )
-from aaria_pin.core.run.measured import joint_model_attributes
 from aaria_pin.errors import AariaError, ParameterError
 
 __all__ = [

@@ -15,11 +15,11 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, fields
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING, Any, Protocol, TypeVar
 
 import numpy as np
 
-from aaria_pin.errors import ParameterError
+from aaria_pin.errors import InputFileError, ParameterError
 
 if TYPE_CHECKING:
     from aaria_pin.core.model import RobotModel
@@ -29,6 +29,7 @@ __all__ = [
     "ActuatorModel",
     "EncoderModel",
     "JointColumns",
+    "JointHardware",
     "JointModel",
     "JointValue",
     "TorqueSensorModel",
@@ -257,3 +258,62 @@ def model_from_attributes(cls: type[Model], stored: Mapping[str, Any]) -> Model:
         if key in known
     }
     return cls(**values)
+
+
+class JointHardware(Protocol):
+    """The joint models of a run's settings (:class:`~aaria_pin.core.run.settings.RunSettings`).
+
+    A protocol: ``RunSettings``, the hardware of a data set's run, anything with the three.
+    """
+
+    @property
+    def encoder(self) -> EncoderModel | None:
+        """The encoders (None: none)."""
+        ...
+
+    @property
+    def torque_sensor(self) -> TorqueSensorModel | None:
+        """The torque sensors (None: none)."""
+        ...
+
+    @property
+    def actuator(self) -> ActuatorModel | None:
+        """The actuators (None: none)."""
+        ...
+
+
+def joint_model_attributes(settings: JointHardware) -> dict[str, Any]:
+    """The attributes ``encoder``, ``torque_sensor``, ``actuator`` of the models that are on."""
+    return {
+        name: model_attributes(model)
+        for name in JOINT_MODELS
+        if (model := getattr(settings, name)) is not None
+    }
+
+
+def joint_models_from_attributes(attributes: Mapping[str, Any]) -> dict[str, Any]:
+    """The joint models a run's attributes record: ``{"encoder": ..., ...}`` (None: absent).
+
+    The inverse of :func:`joint_model_attributes`, as ``RunSettings`` fields.
+
+    Raises:
+        InputFileError: a recorded model that is not a table of its fields, or whose values
+            are not allowed (parameter ``file``).
+    """
+    models: dict[str, Any] = {}
+    for name, cls in JOINT_MODELS.items():
+        stored = attributes.get(name)
+        if stored is None:
+            models[name] = None
+            continue
+        if not isinstance(stored, Mapping):
+            raise InputFileError(
+                f"the run's attribute {name!r} is {stored!r}; allowed: a table of the "
+                f"{cls.__name__} fields",
+                parameter="file",
+            )
+        try:
+            models[name] = model_from_attributes(cls, stored)  # type: ignore[type-var]
+        except (ParameterError, TypeError, ValueError) as exc:
+            raise InputFileError(f"the run's attribute {name!r}: {exc}", parameter="file") from None
+    return models

@@ -14,7 +14,13 @@ import pytest
 import aaria_pin as ap
 from aaria_pin.apps.wrist.run import PointToPoint, wrist_robot
 from aaria_pin.core.catalogue import find_robot
-from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
+from aaria_pin.core.joint_sensors import (
+    ActuatorModel,
+    EncoderModel,
+    TorqueSensorModel,
+    joint_model_attributes,
+    joint_models_from_attributes,
+)
 from aaria_pin.core.record import JOINT_RUN_TABLES, JOINT_SERIES, SERIES, RunRecord
 from aaria_pin.core.run import (
     RunSettings,
@@ -26,8 +32,6 @@ from aaria_pin.core.run import (
 )
 from aaria_pin.core.run.measured import (
     TorqueLimitWarning,
-    joint_model_attributes,
-    joint_models_from_attributes,
     joint_table_shapes,
 )
 from aaria_pin.core.run.robot import RunRobot

@@ -61,7 +61,7 @@ MAX_LISTED_RUNS = 100
 MAX_LISTED_STRUCTURES = 30
 """Most structures the text lists (the card holds them all: at most 3^6 - 1)."""
 HARDWARE_TABLE_UNITS = {
-    model: {name: HARDWARE_UNITS[name] for name in (*per_run, *timed)}
+    model: {name: HARDWARE_UNITS[name] for name in (*timed, *per_run)}
     for model, (per_run, timed) in sorted(JOINT_TABLES.items(), key=lambda t: _CARD_ORDER[t[0]])
 }
 """The tables a run records of each joint model, with their units (and shapes)."""

@@ -5,9 +5,9 @@ with (:class:`~aaria_pin.core.run.sensor.Channel`), in this order: the actuators
 (:class:`ActuatorStream`), the encoders (:class:`~aaria_pin.core.encoder.EncoderStream`), the
 torque sensors (:class:`~aaria_pin.core.torque_sensor.TorqueSensorStream`); each draws its
 per-run values from its own stream of the run's sensor seed. A run whose models are all None
-has no channel and draws nothing. :func:`joint_model_attributes` records the models (the
-attributes ``encoder``, ``torque_sensor``, ``actuator``) and :func:`joint_models_from_attributes`
-reads them back; :func:`joint_table_shapes` is the tables a run of those settings adds.
+has no channel and draws nothing. The models are recorded as the attributes ``encoder``,
+``torque_sensor``, ``actuator`` (:mod:`aaria_pin.core.joint_sensors`); :func:`joint_table_shapes`
+is the tables a run of those settings adds.
 
 The actuators' torques are those a prescribed motion needs; a motor torque beyond its limit is
 not clipped (that would change the motion): the run records per joint the limit, the peak
@@ -18,8 +18,7 @@ not clipped (that would change the motion): the run records per joint the limit,
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 
@@ -28,11 +27,8 @@ from aaria_pin.core.encoder import EncoderStream
 from aaria_pin.core.joint_sensors import (
     JOINT_MODELS,
     ActuatorModel,
-    EncoderModel,
     JointColumns,
-    TorqueSensorModel,
-    model_attributes,
-    model_from_attributes,
+    JointHardware,
     prismatic_joints,
     select_joints,
 )
@@ -40,17 +36,14 @@ from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.run.sensor import Channel
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.torque_sensor import TorqueSensorStream
-from aaria_pin.errors import InputFileError, ParameterError
+from aaria_pin.errors import ParameterError
 
 __all__ = [
     "JOINT_TABLES",
     "ActuatorStream",
-    "JointHardware",
     "OnJoints",
     "TorqueLimitWarning",
     "check_joint_values",
-    "joint_model_attributes",
-    "joint_models_from_attributes",
     "joint_table_shapes",
     "record_joint_values",
     "run_sensors",
@@ -64,29 +57,6 @@ JOINT_TABLES = {
 }
 """Each model's per-run tables and time-axis tables (the record's ``JOINT_RUN_TABLES`` and
 ``JOINT_SERIES``)."""
-
-
-class JointHardware(Protocol):
-    """The joint models of a run's settings (:class:`~aaria_pin.core.run.settings.RunSettings`).
-
-    A protocol, so that the settings can read their models back with
-    :func:`joint_models_from_attributes` without an import cycle.
-    """
-
-    @property
-    def encoder(self) -> EncoderModel | None:
-        """The encoders (None: none)."""
-        ...
-
-    @property
-    def torque_sensor(self) -> TorqueSensorModel | None:
-        """The torque sensors (None: none)."""
-        ...
-
-    @property
-    def actuator(self) -> ActuatorModel | None:
-        """The actuators (None: none)."""
-        ...
 
 
 class TorqueLimitWarning(UserWarning):
@@ -255,43 +225,6 @@ def run_sensors(
         return tuple(channels)
     present = record_joint_values(robot, np.ones(len(robot.columns), dtype=bool), False)
     return tuple(OnJoints(channel, present) for channel in channels)
-
-
-def joint_model_attributes(settings: JointHardware) -> dict[str, Any]:
-    """The attributes ``encoder``, ``torque_sensor``, ``actuator`` of the models that are on."""
-    return {
-        name: model_attributes(model)
-        for name in JOINT_MODELS
-        if (model := getattr(settings, name)) is not None
-    }
-
-
-def joint_models_from_attributes(attributes: Mapping[str, Any]) -> dict[str, Any]:
-    """The joint models a run's attributes record: ``{"encoder": ..., ...}`` (None: absent).
-
-    The inverse of :func:`joint_model_attributes`, as ``RunSettings`` fields.
-
-    Raises:
-        InputFileError: a recorded model that is not a table of its fields, or whose values
-            are not allowed (parameter ``file``).
-    """
-    models: dict[str, Any] = {}
-    for name, cls in JOINT_MODELS.items():
-        stored = attributes.get(name)
-        if stored is None:
-            models[name] = None
-            continue
-        if not isinstance(stored, Mapping):
-            raise InputFileError(
-                f"the run's attribute {name!r} is {stored!r}; allowed: a table of the "
-                f"{cls.__name__} fields",
-                parameter="file",
-            )
-        try:
-            models[name] = model_from_attributes(cls, stored)  # type: ignore[type-var]
-        except (ParameterError, TypeError, ValueError) as exc:
-            raise InputFileError(f"the run's attribute {name!r}: {exc}", parameter="file") from None
-    return models
 
 
 def joint_table_shapes(

@@ -21,6 +21,8 @@ from aaria_pin.core.joint_sensors import (
     ActuatorModel,
     EncoderModel,
     TorqueSensorModel,
+    joint_model_attributes,
+    joint_models_from_attributes,
 )
 from aaria_pin.core.model import GRAVITY
 from aaria_pin.core.run.chunks import CHUNK_SAMPLES
@@ -107,8 +109,6 @@ def stored_hardware(attributes: Mapping[str, Any]) -> dict[str, Any]:
     Raises:
         InputFileError: a stored model that is not a table (``parameter`` its name).
     """
-    from aaria_pin.core.run.measured import joint_models_from_attributes
-
     stored = attributes.get("noise_parameters")
     if stored is not None and not isinstance(stored, Mapping):
         raise InputFileError(
@@ -235,14 +235,14 @@ class RunSettings:
     def attributes(self, seed: int | np.random.SeedSequence) -> dict[str, Any]:
         """The attributes every run records: :func:`sampling_attributes` and the joint models.
 
-        The joint models as :func:`joint_model_attributes` (none when they are off, as in
-        the runs made before).
+        The joint models as :func:`~aaria_pin.core.joint_sensors.joint_model_attributes`
+        (none when they are off, as in the runs made before).
         """
         return {
             **sampling_attributes(
                 self.rate, self.duration, seed, self.noise, self.noise_model, self.gravity
             ),
-            **_joint_model_attributes(self),
+            **joint_model_attributes(self),
         }
 
 
@@ -271,13 +271,3 @@ def _gravity_vector(value: Any) -> tuple[float, float, float] | None:
     if gravity.shape != (3,) or not np.isfinite(gravity).all():
         return None
     return (float(gravity[0]), float(gravity[1]), float(gravity[2]))
-
-
-def _joint_model_attributes(settings: RunSettings) -> dict[str, Any]:
-    """The joint models' attributes (:func:`~aaria_pin.core.run.measured.joint_model_attributes`).
-
-    Imported here: that module imports the engine's sensors, which import these settings.
-    """
-    from aaria_pin.core.run.measured import joint_model_attributes
-
-    return joint_model_attributes(settings)
