@@ -215,9 +215,9 @@ def simulate_pick_place(
     loaded = replace(robot, model=with_payload(robot.model, payload_inertia(dims, cylinder)))
     arm = PickPlaceRobot(robot, Payload(loaded, path.held))
     trajectory = JointTrajectory(path.time, path.q, path.qd, path.qdd)
-    given = dict(hardware or {})
-    grid = {"duration": float(path.time[-1]), "rate": float(rate), "threads": threads}
-    record = simulate(arm, SampledTrajectory(trajectory), RunSettings(**grid, **given))
+    given: dict[str, Any] = dict(hardware or {})
+    settings = RunSettings(float(path.time[-1]), float(rate), threads=threads, **given)
+    record = simulate(arm, SampledTrajectory(trajectory), settings)
     recorded = [k for k in HARDWARE_ATTRIBUTES if k != "noise_parameters" or "noise_model" in given]
     tau_free, _ = inverse_dynamics(robot, BaseMotion.resting(path.time.size), trajectory, threads)
     return PickPlaceRun(
