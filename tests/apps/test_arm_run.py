@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import run_cli
-from test_wrist_hardware import HARDWARE, expected_actuator, same_record
+from test_wrist_run import HARDWARE, expected_actuator, same_record
 
 from aaria_pin.apps.arm.dims import get_arm_preset
 from aaria_pin.apps.arm.preset import ARM_JOINTS, arm_joints, build_arm_model
