@@ -8,7 +8,7 @@ from typing import Any
 import click
 
 from aaria_pin.cli._app import AariaGroup
-from aaria_pin.cli._options import given, shown, stacked
+from aaria_pin.cli._options import given, hardware_options, shown, stacked
 from aaria_pin.cli._viz_options import output_option
 
 
@@ -97,6 +97,7 @@ Examples:
 )
 @shown("--rate", default=100.0, help="Sample rate [Hz].")
 @_PRESET
+@hardware_options
 @output_option("run file", (".h5", ".hdf5", ".mat"), help="Run file (.h5 or .mat).")
 @output_option(
     "contact sheet", (".png",), "--sheet", required=False,
@@ -119,25 +120,22 @@ def pick_place(output: Path, sheet: Path | None, animation: Path | None, **task:
     """Pick a cylinder from the floor and put it elsewhere: path, torques, run file.
 
     Prints the phases and each joint's peak torque [N*m] or force [N] and the payload's share
-    of it; --sheet and --animation draw the task.
+    of it; --sheet and --animation draw the task. The arm has no IMU: --imu-model is recorded only.
     """
+    from aaria_pin.aaria.hardware import hardware_run_options
     from aaria_pin.apps.arm.report import pick_place_report
     from aaria_pin.apps.arm.run import simulate_pick_place, write_pick_place_run
     from aaria_pin.apps.arm.task import Cylinder
+    from aaria_pin.core.conflicts import OptionConflictError
 
     # the files and --fps are checked while the options are read, before anything is computed
     fps, size = task.pop("fps"), task.pop("gif_size")
-    for name, value in (("fps", fps), ("gif_size", size)):
+    for name, v in (("fps", fps), ("gif_size", size)):
         if animation is None and given(name):
-            from aaria_pin.core.conflicts import OptionConflictError
-
-            raise OptionConflictError(
-                parameter=name, other="animation", given_with=False, value=value
-            )
-    shape = [task.pop(key) for key in ("radius", "height", "mass")]
-    run = simulate_pick_place(
-        Cylinder(*task.pop("cylinder_xy"), *shape), task.pop("place_xy"), **task
-    )
+            raise OptionConflictError(parameter=name, other="animation", given_with=False, value=v)
+    task["hardware"] = hardware_run_options(task.pop("imu_model"), task.pop("hardware_file"))
+    shape = [task.pop(key) for key in ("cylinder_xy", "radius", "height", "mass")]
+    run = simulate_pick_place(Cylinder(*shape[0], *shape[1:]), task.pop("place_xy"), **task)
     write_pick_place_run(output, run)
     click.echo(f"wrote {output}: {run.path.time.size} samples, {run.path.time[-1]:.2f} s")
     text, warnings = pick_place_report(run)
@@ -152,7 +150,6 @@ def pick_place(output: Path, sheet: Path | None, animation: Path | None, **task:
         from aaria_pin.viz.arm_pictures import write_animation
 
         frames = f"about {int(run.path.time[-1] * fps) + 1} frames of {size} x {size} px"
-        click.echo(
-            f"aaria: drawing the animation: {frames} at {fps} fps into {animation} …", err=True
-        )
+        click.echo(f"aaria: drawing the animation: {frames} at {fps} fps into {animation} …",
+                   err=True)  # fmt: skip
         click.echo(f"wrote {write_animation(animation, run, fps=fps, size=size)}")

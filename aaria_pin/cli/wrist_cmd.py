@@ -9,7 +9,7 @@ from typing import Any
 import click
 
 from aaria_pin.cli._app import AariaGroup
-from aaria_pin.cli._options import FINITE_FLOAT, grid_options, json_option, shown
+from aaria_pin.cli._options import FINITE_FLOAT, grid_options, hardware_options, json_option, shown
 from aaria_pin.cli._viz_options import PICTURE_SUFFIXES, output_option
 from aaria_pin.core.seeds import MAX_SEED
 from aaria_pin.errors import ParameterError
@@ -144,21 +144,26 @@ Examples:
 )  # fmt: skip
 @grid_options("(default: 1 s after arrival)", 100.0)
 @click.option("--radians", is_flag=True, help="Targets in radians (default degrees).")
+@hardware_options
 @click.option(
     "-o", "--output", type=click.Path(dir_okay=False), required=True,
     help="Run file: .h5 or .mat (time, q, qd, qdd, tau, tool_pose).",
 )  # fmt: skip
 def simulate(targets: Any, radians: bool, output: str, **motion: Any) -> None:
-    """Move the wrist to TARGETS (J1 J2 J3) after 2 s and write joint torques along the way."""
+    """Move the wrist to TARGETS (J1 J2 J3) after 2 s and write joint torques along the way.
+
+    Its IMUs are noise-free: --imu-model (or [imu] of --hardware) is recorded, no signal changes.
+    """
     import numpy as np
 
+    from aaria_pin.aaria.hardware import hardware_run_options
     from aaria_pin.apps.wrist.run import simulate_wrist, write_wrist_run
 
-    goal = np.array(targets) if radians else np.radians(targets)
-    limits = {key: np.radians(motion.pop(key)) for key in ("speed", "acceleration")}
-    run = simulate_wrist(goal, **limits, **motion)
-    write_wrist_run(output, run)
+    motion["hardware"] = hardware_run_options(motion.pop("imu_model"), motion.pop("hardware_file"))
+    motion.update({key: np.radians(motion.pop(key)) for key in ("speed", "acceleration")})
+    run = simulate_wrist(np.array(targets) if radians else np.radians(targets), **motion)
     peaks = "  ".join(f"{v:.4g}" for v in np.abs(run.tau).max(axis=0))
+    write_wrist_run(output, run)
     click.echo(f"wrote {output}: {run.time.size} samples, peak |tau| per joint [N*m]: {peaks}")
 
 

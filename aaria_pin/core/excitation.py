@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.core.arguments import checked
+from aaria_pin.core.oscillation import RANGE_TOLERANCE
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import (
     MAX_SAMPLES,
@@ -37,6 +38,7 @@ __all__ = [
     "PEAK_PIECE",
     "FourierExcitation",
     "FourierLimits",
+    "check_joint_range",
     "default_base_frequency",
     "fourier_excitation",
     "fourier_motion",
@@ -189,6 +191,32 @@ class FourierExcitation:
         q, qd, qdd = fourier_series(self.a, self.b, self.offset, self.base_frequency, time)
         return JointTrajectory(np.asarray(time), q, qd, qdd)
 
+    def check_range(
+        self,
+        samples: int,
+        rate: float,
+        limits: tuple[ArrayLike, ArrayLike],
+        joint_names: tuple[str, ...],
+    ) -> None:
+        """Refuse the motion when a joint leaves its limits at a run's sample.
+
+        Evaluated over the run's samples in pieces of :data:`PEAK_PIECE`
+        (:func:`check_joint_range`).
+
+        Args:
+            samples: T, the run's samples
+            rate: the run's sample rate [Hz]
+            limits: each joint's lowest and highest position, (n,) each [rad or m]
+            joint_names: the n joints, in row order
+
+        Raises:
+            ParameterError: (``motion``) the first sample where a joint is outside its limits.
+        """
+        for start in range(0, samples, PEAK_PIECE):
+            time = piece_times(start, min(start + PEAK_PIECE, samples), rate)
+            q, _, _ = fourier_series(self.a, self.b, self.offset, self.base_frequency, time)
+            check_joint_range(time, q, limits, joint_names, "motion")
+
     def table(self) -> Array:
         """The coefficients as one n × (1 + 2L) table: ``offset, a_1 … a_L, b_1 … b_L``."""
         return np.column_stack([self.offset, self.a, self.b])
@@ -225,6 +253,47 @@ class FourierExcitation:
             base_frequency=float(base_frequency),
             settings=dict(settings or {}),
         )
+
+
+def check_joint_range(
+    time: Array,
+    q: Array,
+    limits: tuple[ArrayLike, ArrayLike],
+    joint_names: tuple[str, ...],
+    parameter: str = "motion",
+) -> None:
+    """The rule of a prescribed motion: every joint within its position limits at every sample.
+
+    The limits are the robot model's (``RunRobot.limits``); a value beyond one by more than
+    :data:`~aaria_pin.core.oscillation.RANGE_TOLERANCE` is refused.
+
+    Args:
+        time: the sample times, (T,) [s]
+        q: the joint values, (T, n) [rad or m]
+        limits: each joint's lowest and highest position, (n,) each [rad or m] (±inf: none)
+        joint_names: the n joints, in column order
+        parameter: the parameter the error names
+
+    Raises:
+        ParameterError: one line naming the first sample's joint, time, value and limit.
+    """
+    n = len(joint_names)
+    low, high = (np.broadcast_to(np.asarray(x, dtype=float), (n,)) for x in limits)
+    outside = (q < low - RANGE_TOLERANCE) | (q > high + RANGE_TOLERANCE)
+    if not outside.any():
+        return
+    row, j = (int(i) for i in np.argwhere(outside)[0])
+    value = float(q[row, j])
+    side, limit = ("lower", low[j]) if value < low[j] else ("upper", high[j])
+    raise ParameterError(
+        f"{parameter} takes joint {joint_names[j]} to {value:.6g} at t = {time[row]:.6g} s; "
+        f"allowed: within its limits [{low[j]:.6g}, {high[j]:.6g}] (beyond its {side} limit "
+        f"{limit:.6g})",
+        parameter=parameter,
+        value=value,
+        allowed=f"within [{low[j]:.6g}, {high[j]:.6g}]",
+        element=joint_names[j],
+    )
 
 
 def default_base_frequency(duration: float) -> float:

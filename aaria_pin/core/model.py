@@ -70,6 +70,24 @@ class RobotModel:
         """Number of actuated degrees of freedom."""
         return int(self.model.nv) - self.base_nv
 
+    @property
+    def position_limits(self) -> tuple[np.ndarray, np.ndarray]:
+        """Lower and upper position limits of the actuated joints, model order [rad or m].
+
+        The model's ``lowerPositionLimit``/``upperPositionLimit``; ±inf where a joint has none
+        (Pinocchio's ±1.8e308, or a joint of more than one configuration entry).
+        """
+        model = self.model
+        joints = model.joints[2 if self.moving_base else 1 :]
+        bounds = [
+            (model.lowerPositionLimit[j.idx_q], model.upperPositionLimit[j.idx_q])
+            if j.nq == 1
+            else (-np.inf, np.inf)
+            for j in joints
+        ]
+        lower, upper = np.array(bounds, dtype=float).reshape(-1, 2).T
+        return np.where(lower > -1e300, lower, -np.inf), np.where(upper < 1e300, upper, np.inf)
+
     def frame_id(self, name: str) -> int:
         """Index of a frame by name.
 

@@ -6,7 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from aaria_pin.core.excitation import fourier_motion, fourier_series
+from aaria_pin.core.excitation import (
+    FourierExcitation,
+    check_joint_range,
+    fourier_motion,
+    fourier_series,
+)
 from aaria_pin.errors import ParameterError
 
 LIMITS = [(-1.0, 1.0), (-0.5, 1.5), (-2.0, 0.0), (-0.1, 0.1)]  # the last a prismatic rail [m]
@@ -88,3 +93,29 @@ def test_fourier_motion_refuses_bad_input_in_one_line(kwargs, parameter):
         fourier_motion(2, 10.0, 100.0, **kwargs)
     assert error.value.parameter == parameter
     assert "\n" not in str(error.value) and "allowed" in str(error.value)
+
+
+def test_check_joint_range_names_the_first_sample_outside_its_joint_and_limit() -> None:
+    time = np.array([0.0, 0.1, 0.2, 0.3])
+    q = np.array([[0.0, 0.5], [0.2, 0.9], [-0.5, 1.2], [-1.5, 1.4]])
+    limits = (np.array([-1.0, -2.0]), np.array([1.0, 1.0]))
+    check_joint_range(time, np.clip(q, -1.0, 1.0), limits, ("a", "b"))  # at the limits: kept
+    with pytest.raises(ParameterError) as caught:
+        check_joint_range(time, q, limits, ("a", "b"))
+    assert str(caught.value) == (
+        "motion takes joint b to 1.2 at t = 0.2 s; allowed: within its limits [-2, 1] "
+        "(beyond its upper limit 1)"
+    )
+    assert caught.value.parameter == "motion" and caught.value.element == "b"
+    with pytest.raises(ParameterError, match=r"joint a to -1.5 at t = 0.3 s.*lower limit -1\)"):
+        check_joint_range(time, q[:, :1], (limits[0][:1], limits[1][:1]), ("a",))
+
+
+def test_a_fourier_excitation_s_range_is_checked_on_the_run_s_samples() -> None:
+    # q = (1 / w) sin(w t), w = 2π: its peak 1/(2π) = 0.159 at t = 0.25 s, a sample at 100 Hz
+    excitation = FourierExcitation(np.ones((1, 1)), np.zeros((1, 1)), np.zeros(1), 1.0)
+    excitation.check_range(101, 100.0, (np.array([-0.16]), np.array([0.16])), ("j",))
+    with pytest.raises(ParameterError, match=r"^motion takes joint j to 0.15\d* at t = 0.2\d* s"):
+        excitation.check_range(101, 100.0, (np.array([-0.15]), np.array([0.15])), ("j",))
+    with pytest.raises(ParameterError, match=r"to -0.15\d* at t = 0.7\d* s"):
+        excitation.check_range(101, 100.0, (np.array([-0.15]), np.array([1.0])), ("j",))

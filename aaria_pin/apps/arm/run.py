@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -30,6 +30,7 @@ from aaria_pin.apps.arm.parts import MeshPart
 from aaria_pin.apps.arm.payload import HAND_JOINT, payload_inertia, with_payload
 from aaria_pin.apps.arm.preset import ARM_JOINTS, arm_joints, arm_parts, arm_urdf, build_arm_model
 from aaria_pin.apps.arm.task import PHASES, Cylinder, JointPath, plan_pick_place
+from aaria_pin.apps.wrist.run import HARDWARE_ATTRIBUTES
 from aaria_pin.core.model import GRAVITY, RobotModel
 from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
 from aaria_pin.core.run import (
@@ -41,6 +42,7 @@ from aaria_pin.core.run import (
     register_kind,
     simulate,
 )
+from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 
@@ -87,6 +89,11 @@ class PickPlaceRun:
             ``robot.urdf``, places frame ``grasp`` for the cylinder)
         parts: the arm's part meshes (:func:`aaria_pin.apps.arm.preset.arm_parts`)
         rate: the sample rate asked for [Hz]
+        measured: the hardware's tables (``q_measured``, ``tau_measured``, ``tau_motor`` ...;
+            none without hardware)
+        hardware: the attributes recording the hardware
+            (:data:`~aaria_pin.apps.wrist.run.HARDWARE_ATTRIBUTES`; ``noise_parameters`` only
+            when an IMU model was given: the arm has no IMU)
     """
 
     path: JointPath
@@ -102,6 +109,8 @@ class PickPlaceRun:
     robot: RobotModel
     parts: Mapping[str, MeshPart]
     rate: float = 0.0
+    measured: Mapping[str, Array] = field(default_factory=dict)
+    hardware: Mapping[str, Any] = field(default_factory=dict)
 
     def link_poses(self, frames: list[str], samples: ArrayLike | None = None) -> Array:
         """World poses (S, F, 4, 4) [m] of model frames at samples (default: every one)."""
@@ -147,9 +156,8 @@ class PickPlaceRobot(FixedMount):
 
     @property
     def limits(self) -> tuple[Array, Array]:
-        """Not checked (±inf): the planner keeps the path within the arm's limits."""
-        n = len(ARM_JOINTS)
-        return np.full(n, -np.inf), np.full(n, np.inf)
+        """The model's position limits (the URDF's) [m or rad]."""
+        return self.model.position_limits
 
     @property
     def urdf(self) -> str:
@@ -174,6 +182,7 @@ def simulate_pick_place(
     rate: float = 100.0,
     branch: str = "nearest",
     threads: int = 1,
+    hardware: Mapping[str, Any] | None = None,
 ) -> PickPlaceRun:
     """Plan the task and run it on the run engine (:class:`PickPlaceRobot`, its planned path).
 
@@ -184,12 +193,16 @@ def simulate_pick_place(
         rate: sample rate [Hz]
         branch: IK branch: ``"nearest"``, ``"left"`` or ``"right"``
         threads: RNEA worker threads
+        hardware: the run's hardware as :class:`~aaria_pin.core.run.RunSettings` fields
+            (``encoder``, ``torque_sensor``, ``actuator``; ``noise_model`` is recorded only:
+            the arm has no IMU; :func:`~aaria_pin.aaria.hardware.hardware_run_options`)
 
     Returns:
         The run.
 
     Raises:
-        ParameterError: as :func:`aaria_pin.apps.arm.task.plan_pick_place`, or an unknown preset.
+        ParameterError: as :func:`aaria_pin.apps.arm.task.plan_pick_place`, an unknown preset,
+            a path beyond the arm's joint limits, or hardware its models refuse.
     """
     from aaria_pin.core.dynamics import inverse_dynamics
 
@@ -202,8 +215,10 @@ def simulate_pick_place(
     loaded = replace(robot, model=with_payload(robot.model, payload_inertia(dims, cylinder)))
     arm = PickPlaceRobot(robot, Payload(loaded, path.held))
     trajectory = JointTrajectory(path.time, path.q, path.qd, path.qdd)
-    settings = RunSettings(duration=float(path.time[-1]), rate=float(rate), threads=threads)
+    given: dict[str, Any] = dict(hardware or {})
+    settings = RunSettings(float(path.time[-1]), float(rate), threads=threads, **given)
     record = simulate(arm, SampledTrajectory(trajectory), settings)
+    recorded = [k for k in HARDWARE_ATTRIBUTES if k != "noise_parameters" or "noise_model" in given]
     tau_free, _ = inverse_dynamics(robot, BaseMotion.resting(path.time.size), trajectory, threads)
     return PickPlaceRun(
         path,
@@ -219,6 +234,8 @@ def simulate_pick_place(
         robot,
         parts,
         float(rate),
+        {k: v for k, v in record.tables.items() if k != "joint_trajectory"},
+        {k: record.attributes[k] for k in recorded if k in record.attributes},
     )
 
 
@@ -255,6 +272,7 @@ def pick_place_record(run: PickPlaceRun) -> RunRecord:
         "peak_payload_share": np.abs(run.tau - run.tau_free).max(axis=0).tolist(),
         "gravity": GRAVITY.tolist(),
         "units": _UNITS,
+        **run.hardware,
         "version": __version__,
     }
     return RunRecord(
@@ -270,6 +288,7 @@ def pick_place_record(run: PickPlaceRun) -> RunRecord:
         imu=np.zeros((n, 0, 6)),
         imu_mounts=(),
         urdf=run.robot.urdf or "",
+        tables=dict(run.measured),
         attributes=attributes,
     )
 
@@ -325,9 +344,10 @@ def stored_preset(attributes: Mapping[str, Any]) -> str:
 def simulate_pick_place_from_record(stored: RunRecord, **overrides: Any) -> PickPlaceRun:
     """Re-make a pick-and-place run from the settings its record holds.
 
-    The cylinder, the place, the arm preset, the rate and the IK branch come from the record's
-    attributes; keyword arguments of :func:`simulate_pick_place` given here replace them
-    (``cylinder`` and ``place`` too).
+    The cylinder, the place, the arm preset, the rate, the IK branch and the hardware
+    (:func:`~aaria_pin.core.run.settings.stored_hardware`; the IMU model only where recorded)
+    come from the record's attributes; keyword arguments of :func:`simulate_pick_place` given
+    here replace them (``cylinder`` and ``place`` too).
 
     Args:
         stored: a pick-and-place run's record (e.g. read from its run file)
@@ -344,6 +364,11 @@ def simulate_pick_place_from_record(stored: RunRecord, **overrides: Any) -> Pick
         "preset": stored_preset(own),
         "rate": meta.rate,
         "branch": str(own.get("branch", "nearest")),
+        "hardware": {
+            k: v
+            for k, v in stored_hardware(stored.attributes).items()
+            if k != "noise_model" or "noise_parameters" in stored.attributes
+        },
     }
     settings.update(overrides)
     cylinder, place = settings.pop("cylinder"), settings.pop("place")

@@ -17,7 +17,8 @@ link; noise-free), and becomes the one :class:`~aaria_pin.core.record.RunRecord`
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar, Literal
 
@@ -28,6 +29,7 @@ from aaria_pin._version import __version__
 from aaria_pin.aaria.arm_run import DHImuSlots
 from aaria_pin.aaria.dh_robot import DHRobot, build_dh_robot
 from aaria_pin.aaria.presets import get_preset
+from aaria_pin.core.excitation import check_joint_range
 from aaria_pin.core.imu_noise import ADIS16485
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.profiles import ramp_profile, trapezoid_profile
@@ -42,8 +44,10 @@ from aaria_pin.core.run import (
     sampling_attributes,
     simulate,
 )
+from aaria_pin.core.run.measured import JOINT_MODELS
+from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.se3 import Array
-from aaria_pin.core.trajectory import MAX_DURATION, BaseMotion, JointTrajectory
+from aaria_pin.core.trajectory import MAX_DURATION, BaseMotion, JointTrajectory, piece_times
 from aaria_pin.errors import ParameterError
 
 __all__ = [
@@ -64,6 +68,11 @@ WRIST_ROBOT = "spherical-wrist"
 
 WRIST_JOINTS = ("joint1", "joint2", "joint3")
 """The wrist's joints (the record's columns)."""
+
+HARDWARE_ATTRIBUTES = ("noise_parameters", *JOINT_MODELS, "actuator_limits")
+"""The attributes a run records of its hardware (the IMU model, the joint models, the
+actuators' limits and peaks), kept from the engine's record by the wrist's and the
+pick-and-place arm's own records."""
 
 
 def report_wrist() -> DHRobot:
@@ -103,8 +112,8 @@ class WristRobotRun(FixedMount, DHImuSlots):
 
     @property
     def limits(self) -> tuple[Array, Array]:
-        """Not checked (±inf): the wrist's joints turn freely."""
-        return np.full(3, -np.inf), np.full(3, np.inf)
+        """The model's position limits (±2π) [rad]."""
+        return self.model.position_limits
 
     @property
     def urdf(self) -> str:
@@ -149,6 +158,18 @@ class PointToPoint(FollowedMotion):
     profile: str
     start: float
     name: ClassVar[str] = "point-to-point"
+
+    def checked(self, robot: RunRobot, samples: int, rate: float) -> PointToPoint:
+        """Itself, when every joint stays within the robot's limits over the run.
+
+        Raises:
+            ParameterError: (``targets``) a joint beyond its limit, naming the joint, the time,
+                the value and the limit (:func:`~aaria_pin.core.excitation.check_joint_range`).
+        """
+        times = piece_times(0, samples, rate)
+        q = self.trajectory(robot, (0, samples), times, robot.base(times)).q
+        check_joint_range(times, q, robot.limits, robot.joint_names, "targets")
+        return self
 
     def trajectory(
         self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion
@@ -198,6 +219,10 @@ class WristRun:
         imu_mounts: the IMUs (the DH robot's slots: base, tool, two per link)
         urdf: the URDF text of the wrist
         tool_frame: the tool frame's name
+        measured: the hardware's tables (``q_measured``, ``tau_measured``, ``tau_motor`` ...;
+            none without hardware)
+        hardware: the attributes recording the hardware (:data:`HARDWARE_ATTRIBUTES`; none:
+            the ADIS16485 IMU model and no joint hardware)
     """
 
     time: Array
@@ -218,6 +243,8 @@ class WristRun:
     imu_mounts: tuple[ImuMount, ...]
     urdf: str
     tool_frame: str
+    measured: Mapping[str, Array] = field(default_factory=dict)
+    hardware: Mapping[str, Any] = field(default_factory=dict)
 
 
 def simulate_wrist(
@@ -229,6 +256,7 @@ def simulate_wrist(
     start: float = 2.0,
     duration: float | None = None,
     rate: float = 100.0,
+    hardware: Mapping[str, Any] | None = None,
 ) -> WristRun:
     """Move the wrist to joint targets and compute the torques along the way.
 
@@ -241,13 +269,18 @@ def simulate_wrist(
         start: when the joints start moving [s] (the report waits 2 s)
         duration: run length [s] (default: 1 s after the slowest joint arrives)
         rate: sample rate [Hz]
+        hardware: the run's hardware as :class:`~aaria_pin.core.run.RunSettings` fields
+            (``noise_model``, ``encoder``, ``torque_sensor``, ``actuator``;
+            :func:`~aaria_pin.aaria.hardware.hardware_run_options`); the IMUs are noise-free,
+            so the IMU model is recorded and changes no signal
 
     Returns:
         The run.
 
     Raises:
-        ParameterError: targets that are not three finite angles, a speed or acceleration
-            that is not positive, or an unknown profile.
+        ParameterError: targets that are not three finite angles or that take a joint beyond
+            its limits (±2π), a speed or acceleration that is not positive, an unknown
+            profile, or hardware its models refuse.
     """
     goal = np.asarray(targets, dtype=float)
     if goal.shape != (3,):
@@ -286,8 +319,10 @@ def simulate_wrist(
                 parameter="speed",
             )
     motion = PointToPoint(goal, float(speed), float(acceleration), profile, float(start))
-    settings = RunSettings(float(duration), float(rate), noise=False)
-    record = simulate(wrist_robot(), motion, settings)
+    settings = RunSettings(float(duration), float(rate), noise=False, **(hardware or {}))
+    robot = wrist_robot()
+    record = simulate(robot, motion, settings)
+    motion_tables, _ = motion.record(robot)
     return WristRun(
         record.time,
         record.q,
@@ -307,6 +342,8 @@ def simulate_wrist(
         record.imu_mounts,
         record.urdf,
         record.metadata.tool_frame,
+        {k: v for k, v in record.tables.items() if k not in motion_tables},
+        {k: record.attributes[k] for k in HARDWARE_ATTRIBUTES if k in record.attributes},
     )
 
 
@@ -322,6 +359,7 @@ def wrist_record(run: WristRun) -> RunRecord:
         "kind": "wrist",
         "robot": WRIST_ROBOT,
         **sampling_attributes(run.rate, run.duration, 0, False, ADIS16485),
+        **run.hardware,
         "moving_base": False,
         "base_frame": "base",
         "tool_frame": run.tool_frame,
@@ -344,7 +382,7 @@ def wrist_record(run: WristRun) -> RunRecord:
         imu=run.imu,
         imu_mounts=run.imu_mounts,
         urdf=run.urdf,
-        tables={"targets": np.asarray(run.targets, dtype=float).copy()},
+        tables={"targets": np.asarray(run.targets, dtype=float).copy(), **run.measured},
         attributes=attributes,
     )
 
@@ -355,6 +393,7 @@ def simulate_wrist_from_record(stored: RunRecord, **overrides: Any) -> WristRun:
     Args:
         stored: a wrist run's record (e.g. read from its run file)
         **overrides: keyword arguments of :func:`simulate_wrist` that replace the stored ones
+            (``hardware`` as stored unless given: :func:`stored_hardware`)
 
     Returns:
         The run; with no overrides it equals the stored one.
@@ -373,6 +412,7 @@ def simulate_wrist_from_record(stored: RunRecord, **overrides: Any) -> WristRun:
         for name, parameter in names.items()
         if name in attributes
     }
+    settings["hardware"] = stored_hardware(attributes)
     if "profile" in attributes:
         settings["profile"] = str(attributes["profile"])
     if "duration" not in settings:  # a 0.1.0 wrist file: its samples give the grid

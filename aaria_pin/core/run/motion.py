@@ -208,10 +208,11 @@ class FourierMotion(FollowedMotion):
     name: ClassVar[str] = "fourier"
 
     def checked(self, robot: RunRobot, samples: int, rate: float) -> FourierMotion:
-        """Checked: one row per record joint column.
+        """Checked: one row per record joint column, every joint within its limits.
 
         Raises:
-            ParameterError: another number of rows (parameter ``motion``).
+            ParameterError: another number of rows, or a joint outside its limits at a
+                sample (parameter ``motion``).
         """
         n_joints = len(robot.joint_names)
         if self.excitation.n_joints != n_joints:
@@ -222,6 +223,7 @@ class FourierMotion(FollowedMotion):
                 value=self.excitation.n_joints,
                 allowed=f"{n_joints} joints",
             )
+        self.excitation.check_range(samples, rate, robot.limits, robot.joint_names)
         return self
 
     def trajectory(
