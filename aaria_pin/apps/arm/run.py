@@ -30,7 +30,6 @@ from aaria_pin.apps.arm.parts import MeshPart
 from aaria_pin.apps.arm.payload import HAND_JOINT, payload_inertia, with_payload
 from aaria_pin.apps.arm.preset import ARM_JOINTS, arm_joints, arm_parts, arm_urdf, build_arm_model
 from aaria_pin.apps.arm.task import PHASES, Cylinder, JointPath, plan_pick_place
-from aaria_pin.apps.wrist.run import HARDWARE_ATTRIBUTES
 from aaria_pin.core.model import GRAVITY, RobotModel
 from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
 from aaria_pin.core.run import (
@@ -42,6 +41,7 @@ from aaria_pin.core.run import (
     register_kind,
     simulate,
 )
+from aaria_pin.core.run.measured import HARDWARE_ATTRIBUTES
 from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
@@ -92,7 +92,7 @@ class PickPlaceRun:
         measured: the hardware's tables (``q_measured``, ``tau_measured``, ``tau_motor`` ...;
             none without hardware)
         hardware: the attributes recording the hardware
-            (:data:`~aaria_pin.apps.wrist.run.HARDWARE_ATTRIBUTES`; ``noise_parameters`` only
+            (:data:`~aaria_pin.core.run.measured.HARDWARE_ATTRIBUTES`; ``noise_parameters`` only
             when an IMU model was given: the arm has no IMU)
     """
 

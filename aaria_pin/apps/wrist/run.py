@@ -44,7 +44,7 @@ from aaria_pin.core.run import (
     sampling_attributes,
     simulate,
 )
-from aaria_pin.core.run.measured import JOINT_MODELS
+from aaria_pin.core.run.measured import HARDWARE_ATTRIBUTES
 from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import MAX_DURATION, BaseMotion, JointTrajectory, piece_times
@@ -68,11 +68,6 @@ WRIST_ROBOT = "spherical-wrist"
 
 WRIST_JOINTS = ("joint1", "joint2", "joint3")
 """The wrist's joints (the record's columns)."""
-
-HARDWARE_ATTRIBUTES = ("noise_parameters", *JOINT_MODELS, "actuator_limits")
-"""The attributes a run records of its hardware (the IMU model, the joint models, the
-actuators' limits and peaks), kept from the engine's record by the wrist's and the
-pick-and-place arm's own records."""
 
 
 def report_wrist() -> DHRobot:
@@ -221,8 +216,9 @@ class WristRun:
         tool_frame: the tool frame's name
         measured: the hardware's tables (``q_measured``, ``tau_measured``, ``tau_motor`` ...;
             none without hardware)
-        hardware: the attributes recording the hardware (:data:`HARDWARE_ATTRIBUTES`; none:
-            the ADIS16485 IMU model and no joint hardware)
+        hardware: the attributes recording the hardware
+            (:data:`~aaria_pin.core.run.measured.HARDWARE_ATTRIBUTES`; none: the ADIS16485 IMU
+            model and no joint hardware)
     """
 
     time: Array

@@ -39,6 +39,7 @@ from aaria_pin.core.torque_sensor import TorqueSensorStream
 from aaria_pin.errors import ParameterError
 
 __all__ = [
+    "HARDWARE_ATTRIBUTES",
     "JOINT_TABLES",
     "ActuatorStream",
     "OnJoints",
@@ -57,6 +58,12 @@ JOINT_TABLES = {
 }
 """Each model's per-run tables and time-axis tables (the record's ``JOINT_RUN_TABLES`` and
 ``JOINT_SERIES``)."""
+
+
+HARDWARE_ATTRIBUTES = ("noise_parameters", *JOINT_MODELS, "actuator_limits")
+"""The attributes a run records of its hardware (the IMU model, the joint models, the
+actuators' limits and peaks): what a robot kind's own record (the wrist's, the pick-and-place
+arm's) keeps from the engine's."""
 
 
 class TorqueLimitWarning(UserWarning):
