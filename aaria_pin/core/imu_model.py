@@ -188,7 +188,7 @@ class ImuNoiseModel:
         object.__setattr__(self, "decimation_order", int(self.decimation_order))
         if self.accel.g_sensitivity != 0.0:
             raise ParameterError(
-                f"accel g_sensitivity is {self.accel.g_sensitivity!r}; allowed: 0 (a gyroscope "
+                f"accel.g_sensitivity is {self.accel.g_sensitivity!r}; allowed: 0 (a gyroscope "
                 "term: set it in the gyro table)",
                 parameter="g_sensitivity",
                 value=self.accel.g_sensitivity,

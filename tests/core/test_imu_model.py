@@ -51,7 +51,7 @@ def test_a_rotation_is_taken() -> None:
 
 def test_g_sensitivity_on_an_accelerometer() -> None:
     accel = dataclasses.replace(ACCEL, g_sensitivity=1e-4)  # the sensor alone cannot tell
-    with pytest.raises(ParameterError, match=r"^accel g_sensitivity is 0.0001; allowed: 0 "):
+    with pytest.raises(ParameterError, match=r"^accel.g_sensitivity is 0.0001; allowed: 0 "):
         ImuNoiseModel(GYRO, accel)
 
 
