@@ -211,3 +211,36 @@ def test_the_drive_follows_mujocos_rk4_over_one_second(name: str) -> None:
     difference = max(np.abs(ours.q - q).max(), np.abs(ours.qd - v).max())
     assert difference < 0.01 * rk4_error, (difference, rk4_error)
     assert np.ptp(q, axis=0).max() > 0.1  # the arm really moves
+
+
+def print_figures() -> None:
+    """Print the figures the tests check (the docs quote them), robot by robot."""
+    for name in ROBOTS:
+        robot, _, _ = fixed_robot(name)
+        _, _, tau = start(robot)
+        for rate in (50.0, 100.0, 200.0):
+            time = sample_times(1.0, rate)
+            run = drive(robot, np.tile(tau, (time.size, 1)), time, substeps=4)
+            e = energy(robot.model, run.q, run.qd)
+            work = tau @ (run.q[-1] - run.q[0])
+            print(f"{name} energy {rate:g} Hz x 4: |dE - W| {abs(e[-1] - e[0] - work):.2e} J"
+                  f" of W = {work:.1f} J")  # fmt: skip
+        time = sample_times(0.5, 50.0)
+        wobble = np.sin(2 * np.pi * 3.0 * time)[:, None] * np.linspace(0.5, 1.5, robot.n_joints)
+        q_ref, v_ref = dop853_reference(robot, tau + wobble, time)
+        for substeps in (1, 2, 4, 8):
+            run = drive(robot, tau + wobble, time, substeps)
+            error = max(np.abs(run.q[-1] - q_ref).max(), np.abs(run.qd[-1] - v_ref).max())
+            print(f"{name} RK4 50 Hz x {substeps}: final-state error to DOP853 {error:.2e}")
+        time = sample_times(1.0, 100.0)
+        ours = drive(robot, np.tile(tau, (time.size, 1)), time, substeps=4)
+        finer = drive(robot, np.tile(tau, (time.size, 1)), time, substeps=8)
+        q, v = mujoco_run(name, tau, time, substeps=4)
+        error = 16 / 15 * max(np.abs(ours.q - finer.q).max(), np.abs(ours.qd - finer.qd).max())
+        difference = max(np.abs(ours.q - q).max(), np.abs(ours.qd - v).max())
+        print(f"{name} MuJoCo RK4 100 Hz x 4 over 1 s: difference {difference:.1e},"
+              f" RK4 error {error:.1e}")  # fmt: skip
+
+
+if __name__ == "__main__":
+    print_figures()
