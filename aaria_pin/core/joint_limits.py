@@ -15,8 +15,8 @@ then hands its trajectory to its policy, named by the run's ``limits`` attribute
   integrated values; it is not built yet.
 
 Torque limits are the actuator's: with one, the motor torques are saturated at its limits inside
-the forward dynamics (:func:`~aaria_pin.core.forward.forward_simulate`); without, the run records
-the joints whose torques exceed the model's ``effortLimit`` (the ``effort_exceeded`` attribute).
+the forward dynamics (:func:`~aaria_pin.core.forward.forward_simulate`); without, a URDF robot's
+run records the joints whose torques exceed the model's ``effortLimit`` (``effort_exceeded``).
 """
 
 from __future__ import annotations
