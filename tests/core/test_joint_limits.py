@@ -35,7 +35,7 @@ BOUNDS = JointBounds(("a", "b"), np.array([-1.0, -0.5]), np.array([1.0, 0.5]), n
 
 def _trajectory(q: list[list[float]], qd: list[list[float]]) -> JointTrajectory:
     q_, qd_ = np.array(q), np.array(qd)
-    return JointTrajectory(0.1 * np.arange(len(q)), q_, qd_, np.zeros_like(q_))
+    return JointTrajectory(0.1 * np.arange(len(q), dtype=float), q_, qd_, np.zeros_like(q_))
 
 
 def test_stop_keeps_a_trajectory_within_its_limits_as_it_is() -> None:
@@ -158,3 +158,19 @@ def test_clamp_and_limits_without_a_torque_drive_are_refused_with_exit_2(fig2: P
     code, _, err = run_cli("simulate", "--preset", "aaria-fig2", "--limits", "ignore",
                            "-o", str(fig2 / "x.h5"))  # fmt: skip
     assert code == 2 and "--limits goes with --drive torque" in err
+
+
+def test_a_urdf_robot_s_torque_run_records_its_policy_and_is_made_again_under_it() -> None:
+    from aaria_pin.core.catalogue import find_robot
+    from aaria_pin.core.urdf_robot import read_urdf_file
+    from aaria_pin.core.urdf_run import urdf_request, urdf_request_from_record
+
+    urdf = read_urdf_file(find_robot("ur5").urdf)
+    settings = {"duration": 0.2, "rate": 100.0, "noise": False, "source": "ur5"}
+    tau = np.zeros((21, 6))  # it falls under gravity from the sines' start
+    run = urdf_request(urdf, torques=tau, limits="ignore", **settings).record()  # type: ignore[arg-type]
+    assert run.attributes["limits"] == "ignore"
+    again = urdf_request_from_record(run)
+    assert isinstance(again.motion, TorqueDrive) and again.motion.limits == "ignore"
+    np.testing.assert_array_equal(again.record().q, run.q)
+    assert urdf_request(urdf, torques=tau, **settings).motion.limits == "stop"  # type: ignore[arg-type, union-attr]
