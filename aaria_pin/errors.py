@@ -28,6 +28,7 @@ from typing import Any
 __all__ = [
     "AariaError",
     "InputFileError",
+    "JointLimitError",
     "MeshWarning",
     "ModelError",
     "NoSpaceError",
@@ -189,6 +190,13 @@ class NoSpaceError(OutputFileError):
     """No room left on the device while writing an output.
 
     The CLI exits with status 1, not 2: the input was fine, the machine was not.
+    """
+
+
+class JointLimitError(AariaError):
+    """A torque-driven run left its joints' limits under the policy ``stop`` (``limits``).
+
+    The CLI exits with status 1, not 2: the input was fine, the motion left the range.
     """
 
 

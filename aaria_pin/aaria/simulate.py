@@ -27,6 +27,7 @@ from aaria_pin.aaria.sensen import N_MODULES
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ImuNoiseModel
+from aaria_pin.core.joint_limits import DEFAULT_LIMITS, stored_limits
 from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.run import (
@@ -84,6 +85,7 @@ class _DhSettings(TypedDict, total=False):
     dims: BodyDimensions | None
     imu_mount: ArrayLike | None
     torques: ArrayLike | None
+    limits: str
     motion: Motion | JointTrajectory | FourierExcitation | None
     threads: int
     robot_name: str
@@ -115,6 +117,8 @@ class DhRunOptions(_DhSettings, RunTables, total=False):
             (:func:`~aaria_pin.core.forward.forward_simulate`), starting from the joint table's
             values and velocities at t = 0, instead of following the joint table (stored as the
             table ``torque_table``)
+        limits: with ``torques``, ``stop`` (default) or ``ignore``: what the run does when a
+            joint leaves the model's limits (:mod:`~aaria_pin.core.joint_limits`)
         motion: the joint motion instead of the joint table's sines, by module (six columns
             or rows; those of empty modules are ignored): a
             :class:`~aaria_pin.core.trajectory.JointTrajectory` of the run's samples (T × 6,
@@ -243,7 +247,7 @@ def dh_request(dh_table: ArrayLike, **options: Unpack[DhRunOptions]) -> RunReque
     run_motion = as_motion(options.get("motion"))
     torques = options.get("torques")
     if torques is not None:
-        run_motion = TorqueDrive(torques, run_motion)
+        run_motion = TorqueDrive(torques, run_motion, limits=options.get("limits", DEFAULT_LIMITS))
     return RunRequest(dh_arm(dh_table, spec), run_motion, settings, options.get("seed", 0))
 
 
@@ -292,6 +296,7 @@ def dh_request_from_record(
     }
     if "torque_table" in stored.tables:
         options["torques"] = stored.tables["torque_table"]
+        options["limits"] = stored_limits(stored.attributes)
     if "body_dimensions" in meta.extra:
         try:
             options["dims"] = BodyDimensions(**meta.extra["body_dimensions"])

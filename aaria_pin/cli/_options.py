@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+import math
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
@@ -19,8 +21,6 @@ class FiniteFloat(click.ParamType):
 
     def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
         """The number, or :class:`~aaria_pin.errors.ParameterError` for NaN or ±inf."""
-        import math
-
         from aaria_pin.errors import ParameterError
 
         number = click.FLOAT.convert(value, param, ctx)
@@ -54,8 +54,7 @@ def grid_options(
     """``--duration`` [s] and ``--rate`` [Hz] of a run (their bounds are the library's).
 
     Args:
-        duration: the option's default (shown in the help), or the text that tells what it is
-            when not given (the option is then None: the library's or the stored value)
+        duration: its default (shown), or the help's text of it (the option is then None)
         rate: the same for ``--rate``
     """
 
@@ -85,13 +84,7 @@ def table_source(preset_help: str = PRESET_HELP) -> Callable[[F], F]:
 
 def stacked(*options: Callable[[F], F]) -> Callable[[F], F]:
     """The options as one decorator, in the order given (as if written one above the other)."""
-
-    def add(func: F) -> F:
-        for option in reversed(options):
-            func = option(func)
-        return func
-
-    return add
+    return lambda func: functools.reduce(lambda f, option: option(f), reversed(options), func)
 
 
 table_source_options = table_source()
@@ -100,10 +93,8 @@ table_source_options = table_source()
 
 def given(name: str) -> bool:
     """Whether the running command's option ``name`` was given (not left at its default)."""
-    from click.core import ParameterSource
-
-    source = click.get_current_context().get_parameter_source(name)
-    return source not in (None, ParameterSource.DEFAULT, ParameterSource.DEFAULT_MAP)
+    source, ps = click.get_current_context().get_parameter_source(name), click.core.ParameterSource
+    return source not in (None, ps.DEFAULT, ps.DEFAULT_MAP)
 
 
 def load_table_source(preset: str | None, dh_file: Path | None, convention: str) -> Any:
@@ -137,8 +128,7 @@ fourier_options = stacked(
 robot_source_options = stacked(
     click.option("--robot",
                  help="A robot of example-robot-data (see 'aaria robots'), e.g. ur5, panda."),
-    click.option("--urdf", "urdf_file", type=_FILE,
-                 help="A URDF file to simulate instead of a DH arm."),
+    click.option("--urdf", "urdf_file", type=_FILE, help="A URDF file instead of a DH arm."),
     click.option("--tool", "tool_frame", help="URDF robot: the tool frame."),
     click.option("--imu-layout", "imu_layout_file", type=_FILE,
                  help="URDF robot: IMU layout file (TOML, [[imu]] name, parent, xyz, rpy)."),
@@ -168,18 +158,26 @@ def sampling_overrides(params: dict[str, Any], stored: Any = None) -> dict[str, 
             **hardware_run_options(*hardware)}  # fmt: skip
 
 
+limits_option = click.option("--limits", type=click.Choice(["stop", "clamp", "ignore"]),
+    help="--drive torque: stop at the first joint beyond its model position or velocity limit"
+    " (exit 1; the default), or ignore them (clamp: not built). --from: as stored.")  # fmt: skip
+
+
 def torque_overrides(params: dict[str, Any]) -> dict[str, Any]:
-    """``torques`` of ``--drive torque --torques FILE``, and a torque run's time grid as defaults.
+    """``torques``, ``limits`` of ``--drive torque``, and a torque run's time grid as defaults.
 
     Raises:
-        click.UsageError: ``--drive torque`` without ``--torques`` or the other way round.
+        click.UsageError: ``--drive torque`` or ``--torques`` alone; ``--limits`` without them.
     """
     from aaria_pin.aaria.robot_inputs import read_torques
 
     path: Path | None = params.get("torques_file")
     if (params.get("drive") == "torque") != (path is not None):
         raise click.UsageError("--drive torque and --torques FILE go together")
+    limits = {"limits": params["limits"]} if params.get("limits") else {}
+    if path is None and limits and params.get("from_run") is None:
+        raise click.UsageError("--limits goes with --drive torque (or --from a torque run)")
     if path is None:
-        return {}
+        return limits
     tau, grid = read_torques(path)
-    return {"torques": tau, **{key: v for key, v in grid.items() if params.get(key) is None}}
+    return {"torques": tau, **limits, **{k: v for k, v in grid.items() if params.get(k) is None}}

@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import DEFAULT_HARMONICS, FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ImuNoiseModel
+from aaria_pin.core.joint_limits import DEFAULT_LIMITS, stored_limits
 from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
 from aaria_pin.core.record import ImuMount, RunRecord
 from aaria_pin.core.run import (
@@ -159,6 +160,7 @@ class _UrdfSettings(TypedDict, total=False):
     actuator: ActuatorModel | None
     threads: int
     torques: ArrayLike | None
+    limits: str
     motion: MotionInput
     chunk: int | None
 
@@ -189,6 +191,8 @@ class LoadedRobotOptions(_UrdfSettings, RunTables, total=False):
             under them by forward dynamics, starting from the joint table's values and
             velocities at t = 0, instead of following the joint table (stored as the table
             ``torque_table``; the run is then one piece)
+        limits: with ``torques``, ``stop`` (default) or ``ignore``: what the run does when a
+            joint leaves the model's limits (:mod:`~aaria_pin.core.joint_limits`)
         motion: the joint motion instead of the joint table's sines, one column (or row) per
             actuated joint in model order: a
             :class:`~aaria_pin.core.trajectory.JointTrajectory` of the run's samples (e.g.
@@ -223,16 +227,17 @@ class UrdfRunOptions(LoadedRobotOptions, _UrdfLoad, total=False):
     """
 
 
-def _run_motion(torques: ArrayLike | None, motion: MotionInput) -> Motion:
-    """The engine's motion of the options' ``motion`` and ``torques``."""
-    run_motion = as_motion(motion)
-    return run_motion if torques is None else TorqueDrive(torques, run_motion)
+def _run_motion(options: LoadedRobotOptions) -> Motion:
+    """The engine's motion of the options' ``motion``, ``torques`` and ``limits``."""
+    run_motion, torques = as_motion(options.get("motion")), options.get("torques")
+    limits = options.get("limits", DEFAULT_LIMITS)
+    return run_motion if torques is None else TorqueDrive(torques, run_motion, limits=limits)
 
 
 def _request(robot: RunRobot, options: LoadedRobotOptions) -> RunRequest:
     """The engine's inputs of an adapted robot and the run's options."""
     settings = RunSettings.from_options(options)
-    motion = _run_motion(options.get("torques"), options.get("motion"))
+    motion = _run_motion(options)
     return RunRequest(robot, motion, settings, options.get("seed", 0))
 
 
@@ -328,6 +333,7 @@ def urdf_request_from_record(stored: RunRecord, **overrides: Unpack[UrdfRunOptio
     }
     if "torque_table" in stored.tables:
         options["torques"] = stored.tables["torque_table"]
+        options["limits"] = stored_limits(stored.attributes)
     options.update(overrides)
     return urdf_request(stored.urdf, **options)
 

@@ -21,6 +21,13 @@ from numpy.typing import ArrayLike
 
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import FourierExcitation
+from aaria_pin.core.joint_limits import (
+    DEFAULT_LIMITS,
+    JointBounds,
+    limit_policy,
+    model_velocity_limits,
+    stored_limits,
+)
 from aaria_pin.core.joint_sensors import ActuatorModel, select_joints
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.sampled_motion import check_trajectory
@@ -266,18 +273,23 @@ class TorqueDrive:
     Stored as ``start``'s tables and attributes, the table ``torque_table`` and ``drive``
     ``torque``; computed in one piece. With an actuator (the run's ``RunSettings.actuator``,
     set by the engine: :func:`actuated`) the torques are motor torques: the forward dynamics
-    add the armature and take off the friction.
+    add the armature and take off the friction. The integrated motion is then held to the
+    model's position and velocity limits by the policy ``limits``
+    (:mod:`~aaria_pin.core.joint_limits`), stored as the attribute ``limits``.
 
     Attributes:
         torques: (T, n) joint torques [N·m] or forces [N] by record column (columns of an Aaria
             arm's empty modules are ignored)
         start: the motion whose values and velocities at t = 0 start the run
         actuator: the joints' motors, by record column (None: none)
+        limits: ``stop`` (the run ends with a :class:`~aaria_pin.errors.JointLimitError` at
+            the first sample beyond a limit) or ``ignore`` (``clamp`` is refused: not built)
     """
 
     torques: ArrayLike
     start: Motion = field(default_factory=SineTable)
     actuator: ActuatorModel | None = None
+    limits: str = DEFAULT_LIMITS
     drive: ClassVar[str] = "torque"
     whole: ClassVar[bool] = True
 
@@ -287,18 +299,27 @@ class TorqueDrive:
         return self.start.name
 
     def checked(self, robot: RunRobot, samples: int, rate: float) -> TorqueDrive:
-        """The starting motion and the torque table checked (``check_torques``)."""
+        """The starting motion, the torque table (``check_torques``) and the policy checked.
+
+        Raises:
+            ParameterError: a bad table, or ``limits`` that names no policy built.
+        """
         from aaria_pin.core.forward import check_torques
 
+        limit_policy(self.limits)
         start = self.start.checked(robot, samples, rate)
         n_columns = len(robot.joint_names)
         tau = check_torques(self.torques, samples, n_columns, robot.torque_name)
-        return TorqueDrive(tau, start, self.actuator)
+        return TorqueDrive(tau, start, self.actuator, self.limits)
 
     def trajectory(
         self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion
     ) -> JointTrajectory:
-        """Forward dynamics under the torques (the whole run: one piece)."""
+        """Forward dynamics under the torques (the whole run: one piece), then its policy.
+
+        Raises:
+            JointLimitError: the policy ``stop`` and a sample beyond the model's limits.
+        """
         from aaria_pin.core.forward import forward_simulate
 
         initial = self.start.trajectory(robot, span, times, base)
@@ -307,14 +328,24 @@ class TorqueDrive:
         motors = self.actuator
         if motors is not None:
             motors = select_joints(motors, torques.shape[1], robot.columns)
-        return forward_simulate(
+        moved = forward_simulate(
             robot.model, base, tau, times, initial.q[0], initial.qd[0], actuator=motors
         )
+        return limit_policy(self.limits).applied(moved, _bounds(robot))
 
     def record(self, robot: RunRobot) -> tuple[dict[str, Array], dict[str, Any]]:
-        """The starting motion's, and ``torque_table``."""
+        """The starting motion's, ``torque_table`` and the attribute ``limits``."""
         tables, attributes = self.start.record(robot)
-        return {**tables, "torque_table": np.asarray(self.torques, dtype=float)}, attributes
+        tau = np.asarray(self.torques, dtype=float)
+        return {**tables, "torque_table": tau}, {**attributes, "limits": self.limits}
+
+
+def _bounds(robot: RunRobot) -> JointBounds:
+    """The robot's position limits and its model's velocity limits, model order."""
+    lower, upper = robot.limits
+    columns = list(range(lower.size)) if robot.columns is None else robot.columns
+    names = [robot.joint_names[c] for c in columns]
+    return JointBounds(names, lower[columns], upper[columns], model_velocity_limits(robot.model))
 
 
 def actuated(motion: Motion, actuator: ActuatorModel | None) -> Motion:
@@ -367,7 +398,7 @@ def motion_from_record(
 
     A record without a ``motion`` attribute (written before motions were stored) follows its
     joint table's sines; one with a ``torque_table`` is driven by it (with ``drive``; without,
-    the motion that starts it).
+    the motion that starts it) under its ``limits`` (:func:`stored_limits`).
 
     Raises:
         InputFileError: an unknown ``motion``, or one whose table or settings are missing.
@@ -380,7 +411,7 @@ def motion_from_record(
         )
     motion = load(tables, attributes)
     if drive and "torque_table" in tables:
-        return TorqueDrive(tables["torque_table"], motion)
+        return TorqueDrive(tables["torque_table"], motion, limits=stored_limits(attributes))
     return motion
 
 
