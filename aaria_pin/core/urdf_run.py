@@ -37,6 +37,7 @@ from aaria_pin.core.run import (
     as_motion,
     check_options,
     motion_from_record,
+    recorded_dynamics,
     register_kind,
 )
 from aaria_pin.core.run.deprecation import deprecated_producer
@@ -159,6 +160,7 @@ class _UrdfSettings(TypedDict, total=False):
     actuator: ActuatorModel | None
     threads: int
     torques: ArrayLike | None
+    dynamics: str
     motion: MotionInput
     chunk: int | None
 
@@ -223,16 +225,20 @@ class UrdfRunOptions(LoadedRobotOptions, _UrdfLoad, total=False):
     """
 
 
-def _run_motion(torques: ArrayLike | None, motion: MotionInput) -> Motion:
-    """The engine's motion of the options' ``motion`` and ``torques``."""
+def _run_motion(
+    torques: ArrayLike | None, motion: MotionInput, dynamics: str = TorqueDrive.dynamics
+) -> Motion:
+    """The engine's motion of the options' ``motion``, ``torques`` and ``dynamics``."""
     run_motion = as_motion(motion)
-    return run_motion if torques is None else TorqueDrive(torques, run_motion)
+    return run_motion if torques is None else TorqueDrive(torques, run_motion, dynamics=dynamics)
 
 
 def _request(robot: RunRobot, options: LoadedRobotOptions) -> RunRequest:
     """The engine's inputs of an adapted robot and the run's options."""
     settings = RunSettings.from_options(options)
-    motion = _run_motion(options.get("torques"), options.get("motion"))
+    motion = _run_motion(
+        options.get("torques"), options.get("motion"), options.get("dynamics", TorqueDrive.dynamics)
+    )
     return RunRequest(robot, motion, settings, options.get("seed", 0))
 
 
@@ -328,6 +334,7 @@ def urdf_request_from_record(stored: RunRecord, **overrides: Unpack[UrdfRunOptio
     }
     if "torque_table" in stored.tables:
         options["torques"] = stored.tables["torque_table"]
+        options["dynamics"] = recorded_dynamics(stored.attributes)
     options.update(overrides)
     return urdf_request(stored.urdf, **options)
 

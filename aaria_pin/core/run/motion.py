@@ -39,6 +39,7 @@ __all__ = [
     "actuated",
     "as_motion",
     "motion_from_record",
+    "recorded_dynamics",
 ]
 
 
@@ -273,11 +274,14 @@ class TorqueDrive:
             arm's empty modules are ignored)
         start: the motion whose values and velocities at t = 0 start the run
         actuator: the joints' motors, by record column (None: none)
+        dynamics: the integrator, by its name in :data:`~aaria_pin.core.forward.DYNAMICS`
+            (recorded: a run is re-made by the one that made it)
     """
 
     torques: ArrayLike
     start: Motion = field(default_factory=SineTable)
     actuator: ActuatorModel | None = None
+    dynamics: str = "kernel"
     drive: ClassVar[str] = "torque"
     whole: ClassVar[bool] = True
 
@@ -293,13 +297,13 @@ class TorqueDrive:
         start = self.start.checked(robot, samples, rate)
         n_columns = len(robot.joint_names)
         tau = check_torques(self.torques, samples, n_columns, robot.torque_name)
-        return TorqueDrive(tau, start, self.actuator)
+        return replace(self, torques=tau, start=start)
 
     def trajectory(
         self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion
     ) -> JointTrajectory:
         """Forward dynamics under the torques (the whole run: one piece)."""
-        from aaria_pin.core.forward import forward_simulate
+        from aaria_pin.core.forward import DYNAMICS
 
         initial = self.start.trajectory(robot, span, times, base)
         torques = np.asarray(self.torques, dtype=float)
@@ -307,13 +311,14 @@ class TorqueDrive:
         motors = self.actuator
         if motors is not None:
             motors = select_joints(motors, torques.shape[1], robot.columns)
-        return forward_simulate(
+        return DYNAMICS[self.dynamics](
             robot.model, base, tau, times, initial.q[0], initial.qd[0], actuator=motors
         )
 
     def record(self, robot: RunRobot) -> tuple[dict[str, Array], dict[str, Any]]:
-        """The starting motion's, and ``torque_table``."""
+        """The starting motion's, ``torque_table`` and ``dynamics``."""
         tables, attributes = self.start.record(robot)
+        attributes = {**attributes, "dynamics": self.dynamics}
         return {**tables, "torque_table": np.asarray(self.torques, dtype=float)}, attributes
 
 
@@ -380,8 +385,27 @@ def motion_from_record(
         )
     motion = load(tables, attributes)
     if drive and "torque_table" in tables:
-        return TorqueDrive(tables["torque_table"], motion)
+        return TorqueDrive(tables["torque_table"], motion, dynamics=recorded_dynamics(attributes))
     return motion
+
+
+def recorded_dynamics(attributes: dict[str, Any]) -> str:
+    """The torque drive's integrator a record names (``TorqueDrive.dynamics``).
+
+    A run written before the compiled kernel has no ``dynamics``: it was made by the Pinocchio
+    path (``"reference"``), which re-makes it bit for bit.
+
+    Raises:
+        InputFileError: a name :data:`~aaria_pin.core.forward.DYNAMICS` does not hold.
+    """
+    from aaria_pin.core.forward import DYNAMICS
+
+    name = str(attributes.get("dynamics", "reference"))
+    if name not in DYNAMICS:
+        raise InputFileError(
+            parameter="dynamics", value=name, allowed=", ".join(DYNAMICS), element="run"
+        )
+    return name
 
 
 def _stored_table(tables: dict[str, Array], name: str, motion: str) -> Array:
