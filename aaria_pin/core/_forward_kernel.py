@@ -87,35 +87,58 @@ def _to_world(R, p, local, out):  # type: ignore[no-untyped-def]  # pragma: no c
 
 
 @kernel
-def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+def workspace(nj, n):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """The arrays one evaluation works in, for ``nj`` joints (with the universe), ``n`` columns.
+
+    Per joint: world rotation and position, motion subspace, velocity, acceleration, force,
+    composite inertia (mass, first moment, rotational inertia); the mass matrix; scratch
+    6-vectors and 3 × 3 matrices; and rows of length ``max(n, 7)``: the right-hand side, then
+    (for :func:`_at`) the base's interpolated configuration, velocity, acceleration and the
+    torques.
+    """
+    return (
+        np.zeros((nj, 3, 3)),
+        np.zeros((nj, 3)),
+        np.zeros((nj, 6)),
+        np.zeros((nj, 6)),
+        np.zeros((nj, 6)),
+        np.zeros((nj, 6)),
+        np.zeros(nj),
+        np.zeros((nj, 3)),
+        np.zeros((nj, 3, 3)),
+        np.zeros((n, n)),
+        np.zeros((8, 6)),
+        np.zeros((4, 3, 3)),
+        np.zeros((5, max(n, 7))),
+    )
+
+
+@kernel
+def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """Joint accelerations ``out`` (n,) at one state, the base prescribed (module docstring).
 
     ``model`` is the tuple of :func:`~aaria_pin.core.forward.flatten_dynamics`; ``qb``, ``vb``,
     ``ab`` the base's configuration (7,), velocity and acceleration (6,, local, Pinocchio's
     convention; unused on a fixed base); ``torque`` (n,) the joint torques; ``motor`` the
     tuple ``(on, armature, viscous, coulomb, coulomb_velocity, stribeck_torque,
-    stribeck_velocity)`` (``on`` 0: no actuator).
+    stribeck_velocity)`` (``on`` 0: no actuator); ``work`` a :func:`workspace`.
     """
     kinds, axes, parents, columns, PR, Pp, mass, lever, Ic, gravity = model
     on, rotor, viscous, coulomb, smooth, stribeck, v_s = motor
+    R, p, S, vel, acc, f, cm, ch, cJ, A, six, three, _ = work
     nj = kinds.shape[0]
     n = q.shape[0]
-    R = np.zeros((nj, 3, 3))
-    p = np.zeros((nj, 3))
-    S = np.zeros((nj, 6))
-    vel = np.zeros((nj, 6))
-    acc = np.zeros((nj, 6))
-    f = np.zeros((nj, 6))
-    cm = np.zeros(nj)
-    ch = np.zeros((nj, 3))
-    cJ = np.zeros((nj, 3, 3))
-    Rot = np.empty((3, 3))
-    M0 = np.empty((3, 3))
-    d = np.empty(3)
-    vJ = np.empty(6)
-    aJ = np.empty(6)
-    Iv = np.empty(6)
-    c = np.empty(3)
+    Rot, M0 = three[0], three[1]
+    d, c = six[0, :3], six[0, 3:]
+    vJ, aJ, Iv, F, rhs = six[1], six[2], six[3], six[4], work[12][0]
+    vel[0] = 0.0
+    acc[0] = 0.0
+    R[0] = 0.0
+    f[0] = 0.0
+    cm[0] = 0.0
+    ch[0] = 0.0
+    cJ[0] = 0.0
+    A[:] = 0.0
     for i in range(3):
         R[0, i, i] = 1.0
         acc[0, i] = -gravity[i]
@@ -148,6 +171,7 @@ def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, out):  # type: i
             _to_world(R[j], p[j], vb, vJ)
             _to_world(R[j], p[j], ab, aJ)
         else:
+            S[j] = 0.0
             for i in range(3):
                 e = R[j, i, 0] * axes[j, 0] + R[j, i, 1] * axes[j, 1] + R[j, i, 2] * axes[j, 2]
                 if kind == REVOLUTE:
@@ -207,9 +231,6 @@ def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, out):  # type: i
         f[j, 4] += w[2] * Iv[3] - w[0] * Iv[5] + lv[2] * Iv[0] - lv[0] * Iv[2]
         f[j, 5] += w[0] * Iv[4] - w[1] * Iv[3] + lv[0] * Iv[1] - lv[1] * Iv[0]
     # backward: forces and composite inertias into the parents; bias; mass matrix
-    A = np.zeros((n, n))
-    rhs = np.empty(n)
-    F = np.empty(6)
     for j in range(nj - 1, 0, -1):
         pa = parents[j]
         if kinds[j] != FREEFLYER:
@@ -260,7 +281,7 @@ def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, out):  # type: i
 
 
 @kernel
-def _at(model, base, tau, k, q, v, motor, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+def _at(model, base, tau, k, q, v, motor, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """Joint accelerations at fractional sample index k: base and torques linear in k."""
     q_base, v_base, a_base = base
     T = tau.shape[0]
@@ -269,49 +290,65 @@ def _at(model, base, tau, k, q, v, motor, out):  # type: ignore[no-untyped-def] 
         i = 0
     w = k - i
     i1 = min(i + 1, T - 1)
-    qb = (1 - w) * q_base[i] + w * q_base[i1]
-    if qb.shape[0] == 7:
+    line = work[12]
+    qb, vb, ab, torque = (
+        line[1, : q_base.shape[1]],
+        line[2, :6],
+        line[3, :6],
+        line[4, : tau.shape[1]],
+    )
+    for m in range(q_base.shape[1]):
+        qb[m] = (1 - w) * q_base[i, m] + w * q_base[i1, m]
+    if q_base.shape[1] == 7:
         norm = np.sqrt(qb[3] ** 2 + qb[4] ** 2 + qb[5] ** 2 + qb[6] ** 2)
         for m in range(3, 7):
             qb[m] /= norm
-    vb = (1 - w) * v_base[i] + w * v_base[i1]
-    ab = (1 - w) * a_base[i] + w * a_base[i1]
-    torque = (1 - w) * tau[i] + w * tau[i1]
-    joint_accelerations(model, qb, vb, ab, q, v, torque, motor, out)
+    for m in range(v_base.shape[1]):
+        vb[m] = (1 - w) * v_base[i, m] + w * v_base[i1, m]
+        ab[m] = (1 - w) * a_base[i, m] + w * a_base[i1, m]
+    for m in range(tau.shape[1]):
+        torque[m] = (1 - w) * tau[i, m] + w * tau[i1, m]
+    joint_accelerations(model, qb, vb, ab, q, v, torque, motor, work, out)
 
 
 @kernel
 def integrate(model, base, tau, q0, v0, h, substeps, method, motor, q, v, a):  # type: ignore[no-untyped-def]  # pragma: no cover
     """Fill ``q``, ``v``, ``a`` (T, n): RK4 or semi-implicit Euler, ``substeps`` steps of h [s]."""
     T, n = tau.shape
+    work = workspace(model[0].shape[0], n)
     dk = 1.0 / substeps
     x, y = q0.copy(), v0.copy()
     k1, k2, k3, k4 = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    xt, yt = np.empty(n), np.empty(n)
     q[0], v[0] = q0, v0
     for i in range(T - 1):
         for s in range(substeps):
             k = i + s / substeps
-            _at(model, base, tau, k, x, y, motor, k1)
+            _at(model, base, tau, k, x, y, motor, work, k1)
             if s == 0:
                 a[i] = k1
             if method == EULER:
-                y = y + h * k1
-                x = x + h * y
+                for m in range(n):
+                    y[m] = y[m] + h * k1[m]
+                    x[m] = x[m] + h * y[m]
                 continue
-            _at(model, base, tau, k + dk / 2, x + h / 2 * y, y + h / 2 * k1, motor, k2)
-            _at(
-                model,
-                base,
-                tau,
-                k + dk / 2,
-                x + h / 2 * (y + h / 2 * k1),
-                y + h / 2 * k2,
-                motor,
-                k3,
-            )
-            _at(model, base, tau, k + dk, x + h * (y + h / 2 * k2), y + h * k3, motor, k4)
-            x_new = x + h / 6 * (y + 2 * (y + h / 2 * k1) + 2 * (y + h / 2 * k2) + (y + h * k3))
-            y = y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-            x = x_new
+            for m in range(n):
+                xt[m] = x[m] + h / 2 * y[m]
+                yt[m] = y[m] + h / 2 * k1[m]
+            _at(model, base, tau, k + dk / 2, xt, yt, motor, work, k2)
+            for m in range(n):
+                xt[m] = x[m] + h / 2 * (y[m] + h / 2 * k1[m])
+                yt[m] = y[m] + h / 2 * k2[m]
+            _at(model, base, tau, k + dk / 2, xt, yt, motor, work, k3)
+            for m in range(n):
+                xt[m] = x[m] + h * (y[m] + h / 2 * k2[m])
+                yt[m] = y[m] + h * k3[m]
+            _at(model, base, tau, k + dk, xt, yt, motor, work, k4)
+            for m in range(n):
+                ym = y[m]
+                x[m] = x[m] + h / 6 * (
+                    ym + 2 * (ym + h / 2 * k1[m]) + 2 * (ym + h / 2 * k2[m]) + (ym + h * k3[m])
+                )
+                y[m] = ym + h / 6 * (k1[m] + 2 * k2[m] + 2 * k3[m] + k4[m])
         q[i + 1], v[i + 1] = x, y
-    _at(model, base, tau, float(T - 1), q[T - 1], v[T - 1], motor, a[T - 1])
+    _at(model, base, tau, float(T - 1), q[T - 1], v[T - 1], motor, work, a[T - 1])

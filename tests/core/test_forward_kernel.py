@@ -20,7 +20,7 @@ import pytest
 from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.apps.remake import remake_record
-from aaria_pin.core._forward_kernel import joint_accelerations
+from aaria_pin.core._forward_kernel import joint_accelerations, workspace
 from aaria_pin.core.actuator import armature, friction
 from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.forward import (
@@ -85,6 +85,7 @@ def _kernel_qdd(
         vf[nb_v:].copy(),
         tau,
         motor,
+        workspace(robot.model.njoints, robot.n_joints),
         out,
     )
     return out
