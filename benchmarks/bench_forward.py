@@ -121,7 +121,7 @@ def main() -> None:
     parser.add_argument("--smoke", action="store_true", help="0.1 s, one repeat")
     args = parser.parse_args()
     duration, repeats = (0.1, 1) if args.smoke else (2.0, 5)
-    print(f"per sample [µs], {RATE:g} Hz, RK4 × {SUBSTEPS}, {duration:g} s, median of {repeats}")
+    print(f"µs/sample, {RATE:g} Hz, RK4 × {SUBSTEPS}, {duration:g} s, median of {repeats}")
     header = "robot        ours  pinocchio  rollout  mj_step  ours/rollout  ours/mj_step"
     print(header)
     for name, moving_base in CASES:
