@@ -194,6 +194,12 @@ def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, work, out):  # t
         acc[j, 3] += wp[1] * vJ[5] - wp[2] * vJ[4]
         acc[j, 4] += wp[2] * vJ[3] - wp[0] * vJ[5]
         acc[j, 5] += wp[0] * vJ[4] - wp[1] * vJ[3]
+        if kind == FREEFLYER:  # the prescribed base's own body enters no joint's equation
+            cm[j] = 0.0
+            ch[j] = 0.0
+            cJ[j] = 0.0
+            f[j] = 0.0
+            continue
         # the body's inertia at the world origin: m, h = m·c, J = R·Ic·Rᵀ + m(|c|²1 - c·cᵀ)
         m = mass[j]
         for i in range(3):
