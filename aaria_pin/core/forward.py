@@ -169,9 +169,7 @@ def forward_simulate(
 
     n = robot.n_joints
     T = time.size
-    tau = check_torques(torques, T, n)
-    zeros = np.zeros((T, n))
-    q_base, v_base, a_base = full_state(robot, base, JointTrajectory(time, zeros, zeros, zeros))
+    tau, q_base, v_base, a_base = _prepared(robot, base, torques, time, actuator)
     nb_q, nb_v = robot.base_nq, robot.base_nv
     base_arrays = (
         np.ascontiguousarray(q_base[:, :nb_q]),
@@ -181,8 +179,6 @@ def forward_simulate(
     if actuator is None:
         motor = (False, *(np.ones(n) for _ in range(6)))
     else:
-        limit = torque_limits(actuator, model_effort_limits(robot))
-        tau = np.clip(tau, -limit, limit)
         motor = (
             True,
             armature(actuator, n),
@@ -253,6 +249,29 @@ def flatten_dynamics(robot: RobotModel) -> tuple[Array, ...] | None:
     )
 
 
+def _prepared(
+    robot: RobotModel,
+    base: BaseMotion,
+    torques: ArrayLike,
+    time: Array,
+    actuator: ActuatorModel | None,
+) -> tuple[Array, Array, Array, Array]:
+    """The checked torques and the base's state at the sample times.
+
+    The torques are clipped at the motors' limits with an actuator; the base's configuration,
+    velocity and acceleration are Pinocchio's (:func:`~aaria_pin.core.kinematics.full_state`).
+    """
+    n = robot.n_joints
+    T = time.size
+    tau = check_torques(torques, T, n)
+    if actuator is not None:
+        limit = torque_limits(actuator, model_effort_limits(robot))
+        tau = np.clip(tau, -limit, limit)
+    zeros = np.zeros((T, n))
+    q_base, v_base, a_base = full_state(robot, base, JointTrajectory(time, zeros, zeros, zeros))
+    return tau, q_base, v_base, a_base
+
+
 def reference_forward_simulate(
     robot: RobotModel,
     base: BaseMotion,
@@ -286,16 +305,11 @@ def reference_forward_simulate(
     """
     n = robot.n_joints
     T = time.size
-    tau = check_torques(torques, T, n)
+    tau, q_base, v_base, a_base = _prepared(robot, base, torques, time, actuator)
     model = robot.model
     data = model.createData()
-    zeros = np.zeros((T, n))
-    q_base, v_base, a_base = full_state(robot, base, JointTrajectory(time, zeros, zeros, zeros))
     nb_q, nb_v = robot.base_nq, robot.base_nv
     rotor = np.zeros(n) if actuator is None else armature(actuator, n)
-    if actuator is not None:
-        limit = torque_limits(actuator, model_effort_limits(robot))
-        tau = np.clip(tau, -limit, limit)
     if model.nq - nb_q == n:
 
         def configuration(q: Array) -> Array:
