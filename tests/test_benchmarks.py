@@ -22,6 +22,7 @@ ROOT = Path(__file__).resolve().parent.parent
         "bench_memory.py",
         "bench_identify.py",
         "bench_identify_dynamics.py",
+        "bench_forward.py",
     ],
 )
 def test_benchmark_smoke(script: str) -> None:

@@ -40,6 +40,7 @@ from aaria_pin.core.run import (
     as_motion,
     check_options,
     motion_from_record,
+    recorded_dynamics,
     sampling_attributes,
 )
 from aaria_pin.core.run.deprecation import deprecated_producer, warn_deprecated
@@ -86,6 +87,7 @@ class _DhSettings(TypedDict, total=False):
     imu_mount: ArrayLike | None
     torques: ArrayLike | None
     limits: str
+    dynamics: str
     motion: Motion | JointTrajectory | FourierExcitation | None
     threads: int
     robot_name: str
@@ -247,7 +249,9 @@ def dh_request(dh_table: ArrayLike, **options: Unpack[DhRunOptions]) -> RunReque
     run_motion = as_motion(options.get("motion"))
     torques = options.get("torques")
     if torques is not None:
-        run_motion = TorqueDrive(torques, run_motion, limits=options.get("limits", DEFAULT_LIMITS))
+        dynamics = options.get("dynamics", TorqueDrive.dynamics)
+        limits = options.get("limits", DEFAULT_LIMITS)
+        run_motion = TorqueDrive(torques, run_motion, limits=limits, dynamics=dynamics)
     return RunRequest(dh_arm(dh_table, spec), run_motion, settings, options.get("seed", 0))
 
 
@@ -297,6 +301,7 @@ def dh_request_from_record(
     if "torque_table" in stored.tables:
         options["torques"] = stored.tables["torque_table"]
         options["limits"] = stored_limits(stored.attributes)
+        options["dynamics"] = recorded_dynamics(stored.attributes)
     if "body_dimensions" in meta.extra:
         try:
             options["dims"] = BodyDimensions(**meta.extra["body_dimensions"])

@@ -38,6 +38,7 @@ from aaria_pin.core.run import (
     as_motion,
     check_options,
     motion_from_record,
+    recorded_dynamics,
     register_kind,
 )
 from aaria_pin.core.run.deprecation import deprecated_producer
@@ -161,6 +162,7 @@ class _UrdfSettings(TypedDict, total=False):
     threads: int
     torques: ArrayLike | None
     limits: str
+    dynamics: str
     motion: MotionInput
     chunk: int | None
 
@@ -228,10 +230,13 @@ class UrdfRunOptions(LoadedRobotOptions, _UrdfLoad, total=False):
 
 
 def _run_motion(options: LoadedRobotOptions) -> Motion:
-    """The engine's motion of the options' ``motion``, ``torques`` and ``limits``."""
+    """The engine's motion of the options' ``motion``, ``torques``, ``limits``, ``dynamics``."""
     run_motion, torques = as_motion(options.get("motion")), options.get("torques")
+    if torques is None:
+        return run_motion
     limits = options.get("limits", DEFAULT_LIMITS)
-    return run_motion if torques is None else TorqueDrive(torques, run_motion, limits=limits)
+    dynamics = options.get("dynamics", TorqueDrive.dynamics)
+    return TorqueDrive(torques, run_motion, limits=limits, dynamics=dynamics)
 
 
 def _request(robot: RunRobot, options: LoadedRobotOptions) -> RunRequest:
@@ -334,6 +339,7 @@ def urdf_request_from_record(stored: RunRecord, **overrides: Unpack[UrdfRunOptio
     if "torque_table" in stored.tables:
         options["torques"] = stored.tables["torque_table"]
         options["limits"] = stored_limits(stored.attributes)
+        options["dynamics"] = recorded_dynamics(stored.attributes)
     options.update(overrides)
     return urdf_request(stored.urdf, **options)
 

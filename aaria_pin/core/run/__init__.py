@@ -33,6 +33,7 @@ from aaria_pin.core.run.motion import (
     TorqueDrive,
     as_motion,
     motion_from_record,
+    recorded_dynamics,
 )
 from aaria_pin.core.run.robot import FixedMount, RunKind, RunRobot, kind_of, register_kind
 from aaria_pin.core.run.sensor import (
@@ -95,6 +96,7 @@ __all__ = [
     "kind_of",
     "motion_from_record",
     "noise_stream",
+    "recorded_dynamics",
     "register_kind",
     "register_sensor",
     "run_length",

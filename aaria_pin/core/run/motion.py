@@ -46,6 +46,7 @@ __all__ = [
     "actuated",
     "as_motion",
     "motion_from_record",
+    "recorded_dynamics",
 ]
 
 
@@ -284,12 +285,15 @@ class TorqueDrive:
         actuator: the joints' motors, by record column (None: none)
         limits: ``stop`` (the run ends with a :class:`~aaria_pin.errors.JointLimitError` at
             the first sample beyond a limit) or ``ignore`` (``clamp`` is refused: not built)
+        dynamics: the integrator, by its name in :data:`~aaria_pin.core.forward.DYNAMICS`
+            (recorded: a run is re-made by the one that made it)
     """
 
     torques: ArrayLike
     start: Motion = field(default_factory=SineTable)
     actuator: ActuatorModel | None = None
     limits: str = DEFAULT_LIMITS
+    dynamics: str = "kernel"
     drive: ClassVar[str] = "torque"
     whole: ClassVar[bool] = True
 
@@ -310,7 +314,7 @@ class TorqueDrive:
         start = self.start.checked(robot, samples, rate)
         n_columns = len(robot.joint_names)
         tau = check_torques(self.torques, samples, n_columns, robot.torque_name)
-        return TorqueDrive(tau, start, self.actuator, self.limits)
+        return replace(self, torques=tau, start=start)
 
     def trajectory(
         self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion
@@ -320,7 +324,7 @@ class TorqueDrive:
         Raises:
             JointLimitError: the policy ``stop`` and a sample beyond the model's limits.
         """
-        from aaria_pin.core.forward import forward_simulate
+        from aaria_pin.core.forward import DYNAMICS
 
         initial = self.start.trajectory(robot, span, times, base)
         torques = np.asarray(self.torques, dtype=float)
@@ -328,16 +332,17 @@ class TorqueDrive:
         motors = self.actuator
         if motors is not None:
             motors = select_joints(motors, torques.shape[1], robot.columns)
-        moved = forward_simulate(
+        moved = DYNAMICS[self.dynamics](
             robot.model, base, tau, times, initial.q[0], initial.qd[0], actuator=motors
         )
         return limit_policy(self.limits).applied(moved, _bounds(robot))
 
     def record(self, robot: RunRobot) -> tuple[dict[str, Array], dict[str, Any]]:
-        """The starting motion's, ``torque_table`` and the attribute ``limits``."""
+        """The starting motion's, ``torque_table`` and the attributes ``limits``, ``dynamics``."""
         tables, attributes = self.start.record(robot)
         tau = np.asarray(self.torques, dtype=float)
-        return {**tables, "torque_table": tau}, {**attributes, "limits": self.limits}
+        attributes = {**attributes, "limits": self.limits, "dynamics": self.dynamics}
+        return {**tables, "torque_table": tau}, attributes
 
 
 def _bounds(robot: RunRobot) -> JointBounds:
@@ -411,8 +416,32 @@ def motion_from_record(
         )
     motion = load(tables, attributes)
     if drive and "torque_table" in tables:
-        return TorqueDrive(tables["torque_table"], motion, limits=stored_limits(attributes))
+        return TorqueDrive(
+            tables["torque_table"],
+            motion,
+            limits=stored_limits(attributes),
+            dynamics=recorded_dynamics(attributes),
+        )
     return motion
+
+
+def recorded_dynamics(attributes: dict[str, Any]) -> str:
+    """The torque drive's integrator a record names (``TorqueDrive.dynamics``).
+
+    A run written before the compiled kernel has no ``dynamics``: it was made by the Pinocchio
+    path (``"reference"``), which re-makes it bit for bit.
+
+    Raises:
+        InputFileError: a name :data:`~aaria_pin.core.forward.DYNAMICS` does not hold.
+    """
+    from aaria_pin.core.forward import DYNAMICS
+
+    name = str(attributes.get("dynamics", "reference"))
+    if name not in DYNAMICS:
+        raise InputFileError(
+            parameter="dynamics", value=name, allowed=", ".join(DYNAMICS), element="run"
+        )
+    return name
 
 
 def _stored_table(tables: dict[str, Array], name: str, motion: str) -> Array:

@@ -1,0 +1,138 @@
+"""Per-sample cost of the torque drive against MuJoCo on the same robots, in one process.
+
+    python benchmarks/bench_forward.py            # full: 2 s at 500 Hz per robot, 5 repeats
+    python benchmarks/bench_forward.py --smoke    # CI: 0.1 s, one repeat, no timing asserted
+
+Robots: ur5 and panda on a fixed base, aaria-fig2 on its moving base (the base prescribed by its
+base table). Ours: :func:`~aaria_pin.core.forward.forward_simulate` (the compiled kernel), RK4
+with 4 sub-steps, constant torques (gravity at the neutral pose) from rest, and its Pinocchio
+twin :func:`~aaria_pin.core.forward.reference_forward_simulate`. MuJoCo: the exported MJCF
+(:func:`~aaria_pin.core.export.mjcf_emit.emit_mjcf`), RK4 at the sub-step timestep (4 steps per
+sample), contacts off (our model has none): ``mujoco.rollout`` (no controls: the joints'
+torques zero) and plain ``mj_step`` in a Python loop with the same torques in ``qfrc_applied``.
+On the moving base MuJoCo integrates the 6-DOF base chain too (the base is not prescribed there),
+so its model has 6 more degrees of freedom. Prints the median over repeats of each, per sample
+[µs], and the ratio of ours to MuJoCo's ``rollout`` and to its ``mj_step`` loop.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from collections.abc import Callable
+
+import numpy as np
+import pinocchio as pin
+
+from aaria_pin.aaria.dh_robot import build_dh_robot
+from aaria_pin.aaria.presets import get_preset
+from aaria_pin.core.catalogue import find_robot
+from aaria_pin.core.export.mjcf_emit import emit_mjcf, load_mjcf
+from aaria_pin.core.forward import forward_simulate, reference_forward_simulate
+from aaria_pin.core.model import RobotModel
+from aaria_pin.core.oscillation import base_motion
+from aaria_pin.core.trajectory import BaseMotion, sample_times
+from aaria_pin.core.urdf_robot import load_urdf_robot, read_urdf_file
+
+RATE, SUBSTEPS = 500.0, 4
+CASES = (("ur5", False), ("panda", False), ("aaria-fig2", True))
+
+
+def _robot(name: str, moving_base: bool) -> tuple[RobotModel, str]:
+    """The Pinocchio model and the URDF text of a robot."""
+    if name.startswith("aaria"):
+        dh = build_dh_robot(get_preset(name).table)
+        return dh.model(moving_base=moving_base), dh.urdf
+    text = read_urdf_file(find_robot(name).urdf)
+    return load_urdf_robot(text, moving_base=moving_base).robot, text
+
+
+def _median(run: Callable[[], object], repeats: int) -> float:
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        run()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def _case(name: str, moving_base: bool, duration: float, repeats: int) -> dict[str, float]:
+    import mujoco
+    from mujoco import rollout
+
+    robot, urdf = _robot(name, moving_base)
+    times = sample_times(duration, RATE)
+    steps = times.size - 1
+    base = (
+        base_motion(get_preset("aaria-fig2").base_table, times)
+        if moving_base
+        else (BaseMotion.resting(times.size))
+    )
+    n = robot.n_joints
+    fixed = robot if not moving_base else _robot(name, False)[0]
+    gravity = pin.computeGeneralizedGravity(
+        fixed.model, fixed.model.createData(), pin.neutral(fixed.model)
+    )
+    tau = np.tile(gravity, (times.size, 1))
+    q0, v0 = np.zeros(n), np.zeros(n)
+
+    def ours() -> object:
+        return forward_simulate(robot, base, tau, times, q0, v0, substeps=SUBSTEPS)
+
+    def reference() -> object:
+        return reference_forward_simulate(robot, base, tau, times, q0, v0, SUBSTEPS)
+
+    ours()  # compile or load the kernel
+    xml, _ = emit_mjcf(urdf, (), moving_base=moving_base)
+    model = load_mjcf(xml)
+    model.opt.timestep = 1.0 / (RATE * SUBSTEPS)
+    model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
+    data = mujoco.MjData(model)
+    joints = slice(model.nv - n, model.nv)
+    state_size = mujoco.mj_stateSize(model, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+    initial = np.zeros(state_size)
+    mujoco.mj_getState(model, data, initial, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+
+    def mj_rollout() -> object:
+        return rollout.rollout(model, data, initial, nstep=steps * SUBSTEPS)
+
+    def mj_loop() -> object:
+        mujoco.mj_resetData(model, data)
+        for k in range(steps):
+            data.qfrc_applied[joints] = tau[k]
+            for _ in range(SUBSTEPS):
+                mujoco.mj_step(model, data)
+        return data
+
+    mj_rollout()
+    return {
+        "ours": _median(ours, repeats) / steps,
+        "pinocchio": _median(reference, max(1, repeats // 2)) / steps,
+        "rollout": _median(mj_rollout, repeats) / steps,
+        "mj_step": _median(mj_loop, repeats) / steps,
+    }
+
+
+def main() -> None:
+    """Print the table."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--smoke", action="store_true", help="0.1 s, one repeat")
+    args = parser.parse_args()
+    duration, repeats = (0.1, 1) if args.smoke else (2.0, 5)
+    print(f"µs/sample, {RATE:g} Hz, RK4 × {SUBSTEPS}, {duration:g} s, median of {repeats}")
+    header = "robot        ours  pinocchio  rollout  mj_step  ours/rollout  ours/mj_step"
+    print(header)
+    for name, moving_base in CASES:
+        r = {k: v * 1e6 for k, v in _case(name, moving_base, duration, repeats).items()}
+        label = f"{name}{' (moving)' if moving_base else ''}"
+        print(
+            f"{label:<20} {r['ours']:7.1f} {r['pinocchio']:9.1f} {r['rollout']:8.1f} "
+            f"{r['mj_step']:8.1f} {r['ours'] / r['rollout']:12.2f} "
+            f"{r['ours'] / r['mj_step']:12.2f}"
+        )
+
+
+if __name__ == "__main__":
+    main()
