@@ -14,7 +14,7 @@ A first compile of the kernels takes about :data:`COMPILE_SECONDS` seconds, whic
 in silence. :func:`kernel` registers a listener on numba's ``"numba:compile"`` event (numba's
 public event API, ``numba.core.event``), which numba broadcasts only after a cache miss, just
 before it compiles: a load from the disk cache never raises it. So the message
-(``aaria: compiling the IMU kernels once (about 3 s); later runs load them from <dir>``) goes to
+(``aaria: compiling the kernels once (seconds: ...); later runs load them from <dir>``) goes to
 stderr exactly when a compile really starts, at most once per process, and costs nothing on a
 call that finds its compiled code in memory. Checking numba's index files beforehand was the
 alternative; it would mean computing each call's type signature and reading numba's private
@@ -65,7 +65,8 @@ def compile_message(cache_dir: str | None) -> str:
     """
     where = cache_dir if cache_dir else "numba's cache"
     return (
-        f"aaria: compiling the IMU kernels once (about {COMPILE_SECONDS} s); "
+        "aaria: compiling the kernels once (seconds: 3 for the IMUs', 5-8 for the torque "
+        f"drive's); "
         f"later runs load them from {where}"
     )
 

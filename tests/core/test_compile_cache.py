@@ -18,7 +18,7 @@ import pytest
 from aaria_pin.core._compile import compile_message
 
 ROOT = Path(__file__).resolve().parents[2]
-MESSAGE = "aaria: compiling the IMU kernels once"
+MESSAGE = "aaria: compiling the kernels once"
 
 # A foreign numba function compiles first (it must not trigger the message), then one kernel of
 # ours runs on an identity base at rest, whose free-flyer state is known: q = [p, 0, 0, 0, 1].
