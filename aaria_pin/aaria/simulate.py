@@ -27,7 +27,7 @@ from aaria_pin.aaria.sensen import N_MODULES
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ImuNoiseModel
-from aaria_pin.core.joint_limits import DEFAULT_LIMITS, stored_limits
+from aaria_pin.core.joint_limits import stored_limits
 from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.run import (
@@ -36,7 +36,6 @@ from aaria_pin.core.run import (
     RunRequest,
     RunSettings,
     RunTables,
-    TorqueDrive,
     as_motion,
     check_options,
     motion_from_record,
@@ -44,6 +43,7 @@ from aaria_pin.core.run import (
     sampling_attributes,
 )
 from aaria_pin.core.run.deprecation import deprecated_producer, warn_deprecated
+from aaria_pin.core.run.motion import driven
 from aaria_pin.core.run.robot import RunKind, register_kind
 from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.trajectory import (
@@ -246,12 +246,7 @@ def dh_request(dh_table: ArrayLike, **options: Unpack[DhRunOptions]) -> RunReque
         options.get("robot_name", DH_ROBOT),
         options.get("keep_urdf", True),
     )
-    run_motion = as_motion(options.get("motion"))
-    torques = options.get("torques")
-    if torques is not None:
-        dynamics = options.get("dynamics", TorqueDrive.dynamics)
-        limits = options.get("limits", DEFAULT_LIMITS)
-        run_motion = TorqueDrive(torques, run_motion, limits=limits, dynamics=dynamics)
+    run_motion = driven(as_motion(options.get("motion")), options)
     return RunRequest(dh_arm(dh_table, spec), run_motion, settings, options.get("seed", 0))
 
 

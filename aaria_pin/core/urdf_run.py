@@ -24,7 +24,7 @@ from numpy.typing import ArrayLike
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import DEFAULT_HARMONICS, FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ImuNoiseModel
-from aaria_pin.core.joint_limits import DEFAULT_LIMITS, stored_limits
+from aaria_pin.core.joint_limits import stored_limits
 from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
 from aaria_pin.core.record import ImuMount, RunRecord
 from aaria_pin.core.run import (
@@ -34,7 +34,6 @@ from aaria_pin.core.run import (
     RunRobot,
     RunSettings,
     RunTables,
-    TorqueDrive,
     as_motion,
     check_options,
     motion_from_record,
@@ -42,6 +41,7 @@ from aaria_pin.core.run import (
     register_kind,
 )
 from aaria_pin.core.run.deprecation import deprecated_producer
+from aaria_pin.core.run.motion import driven
 from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.run.urdf_kind import UrdfRunSpec, urdf_robot_run
 from aaria_pin.core.trajectory import (
@@ -231,12 +231,7 @@ class UrdfRunOptions(LoadedRobotOptions, _UrdfLoad, total=False):
 
 def _run_motion(options: LoadedRobotOptions) -> Motion:
     """The engine's motion of the options' ``motion``, ``torques``, ``limits``, ``dynamics``."""
-    run_motion, torques = as_motion(options.get("motion")), options.get("torques")
-    if torques is None:
-        return run_motion
-    limits = options.get("limits", DEFAULT_LIMITS)
-    dynamics = options.get("dynamics", TorqueDrive.dynamics)
-    return TorqueDrive(torques, run_motion, limits=limits, dynamics=dynamics)
+    return driven(as_motion(options.get("motion")), options)
 
 
 def _request(robot: RunRobot, options: LoadedRobotOptions) -> RunRequest:

@@ -91,3 +91,19 @@ def test_continuous_joints_are_driven_too() -> None:
     prescribed = simulate_urdf_run(text, **settings)
     driven = simulate_urdf_run(text, torques=prescribed.tau, **settings)
     assert np.abs(driven.q - prescribed.q).max() < 2e-3
+
+
+@pytest.mark.parametrize("kind", ["dh", "urdf"])
+def test_a_limits_policy_needs_torques(kind: str) -> None:
+    """Only a torque-driven run has a limits policy: one without torques is refused, not ignored."""
+    from aaria_pin.aaria.presets import get_preset
+    from aaria_pin.aaria.simulate import dh_request
+    from aaria_pin.core.urdf_run import urdf_request
+
+    entry = find_robot("ur5")
+    with pytest.raises(ParameterError, match=r"^limits is 'stop' for a run without torques") as e:
+        if kind == "dh":
+            dh_request(get_preset("aaria-fig2").table, duration=0.1, limits="stop")
+        else:
+            urdf_request(read_urdf_file(entry.urdf), duration=0.1, limits="stop")
+    assert e.value.parameter == "limits"

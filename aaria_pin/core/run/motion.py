@@ -12,7 +12,7 @@ Adding a motion is one class here (or in any module) plus its entry in :data:`MO
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar, Protocol, Self
 
@@ -45,6 +45,7 @@ __all__ = [
     "TorqueDrive",
     "actuated",
     "as_motion",
+    "driven",
     "motion_from_record",
     "recorded_dynamics",
 ]
@@ -351,6 +352,30 @@ def _bounds(robot: RunRobot) -> JointBounds:
     columns = list(range(lower.size)) if robot.columns is None else robot.columns
     names = [robot.joint_names[c] for c in columns]
     return JointBounds(names, lower[columns], upper[columns], model_velocity_limits(robot.model))
+
+
+def driven(motion: Motion, options: Mapping[str, Any]) -> Motion:
+    """The run's motion under a request's options: a :class:`TorqueDrive` when they give torques.
+
+    Args:
+        motion: the motion (a torque drive's start)
+        options: a request's options: ``torques``, ``limits``, ``dynamics``
+
+    Raises:
+        ParameterError: ``limits`` without torques (only a torque-driven run has a policy).
+    """
+    torques, limits = options.get("torques"), options.get("limits")
+    if torques is None:
+        if limits is not None:
+            raise ParameterError(
+                f"limits is {limits!r} for a run without torques; allowed: limits with torques "
+                "(a torque-driven run)",
+                parameter="limits",
+                value=limits,
+            )
+        return motion
+    dynamics = options.get("dynamics", TorqueDrive.dynamics)
+    return TorqueDrive(torques, motion, limits=limits or DEFAULT_LIMITS, dynamics=dynamics)
 
 
 def actuated(motion: Motion, actuator: ActuatorModel | None) -> Motion:
