@@ -81,7 +81,7 @@ def _case(name: str, moving_base: bool, duration: float, repeats: int) -> dict[s
         return forward_simulate(robot, base, tau, times, q0, v0, substeps=SUBSTEPS)
 
     def reference() -> object:
-        return reference_forward_simulate(robot, base, tau, times, q0, v0, SUBSTEPS)
+        return reference_forward_simulate(robot, base, tau, times, q0, v0, substeps=SUBSTEPS)
 
     ours()  # compile or load the kernel
     xml, _ = emit_mjcf(urdf, (), moving_base=moving_base)

@@ -160,7 +160,8 @@ def sampling_overrides(params: dict[str, Any], stored: Any = None) -> dict[str, 
 
 limits_option = click.option("--limits", type=click.Choice(["stop", "clamp", "ignore"]),
     help="--drive torque: stop at the first joint beyond its model position or velocity limit"
-    " (exit 1; the default), or ignore them (clamp: not built). --from: as stored.")  # fmt: skip
+    " (exit 1; the default), hold it on stiff-damped stops (clamp), or ignore them. --from: as"
+    " stored.")  # fmt: skip
 
 
 def torque_overrides(params: dict[str, Any]) -> dict[str, Any]:

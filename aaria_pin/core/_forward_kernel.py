@@ -15,7 +15,11 @@ transforms:
 - backward pass: forces and composite inertias (mass ``m``, first moment ``h = m·c``,
   rotational inertia about the origin ``J``) summed into the parents; the bias of a joint is
   ``S·f``, the mass matrix ``M[i, j] = S_j·(I_crb,i·S_i)`` (CRBA);
-- ``(M + diag(armature))·qdd = tau - friction(qd) - bias`` solved by Cholesky.
+- with stops (policy ``clamp``), each joint beyond its limits gets the one-sided spring-damper
+  ``-k·(q - clip(q, lower, upper)) - c·qd``, ``k = m_i·ω²``, ``c = 2·m_i·ω`` (``m_i`` the
+  joint's effective inertia ``1 / (M⁻¹)_ii``, from the Cholesky factor;
+  :func:`aaria_pin.core.forward.stop_torques`);
+- ``(M + diag(armature))·qdd = tau - friction(qd) + stop - bias`` solved by Cholesky.
 
 :func:`integrate` runs the whole run: classical Runge–Kutta (or semi-implicit Euler) with
 ``substeps`` steps per sample, torques and the base state linear between samples (the base's
@@ -114,14 +118,15 @@ def workspace(nj, n):  # type: ignore[no-untyped-def]  # pragma: no cover
 
 
 @kernel
-def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, stop, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """Joint accelerations ``out`` (n,) at one state, the base prescribed (module docstring).
 
     ``model`` is the tuple of :func:`~aaria_pin.core.forward.flatten_dynamics`; ``qb``, ``vb``,
     ``ab`` the base's configuration (7,), velocity and acceleration (6,, local, Pinocchio's
     convention; unused on a fixed base); ``torque`` (n,) the joint torques; ``motor`` the
     tuple ``(on, armature, viscous, coulomb, coulomb_velocity, stribeck_torque,
-    stribeck_velocity)`` (``on`` 0: no actuator); ``work`` a :func:`workspace`.
+    stribeck_velocity)`` (``on`` 0: no actuator); ``stop`` the tuple ``(on, lower, upper,
+    omega)`` of the stops (``on`` 0: none); ``work`` a :func:`workspace`.
     """
     kinds, axes, parents, columns, PR, Pp, mass, lever, Ic, gravity = model
     on, rotor, viscous, coulomb, smooth, stribeck, v_s = motor
@@ -274,6 +279,21 @@ def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, work, out):  # t
             for m2 in range(k):
                 s -= A[i, m2] * A[k, m2]
             A[i, k] = np.sqrt(s) if i == k else s / A[k, k]
+    if stop[0]:  # the stops, with each joint's effective inertia 1 / (M⁻¹)_ii (out: scratch)
+        lower, upper, omega = stop[1], stop[2], stop[3]
+        for j in range(n):
+            x = q[j]
+            if x < lower[j] or x > upper[j]:
+                edge = lower[j] if x < lower[j] else upper[j]
+                inverse = 0.0  # (M⁻¹)_jj = |L⁻¹·e_j|²
+                for i in range(j, n):
+                    s = 1.0 if i == j else 0.0
+                    for k in range(j, i):
+                        s -= A[i, k] * out[k]
+                    out[i] = s / A[i, i]
+                    inverse += out[i] * out[i]
+                inertia = 1.0 / inverse
+                rhs[j] += -inertia * omega * omega * (x - edge) - 2 * inertia * omega * v[j]
     for i in range(n):
         s = rhs[i]
         for k in range(i):
@@ -287,7 +307,7 @@ def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, work, out):  # t
 
 
 @kernel
-def _at(model, base, tau, k, q, v, motor, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+def _at(model, base, tau, k, q, v, motor, stop, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """Joint accelerations at fractional sample index k: base and torques linear in k."""
     q_base, v_base, a_base = base
     T = tau.shape[0]
@@ -314,11 +334,11 @@ def _at(model, base, tau, k, q, v, motor, work, out):  # type: ignore[no-untyped
         ab[m] = (1 - w) * a_base[i, m] + w * a_base[i1, m]
     for m in range(tau.shape[1]):
         torque[m] = (1 - w) * tau[i, m] + w * tau[i1, m]
-    joint_accelerations(model, qb, vb, ab, q, v, torque, motor, work, out)
+    joint_accelerations(model, qb, vb, ab, q, v, torque, motor, stop, work, out)
 
 
 @kernel
-def integrate(model, base, tau, q0, v0, h, substeps, method, motor, q, v, a):  # type: ignore[no-untyped-def]  # pragma: no cover
+def integrate(model, base, tau, q0, v0, h, substeps, method, motor, stop, q, v, a):  # type: ignore[no-untyped-def]  # pragma: no cover
     """Fill ``q``, ``v``, ``a`` (T, n): RK4 or semi-implicit Euler, ``substeps`` steps of h [s]."""
     T, n = tau.shape
     work = workspace(model[0].shape[0], n)
@@ -330,7 +350,7 @@ def integrate(model, base, tau, q0, v0, h, substeps, method, motor, q, v, a):  #
     for i in range(T - 1):
         for s in range(substeps):
             k = i + s / substeps
-            _at(model, base, tau, k, x, y, motor, work, k1)
+            _at(model, base, tau, k, x, y, motor, stop, work, k1)
             if s == 0:
                 a[i] = k1
             if method == EULER:
@@ -341,15 +361,15 @@ def integrate(model, base, tau, q0, v0, h, substeps, method, motor, q, v, a):  #
             for m in range(n):
                 xt[m] = x[m] + h / 2 * y[m]
                 yt[m] = y[m] + h / 2 * k1[m]
-            _at(model, base, tau, k + dk / 2, xt, yt, motor, work, k2)
+            _at(model, base, tau, k + dk / 2, xt, yt, motor, stop, work, k2)
             for m in range(n):
                 xt[m] = x[m] + h / 2 * (y[m] + h / 2 * k1[m])
                 yt[m] = y[m] + h / 2 * k2[m]
-            _at(model, base, tau, k + dk / 2, xt, yt, motor, work, k3)
+            _at(model, base, tau, k + dk / 2, xt, yt, motor, stop, work, k3)
             for m in range(n):
                 xt[m] = x[m] + h * (y[m] + h / 2 * k2[m])
                 yt[m] = y[m] + h * k3[m]
-            _at(model, base, tau, k + dk, xt, yt, motor, work, k4)
+            _at(model, base, tau, k + dk, xt, yt, motor, stop, work, k4)
             for m in range(n):
                 ym = y[m]
                 x[m] = x[m] + h / 6 * (
@@ -357,4 +377,4 @@ def integrate(model, base, tau, q0, v0, h, substeps, method, motor, q, v, a):  #
                 )
                 y[m] = ym + h / 6 * (k1[m] + 2 * k2[m] + 2 * k3[m] + k4[m])
         q[i + 1], v[i + 1] = x, y
-    _at(model, base, tau, float(T - 1), q[T - 1], v[T - 1], motor, work, a[T - 1])
+    _at(model, base, tau, float(T - 1), q[T - 1], v[T - 1], motor, stop, work, a[T - 1])

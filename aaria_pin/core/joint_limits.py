@@ -10,9 +10,13 @@ then hands its trajectory to its policy, named by the run's ``limits`` attribute
   time, the value and the limit; nothing is written.
 - ``ignore``: the trajectory as integrated (what every torque run did before the policy was
   recorded; a record without the attribute reads as ``ignore``, so it is re-made bit for bit).
-- ``clamp``: refused. Holding a joint at its limit is a force in the dynamics (a stiff
-  spring-damper acting beyond the limit, evaluated at every integrator stage), not a clip of the
-  integrated values; it is not built yet.
+- ``clamp``: stiff-damped stops. Holding a joint at its limit is a force in the dynamics, not a
+  clip of the integrated values: the policy hands its position bounds to the forward dynamics
+  (:meth:`LimitPolicy.forward_options`, the option ``stops`` of
+  :func:`~aaria_pin.core.forward.forward_simulate`), which adds at every integrator stage a
+  critically damped one-sided spring-damper beyond each limit
+  (:func:`~aaria_pin.core.forward.stop_torques`); the trajectory is then kept as integrated.
+  A joint pressed on its stop sinks slightly past it (the stop is stiff, not rigid).
 
 Torque limits are the actuator's: with one, the motor torques are saturated at its limits inside
 the forward dynamics (:func:`~aaria_pin.core.forward.forward_simulate`); without, a URDF robot's
@@ -85,6 +89,10 @@ class LimitPolicy(Protocol):
         """
         ...
 
+    def forward_options(self, bounds: JointBounds) -> dict[str, Any]:
+        """What the policy adds to the forward dynamics' options (``ForwardOptions``)."""
+        ...
+
 
 class IgnoreLimits:
     """``ignore``: the trajectory as integrated, wherever it goes."""
@@ -95,11 +103,19 @@ class IgnoreLimits:
         """The trajectory itself."""
         return trajectory
 
+    def forward_options(self, bounds: JointBounds) -> dict[str, Any]:
+        """Nothing: the dynamics has no stops."""
+        return {}
+
 
 class StopAtLimits:
     """``stop``: the run ends at the first sample beyond a position or velocity limit."""
 
     name: ClassVar[str] = "stop"
+
+    def forward_options(self, bounds: JointBounds) -> dict[str, Any]:
+        """Nothing: the dynamics has no stops (the trajectory is checked after)."""
+        return {}
 
     def applied(self, trajectory: JointTrajectory, bounds: JointBounds) -> JointTrajectory:
         """The trajectory, if every sample is within the bounds.
@@ -136,12 +152,22 @@ class StopAtLimits:
 
 
 class ClampAtLimits:
-    """``clamp``: stiff-damped stops in the dynamics (not built: refused when chosen)."""
+    """``clamp``: stiff-damped stops in the dynamics at the position limits."""
 
     name: ClassVar[str] = "clamp"
 
+    def applied(self, trajectory: JointTrajectory, bounds: JointBounds) -> JointTrajectory:
+        """The trajectory itself: the stops acted in the dynamics."""
+        return trajectory
 
-_POLICIES: dict[str, LimitPolicy] = {p.name: p for p in (StopAtLimits(), IgnoreLimits())}
+    def forward_options(self, bounds: JointBounds) -> dict[str, Any]:
+        """The position bounds, as the forward dynamics' ``stops``."""
+        return {"stops": (np.asarray(bounds.lower, float), np.asarray(bounds.upper, float))}
+
+
+_POLICIES: dict[str, LimitPolicy] = {
+    p.name: p for p in (StopAtLimits(), ClampAtLimits(), IgnoreLimits())
+}
 
 LIMIT_POLICIES = ("stop", "clamp", "ignore")
 """The policies' names, as ``--limits`` offers them."""
@@ -151,18 +177,11 @@ def limit_policy(name: Any) -> LimitPolicy:
     """The policy named ``name``.
 
     Raises:
-        ParameterError: an unknown name, or ``clamp`` (not built yet; parameter ``limits``).
+        ParameterError: an unknown name (parameter ``limits``).
     """
     policy = _POLICIES.get(name) if isinstance(name, str) else None
     if policy is not None:
         return policy
-    if name == ClampAtLimits.name:
-        raise ParameterError(
-            "limits is clamp (stiff-damped stops in the dynamics), which is not built yet; "
-            "allowed: stop, ignore",
-            parameter="limits",
-            value=name,
-        )
     raise ParameterError(parameter="limits", value=name, allowed=", ".join(LIMIT_POLICIES))
 
 

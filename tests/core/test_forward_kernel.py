@@ -6,7 +6,8 @@ on a moving base (aaria-fig2, ur5), the joints' block of ``pin.crba`` solved aga
 ``pin.rnea`` with the base's velocity and acceleration (ABA would let the base react). Whole
 runs: the kernel equals the Pinocchio path (:func:`reference_forward_simulate`, same RK4, same
 sub-steps); semi-implicit Euler converges at first order; models the kernel cannot do take the
-Pinocchio path; a run records the integrator that made it.
+Pinocchio path; a run records the integrator that made it. The stops of the ``clamp`` policy:
+their torque by hand, and the kernel equals the Pinocchio path with joints on their stops.
 """
 
 from __future__ import annotations
@@ -24,9 +25,11 @@ from aaria_pin.core._forward_kernel import joint_accelerations, workspace
 from aaria_pin.core.actuator import armature, friction
 from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.forward import (
+    STOP_OMEGA_H,
     flatten_dynamics,
     forward_simulate,
     reference_forward_simulate,
+    stop_torques,
 )
 from aaria_pin.core.joint_sensors import ActuatorModel
 from aaria_pin.core.model import RobotModel
@@ -85,6 +88,7 @@ def _kernel_qdd(
         vf[nb_v:].copy(),
         tau,
         motor,
+        (False, np.zeros(robot.n_joints), np.zeros(robot.n_joints), 0.0),
         workspace(robot.model.njoints, robot.n_joints),
         out,
     )
@@ -163,6 +167,39 @@ def test_a_whole_run_equals_the_pinocchio_path(
     want = reference_forward_simulate(robot, base, tau, time, q0, v0, substeps=4, actuator=motors)
     for a, b in ((got.q, want.q), (got.qd, want.qd), (got.qdd, want.qdd)):
         np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-9 * np.abs(b).max())
+
+
+def test_a_stop_is_a_critically_damped_spring_beyond_its_limit_only() -> None:
+    stops = (np.array([-1.0, -1.0, -1.0]), np.array([1.0, 1.0, 1.0]))
+    q, v = np.array([1.5, -1.25, 0.5]), np.array([2.0, -3.0, 7.0])
+    inertia, omega = np.array([2.0, 4.0, 9.0]), 10.0
+    got = stop_torques(q, v, inertia, stops, omega)
+    # k = m·ω², c = 2·m·ω: joint 1 is 0.5 past its upper limit, joint 2 0.25 below its lower
+    want = [-2 * 100 * 0.5 - 2 * 2 * 10 * 2.0, -4 * 100 * -0.25 - 2 * 4 * 10 * -3.0, 0.0]
+    np.testing.assert_allclose(got, want, rtol=1e-15)
+
+
+@pytest.mark.parametrize(
+    ("name", "moving_base", "motors"),
+    [("ur5", False, None), ("aaria-fig2", True, MOTORS), ("ur5", True, None)],
+)
+def test_with_stops_a_run_equals_the_pinocchio_path_and_is_held_near_its_limits(
+    name: str, moving_base: bool, motors: ActuatorModel | None
+) -> None:
+    robot, base, tau, time = _case(name, moving_base)
+    n = robot.n_joints
+    q0, v0 = np.full(n, 0.1), np.full(n, -0.2)
+    stops = (q0 - 0.01, q0 + 0.01)  # every joint reaches a stop within the run
+    options = {"substeps": 4, "actuator": motors, "stops": stops}
+    got = forward_simulate(robot, base, tau, time, q0, v0, **options)  # type: ignore[arg-type]
+    want = reference_forward_simulate(robot, base, tau, time, q0, v0, **options)  # type: ignore[arg-type]
+    for a, b in ((got.q, want.q), (got.qd, want.qd), (got.qdd, want.qdd)):
+        np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-9 * np.abs(b).max())
+    free = forward_simulate(robot, base, tau, time, q0, v0, substeps=4, actuator=motors)
+    beyond = np.maximum(got.q - stops[1], stops[0] - got.q)
+    out = np.maximum(free.q - stops[1], stops[0] - free.q).max()
+    assert (beyond > 0).any() and beyond.max() < 0.5 * out  # on the stops, a little past them
+    assert STOP_OMEGA_H / (float(time[1] - time[0]) / 4) == pytest.approx(60.0)  # ω [rad/s]
 
 
 def test_semi_implicit_euler_converges_at_first_order() -> None:

@@ -1,7 +1,8 @@
 """Joint limits of torque-driven runs (``--limits stop|clamp|ignore``): the policies on
 hand-made trajectories, and the issue's own example through the command line (aaria-fig2 driven
 by the torques of its sine run drifts out of its rails: ``stop`` ends it with exit 1 and writes
-nothing; ``ignore`` keeps it; ``--from`` keeps the stored policy; old files read as ``ignore``)."""
+nothing; ``ignore`` keeps it; ``clamp`` holds it on its stops, within 1 mm past its rails;
+``--from`` keeps the stored policy; old files read as ``ignore``)."""
 
 from __future__ import annotations
 
@@ -61,11 +62,15 @@ def test_stop_reports_a_velocity_beyond_the_model_limit_and_a_value_that_is_not_
         limit_policy("stop").applied(lost, BOUNDS)
 
 
-def test_ignore_keeps_anything_and_clamp_or_an_unknown_name_is_refused() -> None:
+def test_ignore_and_clamp_keep_the_trajectory_and_an_unknown_name_is_refused() -> None:
     out = _trajectory([[5.0, np.inf]], [[99.0, 0.0]])
     assert limit_policy("ignore").applied(out, BOUNDS) is out
-    with pytest.raises(ParameterError, match=r"clamp .*not built yet; allowed: stop, ignore"):
-        limit_policy("clamp")
+    assert limit_policy("clamp").applied(out, BOUNDS) is out  # its stops act in the dynamics
+    assert limit_policy("ignore").forward_options(BOUNDS) == {}
+    assert limit_policy("stop").forward_options(BOUNDS) == {}
+    lower, upper = limit_policy("clamp").forward_options(BOUNDS)["stops"]
+    np.testing.assert_array_equal(lower, [-1.0, -0.5])
+    np.testing.assert_array_equal(upper, [1.0, 0.5])
     with pytest.raises(ParameterError, match="allowed: stop, clamp, ignore") as caught:
         limit_policy("hold")
     assert caught.value.parameter == "limits"
@@ -74,8 +79,9 @@ def test_ignore_keeps_anything_and_clamp_or_an_unknown_name_is_refused() -> None
 def test_a_record_without_the_attribute_reads_as_ignore() -> None:
     assert stored_limits({}) == "ignore"
     assert stored_limits({"limits": "stop"}) == "stop"
+    assert stored_limits({"limits": "clamp"}) == "clamp"
     with pytest.raises(InputFileError, match="limits"):
-        stored_limits({"limits": "clamp"})
+        stored_limits({"limits": "hold"})
     old = read_run(FIXTURES / "dh_torque.h5")  # written by 0.3.0, before the policy
     drive = motion_from_record(old.tables, old.attributes)
     assert isinstance(drive, TorqueDrive) and drive.limits == "ignore"
@@ -151,10 +157,33 @@ def test_a_run_within_its_limits_is_unchanged_and_from_keeps_the_policy(fig2: Pa
     assert code == 1 and "limits stop" in err and not (fig2 / "again_stop.h5").exists()
 
 
-def test_clamp_and_limits_without_a_torque_drive_are_refused_with_exit_2(fig2: Path) -> None:
+def test_clamp_holds_the_drifting_run_within_1_mm_past_its_limits(fig2: Path) -> None:
     code, _, err = _drive(fig2, "clamped.h5", "--limits", "clamp")
-    assert code == 2 and "--limits is clamp" in err and "not built yet" in err
-    assert not (fig2 / "clamped.h5").exists()
+    assert code == 0, err
+    clamped = read_run(fig2 / "clamped.h5")
+    assert clamped.attributes["limits"] == "clamp"
+    beyond = np.abs(clamped.q) + FIG2_LOWER  # > 0: past a limit (they are symmetric)
+    ignored = read_run(fig2 / "ignored.h5")
+    assert (np.abs(ignored.q) + FIG2_LOWER).max() > 0.01  # without stops it leaves by far
+    assert 0 < beyond.max() < 1e-3  # on its stops, under 1 mm past them (the documented figure)
+    code, _, err = run_cli("simulate", "--from", str(fig2 / "clamped.h5"), "-o",
+                           str(fig2 / "clamped_again.h5"))  # fmt: skip
+    assert code == 0, err
+    np.testing.assert_array_equal(read_run(fig2 / "clamped_again.h5").q, clamped.q)
+
+
+def test_a_run_within_its_limits_is_the_same_bit_for_bit_under_clamp(fig2: Path) -> None:
+    code, _, err = _drive(fig2, "short_clamp.h5", "--limits", "clamp", run="short_run.h5")
+    assert code == 0, err
+    code, _, err = _drive(fig2, "short_free.h5", "--limits", "ignore", run="short_run.h5")
+    assert code == 0, err
+    clamped, free = read_run(fig2 / "short_clamp.h5"), read_run(fig2 / "short_free.h5")
+    assert (np.abs(free.q) + FIG2_LOWER).max() < 0  # inside its limits throughout
+    for name in ("q", "qd", "qdd"):
+        np.testing.assert_array_equal(getattr(clamped, name), getattr(free, name))
+
+
+def test_limits_without_a_torque_drive_are_refused_with_exit_2(fig2: Path) -> None:
     code, _, err = run_cli("simulate", "--preset", "aaria-fig2", "--limits", "ignore",
                            "-o", str(fig2 / "x.h5"))  # fmt: skip
     assert code == 2 and "--limits goes with --drive torque" in err

@@ -285,7 +285,8 @@ class TorqueDrive:
         start: the motion whose values and velocities at t = 0 start the run
         actuator: the joints' motors, by record column (None: none)
         limits: ``stop`` (the run ends with a :class:`~aaria_pin.errors.JointLimitError` at
-            the first sample beyond a limit) or ``ignore`` (``clamp`` is refused: not built)
+            the first sample beyond a limit), ``clamp`` (stiff-damped stops in the dynamics) or
+            ``ignore``
         dynamics: the integrator, by its name in :data:`~aaria_pin.core.forward.DYNAMICS`
             (recorded: a run is re-made by the one that made it)
     """
@@ -333,10 +334,18 @@ class TorqueDrive:
         motors = self.actuator
         if motors is not None:
             motors = select_joints(motors, torques.shape[1], robot.columns)
+        policy, bounds = limit_policy(self.limits), _bounds(robot)
         moved = DYNAMICS[self.dynamics](
-            robot.model, base, tau, times, initial.q[0], initial.qd[0], actuator=motors
+            robot.model,
+            base,
+            tau,
+            times,
+            initial.q[0],
+            initial.qd[0],
+            actuator=motors,
+            **policy.forward_options(bounds),
         )
-        return limit_policy(self.limits).applied(moved, _bounds(robot))
+        return policy.applied(moved, bounds)
 
     def record(self, robot: RunRobot) -> tuple[dict[str, Array], dict[str, Any]]:
         """The starting motion's, ``torque_table`` and the attributes ``limits``, ``dynamics``."""
