@@ -24,7 +24,6 @@ __all__ = ["IMU_TABLE", "NOT_DRAWN", "SENSORS", "WHOLE_COUNTS", "Range", "TableR
 IMU_TABLE = "imu"
 SENSORS = ("gyro", "accel")
 """The sub-tables of ``[imu]``: the fields of :class:`~aaria_pin.core.imu_noise.SensorNoise`."""
-_SENSORS = SENSORS
 
 
 class Range(NamedTuple):
@@ -72,9 +71,9 @@ class TableReader:
             if not isinstance(preset, str) or preset.lower() not in IMU_PRESETS:
                 raise self.refused(f"{name}.preset", preset, ", ".join(sorted(IMU_PRESETS)))
             out["preset"] = preset.lower()
-        top = {k: v for k, v in data.items() if k not in ("preset", *_SENSORS)}
+        top = {k: v for k, v in data.items() if k not in ("preset", *SENSORS)}
         out.update(self._values(name, top, ImuNoiseModel, ranges, per_joint=False))
-        for sensor in _SENSORS:
+        for sensor in SENSORS:
             if sensor in data:
                 where = f"{name}.{sensor}"
                 if not isinstance(data[sensor], Mapping):
@@ -96,7 +95,7 @@ class TableReader:
         self, name: str, data: Mapping[str, Any], model: type, ranges: bool, per_joint: bool
     ) -> dict[str, Any]:
         """A model's values in its field order, each a number, a range or (joints) a list."""
-        names = [f.name for f in dataclasses.fields(model) if f.name not in _SENSORS]
+        names = [f.name for f in dataclasses.fields(model) if f.name not in SENSORS]
         self._known(name, data, names)
         defaults = {f.name: f.default for f in dataclasses.fields(model)}
         out: dict[str, Any] = {}

@@ -35,10 +35,9 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
+from aaria_pin.core.joint_sensors import JOINT_MODELS
 from aaria_pin.core.record import HARDWARE_UNITS
 from aaria_pin.core.run.measured import JOINT_TABLES
-
-_CARD_ORDER = {"encoder": 0, "torque_sensor": 1, "actuator": 2}
 
 __all__ = [
     "CARD_ATTRIBUTE",
@@ -61,8 +60,10 @@ MAX_LISTED_RUNS = 100
 MAX_LISTED_STRUCTURES = 30
 """Most structures the text lists (the card holds them all: at most 3^6 - 1)."""
 HARDWARE_TABLE_UNITS = {
-    model: {name: HARDWARE_UNITS[name] for name in (*timed, *per_run)}
-    for model, (per_run, timed) in sorted(JOINT_TABLES.items(), key=lambda t: _CARD_ORDER[t[0]])
+    model: {
+        name: HARDWARE_UNITS[name] for name in (*JOINT_TABLES[model][1], *JOINT_TABLES[model][0])
+    }
+    for model in JOINT_MODELS
 }
 """The tables a run records of each joint model, with their units (and shapes)."""
 

@@ -57,7 +57,7 @@ JOINT_TABLES = {
     "torque_sensor": (("torque_sensor_bias", "torque_sensor_scale"), ("tau_measured",)),
 }
 """Each model's per-run tables and time-axis tables (the record's ``JOINT_RUN_TABLES`` and
-``JOINT_SERIES``)."""
+``JOINT_SERIES``), in the order of the channels (:func:`run_sensors`)."""
 
 
 HARDWARE_ATTRIBUTES = ("noise_parameters", *JOINT_MODELS, "actuator_limits")
@@ -241,15 +241,10 @@ def joint_table_shapes(
 
     The record puts them after its other tables (the robot's, the motion's, the user sensors').
     """
-    on = [name for name in run_order() if getattr(settings, name) is not None]
+    on = [name for name in JOINT_TABLES if getattr(settings, name) is not None]
     shapes: dict[str, tuple[int, ...]] = {}
     for name in on:
         shapes.update({table: (1, joints) for table in JOINT_TABLES[name][0]})
     for name in on:
         shapes.update({table: (samples, joints) for table in JOINT_TABLES[name][1]})
     return shapes
-
-
-def run_order() -> tuple[str, ...]:
-    """The order of the channels (:func:`run_sensors`): actuator, encoder, torque_sensor."""
-    return ("actuator", "encoder", "torque_sensor")
