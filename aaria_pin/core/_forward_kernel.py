@@ -118,21 +118,19 @@ def workspace(nj, n):  # type: ignore[no-untyped-def]  # pragma: no cover
 
 
 @kernel
-def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, stop, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
-    """Joint accelerations ``out`` (n,) at one state, the base prescribed (module docstring).
+def dynamics_terms(model, qb, vb, ab, q, v, work):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """The joints' mass matrix and bias at one state, the base prescribed (module docstring).
 
-    ``model`` is the tuple of :func:`~aaria_pin.core.forward.flatten_dynamics`; ``qb``, ``vb``,
-    ``ab`` the base's configuration (7,), velocity and acceleration (6,, local, Pinocchio's
-    convention; unused on a fixed base); ``torque`` (n,) the joint torques; ``motor`` the
-    tuple ``(on, armature, viscous, coulomb, coulomb_velocity, stribeck_torque,
-    stribeck_velocity)`` (``on`` 0: no actuator); ``stop`` the tuple ``(on, lower, upper,
-    omega)`` of the stops (``on`` 0: none); ``work`` a :func:`workspace`.
+    Fills the workspace's mass matrix ``work[9]`` (n × n, both triangles) and its right-hand
+    side row ``work[12][0]`` with ``-bias`` (the RNEA torques with ``qdd = 0``: gravity,
+    Coriolis, the base's acceleration). ``model`` is the tuple of
+    :func:`~aaria_pin.core.forward.flatten_dynamics`; ``qb``, ``vb``, ``ab`` the base's
+    configuration (7,), velocity and acceleration (6,, local, Pinocchio's convention; unused on
+    a fixed base); ``work`` a :func:`workspace`.
     """
     kinds, axes, parents, columns, PR, Pp, mass, lever, Ic, gravity = model
-    on, rotor, viscous, coulomb, smooth, stribeck, v_s = motor
     R, p, S, vel, acc, f, cm, ch, cJ, A, six, three, _ = work
     nj = kinds.shape[0]
-    n = q.shape[0]
     Rot, M0 = three[0], three[1]
     d, c = six[0, :3], six[0, 3:]
     vJ, aJ, Iv, F, rhs = six[1], six[2], six[3], six[4], work[12][0]
@@ -249,7 +247,7 @@ def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, stop, work, out)
             bias = 0.0
             for i in range(6):
                 bias += S[j, i] * f[j, i]
-            rhs[col] = torque[col] - bias
+            rhs[col] = -bias
             _inertia_times(cm[j], ch[j], cJ[j], S[j], F)
             k = j
             while k > 0 and kinds[k] != FREEFLYER:
@@ -266,6 +264,23 @@ def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, stop, work, out)
                 cJ[pa, i, k] += cJ[j, i, k]
         for i in range(6):
             f[pa, i] += f[j, i]
+
+
+@kernel
+def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, stop, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """Joint accelerations ``out`` (n,) at one state, the base prescribed (module docstring).
+
+    ``model``, ``qb``, ``vb``, ``ab``, ``work`` as :func:`dynamics_terms`; ``torque`` (n,) the
+    joint torques; ``motor`` the tuple ``(on, armature, viscous, coulomb, coulomb_velocity,
+    stribeck_torque, stribeck_velocity)`` (``on`` 0: no actuator); ``stop`` the tuple ``(on,
+    lower, upper, omega)`` of the stops (``on`` 0: none).
+    """
+    on, rotor, viscous, coulomb, smooth, stribeck, v_s = motor
+    dynamics_terms(model, qb, vb, ab, q, v, work)
+    A, rhs = work[9], work[12][0]
+    n = q.shape[0]
+    for i in range(n):
+        rhs[i] = torque[i] + rhs[i]
     if on:
         for i in range(n):
             A[i, i] += rotor[i]
@@ -307,22 +322,21 @@ def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, stop, work, out)
 
 
 @kernel
-def _at(model, base, tau, k, q, v, motor, stop, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
-    """Joint accelerations at fractional sample index k: base and torques linear in k."""
+def base_at(base, k, work):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """The base's state at fractional sample index k, linear in k (quaternion normalized).
+
+    Written into the workspace's rows 1-3 (configuration, velocity, acceleration); returns the
+    sample before k, the one after and the weight of the one after.
+    """
     q_base, v_base, a_base = base
-    T = tau.shape[0]
+    T = q_base.shape[0]
     i = min(int(k), T - 2)
     if i < 0:
         i = 0
     w = k - i
     i1 = min(i + 1, T - 1)
     line = work[12]
-    qb, vb, ab, torque = (
-        line[1, : q_base.shape[1]],
-        line[2, :6],
-        line[3, :6],
-        line[4, : tau.shape[1]],
-    )
+    qb, vb, ab = line[1, : q_base.shape[1]], line[2, :6], line[3, :6]
     for m in range(q_base.shape[1]):
         qb[m] = (1 - w) * q_base[i, m] + w * q_base[i1, m]
     if q_base.shape[1] == 7:
@@ -332,49 +346,107 @@ def _at(model, base, tau, k, q, v, motor, stop, work, out):  # type: ignore[no-u
     for m in range(v_base.shape[1]):
         vb[m] = (1 - w) * v_base[i, m] + w * v_base[i1, m]
         ab[m] = (1 - w) * a_base[i, m] + w * a_base[i1, m]
-    for m in range(tau.shape[1]):
-        torque[m] = (1 - w) * tau[i, m] + w * tau[i1, m]
-    joint_accelerations(model, qb, vb, ab, q, v, torque, motor, stop, work, out)
+    return i, i1, w
 
 
 @kernel
-def integrate(model, base, tau, q0, v0, h, substeps, method, motor, stop, q, v, a):  # type: ignore[no-untyped-def]  # pragma: no cover
-    """Fill ``q``, ``v``, ``a`` (T, n): RK4 or semi-implicit Euler, ``substeps`` steps of h [s]."""
+def _at(model, base, tau, hold, k, q, v, motor, stop, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """Joint accelerations at fractional sample index k (the base linear in k).
+
+    The torques ``tau`` (T, n) linear in k, or (``hold``) its first row held (a controller's
+    command).
+    """
+    i, i1, w = base_at(base, k, work)
+    line = work[12]
+    nq = base[0].shape[1]
+    n = tau.shape[1]
+    torque = line[4, :n]
+    if hold:
+        for m in range(n):
+            torque[m] = tau[0, m]
+    else:
+        for m in range(n):
+            torque[m] = (1 - w) * tau[i, m] + w * tau[i1, m]
+    joint_accelerations(
+        model, line[1, :nq], line[2, :6], line[3, :6], q, v, torque, motor, stop, work, out
+    )
+
+
+@kernel
+def scratch(n):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """The rows one integration step works in: k1-k4 and the trial state (6 × n)."""
+    return np.empty((6, n))
+
+
+@kernel
+def step(model, base, tau, hold, k, dk, h, method, x, y, motor, stop, work, rows):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """One step of h [s] of the state (x, y), in place, from fractional sample index k.
+
+    RK4 or semi-implicit Euler (``dk`` the step in samples); ``rows[0]`` keeps the acceleration
+    at the step's start (``rows`` from :func:`scratch`; the torques as :func:`_at` takes them).
+    """
+    n = x.shape[0]
+    k1, k2, k3, k4, xt, yt = rows[0], rows[1], rows[2], rows[3], rows[4], rows[5]
+    _at(model, base, tau, hold, k, x, y, motor, stop, work, k1)
+    if method == EULER:
+        for m in range(n):
+            y[m] = y[m] + h * k1[m]
+            x[m] = x[m] + h * y[m]
+        return
+    for m in range(n):
+        xt[m] = x[m] + h / 2 * y[m]
+        yt[m] = y[m] + h / 2 * k1[m]
+    _at(model, base, tau, hold, k + dk / 2, xt, yt, motor, stop, work, k2)
+    for m in range(n):
+        xt[m] = x[m] + h / 2 * (y[m] + h / 2 * k1[m])
+        yt[m] = y[m] + h / 2 * k2[m]
+    _at(model, base, tau, hold, k + dk / 2, xt, yt, motor, stop, work, k3)
+    for m in range(n):
+        xt[m] = x[m] + h * (y[m] + h / 2 * k2[m])
+        yt[m] = y[m] + h * k3[m]
+    _at(model, base, tau, hold, k + dk, xt, yt, motor, stop, work, k4)
+    for m in range(n):
+        ym = y[m]
+        x[m] = x[m] + h / 6 * (
+            ym + 2 * (ym + h / 2 * k1[m]) + 2 * (ym + h / 2 * k2[m]) + (ym + h * k3[m])
+        )
+        y[m] = ym + h / 6 * (k1[m] + 2 * k2[m] + 2 * k3[m] + k4[m])
+
+
+@kernel
+def integrate(model, base, tau, h, substeps, method, motor, stop, q, v, a, first, last):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """Integrate samples ``first`` to ``last``: RK4 or semi-implicit Euler, ``substeps`` of h [s].
+
+    Fills ``q``, ``v`` (T, n) from ``first`` (its state given) to ``last`` and ``a`` from
+    ``first`` to ``last - 1`` (and ``last`` when it is the run's last sample). A run integrated
+    in several such spans is the run integrated at once, bit for bit (the state at a sample is
+    all a span needs).
+    """
     T, n = tau.shape
     work = workspace(model[0].shape[0], n)
+    rows = scratch(n)
     dk = 1.0 / substeps
-    x, y = q0.copy(), v0.copy()
-    k1, k2, k3, k4 = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    xt, yt = np.empty(n), np.empty(n)
-    q[0], v[0] = q0, v0
-    for i in range(T - 1):
+    x, y = q[first].copy(), v[first].copy()
+    for i in range(first, last):
         for s in range(substeps):
-            k = i + s / substeps
-            _at(model, base, tau, k, x, y, motor, stop, work, k1)
+            step(
+                model,
+                base,
+                tau,
+                False,
+                i + s / substeps,
+                dk,
+                h,
+                method,
+                x,
+                y,
+                motor,
+                stop,
+                work,
+                rows,
+            )
             if s == 0:
-                a[i] = k1
-            if method == EULER:
-                for m in range(n):
-                    y[m] = y[m] + h * k1[m]
-                    x[m] = x[m] + h * y[m]
-                continue
-            for m in range(n):
-                xt[m] = x[m] + h / 2 * y[m]
-                yt[m] = y[m] + h / 2 * k1[m]
-            _at(model, base, tau, k + dk / 2, xt, yt, motor, stop, work, k2)
-            for m in range(n):
-                xt[m] = x[m] + h / 2 * (y[m] + h / 2 * k1[m])
-                yt[m] = y[m] + h / 2 * k2[m]
-            _at(model, base, tau, k + dk / 2, xt, yt, motor, stop, work, k3)
-            for m in range(n):
-                xt[m] = x[m] + h * (y[m] + h / 2 * k2[m])
-                yt[m] = y[m] + h * k3[m]
-            _at(model, base, tau, k + dk, xt, yt, motor, stop, work, k4)
-            for m in range(n):
-                ym = y[m]
-                x[m] = x[m] + h / 6 * (
-                    ym + 2 * (ym + h / 2 * k1[m]) + 2 * (ym + h / 2 * k2[m]) + (ym + h * k3[m])
-                )
-                y[m] = ym + h / 6 * (k1[m] + 2 * k2[m] + 2 * k3[m] + k4[m])
+                a[i] = rows[0]
         q[i + 1], v[i + 1] = x, y
-    _at(model, base, tau, float(T - 1), q[T - 1], v[T - 1], motor, stop, work, a[T - 1])
+    if last == T - 1:
+        _at(model, base, tau, False, float(T - 1), q[T - 1], v[T - 1], motor, stop, work, a[T - 1])

@@ -39,8 +39,8 @@ joint pressed on it by a torque ``τ`` sinks about ``τ / k`` past its limit (on
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import TypedDict, Unpack
+from collections.abc import Callable, Iterator
+from typing import Any, TypedDict, Unpack
 
 import numpy as np
 import pinocchio as pin
@@ -58,12 +58,17 @@ __all__ = [
     "DEFAULT_SUBSTEPS",
     "DYNAMICS",
     "INTEGRATORS",
+    "PROGRESS_SPAN",
     "STOP_OMEGA_H",
     "ForwardOptions",
+    "Progress",
     "check_torques",
     "flatten_dynamics",
     "forward_simulate",
+    "kernel_motor",
+    "kernel_stops",
     "reference_forward_simulate",
+    "spans",
     "stop_torques",
 ]
 
@@ -72,6 +77,12 @@ DEFAULT_SUBSTEPS = 4
 
 INTEGRATORS = ("rk4", "euler")
 """The integrators of :func:`forward_simulate`: classical Runge–Kutta, semi-implicit Euler."""
+
+PROGRESS_SPAN = 2000
+"""Samples the kernel integrates between two calls of a run's ``progress`` (20 s at 100 Hz)."""
+
+Progress = Callable[[int, int], None]
+"""Told ``(samples done, samples)`` as a long integration goes."""
 
 STOP_OMEGA_H = 0.15
 """The stops' natural frequency times the sub-step, ``ω·h`` (module docstring)."""
@@ -155,12 +166,15 @@ class ForwardOptions(TypedDict, total=False):
             (semi-implicit Euler: velocity first, then position with the new velocity)
         stops: lower and upper position limits [rad or m], model order, held by stiff-damped
             stops (:func:`stop_torques`; None, the default: no stops)
+        progress: told ``(samples done, samples)`` every :data:`PROGRESS_SPAN` samples (None,
+            the default: silent)
     """
 
     substeps: int
     actuator: ActuatorModel | None
     integrator: str
     stops: tuple[Array, Array] | None
+    progress: Progress | None
 
 
 def forward_simulate(
@@ -234,39 +248,63 @@ def forward_simulate(
         np.ascontiguousarray(v_base[:, :nb_v]),
         np.ascontiguousarray(a_base[:, :nb_v]),
     )
-    if actuator is None:
-        motor = (False, *(np.ones(n) for _ in range(6)))
-    else:
-        motor = (
-            True,
-            armature(actuator, n),
-            *(
-                per_joint(getattr(actuator, name), n, name)
-                for name in (
-                    "viscous",
-                    "coulomb",
-                    "coulomb_velocity",
-                    "stribeck_torque",
-                    "stribeck_velocity",
-                )
-            ),
-        )
+    motor = kernel_motor(actuator, n)
     q = np.empty((T, n))
     v = np.empty((T, n))
     a = np.empty((T, n))
     dt = float(time[1] - time[0]) if T > 1 else 0.0
-    start_q = np.array(q0, dtype=float).reshape(n)
-    start_v = np.array(v0, dtype=float).reshape(n)
+    q[0] = np.asarray(q0, dtype=float).reshape(n)
+    v[0] = np.asarray(v0, dtype=float).reshape(n)
     method = INTEGRATORS.index(integrator)
     h = dt / substeps
-    stops = options.get("stops")
-    if stops is None:
-        stop = (False, np.zeros(n), np.zeros(n), 0.0)
-    else:
-        lower, upper = (np.array(b, dtype=float).reshape(n) for b in stops)
-        stop = (True, lower, upper, _omega(h))
-    integrate(flat, base_arrays, tau, start_q, start_v, h, substeps, method, motor, stop, q, v, a)
+    stop = kernel_stops(options.get("stops"), n, h)
+    for first, last in spans(T, options.get("progress")):
+        integrate(flat, base_arrays, tau, h, substeps, method, motor, stop, q, v, a, first, last)
     return JointTrajectory(time, q, v, a)
+
+
+def kernel_stops(stops: tuple[Array, Array] | None, n: int, h: float) -> tuple[Any, ...]:
+    """The stops as the kernel reads them: ``(on, lower, upper, omega)`` (h the sub-step [s])."""
+    if stops is None:
+        return (False, np.zeros(n), np.zeros(n), 0.0)
+    lower, upper = (np.array(b, dtype=float).reshape(n) for b in stops)
+    return (True, lower, upper, _omega(h))
+
+
+def kernel_motor(actuator: ActuatorModel | None, n: int) -> tuple[Any, ...]:
+    """The actuator as the kernel reads it: ``(on, armature, viscous, coulomb, ...)``."""
+    if actuator is None:
+        return (False, *(np.ones(n) for _ in range(6)))
+    return (
+        True,
+        armature(actuator, n),
+        *(
+            per_joint(getattr(actuator, name), n, name)
+            for name in (
+                "viscous",
+                "coulomb",
+                "coulomb_velocity",
+                "stribeck_torque",
+                "stribeck_velocity",
+            )
+        ),
+    )
+
+
+def spans(samples: int, progress: Progress | None) -> Iterator[tuple[int, int]]:
+    """The spans of samples the kernel integrates in turn, ``progress`` told after each.
+
+    One span without ``progress``; with it, spans of :data:`PROGRESS_SPAN` samples (a run in
+    spans is the run at once, bit for bit: :func:`~aaria_pin.core._forward_kernel.integrate`).
+    """
+    last = samples - 1
+    if progress is None:
+        yield 0, last
+        return
+    for first in range(0, max(last, 1), PROGRESS_SPAN):
+        end = min(first + PROGRESS_SPAN, last)
+        yield first, end
+        progress(end + 1, samples)
 
 
 def _omega(h: float) -> float:
