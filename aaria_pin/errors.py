@@ -35,8 +35,10 @@ __all__ = [
     "OutputFileError",
     "ParameterError",
     "ParameterTypeError",
+    "RunFailedError",
     "TableError",
     "TableTypeError",
+    "TrackingError",
     "UrdfError",
     "plain_message",
 ]
@@ -193,10 +195,24 @@ class NoSpaceError(OutputFileError):
     """
 
 
-class JointLimitError(AariaError):
+class RunFailedError(AariaError):
+    """A run whose inputs were fine failed as it went (its motion left what it may do).
+
+    The CLI exits with status 1, not 2: the input was fine, the run was not.
+    """
+
+
+class JointLimitError(RunFailedError):
     """A torque-driven run left its joints' limits under the policy ``stop`` (``limits``).
 
     The CLI exits with status 1, not 2: the input was fine, the motion left the range.
+    """
+
+
+class TrackingError(RunFailedError):
+    """A closed-loop run lost its reference (an unstable loop, or motors too weak for it).
+
+    The CLI exits with status 1: the message names the joint, the time and the gains.
     """
 
 

@@ -46,6 +46,7 @@ from aaria_pin.core.imu_presets import imu_preset
 from aaria_pin.core.joint_sensors import (
     JOINT_MODELS,
     ActuatorModel,
+    ControllerModel,
     EncoderModel,
     JointModel,
     TorqueSensorModel,
@@ -89,12 +90,15 @@ class Hardware:
         encoder: the joint encoders
         torque_sensor: the joint torque sensors
         actuator: the joints' motors and gearboxes
+        controller: the joint controller of a closed-loop drive (``--drive pd``,
+            ``computed-torque``)
     """
 
     imu: ImuNoiseModel = ADIS16485
     encoder: EncoderModel | None = None
     torque_sensor: TorqueSensorModel | None = None
     actuator: ActuatorModel | None = None
+    controller: ControllerModel | None = None
 
     def options(self) -> dict[str, Any]:
         """The run options (:class:`~aaria_pin.core.run.RunSettings` fields) they set."""
@@ -103,6 +107,7 @@ class Hardware:
             "encoder": self.encoder,
             "torque_sensor": self.torque_sensor,
             "actuator": self.actuator,
+            "controller": self.controller,
         }
 
     def attributes(self) -> dict[str, Any]:

@@ -16,7 +16,7 @@ module's slots have parent ``""``), the tables ``senSenDH``, ``senSenJ``, ``senS
 from __future__ import annotations
 
 import os
-from typing import Any, TypedDict, Unpack
+from typing import Any, Unpack
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -27,8 +27,12 @@ from aaria_pin.aaria.sensen import N_MODULES
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ImuNoiseModel
-from aaria_pin.core.joint_limits import stored_limits
-from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
+from aaria_pin.core.joint_sensors import (
+    ActuatorModel,
+    ControllerModel,
+    EncoderModel,
+    TorqueSensorModel,
+)
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.run import (
     UNITS,
@@ -39,11 +43,10 @@ from aaria_pin.core.run import (
     as_motion,
     check_options,
     motion_from_record,
-    recorded_dynamics,
     sampling_attributes,
 )
 from aaria_pin.core.run.deprecation import deprecated_producer, warn_deprecated
-from aaria_pin.core.run.motion import driven
+from aaria_pin.core.run.motion import DriveOptions, driven, stored_drive
 from aaria_pin.core.run.robot import RunKind, register_kind
 from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.trajectory import (
@@ -72,7 +75,7 @@ __all__ = [
 ]
 
 
-class _DhSettings(TypedDict, total=False):
+class _DhSettings(DriveOptions, total=False):
     """:class:`DhRunOptions` but the joint and base tables."""
 
     duration: float
@@ -83,11 +86,9 @@ class _DhSettings(TypedDict, total=False):
     encoder: EncoderModel | None
     torque_sensor: TorqueSensorModel | None
     actuator: ActuatorModel | None
+    controller: ControllerModel | None
     dims: BodyDimensions | None
     imu_mount: ArrayLike | None
-    torques: ArrayLike | None
-    limits: str
-    dynamics: str
     motion: Motion | JointTrajectory | FourierExcitation | None
     threads: int
     robot_name: str
@@ -293,10 +294,7 @@ def dh_request_from_record(
         "motion": motion_from_record(stored.tables, stored.attributes, drive=False),
         **stored_hardware(stored.attributes),  # type: ignore[typeddict-item]
     }
-    if "torque_table" in stored.tables:
-        options["torques"] = stored.tables["torque_table"]
-        options["limits"] = stored_limits(stored.attributes)
-        options["dynamics"] = recorded_dynamics(stored.attributes)
+    options.update(stored_drive(stored.tables, stored.attributes))
     if "body_dimensions" in meta.extra:
         try:
             options["dims"] = BodyDimensions(**meta.extra["body_dimensions"])

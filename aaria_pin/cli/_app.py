@@ -7,7 +7,7 @@ from typing import Any
 
 import click
 
-from aaria_pin.errors import AariaError, JointLimitError, NoSpaceError
+from aaria_pin.errors import AariaError, NoSpaceError, RunFailedError
 
 EXIT_BAD_INPUT = 2
 
@@ -118,7 +118,7 @@ class _Main(AariaGroup):
     def _invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
-        except (NoSpaceError, JointLimitError) as exc:  # the input was fine: exit 1 (a failure)
+        except (NoSpaceError, RunFailedError) as exc:  # the input was fine: exit 1 (a failure)
             click.echo(f"aaria: error: {' '.join(str(exc).split())}", err=True)
             ctx.meta[_FAILED] = True
             ctx.exit(1)

@@ -159,26 +159,31 @@ def sampling_overrides(params: dict[str, Any], stored: Any = None) -> dict[str, 
 
 
 limits_option = click.option("--limits", type=click.Choice(["stop", "clamp", "ignore"]),
-    help="--drive torque: stop at the first joint beyond its model position or velocity limit"
-    " (exit 1; the default), hold it on stiff-damped stops (clamp), or ignore them. --from: as"
-    " stored.")  # fmt: skip
+    help="--drive torque|pd|computed-torque: stop at the first joint beyond its model position or"
+    " velocity limit (exit 1; the default), hold it on stiff-damped stops (clamp), or ignore"
+    " them. --from: as stored.")  # fmt: skip
 
 
-def torque_overrides(params: dict[str, Any]) -> dict[str, Any]:
-    """``torques``, ``limits`` of ``--drive torque``, and a torque run's time grid as defaults.
+def drive_overrides(params: dict[str, Any]) -> dict[str, Any]:
+    """The drive's options (``torques`` and a torque run's time grid, ``drive``, ``limits``).
 
     Raises:
-        click.UsageError: ``--drive torque`` or ``--torques`` alone; ``--limits`` without them.
+        click.UsageError: ``--drive torque`` or ``--torques`` alone; ``--limits`` undriven.
     """
     from aaria_pin.aaria.robot_inputs import read_torques
+    from aaria_pin.apps.run_progress import run_progress
 
     path: Path | None = params.get("torques_file")
-    if (params.get("drive") == "torque") != (path is not None):
+    drive = params.get("drive")
+    if (drive == "torque") != (path is not None):
         raise click.UsageError("--drive torque and --torques FILE go together")
-    limits = {"limits": params["limits"]} if params.get("limits") else {}
-    if path is None and limits and params.get("from_run") is None:
-        raise click.UsageError("--limits goes with --drive torque (or --from a torque run)")
+    options = {"limits": params["limits"]} if params.get("limits") else {}
+    if path is None and options and drive == "motion" and params.get("from_run") is None:
+        raise click.UsageError("--limits goes with --drive torque|pd|computed-torque (or --from)")
+    options["progress"] = run_progress()  # a followed motion has none to tell
+    if drive not in ("motion", "torque"):
+        return {**options, "drive": drive}
     if path is None:
-        return limits
+        return options
     tau, grid = read_torques(path)
-    return {"torques": tau, **limits, **{k: v for k, v in grid.items() if params.get(k) is None}}
+    return {"torques": tau, **options, **{k: v for k, v in grid.items() if params.get(k) is None}}

@@ -6,7 +6,7 @@ from typing import Any
 
 import click
 
-from aaria_pin.cli._options import given, sampling_overrides, torque_overrides
+from aaria_pin.cli._options import drive_overrides, given, sampling_overrides
 from aaria_pin.core.record import RunRecord
 
 _DH_ONLY = ("preset", "dh_file", "mount_file", "density", "convention")
@@ -41,7 +41,7 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
 
     from aaria_pin.aaria.robot_inputs import urdf_source
     from aaria_pin.aaria.run_motion import MotionChoice, urdf_motion
-    from aaria_pin.cli._simulate_motion import summary
+    from aaria_pin.apps.run_summary import run_summary as summary
     from aaria_pin.core.imu_layout import read_imu_layout
     from aaria_pin.core.urdf_run import urdf_request, urdf_request_from_record
     from aaria_pin.files.io import read_table
@@ -60,7 +60,7 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
         overrides["joint_table"] = read_table(params["joints_file"], "joint_table")
     if params["base_file"] is not None:
         overrides["base_table"] = read_table(params["base_file"], "senSenB")
-    overrides.update(torque_overrides(params))
+    overrides.update(drive_overrides(params))
     output = params["output"]
     compress = params["compress"]
 

@@ -8,6 +8,7 @@ from typing import Any
 import click
 
 from aaria_pin.cli._options import (
+    drive_overrides,
     fourier_options,
     given,
     grid_options,
@@ -18,11 +19,11 @@ from aaria_pin.cli._options import (
     sampling_overrides,
     shown,
     table_source_options,
-    torque_overrides,
 )
 from aaria_pin.core.seeds import MAX_SEED
 
 _FILE = click.Path(path_type=Path, dir_okay=False)
+_DRIVES = click.Choice(["motion", "torque", "pd", "computed-torque"])
 
 
 @click.command(
@@ -35,7 +36,8 @@ Examples:
   aaria simulate --from f.h5 --seed 3 -o again.h5           # the same motion, other noise
   aaria simulate --from ds.h5 --run 4 -o run4.h5           # run 4 of a data set, re-made
   aaria simulate --robot ur5 --imu-model bmi088 --hardware hw.toml -o real.h5
-  aaria simulate --dh table.csv --drive torque --torques tau.npy -o fwd.mat"""
+  aaria simulate --dh table.csv --drive torque --torques tau.npy -o fwd.mat
+  aaria simulate --robot ur5 --drive computed-torque --hardware hw.toml -o ct.h5"""
 )
 @table_source_options
 @robot_source_options
@@ -50,8 +52,10 @@ Examples:
 @grid_options()
 @click.option("--seed", type=click.IntRange(0, MAX_SEED), help="Seed of the IMU noise (default 0).")
 @click.option("--density", type=float, help="Density of every body [kg/m^3] (default 2700).")
-@shown("--drive", default="motion", type=click.Choice(["motion", "torque"]),
-       help="Follow the joint table, or move under --torques by forward dynamics.")  # fmt: skip
+@shown("--drive", default="motion", type=_DRIVES,
+       help="Follow the motion; move under --torques by forward dynamics; or track the motion"
+       " with a joint controller (PD, or computed torque: inverse dynamics + PD; gains from"
+       " --hardware [controller]).")  # fmt: skip
 @click.option("--torques", "torques_file", type=_FILE,
               help="Joint torques for --drive torque: a run file (its tau), or a T x n table (CSV,"
               " .npy, .mat 'tau'); a DH arm's by module (T x 6).")  # fmt: skip
@@ -99,7 +103,7 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     from aaria_pin.aaria.presets import get_preset
     from aaria_pin.aaria.run_motion import MotionChoice, dh_motion
     from aaria_pin.aaria.simulate import dh_request, dh_request_from_record
-    from aaria_pin.cli._simulate_motion import summary
+    from aaria_pin.apps.run_summary import run_summary as summary
     from aaria_pin.core._malloc import tune_malloc
     from aaria_pin.core.conflicts import OptionConflictError
     from aaria_pin.errors import ParameterError
@@ -141,7 +145,7 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
         overrides["imu_mount"] = read_imu_mounts(flags["mount_file"])
     if flags["density"] is not None:
         overrides["dims"] = BodyDimensions(density=flags["density"])
-    overrides.update(torque_overrides(params))
+    overrides.update(drive_overrides(params))
     for key in ("preset", "dh_file"):  # the run file has its table
         if stored is not None and given(key):
             raise OptionConflictError(parameter=key, other="from_run", given_with=True)

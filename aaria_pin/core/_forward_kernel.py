@@ -118,6 +118,18 @@ def workspace(nj, n):  # type: ignore[no-untyped-def]  # pragma: no cover
 
 
 @kernel
+def friction_at(motor, i, x):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """Joint i's friction at velocity x (``motor`` as :func:`joint_accelerations` takes it).
+
+    ``viscous·x + (coulomb + stribeck·exp(-(x/v_s)²))·tanh(x/coulomb_velocity)``
+    (:func:`~aaria_pin.core.actuator.friction`).
+    """
+    _, _, viscous, coulomb, smooth, stribeck, v_s = motor
+    dry = coulomb[i] + stribeck[i] * np.exp(-((x / v_s[i]) ** 2))
+    return viscous[i] * x + dry * np.tanh(x / smooth[i])
+
+
+@kernel
 def dynamics_terms(model, qb, vb, ab, q, v, work):  # type: ignore[no-untyped-def]  # pragma: no cover
     """The joints' mass matrix and bias at one state, the base prescribed (module docstring).
 
@@ -275,7 +287,7 @@ def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, stop, work, out)
     stribeck_torque, stribeck_velocity)`` (``on`` 0: no actuator); ``stop`` the tuple ``(on,
     lower, upper, omega)`` of the stops (``on`` 0: none).
     """
-    on, rotor, viscous, coulomb, smooth, stribeck, v_s = motor
+    on, rotor = motor[0], motor[1]
     dynamics_terms(model, qb, vb, ab, q, v, work)
     A, rhs = work[9], work[12][0]
     n = q.shape[0]
@@ -284,9 +296,7 @@ def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, stop, work, out)
     if on:
         for i in range(n):
             A[i, i] += rotor[i]
-            x = v[i]
-            dry = coulomb[i] + stribeck[i] * np.exp(-((x / v_s[i]) ** 2))
-            rhs[i] -= viscous[i] * x + dry * np.tanh(x / smooth[i])
+            rhs[i] -= friction_at(motor, i, v[i])
     # Cholesky: A = L·Lᵀ (L in the lower triangle of A), then two triangular solves
     for i in range(n):
         for k in range(i + 1):

@@ -59,6 +59,7 @@ __all__ = [
     "DYNAMICS",
     "INTEGRATORS",
     "PROGRESS_SPAN",
+    "PROGRESS_STEPS",
     "STOP_OMEGA_H",
     "ForwardOptions",
     "Progress",
@@ -78,8 +79,11 @@ DEFAULT_SUBSTEPS = 4
 INTEGRATORS = ("rk4", "euler")
 """The integrators of :func:`forward_simulate`: classical Runge–Kutta, semi-implicit Euler."""
 
-PROGRESS_SPAN = 2000
-"""Samples the kernel integrates between two calls of a run's ``progress`` (20 s at 100 Hz)."""
+PROGRESS_STEPS = 100
+"""Times a run's ``progress`` is told as its integration goes (at most)."""
+
+PROGRESS_SPAN = 100
+"""Fewest samples the kernel integrates between two calls of a run's ``progress``."""
 
 Progress = Callable[[int, int], None]
 """Told ``(samples done, samples)`` as a long integration goes."""
@@ -166,8 +170,8 @@ class ForwardOptions(TypedDict, total=False):
             (semi-implicit Euler: velocity first, then position with the new velocity)
         stops: lower and upper position limits [rad or m], model order, held by stiff-damped
             stops (:func:`stop_torques`; None, the default: no stops)
-        progress: told ``(samples done, samples)`` every :data:`PROGRESS_SPAN` samples (None,
-            the default: silent)
+        progress: told ``(samples done, samples)`` as the integration goes (:func:`spans`;
+            None, the default: silent)
     """
 
     substeps: int
@@ -294,15 +298,17 @@ def kernel_motor(actuator: ActuatorModel | None, n: int) -> tuple[Any, ...]:
 def spans(samples: int, progress: Progress | None) -> Iterator[tuple[int, int]]:
     """The spans of samples the kernel integrates in turn, ``progress`` told after each.
 
-    One span without ``progress``; with it, spans of :data:`PROGRESS_SPAN` samples (a run in
-    spans is the run at once, bit for bit: :func:`~aaria_pin.core._forward_kernel.integrate`).
+    One span without ``progress``; with it, :data:`PROGRESS_STEPS` spans (of at least
+    :data:`PROGRESS_SPAN` samples): a run in spans is the run at once, bit for bit
+    (:func:`~aaria_pin.core._forward_kernel.integrate`).
     """
     last = samples - 1
     if progress is None:
         yield 0, last
         return
-    for first in range(0, max(last, 1), PROGRESS_SPAN):
-        end = min(first + PROGRESS_SPAN, last)
+    size = max(PROGRESS_SPAN, -(-last // PROGRESS_STEPS))
+    for first in range(0, max(last, 1), size):
+        end = min(first + size, last)
         yield first, end
         progress(end + 1, samples)
 

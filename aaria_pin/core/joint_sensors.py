@@ -1,4 +1,4 @@
-"""The joint-side hardware models of a run: encoders, torque sensors, actuators.
+"""The joint-side hardware models of a run: encoders, torque sensors, actuators, controller.
 
 These dataclasses are the contract the engine, the configuration, the files and the MJCF export
 share; their behaviour is built in their own modules (``core/encoder.py``,
@@ -25,8 +25,10 @@ if TYPE_CHECKING:
     from aaria_pin.core.model import RobotModel
 
 __all__ = [
+    "CLOSED_LOOP_DRIVES",
     "JOINT_MODELS",
     "ActuatorModel",
+    "ControllerModel",
     "EncoderModel",
     "JointColumns",
     "JointHardware",
@@ -113,18 +115,61 @@ class ActuatorModel:
         check_fields(self, positive=("gear_ratio", "coulomb_velocity", "stribeck_velocity"))
 
 
-JointModel = EncoderModel | TorqueSensorModel | ActuatorModel
+CLOSED_LOOP_DRIVES = ("pd", "computed-torque")
+"""The closed-loop drives (a run's ``drive``): the laws of :mod:`aaria_pin.core.control`."""
+
+
+@dataclass(frozen=True)
+class ControllerModel:
+    """A closed-loop drive's joint controller (``pd`` or ``computed-torque``; ``core/control.py``).
+
+    Attributes:
+        frequency: the closed loop's natural frequency ``f``, ``ω = 2π·f`` [Hz]: ``pd`` gains
+            ``Kp = m·ω²``, ``Kd = 2ζ·m·ω`` (``m`` the joint's smallest effective inertia along
+            the reference, armature included); ``computed-torque`` ``Kp = ω²``, ``Kd = 2ζ·ω``
+        damping: the closed loop's damping ratio ``ζ`` [1]
+        kp: the ``pd`` stiffness [N·m/rad or N/m] (0: from ``frequency``)
+        kd: the ``pd`` damping [N·m·s/rad or N·s/m] (0: from ``frequency`` and ``damping``)
+        rate: the control rate, one for every joint [Hz]: the controller reads its sensors and
+            holds its torque for one integration sub-step (rounded to a whole number of
+            sub-steps per sample)
+        velocity_filter: cut-off of the first-order filter of the velocity differentiated from
+            the encoders [Hz] (0: the raw difference)
+        torque_feedback: gain ``k`` of the joint-torque loop on the torque sensors' reading
+            (0: none) [1]
+    """
+
+    frequency: JointValue = 50.0
+    damping: JointValue = 1.0
+    kp: JointValue = 0.0
+    kd: JointValue = 0.0
+    rate: JointValue = 2000.0
+    velocity_filter: JointValue = 0.0
+    torque_feedback: JointValue = 0.0
+
+    def __post_init__(self) -> None:
+        check_fields(self, positive=("frequency", "damping", "rate"))
+        rates = np.unique(np.asarray(self.rate, dtype=float))
+        if rates.size != 1:
+            raise ParameterError(
+                parameter="rate", value=self.rate, allowed="one control rate for every joint"
+            )
+        object.__setattr__(self, "rate", float(rates[0]))
+
+
+JointModel = EncoderModel | TorqueSensorModel | ActuatorModel | ControllerModel
 """Any of the joint hardware models."""
 
 JOINT_MODELS: dict[str, type[JointModel]] = {
     "encoder": EncoderModel,
     "torque_sensor": TorqueSensorModel,
     "actuator": ActuatorModel,
+    "controller": ControllerModel,
 }
 """The joint models by their name: the ``RunSettings`` field, the run attribute and the
 hardware file's table."""
 
-Model = TypeVar("Model", EncoderModel, TorqueSensorModel, ActuatorModel)
+Model = TypeVar("Model", EncoderModel, TorqueSensorModel, ActuatorModel, ControllerModel)
 
 
 @dataclass(frozen=True)
@@ -149,7 +194,7 @@ class JointColumns:
 
 
 def check_fields(
-    model: EncoderModel | TorqueSensorModel | ActuatorModel,
+    model: JointModel,
     positive: tuple[str, ...] = (),
     below: Mapping[str, float] | None = None,
 ) -> None:
@@ -240,7 +285,7 @@ def select_joints(model: Model, joints: int, columns: Sequence[int] | None) -> M
     return type(model)(**values)
 
 
-def model_attributes(model: EncoderModel | TorqueSensorModel | ActuatorModel) -> dict[str, Any]:
+def model_attributes(model: JointModel) -> dict[str, Any]:
     """A model's fields as a run records them: numbers, or lists of per-joint numbers."""
     out: dict[str, Any] = {}
     for f in fields(model):
@@ -281,9 +326,14 @@ class JointHardware(Protocol):
         """The actuators (None: none)."""
         ...
 
+    @property
+    def controller(self) -> ControllerModel | None:
+        """The controller of a closed-loop drive (None: none)."""
+        ...
+
 
 def joint_model_attributes(settings: JointHardware) -> dict[str, Any]:
-    """The attributes ``encoder``, ``torque_sensor``, ``actuator`` of the models that are on."""
+    """The attributes ``encoder``, ``torque_sensor``, ``actuator``, ``controller`` of those on."""
     return {
         name: model_attributes(model)
         for name in JOINT_MODELS

@@ -90,15 +90,31 @@ IMU_SIGNALS = ("wx", "wy", "wz", "fx", "fy", "fz")
 SERIES = ("time", "q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pose", "imu")
 """The time series of a record (leading axis T), in file order."""
 
-JOINT_SERIES = ("q_measured", "tau_measured", "tau_motor", "tau_armature", "tau_friction")
-"""The joint hardware's optional tables with a time axis (T × n), in record order."""
+JOINT_SERIES = (
+    "q_measured",
+    "tau_measured",
+    "tau_motor",
+    "tau_armature",
+    "tau_friction",
+    "q_reference",
+    "qd_reference",
+    "tau_command",
+)
+"""The joint hardware's optional tables with a time axis (T × n), in record order (the last
+three a closed-loop drive's: the reference it tracked and its controller's command)."""
 
 TIMED_HARDWARE = (*JOINT_SERIES, "imu_error_jitter", "imu_error_bias_random_walk")
 """The hardware's tables with a time axis: the joint channels' and the IMU's drawn jitter and
 bias random walk. A data set stores them in its dtype, as the series (a run with the IMU's
 two is computed in one piece)."""
 
-JOINT_RUN_TABLES = ("encoder_offset", "torque_sensor_bias", "torque_sensor_scale")
+JOINT_RUN_TABLES = (
+    "encoder_offset",
+    "torque_sensor_bias",
+    "torque_sensor_scale",
+    "controller_kp",
+    "controller_kd",
+)
 """The joint hardware's optional per-run tables (1 × n: one value per joint, float64; a row,
 as the files store a table of one axis)."""
 
@@ -125,6 +141,11 @@ HARDWARE_UNITS = {
     "encoder_offset": "rad or m (1 x n)",
     "torque_sensor_bias": "N*m or N (1 x n)",
     "torque_sensor_scale": "1 (1 x n)",
+    "q_reference": "rad or m (T x n)",
+    "qd_reference": "rad/s or m/s (T x n)",
+    "tau_command": "N*m or N (T x n)",
+    "controller_kp": "N*m/rad or N/m (pd), 1/s^2 (computed-torque) (1 x n)",
+    "controller_kd": "N*m*s/rad or N*s/m (pd), 1/s (computed-torque) (1 x n)",
     "imu_error_scale": "1 (S x 6, [wx wy wz fx fy fz])",
     "imu_error_cross_axis": "1 (S x 2 x 3 x 3, gyro then accel)",
     "imu_error_misalignment": "1 (S x 2 x 3 x 3 rotations, gyro then accel)",

@@ -52,7 +52,7 @@ class RunMetadata:
         duration: run length [s]
         seed: the seed of the IMU noise (a data set run's ``SeedSequence``)
         noise: whether the IMU signals carry noise
-        drive: ``motion`` or ``torque``
+        drive: ``motion``, ``torque``, or a closed-loop drive (``pd``, ``computed-torque``)
         motion: the joint motion's name (``sine`` for a file written before motions were
             stored)
         base_frame: the base frame ("" if not recorded)

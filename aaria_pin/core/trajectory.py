@@ -8,7 +8,8 @@ and second derivatives.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -188,12 +189,15 @@ class JointTrajectory:
         q: joint values, shape (T, n) [rad or m]
         qd: joint velocities, shape (T, n) [rad/s or m/s]
         qdd: joint accelerations, shape (T, n) [rad/s² or m/s²]
+        tables: what the motion recorded as it was made, one column per joint in model order
+            (a closed-loop drive's reference, commands and gains; empty for the others)
     """
 
     time: Array
     q: Array
     qd: Array
     qdd: Array
+    tables: Mapping[str, Array] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)

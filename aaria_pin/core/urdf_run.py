@@ -19,13 +19,16 @@ from pathlib import Path
 from typing import Any, TypedDict, Unpack
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import DEFAULT_HARMONICS, FourierExcitation, fourier_excitation
 from aaria_pin.core.imu_noise import ImuNoiseModel
-from aaria_pin.core.joint_limits import stored_limits
-from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
+from aaria_pin.core.joint_sensors import (
+    ActuatorModel,
+    ControllerModel,
+    EncoderModel,
+    TorqueSensorModel,
+)
 from aaria_pin.core.record import ImuMount, RunRecord
 from aaria_pin.core.run import (
     Motion,
@@ -37,11 +40,10 @@ from aaria_pin.core.run import (
     as_motion,
     check_options,
     motion_from_record,
-    recorded_dynamics,
     register_kind,
 )
 from aaria_pin.core.run.deprecation import deprecated_producer
-from aaria_pin.core.run.motion import driven
+from aaria_pin.core.run.motion import DriveOptions, driven, stored_drive
 from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.run.urdf_kind import UrdfRunSpec, urdf_robot_run
 from aaria_pin.core.trajectory import (
@@ -146,7 +148,7 @@ def urdf_fourier_excitation(
     return excitation
 
 
-class _UrdfSettings(TypedDict, total=False):
+class _UrdfSettings(DriveOptions, total=False):
     """The options of a loaded URDF robot's run but its tables (see :class:`UrdfRunOptions`)."""
 
     source: str | None
@@ -159,10 +161,8 @@ class _UrdfSettings(TypedDict, total=False):
     encoder: EncoderModel | None
     torque_sensor: TorqueSensorModel | None
     actuator: ActuatorModel | None
+    controller: ControllerModel | None
     threads: int
-    torques: ArrayLike | None
-    limits: str
-    dynamics: str
     motion: MotionInput
     chunk: int | None
 
@@ -331,10 +331,7 @@ def urdf_request_from_record(stored: RunRecord, **overrides: Unpack[UrdfRunOptio
         "motion": motion_from_record(stored.tables, stored.attributes, drive=False),
         **stored_hardware(stored.attributes),  # type: ignore[typeddict-item]
     }
-    if "torque_table" in stored.tables:
-        options["torques"] = stored.tables["torque_table"]
-        options["limits"] = stored_limits(stored.attributes)
-        options["dynamics"] = recorded_dynamics(stored.attributes)
+    options.update(stored_drive(stored.tables, stored.attributes))
     options.update(overrides)
     return urdf_request(stored.urdf, **options)
 

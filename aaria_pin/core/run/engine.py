@@ -28,7 +28,7 @@ from aaria_pin.core.model import RobotModel
 from aaria_pin.core.record import SERIES, TIMED_HARDWARE, RunRecord
 from aaria_pin.core.run.chunks import chunk_bounds, join_chunks
 from aaria_pin.core.run.measured import run_sensors
-from aaria_pin.core.run.motion import Motion, SineTable, actuated
+from aaria_pin.core.run.motion import Motion, SineTable, equipped
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.run.sensor import (
     Sensor,
@@ -148,7 +148,8 @@ def simulate_pieces(
     run_motion: Motion = SineTable() if motion is None else motion
     whole = run_motion.whole or settings.needs_whole_run
     samples = settings.samples(whole=whole)
-    run_motion = actuated(run_motion.checked(robot, samples, settings.rate), settings.actuator)
+    settings = settings.for_drive(run_motion.drive)
+    run_motion = equipped(run_motion.checked(robot, samples, settings.rate), settings, seed)
     motion_tables, motion_attributes = run_motion.record(robot)
     tables = {**robot.tables, **motion_tables}
     pieces = chunk_bounds(samples, None if whole else settings.chunk)
@@ -200,6 +201,9 @@ def simulate_pieces(
         if channels:
             piece_tables = {**piece_tables, **run_tables, **measure_channels(channels, joints)}
             channel_attributes = {k: v for c in channels for k, v in c.attributes().items()}
+        if trajectory.tables:  # a closed-loop drive's reference, commands and gains
+            made = {k: robot.record_columns(v) for k, v in trajectory.tables.items()}
+            piece_tables = {**piece_tables, **made}
         record = RunRecord(
             time=times,
             joint_names=robot.joint_names,

@@ -48,6 +48,7 @@ __all__ = [
     "joint_table_shapes",
     "record_joint_values",
     "run_sensors",
+    "sensor_streams",
 ]
 
 
@@ -55,9 +56,14 @@ JOINT_TABLES = {
     "actuator": ((), ("tau_motor", "tau_armature", "tau_friction")),
     "encoder": (("encoder_offset",), ("q_measured",)),
     "torque_sensor": (("torque_sensor_bias", "torque_sensor_scale"), ("tau_measured",)),
+    "controller": (
+        ("controller_kp", "controller_kd"),
+        ("q_reference", "qd_reference", "tau_command"),
+    ),
 }
 """Each model's per-run tables and time-axis tables (the record's ``JOINT_RUN_TABLES`` and
-``JOINT_SERIES``), in the order of the channels (:func:`run_sensors`)."""
+``JOINT_SERIES``), in the order of the channels (:func:`run_sensors`; the controller's are a
+closed-loop drive's, :mod:`~aaria_pin.core.run.closed_loop`, recorded after the channels')."""
 
 
 HARDWARE_ATTRIBUTES = ("noise_parameters", *JOINT_MODELS, "actuator_limits")
@@ -223,15 +229,29 @@ def run_sensors(
                 settings.actuator, motor_limits(robot, settings.actuator), robot.joint_names
             )
         )
-    if settings.encoder is not None:
-        prismatic = record_joint_values(robot, prismatic_joints(robot.model), False)
-        channels.append(EncoderStream(settings.encoder, prismatic, seed))
-    if settings.torque_sensor is not None:
-        channels.append(TorqueSensorStream(settings.torque_sensor, n, seed))
+    channels.extend(c for c in sensor_streams(robot, settings, seed) if c is not None)
     if robot.columns is None or len(robot.columns) == n:
         return tuple(channels)
     present = record_joint_values(robot, np.ones(len(robot.columns), dtype=bool), False)
     return tuple(OnJoints(channel, present) for channel in channels)
+
+
+def sensor_streams(
+    robot: RunRobot, settings: JointHardware, seed: int | np.random.SeedSequence
+) -> tuple[EncoderStream | None, TorqueSensorStream | None]:
+    """The run's encoders and torque sensors (record columns; None: off), their draws made.
+
+    The run's channels measure with them, and a closed-loop drive's controller reads with
+    streams made the same way (the same offsets, biases and scale errors: the same sensors).
+    """
+    n = len(robot.joint_names)
+    encoder = torque = None
+    if settings.encoder is not None:
+        prismatic = record_joint_values(robot, prismatic_joints(robot.model), False)
+        encoder = EncoderStream(settings.encoder, prismatic, seed)
+    if settings.torque_sensor is not None:
+        torque = TorqueSensorStream(settings.torque_sensor, n, seed)
+    return encoder, torque
 
 
 def joint_table_shapes(

@@ -14,13 +14,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
-from typing import Any, ClassVar, Protocol, Self
+from typing import Any, ClassVar, Protocol, Self, TypedDict
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import FourierExcitation
+from aaria_pin.core.forward import Progress
 from aaria_pin.core.joint_limits import (
     DEFAULT_LIMITS,
     JointBounds,
@@ -28,7 +29,12 @@ from aaria_pin.core.joint_limits import (
     model_velocity_limits,
     stored_limits,
 )
-from aaria_pin.core.joint_sensors import ActuatorModel, select_joints
+from aaria_pin.core.joint_sensors import (
+    CLOSED_LOOP_DRIVES,
+    ActuatorModel,
+    JointHardware,
+    select_joints,
+)
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.sampled_motion import check_trajectory
 from aaria_pin.core.se3 import Array
@@ -37,17 +43,20 @@ from aaria_pin.errors import InputFileError, ParameterError
 
 __all__ = [
     "MOTIONS",
+    "DriveOptions",
     "FollowedMotion",
     "FourierMotion",
     "Motion",
     "SampledTrajectory",
     "SineTable",
     "TorqueDrive",
-    "actuated",
     "as_motion",
     "driven",
+    "equipped",
+    "joint_bounds",
     "motion_from_record",
     "recorded_dynamics",
+    "stored_drive",
 ]
 
 
@@ -107,6 +116,10 @@ class FollowedMotion:
 
     def checked(self, robot: RunRobot, samples: int, rate: float) -> Self:
         """Itself: checked when it was made (the robot checks its own joint table)."""
+        return self
+
+    def with_hardware(self, hardware: JointHardware, seed: int | np.random.SeedSequence) -> Self:
+        """Itself: the joints follow it whatever drives them."""
         return self
 
 
@@ -289,6 +302,7 @@ class TorqueDrive:
             ``ignore``
         dynamics: the integrator, by its name in :data:`~aaria_pin.core.forward.DYNAMICS`
             (recorded: a run is re-made by the one that made it)
+        progress: told ``(samples done, samples)`` as the integration goes (None: silent)
     """
 
     torques: ArrayLike
@@ -296,8 +310,17 @@ class TorqueDrive:
     actuator: ActuatorModel | None = None
     limits: str = DEFAULT_LIMITS
     dynamics: str = "kernel"
+    progress: Progress | None = field(default=None, compare=False)
     drive: ClassVar[str] = "torque"
     whole: ClassVar[bool] = True
+
+    def with_hardware(
+        self, hardware: JointHardware, seed: int | np.random.SeedSequence
+    ) -> TorqueDrive:
+        """The drive with the run's actuator (its torques are then motor torques)."""
+        if hardware.actuator == self.actuator:
+            return self
+        return replace(self, actuator=hardware.actuator)
 
     @property
     def name(self) -> str:
@@ -334,7 +357,7 @@ class TorqueDrive:
         motors = self.actuator
         if motors is not None:
             motors = select_joints(motors, torques.shape[1], robot.columns)
-        policy, bounds = limit_policy(self.limits), _bounds(robot)
+        policy, bounds = limit_policy(self.limits), joint_bounds(robot)
         moved = DYNAMICS[self.dynamics](
             robot.model,
             base,
@@ -343,6 +366,7 @@ class TorqueDrive:
             initial.q[0],
             initial.qd[0],
             actuator=motors,
+            progress=self.progress,
             **policy.forward_options(bounds),
         )
         return policy.applied(moved, bounds)
@@ -355,7 +379,7 @@ class TorqueDrive:
         return {**tables, "torque_table": tau}, attributes
 
 
-def _bounds(robot: RunRobot) -> JointBounds:
+def joint_bounds(robot: RunRobot) -> JointBounds:
     """The robot's position limits and its model's velocity limits, model order."""
     lower, upper = robot.limits
     columns = list(range(lower.size)) if robot.columns is None else robot.columns
@@ -363,39 +387,106 @@ def _bounds(robot: RunRobot) -> JointBounds:
     return JointBounds(names, lower[columns], upper[columns], model_velocity_limits(robot.model))
 
 
+class DriveOptions(TypedDict, total=False):
+    """How a run's joints are driven: the request options :func:`driven` reads (all optional).
+
+    Attributes:
+        torques: (T, n) torques by record column: the joints move under them (a torque drive)
+        drive: ``motion``, ``torque`` (with ``torques``), or a closed-loop drive (``pd``,
+            ``computed-torque``: the motion is the controller's reference)
+        limits: the joint-limit policy of a torque or closed-loop drive (``stop``, ``clamp``,
+            ``ignore``)
+        dynamics: a torque drive's integrator by its recorded name (``kernel``, ``reference``)
+        integrator: a closed-loop drive's integrator (``rk4``, ``euler``)
+        progress: told ``(samples done, samples)`` as a driven run's integration goes
+    """
+
+    torques: ArrayLike | None
+    drive: str
+    limits: str
+    dynamics: str
+    integrator: str
+    progress: Progress | None
+
+
 def driven(motion: Motion, options: Mapping[str, Any]) -> Motion:
-    """The run's motion under a request's options: a :class:`TorqueDrive` when they give torques.
+    """The run's motion under a request's options (:class:`DriveOptions`).
+
+    A :class:`TorqueDrive` when they give torques, a
+    :class:`~aaria_pin.core.run.closed_loop.ClosedLoopDrive` tracking ``motion`` when
+    ``drive`` names a law, else ``motion`` itself.
 
     Args:
-        motion: the motion (a torque drive's start)
-        options: a request's options: ``torques``, ``limits``, ``dynamics``
+        motion: the motion (a torque drive's start, a closed-loop drive's reference)
+        options: a request's options
 
     Raises:
-        ParameterError: ``limits`` without torques (only a torque-driven run has a policy).
+        ParameterError: an unknown ``drive``, torques with a closed-loop drive, or ``limits``
+            for a run that is not driven (only a driven run has a policy).
     """
     torques, limits = options.get("torques"), options.get("limits")
+    drive = options.get("drive")
+    known = ("motion", "torque", *CLOSED_LOOP_DRIVES)
+    if drive is not None and drive not in known:
+        raise ParameterError(parameter="drive", value=drive, allowed=", ".join(known))
+    progress = options.get("progress")
+    if drive in CLOSED_LOOP_DRIVES:
+        if torques is not None:
+            raise ParameterError(
+                f"torques are given for drive {drive!r}; allowed: torques with drive torque",
+                parameter="torques",
+                allowed="torques with drive torque",
+            )
+        from aaria_pin.core.run.closed_loop import ClosedLoopDrive
+
+        integrator = options.get("integrator", "rk4")
+        limits = limits or DEFAULT_LIMITS
+        return ClosedLoopDrive(motion, drive, limits, integrator, progress=progress)
     if torques is None:
         if limits is not None:
             raise ParameterError(
                 f"limits is {limits!r} for a run without torques; allowed: limits with torques "
-                "(a torque-driven run)",
+                "or a closed-loop drive",
                 parameter="limits",
                 value=limits,
             )
         return motion
     dynamics = options.get("dynamics", TorqueDrive.dynamics)
-    return TorqueDrive(torques, motion, limits=limits or DEFAULT_LIMITS, dynamics=dynamics)
+    limits = limits or DEFAULT_LIMITS
+    return TorqueDrive(torques, motion, limits=limits, dynamics=dynamics, progress=progress)
 
 
-def actuated(motion: Motion, actuator: ActuatorModel | None) -> Motion:
-    """The motion as the run's actuators drive it: a torque drive's torques are motor torques.
+def stored_drive(tables: Mapping[str, Array], attributes: Mapping[str, Any]) -> DriveOptions:
+    """The drive a record stores, as request options (:class:`DriveOptions`; none: followed).
 
-    A :class:`TorqueDrive` takes the run's actuator (``RunSettings.actuator``, the one the run
-    records); any other motion is followed as given.
+    A torque run's ``torque_table``, ``limits`` and ``dynamics``; a closed-loop run's
+    ``drive``, ``limits`` and ``integrator``.
     """
-    if isinstance(motion, TorqueDrive) and motion.actuator != actuator:
-        return replace(motion, actuator=actuator)
-    return motion
+    drive = attributes.get("drive")
+    if drive in CLOSED_LOOP_DRIVES:
+        return {
+            "drive": str(drive),
+            "limits": stored_limits(dict(attributes)),
+            "integrator": str(attributes.get("integrator", "rk4")),
+        }
+    if "torque_table" in tables:
+        return {
+            "torques": tables["torque_table"],
+            "limits": stored_limits(dict(attributes)),
+            "dynamics": recorded_dynamics(dict(attributes)),
+        }
+    return {}
+
+
+def equipped(motion: Motion, hardware: JointHardware, seed: int | np.random.SeedSequence) -> Motion:
+    """The motion with the run's joint models and noise seed (``Motion.with_hardware``).
+
+    A torque drive takes the run's actuator (its torques are motor torques), a closed-loop
+    drive its actuator, sensors and controller; a followed motion is itself. A motion made
+    outside the package without the method is followed as given.
+    """
+    with_hardware = getattr(motion, "with_hardware", None)
+    return motion if with_hardware is None else with_hardware(hardware, seed)  # type: ignore[no-any-return]
 
 
 MOTIONS: dict[str, Callable[[dict[str, Array], dict[str, Any]], Motion]] = {
@@ -449,6 +540,10 @@ def motion_from_record(
             parameter="motion", value=name, allowed=", ".join(MOTIONS), element="run"
         )
     motion = load(tables, attributes)
+    if drive and attributes.get("drive") in CLOSED_LOOP_DRIVES:
+        from aaria_pin.core.run.closed_loop import closed_loop_from_record
+
+        return closed_loop_from_record(motion, tables, attributes)
     if drive and "torque_table" in tables:
         return TorqueDrive(
             tables["torque_table"],

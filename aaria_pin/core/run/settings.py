@@ -9,7 +9,7 @@ noise, threads, gravity, the precision of the series), checked once when it is m
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -18,7 +18,9 @@ from aaria_pin.core.arguments import checked
 from aaria_pin.core.imu_attributes import noise_model_from_attributes
 from aaria_pin.core.imu_noise import ADIS16485, ImuNoiseModel, noise_attributes
 from aaria_pin.core.joint_sensors import (
+    CLOSED_LOOP_DRIVES,
     ActuatorModel,
+    ControllerModel,
     EncoderModel,
     TorqueSensorModel,
     joint_model_attributes,
@@ -145,6 +147,8 @@ class RunSettings:
         encoder: the joint encoders (None: none; the record then has no ``q_measured``)
         torque_sensor: the joint torque sensors (None: none; no ``tau_measured``)
         actuator: the joints' motors and gearboxes (None: none; no ``tau_motor``)
+        controller: the joint controller of a closed-loop drive (``pd``, ``computed-torque``;
+            None: none, and a run of another drive has none)
 
     Raises:
         ParameterError: a duration or rate outside its range or giving fewer than two samples
@@ -163,6 +167,7 @@ class RunSettings:
     encoder: EncoderModel | None = None
     torque_sensor: TorqueSensorModel | None = None
     actuator: ActuatorModel | None = None
+    controller: ControllerModel | None = None
 
     def __post_init__(self) -> None:
         sample_count(self.duration, self.rate, None)  # ranges, and two samples at least
@@ -183,6 +188,31 @@ class RunSettings:
         object.__setattr__(self, "gravity", gravity)
         if self.dtype not in DTYPES:
             raise ParameterError(parameter="dtype", value=self.dtype, allowed=", ".join(DTYPES))
+
+    def for_drive(self, drive: str) -> RunSettings:
+        """The settings of a run of ``drive`` (its ``drive`` attribute).
+
+        A closed-loop drive (:data:`~aaria_pin.core.joint_sensors.CLOSED_LOOP_DRIVES`) has a
+        controller: the default :class:`~aaria_pin.core.joint_sensors.ControllerModel` when
+        none is given; another drive has none.
+
+        Raises:
+            ParameterError: a controller for a run that is not closed-loop (parameter
+                ``controller``).
+        """
+        if drive in CLOSED_LOOP_DRIVES:
+            return (
+                self if self.controller is not None else replace(self, controller=ControllerModel())
+            )
+        if self.controller is not None:
+            raise ParameterError(
+                f"controller is given for a run of drive {drive!r}; allowed: a controller with "
+                f"a closed-loop drive ({', '.join(CLOSED_LOOP_DRIVES)})",
+                parameter="controller",
+                value=drive,
+                allowed=", ".join(CLOSED_LOOP_DRIVES),
+            )
+        return self
 
     @property
     def needs_whole_run(self) -> bool:

@@ -1,0 +1,267 @@
+"""Compiled (numba) kernel of the closed-loop drives: a digital joint controller in the loop.
+
+The controller ticks once per integration sub-step (``h``): at each tick it reads its sensors,
+computes a torque and holds it until the next tick (zero-order hold, as a digital drive does);
+between ticks the plant is integrated as the torque drive integrates it
+(:func:`aaria_pin.core._forward_kernel.step`, the base prescribed and linear between samples).
+At a tick:
+
+- the reference: cubic Hermite between the two samples around the tick, from the values and
+  velocities (``q_r``) and from the velocities and accelerations (``qd_r``); ``qdd_r`` linear.
+  At a sample it is the sample itself;
+- the encoders (on): ``q_m = o + Δ·round((q + n)/Δ)`` (:func:`~aaria_pin.core.encoder.
+  encoder_reading`), the velocity their backward difference over the tick, low-passed by a
+  first-order filter ``v_f += α·(v_raw - v_f)``; off: the true state;
+- the law: ``pd``: ``τ_c = Kp·(q_r - q_m) + Kd·(qd_r - v_m)``; ``computed-torque``:
+  ``τ_c = (M(q_m) + diag(armature))·(qdd_r + Kp·e + Kd·ė) + b(q_m, v_m) + friction(qd_r)``
+  (the controller's model is the nominal one, at the measured state; friction fed forward at
+  the reference's velocity, which does not chatter as the measured one would);
+- the joint-torque loop (a torque sensor on, feedback ``k > 0``):
+  ``τ = τ_c + k·(τ_c - τ_s)``, ``τ_s`` the sensor's reading of the link-side torque at the
+  tick before (``Q((1 + s)·τ_link + b + n)``, :func:`~aaria_pin.core.torque_sensor.
+  torque_reading`), ``τ_link = τ - armature·qdd - friction(qd)``: it divides the motor's
+  friction and armature seen by the link by ``1 + k``;
+- the motor torque saturated at its limit.
+
+After each sample the run is checked: a non-finite state or a joint farther than ``lost`` from
+its reference ends the integration, and the kernel returns that sample (the caller names it).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from aaria_pin.core._compile import kernel
+from aaria_pin.core._forward_kernel import (
+    _at,
+    base_at,
+    dynamics_terms,
+    friction_at,
+    scratch,
+    step,
+    workspace,
+)
+
+PD, COMPUTED_TORQUE = 0, 1
+
+
+@kernel
+def reference_at(reference, i, w, dt, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """The reference between samples i and i + 1 at weight w (dt the sample period [s]).
+
+    ``out`` (3, n): values and velocities cubic Hermite, accelerations linear.
+    """
+    q, qd, qdd = reference
+    i1 = min(i + 1, q.shape[0] - 1)
+    w2 = w * w
+    w3 = w2 * w
+    h00 = 2 * w3 - 3 * w2 + 1
+    h10 = w3 - 2 * w2 + w
+    h01 = -2 * w3 + 3 * w2
+    h11 = w3 - w2
+    for m in range(q.shape[1]):
+        out[0, m] = h00 * q[i, m] + h10 * dt * qd[i, m] + h01 * q[i1, m] + h11 * dt * qd[i1, m]
+        out[1, m] = h00 * qd[i, m] + h10 * dt * qdd[i, m] + h01 * qd[i1, m] + h11 * dt * qdd[i1, m]
+        out[2, m] = (1 - w) * qdd[i, m] + w * qdd[i1, m]
+
+
+@kernel
+def _measured(x, y, tick, h, sensing, memory, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """The encoders' values and the velocity the controller estimates (``out`` rows 0, 1)."""
+    on, offset, count, noise, alpha = sensing[0], sensing[1], sensing[2], sensing[3], sensing[4]
+    n = x.shape[0]
+    if not on:
+        for m in range(n):
+            out[0, m] = x[m]
+            out[1, m] = y[m]
+        return
+    for m in range(n):
+        seen = x[m] + noise[tick, m]
+        if count[m] > 0:
+            seen = count[m] * np.round(seen / count[m])
+        reading = offset[m] + seen
+        if np.isnan(memory[0, m]):  # the first tick: the drive starts from a known state
+            memory[1, m] = y[m]
+        else:
+            raw = (reading - memory[0, m]) / h
+            memory[1, m] += alpha[m] * (raw - memory[1, m])
+        memory[0, m] = reading
+        out[0, m] = reading
+        out[1, m] = memory[1, m]
+
+
+@kernel
+def _command(model, law, kp, kd, nq, rows, motor, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """The controller's torque ``out`` (n,) at a tick (the base's state already in ``work``).
+
+    ``rows`` (6, n): the reference (values, velocities, accelerations), the measured values and
+    velocities, and a scratch row.
+    """
+    n = out.shape[0]
+    ref_q, ref_qd, ref_qdd, q_m, v_m, u = rows[0], rows[1], rows[2], rows[3], rows[4], rows[5]
+    if law == PD:
+        for m in range(n):
+            out[m] = kp[m] * (ref_q[m] - q_m[m]) + kd[m] * (ref_qd[m] - v_m[m])
+        return
+    line = work[12]
+    dynamics_terms(model, line[1, :nq], line[2, :6], line[3, :6], q_m, v_m, work)
+    A, rhs = work[9], line[0]
+    for m in range(n):
+        u[m] = ref_qdd[m] + kp[m] * (ref_q[m] - q_m[m]) + kd[m] * (ref_qd[m] - v_m[m])
+    for m in range(n):
+        s = -rhs[m]
+        for c in range(n):
+            s += A[m, c] * u[c]
+        if motor[0]:
+            s += motor[1][m] * u[m] + friction_at(motor, m, ref_qd[m])
+        out[m] = s
+
+
+@kernel
+def _tick(model, base, k, x, y, tick, h, control, sensing, motor, memory, rows, work, held, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """One tick: ``out`` the controller's command, ``held[0]`` the motor torque held after it.
+
+    ``rows[0:3]`` hold the reference at the tick; ``memory`` (3, n) the encoders' last reading,
+    the filtered velocity and the link-side torque of the tick before (NaN: none yet).
+    """
+    law, kp, kd, feedback, limit = control
+    enc_on, offset, count, enc_noise, alpha, ts_on, scale, bias, resolution, ts_noise = sensing
+    n = x.shape[0]
+    base_at(base, k, work)
+    q_m, v_m = rows[3], rows[4]
+    for m in range(n):
+        if not enc_on:
+            q_m[m] = x[m]
+            v_m[m] = y[m]
+            continue
+        seen = x[m] + enc_noise[tick, m]
+        if count[m] > 0:
+            seen = count[m] * np.round(seen / count[m])
+        reading = offset[m] + seen
+        if np.isnan(memory[0, m]):  # the first tick: the drive starts from a known state
+            memory[1, m] = y[m]
+        else:
+            raw = (reading - memory[0, m]) / h
+            memory[1, m] += alpha[m] * (raw - memory[1, m])
+        memory[0, m] = reading
+        q_m[m] = reading
+        v_m[m] = memory[1, m]
+    _command(model, law, kp, kd, base[0].shape[1], rows, motor, work, out)
+    for m in range(n):
+        applied = out[m]
+        if ts_on and feedback[m] > 0 and not np.isnan(memory[2, m]):
+            seen = (1.0 + scale[m]) * memory[2, m] + bias[m] + ts_noise[tick, m]
+            if resolution[m] > 0:
+                seen = resolution[m] * np.round(seen / resolution[m])
+            applied = out[m] + feedback[m] * (out[m] - seen)
+        held[0, m] = min(max(applied, -limit[m]), limit[m])
+
+
+@kernel
+def _link_torque(held, k1, y, motor, memory):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """Keep the link-side torque of this tick for the torque sensor's next reading."""
+    for m in range(y.shape[0]):
+        value = held[0, m]
+        if motor[0]:
+            value -= motor[1][m] * k1[m] + friction_at(motor, m, y[m])
+        memory[2, m] = value
+
+
+@kernel
+def integrate_closed(
+    model,
+    base,
+    reference,
+    h,
+    substeps,
+    method,
+    motor,
+    stop,
+    control,
+    sensing,
+    q,
+    v,
+    a,
+    command,
+    memory,
+    first,
+    last,
+    lost,
+):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """Integrate samples ``first`` to ``last`` under the controller (module docstring).
+
+    Fills ``q``, ``v`` (T, n) from ``first`` (its state given) to ``last``, ``a`` and
+    ``command`` (the controller's torque at each sample's tick) from ``first`` to ``last - 1``
+    (and ``last`` when it is the run's last sample). ``sensing``'s noise rows are this span's
+    ticks, in order (the final tick of the run last); ``memory`` carries the controller's state
+    from span to span. Returns -1, or the first sample farther than ``lost`` [rad or m] from its
+    reference (or not finite).
+    """
+    T, n = reference[0].shape
+    dt = h * substeps
+    dk = 1.0 / substeps
+    work = workspace(model[0].shape[0], n)
+    steps = scratch(n)
+    rows = np.empty((6, n))
+    held = np.empty((1, n))
+    out = np.empty(n)
+    y_tick = np.empty(n)
+    x, y = q[first].copy(), v[first].copy()
+    tick = 0
+    for i in range(first, last):
+        for s in range(substeps):
+            w = s / substeps
+            reference_at(reference, i, w, dt, rows)
+            _tick(
+                model,
+                base,
+                i + w,
+                x,
+                y,
+                tick,
+                h,
+                control,
+                sensing,
+                motor,
+                memory,
+                rows,
+                work,
+                held,
+                out,
+            )
+            y_tick[:] = y
+            step(model, base, held, True, i + w, dk, h, method, x, y, motor, stop, work, steps)
+            _link_torque(held, steps[0], y_tick, motor, memory)
+            if s == 0:
+                a[i] = steps[0]
+                command[i] = out
+            tick += 1
+        q[i + 1], v[i + 1] = x, y
+        ref_q = reference[0]
+        for m in range(n):
+            if (
+                not (np.isfinite(x[m]) and np.isfinite(y[m]))
+                or abs(x[m] - ref_q[i + 1, m]) > lost[m]
+            ):
+                return i + 1
+    if last == T - 1:
+        reference_at(reference, T - 1, 0.0, dt, rows)
+        _tick(
+            model,
+            base,
+            float(T - 1),
+            q[T - 1],
+            v[T - 1],
+            tick,
+            h,
+            control,
+            sensing,
+            motor,
+            memory,
+            rows,
+            work,
+            held,
+            command[T - 1],
+        )
+        _at(model, base, held, True, float(T - 1), q[T - 1], v[T - 1], motor, stop, work, a[T - 1])
+    return -1
