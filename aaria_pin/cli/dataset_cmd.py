@@ -45,6 +45,7 @@ Examples:
   aaria dataset -n 200 --robot ur5 --duration 5 -o ur5.h5
   aaria dataset -n 1000 --motion fourier --duration 30 --rate 200 -o ident.h5  # excitation
   aaria dataset -n 1000 --config ranges.toml -o ds.h5    # ranges, hardware: aaria template config
+  aaria dataset -n 100 --robot ur5 --drive pd --config ranges.toml -o pd.h5  # [controller] gains
   aaria dataset -n 1000 --seed 7 -o random.h5 --resume   # go on after Ctrl-C or a crash
   aaria dataset -n 100000 --scheduler tcp://head:8786 -o big.h5"""
 )
@@ -84,6 +85,9 @@ Examples:
               " Fourier excitation drawn from the run's joint stream (per joint a finite Fourier"
               " series within its limits; stored as the table fourier_coefficients).")  # fmt: skip
 @fourier_options
+@click.option("--drive", type=click.Choice(["motion", "pd", "computed-torque"]), default="motion",
+              show_default=True, help="Follow each run's motion, or track it with a joint"
+              " controller (gains: the config's [controller], ranges drawn per run).")  # fmt: skip
 @click.option("--resume", is_flag=True,
               help="Continue an interrupted data set file (the same settings); its complete runs"
               " are verified and a damaged one made again.")  # fmt: skip

@@ -25,6 +25,8 @@ At a tick:
 
 After each sample the run is checked: a non-finite state or a joint farther than ``lost`` from
 its reference ends the integration, and the kernel returns that sample (the caller names it).
+That check is compiled without ``fastmath`` (:func:`integrate_closed`), where a NaN compares
+false as IEEE says; the other kernels keep ``fastmath`` and test no NaN.
 """
 
 from __future__ import annotations
@@ -80,7 +82,7 @@ def _measured(x, y, tick, h, sensing, memory, out):  # type: ignore[no-untyped-d
         if count[m] > 0:
             seen = count[m] * np.round(seen / count[m])
         reading = offset[m] + seen
-        if np.isnan(memory[0, m]):  # the first tick: the drive starts from a known state
+        if memory[3, m] == 0:  # the first tick: the drive starts from a known state
             memory[1, m] = y[m]
         else:
             raw = (reading - memory[0, m]) / h
@@ -121,8 +123,10 @@ def _command(model, law, kp, kd, nq, rows, motor, work, out):  # type: ignore[no
 def _tick(model, base, k, x, y, tick, h, control, sensing, motor, memory, rows, work, held, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """One tick: ``out`` the controller's command, ``held[0]`` the motor torque held after it.
 
-    ``rows[0:3]`` hold the reference at the tick; ``memory`` (3, n) the encoders' last reading,
-    the filtered velocity and the link-side torque of the tick before (NaN: none yet).
+    ``rows[0:3]`` hold the reference at the tick; ``memory`` (4, n) the encoders' last reading,
+    the filtered velocity, the link-side torque of the tick before, and whether there was a
+    tick before (1) or not (0) (a flag, not NaN: the kernels are compiled with ``fastmath``,
+    under which a NaN test may be folded away).
     """
     law, kp, kd, feedback, limit = control
     enc_on, offset, count, enc_noise, alpha, ts_on, scale, bias, resolution, ts_noise = sensing
@@ -138,7 +142,7 @@ def _tick(model, base, k, x, y, tick, h, control, sensing, motor, memory, rows, 
         if count[m] > 0:
             seen = count[m] * np.round(seen / count[m])
         reading = offset[m] + seen
-        if np.isnan(memory[0, m]):  # the first tick: the drive starts from a known state
+        if memory[3, m] == 0:  # the first tick: the drive starts from a known state
             memory[1, m] = y[m]
         else:
             raw = (reading - memory[0, m]) / h
@@ -149,12 +153,13 @@ def _tick(model, base, k, x, y, tick, h, control, sensing, motor, memory, rows, 
     _command(model, law, kp, kd, base[0].shape[1], rows, motor, work, out)
     for m in range(n):
         applied = out[m]
-        if ts_on and feedback[m] > 0 and not np.isnan(memory[2, m]):
+        if ts_on and feedback[m] > 0 and memory[3, m] > 0:
             seen = (1.0 + scale[m]) * memory[2, m] + bias[m] + ts_noise[tick, m]
             if resolution[m] > 0:
                 seen = resolution[m] * np.round(seen / resolution[m])
             applied = out[m] + feedback[m] * (out[m] - seen)
         held[0, m] = min(max(applied, -limit[m]), limit[m])
+        memory[3, m] = 1.0
 
 
 @kernel
@@ -167,7 +172,7 @@ def _link_torque(held, k1, y, motor, memory):  # type: ignore[no-untyped-def]  #
         memory[2, m] = value
 
 
-@kernel
+@kernel(exact=True)
 def integrate_closed(
     model,
     base,
@@ -239,10 +244,8 @@ def integrate_closed(
         q[i + 1], v[i + 1] = x, y
         ref_q = reference[0]
         for m in range(n):
-            if (
-                not (np.isfinite(x[m]) and np.isfinite(y[m]))
-                or abs(x[m] - ref_q[i + 1, m]) > lost[m]
-            ):
+            error = abs(x[m] - ref_q[i + 1, m])  # exact: NaN fails every comparison
+            if not (error <= lost[m] and abs(y[m]) < np.inf):
                 return i + 1
     if last == T - 1:
         reference_at(reference, T - 1, 0.0, dt, rows)

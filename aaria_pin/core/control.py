@@ -279,7 +279,7 @@ def closed_loop_simulate(
     )
     q, v, a, command = (np.empty((T, n)) for _ in range(4))
     q[0], v[0] = refs[0][0], refs[1][0]
-    memory = np.full((3, n), np.nan)
+    memory = np.zeros((4, n))
     motor = kernel_motor(actuator, n)
     stop = kernel_stops(options.get("stops"), n, h)
     method = INTEGRATORS.index(integrator)

@@ -26,6 +26,7 @@ from aaria_pin.aaria.hardware import HardwareConfig
 from aaria_pin.aaria.randomize import PARTS, RandomConfig, random_base_table
 from aaria_pin.apps.dataset.spec_hardware import HardwareSpec
 from aaria_pin.core.arguments import checked
+from aaria_pin.core.joint_sensors import CLOSED_LOOP_DRIVES
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.seeds import DATASET_STREAMS, RunSeeds, check_seed
@@ -52,6 +53,8 @@ __all__ = [
 MAX_RUNS = 100_000_000
 """Most runs in one data set."""
 MOTIONS = ("sine", "fourier")
+DRIVES = ("motion", *CLOSED_LOOP_DRIVES)
+"""A data set's drives: its motions followed, or tracked by a joint controller."""
 """A data set's joint motions: the joint tables' sines, or a Fourier excitation per run."""
 NOISE_STREAM = DATASET_STREAMS.index("noise")
 """The value of a data set's ``noise_stream`` attribute (3): the spawn-key part of its runs'
@@ -100,6 +103,12 @@ class DatasetSettings:
             :data:`~aaria_pin.core.excitation.DEFAULT_HARMONICS`)
         base_frequency: its base frequency [Hz] (default
             :func:`~aaria_pin.core.excitation.default_base_frequency` of the duration)
+        drive: ``"motion"`` (the joints follow the motion) or a closed-loop drive (``"pd"``,
+            ``"computed-torque"``): a joint controller tracks the motion through the dynamics
+            (:class:`~aaria_pin.core.run.closed_loop.ClosedLoopDrive`), its gains from the
+            config's ``[controller]`` table (ranges drawn per run; default
+            :class:`~aaria_pin.core.joint_sensors.ControllerModel`); a run whose controller
+            loses its reference fails, naming its gains. Recorded in the file's ``drive``
     """
 
     n_runs: int
@@ -111,6 +120,7 @@ class DatasetSettings:
     motion: str = "sine"
     harmonics: int | None = None
     base_frequency: float | None = None
+    drive: str = "motion"
 
 
 @dataclass(frozen=True)
@@ -171,6 +181,8 @@ class DatasetSpec(DatasetSettings, HardwareSpec, ABC):
 
         if self.motion not in MOTIONS:
             raise ParameterError(parameter="motion", value=self.motion, allowed=", ".join(MOTIONS))
+        if self.drive not in DRIVES:
+            raise ParameterError(parameter="drive", value=self.drive, allowed=", ".join(DRIVES))
         if self.motion == "sine":
             for name in ("harmonics", "base_frequency"):
                 if getattr(self, name) is not None:
@@ -210,24 +222,32 @@ class DatasetSpec(DatasetSettings, HardwareSpec, ABC):
         return RunSeeds(self.seed, drawn).sequence("fourier")
 
     def run_motion(self, inputs: RunInputs) -> Motion:
-        """The engine's motion of a run: its joint table's sines, or its Fourier excitation."""
-        from aaria_pin.core.excitation import FourierExcitation
-        from aaria_pin.core.run import FourierMotion, SineTable
+        """The engine's motion of a run: its joint table's sines, or its Fourier excitation.
 
-        if self.motion == "sine":
-            return SineTable()
-        settings = self.fourier_settings()
-        return FourierMotion(
-            FourierExcitation.from_table(
-                inputs.tables["fourier_coefficients"], settings["base_frequency"], settings
+        Tracked by the data set's controller when its ``drive`` is closed-loop.
+        """
+        from aaria_pin.core.excitation import FourierExcitation
+        from aaria_pin.core.run import FourierMotion, SineTable, driven
+
+        motion: Motion = SineTable()
+        if self.motion != "sine":
+            settings = self.fourier_settings()
+            motion = FourierMotion(
+                FourierExcitation.from_table(
+                    inputs.tables["fourier_coefficients"], settings["base_frequency"], settings
+                )
             )
-        )
+        return driven(motion, {"drive": self.drive})
 
     def motion_attributes(self) -> dict[str, Any]:
-        """``motion`` and ``fourier`` of a Fourier data set; nothing for sines (as before)."""
+        """``motion`` and ``fourier`` of a Fourier data set, ``drive`` of a closed-loop one.
+
+        Nothing for sines the joints follow (as before).
+        """
+        drive = {} if self.drive == "motion" else {"drive": self.drive}
         if self.motion == "sine":
-            return {}
-        return {"motion": self.motion, "fourier": self.fourier_settings()}
+            return drive
+        return {"motion": self.motion, "fourier": self.fourier_settings(), **drive}
 
     # --- what a robot adds ----------------------------------------------------------------------
 
@@ -367,7 +387,7 @@ class DatasetSpec(DatasetSettings, HardwareSpec, ABC):
         keys = ("version", "noise_parameters", "N", "samples", "dtype", "seed", "rate",
                 "duration", "noise", "vary", "config", "fixed_tables", "kind", "robot",
                 "robot_info", "motion", "fourier", "sensors", "hardware", "hardware_names",
-                "encoder", "torque_sensor", "actuator")  # fmt: skip
+                "encoder", "torque_sensor", "actuator", "controller", "drive")  # fmt: skip
         return [key for key in keys if _plain(stored.get(key)) != _plain(mine.get(key))]
 
 

@@ -34,6 +34,7 @@ class HardwareSpec:
         duration: run length [s]
         rate: sample rate [Hz]
         noise: add IMU noise
+        drive: the runs' drive (a closed-loop one has a controller)
     """
 
     hardware: HardwareConfig
@@ -42,6 +43,7 @@ class HardwareSpec:
     duration: float
     rate: float
     noise: bool
+    drive: str
 
     def robot_layout(self) -> DatasetLayout:
         """The robot's fixed per-run layout (the spec's robot)."""
@@ -72,7 +74,8 @@ class HardwareSpec:
         from aaria_pin.core.run import RunSettings
 
         hardware = self.run_hardware(run).options()
-        return RunSettings(self.duration, self.rate, None, self.noise, **hardware)
+        settings = RunSettings(self.duration, self.rate, None, self.noise, **hardware)
+        return settings.for_drive(self.drive)
 
     def run_hardware(self, run: int | None) -> Hardware:
         """Run ``run``'s hardware (None: every range at its middle, the file's attributes)."""
@@ -112,6 +115,7 @@ class HardwareSpec:
         slots = len(self.robot_layout().imu_names)
         for hardware in (self.run_hardware(None), *self.hardware.ends(self.joints)):
             settings = RunSettings(self.duration, self.rate, None, self.noise, **hardware.options())
+            settings = settings.for_drive(self.drive)
             check_joint_values(settings, joints, parameter="config")
             if settings.noise:
                 tables.update(imu_error_shapes(settings.noise_model, self.samples, slots))

@@ -6,6 +6,7 @@
 - :mod:`~aaria_pin.core.run_metadata`: :class:`RunMetadata`, a record's attributes as fields
 - :mod:`~aaria_pin.core.run.motion`: the motions (sine table, Fourier, sampled trajectory,
   torque drive) and how each stores and loads itself
+- :mod:`~aaria_pin.core.run.closed_loop`: the closed-loop drives (a controller tracks a motion)
 - :mod:`~aaria_pin.core.run.sensor`: the sensors (the IMU; any other registered one)
 - :mod:`~aaria_pin.core.run.measured`: the joint channels (encoders, torque sensors, actuators)
 - :mod:`~aaria_pin.core.run.series`: the series every run computes (IMUs, tool, torques, wrench)
@@ -15,6 +16,7 @@
 """
 
 from aaria_pin.core.run.chunks import CHUNK_SAMPLES, chunk_bounds, join_chunks, run_length
+from aaria_pin.core.run.closed_loop import ClosedLoopDrive
 from aaria_pin.core.run.deprecation import deprecated_producer, warn_deprecated
 from aaria_pin.core.run.engine import (
     RunRequest,
@@ -32,6 +34,7 @@ from aaria_pin.core.run.motion import (
     SineTable,
     TorqueDrive,
     as_motion,
+    driven,
     motion_from_record,
     recorded_dynamics,
 )
@@ -67,6 +70,7 @@ __all__ = [
     "DEFAULT_RATE",
     "IMU",
     "UNITS",
+    "ClosedLoopDrive",
     "FixedMount",
     "FollowedMotion",
     "FourierMotion",
@@ -92,6 +96,7 @@ __all__ = [
     "check_options",
     "chunk_bounds",
     "deprecated_producer",
+    "driven",
     "join_chunks",
     "kind_of",
     "motion_from_record",
