@@ -15,7 +15,10 @@ from typing import Any
 from aaria_pin.core.imu_presets import DEFAULT_IMU_MODEL, imu_model_toml
 from aaria_pin.core.joint_sensors import JOINT_MODELS
 
-__all__ = ["hardware_template", "imu_model_template"]
+__all__ = ["CLOSED_LOOP_TABLE", "hardware_template", "imu_model_template"]
+
+CLOSED_LOOP_TABLE = "controller"
+"""The table only a closed-loop run takes: written commented out in the template."""
 
 
 def field_notes(cls: type) -> dict[str, str]:
@@ -86,7 +89,11 @@ def hardware_template() -> str:
     joints = []
     for name, cls in JOINT_MODELS.items():
         doc = (cls.__doc__ or "").strip().splitlines()[0]
-        joints.append("\n".join([f"# {doc}", f"[{name}]", *_lines(cls())]))
+        lines = [f"[{name}]", *_lines(cls())]
+        if name == CLOSED_LOOP_TABLE:  # a run of another drive refuses it: off until wanted
+            doc += " Uncomment it for --drive pd|computed-torque."
+            lines = [f"# {line}" for line in lines]
+        joints.append("\n".join([f"# {doc}", *lines]))
     imu = imu_model_toml(DEFAULT_IMU_MODEL)
     joint_tables = "\n\n".join(joints)
     return f"""\

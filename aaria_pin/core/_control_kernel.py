@@ -16,11 +16,14 @@ At a tick:
   ``τ_c = (M(q_m) + diag(armature))·(qdd_r + Kp·e + Kd·ė) + b(q_m, v_m) + friction(qd_r)``
   (the controller's model is the nominal one, at the measured state; friction fed forward at
   the reference's velocity, which does not chatter as the measured one would);
-- the joint-torque loop (a torque sensor on, feedback ``k > 0``):
-  ``τ = τ_c + k·(τ_c - τ_s)``, ``τ_s`` the sensor's reading of the link-side torque at the
-  tick before (``Q((1 + s)·τ_link + b + n)``, :func:`~aaria_pin.core.torque_sensor.
-  torque_reading`), ``τ_link = τ - armature·qdd - friction(qd)``: it divides the motor's
-  friction and armature seen by the link by ``1 + k``;
+- the joint-torque loop (a torque sensor on, feedback ``k > 0``): the error between the
+  command and the sensor's reading of the link-side torque at the tick before,
+  ``τ_s = Q((1 + s)·τ_link + b + n)`` (:func:`~aaria_pin.core.torque_sensor.torque_reading`,
+  ``τ_link = τ - armature·qdd - friction(qd)``), low-passed, ``z += β·(τ_c - τ_s - z)``, and
+  ``τ = τ_c + k·z``. At rest it leaves ``1/(1 + k)`` of the motor's friction and armature
+  torque to the link. Unfiltered, the loop of a one-tick-old reading is a recursion with a
+  pole near ``-k`` (unstable for ``k ≥ 1``, seen at ``k = 9``); with the filter its pole is
+  ``1 - β·(1 + k)``, stable while ``β·(1 + k) < 2`` (``β = 1 - exp(-2π·f_t·h)``);
 - the motor torque saturated at its limit.
 
 After each sample the run is checked: a non-finite state or a joint farther than ``lost`` from
@@ -123,12 +126,12 @@ def _command(model, law, kp, kd, nq, rows, motor, work, out):  # type: ignore[no
 def _tick(model, base, k, x, y, tick, h, control, sensing, motor, memory, rows, work, held, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """One tick: ``out`` the controller's command, ``held[0]`` the motor torque held after it.
 
-    ``rows[0:3]`` hold the reference at the tick; ``memory`` (4, n) the encoders' last reading,
-    the filtered velocity, the link-side torque of the tick before, and whether there was a
-    tick before (1) or not (0) (a flag, not NaN: the kernels are compiled with ``fastmath``,
-    under which a NaN test may be folded away).
+    ``rows[0:3]`` hold the reference at the tick; ``memory`` (5, n) the encoders' last reading,
+    the filtered velocity, the link-side torque of the tick before, whether there was a tick
+    before (1) or not (0) (a flag, not NaN: the kernels are compiled with ``fastmath``, under
+    which a NaN test may be folded away), and the torque loop's filtered error.
     """
-    law, kp, kd, feedback, limit = control
+    law, kp, kd, feedback, beta, limit = control
     enc_on, offset, count, enc_noise, alpha, ts_on, scale, bias, resolution, ts_noise = sensing
     n = x.shape[0]
     base_at(base, k, work)
@@ -157,7 +160,8 @@ def _tick(model, base, k, x, y, tick, h, control, sensing, motor, memory, rows, 
             seen = (1.0 + scale[m]) * memory[2, m] + bias[m] + ts_noise[tick, m]
             if resolution[m] > 0:
                 seen = resolution[m] * np.round(seen / resolution[m])
-            applied = out[m] + feedback[m] * (out[m] - seen)
+            memory[4, m] += beta[m] * (out[m] - seen - memory[4, m])
+            applied = out[m] + feedback[m] * memory[4, m]
         held[0, m] = min(max(applied, -limit[m]), limit[m])
         memory[3, m] = 1.0
 

@@ -271,7 +271,8 @@ def closed_loop_simulate(
     if actuator is not None:
         limit = torque_limits(actuator, model_effort_limits(robot))
     feedback = per_joint(controller.torque_feedback, n, "torque_feedback")
-    control = (PD if law == "pd" else COMPUTED_TORQUE, kp, kd, feedback, limit)
+    beta = -np.expm1(-2 * np.pi * per_joint(controller.torque_filter, n, "torque_filter") * h)
+    control = (PD if law == "pd" else COMPUTED_TORQUE, kp, kd, feedback, beta, limit)
     sensing = options.get("sensing")
     alpha = _filter_weights(controller, n, h)
     refs = tuple(
@@ -279,7 +280,7 @@ def closed_loop_simulate(
     )
     q, v, a, command = (np.empty((T, n)) for _ in range(4))
     q[0], v[0] = refs[0][0], refs[1][0]
-    memory = np.zeros((4, n))
+    memory = np.zeros((5, n))
     motor = kernel_motor(actuator, n)
     stop = kernel_stops(options.get("stops"), n, h)
     method = INTEGRATORS.index(integrator)

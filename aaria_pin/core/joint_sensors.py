@@ -121,7 +121,7 @@ CLOSED_LOOP_DRIVES = ("pd", "computed-torque")
 
 @dataclass(frozen=True)
 class ControllerModel:
-    """A closed-loop drive's joint controller (``pd`` or ``computed-torque``; ``core/control.py``).
+    """A closed-loop drive's joint controller (``pd`` or ``computed-torque``).
 
     Attributes:
         frequency: the closed loop's natural frequency ``f``, ``ω = 2π·f`` [Hz]: ``pd`` gains
@@ -137,6 +137,8 @@ class ControllerModel:
             the encoders [Hz] (0: the raw difference)
         torque_feedback: gain ``k`` of the joint-torque loop on the torque sensors' reading
             (0: none) [1]
+        torque_filter: cut-off of the joint-torque loop's first-order filter [Hz] (stable
+            while ``(1 + k)·(1 - exp(-2π·f·h)) < 2``, ``h`` the control period)
     """
 
     frequency: JointValue = 50.0
@@ -146,9 +148,10 @@ class ControllerModel:
     rate: JointValue = 2000.0
     velocity_filter: JointValue = 0.0
     torque_feedback: JointValue = 0.0
+    torque_filter: JointValue = 50.0
 
     def __post_init__(self) -> None:
-        check_fields(self, positive=("frequency", "damping", "rate"))
+        check_fields(self, positive=("frequency", "damping", "rate", "torque_filter"))
         rates = np.unique(np.asarray(self.rate, dtype=float))
         if rates.size != 1:
             raise ParameterError(

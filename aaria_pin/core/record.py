@@ -67,6 +67,8 @@ if TYPE_CHECKING:
     from aaria_pin.core.run_metadata import RunMetadata
 
 __all__ = [
+    "CONTROL_RUN_TABLES",
+    "CONTROL_SERIES",
     "HARDWARE_UNITS",
     "IMU_SIGNALS",
     "JOINT_RUN_TABLES",
@@ -90,31 +92,27 @@ IMU_SIGNALS = ("wx", "wy", "wz", "fx", "fy", "fz")
 SERIES = ("time", "q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pose", "imu")
 """The time series of a record (leading axis T), in file order."""
 
-JOINT_SERIES = (
-    "q_measured",
-    "tau_measured",
-    "tau_motor",
-    "tau_armature",
-    "tau_friction",
-    "q_reference",
-    "qd_reference",
-    "tau_command",
-)
-"""The joint hardware's optional tables with a time axis (T × n), in record order (the last
-three a closed-loop drive's: the reference it tracked and its controller's command)."""
+JOINT_SERIES = ("q_measured", "tau_measured", "tau_motor", "tau_armature", "tau_friction")
+"""The joint hardware's optional tables with a time axis (T × n), in record order."""
 
-TIMED_HARDWARE = (*JOINT_SERIES, "imu_error_jitter", "imu_error_bias_random_walk")
+CONTROL_SERIES = ("q_reference", "qd_reference", "tau_command")
+"""A closed-loop run's tables with a time axis (T × n): the reference it tracked and its
+controller's command."""
+
+CONTROL_RUN_TABLES = ("controller_kp", "controller_kd")
+"""A closed-loop run's per-run tables (1 × n): its controller's gains."""
+
+TIMED_HARDWARE = (
+    *JOINT_SERIES,
+    *CONTROL_SERIES,
+    "imu_error_jitter",
+    "imu_error_bias_random_walk",
+)
 """The hardware's tables with a time axis: the joint channels' and the IMU's drawn jitter and
 bias random walk. A data set stores them in its dtype, as the series (a run with the IMU's
 two is computed in one piece)."""
 
-JOINT_RUN_TABLES = (
-    "encoder_offset",
-    "torque_sensor_bias",
-    "torque_sensor_scale",
-    "controller_kp",
-    "controller_kd",
-)
+JOINT_RUN_TABLES = ("encoder_offset", "torque_sensor_bias", "torque_sensor_scale")
 """The joint hardware's optional per-run tables (1 × n: one value per joint, float64; a row,
 as the files store a table of one axis)."""
 

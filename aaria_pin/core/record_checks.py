@@ -34,7 +34,14 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.record import JOINT_RUN_TABLES, JOINT_SERIES, SERIES, RunRecord
+from aaria_pin.core.record import (
+    CONTROL_RUN_TABLES,
+    CONTROL_SERIES,
+    JOINT_RUN_TABLES,
+    JOINT_SERIES,
+    SERIES,
+    RunRecord,
+)
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError
 
@@ -50,6 +57,11 @@ __all__ = [
     "check_time",
     "record_source",
 ]
+
+_SERIES = (*JOINT_SERIES, *CONTROL_SERIES)
+"""The optional T × n tables of the joint hardware and of a closed-loop drive."""
+_RUN_TABLES = (*JOINT_RUN_TABLES, *CONTROL_RUN_TABLES)
+"""Their optional 1 × n tables."""
 
 KIND_TABLES: Mapping[str, tuple[str, ...]] = {
     "dh": ("senSenDH", "senSenJ", "senSenB"),
@@ -225,15 +237,15 @@ def check_joint_tables(record: RunRecord, source: str, series: bool = True) -> N
             (``parameter="file"``).
     """
     n = len(record.joint_names)
-    expected = {name: ((record.n_samples if series else None), n) for name in JOINT_SERIES}
-    expected.update({name: (1, n) for name in JOINT_RUN_TABLES})
+    expected = {name: ((record.n_samples if series else None), n) for name in _SERIES}
+    expected.update({name: (1, n) for name in _RUN_TABLES})
     for name, shape in expected.items():
         if name not in record.tables:
             continue
         given = np.shape(record.tables[name])
         same = len(given) == len(shape)
         if not (same and all(e is None or g == e for g, e in zip(given, shape, strict=True))):
-            what = "T × n" if name in JOINT_SERIES else "1 × n, one per joint"
+            what = "T × n" if name in _SERIES else "1 × n, one per joint"
             allowed = "(" + ", ".join("T" if e is None else str(e) for e in shape) + ")"
             raise InputFileError(
                 f"{source}: array {name} has shape {given}; allowed: {allowed} ({what})",
@@ -325,17 +337,17 @@ _AXES = {
     "tool_pose": ("row", "column"),
     "base_wrench": ("component",),
     "imu_mount": ("IMU", "row", "column"),
-    **{name: ("joint",) for name in JOINT_SERIES},
-    **{name: ("row", "joint") for name in JOINT_RUN_TABLES},
+    **{name: ("joint",) for name in _SERIES},
+    **{name: ("row", "joint") for name in _RUN_TABLES},
 }
 """How a message names the axes of an array after its first (the sample, for a series)."""
 
 
 def _position(name: str, index: tuple[Any, ...]) -> str:
     """Where in an array an index is: ``sample 17, joint 2`` (0-based, as numpy counts)."""
-    if name in ("imu_mount", *JOINT_RUN_TABLES):
+    if name in ("imu_mount", *_RUN_TABLES):
         axes: tuple[str, ...] = _AXES[name]
-    elif name in SERIES or name in JOINT_SERIES:
+    elif name in SERIES or name in _SERIES:
         axes = ("sample", *_AXES.get(name, ()))
     else:
         axes = ("row", "column")

@@ -108,8 +108,8 @@ def test_models_are_recorded_and_read_back_from_a_run_file(
     fig2: RunRecord, tmp_path: Path, suffix: str
 ) -> None:
     stored = read_run(write_run(tmp_path / f"run{suffix}", fig2))
-    assert joint_models_from_attributes(stored.attributes) == ALL
-    assert joint_models_from_attributes({}) == dict.fromkeys(ALL)
+    assert joint_models_from_attributes(stored.attributes) == {**ALL, "controller": None}
+    assert joint_models_from_attributes({}) == dict.fromkeys([*ALL, "controller"])
     assert joint_model_attributes(RunSettings()) == {}
     for name in (*JOINT_SERIES, *JOINT_RUN_TABLES):
         np.testing.assert_array_equal(stored.tables[name], fig2.tables[name])

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.record import JOINT_SERIES, SERIES, RunRecord
+from aaria_pin.core.record import SERIES, TIMED_HARDWARE, RunRecord
 
 __all__ = ["CHUNK_SAMPLES", "chunk_bounds", "join_chunks", "run_length"]
 
@@ -101,7 +101,7 @@ def join_chunks(chunks: Iterable[RunRecord]) -> RunRecord:
     }
     last = pieces[-1]
     sensors = last.attributes.get("sensors", {})  # a sensor's table is its piece's signals
-    timed = [d["table"] for d in sensors.values()] + [n for n in JOINT_SERIES if n in last.tables]
+    timed = [d["table"] for d in sensors.values()] + [n for n in TIMED_HARDWARE if n in last.tables]
     if timed:
         tables = dict(last.tables)
         for name in timed:

@@ -72,6 +72,12 @@ actuators' limits and peaks): what a robot kind's own record (the wrist's, the p
 arm's) keeps from the engine's."""
 
 
+SATURATED = 1e-9
+"""How far past its limit a motor torque may seem (relative) and still be at it: a driven run
+saturates its motors at the limit, and the torque re-computed from its motion (RNEA plus the
+actuator's parts) lands within rounding of it."""
+
+
 class TorqueLimitWarning(UserWarning):
     """A prescribed motion needs more motor torque than a joint's limit (it is not clipped)."""
 
@@ -105,7 +111,7 @@ class ActuatorStream:
         size = np.abs(motor)
         if size.size:
             np.maximum(self.peaks, size.max(axis=0), out=self.peaks)
-        over = size > self.limits
+        over = size > self.limits * (1 + SATURATED)
         if not self._warned and over.any():
             self._warned = True
             sample, joint = np.argwhere(over)[0]
@@ -129,7 +135,7 @@ class ActuatorStream:
             "actuator_limits": {
                 "torque_limit": [float(v) for v in limit],
                 "tau_motor_peak": [float(v) for v in self.peaks],
-                "exceeded": [bool(v) for v in self.peaks > self.limits],
+                "exceeded": [bool(v) for v in self.peaks > self.limits * (1 + SATURATED)],
             }
         }
 
