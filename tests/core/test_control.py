@@ -10,6 +10,7 @@ default controller and friction on (the issue's 1 mrad RMS).
 
 from __future__ import annotations
 
+import itertools
 from functools import cache
 from typing import Any
 
@@ -218,4 +219,4 @@ def test_a_run_in_spans_is_the_run_at_once() -> None:
     for a, b in ((once.q, spans.q), (once.qd, spans.qd), (once.qdd, spans.qdd)):
         np.testing.assert_array_equal(a, b)
     assert len(told) > 5 and told[-1] == (record.time.size, record.time.size)
-    assert all(a[0] < b[0] for a, b in zip(told, told[1:], strict=False))
+    assert all(a[0] < b[0] for a, b in itertools.pairwise(told))
