@@ -177,26 +177,7 @@ def _link_torque(held, k1, y, motor, memory):  # type: ignore[no-untyped-def]  #
 
 
 @kernel(exact=True)
-def integrate_closed(
-    model,
-    base,
-    reference,
-    h,
-    substeps,
-    method,
-    motor,
-    stop,
-    control,
-    sensing,
-    q,
-    v,
-    a,
-    command,
-    memory,
-    first,
-    last,
-    lost,
-):  # type: ignore[no-untyped-def]  # pragma: no cover
+def integrate_closed(model, base, reference, h, substeps, method, motor, stop, control, sensing, q, v, a, command, memory, first, last, lost):  # type: ignore[no-untyped-def]  # noqa: E501  # pragma: no cover  # fmt: skip
     """Integrate samples ``first`` to ``last`` under the controller (module docstring).
 
     Fills ``q``, ``v`` (T, n) from ``first`` (its state given) to ``last``, ``a`` and

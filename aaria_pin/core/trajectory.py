@@ -197,7 +197,7 @@ class JointTrajectory:
     q: Array
     qd: Array
     qdd: Array
-    tables: Mapping[str, Array] = field(default_factory=dict)
+    tables: Mapping[str, Array] = field(default_factory=dict, kw_only=True)
 
 
 @dataclass(frozen=True)

@@ -486,7 +486,7 @@ def equipped(motion: Motion, hardware: JointHardware, seed: int | np.random.Seed
     outside the package without the method is followed as given.
     """
     with_hardware = getattr(motion, "with_hardware", None)
-    return motion if with_hardware is None else with_hardware(hardware, seed)  # type: ignore[no-any-return]
+    return motion if with_hardware is None else with_hardware(hardware, seed)
 
 
 MOTIONS: dict[str, Callable[[dict[str, Array], dict[str, Any]], Motion]] = {
