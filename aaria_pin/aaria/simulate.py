@@ -46,7 +46,7 @@ from aaria_pin.core.run import (
     sampling_attributes,
 )
 from aaria_pin.core.run.deprecation import deprecated_producer, warn_deprecated
-from aaria_pin.core.run.motion import DriveOptions, driven, stored_drive
+from aaria_pin.core.run.drives import DriveOptions, driven, stored_drive
 from aaria_pin.core.run.robot import RunKind, register_kind
 from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.trajectory import (

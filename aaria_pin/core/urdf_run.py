@@ -43,7 +43,7 @@ from aaria_pin.core.run import (
     register_kind,
 )
 from aaria_pin.core.run.deprecation import deprecated_producer
-from aaria_pin.core.run.motion import DriveOptions, driven, stored_drive
+from aaria_pin.core.run.drives import DriveOptions, driven, stored_drive
 from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.run.urdf_kind import UrdfRunSpec, urdf_robot_run
 from aaria_pin.core.trajectory import (

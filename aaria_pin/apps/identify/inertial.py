@@ -105,7 +105,9 @@ def _piece(
     rows = slice(start, stop)
     return (
         BaseMotion(*(getattr(base, f.name)[rows] for f in fields(BaseMotion))),
-        JointTrajectory(*(getattr(trajectory, f.name)[rows] for f in fields(JointTrajectory))),
+        JointTrajectory(
+            *(x[rows] for x in (trajectory.time, trajectory.q, trajectory.qd, trajectory.qdd))
+        ),
     )
 
 

@@ -4,8 +4,10 @@
 - :mod:`~aaria_pin.core.run.robot`: the :class:`RunRobot` adapter protocol and the registry of
   run kinds (:func:`register_kind`, :func:`kind_of`)
 - :mod:`~aaria_pin.core.run_metadata`: :class:`RunMetadata`, a record's attributes as fields
-- :mod:`~aaria_pin.core.run.motion`: the motions (sine table, Fourier, sampled trajectory,
-  torque drive) and how each stores and loads itself
+- :mod:`~aaria_pin.core.run.motion`: the motions (sine table, Fourier, sampled trajectory)
+  and how each stores and loads itself
+- :mod:`~aaria_pin.core.run.drives`: how the joints are driven (followed, the torque drive) and
+  the drive a record stores
 - :mod:`~aaria_pin.core.run.closed_loop`: the closed-loop drives (a controller tracks a motion)
 - :mod:`~aaria_pin.core.run.sensor`: the sensors (the IMU; any other registered one)
 - :mod:`~aaria_pin.core.run.measured`: the joint channels (encoders, torque sensors, actuators)
@@ -18,6 +20,7 @@
 from aaria_pin.core.run.chunks import CHUNK_SAMPLES, chunk_bounds, join_chunks, run_length
 from aaria_pin.core.run.closed_loop import ClosedLoopDrive
 from aaria_pin.core.run.deprecation import deprecated_producer, warn_deprecated
+from aaria_pin.core.run.drives import TorqueDrive, driven, motion_from_record, recorded_dynamics
 from aaria_pin.core.run.engine import (
     RunRequest,
     RunTables,
@@ -32,11 +35,7 @@ from aaria_pin.core.run.motion import (
     Motion,
     SampledTrajectory,
     SineTable,
-    TorqueDrive,
     as_motion,
-    driven,
-    motion_from_record,
-    recorded_dynamics,
 )
 from aaria_pin.core.run.robot import FixedMount, RunKind, RunRobot, kind_of, register_kind
 from aaria_pin.core.run.sensor import (

@@ -33,14 +33,14 @@ from aaria_pin.core.forward import INTEGRATORS, Progress
 from aaria_pin.core.joint_limits import DEFAULT_LIMITS, limit_policy
 from aaria_pin.core.joint_sensors import ControllerModel, JointHardware, select_joints
 from aaria_pin.core.run.measured import sensor_streams
-from aaria_pin.core.run.motion import Motion, SineTable, joint_bounds
-from aaria_pin.core.run.robot import RunRobot
+from aaria_pin.core.run.motion import Motion, SineTable
+from aaria_pin.core.run.robot import RunRobot, joint_bounds
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.seeds import sensor_sequence
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
-from aaria_pin.errors import InputFileError, ParameterError, TrackingError
+from aaria_pin.errors import ParameterError, TrackingError
 
-__all__ = ["ClosedLoopDrive", "closed_loop_from_record"]
+__all__ = ["ClosedLoopDrive"]
 
 
 @checked
@@ -205,25 +205,3 @@ def _lost(
         value=float(error[joint]),
         element=name,
     )
-
-
-def closed_loop_from_record(
-    reference: Motion, tables: dict[str, Array], attributes: dict[str, Any]
-) -> ClosedLoopDrive:
-    """The closed-loop drive a record stores (its ``drive``, ``limits``, ``integrator``).
-
-    Raises:
-        InputFileError: a ``drive`` that is no law, or a bad ``limits`` or ``integrator``.
-    """
-    law = str(attributes.get("drive"))
-    integrator = str(attributes.get("integrator", "rk4"))
-    limits = str(attributes.get("limits", DEFAULT_LIMITS))
-    for key, value, allowed in (
-        ("drive", law, LAWS),
-        ("integrator", integrator, INTEGRATORS),
-    ):
-        if value not in allowed:
-            raise InputFileError(
-                parameter=key, value=value, allowed=", ".join(allowed), element="run"
-            )
-    return ClosedLoopDrive(reference, law, limits=limits, integrator=integrator)

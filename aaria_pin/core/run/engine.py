@@ -27,8 +27,9 @@ from aaria_pin.core.joint_sensors import JointColumns
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.record import SERIES, TIMED_HARDWARE, RunRecord
 from aaria_pin.core.run.chunks import chunk_bounds, join_chunks
+from aaria_pin.core.run.drives import equipped
 from aaria_pin.core.run.measured import run_sensors
-from aaria_pin.core.run.motion import Motion, SineTable, equipped
+from aaria_pin.core.run.motion import Motion, SineTable
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.run.sensor import (
     Sensor,

@@ -1,40 +1,27 @@
-"""Joint motions of a run as objects: sine table, Fourier, sampled trajectory, torque drive.
+"""Joint motions of a run as objects: sine table, Fourier, sampled trajectory.
 
 Each makes its trajectory piece by piece and stores itself.
 
 A motion is checked once against the robot (:meth:`Motion.checked`), makes the joints' motion
 on each piece's sample times (:meth:`Motion.trajectory`), and declares the tables and
-attributes a record keeps about it (:meth:`Motion.record`); :func:`motion_from_record` loads it
-back from a record's tables and attributes through the registry :data:`MOTIONS` (the record's
-``motion`` attribute names its entry; a ``torque_table`` wraps it in a :class:`TorqueDrive`).
-Adding a motion is one class here (or in any module) plus its entry in :data:`MOTIONS`.
+attributes a record keeps about it (:meth:`Motion.record`);
+:func:`~aaria_pin.core.run.drives.motion_from_record` loads it back from a record's tables and
+attributes through the registry :data:`MOTIONS` (the record's ``motion`` attribute names its
+entry; its drive, :mod:`~aaria_pin.core.run.drives`, wraps it). Adding a motion is one class
+here (or in any module) plus its entry in :data:`MOTIONS`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field, replace
-from typing import Any, ClassVar, Protocol, Self, TypedDict
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, ClassVar, Protocol, Self
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.excitation import FourierExcitation
-from aaria_pin.core.forward import Progress
-from aaria_pin.core.joint_limits import (
-    DEFAULT_LIMITS,
-    JointBounds,
-    limit_policy,
-    model_velocity_limits,
-    stored_limits,
-)
-from aaria_pin.core.joint_sensors import (
-    CLOSED_LOOP_DRIVES,
-    ActuatorModel,
-    JointHardware,
-    select_joints,
-)
+from aaria_pin.core.joint_sensors import JointHardware
 from aaria_pin.core.run.robot import RunRobot
 from aaria_pin.core.sampled_motion import check_trajectory
 from aaria_pin.core.se3 import Array
@@ -43,20 +30,12 @@ from aaria_pin.errors import InputFileError, ParameterError
 
 __all__ = [
     "MOTIONS",
-    "DriveOptions",
     "FollowedMotion",
     "FourierMotion",
     "Motion",
     "SampledTrajectory",
     "SineTable",
-    "TorqueDrive",
     "as_motion",
-    "driven",
-    "equipped",
-    "joint_bounds",
-    "motion_from_record",
-    "recorded_dynamics",
-    "stored_drive",
 ]
 
 
@@ -65,8 +44,8 @@ class Motion(Protocol):
 
     Attributes:
         name: the record's ``motion`` attribute (its :data:`MOTIONS` entry)
-        drive: the record's ``drive`` attribute: ``"motion"`` (the joints follow it) or
-            ``"torque"`` (they move under given torques)
+        drive: the record's ``drive`` attribute: ``"motion"`` (the joints follow it),
+            ``"torque"`` (they move under given torques) or a controller's law
         whole: it must be computed in one piece (forward dynamics integrates the whole run)
     """
 
@@ -280,215 +259,6 @@ class FourierMotion(FollowedMotion):
         return cls(FourierExcitation.from_table(table, float(settings["base_frequency"]), settings))
 
 
-@checked
-@dataclass(frozen=True)
-class TorqueDrive:
-    """The joints move under given torques by forward dynamics, from ``start``'s state at t = 0.
-
-    Stored as ``start``'s tables and attributes, the table ``torque_table`` and ``drive``
-    ``torque``; computed in one piece. With an actuator (the run's ``RunSettings.actuator``,
-    set by the engine: :func:`actuated`) the torques are motor torques: the forward dynamics
-    add the armature and take off the friction. The integrated motion is then held to the
-    model's position and velocity limits by the policy ``limits``
-    (:mod:`~aaria_pin.core.joint_limits`), stored as the attribute ``limits``.
-
-    Attributes:
-        torques: (T, n) joint torques [N·m] or forces [N] by record column (columns of an Aaria
-            arm's empty modules are ignored)
-        start: the motion whose values and velocities at t = 0 start the run
-        actuator: the joints' motors, by record column (None: none)
-        limits: ``stop`` (the run ends with a :class:`~aaria_pin.errors.JointLimitError` at
-            the first sample beyond a limit), ``clamp`` (stiff-damped stops in the dynamics) or
-            ``ignore``
-        dynamics: the integrator, by its name in :data:`~aaria_pin.core.forward.DYNAMICS`
-            (recorded: a run is re-made by the one that made it)
-        progress: told ``(samples done, samples)`` as the integration goes (None: silent)
-    """
-
-    torques: ArrayLike
-    start: Motion = field(default_factory=SineTable)
-    actuator: ActuatorModel | None = None
-    limits: str = DEFAULT_LIMITS
-    dynamics: str = "kernel"
-    progress: Progress | None = field(default=None, compare=False)
-    drive: ClassVar[str] = "torque"
-    whole: ClassVar[bool] = True
-
-    def with_hardware(
-        self, hardware: JointHardware, seed: int | np.random.SeedSequence
-    ) -> TorqueDrive:
-        """The drive with the run's actuator (its torques are then motor torques)."""
-        if hardware.actuator == self.actuator:
-            return self
-        return replace(self, actuator=hardware.actuator)
-
-    @property
-    def name(self) -> str:
-        """The ``motion`` attribute: the starting motion's."""
-        return self.start.name
-
-    def checked(self, robot: RunRobot, samples: int, rate: float) -> TorqueDrive:
-        """The starting motion, the torque table (``check_torques``) and the policy checked.
-
-        Raises:
-            ParameterError: a bad table, or ``limits`` that names no policy built.
-        """
-        from aaria_pin.core.forward import check_torques
-
-        limit_policy(self.limits)
-        start = self.start.checked(robot, samples, rate)
-        n_columns = len(robot.joint_names)
-        tau = check_torques(self.torques, samples, n_columns, robot.torque_name)
-        return replace(self, torques=tau, start=start)
-
-    def trajectory(
-        self, robot: RunRobot, span: tuple[int, int], times: Array, base: BaseMotion
-    ) -> JointTrajectory:
-        """Forward dynamics under the torques (the whole run: one piece), then its policy.
-
-        Raises:
-            JointLimitError: the policy ``stop`` and a sample beyond the model's limits.
-        """
-        from aaria_pin.core.forward import DYNAMICS
-
-        initial = self.start.trajectory(robot, span, times, base)
-        torques = np.asarray(self.torques, dtype=float)
-        tau = torques if robot.columns is None else torques[:, robot.columns]
-        motors = self.actuator
-        if motors is not None:
-            motors = select_joints(motors, torques.shape[1], robot.columns)
-        policy, bounds = limit_policy(self.limits), joint_bounds(robot)
-        moved = DYNAMICS[self.dynamics](
-            robot.model,
-            base,
-            tau,
-            times,
-            initial.q[0],
-            initial.qd[0],
-            actuator=motors,
-            progress=self.progress,
-            **policy.forward_options(bounds),
-        )
-        return policy.applied(moved, bounds)
-
-    def record(self, robot: RunRobot) -> tuple[dict[str, Array], dict[str, Any]]:
-        """The starting motion's, ``torque_table`` and the attributes ``limits``, ``dynamics``."""
-        tables, attributes = self.start.record(robot)
-        tau = np.asarray(self.torques, dtype=float)
-        attributes = {**attributes, "limits": self.limits, "dynamics": self.dynamics}
-        return {**tables, "torque_table": tau}, attributes
-
-
-def joint_bounds(robot: RunRobot) -> JointBounds:
-    """The robot's position limits and its model's velocity limits, model order."""
-    lower, upper = robot.limits
-    columns = list(range(lower.size)) if robot.columns is None else robot.columns
-    names = [robot.joint_names[c] for c in columns]
-    return JointBounds(names, lower[columns], upper[columns], model_velocity_limits(robot.model))
-
-
-class DriveOptions(TypedDict, total=False):
-    """How a run's joints are driven: the request options :func:`driven` reads (all optional).
-
-    Attributes:
-        torques: (T, n) torques by record column: the joints move under them (a torque drive)
-        drive: ``motion``, ``torque`` (with ``torques``), or a closed-loop drive (``pd``,
-            ``computed-torque``: the motion is the controller's reference)
-        limits: the joint-limit policy of a torque or closed-loop drive (``stop``, ``clamp``,
-            ``ignore``)
-        dynamics: a torque drive's integrator by its recorded name (``kernel``, ``reference``)
-        integrator: a closed-loop drive's integrator (``rk4``, ``euler``)
-        progress: told ``(samples done, samples)`` as a driven run's integration goes
-    """
-
-    torques: ArrayLike | None
-    drive: str
-    limits: str
-    dynamics: str
-    integrator: str
-    progress: Progress | None
-
-
-def driven(motion: Motion, options: Mapping[str, Any]) -> Motion:
-    """The run's motion under a request's options (:class:`DriveOptions`).
-
-    A :class:`TorqueDrive` when they give torques, a
-    :class:`~aaria_pin.core.run.closed_loop.ClosedLoopDrive` tracking ``motion`` when
-    ``drive`` names a law, else ``motion`` itself.
-
-    Args:
-        motion: the motion (a torque drive's start, a closed-loop drive's reference)
-        options: a request's options
-
-    Raises:
-        ParameterError: an unknown ``drive``, torques with a closed-loop drive, or ``limits``
-            for a run that is not driven (only a driven run has a policy).
-    """
-    torques, limits = options.get("torques"), options.get("limits")
-    drive = options.get("drive")
-    known = ("motion", "torque", *CLOSED_LOOP_DRIVES)
-    if drive is not None and drive not in known:
-        raise ParameterError(parameter="drive", value=drive, allowed=", ".join(known))
-    progress = options.get("progress")
-    if drive in CLOSED_LOOP_DRIVES:
-        if torques is not None:
-            raise ParameterError(
-                f"torques are given for drive {drive!r}; allowed: torques with drive torque",
-                parameter="torques",
-                allowed="torques with drive torque",
-            )
-        from aaria_pin.core.run.closed_loop import ClosedLoopDrive
-
-        integrator = options.get("integrator", "rk4")
-        limits = limits or DEFAULT_LIMITS
-        return ClosedLoopDrive(motion, drive, limits, integrator, progress=progress)
-    if torques is None:
-        if limits is not None:
-            raise ParameterError(
-                f"limits is {limits!r} for a run without torques; allowed: limits with torques "
-                "or a closed-loop drive",
-                parameter="limits",
-                value=limits,
-            )
-        return motion
-    dynamics = options.get("dynamics", TorqueDrive.dynamics)
-    limits = limits or DEFAULT_LIMITS
-    return TorqueDrive(torques, motion, limits=limits, dynamics=dynamics, progress=progress)
-
-
-def stored_drive(tables: Mapping[str, Array], attributes: Mapping[str, Any]) -> DriveOptions:
-    """The drive a record stores, as request options (:class:`DriveOptions`; none: followed).
-
-    A torque run's ``torque_table``, ``limits`` and ``dynamics``; a closed-loop run's
-    ``drive``, ``limits`` and ``integrator``.
-    """
-    drive = attributes.get("drive")
-    if drive in CLOSED_LOOP_DRIVES:
-        return {
-            "drive": str(drive),
-            "limits": stored_limits(dict(attributes)),
-            "integrator": str(attributes.get("integrator", "rk4")),
-        }
-    if "torque_table" in tables:
-        return {
-            "torques": tables["torque_table"],
-            "limits": stored_limits(dict(attributes)),
-            "dynamics": recorded_dynamics(dict(attributes)),
-        }
-    return {}
-
-
-def equipped(motion: Motion, hardware: JointHardware, seed: int | np.random.SeedSequence) -> Motion:
-    """The motion with the run's joint models and noise seed (``Motion.with_hardware``).
-
-    A torque drive takes the run's actuator (its torques are motor torques), a closed-loop
-    drive its actuator, sensors and controller; a followed motion is itself. A motion made
-    outside the package without the method is followed as given.
-    """
-    with_hardware = getattr(motion, "with_hardware", None)
-    return motion if with_hardware is None else with_hardware(hardware, seed)
-
-
 MOTIONS: dict[str, Callable[[dict[str, Array], dict[str, Any]], Motion]] = {
     SineTable.name: SineTable.from_record,
     SampledTrajectory.name: SampledTrajectory.from_record,
@@ -519,58 +289,6 @@ def as_motion(value: Motion | JointTrajectory | FourierExcitation | None) -> Mot
         value=type(value).__name__,
         allowed="None, a JointTrajectory, a FourierExcitation or a Motion",
     )
-
-
-def motion_from_record(
-    tables: dict[str, Array], attributes: dict[str, Any], drive: bool = True
-) -> Motion:
-    """The motion a record stores (:meth:`Motion.record`), to re-make the run.
-
-    A record without a ``motion`` attribute (written before motions were stored) follows its
-    joint table's sines; one with a ``torque_table`` is driven by it (with ``drive``; without,
-    the motion that starts it) under its ``limits`` (:func:`stored_limits`).
-
-    Raises:
-        InputFileError: an unknown ``motion``, or one whose table or settings are missing.
-    """
-    name = attributes.get("motion", SineTable.name)
-    load = MOTIONS.get(name)
-    if load is None:
-        raise InputFileError(
-            parameter="motion", value=name, allowed=", ".join(MOTIONS), element="run"
-        )
-    motion = load(tables, attributes)
-    if drive and attributes.get("drive") in CLOSED_LOOP_DRIVES:
-        from aaria_pin.core.run.closed_loop import closed_loop_from_record
-
-        return closed_loop_from_record(motion, tables, attributes)
-    if drive and "torque_table" in tables:
-        return TorqueDrive(
-            tables["torque_table"],
-            motion,
-            limits=stored_limits(attributes),
-            dynamics=recorded_dynamics(attributes),
-        )
-    return motion
-
-
-def recorded_dynamics(attributes: dict[str, Any]) -> str:
-    """The torque drive's integrator a record names (``TorqueDrive.dynamics``).
-
-    A run written before the compiled kernel has no ``dynamics``: it was made by the Pinocchio
-    path (``"reference"``), which re-makes it bit for bit.
-
-    Raises:
-        InputFileError: a name :data:`~aaria_pin.core.forward.DYNAMICS` does not hold.
-    """
-    from aaria_pin.core.forward import DYNAMICS
-
-    name = str(attributes.get("dynamics", "reference"))
-    if name not in DYNAMICS:
-        raise InputFileError(
-            parameter="dynamics", value=name, allowed=", ".join(DYNAMICS), element="run"
-        )
-    return name
 
 
 def _stored_table(tables: dict[str, Array], name: str, motion: str) -> Array:

@@ -21,13 +21,14 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from aaria_pin.core.joint_limits import JointBounds, model_velocity_limits
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 from aaria_pin.errors import InputFileError
 
-__all__ = ["FixedMount", "RunKind", "RunRobot", "kind_of", "register_kind"]
+__all__ = ["FixedMount", "RunKind", "RunRobot", "joint_bounds", "kind_of", "register_kind"]
 
 
 class RunRobot(Protocol):
@@ -201,3 +202,11 @@ def kind_of(record: RunRecord) -> RunKind:
     if name not in _KINDS:
         raise InputFileError(parameter="kind", value=name, allowed=", ".join(_KINDS), element="run")
     return _KINDS[str(name)]
+
+
+def joint_bounds(robot: RunRobot) -> JointBounds:
+    """The robot's position limits and its model's velocity limits, model order."""
+    lower, upper = robot.limits
+    columns = list(range(lower.size)) if robot.columns is None else robot.columns
+    names = [robot.joint_names[c] for c in columns]
+    return JointBounds(names, lower[columns], upper[columns], model_velocity_limits(robot.model))
