@@ -158,10 +158,20 @@ def sampling_overrides(params: dict[str, Any], stored: Any = None) -> dict[str, 
             **hardware_run_options(*hardware)}  # fmt: skip
 
 
-limits_option = click.option("--limits", type=click.Choice(["stop", "clamp", "ignore"]),
-    help="--drive torque|pd|computed-torque: stop at the first joint beyond its model position or"
-    " velocity limit (exit 1; the default), hold it on stiff-damped stops (clamp), or ignore"
-    " them. --from: as stored.")  # fmt: skip
+def integration_options(command: Any) -> Any:
+    """``--limits``, ``--integrator``, ``--substeps``: how a driven run is integrated and held."""
+    for option in (
+        click.option("--substeps", type=click.IntRange(1), help="--drive torque: integration steps"
+                     " per sample (default 4; a controller steps at its rate).") ,
+        click.option("--integrator", type=click.Choice(["rk4", "euler"]),
+                     help="Of a driven run: RK4 (default) or semi-implicit Euler."),
+        click.option("--limits", type=click.Choice(["stop", "clamp", "ignore"]),
+            help="--drive torque|pd|computed-torque: stop at the first joint beyond its model"
+            " position or velocity limit (exit 1; the default), hold it on stiff-damped stops"
+            " (clamp), or ignore them. --from: as stored."),
+    ):  # fmt: skip
+        command = option(command)
+    return command
 
 
 def drive_overrides(params: dict[str, Any]) -> dict[str, Any]:
@@ -177,9 +187,12 @@ def drive_overrides(params: dict[str, Any]) -> dict[str, Any]:
     drive = params.get("drive")
     if (drive == "torque") != (path is not None):
         raise click.UsageError("--drive torque and --torques FILE go together")
-    options = {"limits": params["limits"]} if params.get("limits") else {}
+    keys = ("limits", "integrator", "substeps")
+    options: dict[str, Any] = {key: params[key] for key in keys if params.get(key) is not None}
     if path is None and options and drive == "motion" and params.get("from_run") is None:
-        raise click.UsageError("--limits goes with --drive torque|pd|computed-torque (or --from)")
+        raise click.UsageError(
+            f"--{next(iter(options))} goes with --drive torque|pd|computed-torque (or --from)"
+        )
     options["progress"] = run_progress()  # a followed motion has none to tell
     if drive not in ("motion", "torque"):
         return {**options, "drive": drive}

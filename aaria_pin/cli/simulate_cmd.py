@@ -13,7 +13,7 @@ from aaria_pin.cli._options import (
     given,
     grid_options,
     hardware_options,
-    limits_option,
+    integration_options,
     load_table_source,
     robot_source_options,
     sampling_overrides,
@@ -59,7 +59,7 @@ Examples:
 @click.option("--torques", "torques_file", type=_FILE,
               help="Joint torques for --drive torque: a run file (its tau), or a T x n table (CSV,"
               " .npy, .mat 'tau'); a DH arm's by module (T x 6).")  # fmt: skip
-@limits_option
+@integration_options
 @click.option(
     "--motion",
     type=click.Choice(["sine", "fourier"]),
