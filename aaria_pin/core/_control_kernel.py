@@ -132,29 +132,12 @@ def _tick(model, base, k, x, y, tick, h, control, sensing, motor, memory, rows, 
     which a NaN test may be folded away), and the torque loop's filtered error.
     """
     law, kp, kd, feedback, beta, limit = control
-    enc_on, offset, count, enc_noise, alpha, ts_on, scale, bias, resolution, ts_noise = sensing
-    n = x.shape[0]
+    ts_on, scale, bias = sensing[5], sensing[6], sensing[7]
+    resolution, ts_noise = sensing[8], sensing[9]
     base_at(base, k, work)
-    q_m, v_m = rows[3], rows[4]
-    for m in range(n):
-        if not enc_on:
-            q_m[m] = x[m]
-            v_m[m] = y[m]
-            continue
-        seen = x[m] + enc_noise[tick, m]
-        if count[m] > 0:
-            seen = count[m] * np.round(seen / count[m])
-        reading = offset[m] + seen
-        if memory[3, m] == 0:  # the first tick: the drive starts from a known state
-            memory[1, m] = y[m]
-        else:
-            raw = (reading - memory[0, m]) / h
-            memory[1, m] += alpha[m] * (raw - memory[1, m])
-        memory[0, m] = reading
-        q_m[m] = reading
-        v_m[m] = memory[1, m]
+    _measured(x, y, tick, h, sensing, memory, rows[3:5])
     _command(model, law, kp, kd, base[0].shape[1], rows, motor, work, out)
-    for m in range(n):
+    for m in range(out.shape[0]):
         applied = out[m]
         if ts_on and feedback[m] > 0 and memory[3, m] > 0:
             seen = (1.0 + scale[m]) * memory[2, m] + bias[m] + ts_noise[tick, m]
