@@ -1,27 +1,32 @@
-"""numpy's standard normals, bit for bit, at less than half their cost: a compiled ziggurat.
+"""The standard normals of numpy, bit for bit, at a quarter of their cost: a compiled ziggurat.
 
-``Generator.standard_normal`` (numpy's 256-layer ziggurat) costs about 8 ns a number on the
-project's machine, while the same generator's raw 64-bit words cost 2 ns
-(``bit_generator.random_raw``): the ziggurat's loop calls the bit generator through a function
-pointer once per number and does not pipeline. A run's IMU white noise is 840,000 numbers for
-10,000 samples of 14 IMUs, 7 ms, about 0.9× Pinocchio's RNEA of the same run.
-:func:`standard_normal` draws the raw words in one call and runs numpy's own algorithm
+``Generator.standard_normal`` (numpy's 256-layer ziggurat over ``PCG64``) costs about 8 ns a
+number on the project's machine, while the generator's raw 64-bit words cost 2 ns
+(``bit_generator.random_raw``): numpy's loop calls the bit generator through a function pointer
+for every word and does not pipeline. A run's IMU white noise is 840,000 numbers for 10,000
+samples of 14 IMUs: 7 ms, about 0.9× Pinocchio's RNEA of the same run
+(``benchmarks/bench_record.py``). :func:`standard_normal` runs numpy's own algorithm
 (``random_standard_normal`` of numpy's ``distributions.c``, with its tables, which numba ships
-as ``numba.np.random._constants``) over them in a compiled loop: 1.8 ms of raw words plus
-1.2 ms of ziggurat for those 840,000 numbers (measured), and the very numbers numpy gives, so
-no stream changes and every file re-makes bit for bit. The generator is left exactly where
-``standard_normal`` would leave it: the ziggurat consumes a variable number of words (about
-1.022 per number: a rejected or tail sample takes one or two more), so the words are drawn with
-a margin and the generator is then set back to its state before the draw and advanced by the
-words used (``PCG64.advance``, O(log n)). Only ``PCG64`` (``default_rng``'s) takes this path;
-another bit generator is asked for its normals directly. ``exp``/``log1p`` are the C
-library's in both (compiled ``exact``, without fastmath); the tests hold the numbers equal to
+as ``numba.np.random._constants``) in one compiled loop that steps ``PCG64`` itself (its
+128-bit LCG through an LLVM ``i128`` multiply, then the XSL-RR output), from the state read
+off the generator, and writes the advanced state back: 1.7 ms for those 840,000 numbers
+(measured, one core), the very numbers numpy gives, and the generator left where numpy leaves
+it. So no stream changes and every file re-makes bit for bit. Measured alternatives: raw
+words drawn with ``random_raw`` and the ziggurat over them, the generator then set back and
+advanced by the words used (``PCG64.advance``), 1.8 + 1.2 ms; the 128-bit product from four
+32-bit ones instead of ``i128``, 2.4 ms. Only ``PCG64`` (``default_rng``'s) takes this path;
+another bit generator, or a draw of fewer than :data:`_SMALL` numbers, is numpy's own.
+``exp``/``log1p`` (the 1 % of draws that are rejected or in the tail) are the C library's in
+both (compiled ``exact``, without fastmath); the tests hold the numbers and the state equal to
 numpy's on millions of draws, tails included.
 """
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
+from numba.core.extending import intrinsic
 
 from aaria_pin.core._compile import kernel
 from aaria_pin.core.se3 import Array
@@ -32,27 +37,56 @@ _SMALL = 4096
 """Below this many numbers the fixed cost (state copies, a kernel call) is not worth it."""
 
 
+def _mulhi(typingctx: Any, a: Any, b: Any) -> Any:  # pragma: no cover - compiled
+    """The high 64 bits of the 128-bit product of two uint64 (an LLVM ``i128`` multiply)."""
+    from llvmlite import ir
+    from numba import types
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        wide = ir.IntType(128)
+        product = builder.mul(builder.zext(args[0], wide), builder.zext(args[1], wide))
+        return builder.trunc(builder.lshr(product, ir.Constant(wide, 64)), ir.IntType(64))
+
+    return types.uint64(types.uint64, types.uint64), codegen
+
+
+_mulhi = intrinsic(_mulhi)
+
+_MULTIPLIER_HIGH = np.uint64(0x2360ED051FC65DA4)
+_MULTIPLIER_LOW = np.uint64(0x4385DF649FCCF645)
+"""PCG64's 128-bit LCG multiplier (numpy's ``PCG_DEFAULT_MULTIPLIER_128``), in halves."""
+
+
+@kernel(exact=True)
+def _pcg64(high, low, inc_high, inc_low):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """One step of numpy's ``PCG64``: the new state's halves and its 64-bit output.
+
+    ``state = state·multiplier + increment`` (mod 2¹²⁸), then the XSL-RR output of the new
+    state: ``(high ^ low)`` rotated right by the top 6 bits of ``high``.
+    """
+    new_low = low * _MULTIPLIER_LOW
+    new_high = _mulhi(low, _MULTIPLIER_LOW) + high * _MULTIPLIER_LOW + low * _MULTIPLIER_HIGH
+    low = new_low + inc_low
+    high = new_high + inc_high + (np.uint64(1) if low < new_low else np.uint64(0))
+    word = high ^ low
+    turn = high >> np.uint64(58)
+    return high, low, (word >> turn) | (word << ((np.uint64(64) - turn) & np.uint64(63)))
+
+
 @kernel(exact=True)
 def _ziggurat(  # type: ignore[no-untyped-def]  # pragma: no cover
-    raw, out, start, ki, wi, fi, tail, inverse_tail
+    state, out, ki, wi, fi, tail, inverse_tail
 ):
-    """Fill ``out[start:]`` from the raw words ``raw``: numpy's ``random_standard_normal``.
+    """Fill ``out`` with numpy's ``random_standard_normal`` of the ``PCG64`` state ``state``.
 
-    Returns ``(filled, used)``: ``out[:filled]`` holds numbers and ``raw[:used]`` made them.
-    When the words run out within a number, that number's words are not counted as used, so
-    the caller continues from ``raw[used:]`` with more words after it.
+    ``state`` holds the state's and the increment's 64-bit halves (high, low, high, low);
+    its first two are advanced past the words used.
     """
-    n = out.size
-    m = raw.size
     scale = 1.0 / 9007199254740992.0  # next_double: the top 53 bits of a word
-    i = start
-    j = 0
-    while i < n:
-        first = j
-        if j >= m:
-            return i, first
-        r = raw[j]
-        j += 1
+    high, low, inc_high, inc_low = state[0], state[1], state[2], state[3]
+    i = 0
+    while i < out.size:
+        high, low, r = _pcg64(high, low, inc_high, inc_low)
         idx = r & np.uint64(0xFF)
         r = r >> np.uint64(8)
         rabs = (r >> np.uint64(1)) & np.uint64(0x000FFFFFFFFFFFFF)
@@ -62,37 +96,32 @@ def _ziggurat(  # type: ignore[no-untyped-def]  # pragma: no cover
         if rabs < ki[idx]:
             out[i] = x
             i += 1
-            continue
-        if idx == 0:  # the tail beyond `tail`
+        elif idx == 0:  # the tail beyond `tail`
             while True:
-                if j + 2 > m:
-                    return i, first
-                xx = -inverse_tail * np.log1p(-((raw[j] >> np.uint64(11)) * scale))
-                yy = -np.log1p(-((raw[j + 1] >> np.uint64(11)) * scale))
-                j += 2
+                high, low, word = _pcg64(high, low, inc_high, inc_low)
+                xx = -inverse_tail * np.log1p(-((word >> np.uint64(11)) * scale))
+                high, low, word = _pcg64(high, low, inc_high, inc_low)
+                yy = -np.log1p(-((word >> np.uint64(11)) * scale))
                 if yy + yy > xx * xx:
-                    if (rabs >> np.uint64(8)) & np.uint64(1):
-                        out[i] = -(tail + xx)
-                    else:
-                        out[i] = tail + xx
+                    out[i] = -(tail + xx) if (rabs >> np.uint64(8)) & np.uint64(1) else tail + xx
                     i += 1
                     break
         else:
-            if j >= m:
-                return i, first
-            u = (raw[j] >> np.uint64(11)) * scale
-            j += 1
-            if (fi[idx - 1] - fi[idx]) * u + fi[idx] < np.exp(-0.5 * x * x):
+            high, low, word = _pcg64(high, low, inc_high, inc_low)
+            if (fi[idx - 1] - fi[idx]) * ((word >> np.uint64(11)) * scale) + fi[idx] < np.exp(
+                -0.5 * x * x
+            ):
                 out[i] = x
                 i += 1
-    return i, j
+    state[0] = high
+    state[1] = low
 
 
 _TABLES: list[object] = []
 
 
 def _tables() -> list[object]:
-    """numpy's ziggurat tables (``ki``, ``wi``, ``fi``, ``r``, ``1/r``), as numba ships them."""
+    """The ziggurat tables of numpy (``ki``, ``wi``, ``fi``, ``r``, ``1/r``), as numba ships them."""
     if not _TABLES:
         from numba.np.random import _constants as z
 
@@ -123,17 +152,12 @@ def standard_normal(rng: np.random.Generator, shape: int | tuple[int, ...]) -> A
     if type(bits) is not np.random.PCG64 or out.size < _SMALL:
         rng.standard_normal(out=out)
         return out
-    flat = out.reshape(-1)
-    n = flat.size
     saved = bits.state
-    raw = bits.random_raw(n + n // 32 + 64)  # about 2.2 % more words than numbers are used
-    filled, used = _ziggurat(raw, flat, 0, *_tables())
-    consumed = used
-    while filled < n:
-        left = n - filled
-        raw = np.concatenate([raw[used:], bits.random_raw(left + left // 32 + 64)])
-        filled, used = _ziggurat(raw, flat, filled, *_tables())
-        consumed += used
+    words = saved["state"]
+    mask = (1 << 64) - 1
+    halves = [words["state"] >> 64, words["state"] & mask, words["inc"] >> 64, words["inc"] & mask]
+    state = np.array(halves, dtype=np.uint64)
+    _ziggurat(state, out.reshape(-1), *_tables())
+    words["state"] = (int(state[0]) << 64) | int(state[1])
     bits.state = saved
-    bits.advance(consumed)
     return out

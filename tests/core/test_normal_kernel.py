@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from aaria_pin.core._normal_kernel import _tables, _ziggurat, standard_normal
+from aaria_pin.core._normal_kernel import _pcg64, standard_normal
 
 
 @pytest.mark.parametrize(("seed", "shape"), [(0, (10_000, 14, 6)), (7, 5000), (12345, (4097, 3))])
@@ -29,20 +29,21 @@ def test_the_tails_of_many_draws_equal_numpys() -> None:
     assert np.array_equal(drawn, expected)
 
 
-def test_words_running_out_mid_number_continue_exactly() -> None:
-    """Fed a few words at a time, the kernel stops before an unfinished number and resumes."""
-    raw = np.random.default_rng(3).bit_generator.random_raw(60_000)
-    expected = np.random.default_rng(3).standard_normal(50_000)
-    out = np.empty(50_000)
-    filled, used, offset = 0, 0, 0
-    while filled < out.size:
-        offset += used
-        filled, used = _ziggurat(raw[offset : offset + 7], out, filled, *_tables())
-    assert np.array_equal(out, expected)
+def test_the_pcg64_step_gives_numpys_raw_words() -> None:
+    words = np.random.default_rng(2024).bit_generator.state["state"]
+    mask = (1 << 64) - 1
+    high, low = np.uint64(words["state"] >> 64), np.uint64(words["state"] & mask)
+    inc = (np.uint64(words["inc"] >> 64), np.uint64(words["inc"] & mask))
+    drawn = []
+    for _ in range(1000):
+        high, low, word = (np.uint64(x) for x in _pcg64(high, low, *inc))
+        drawn.append(int(word))
+    assert drawn == np.random.default_rng(2024).bit_generator.random_raw(1000).tolist()
 
 
 def test_other_bit_generators_and_small_draws_are_numpys() -> None:
-    ours, theirs = np.random.Generator(np.random.MT19937(5)), np.random.Generator(np.random.MT19937(5))
+    ours = np.random.Generator(np.random.MT19937(5))
+    theirs = np.random.Generator(np.random.MT19937(5))
     assert np.array_equal(standard_normal(ours, 10_000), theirs.standard_normal(10_000))
     small, twin = np.random.default_rng(1), np.random.default_rng(1)
     assert np.array_equal(standard_normal(small, (10, 6)), twin.standard_normal((10, 6)))
