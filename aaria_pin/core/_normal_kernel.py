@@ -121,7 +121,7 @@ _TABLES: list[object] = []
 
 
 def _tables() -> list[object]:
-    """The ziggurat tables of numpy (``ki``, ``wi``, ``fi``, ``r``, ``1/r``), as numba ships them."""
+    """The ziggurat's tables (``ki``, ``wi``, ``fi``, ``r``, ``1/r``) as numba ships them."""
     if not _TABLES:
         from numba.np.random import _constants as z
 
