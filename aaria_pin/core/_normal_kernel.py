@@ -152,12 +152,13 @@ def standard_normal(rng: np.random.Generator, shape: int | tuple[int, ...]) -> A
     if type(bits) is not np.random.PCG64 or out.size < _SMALL:
         rng.standard_normal(out=out)
         return out
-    saved = bits.state
-    words = saved["state"]
-    mask = (1 << 64) - 1
-    halves = [words["state"] >> 64, words["state"] & mask, words["inc"] >> 64, words["inc"] & mask]
-    state = np.array(halves, dtype=np.uint64)
-    _ziggurat(state, out.reshape(-1), *_tables())
-    words["state"] = (int(state[0]) << 64) | int(state[1])
-    bits.state = saved
+    with bits.lock:  # as numpy's draw holds it: threads sharing the generator take turns
+        saved = bits.state
+        words = saved["state"]
+        mask = (1 << 64) - 1
+        halves = [words["state"] >> 64, words["state"] & mask, words["inc"] >> 64]
+        state = np.array([*halves, words["inc"] & mask], dtype=np.uint64)
+        _ziggurat(state, out.reshape(-1), *_tables())
+        words["state"] = (int(state[0]) << 64) | int(state[1])
+        bits.state = saved
     return out
