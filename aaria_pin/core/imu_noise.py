@@ -247,10 +247,10 @@ class ImuNoiseStream:
     ``rng`` that first draws (and drops) the whole run's white noise in blocks of at most
     :data:`SKIP_BLOCK` numbers. Skipping costs one more white-noise draw of the run (0.5 s
     for 2 million samples of 14 IMUs through the compiled draw, 0.8 s through numpy's, measured
-    on one core) and keeps the seed's numbers those of every earlier version. The knots are then drawn as the pieces need
-    them, keeping only the recursion's last knot and those the current piece spans: a run
-    whose every sample is a knot (below ``200/T`` Hz, e.g. a day at 3.9 Hz: 336,962 knots of
-    14 IMUs, 226 MB) no longer holds them all.
+    on one core) and keeps the seed's numbers those of every earlier version. The knots are
+    then drawn as the pieces need them, keeping only the recursion's last knot and those the
+    current piece spans: a run whose every sample is a knot (below ``200/T`` Hz, e.g. a day at
+    3.9 Hz: 336,962 knots of 14 IMUs, 226 MB) no longer holds them all.
 
     Args:
         samples: T, the run's number of samples
