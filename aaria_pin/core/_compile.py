@@ -65,8 +65,8 @@ def compile_message(cache_dir: str | None) -> str:
     """
     where = cache_dir if cache_dir else "numba's cache"
     return (
-        "aaria: compiling the kernels once (seconds: 3 for the IMUs', 5-8 for the torque "
-        f"drive's); "
+        "aaria: compiling the kernels once (seconds: 3-5 for the IMUs', 10-15 more for a "
+        "torque or closed-loop drive's); "
         f"later runs load them from {where}"
     )
 
