@@ -6,7 +6,8 @@ closed_loop_simulate`); a long one (an hour of simulated time at 1 kHz control) 
 :func:`run_progress` is the callback those take (``progress``): on a terminal it writes
 ``aaria: integrating 42% (420,000/1,000,001 samples, 3.1 s)``, rewritten in place, once the
 integration has lasted :data:`SHOW_AFTER` seconds (a short run shows nothing), and ends the line
-when the integration ends; in a log (stderr not a terminal) it writes nothing.
+when the integration ends (or, when it fails, :func:`end_progress_line` before the error); in a
+log (stderr not a terminal) it writes nothing.
 """
 
 from __future__ import annotations
@@ -16,10 +17,21 @@ import time
 from collections.abc import Callable
 from typing import TextIO
 
-__all__ = ["SHOW_AFTER", "run_progress"]
+__all__ = ["SHOW_AFTER", "end_progress_line", "run_progress"]
 
 SHOW_AFTER = 0.5
 """Wall time an integration runs before its progress line appears [s]."""
+
+_open: list[TextIO] = []
+"""The stream whose progress line is not ended yet (at most one)."""
+
+
+def end_progress_line() -> None:
+    """End a progress line a failed integration left open (the error then starts a line)."""
+    while _open:
+        stream = _open.pop()
+        stream.write("\n")
+        stream.flush()
 
 
 def run_progress(stream: TextIO | None = None) -> Callable[[int, int], None] | None:
@@ -42,11 +54,14 @@ def run_progress(stream: TextIO | None = None) -> Callable[[int, int], None] | N
         if seconds < SHOW_AFTER and not shown[0]:
             return
         shown[0] = True
-        end = "\n" if done >= samples else ""
         out.write(
             f"\raaria: integrating {100 * done // samples}% ({done:,}/{samples:,} samples, "
-            f"{seconds:.1f} s){end}"
+            f"{seconds:.1f} s)"
         )
+        if out not in _open:
+            _open.append(out)
+        if done >= samples:
+            end_progress_line()
         out.flush()
 
     return progress

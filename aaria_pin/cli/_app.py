@@ -7,6 +7,7 @@ from typing import Any
 
 import click
 
+from aaria_pin.apps.run_progress import end_progress_line
 from aaria_pin.errors import AariaError, NoSpaceError, RunFailedError
 
 EXIT_BAD_INPUT = 2
@@ -119,6 +120,7 @@ class _Main(AariaGroup):
         try:
             return super().invoke(ctx)
         except (NoSpaceError, RunFailedError) as exc:  # the input was fine: exit 1 (a failure)
+            end_progress_line()
             click.echo(f"aaria: error: {' '.join(str(exc).split())}", err=True)
             ctx.meta[_FAILED] = True
             ctx.exit(1)

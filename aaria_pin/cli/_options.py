@@ -175,11 +175,7 @@ def integration_options(command: Any) -> Any:
 
 
 def drive_overrides(params: dict[str, Any]) -> dict[str, Any]:
-    """The drive's options (``torques`` and a torque run's time grid, ``drive``, ``limits``).
-
-    Raises:
-        click.UsageError: ``--drive torque`` or ``--torques`` alone; ``--limits`` undriven.
-    """
+    """The drive's options (torques, a torque run's time grid, drive, limits, integrator)."""
     from aaria_pin.aaria.robot_inputs import read_torques
     from aaria_pin.apps.run_progress import run_progress
 

@@ -17,19 +17,28 @@ At a tick:
   (the controller's model is the nominal one, at the measured state; friction fed forward at
   the reference's velocity, which does not chatter as the measured one would);
 - the joint-torque loop (a torque sensor on, feedback ``k > 0``): the error between the
-  command and the sensor's reading of the link-side torque at the tick before,
-  ``τ_s = Q((1 + s)·τ_link + b + n)`` (:func:`~aaria_pin.core.torque_sensor.torque_reading`,
-  ``τ_link = τ - armature·qdd - friction(qd)``), low-passed, ``z += β·(τ_c - τ_s - z)``, and
-  ``τ = τ_c + k·z``. At rest it leaves ``1/(1 + k)`` of the motor's friction and armature
-  torque to the link. Unfiltered, the loop of a one-tick-old reading is a recursion with a
-  pole near ``-k`` (unstable for ``k ≥ 1``, seen at ``k = 9``); with the filter its pole is
-  ``1 - β·(1 + k)``, stable while ``β·(1 + k) < 2`` (``β = 1 - exp(-2π·f_t·h)``);
+  link-side torque the command asks for (the command itself for ``pd``; ``M·u + b`` for
+  ``computed-torque``, whose armature and friction terms are the motor's) and the sensor's
+  reading of the link-side torque at the tick before, ``τ_s = Q((1 + s)·τ_link + b + n)``
+  (:func:`~aaria_pin.core.torque_sensor.torque_reading`,
+  ``τ_link = τ - armature·qdd - friction(qd)``), low-passed, ``z += β·(target - τ_s - z)``,
+  and ``τ = τ_c + k·z``: it makes up the friction and armature torque the motor loses
+  (at rest, ``1/(1 + k)`` of it is left). Unfiltered, a one-tick-old reading makes a loop
+  with a pole near ``-k`` (diverged at ``k = 9``). Filtered (``β = 1 - exp(-2π·f_t·h)``), on
+  ur5 with Coulomb 8 N·m and viscous 2 N·m·s/rad (3 s, ``tests/core/test_control.py``), ``pd``
+  tracked at 2.7, 0.67 and 0.55 mrad RMS with ``k`` = 0, 4, 9, but at ``k = 9`` the motors sat
+  at their limit on 10 % of the samples (chatter); ``computed-torque``, which feeds the
+  friction forward already, went from 4.4e-6 to 5.4e-5 rad at ``k = 4`` (the loop reacts, one
+  tick late, to the feed-forward's misses at velocity reversals): keep ``k`` small, for ``pd``;
 - the motor torque saturated at its limit.
 
-After each sample the run is checked: a non-finite state or a joint farther than ``lost`` from
-its reference ends the integration, and the kernel returns that sample (the caller names it).
-That check is compiled without ``fastmath`` (:func:`integrate_closed`), where a NaN compares
-false as IEEE says; the other kernels keep ``fastmath`` and test no NaN.
+After each sample the run is checked: a non-finite state, or a joint farther than ``lost[0]``
+from its reference or moving ``lost[1]`` faster or slower than it, ends the integration, and the
+kernel returns that sample (the caller names it). Every kernel here is compiled without
+``fastmath`` (``exact``): a NaN then compares false as IEEE says, and a run's numbers do not
+depend on whether a kernel was compiled in this process or loaded from numba's cache (with
+``fastmath`` they did, in the last bits: found by review, a run compiled fresh and its
+``--from`` re-make from the cache differed by 1.7e-12 in ``qdd``).
 """
 
 from __future__ import annotations
@@ -48,9 +57,10 @@ from aaria_pin.core._forward_kernel import (
 )
 
 PD, COMPUTED_TORQUE = 0, 1
+"""The laws' codes: their places in :data:`aaria_pin.core.control.LAWS`."""
 
 
-@kernel
+@kernel(exact=True)
 def reference_at(reference, i, w, dt, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """The reference between samples i and i + 1 at weight w (dt the sample period [s]).
 
@@ -70,7 +80,7 @@ def reference_at(reference, i, w, dt, out):  # type: ignore[no-untyped-def]  # p
         out[2, m] = (1 - w) * qdd[i, m] + w * qdd[i1, m]
 
 
-@kernel
+@kernel(exact=True)
 def _measured(x, y, tick, h, sensing, memory, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """The encoders' values and the velocity the controller estimates (``out`` rows 0, 1)."""
     on, offset, count, noise, alpha = sensing[0], sensing[1], sensing[2], sensing[3], sensing[4]
@@ -95,18 +105,22 @@ def _measured(x, y, tick, h, sensing, memory, out):  # type: ignore[no-untyped-d
         out[1, m] = memory[1, m]
 
 
-@kernel
+@kernel(exact=True)
 def _command(model, law, kp, kd, nq, rows, motor, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """The controller's torque ``out`` (n,) at a tick (the base's state already in ``work``).
 
-    ``rows`` (6, n): the reference (values, velocities, accelerations), the measured values and
-    velocities, and a scratch row.
+    ``rows`` (7, n): the reference (values, velocities, accelerations), the measured values and
+    velocities, a scratch row, and (written here) the link-side torque the command asks for,
+    the torque loop's target: the command itself for ``pd``, ``M·u + b`` for
+    ``computed-torque`` (its armature and friction terms are the motor's own).
     """
     n = out.shape[0]
     ref_q, ref_qd, ref_qdd, q_m, v_m, u = rows[0], rows[1], rows[2], rows[3], rows[4], rows[5]
+    target = rows[6]
     if law == PD:
         for m in range(n):
             out[m] = kp[m] * (ref_q[m] - q_m[m]) + kd[m] * (ref_qd[m] - v_m[m])
+            target[m] = out[m]
         return
     line = work[12]
     dynamics_terms(model, line[1, :nq], line[2, :6], line[3, :6], q_m, v_m, work)
@@ -117,12 +131,13 @@ def _command(model, law, kp, kd, nq, rows, motor, work, out):  # type: ignore[no
         s = -rhs[m]
         for c in range(n):
             s += A[m, c] * u[c]
+        target[m] = s
         if motor[0]:
             s += motor[1][m] * u[m] + friction_at(motor, m, ref_qd[m])
         out[m] = s
 
 
-@kernel
+@kernel(exact=True)
 def _tick(model, base, k, x, y, tick, h, control, sensing, motor, memory, rows, work, held, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """One tick: ``out`` the controller's command, ``held[0]`` the motor torque held after it.
 
@@ -143,13 +158,13 @@ def _tick(model, base, k, x, y, tick, h, control, sensing, motor, memory, rows, 
             seen = (1.0 + scale[m]) * memory[2, m] + bias[m] + ts_noise[tick, m]
             if resolution[m] > 0:
                 seen = resolution[m] * np.round(seen / resolution[m])
-            memory[4, m] += beta[m] * (out[m] - seen - memory[4, m])
+            memory[4, m] += beta[m] * (rows[6, m] - seen - memory[4, m])
             applied = out[m] + feedback[m] * memory[4, m]
         held[0, m] = min(max(applied, -limit[m]), limit[m])
         memory[3, m] = 1.0
 
 
-@kernel
+@kernel(exact=True)
 def _link_torque(held, k1, y, motor, memory):  # type: ignore[no-untyped-def]  # pragma: no cover
     """Keep the link-side torque of this tick for the torque sensor's next reading."""
     for m in range(y.shape[0]):
@@ -175,7 +190,7 @@ def integrate_closed(model, base, reference, h, substeps, method, motor, stop, c
     dk = 1.0 / substeps
     work = workspace(model[0].shape[0], n)
     steps = scratch(n)
-    rows = np.empty((6, n))
+    rows = np.empty((7, n))
     held = np.empty((1, n))
     out = np.empty(n)
     y_tick = np.empty(n)
@@ -210,10 +225,11 @@ def integrate_closed(model, base, reference, h, substeps, method, motor, stop, c
                 command[i] = out
             tick += 1
         q[i + 1], v[i + 1] = x, y
-        ref_q = reference[0]
+        ref_q, ref_qd = reference[0], reference[1]
         for m in range(n):
             error = abs(x[m] - ref_q[i + 1, m])  # exact: NaN fails every comparison
-            if not (error <= lost[m] and abs(y[m]) < np.inf):
+            rate_error = abs(y[m] - ref_qd[i + 1, m])
+            if not (error <= lost[0, m] and rate_error <= lost[1, m]):
                 return i + 1
     if last == T - 1:
         reference_at(reference, T - 1, 0.0, dt, rows)

@@ -24,6 +24,7 @@ import numpy as np
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.control import (
     LAWS,
+    LOST_SPEED,
     LOST_TRACKING,
     ClosedLoopRun,
     ControllerSensing,
@@ -31,7 +32,7 @@ from aaria_pin.core.control import (
 )
 from aaria_pin.core.forward import INTEGRATORS, Progress
 from aaria_pin.core.joint_limits import DEFAULT_LIMITS, limit_policy
-from aaria_pin.core.joint_sensors import ControllerModel, JointHardware, select_joints
+from aaria_pin.core.joint_sensors import ControllerModel, JointHardware, per_joint, select_joints
 from aaria_pin.core.run.measured import sensor_streams
 from aaria_pin.core.run.motion import Motion, SineTable
 from aaria_pin.core.run.robot import RunRobot, joint_bounds
@@ -187,21 +188,27 @@ def _lost(
     law: str,
     controller: ControllerModel,
 ) -> TrackingError:
-    """One line: the joint, the time, how far, the gains (what to change)."""
+    """One line: the joint, the time, how far (in position or speed), the gains."""
     at = run.lost
-    q = run.trajectory.q[at]
-    error = np.abs(q - reference.q[at])
-    error = np.where(np.isfinite(error), error, np.inf)
-    joint = int(np.argmax(error))
-    columns = list(range(q.size)) if robot.columns is None else robot.columns
+    moved = run.trajectory
+    errors = (
+        np.abs(moved.q[at] - reference.q[at]) / LOST_TRACKING,
+        np.abs(moved.qd[at] - reference.qd[at]) / LOST_SPEED,
+    )
+    ratios = np.where(np.isfinite(errors), errors, np.inf)
+    what, joint = np.unravel_index(int(np.argmax(ratios)), ratios.shape)
+    columns = list(range(moved.q.shape[1])) if robot.columns is None else robot.columns
     name = robot.joint_names[columns[joint]]
+    error = float(ratios[what, joint]) * (LOST_TRACKING, LOST_SPEED)[what]
+    far = ("from it", "faster or slower than it")[what]
+    bound = (f"{LOST_TRACKING:g} rad or m", f"{LOST_SPEED:g} rad/s or m/s")[what]
+    frequency = per_joint(controller.frequency, moved.q.shape[1], "frequency")[joint]
     return TrackingError(
         f"drive {law} lost its reference: joint {name} at t = {reference.time[at]:.4g} s is "
-        f"{error[joint]:.3g} from it (kp {run.kp[joint]:.4g}, kd {run.kd[joint]:.4g}, "
-        f"frequency {np.ravel(controller.frequency)[0]:.4g} Hz, rate {controller.rate:.4g} Hz); "
-        f"allowed: within {LOST_TRACKING:g} rad or m (stable gains, a reference the motors "
-        "can follow)",
+        f"{error:.3g} {far} (kp {run.kp[joint]:.4g}, kd {run.kd[joint]:.4g}, frequency "
+        f"{frequency:.4g} Hz, rate {controller.rate:.4g} Hz); allowed: within {bound} (stable "
+        "gains, a reference the motors can follow)",
         parameter="controller",
-        value=float(error[joint]),
+        value=error,
         element=name,
     )
