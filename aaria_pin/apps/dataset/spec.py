@@ -53,9 +53,9 @@ __all__ = [
 MAX_RUNS = 100_000_000
 """Most runs in one data set."""
 MOTIONS = ("sine", "fourier")
+"""A data set's joint motions: the joint tables' sines, or a Fourier excitation per run."""
 DRIVES = ("motion", *CLOSED_LOOP_DRIVES)
 """A data set's drives: its motions followed, or tracked by a joint controller."""
-"""A data set's joint motions: the joint tables' sines, or a Fourier excitation per run."""
 NOISE_STREAM = DATASET_STREAMS.index("noise")
 """The value of a data set's ``noise_stream`` attribute (3): the spawn-key part of its runs'
 noise, which the file records so a reader re-derives a run's noise seed. Streams themselves
@@ -324,9 +324,9 @@ class DatasetSpec(DatasetSettings, HardwareSpec, ABC):
         return run_arrays(self.layout(), self.make_run(run), self.dtype)
 
     def describe_inputs(self, run: int) -> str:
-        """The inputs of a run, for its error message."""
+        """The inputs of a run, for its error message (and the values it drew from ranges)."""
         try:
-            return self.inputs(run).describe()
+            return self.inputs(run).describe() + self.describe_drawn(run)
         except Exception:
             return "inputs could not be drawn"
 

@@ -123,6 +123,14 @@ class HardwareSpec:
         names = self.hardware_names()
         return {**tables, HARDWARE_VALUES: (len(names),)} if names else tables
 
+    def describe_drawn(self, run: int) -> str:
+        """`` hardware: controller/frequency/0=41.2 ...``: run ``run``'s drawn values ('': none)."""
+        names = self.hardware_names()
+        if not names:
+            return ""
+        drawn = hardware_leaves(self.run_hardware(run).attributes())
+        return " hardware: " + " ".join(f"{k}={drawn[k]:.6g}" for k in names if k in drawn)
+
     def with_drawn_values(self, run: int, record: RunRecord) -> RunRecord:
         """Run ``run``'s record with its drawn values (``hardware_values``) when it has some.
 
