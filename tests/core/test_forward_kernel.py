@@ -248,7 +248,7 @@ def test_a_run_records_its_integrator_and_is_made_again(tmp_path: Path) -> None:
     driven = simulate_urdf_run(text, source="ur5", torques=prescribed.tau, **settings)
     write_run(tmp_path / "t.h5", driven)
     stored = read_run(tmp_path / "t.h5")
-    assert stored.attributes["dynamics"] == "kernel"
+    assert stored.attributes["dynamics"] == "aba"
     again = remake_record(stored)
     np.testing.assert_array_equal(again.q, stored.q)
     # an older run (no attribute) was made by the Pinocchio path; an unknown name is refused

@@ -309,7 +309,7 @@ class TorqueDrive:
     start: Motion = field(default_factory=SineTable)
     actuator: ActuatorModel | None = None
     limits: str = DEFAULT_LIMITS
-    dynamics: str = "kernel"
+    dynamics: str = "aba"
     progress: Progress | None = field(default=None, compare=False)
     drive: ClassVar[str] = "torque"
     whole: ClassVar[bool] = True
