@@ -24,8 +24,8 @@ Why it replaced the CRBA kernel for new runs (measured in compiled loops on ur5,
 panda). The O(n²) mass matrix and its Cholesky factor (0.5-0.9 µs of those) go; and the kernel
 indexes its arrays directly: numba counts references of each array view (``R[j]``, a slice of a
 workspace row), and views passed between kernels cost 0.3-0.7 µs per evaluation. The stops of
-the ``clamp`` policy need ``(M⁻¹)_ii``, which this algorithm does not form: a run with stops is
-evaluated by CRBA.
+the ``clamp`` policy need ``(M⁻¹)_ii`` of a joint beyond them: its column ``M⁻¹·e_i`` is two
+more O(n) passes with the articulated inertias already found (:func:`articulated_stops`).
 """
 
 from __future__ import annotations
@@ -100,7 +100,8 @@ def articulated_at(model, base, tau, hold, k, q, v, motor, articulated, out):  #
 
     Arguments as :func:`~aaria_pin.core._forward_kernel._at` takes them (the base linear in k,
     its quaternion normalized; the torques ``tau`` linear in k or, ``hold``, its first row),
-    with ``articulated`` an :func:`articulated_workspace`. One kernel from the interpolation to
+    with ``articulated`` an :func:`articulated_workspace`; the stops are
+    :func:`articulated_stops`'. One kernel from the interpolation to
     the accelerations: each call between kernels measured 0.25-0.8 µs here (numba counts the
     references of the arrays a call passes; the three passes of ABA cost 0.6 µs on ur5), so the
     interpolation is written here again rather than taken from
@@ -324,3 +325,64 @@ def articulated_at(model, base, tau, hold, k, q, v, motor, articulated, out):  #
         out[columns[j]] = qdd
         for i in range(6):
             da[j, i] = da[pa, i] + S[j, i] * qdd
+
+
+@kernel
+def articulated_stops(model, q, v, stop, articulated, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+    """Adds to ``out`` the accelerations of the stops' torques, after :func:`articulated_at`.
+
+    ``stop`` as :func:`~aaria_pin.core._forward_kernel.joint_accelerations` takes it. A joint
+    beyond its stops gets their torque (:func:`~aaria_pin.core.forward.stop_torques`) with its
+    effective inertia ``1 / (M⁻¹)_ii``: the column ``M⁻¹·e_i`` from the second and third passes
+    again with the torque ``e_i`` and no bias (the articulated inertias stay), and the
+    accelerations move by the stop's torque times that column. Inside its stops a run is the
+    run without them, bit for bit.
+    """
+    kinds, parents, columns = model[0], model[2], model[3]
+    U, Dinv, u, da, S, f, line = (
+        articulated[1],
+        articulated[2],
+        articulated[3],
+        articulated[4],
+        articulated[7],
+        articulated[10],
+        articulated[14],
+    )
+    lower, upper, omega = stop[1], stop[2], stop[3]
+    nj, n = kinds.shape[0], q.shape[0]
+    for m in range(n):
+        x = q[m]
+        if x >= lower[m] and x <= upper[m]:
+            continue
+        edge = lower[m] if x < lower[m] else upper[m]
+        for j in range(nj):  # M⁻¹·e_m into line[3]: the passes with the torque e_m, no bias
+            for i in range(6):
+                f[j, i] = 0.0
+        for j in range(nj - 1, 0, -1):
+            if kinds[j] == FREEFLYER:
+                continue
+            uj = 1.0 if columns[j] == m else 0.0
+            for i in range(6):
+                uj -= S[j, i] * f[j, i]
+            u[j] = uj
+            pa = parents[j]
+            if pa > 0 and kinds[pa] != FREEFLYER:
+                for i in range(6):
+                    f[pa, i] += f[j, i] + U[j, i] * Dinv[j] * uj
+        for j in range(1, nj):
+            pa = parents[j]
+            if kinds[j] == FREEFLYER:
+                for i in range(6):
+                    da[j, i] = 0.0
+                continue
+            y = u[j]
+            for i in range(6):
+                y -= U[j, i] * da[pa, i]
+            y *= Dinv[j]
+            line[3, columns[j]] = y
+            for i in range(6):
+                da[j, i] = da[pa, i] + S[j, i] * y
+        inertia = 1.0 / line[3, m]
+        torque = -inertia * omega * omega * (x - edge) - 2 * inertia * omega * v[m]
+        for c in range(n):
+            out[c] += torque * line[3, c]

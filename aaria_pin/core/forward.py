@@ -173,7 +173,7 @@ class ForwardOptions(TypedDict, total=False):
             stops (:func:`stop_torques`; None, the default: no stops)
         progress: told ``(samples done, samples)`` as the integration goes (:func:`spans`;
             None, the default: silent)
-        articulated: the kernel by ABA (O(n); a run with ``stops`` by CRBA); default False: CRBA
+        articulated: the kernel by ABA (O(n); CRBA beyond the ``stops``); default False: CRBA
     """
 
     substeps: int
@@ -267,8 +267,8 @@ def forward_simulate(
     h = dt / substeps
     stop = kernel_stops(options.get("stops"), n, h)
     run = (flat, base_arrays, tau, h, substeps, method, motor, stop, q, v, a)
-    fast = options.get("articulated", False) and options.get("stops") is None  # ABA: no stops
-    aba = (articulated_workspace(len(flat[0])),) if fast else ()  # (): as ``kernel`` runs were
+    fast = options.get("articulated", False)  # (): compiled as the ``kernel`` runs were made
+    aba = (articulated_workspace(len(flat[0])),) if fast else ()
     for first, last in spans(T, options.get("progress")):
         integrate(*run, first, last, *aba)
     return JointTrajectory(time, q, v, a)

@@ -4,9 +4,10 @@ Per evaluation: its joint accelerations equal ``pin.aba`` on fixed-base robots (
 with an actuator, ``model.armature`` set and the friction taken from the torques), the joints'
 block of ``pin.crba`` solved against ``pin.rnea`` on a moving base (aaria-fig2, ur5, panda),
 and the CRBA kernel (the ``kernel`` dynamics) at the same instant, each to 1e-12 relative.
-Whole runs equal the CRBA kernel's and the Pinocchio path's; a run with stops is the CRBA
-kernel's, bit for bit; new torque runs record ``aba`` and are made again bit for bit, and a run
-recorded with ``kernel`` is still made by the CRBA kernel.
+Whole runs equal the CRBA kernel's and the Pinocchio path's, on their stops too (CRBA evaluates
+there), and a run inside its stops is the run without them bit for bit; new torque runs record
+``aba`` and are made again bit for bit, and a run recorded with ``kernel`` is still made by the
+CRBA kernel.
 """
 
 from __future__ import annotations
@@ -20,7 +21,11 @@ import pytest
 from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.apps.remake import remake_record
-from aaria_pin.core._articulated_kernel import articulated_at, articulated_workspace
+from aaria_pin.core._articulated_kernel import (
+    articulated_at,
+    articulated_stops,
+    articulated_workspace,
+)
 from aaria_pin.core._forward_kernel import _at, workspace
 from aaria_pin.core.actuator import armature, friction
 from aaria_pin.core.catalogue import find_robot
@@ -67,6 +72,7 @@ def _both(
     af: np.ndarray,
     tau: np.ndarray,
     actuator: ActuatorModel | None,
+    stops: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The ABA kernel's and the CRBA kernel's accelerations at one full state.
 
@@ -81,16 +87,18 @@ def _both(
     )
     torques = np.tile(tau, (2, 1))
     q, v = qf[nb_q:].copy(), vf[nb_v:].copy()
-    motor, stop = kernel_motor(actuator, n), kernel_stops(None, n, 1e-3)
+    motor, stop = kernel_motor(actuator, n), kernel_stops(stops, n, 1e-3)
     aba, crba = np.empty(n), np.empty(n)
-    articulated_at(
-        flat, base, torques, False, 0.0, q, v, motor, articulated_workspace(len(flat[0])), aba
-    )
+    work = articulated_workspace(len(flat[0]))
+    articulated_at(flat, base, torques, False, 0.0, q, v, motor, work, aba)
+    if stops is not None:
+        articulated_stops(flat, q, v, stop, work, aba)
     _at(flat, base, torques, False, 0.0, q, v, motor, stop, workspace(len(flat[0]), n), crba)
     return aba, crba
 
 
 def _close(got: np.ndarray, want: np.ndarray) -> None:
+    assert np.isfinite(got).all() and np.isfinite(want).all()
     np.testing.assert_allclose(got, want, rtol=RTOL, atol=RTOL * np.abs(want).max())
 
 
@@ -139,6 +147,30 @@ def test_an_evaluation_on_a_moving_base_equals_pinocchio_crba_and_rnea(name: str
         _close(got, crba)
 
 
+@pytest.mark.parametrize(("name", "moving_base"), [("panda", False), ("aaria-fig2", True)])
+def test_an_evaluation_beyond_the_stops_equals_the_crba_kernel(
+    name: str, moving_base: bool
+) -> None:
+    robot = _robot(name, moving_base)
+    model = robot.model
+    n, nb = robot.n_joints, robot.base_nv
+    rng = np.random.default_rng(6)
+    for _ in range(5):
+        qf = pin.randomConfiguration(model)
+        qf[: 3 * moving_base] = rng.normal(size=3 * moving_base)  # the base: no finite bounds
+        vf, af = rng.normal(size=model.nv), rng.normal(size=model.nv)
+        af[nb:] = 0.0
+        q = qf[robot.base_nq :]
+        beyond = rng.random(n) < 0.5  # about half the joints past a stop, the others inside
+        stops = (np.where(beyond, q + 0.02, q - 1.0), np.where(beyond, q + 1.0, q + 1.0))
+        stops[1][::3] = np.where(beyond[::3], q[::3] - 0.03, stops[1][::3])  # some past the upper
+        stops[0][::3] = np.where(beyond[::3], q[::3] - 1.0, stops[0][::3])
+        got, crba = _both(robot, qf, vf, af, 10 * rng.normal(size=n), MOTORS, stops)
+        free, _ = _both(robot, qf, vf, af, np.zeros(n), MOTORS)
+        _close(got, crba)
+        assert np.abs(got - free).max() > 1.0  # the stops act (torques of thousands of N·m)
+
+
 def _case(name: str, moving_base: bool) -> tuple[RobotModel, BaseMotion, np.ndarray, np.ndarray]:
     robot = _robot(name, moving_base)
     time = sample_times(0.2, 100.0)
@@ -178,15 +210,22 @@ def test_a_whole_run_equals_the_crba_kernel_and_the_pinocchio_path(
             np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-9 * np.abs(b).max())
 
 
-def test_a_run_with_stops_is_the_crba_kernels() -> None:
+def test_with_stops_crba_evaluates_beyond_them_and_inside_them_it_is_the_free_run() -> None:
     robot, base, tau, time = _case("aaria-fig2", True)
     n = robot.n_joints
     q0, v0 = np.full(n, 0.1), np.full(n, -0.2)
-    options = {"actuator": MOTORS, "stops": (q0 - 0.01, q0 + 0.01)}
-    got = DYNAMICS["aba"](robot, base, tau, time, q0, v0, **options)  # type: ignore[arg-type]
-    want = forward_simulate(robot, base, tau, time, q0, v0, **options)  # type: ignore[arg-type]
-    np.testing.assert_array_equal(got.q, want.q)
-    np.testing.assert_array_equal(got.qdd, want.qdd)
+    hit = {"actuator": MOTORS, "stops": (q0 - 0.01, q0 + 0.01)}  # every joint reaches a stop
+    got = DYNAMICS["aba"](robot, base, tau, time, q0, v0, **hit)
+    crba = forward_simulate(robot, base, tau, time, q0, v0, **hit)  # type: ignore[arg-type]
+    want = reference_forward_simulate(robot, base, tau, time, q0, v0, **hit)  # type: ignore[arg-type]
+    for a, b in ((got.q, crba.q), (got.qdd, crba.qdd), (got.q, want.q), (got.qdd, want.qdd)):
+        np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-9 * np.abs(b).max())
+    free = DYNAMICS["aba"](robot, base, tau, time, q0, v0, actuator=MOTORS)
+    assert not np.array_equal(got.q, free.q)  # on its stops
+    wide = (np.full(n, -10.0), np.full(n, 10.0))  # never reached
+    inside = DYNAMICS["aba"](robot, base, tau, time, q0, v0, actuator=MOTORS, stops=wide)
+    np.testing.assert_array_equal(inside.q, free.q)
+    np.testing.assert_array_equal(inside.qdd, free.qdd)
 
 
 def test_new_runs_record_aba_and_kernel_runs_keep_their_kernel(tmp_path: Path) -> None:
