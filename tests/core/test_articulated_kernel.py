@@ -1,9 +1,7 @@
 """The articulated-body kernel of the torque drive (the ``aba`` dynamics) against Pinocchio.
 
-Per evaluation: its joint accelerations equal ``pin.aba`` on fixed-base robots (ur5, panda;
-with an actuator, ``model.armature`` set and the friction taken from the torques), the joints'
-block of ``pin.crba`` solved against ``pin.rnea`` on a moving base (aaria-fig2, ur5, panda),
-and the CRBA kernel (the ``kernel`` dynamics) at the same instant, each to 1e-12 relative.
+Per evaluation (against Pinocchio: ``tests/core/test_forward_kernel.py``): beyond the stops it
+equals the CRBA kernel (the ``kernel`` dynamics) to 1e-12 relative.
 Whole runs equal the CRBA kernel's and the Pinocchio path's, on their stops too (CRBA evaluates
 there), and a run inside its stops is the run without them bit for bit; new torque runs record
 ``aba`` and are made again bit for bit, and a run recorded with ``kernel`` is still made by the
@@ -18,133 +16,26 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from aaria_pin.aaria.dh_robot import build_dh_robot
-from aaria_pin.aaria.presets import get_preset
 from aaria_pin.apps.remake import remake_record
-from aaria_pin.core._articulated_kernel import (
-    articulated_at,
-    articulated_stops,
-    articulated_workspace,
-)
-from aaria_pin.core._forward_kernel import _at, workspace
-from aaria_pin.core.actuator import armature, friction
 from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.forward import (
     DYNAMICS,
-    flatten_dynamics,
     forward_simulate,
-    kernel_motor,
-    kernel_stops,
     reference_forward_simulate,
 )
 from aaria_pin.core.joint_sensors import ActuatorModel
-from aaria_pin.core.model import RobotModel
-from aaria_pin.core.oscillation import base_motion
 from aaria_pin.core.run import TorqueDrive
-from aaria_pin.core.trajectory import BaseMotion, sample_times
-from aaria_pin.core.urdf_robot import load_urdf_robot, read_urdf_file
+from aaria_pin.core.urdf_robot import read_urdf_file
 from aaria_pin.core.urdf_run import simulate_urdf_run
 from aaria_pin.files.runfile import read_run, write_run
+from tests.core.test_forward_kernel import MOTORS, _case, _robot, aba_and_crba
 
-MOTORS = ActuatorModel(
-    rotor_inertia=2e-5,
-    gear_ratio=50.0,
-    viscous=0.3,
-    coulomb=0.8,
-    coulomb_velocity=0.05,
-    stribeck_torque=0.4,
-    stribeck_velocity=0.2,
-)
 RTOL = 1e-12
-
-
-def _robot(name: str, moving_base: bool) -> RobotModel:
-    if name.startswith("aaria"):
-        return build_dh_robot(get_preset(name).table).model(moving_base=moving_base)
-    text = read_urdf_file(find_robot(name).urdf)
-    return load_urdf_robot(text, moving_base=moving_base).robot
-
-
-def _both(
-    robot: RobotModel,
-    qf: np.ndarray,
-    vf: np.ndarray,
-    af: np.ndarray,
-    tau: np.ndarray,
-    actuator: ActuatorModel | None,
-    stops: tuple[np.ndarray, np.ndarray] | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
-    """The ABA kernel's and the CRBA kernel's accelerations at one full state.
-
-    The base's state held over two samples and read at k = 0 (its interpolation is then the
-    sample itself), the torques likewise.
-    """
-    flat = flatten_dynamics(robot)
-    assert flat is not None
-    n, nb_q, nb_v = robot.n_joints, robot.base_nq, robot.base_nv
-    base = tuple(
-        np.ascontiguousarray(np.tile(x, (2, 1))) for x in (qf[:nb_q], vf[:nb_v], af[:nb_v])
-    )
-    torques = np.tile(tau, (2, 1))
-    q, v = qf[nb_q:].copy(), vf[nb_v:].copy()
-    motor, stop = kernel_motor(actuator, n), kernel_stops(stops, n, 1e-3)
-    aba, crba = np.empty(n), np.empty(n)
-    work = articulated_workspace(len(flat[0]))
-    articulated_at(flat, base, torques, False, 0.0, q, v, motor, work, aba)
-    if stops is not None:
-        articulated_stops(flat, q, v, stop, work, aba)
-    _at(flat, base, torques, False, 0.0, q, v, motor, stop, workspace(len(flat[0]), n), crba)
-    return aba, crba
 
 
 def _close(got: np.ndarray, want: np.ndarray) -> None:
     assert np.isfinite(got).all() and np.isfinite(want).all()
     np.testing.assert_allclose(got, want, rtol=RTOL, atol=RTOL * np.abs(want).max())
-
-
-@pytest.mark.parametrize("name", ["ur5", "panda"])
-@pytest.mark.parametrize("motors", [None, MOTORS])
-def test_an_evaluation_equals_pinocchio_aba_and_the_crba_kernel_on_a_fixed_base(
-    name: str, motors: ActuatorModel | None
-) -> None:
-    robot = _robot(name, moving_base=False)
-    model = robot.model.copy()
-    n = robot.n_joints
-    rng = np.random.default_rng(3)
-    for _ in range(5):
-        q = pin.randomConfiguration(model)
-        v, tau = rng.normal(size=n), 10 * rng.normal(size=n)
-        expected_tau = tau
-        if motors is not None:
-            model.armature = armature(motors, n)
-            expected_tau = tau - friction(motors, v)
-        expected = pin.aba(model, model.createData(), q, v, expected_tau)
-        got, crba = _both(robot, q, v, np.zeros(n), tau, motors)
-        _close(got, expected)
-        _close(got, crba)
-
-
-@pytest.mark.parametrize("name", ["aaria-fig2", "ur5", "panda"])
-def test_an_evaluation_on_a_moving_base_equals_pinocchio_crba_and_rnea(name: str) -> None:
-    robot = _robot(name, moving_base=True)
-    model = robot.model
-    data = model.createData()
-    nb = robot.base_nv
-    rng = np.random.default_rng(4)
-    for _ in range(5):
-        q = pin.randomConfiguration(model)
-        q[:3] = rng.normal(size=3)
-        v, a = rng.normal(size=model.nv), rng.normal(size=model.nv)
-        a[nb:] = 0.0
-        tau = 10 * rng.normal(size=robot.n_joints)
-        bias = pin.rnea(model, data, q, v, a)[nb:]
-        mass = pin.crba(model, data, q)
-        mass = np.triu(mass) + np.triu(mass, 1).T
-        expected = np.linalg.solve(mass[nb:, nb:], tau - bias)
-        got, crba = _both(robot, q, v, a, tau, MOTORS if name == "aaria-fig2" else None)
-        if name != "aaria-fig2":
-            _close(got, expected)
-        _close(got, crba)
 
 
 @pytest.mark.parametrize(("name", "moving_base"), [("panda", False), ("aaria-fig2", True)])
@@ -165,21 +56,10 @@ def test_an_evaluation_beyond_the_stops_equals_the_crba_kernel(
         stops = (np.where(beyond, q + 0.02, q - 1.0), np.where(beyond, q + 1.0, q + 1.0))
         stops[1][::3] = np.where(beyond[::3], q[::3] - 0.03, stops[1][::3])  # some past the upper
         stops[0][::3] = np.where(beyond[::3], q[::3] - 1.0, stops[0][::3])
-        got, crba = _both(robot, qf, vf, af, 10 * rng.normal(size=n), MOTORS, stops)
-        free, _ = _both(robot, qf, vf, af, np.zeros(n), MOTORS)
+        got, crba = aba_and_crba(robot, qf, vf, af, 10 * rng.normal(size=n), MOTORS, stops)
+        free, _ = aba_and_crba(robot, qf, vf, af, np.zeros(n), MOTORS)
         _close(got, crba)
         assert np.abs(got - free).max() > 1.0  # the stops act (torques of thousands of N·m)
-
-
-def _case(name: str, moving_base: bool) -> tuple[RobotModel, BaseMotion, np.ndarray, np.ndarray]:
-    robot = _robot(name, moving_base)
-    time = sample_times(0.2, 100.0)
-    base = BaseMotion.resting(time.size)
-    if moving_base:
-        base = base_motion(get_preset("aaria-fig2").base_table, time)
-    rng = np.random.default_rng(5)
-    tau = 2 * rng.normal(size=(time.size, robot.n_joints))
-    return robot, base, tau, time
 
 
 @pytest.mark.parametrize(
