@@ -19,13 +19,19 @@ flatten_dynamics`):
   ``I^A_parent += I^A - U·Uᵀ/D`` and ``f_parent += f + U·u/D``;
 - out: ``qdd = (u - Uᵀ·δa_parent)/D``.
 
-Why it replaced the CRBA kernel for new runs (measured in compiled loops on ur5, panda; shared
-2-core machine): per evaluation 1.5 µs against 2.4-2.9 µs on ur5 (1.8 against 3.4-3.8 µs on
-panda). The O(n²) mass matrix and its Cholesky factor (0.5-0.9 µs of those) go; and the kernel
-indexes its arrays directly: numba counts references of each array view (``R[j]``, a slice of a
-workspace row), and views passed between kernels cost 0.3-0.7 µs per evaluation. The stops of
-the ``clamp`` policy need ``(M⁻¹)_ii`` of a joint beyond them: its column ``M⁻¹·e_i`` is two
-more O(n) passes with the articulated inertias already found (:func:`articulated_stops`).
+Why it replaced the CRBA kernel for new runs (measured in compiled loops on a shared 2-core
+machine): one evaluation at a fractional sample (``_at``, interpolation included) takes 1.0-1.3
+µs on ur5 against 2.6-2.9 µs for the CRBA kernel (1.4-1.8 against 3.2-4.4 µs on panda); whole
+runs are 2.2× faster (``benchmarks/bench_forward.py``: 0.75× MuJoCo's ``rollout`` on ur5, the
+CRBA kernel 1.67×). The three passes alone take 0.6 µs on ur5; the O(n²) mass matrix and its
+Cholesky factor (0.5-0.9 µs of the CRBA evaluation) go. The rest is how it is written: one
+kernel with its arrays indexed directly, because numba counts the references of every array a
+call between kernels passes and of every view (``R[j]``, a slice of a row): written as five
+small kernels the same passes took 1.5-1.7 µs, and the interpolation by
+:func:`~aaria_pin.core._forward_kernel.base_at` 0.24 µs more. The stops of the ``clamp`` policy
+need ``(M⁻¹)_ii`` of a joint beyond them: its column ``M⁻¹·e_i`` is two more O(n) passes with
+the articulated inertias already found (:func:`articulated_stops`, a separate kernel: with a
+CRBA fallback in the same path the drive was 1.5× slower).
 """
 
 from __future__ import annotations
