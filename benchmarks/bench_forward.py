@@ -1,18 +1,22 @@
 """Per-sample cost of the torque drive against MuJoCo on the same robots, in one process.
 
     python benchmarks/bench_forward.py            # full: 2 s at 500 Hz per robot, 5 repeats
+    python benchmarks/bench_forward.py --repeats 21   # the docs' table: medians of 21
     python benchmarks/bench_forward.py --smoke    # CI: 0.1 s, one repeat, no timing asserted
 
 Robots: ur5 and panda on a fixed base, aaria-fig2 on its moving base (the base prescribed by its
-base table). Ours: :func:`~aaria_pin.core.forward.forward_simulate` (the compiled kernel), RK4
-with 4 sub-steps, constant torques (gravity at the neutral pose) from rest, and its Pinocchio
-twin :func:`~aaria_pin.core.forward.reference_forward_simulate`. MuJoCo: the exported MJCF
+base table). Ours: the integrator of new torque runs, ``DYNAMICS["aba"]`` (the compiled
+articulated-body kernel), RK4 with 4 sub-steps, constant torques (gravity at the neutral pose)
+from rest; the compiled CRBA kernel of older runs (``kernel``,
+:func:`~aaria_pin.core.forward.forward_simulate`) and the Pinocchio twin
+:func:`~aaria_pin.core.forward.reference_forward_simulate`. MuJoCo: the exported MJCF
 (:func:`~aaria_pin.core.export.mjcf_emit.emit_mjcf`), RK4 at the sub-step timestep (4 steps per
 sample), contacts off (our model has none): ``mujoco.rollout`` (no controls: the joints'
 torques zero) and plain ``mj_step`` in a Python loop with the same torques in ``qfrc_applied``.
 On the moving base MuJoCo integrates the 6-DOF base chain too (the base is not prescribed there),
-so its model has 6 more degrees of freedom. Prints the median over repeats of each, per sample
-[µs], and the ratio of ours to MuJoCo's ``rollout`` and to its ``mj_step`` loop.
+so its model has 6 more degrees of freedom. The timings are interleaved (each repeat runs every
+one in turn, so a busy machine slows them alike). Prints the median over repeats of each, per
+sample [µs], and the ratio of ours to MuJoCo's ``rollout`` and to its ``mj_step`` loop.
 """
 
 from __future__ import annotations
@@ -29,7 +33,7 @@ from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.export.mjcf_emit import emit_mjcf, load_mjcf
-from aaria_pin.core.forward import forward_simulate, reference_forward_simulate
+from aaria_pin.core.forward import DYNAMICS, forward_simulate, reference_forward_simulate
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.oscillation import base_motion
 from aaria_pin.core.trajectory import BaseMotion, sample_times
@@ -48,13 +52,15 @@ def _robot(name: str, moving_base: bool) -> tuple[RobotModel, str]:
     return load_urdf_robot(text, moving_base=moving_base).robot, text
 
 
-def _median(run: Callable[[], object], repeats: int) -> float:
-    times = []
+def _medians(runs: dict[str, Callable[[], object]], repeats: int) -> dict[str, float]:
+    """Median wall time of each run [s], the runs interleaved within each repeat."""
+    times: dict[str, list[float]] = {name: [] for name in runs}
     for _ in range(repeats):
-        start = time.perf_counter()
-        run()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
+        for name, run in runs.items():
+            start = time.perf_counter()
+            run()
+            times[name].append(time.perf_counter() - start)
+    return {name: statistics.median(values) for name, values in times.items()}
 
 
 def _case(name: str, moving_base: bool, duration: float, repeats: int) -> dict[str, float]:
@@ -78,12 +84,16 @@ def _case(name: str, moving_base: bool, duration: float, repeats: int) -> dict[s
     q0, v0 = np.zeros(n), np.zeros(n)
 
     def ours() -> object:
+        return DYNAMICS["aba"](robot, base, tau, times, q0, v0, substeps=SUBSTEPS)
+
+    def crba() -> object:
         return forward_simulate(robot, base, tau, times, q0, v0, substeps=SUBSTEPS)
 
     def reference() -> object:
         return reference_forward_simulate(robot, base, tau, times, q0, v0, substeps=SUBSTEPS)
 
-    ours()  # compile or load the kernel
+    ours()  # compile or load the kernels
+    crba()
     xml, _ = emit_mjcf(urdf, (), moving_base=moving_base)
     model = load_mjcf(xml)
     model.opt.timestep = 1.0 / (RATE * SUBSTEPS)
@@ -107,30 +117,32 @@ def _case(name: str, moving_base: bool, duration: float, repeats: int) -> dict[s
         return data
 
     mj_rollout()
-    return {
-        "ours": _median(ours, repeats) / steps,
-        "pinocchio": _median(reference, max(1, repeats // 2)) / steps,
-        "rollout": _median(mj_rollout, repeats) / steps,
-        "mj_step": _median(mj_loop, repeats) / steps,
-    }
+    runs = {"ours": ours, "crba": crba, "rollout": mj_rollout, "mj_step": mj_loop}
+    result = _medians(runs, repeats)
+    result["pinocchio"] = _medians({"pinocchio": reference}, max(1, repeats // 2))["pinocchio"]
+    return {name: value / steps for name, value in result.items()}
 
 
 def main() -> None:
     """Print the table."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--smoke", action="store_true", help="0.1 s, one repeat")
+    parser.add_argument("--repeats", type=int, default=5, help="repeats (median; default 5)")
     args = parser.parse_args()
-    duration, repeats = (0.1, 1) if args.smoke else (2.0, 5)
+    duration, repeats = (0.1, 1) if args.smoke else (2.0, args.repeats)
     print(f"µs/sample, {RATE:g} Hz, RK4 × {SUBSTEPS}, {duration:g} s, median of {repeats}")
-    header = "robot        ours  pinocchio  rollout  mj_step  ours/rollout  ours/mj_step"
+    header = (
+        "robot                   ours    crba  pinocchio  rollout  mj_step  ours/rollout"
+        "  ours/mj_step  crba/rollout"
+    )
     print(header)
     for name, moving_base in CASES:
         r = {k: v * 1e6 for k, v in _case(name, moving_base, duration, repeats).items()}
         label = f"{name}{' (moving)' if moving_base else ''}"
         print(
-            f"{label:<20} {r['ours']:7.1f} {r['pinocchio']:9.1f} {r['rollout']:8.1f} "
-            f"{r['mj_step']:8.1f} {r['ours'] / r['rollout']:12.2f} "
-            f"{r['ours'] / r['mj_step']:12.2f}"
+            f"{label:<20} {r['ours']:7.1f} {r['crba']:7.1f} {r['pinocchio']:10.1f} "
+            f"{r['rollout']:8.1f} {r['mj_step']:8.1f} {r['ours'] / r['rollout']:13.2f} "
+            f"{r['ours'] / r['mj_step']:13.2f} {r['crba'] / r['rollout']:13.2f}"
         )
 
 

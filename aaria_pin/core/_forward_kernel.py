@@ -33,13 +33,19 @@ from __future__ import annotations
 
 import numpy as np
 
+from aaria_pin.core._articulated_kernel import (
+    _pose_from_base,
+    articulated_at,
+    articulated_stops,
+    friction_at,
+)
 from aaria_pin.core._compile import kernel
 from aaria_pin.core._kinematics_kernel import FREEFLYER, REVOLUTE, _rotation
 
 RK4, EULER = 0, 1
 
 
-@kernel
+@kernel(exact=True)
 def _cross(a: np.ndarray, b: np.ndarray, out: np.ndarray) -> None:  # pragma: no cover
     """Out = a × b (3-vectors; out may not alias a or b)."""
     out[0] = a[1] * b[2] - a[2] * b[1]
@@ -47,7 +53,7 @@ def _cross(a: np.ndarray, b: np.ndarray, out: np.ndarray) -> None:  # pragma: no
     out[2] = a[0] * b[1] - a[1] * b[0]
 
 
-@kernel
+@kernel(exact=True)
 def _inertia_times(m, h, J, motion, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """Out = I·motion, I at the origin (m, h = m·c, J), motion (linear, angular)."""
     for i in range(3):
@@ -62,24 +68,7 @@ def _inertia_times(m, h, J, motion, out):  # type: ignore[no-untyped-def]  # pra
     out[5] += h[0] * v[1] - h[1] * v[0]
 
 
-@kernel
-def _pose_from_base(qb, R, p):  # type: ignore[no-untyped-def]  # pragma: no cover
-    """The base's rotation and position from ``[x y z qx qy qz qw]`` (quaternion unit)."""
-    x, y, z, w = qb[3], qb[4], qb[5], qb[6]
-    R[0, 0] = 1 - 2 * (y * y + z * z)
-    R[0, 1] = 2 * (x * y - z * w)
-    R[0, 2] = 2 * (x * z + y * w)
-    R[1, 0] = 2 * (x * y + z * w)
-    R[1, 1] = 1 - 2 * (x * x + z * z)
-    R[1, 2] = 2 * (y * z - x * w)
-    R[2, 0] = 2 * (x * z - y * w)
-    R[2, 1] = 2 * (y * z + x * w)
-    R[2, 2] = 1 - 2 * (x * x + y * y)
-    for i in range(3):
-        p[i] = qb[i]
-
-
-@kernel
+@kernel(exact=True)
 def _to_world(R, p, local, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """A motion in a frame (R, p) (linear, angular) as a motion at the world origin."""
     for i in range(3):
@@ -90,7 +79,7 @@ def _to_world(R, p, local, out):  # type: ignore[no-untyped-def]  # pragma: no c
     out[2] += p[0] * out[4] - p[1] * out[3]
 
 
-@kernel
+@kernel(exact=True)
 def workspace(nj, n):  # type: ignore[no-untyped-def]  # pragma: no cover
     """The arrays one evaluation works in, for ``nj`` joints (with the universe), ``n`` columns.
 
@@ -117,19 +106,7 @@ def workspace(nj, n):  # type: ignore[no-untyped-def]  # pragma: no cover
     )
 
 
-@kernel
-def friction_at(motor, i, x):  # type: ignore[no-untyped-def]  # pragma: no cover
-    """Joint i's friction at velocity x (``motor`` as :func:`joint_accelerations` takes it).
-
-    ``viscous·x + (coulomb + stribeck·exp(-(x/v_s)²))·tanh(x/coulomb_velocity)``
-    (:func:`~aaria_pin.core.actuator.friction`).
-    """
-    _, _, viscous, coulomb, smooth, stribeck, v_s = motor
-    dry = coulomb[i] + stribeck[i] * np.exp(-((x / v_s[i]) ** 2))
-    return viscous[i] * x + dry * np.tanh(x / smooth[i])
-
-
-@kernel
+@kernel(exact=True)
 def dynamics_terms(model, qb, vb, ab, q, v, work):  # type: ignore[no-untyped-def]  # pragma: no cover
     """The joints' mass matrix and bias at one state, the base prescribed (module docstring).
 
@@ -278,7 +255,7 @@ def dynamics_terms(model, qb, vb, ab, q, v, work):  # type: ignore[no-untyped-de
             f[pa, i] += f[j, i]
 
 
-@kernel
+@kernel(exact=True)
 def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, stop, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
     """Joint accelerations ``out`` (n,) at one state, the base prescribed (module docstring).
 
@@ -331,7 +308,7 @@ def joint_accelerations(model, qb, vb, ab, q, v, torque, motor, stop, work, out)
         out[i] = s / A[i, i]
 
 
-@kernel
+@kernel(exact=True)
 def base_at(base, k, work):  # type: ignore[no-untyped-def]  # pragma: no cover
     """The base's state at fractional sample index k, linear in k (quaternion normalized).
 
@@ -359,13 +336,24 @@ def base_at(base, k, work):  # type: ignore[no-untyped-def]  # pragma: no cover
     return i, i1, w
 
 
-@kernel
-def _at(model, base, tau, hold, k, q, v, motor, stop, work, out):  # type: ignore[no-untyped-def]  # pragma: no cover
+@kernel(exact=True)
+def _at(model, base, tau, hold, k, q, v, motor, stop, work, out, articulated=None):  # type: ignore[no-untyped-def]  # pragma: no cover
     """Joint accelerations at fractional sample index k (the base linear in k).
 
     The torques ``tau`` (T, n) linear in k, or (``hold``) its first row held (a controller's
-    command).
+    command). With ``articulated`` (an :func:`~aaria_pin.core._articulated_kernel.
+    articulated_workspace`) :func:`~aaria_pin.core._articulated_kernel.articulated_at` and
+    ``articulated_stops`` evaluate (the ``aba`` dynamics); without (None),
+    :func:`joint_accelerations` (the
+    ``kernel`` dynamics). The test is resolved when numba compiles: a call without
+    ``articulated`` is the code it was before (and one with it holds no CRBA: with both, the
+    drive measured 1.5× slower on ur5).
     """
+    if articulated is not None:
+        articulated_at(model, base, tau, hold, k, q, v, motor, articulated, out)
+        if stop[0]:
+            articulated_stops(model, q, v, stop, articulated, out)
+        return
     i, i1, w = base_at(base, k, work)
     line = work[12]
     nq = base[0].shape[1]
@@ -382,22 +370,23 @@ def _at(model, base, tau, hold, k, q, v, motor, stop, work, out):  # type: ignor
     )
 
 
-@kernel
+@kernel(exact=True)
 def scratch(n):  # type: ignore[no-untyped-def]  # pragma: no cover
     """The rows one integration step works in: k1-k4 and the trial state (6 × n)."""
     return np.empty((6, n))
 
 
-@kernel
-def step(model, base, tau, hold, k, dk, h, method, x, y, motor, stop, work, rows):  # type: ignore[no-untyped-def]  # pragma: no cover
+@kernel(exact=True)
+def step(model, base, tau, hold, k, dk, h, method, x, y, motor, stop, work, rows, articulated=None):  # type: ignore[no-untyped-def]  # pragma: no cover
     """One step of h [s] of the state (x, y), in place, from fractional sample index k.
 
     RK4 or semi-implicit Euler (``dk`` the step in samples); ``rows[0]`` keeps the acceleration
-    at the step's start (``rows`` from :func:`scratch`; the torques as :func:`_at` takes them).
+    at the step's start (``rows`` from :func:`scratch`; the torques and ``articulated`` as
+    :func:`_at` takes them).
     """
     n = x.shape[0]
     k1, k2, k3, k4, xt, yt = rows[0], rows[1], rows[2], rows[3], rows[4], rows[5]
-    _at(model, base, tau, hold, k, x, y, motor, stop, work, k1)
+    _at(model, base, tau, hold, k, x, y, motor, stop, work, k1, articulated)
     if method == EULER:
         for m in range(n):
             y[m] = y[m] + h * k1[m]
@@ -406,15 +395,15 @@ def step(model, base, tau, hold, k, dk, h, method, x, y, motor, stop, work, rows
     for m in range(n):
         xt[m] = x[m] + h / 2 * y[m]
         yt[m] = y[m] + h / 2 * k1[m]
-    _at(model, base, tau, hold, k + dk / 2, xt, yt, motor, stop, work, k2)
+    _at(model, base, tau, hold, k + dk / 2, xt, yt, motor, stop, work, k2, articulated)
     for m in range(n):
         xt[m] = x[m] + h / 2 * (y[m] + h / 2 * k1[m])
         yt[m] = y[m] + h / 2 * k2[m]
-    _at(model, base, tau, hold, k + dk / 2, xt, yt, motor, stop, work, k3)
+    _at(model, base, tau, hold, k + dk / 2, xt, yt, motor, stop, work, k3, articulated)
     for m in range(n):
         xt[m] = x[m] + h * (y[m] + h / 2 * k2[m])
         yt[m] = y[m] + h * k3[m]
-    _at(model, base, tau, hold, k + dk, xt, yt, motor, stop, work, k4)
+    _at(model, base, tau, hold, k + dk, xt, yt, motor, stop, work, k4, articulated)
     for m in range(n):
         ym = y[m]
         x[m] = x[m] + h / 6 * (
@@ -423,14 +412,16 @@ def step(model, base, tau, hold, k, dk, h, method, x, y, motor, stop, work, rows
         y[m] = ym + h / 6 * (k1[m] + 2 * k2[m] + 2 * k3[m] + k4[m])
 
 
-@kernel
-def integrate(model, base, tau, h, substeps, method, motor, stop, q, v, a, first, last):  # type: ignore[no-untyped-def]  # pragma: no cover
+@kernel(exact=True)
+def integrate(  # type: ignore[no-untyped-def]  # pragma: no cover
+    model, base, tau, h, substeps, method, motor, stop, q, v, a, first, last, articulated=None
+):
     """Integrate samples ``first`` to ``last``: RK4 or semi-implicit Euler, ``substeps`` of h [s].
 
     Fills ``q``, ``v`` (T, n) from ``first`` (its state given) to ``last`` and ``a`` from
     ``first`` to ``last - 1`` (and ``last`` when it is the run's last sample). A run integrated
     in several such spans is the run integrated at once, bit for bit (the state at a sample is
-    all a span needs).
+    all a span needs). ``articulated`` as :func:`_at` takes it (None: the ``kernel`` dynamics).
     """
     T, n = tau.shape
     work = workspace(model[0].shape[0], n)
@@ -454,9 +445,23 @@ def integrate(model, base, tau, h, substeps, method, motor, stop, q, v, a, first
                 stop,
                 work,
                 rows,
+                articulated,
             )
             if s == 0:
                 a[i] = rows[0]
         q[i + 1], v[i + 1] = x, y
     if last == T - 1:
-        _at(model, base, tau, False, float(T - 1), q[T - 1], v[T - 1], motor, stop, work, a[T - 1])
+        _at(
+            model,
+            base,
+            tau,
+            False,
+            float(T - 1),
+            q[T - 1],
+            v[T - 1],
+            motor,
+            stop,
+            work,
+            a[T - 1],
+            articulated,
+        )

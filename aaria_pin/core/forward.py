@@ -9,7 +9,7 @@ between samples.
 
 Pinocchio's ABA is not used here: it would let the base react to the joints' motion, while the
 base here is prescribed. Solving the joints' block of the CRBA mass matrix against the RNEA bias
-is the same dynamics with the base's motion imposed.
+is the same dynamics with the base's motion imposed, as is the kernel's ABA from the base's motion.
 
 With an actuator (:class:`~aaria_pin.core.joint_sensors.ActuatorModel`) the torques are the
 motors' and the joints obey ``(M_jj(q) + diag(armature))·qdd = tau - friction(qd) - b``: the
@@ -40,6 +40,7 @@ joint pressed on it by a torque ``τ`` sinks about ``τ / k`` past its limit (on
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from functools import partial
 from typing import Any, TypedDict, Unpack
 
 import numpy as np
@@ -172,6 +173,7 @@ class ForwardOptions(TypedDict, total=False):
             stops (:func:`stop_torques`; None, the default: no stops)
         progress: told ``(samples done, samples)`` as the integration goes (:func:`spans`;
             None, the default: silent)
+        articulated: the kernel by ABA (O(n); CRBA beyond the ``stops``); default False: CRBA
     """
 
     substeps: int
@@ -179,6 +181,7 @@ class ForwardOptions(TypedDict, total=False):
     integrator: str
     stops: tuple[Array, Array] | None
     progress: Progress | None
+    articulated: bool
 
 
 def forward_simulate(
@@ -241,6 +244,7 @@ def forward_simulate(
             actuator=actuator,
             stops=options.get("stops"),
         )
+    from aaria_pin.core._articulated_kernel import articulated_workspace
     from aaria_pin.core._forward_kernel import integrate
 
     n = robot.n_joints
@@ -262,8 +266,11 @@ def forward_simulate(
     method = INTEGRATORS.index(integrator)
     h = dt / substeps
     stop = kernel_stops(options.get("stops"), n, h)
+    run = (flat, base_arrays, tau, h, substeps, method, motor, stop, q, v, a)
+    fast = options.get("articulated", False)  # (): compiled as the ``kernel`` runs were made
+    aba = (articulated_workspace(len(flat[0])),) if fast else ()
     for first, last in spans(T, options.get("progress")):
-        integrate(flat, base_arrays, tau, h, substeps, method, motor, stop, q, v, a, first, last)
+        integrate(*run, first, last, *aba)
     return JointTrajectory(time, q, v, a)
 
 
@@ -482,10 +489,11 @@ def reference_forward_simulate(
 
 
 DYNAMICS: dict[str, Callable[..., JointTrajectory]] = {
+    "aba": partial(forward_simulate, articulated=True),
     "kernel": forward_simulate,
     "reference": reference_forward_simulate,
 }
 """The torque drive's integrators by the name a run records (attribute ``dynamics``): the
-compiled kernel for runs written since it came, the Pinocchio path for older runs, which it
-re-makes bit for bit (the kernel's sums, in another order, differ from Pinocchio's in the last
-bits: up to 7e-15 relative on the 0.3 fixture ``dh_torque.h5``)."""
+articulated-body kernel for new runs, the CRBA kernel and the Pinocchio path for older ones,
+each re-making its runs bit for bit (their sums differ in the last bits: the CRBA kernel's from
+Pinocchio's up to 7e-15 relative on the 0.3 fixture ``dh_torque.h5``)."""

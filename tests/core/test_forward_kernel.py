@@ -3,7 +3,8 @@
 Per evaluation: the kernel's joint accelerations equal ``pin.aba`` on fixed-base robots (ur5,
 panda; with an actuator, ``model.armature`` set and the friction taken from the torques) and,
 on a moving base (aaria-fig2, ur5), the joints' block of ``pin.crba`` solved against
-``pin.rnea`` with the base's velocity and acceleration (ABA would let the base react). Whole
+``pin.rnea`` with the base's velocity and acceleration (ABA would let the base react); so do the
+articulated-body kernel's (the ``aba`` dynamics), to 1e-12, and they equal the CRBA kernel's. Whole
 runs: the kernel equals the Pinocchio path (:func:`reference_forward_simulate`, same RK4, same
 sub-steps); semi-implicit Euler converges at first order; models the kernel cannot do take the
 Pinocchio path; a run records the integrator that made it. The stops of the ``clamp`` policy:
@@ -21,13 +22,20 @@ import pytest
 from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.apps.remake import remake_record
-from aaria_pin.core._forward_kernel import joint_accelerations, workspace
+from aaria_pin.core._articulated_kernel import (
+    articulated_at,
+    articulated_stops,
+    articulated_workspace,
+)
+from aaria_pin.core._forward_kernel import _at, joint_accelerations, workspace
 from aaria_pin.core.actuator import armature, friction
 from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.forward import (
     STOP_OMEGA_H,
     flatten_dynamics,
     forward_simulate,
+    kernel_motor,
+    kernel_stops,
     reference_forward_simulate,
     stop_torques,
 )
@@ -95,6 +103,38 @@ def _kernel_qdd(
     return out
 
 
+def aba_and_crba(
+    robot: RobotModel,
+    qf: np.ndarray,
+    vf: np.ndarray,
+    af: np.ndarray,
+    tau: np.ndarray,
+    actuator: ActuatorModel | None,
+    stops: tuple[np.ndarray, np.ndarray] | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ABA kernel's and the CRBA kernel's accelerations at one full state.
+
+    The base's state held over two samples and read at k = 0 (its interpolation is then the
+    sample itself), the torques likewise.
+    """
+    flat = flatten_dynamics(robot)
+    assert flat is not None
+    n, nb_q, nb_v = robot.n_joints, robot.base_nq, robot.base_nv
+    base = tuple(
+        np.ascontiguousarray(np.tile(x, (2, 1))) for x in (qf[:nb_q], vf[:nb_v], af[:nb_v])
+    )
+    torques = np.tile(tau, (2, 1))
+    q, v = qf[nb_q:].copy(), vf[nb_v:].copy()
+    motor, stop = kernel_motor(actuator, n), kernel_stops(stops, n, 1e-3)
+    aba, crba = np.empty(n), np.empty(n)
+    work = articulated_workspace(len(flat[0]))
+    articulated_at(flat, base, torques, False, 0.0, q, v, motor, work, aba)
+    if stops is not None:
+        articulated_stops(flat, q, v, stop, work, aba)
+    _at(flat, base, torques, False, 0.0, q, v, motor, stop, workspace(len(flat[0]), n), crba)
+    return aba, crba
+
+
 @pytest.mark.parametrize("name", ["ur5", "panda"])
 @pytest.mark.parametrize("motors", [None, MOTORS])
 def test_an_evaluation_equals_pinocchio_aba_on_a_fixed_base(
@@ -114,6 +154,9 @@ def test_an_evaluation_equals_pinocchio_aba_on_a_fixed_base(
         expected = pin.aba(model, model.createData(), q, v, expected_tau)
         got = _kernel_qdd(robot, q, v, np.zeros(n), tau, motors)
         np.testing.assert_allclose(got, expected, rtol=1e-10, atol=1e-10 * np.abs(expected).max())
+        aba, crba = aba_and_crba(robot, q, v, np.zeros(n), tau, motors)
+        for want in (expected, crba):
+            np.testing.assert_allclose(aba, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
 
 
 @pytest.mark.parametrize("name", ["aaria-fig2", "ur5", "panda"])
@@ -135,6 +178,9 @@ def test_an_evaluation_on_a_moving_base_equals_pinocchio_crba_and_rnea(name: str
         expected = np.linalg.solve(mass[nb:, nb:], tau - bias)
         got = _kernel_qdd(robot, q, v, a, tau, None)
         np.testing.assert_allclose(got, expected, rtol=1e-10, atol=1e-10 * np.abs(expected).max())
+        aba, crba = aba_and_crba(robot, q, v, a, tau, None)
+        for want in (expected, crba):
+            np.testing.assert_allclose(aba, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
 
 
 def _case(name: str, moving_base: bool) -> tuple[RobotModel, BaseMotion, np.ndarray, np.ndarray]:
@@ -248,7 +294,7 @@ def test_a_run_records_its_integrator_and_is_made_again(tmp_path: Path) -> None:
     driven = simulate_urdf_run(text, source="ur5", torques=prescribed.tau, **settings)
     write_run(tmp_path / "t.h5", driven)
     stored = read_run(tmp_path / "t.h5")
-    assert stored.attributes["dynamics"] == "kernel"
+    assert stored.attributes["dynamics"] == "aba"
     again = remake_record(stored)
     np.testing.assert_array_equal(again.q, stored.q)
     # an older run (no attribute) was made by the Pinocchio path; an unknown name is refused

@@ -1,4 +1,4 @@
-"""Physics checks of the torque drive (:func:`~aaria_pin.core.forward.forward_simulate`).
+"""Physics checks of the torque drive (the integrator new runs use, ``TorqueDrive.dynamics``).
 
 Each check compares the drive with a computation that shares none of its code: the energy
 balance (Pinocchio's kinetic and potential energy against the exact work of the torques), the
@@ -19,8 +19,9 @@ import pytest
 
 import aaria_pin as ap
 from aaria_pin.aaria.dh_robot import build_dh_robot
-from aaria_pin.core.forward import forward_simulate
+from aaria_pin.core.forward import DYNAMICS
 from aaria_pin.core.model import RobotModel
+from aaria_pin.core.run import TorqueDrive
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory, sample_times
 from aaria_pin.core.urdf_robot import load_urdf_robot, read_urdf_file
 
@@ -69,10 +70,14 @@ def start(robot: RobotModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def drive(
     robot: RobotModel, torques: np.ndarray, time: np.ndarray, substeps: int
 ) -> JointTrajectory:
-    """The drive's run from :func:`start`'s state under the given torques, base at rest."""
+    """The drive's run from :func:`start`'s state under the given torques, base at rest.
+
+    By the integrator new torque runs use (the default ``TorqueDrive.dynamics``).
+    """
     q0, v0, _ = start(robot)
     base = BaseMotion.resting(time.size)
-    return forward_simulate(robot, base, torques, time, q0, v0, substeps=substeps)
+    integrate = DYNAMICS[TorqueDrive.dynamics]
+    return integrate(robot, base, torques, time, q0, v0, substeps=substeps)
 
 
 def energy(model: pin.Model, q: np.ndarray, v: np.ndarray) -> np.ndarray:

@@ -79,7 +79,7 @@ class TorqueDrive:
     start: Motion = field(default_factory=SineTable)
     actuator: ActuatorModel | None = None
     limits: str = DEFAULT_LIMITS
-    dynamics: str = "kernel"
+    dynamics: str = "aba"
     progress: Progress | None = field(default=None, compare=False)
     integrator: str = "rk4"
     substeps: int = DEFAULT_SUBSTEPS
@@ -179,7 +179,8 @@ class DriveOptions(TypedDict, total=False):
             ``computed-torque``: the motion is the controller's reference)
         limits: the joint-limit policy of a torque or closed-loop drive (``stop``, ``clamp``,
             ``ignore``)
-        dynamics: a torque drive's integrator by its recorded name (``kernel``, ``reference``)
+        dynamics: a torque drive's integrator by its recorded name (``aba``, ``kernel``,
+            ``reference``)
         integrator: a driven run's integrator (``rk4``, ``euler``)
         substeps: a torque drive's integration steps per sample (a closed-loop drive's are its
             control rate's)
