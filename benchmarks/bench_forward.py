@@ -3,6 +3,7 @@
     python benchmarks/bench_forward.py            # full: 2 s at 500 Hz per robot, 5 repeats
     python benchmarks/bench_forward.py --repeats 21   # the docs' table: medians of 21
     python benchmarks/bench_forward.py --smoke    # CI: 0.1 s, one repeat, no timing asserted
+    python benchmarks/bench_forward.py --closed-loop --repeats 7  # closed loops vs the drive
 
 Robots: ur5 and panda on a fixed base, aaria-fig2 on its moving base (the base prescribed by its
 base table). Ours: the integrator of new torque runs, ``DYNAMICS["aba"]`` (the compiled
@@ -123,12 +124,50 @@ def _case(name: str, moving_base: bool, duration: float, repeats: int) -> dict[s
     return {name: value / steps for name, value in result.items()}
 
 
+def _closed_loop(repeats: int, duration: float) -> None:
+    """The closed-loop drives on ur5 (fixed base, the default sine motion, 100 Hz, the default
+    controller: 20 ticks a sample) against the torque drive at the same step, in ms a run."""
+    from aaria_pin.core.control import closed_loop_simulate
+    from aaria_pin.core.joint_sensors import ControllerModel
+    from aaria_pin.core.trajectory import JointTrajectory
+    from aaria_pin.core.urdf_run import urdf_request
+
+    text = read_urdf_file(find_robot("ur5").urdf)
+    made = urdf_request(text, source="ur5", noise=False, moving_base=False, duration=duration)
+    run = made.record()
+    robot = load_urdf_robot(text, moving_base=False).robot
+    base = BaseMotion.resting(run.time.size)
+    reference = JointTrajectory(run.time, run.q, run.qd, run.qdd)
+    runs: dict[str, Callable[[], object]] = {
+        "torque drive": lambda: DYNAMICS["aba"](
+            robot, base, run.tau, run.time, run.q[0], run.qd[0], substeps=20
+        ),
+        **{
+            law: lambda law=law: closed_loop_simulate(
+                robot, base, reference, law, ControllerModel()
+            )
+            for law in ("pd", "computed-torque")
+        },
+    }
+    for once in runs.values():
+        once()  # compile or load the kernels
+    result = _medians(runs, repeats)
+    print(f"ur5, {duration:g} s at 100 Hz, 20 steps a sample, median of {repeats} [ms a run]")
+    for name, value in result.items():
+        ratio = value / result["torque drive"]
+        print(f"{name:<16} {value * 1e3:8.1f}  {ratio:5.2f}x the drive")
+
+
 def main() -> None:
     """Print the table."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--smoke", action="store_true", help="0.1 s, one repeat")
     parser.add_argument("--repeats", type=int, default=5, help="repeats (median; default 5)")
+    parser.add_argument("--closed-loop", action="store_true", help="the closed-loop drives")
     args = parser.parse_args()
+    if args.closed_loop:
+        _closed_loop(1 if args.smoke else args.repeats, 0.2 if args.smoke else 10.0)
+        return
     duration, repeats = (0.1, 1) if args.smoke else (2.0, args.repeats)
     print(f"µs/sample, {RATE:g} Hz, RK4 × {SUBSTEPS}, {duration:g} s, median of {repeats}")
     header = (

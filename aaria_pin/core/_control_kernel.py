@@ -175,15 +175,17 @@ def _link_torque(held, k1, y, motor, memory):  # type: ignore[no-untyped-def]  #
 
 
 @kernel(exact=True)
-def integrate_closed(model, base, reference, h, substeps, method, motor, stop, control, sensing, q, v, a, command, memory, first, last, lost):  # type: ignore[no-untyped-def]  # noqa: E501  # pragma: no cover  # fmt: skip
+def integrate_closed(model, base, reference, h, substeps, method, motor, stop, control, sensing, q, v, a, command, memory, first, last, lost, articulated):  # type: ignore[no-untyped-def]  # noqa: E501  # pragma: no cover  # fmt: skip
     """Integrate samples ``first`` to ``last`` under the controller (module docstring).
 
     Fills ``q``, ``v`` (T, n) from ``first`` (its state given) to ``last``, ``a`` and
     ``command`` (the controller's torque at each sample's tick) from ``first`` to ``last - 1``
-    (and ``last`` when it is the run's last sample). ``sensing``'s noise rows are this span's
-    ticks, in order (the final tick of the run last); ``memory`` carries the controller's state
-    from span to span. Returns -1, or the first sample farther than ``lost`` [rad or m] from its
-    reference (or not finite).
+    (and ``last`` when it is the run's last sample); the plant is evaluated by ABA
+    (``articulated``, an :func:`~aaria_pin.core._articulated_kernel.articulated_workspace`).
+    ``sensing``'s noise rows are this span's ticks, in order (the final tick of the run last);
+    ``memory`` carries the controller's state from span to span. Returns -1, or the first sample
+    where the run lost its reference (``lost``: position [rad or m] and speed [rad/s or m/s]
+    bounds) or is not finite.
     """
     T, n = reference[0].shape
     dt = h * substeps
@@ -218,7 +220,10 @@ def integrate_closed(model, base, reference, h, substeps, method, motor, stop, c
                 out,
             )
             y_tick[:] = y
-            step(model, base, held, True, i + w, dk, h, method, x, y, motor, stop, work, steps)
+            step(
+                model, base, held, True, i + w, dk, h, method, x, y, motor, stop, work, steps,
+                articulated,
+            )  # fmt: skip
             _link_torque(held, steps[0], y_tick, motor, memory)
             if s == 0:
                 a[i] = steps[0]
@@ -250,5 +255,8 @@ def integrate_closed(model, base, reference, h, substeps, method, motor, stop, c
             held,
             command[T - 1],
         )
-        _at(model, base, held, True, float(T - 1), q[T - 1], v[T - 1], motor, stop, work, a[T - 1])
+        _at(
+            model, base, held, True, float(T - 1), q[T - 1], v[T - 1], motor, stop, work,
+            a[T - 1], articulated,
+        )  # fmt: skip
     return -1

@@ -297,6 +297,7 @@ def closed_loop_simulate(
         ParameterError: an unknown law or integrator, or a model the compiled kernel does not
             do (continuous, spherical or mimic joints).
     """
+    from aaria_pin.core._articulated_kernel import articulated_workspace
     from aaria_pin.core._control_kernel import integrate_closed
 
     if law not in LAWS:
@@ -348,12 +349,13 @@ def closed_loop_simulate(
     stop = kernel_stops(options.get("stops"), n, h)
     method = INTEGRATORS.index(integrator)
     lost = np.array([np.full(n, LOST_TRACKING), np.full(n, LOST_SPEED)])
+    aba = articulated_workspace(len(flat[0]))  # the plant by ABA, as the torque drive's
     for first, last in spans(T, options.get("progress") or _silent):  # noise drawn per span
         ticks = (last - first) * substeps + (1 if last == T - 1 else 0)
         kernel_sensing = _kernel_sensing(sensing, ticks, n, alpha)
         at = integrate_closed(
             flat, base_arrays, refs, h, substeps, method, motor, stop, control, kernel_sensing,
-            q, v, a, command, memory, first, last, lost,
+            q, v, a, command, memory, first, last, lost, aba,
         )  # fmt: skip
         if at >= 0:
             return ClosedLoopRun(JointTrajectory(time, q, v, a), command, kp, kd, substeps, at)
