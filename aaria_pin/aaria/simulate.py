@@ -46,7 +46,7 @@ from aaria_pin.core.run import (
     sampling_attributes,
 )
 from aaria_pin.core.run.deprecation import deprecated_producer, warn_deprecated
-from aaria_pin.core.run.drives import DriveOptions, driven, stored_drive
+from aaria_pin.core.run.drives import DriveOptions, driven, remade_drive
 from aaria_pin.core.run.robot import RunKind, register_kind
 from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.trajectory import (
@@ -294,7 +294,7 @@ def dh_request_from_record(
         "motion": motion_from_record(stored.tables, stored.attributes, drive=False),
         **stored_hardware(stored.attributes),  # type: ignore[typeddict-item]
     }
-    options.update(stored_drive(stored.tables, stored.attributes))
+    options.update(remade_drive(stored.tables, stored.attributes, overrides))  # type: ignore[typeddict-item]
     if "body_dimensions" in meta.extra:
         try:
             options["dims"] = BodyDimensions(**meta.extra["body_dimensions"])

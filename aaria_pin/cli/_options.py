@@ -190,8 +190,10 @@ def drive_overrides(params: dict[str, Any]) -> dict[str, Any]:
             f"--{next(iter(options))} goes with --drive torque|pd|computed-torque (or --from)"
         )
     options["progress"] = run_progress()  # a followed motion has none to tell
+    if drive not in ("motion", "torque") or given("drive"):  # with --from: it replaces the stored
+        options["drive"] = drive
     if drive not in ("motion", "torque"):
-        return {**options, "drive": drive}
+        return options
     if path is None:
         return options
     tau, grid = read_torques(path)

@@ -43,7 +43,7 @@ from aaria_pin.core.run import (
     register_kind,
 )
 from aaria_pin.core.run.deprecation import deprecated_producer
-from aaria_pin.core.run.drives import DriveOptions, driven, stored_drive
+from aaria_pin.core.run.drives import DriveOptions, driven, remade_drive
 from aaria_pin.core.run.settings import stored_hardware
 from aaria_pin.core.run.urdf_kind import UrdfRunSpec, urdf_robot_run
 from aaria_pin.core.trajectory import (
@@ -331,7 +331,7 @@ def urdf_request_from_record(stored: RunRecord, **overrides: Unpack[UrdfRunOptio
         "motion": motion_from_record(stored.tables, stored.attributes, drive=False),
         **stored_hardware(stored.attributes),  # type: ignore[typeddict-item]
     }
-    options.update(stored_drive(stored.tables, stored.attributes))
+    options.update(remade_drive(stored.tables, stored.attributes, overrides))  # type: ignore[typeddict-item]
     options.update(overrides)
     return urdf_request(stored.urdf, **options)
 

@@ -95,3 +95,22 @@ def test_torques_with_a_closed_loop_drive_are_refused(tmp_path: Path) -> None:
         "-o", str(tmp_path / "x.h5"),
     )  # fmt: skip
     assert code == 2 and "--drive torque and --torques FILE go together" in err
+
+
+def test_a_drive_given_with_from_replaces_the_stored_one(tmp_path: Path) -> None:
+    pd = tmp_path / "pd.h5"
+    code, _, err = run_cli("simulate", "--robot", "ur5", "--drive", "pd", "--duration", "0.3",
+                           "-o", str(pd))  # fmt: skip
+    assert code == 0, err
+    followed = tmp_path / "followed.h5"
+    code, _, err = run_cli("simulate", "--from", str(pd), "--drive", "motion", "-o", str(followed))
+    assert code == 0, err
+    record = open_record(followed)
+    assert record.attributes["drive"] == "motion" and "controller" not in record.attributes
+    np.testing.assert_allclose(record.q, open_record(pd).tables["q_reference"], atol=1e-12)
+    tracked = tmp_path / "tracked.h5"
+    code, _, err = run_cli(
+        "simulate", "--from", str(pd), "--drive", "computed-torque", "-o", str(tracked)
+    )
+    assert code == 0, err
+    assert open_record(tracked).attributes["drive"] == "computed-torque"

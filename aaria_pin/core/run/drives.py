@@ -44,6 +44,7 @@ __all__ = [
     "equipped",
     "motion_from_record",
     "recorded_dynamics",
+    "remade_drive",
     "stored_drive",
 ]
 
@@ -272,6 +273,23 @@ def stored_drive(tables: Mapping[str, Array], attributes: Mapping[str, Any]) -> 
             **_stored_integration(attributes),
         }
     return {}
+
+
+def remade_drive(
+    tables: Mapping[str, Array], attributes: Mapping[str, Any], overrides: Mapping[str, Any]
+) -> dict[str, Any]:
+    """The drive of a run re-made from its record: the stored one, or the one ``overrides`` name.
+
+    ``--from`` a torque or closed-loop run with ``--drive motion`` (or another drive) makes the
+    run of that drive, without the stored torques, policy or integrator (and, for a drive that
+    is not closed-loop, without the stored controller).
+    """
+    stored = stored_drive(tables, attributes)
+    drive = overrides.get("drive")
+    stored_name = stored.get("drive", "torque" if "torques" in stored else "motion")
+    if drive is None or drive == stored_name:
+        return dict(stored)
+    return {} if drive in CLOSED_LOOP_DRIVES else {"controller": None}
 
 
 def _stored_integration(attributes: Mapping[str, Any]) -> DriveOptions:
