@@ -46,6 +46,7 @@ from aaria_pin.core.actuator import armature, model_effort_limits, torque_limits
 from aaria_pin.core.forward import (
     INTEGRATORS,
     Progress,
+    check_integrator,
     flatten_dynamics,
     kernel_motor,
     kernel_stops,
@@ -302,11 +303,7 @@ def closed_loop_simulate(
 
     if law not in LAWS:
         raise ParameterError(parameter="drive", value=law, allowed=", ".join(LAWS))
-    integrator = options.get("integrator", "rk4")
-    if integrator not in INTEGRATORS:
-        raise ParameterError(
-            parameter="integrator", value=integrator, allowed=", ".join(INTEGRATORS)
-        )
+    integrator = check_integrator(options.get("integrator", "rk4"))
     flat = flatten_dynamics(robot)
     if flat is None:
         raise ParameterError(

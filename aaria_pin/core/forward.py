@@ -52,6 +52,7 @@ from aaria_pin.core.joint_sensors import ActuatorModel, per_joint
 from aaria_pin.core.kinematics import full_state, joint_configuration, joint_kind
 from aaria_pin.core.model import RobotModel
 from aaria_pin.core.se3 import Array
+from aaria_pin.core.torque_table import check_torques
 from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
 from aaria_pin.errors import ModelError, ParameterError
 
@@ -64,7 +65,7 @@ __all__ = [
     "STOP_OMEGA_H",
     "ForwardOptions",
     "Progress",
-    "check_torques",
+    "check_integrator",
     "flatten_dynamics",
     "forward_simulate",
     "kernel_motor",
@@ -79,6 +80,18 @@ DEFAULT_SUBSTEPS = 4
 
 INTEGRATORS = ("rk4", "euler")
 """The integrators of :func:`forward_simulate`: classical Runge–Kutta, semi-implicit Euler."""
+
+
+def check_integrator(name: str) -> str:
+    """``name`` if it is one of :data:`INTEGRATORS` (the one check of a given integrator).
+
+    Raises:
+        ParameterError: another name (parameter ``integrator``).
+    """
+    if name not in INTEGRATORS:
+        raise ParameterError(parameter="integrator", value=name, allowed=", ".join(INTEGRATORS))
+    return name
+
 
 PROGRESS_STEPS = 100
 """Times a run's ``progress`` is told as its integration goes (at most)."""
@@ -114,48 +127,6 @@ def stop_torques(
     edge = np.where(q < lower, lower, upper)
     force = -inertia * omega * omega * (q - edge) - 2 * inertia * omega * v
     return np.where(outside, force, 0.0)
-
-
-def check_torques(torques: ArrayLike, samples: int, joints: int, what: str = "torques") -> Array:
-    """A torque table as a (T, n) float array, or a clear error.
-
-    Args:
-        torques: the table, one row per sample, one column per joint [N·m or N]
-        samples: T, the samples expected
-        joints: n, the joints expected
-        what: how the message names the table
-
-    Raises:
-        ParameterError: wrong shape (naming the samples and joints expected) or NaN / inf
-            (its ``parameter`` is ``"torques"``).
-    """
-    allowed = f"({samples} samples, {joints} joints)"
-    try:
-        tau = np.asarray(torques, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(
-            f"{what} are not numbers; allowed: a ({samples}, {joints}) table",
-            parameter="torques",
-            allowed=f"a ({samples}, {joints}) table",
-        ) from None
-    if tau.shape != (samples, joints):
-        raise ParameterError(
-            f"{what} have shape {tau.shape}; allowed: {allowed}",
-            parameter="torques",
-            value=tau.shape,
-            allowed=allowed,
-        )
-    bad = np.argwhere(~np.isfinite(tau))
-    if bad.size:
-        row, col = bad[0]
-        raise ParameterError(
-            f"{what}: sample {row}, joint {col + 1} is {tau[row, col]}; allowed: a finite number",
-            parameter="torques",
-            value=float(tau[row, col]),
-            allowed="a finite number",
-            element=f"sample {row}, joint {col + 1}",
-        )
-    return tau
 
 
 class ForwardOptions(TypedDict, total=False):
@@ -216,14 +187,7 @@ def forward_simulate(
     """
     substeps = options.get("substeps", DEFAULT_SUBSTEPS)
     actuator = options.get("actuator")
-    integrator = options.get("integrator", "rk4")
-    if integrator not in INTEGRATORS:
-        raise ParameterError(
-            f"integrator is {integrator!r}; allowed: {', '.join(INTEGRATORS)}",
-            parameter="integrator",
-            value=integrator,
-            allowed=", ".join(INTEGRATORS),
-        )
+    integrator = check_integrator(options.get("integrator", "rk4"))
     flat = flatten_dynamics(robot)
     if flat is None:
         if integrator != "rk4":

@@ -30,7 +30,7 @@ from aaria_pin.core.control import (
     ControllerSensing,
     closed_loop_simulate,
 )
-from aaria_pin.core.forward import INTEGRATORS, Progress
+from aaria_pin.core.forward import Progress, check_integrator
 from aaria_pin.core.joint_limits import DEFAULT_LIMITS, limit_policy
 from aaria_pin.core.joint_sensors import ControllerModel, JointHardware, per_joint, select_joints
 from aaria_pin.core.run.measured import sensor_streams
@@ -88,10 +88,7 @@ class ClosedLoopDrive:
         """
         if self.law not in LAWS:
             raise ParameterError(parameter="drive", value=self.law, allowed=", ".join(LAWS))
-        if self.integrator not in INTEGRATORS:
-            raise ParameterError(
-                parameter="integrator", value=self.integrator, allowed=", ".join(INTEGRATORS)
-            )
+        check_integrator(self.integrator)
         limit_policy(self.limits)
         return replace(self, reference=self.reference.checked(robot, samples, rate))
 

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from aaria_pin.core.arguments import checked
-from aaria_pin.core.forward import DEFAULT_SUBSTEPS, INTEGRATORS, Progress
+from aaria_pin.core.forward import DEFAULT_SUBSTEPS, Progress, check_integrator
 from aaria_pin.core.joint_limits import (
     DEFAULT_LIMITS,
     limit_policy,
@@ -107,13 +107,10 @@ class TorqueDrive:
             ParameterError: a bad table, ``limits`` that names no policy built, an unknown
                 integrator or substeps < 1.
         """
-        from aaria_pin.core.forward import check_torques
+        from aaria_pin.core.torque_table import check_torques
 
         limit_policy(self.limits)
-        if self.integrator not in INTEGRATORS:
-            raise ParameterError(
-                parameter="integrator", value=self.integrator, allowed=", ".join(INTEGRATORS)
-            )
+        check_integrator(self.integrator)
         if isinstance(self.substeps, bool) or not isinstance(self.substeps, int | np.integer):
             raise ParameterError(
                 parameter="substeps", value=self.substeps, allowed="an integer >= 1"
@@ -300,14 +297,10 @@ def _stored_integration(attributes: Mapping[str, Any]) -> DriveOptions:
     """
     stored: DriveOptions = {}
     if "integrator" in attributes:
-        stored["integrator"] = str(attributes["integrator"])
-        if stored["integrator"] not in INTEGRATORS:
-            raise InputFileError(
-                parameter="integrator",
-                value=stored["integrator"],
-                allowed=", ".join(INTEGRATORS),
-                element="run",
-            )
+        try:
+            stored["integrator"] = check_integrator(str(attributes["integrator"]))
+        except ParameterError as exc:
+            raise InputFileError(str(exc), parameter="integrator", element="run") from None
     if "substeps" in attributes:
         substeps = attributes["substeps"]
         if not (isinstance(substeps, int | np.integer) and substeps >= 1):
