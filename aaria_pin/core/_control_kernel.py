@@ -203,22 +203,9 @@ def integrate_closed(model, base, reference, h, substeps, method, motor, stop, c
             w = s / substeps
             reference_at(reference, i, w, dt, rows)
             _tick(
-                model,
-                base,
-                i + w,
-                x,
-                y,
-                tick,
-                h,
-                control,
-                sensing,
-                motor,
-                memory,
-                rows,
-                work,
-                held,
-                out,
-            )
+                model, base, i + w, x, y, tick, h, control, sensing, motor, memory, rows, work,
+                held, out,
+            )  # fmt: skip
             y_tick[:] = y
             step(
                 model, base, held, True, i + w, dk, h, method, x, y, motor, stop, work, steps,
@@ -239,22 +226,9 @@ def integrate_closed(model, base, reference, h, substeps, method, motor, stop, c
     if last == T - 1:
         reference_at(reference, T - 1, 0.0, dt, rows)
         _tick(
-            model,
-            base,
-            float(T - 1),
-            q[T - 1],
-            v[T - 1],
-            tick,
-            h,
-            control,
-            sensing,
-            motor,
-            memory,
-            rows,
-            work,
-            held,
-            command[T - 1],
-        )
+            model, base, float(T - 1), q[T - 1], v[T - 1], tick, h, control, sensing, motor,
+            memory, rows, work, held, command[T - 1],
+        )  # fmt: skip
         _at(
             model, base, held, True, float(T - 1), q[T - 1], v[T - 1], motor, stop, work,
             a[T - 1], articulated,
