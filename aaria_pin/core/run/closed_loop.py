@@ -197,12 +197,14 @@ def _lost(
     columns = list(range(moved.q.shape[1])) if robot.columns is None else robot.columns
     name = robot.joint_names[columns[joint]]
     error = float(ratios[what, joint]) * (LOST_TRACKING, LOST_SPEED)[what]
-    far = ("from it", "faster or slower than it")[what]
+    far = f"{error:.3g} " + ("from it", "faster or slower than it")[what]
+    if not np.isfinite(error):
+        far = "not a number (it diverged)"
     bound = (f"{LOST_TRACKING:g} rad or m", f"{LOST_SPEED:g} rad/s or m/s")[what]
     frequency = per_joint(controller.frequency, moved.q.shape[1], "frequency")[joint]
     return TrackingError(
         f"drive {law} lost its reference: joint {name} at t = {reference.time[at]:.4g} s is "
-        f"{error:.3g} {far} (kp {run.kp[joint]:.4g}, kd {run.kd[joint]:.4g}, frequency "
+        f"{far} (kp {run.kp[joint]:.4g}, kd {run.kd[joint]:.4g}, frequency "
         f"{frequency:.4g} Hz, rate {controller.rate:.4g} Hz); allowed: within {bound} (stable "
         "gains, a reference the motors can follow)",
         parameter="controller",
