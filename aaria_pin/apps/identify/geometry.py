@@ -51,7 +51,12 @@ import numpy as np
 from aaria_pin.apps.identify.geometry_fit import WeightedFit, deficiencies, non_negative_lengths
 from aaria_pin.apps.identify.geometry_model import ArmLayout, KinematicData, predict_signals
 from aaria_pin.apps.identify.geometry_result import KinematicIdentification
-from aaria_pin.apps.identify.geometry_signals import derivatives, signal_weights, smoothed
+from aaria_pin.apps.identify.geometry_signals import (
+    sample_derivatives,
+    signal_weights,
+    smoothed,
+    uniform_time,
+)
 from aaria_pin.apps.identify.geometry_start import INIT_SAMPLES, other_starts, start_parameters
 from aaria_pin.apps.identify.geometry_structure import (
     arm_layout,
@@ -85,10 +90,10 @@ def _measured_data(
     record: RunRecord, layout: ArmLayout, base: int
 ) -> tuple[ArmLayout, KinematicData, Array, Array]:
     """The layout with its joint kinds, the model's inputs, the measured signals, the weights."""
-    time = np.asarray(record.time, dtype=float)
+    time = uniform_time(np.asarray(record.time, dtype=float))
     columns = [m - 1 for m in layout.modules]
     q = np.asarray(record.q, dtype=float)[:, columns]
-    qd, qdd = derivatives(time, q, 2)
+    qd, qdd = sample_derivatives(time, q, 2)
     layout = ArmLayout(
         layout.modules, joint_kinds(record, layout, base, qd), layout.link_imus, layout.tool_imu
     )
@@ -104,7 +109,7 @@ def _measured_data(
         omega_base = smoothed(time, omega_base, 1.0 / weights[0], 0)
         force_base = smoothed(time, force_base, 1.0 / weights[3], 0)
     else:
-        (omega_dot,) = derivatives(time, omega_base, 1)
+        (omega_dot,) = sample_derivatives(time, omega_base, 1)
     data = KinematicData(omega_base, omega_dot, force_base, q, qd, qdd)
     measured = np.asarray(record.imu[:, list(layout.imus)], dtype=float)
     return layout, data, measured, weights
