@@ -13,11 +13,10 @@ import dataclasses
 from pathlib import Path
 
 import numpy as np
-import pinocchio as pin
 import pytest
 from conftest import run_cli
+from test_identify_geometry import _tool_tip_error  # Pinocchio's tool tip vs the recorded
 
-from aaria_pin.aaria.dh_robot import build_dh_robot
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
 from aaria_pin.apps.identify import identify_kinematics
@@ -29,24 +28,8 @@ from aaria_pin.apps.identify.geometry_signals import (
     sample_derivatives,
     uniform_time,
 )
-from aaria_pin.core.record import RunRecord
 from aaria_pin.files.dataset.reader import DatasetReader
 from aaria_pin.files.runfile import write_run
-
-
-def _largest_tool_tip_error(table: np.ndarray, record: RunRecord) -> float:
-    """Largest distance between the table's tool tip (Pinocchio) and the recorded one [m]."""
-    robot = build_dh_robot(table)
-    model = robot.model()
-    data = model.model.createData()
-    frame = model.frame_id("tool_tip")
-    columns = [m - 1 for m in robot.chain.modules]
-    worst = 0.0
-    for t in np.linspace(0, record.n_samples - 1, 40).astype(int):
-        pin.framesForwardKinematics(model.model, data, record.q[t, columns])
-        T_base_tool = np.linalg.inv(record.base_pose[t]) @ record.tool_pose[t]
-        worst = max(worst, float(np.linalg.norm(data.oMf[frame].translation - T_base_tool[:3, 3])))
-    return worst
 
 
 @pytest.fixture(scope="module")
@@ -68,7 +51,7 @@ def test_float32_dataset_runs_identified_within_a_millimetre(float32_dataset: Pa
         assert rounding_level(np.asarray(record.q)) is not None  # stored in float32
         result = identify_kinematics(record)
         assert result.failure is None
-        assert _largest_tool_tip_error(result.table, record) < 1e-3
+        assert _tool_tip_error(result.table, record) < 1e-3
 
 
 def test_float32_times_rebuilt_and_rounding_smoothed() -> None:
