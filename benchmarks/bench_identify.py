@@ -4,21 +4,25 @@
     python benchmarks/bench_identify.py -n 100 --noise
     python benchmarks/bench_identify.py --smoke       # CI: two short runs, no goal checked
     python benchmarks/bench_identify.py -n 20 --motion fourier   # Fourier excitation instead
+    python benchmarks/bench_identify.py -n 20 --float32  # series rounded as data sets store them
 
 Each arm is drawn as ``aaria dataset`` draws run k (structure, joint and base tables of the
 default ranges, seed 0), simulated (``simulate_run``), then identified from its record
 (``identify_kinematics``). With ``--motion fourier`` the joints follow a random Fourier
 excitation (``dh_fourier_excitation``, seed k) instead of the joint table's sines; the base
-moves alike. Printed per arm: the link types right, the tool tip's RMS and largest
-position error over the run (independent Pinocchio forward kinematics of the estimated and the
-true table), the largest joint axis angle error, the named deficiencies and the seconds; then
-the share of arms with every link type right, the share within 1 mm (1 cm with noise), and the
-median and largest time against the floor: the simulation of the same run (``simulate_run``).
+moves alike. With ``--float32`` the record's time, joint and IMU series are rounded to float32,
+as ``aaria dataset`` stores them by default. Printed per arm: the link types right, the tool
+tip's RMS and largest position error over the run (independent Pinocchio forward kinematics of
+the estimated and the true table), the largest joint axis angle error, the named deficiencies
+and the seconds; then the share of arms with every link type right, the share within 1 mm (1 cm
+with noise), and the median and largest time against the floor: the simulation of the same run
+(``simulate_run``).
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import statistics
 import time
@@ -49,6 +53,7 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--motion", choices=("sine", "fourier"), default="sine")
     parser.add_argument("--first", type=int, default=0, help="first arm")
+    parser.add_argument("--float32", action="store_true", help="series rounded to float32")
     parser.add_argument("--smoke", action="store_true")
     args = parser.parse_args()
     if args.smoke:
@@ -77,12 +82,22 @@ def main() -> None:
             ),
         )
         floor = time.perf_counter() - start
+        if args.float32:
+            record = dataclasses.replace(
+                record,
+                **{
+                    name: np.asarray(getattr(record, name)).astype(np.float32).astype(float)
+                    for name in ("time", "q", "imu")
+                },
+            )
         start = time.perf_counter()
         result = identify_kinematics(record)
         seconds = time.perf_counter() - start
         truth = result.truth
         assert truth is not None
         types = "".join(str(int(t)) for t in table[:6, 4])
+        if result.failure is not None:
+            print(f"arm {k:3d} types {types} identification failed: {result.failure}")
         right = all(truth.link_types_right)
         axis = max(truth.axis_angle_max.values(), default=0.0)
         rows.append((right, truth.tool_tip_rms, seconds, seconds / floor))
@@ -96,7 +111,7 @@ def main() -> None:
     within = np.mean([r[1] <= goal for r in rows])
     print(
         f"{args.n} arms, {args.duration:g} s at {args.rate:g} Hz, noise {args.noise}, "
-        f"motion {args.motion}: "
+        f"motion {args.motion}, float32 {args.float32}: "
         f"link types right {types_right:.1%}; tool tip RMS <= {goal:g} m: {within:.1%}; "
         f"seconds median {statistics.median(r[2] for r in rows):.1f}, max "
         f"{max(r[2] for r in rows):.1f}; ratio to the simulation floor median "

@@ -86,19 +86,17 @@ def _plot_tool_tip_cdf(path: Path, outcome: IdentifyOutcome) -> None:
 def identify(files: tuple[Path, ...], plot: Path | None, as_json: bool, **flags: Any) -> None:
     """Identify an Aaria arm's kinematic model from a DH run's IMU signals and encoders.
 
-    FILE is a DH run file, or a data set with --run K. Only the encoders, the IMU signals and
-    which link each IMU is on are used: the structure (each module empty, revolute or
-    prismatic), the extended DH table and the link IMUs' mounts are estimated (the base and
-    tool IMUs define the base and tool-tip frames). Printed: the table, the parameter
-    combinations the data cannot determine, residuals, and the errors against the truth the
-    file holds.
+    FILE is a DH run file, or a data set with --run K. From the encoders, the IMU signals and
+    each IMU's link: the structure, the DH table and the link IMUs' mounts (the base and tool
+    IMUs define the base and tool-tip frames). Printed: the table, what the data cannot
+    determine, residuals, errors against the truth; a failed fit: one line, exit 1.
 
     With --dynamics: the robot's inertial base parameters (any run, URDF robots too) from
     q, qd, qdd, tau and the base wrench; held-out torque error, total mass, centre of mass.
 
     With --dataset: every run of the data sets FILES identified (--workers processes), then
     the accuracy against the truth by noise, run length and rate: link types right, tool-tip
-    RMS error median, 95th percentile and largest, share within 1 mm and 1 cm, seconds per arm.
+    RMS error median, 95th percentile and largest, within 1 mm and 1 cm, seconds per arm.
     """
     from aaria_pin.apps.identify.request import IdentifyRequest, identify_files
 
@@ -111,3 +109,5 @@ def identify(files: tuple[Path, ...], plot: Path | None, as_json: bool, **flags:
     if plot is not None:
         _plot_tool_tip_cdf(plot, outcome)
     click.echo(json.dumps(outcome.report) if as_json else "\n".join(outcome.lines))
+    if outcome.failure is not None:  # a fit above the noise floor, or a degenerate table
+        raise SystemExit(1)

@@ -51,7 +51,13 @@ import numpy as np
 from aaria_pin.apps.identify.geometry_fit import WeightedFit, deficiencies, non_negative_lengths
 from aaria_pin.apps.identify.geometry_model import ArmLayout, KinematicData, predict_signals
 from aaria_pin.apps.identify.geometry_result import KinematicIdentification
-from aaria_pin.apps.identify.geometry_signals import derivatives, signal_weights, smoothed
+from aaria_pin.apps.identify.geometry_signals import (
+    rounding_level,
+    sample_derivatives,
+    signal_weights,
+    smoothed,
+    uniform_time,
+)
 from aaria_pin.apps.identify.geometry_start import INIT_SAMPLES, other_starts, start_parameters
 from aaria_pin.apps.identify.geometry_structure import (
     arm_layout,
@@ -74,7 +80,42 @@ _WALK_SAMPLES = 120
 _MIN_SAMPLES = 20
 _AT_FLOOR = 1.1  # a fit whose weighted RMS is within this factor of the noise floor is done
 _EXACT_FLOOR = 1e-3  # the noise floor of a noise-free record (its fits end near 1e-8)
+# ... stored in float32 (the default): its fits end at 5e-5 to 1.4e-3 (seeds 11-13, sine and
+# Fourier motion, 30 s at 200 Hz), the rounding of the signals and of the joint accelerations
+_ROUNDED_FLOOR = 1e-2
 _REFITS = 3  # other starts fitted on every sample, after their walks
+_FAILED = 10.0  # a fit whose weighted RMS ends above this many noise floors has failed
+_PLAUSIBLE_LENGTH = 5.0  # [m] a longer |a| or |d| is a degenerate table (lengths cancelling)
+
+
+def fit_failure(end_rms: float, floor: float, table: Array, layout: ArmLayout) -> str | None:
+    """Why a fit is not a result, in one line, or None.
+
+    A fit fails when its weighted residual RMS ends above :data:`_FAILED` noise floors (the
+    noise model's, or a noise-free record's :data:`_EXACT_FLOOR`, :data:`_ROUNDED_FLOOR` if
+    stored in float32; the fits that ended 5-15 mm off the tool
+    tip before the time axis was rebuilt ended at 7), or when a length is beyond
+    :data:`_PLAUSIBLE_LENGTH` (random arms' lengths are at most 0.9 m; one Fourier-motion fit
+    returned ``a2 = 25.3 m`` with ``d1 = 24.8 m``, two lengths cancelling).
+
+    Args:
+        end_rms: the fit's weighted residual RMS (1 at the noise)
+        floor: the noise floor in those units
+        table: the estimated 8 × 5 table
+        layout: the arm's modules
+    """
+    if not end_rms <= _FAILED * floor:
+        return (
+            f"fit ended above the noise floor: weighted residual RMS {end_rms:.3g}; "
+            f"allowed: at most {_FAILED * floor:.3g} ({_FAILED:g} noise floors)"
+        )
+    lengths = np.abs(table[table_lengths(layout)])
+    if not np.all(lengths <= _PLAUSIBLE_LENGTH):
+        return (
+            f"degenerate table: a length of {float(np.max(lengths)):.3g} m; allowed: at most "
+            f"{_PLAUSIBLE_LENGTH:g} m"
+        )
+    return None
 
 
 def _rms(values: Array) -> float:
@@ -85,10 +126,10 @@ def _measured_data(
     record: RunRecord, layout: ArmLayout, base: int
 ) -> tuple[ArmLayout, KinematicData, Array, Array]:
     """The layout with its joint kinds, the model's inputs, the measured signals, the weights."""
-    time = np.asarray(record.time, dtype=float)
+    time = uniform_time(np.asarray(record.time, dtype=float))
     columns = [m - 1 for m in layout.modules]
     q = np.asarray(record.q, dtype=float)[:, columns]
-    qd, qdd = derivatives(time, q, 2)
+    qd, qdd = sample_derivatives(time, q, 2)
     layout = ArmLayout(
         layout.modules, joint_kinds(record, layout, base, qd), layout.link_imus, layout.tool_imu
     )
@@ -104,7 +145,7 @@ def _measured_data(
         omega_base = smoothed(time, omega_base, 1.0 / weights[0], 0)
         force_base = smoothed(time, force_base, 1.0 / weights[3], 0)
     else:
-        (omega_dot,) = derivatives(time, omega_base, 1)
+        (omega_dot,) = sample_derivatives(time, omega_base, 1)
     data = KinematicData(omega_base, omega_dot, force_base, q, qd, qdd)
     measured = np.asarray(record.imu[:, list(layout.imus)], dtype=float)
     return layout, data, measured, weights
@@ -160,7 +201,8 @@ def identify_kinematics(
     # samples: it runs on the start's few, then the fit ends on more.
     walk_index, fit_index = spread(_WALK_SAMPLES), spread(max_fit_samples)
     # the weights are 1 / the noise level: a fit at the noise floor has a weighted RMS near 1
-    floor = _AT_FLOOR * (1.0 if record.metadata.noise else _EXACT_FLOOR)
+    exact = _EXACT_FLOOR if rounding_level(measured) is None else _ROUNDED_FLOOR
+    floor = _AT_FLOOR * (1.0 if record.metadata.noise else exact)
     x0 = start_parameters(layout, data.subsample(start), measured[start], weights, lengths)
     x, fun, _, walk = problem.fit(x0, x0, walk_index, max_iterations)
     start_rms = _rms(fun)
@@ -209,16 +251,18 @@ def identify_kinematics(
         for slot, imu in enumerate(layout.imus)
     }
     table = table_of(layout, x, data.q)
+    end_rms = _rms(fun)
     fit_summary = {
         "samples": int(fit_index.size),
         "iterations": iterations,
         "walk_iterations": walk,
         "starts": starts,
         "walk_rms_weighted": start_rms,
-        "end_rms_weighted": float(np.sqrt(np.mean(fun**2))),
+        "end_rms_weighted": end_rms,
         "seconds": _time.perf_counter() - started,
         "valid_table": bool(np.all(table[table_lengths(layout)] >= 0.0)),
         "defined": "base IMU frame = base frame; tool IMU frame = tool-tip frame",
+        "failure": fit_failure(end_rms, floor / _AT_FLOOR, table, layout),
     }
     return KinematicIdentification(
         table,

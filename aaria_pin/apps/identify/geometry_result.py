@@ -123,8 +123,20 @@ class KinematicIdentification:
             }
         return out
 
+    @property
+    def failure(self) -> str | None:
+        """Why the fit is not a result, one line (``fit["failure"]``), or None."""
+        failure = self.fit.get("failure")
+        return failure if isinstance(failure, str) else None
+
     def summary(self) -> list[str]:
-        """The identification as a few lines of text: structure, table, residuals, truth."""
+        """The identification as a few lines of text: structure, table, residuals, truth.
+
+        A failed fit (:attr:`failure`) is one line, ``identification failed: ...``: its table
+        is not a result.
+        """
+        if self.failure is not None:
+            return [f"identification failed: {self.failure}"]
         names = {0: "empty", 1: "revolute", 2: "prismatic"}
         lines = [
             "structure: " + ", ".join(f"{m + 1} {names[t]}" for m, t in enumerate(self.link_types)),

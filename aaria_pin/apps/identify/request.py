@@ -128,12 +128,14 @@ class IdentifyOutcome:
         lines: the report as text lines
         runs: the data-set mode's per-run results (else empty)
         groups: the data-set mode's accuracy table (else empty)
+        failure: why the kinematic fit is not a result (one line; nothing written), or None
     """
 
     report: dict[str, Any]
     lines: tuple[str, ...]
     runs: tuple[RunAccuracy, ...] = ()
     groups: tuple[dict[str, Any], ...] = field(default=())
+    failure: str | None = None
 
 
 def _check_output(path: Path | None, parameter: str, what: str, suffix: str) -> None:
@@ -200,7 +202,8 @@ def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
         request: the mode, the files and the outputs
 
     Returns:
-        The report and its text lines.
+        The report and its text lines; a failed kinematic fit writes nothing and says why
+        (:attr:`IdentifyOutcome.failure`; the CLI exits 1).
 
     Raises:
         ParameterError: ``run`` missing for a data set or given for a run file, a holdout
@@ -223,8 +226,9 @@ def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
         from aaria_pin.apps.identify.geometry import identify_kinematics
 
         result = identify_kinematics(record)
-        _write_kinematics(result, request)
-        return IdentifyOutcome(result.to_json(), tuple(result.summary()))
+        if result.failure is None:
+            _write_kinematics(result, request)
+        return IdentifyOutcome(result.to_json(), tuple(result.summary()), failure=result.failure)
     from aaria_pin.apps.identify.inertial import identify_dynamics
     from aaria_pin.apps.identify.inertial_result import dynamics_summary
 
