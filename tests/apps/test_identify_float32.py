@@ -110,3 +110,12 @@ def test_corrupted_signals_fail_in_one_line_exit_1(tmp_path: Path) -> None:
     assert out.strip().splitlines() == [out.strip()]
     assert out.startswith("identification failed: fit ended above the noise floor")
     assert not table.exists()
+
+
+def test_a_urdf_run_is_told_what_kinematic_identification_takes(tmp_path: Path) -> None:
+    run = tmp_path / "ur5.h5"
+    code, _, err = run_cli("simulate", "--robot", "ur5", "--duration", "0.5", "-o", str(run))
+    assert code == 0, err
+    code, _, err = run_cli("identify", str(run))
+    assert code == 2 and err.count("\n") == 1
+    assert "is a urdf run of ur5; allowed: a DH arm's run" in err and "--dynamics" in err

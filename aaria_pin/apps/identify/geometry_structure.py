@@ -54,6 +54,18 @@ def arm_layout(record: RunRecord) -> tuple[ArmLayout, int]:
         ParameterError: no base or tool IMU, not 6 joint columns, a moving module without an
             IMU on its link (or one with IMUs that never moves), no moving module.
     """
+    kind = record.attributes.get("kind", "dh")
+    if kind != "dh":
+        robot = record.attributes.get("robot", "")
+        raise ParameterError(
+            f"record is a {kind} run{f' of {robot}' if robot else ''}; allowed: a DH arm's run "
+            "(aaria dataset, or aaria simulate --preset/--dh): kinematic identification finds "
+            "an Aaria arm's extended DH table; for a URDF robot's inertial parameters, see "
+            "aaria identify --dynamics",
+            parameter="record",
+            value=kind,
+            allowed="a DH arm's run",
+        )
     parents = [mount.parent for mount in record.imu_mounts]
     for needed in (BASE_PARENT, TOOL_PARENT):
         if needed not in parents:
