@@ -42,12 +42,14 @@ from typing import TypedDict, Unpack
 import numpy as np
 import pinocchio as pin
 
-from aaria_pin.core.actuator import armature, model_effort_limits, torque_limits
+from aaria_pin.core.actuator import armature
 from aaria_pin.core.forward import (
     INTEGRATORS,
     Progress,
     check_integrator,
     flatten_dynamics,
+    joint_torque_limits,
+    kernel_base,
     kernel_motor,
     kernel_stops,
     spans,
@@ -89,8 +91,8 @@ MAX_TICKS = 1000
 
 INERTIA_SAMPLES = 10_000
 """Poses of the reference where the ``pd`` gains' effective inertia is evaluated (at most; every
-sample of a run up to that: 20 ms for ur5's 1001 samples; 64 poses missed ur5's lightest by
-0.3 %)."""
+sample of a run up to that: 2.2 ms for ur5's 1001 samples, CRBA per pose and one batched
+inverse, against 20 ms with an inverse per pose; 64 poses missed ur5's lightest by 0.3 %)."""
 
 
 @dataclass(frozen=True)
@@ -259,15 +261,14 @@ def _smallest_effective_inertia(
     n, nb = robot.n_joints, robot.base_nv
     rotor = np.zeros(n) if actuator is None else armature(actuator, n)
     picks = np.unique(np.linspace(0, reference.q.shape[0] - 1, INERTIA_SAMPLES).astype(int))
-    smallest = np.full(n, np.inf)
     q_full = pin.neutral(model)
-    for t in picks:
+    blocks = np.empty((picks.size, n, n))
+    for row, t in enumerate(picks):  # CRBA per pose (Pinocchio has no batched one)
         q_full[robot.base_nq :] = reference.q[t]
-        mass = pin.crba(model, data, q_full)
-        block = np.triu(mass)[nb:, nb:]
-        block = block + np.triu(block, 1).T + np.diag(rotor)
-        np.minimum(smallest, 1 / np.diag(np.linalg.inv(block)), out=smallest)
-    return smallest
+        blocks[row] = pin.crba(model, data, q_full)[nb:, nb:]
+    blocks = np.triu(blocks) + np.swapaxes(np.triu(blocks, 1), 1, 2) + np.diag(rotor)
+    inverse = np.linalg.inv(blocks)  # one batched call
+    return 1 / np.diagonal(inverse, axis1=1, axis2=2).max(axis=0)
 
 
 def closed_loop_simulate(
@@ -312,8 +313,6 @@ def closed_loop_simulate(
             parameter="drive",
             value=law,
         )
-    from aaria_pin.core.kinematics import full_state
-
     time = reference.time
     T, n = reference.q.shape
     rate = 1.0 / float(time[1] - time[0])
@@ -321,16 +320,8 @@ def closed_loop_simulate(
     h = 1.0 / (rate * substeps)
     actuator = options.get("actuator")
     kp, kd = controller_gains(robot, reference, law, controller, actuator)
-    zeros = np.zeros((T, n))
-    q_base, v_base, a_base = full_state(robot, base, JointTrajectory(time, zeros, zeros, zeros))
-    base_arrays = (
-        np.ascontiguousarray(q_base[:, : robot.base_nq]),
-        np.ascontiguousarray(v_base[:, : robot.base_nv]),
-        np.ascontiguousarray(a_base[:, : robot.base_nv]),
-    )
-    limit = np.full(n, np.inf)
-    if actuator is not None:
-        limit = torque_limits(actuator, model_effort_limits(robot))
+    base_arrays = kernel_base(robot, base, time)
+    limit = joint_torque_limits(robot, actuator)
     feedback = per_joint(controller.torque_feedback, n, "torque_feedback")
     beta = -np.expm1(-2 * np.pi * per_joint(controller.torque_filter, n, "torque_filter") * h)
     control = (list(LAWS).index(law), kp, kd, feedback, beta, limit)

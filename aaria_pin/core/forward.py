@@ -65,9 +65,12 @@ __all__ = [
     "STOP_OMEGA_H",
     "ForwardOptions",
     "Progress",
+    "base_states",
     "check_integrator",
     "flatten_dynamics",
     "forward_simulate",
+    "joint_torque_limits",
+    "kernel_base",
     "kernel_motor",
     "kernel_stops",
     "reference_forward_simulate",
@@ -213,13 +216,8 @@ def forward_simulate(
 
     n = robot.n_joints
     T = time.size
-    tau, q_base, v_base, a_base = _prepared(robot, base, torques, time, actuator)
-    nb_q, nb_v = robot.base_nq, robot.base_nv
-    base_arrays = (
-        np.ascontiguousarray(q_base[:, :nb_q]),
-        np.ascontiguousarray(v_base[:, :nb_v]),
-        np.ascontiguousarray(a_base[:, :nb_v]),
-    )
+    tau = _checked_torques(robot, torques, time, actuator)
+    base_arrays = kernel_base(robot, base, time)
     motor = kernel_motor(actuator, n)
     q = np.empty((T, n))
     v = np.empty((T, n))
@@ -332,27 +330,43 @@ def flatten_dynamics(robot: RobotModel) -> tuple[Array, ...] | None:
     )
 
 
-def _prepared(
-    robot: RobotModel,
-    base: BaseMotion,
-    torques: ArrayLike,
-    time: Array,
-    actuator: ActuatorModel | None,
-) -> tuple[Array, Array, Array, Array]:
-    """The checked torques and the base's state at the sample times.
+def base_states(robot: RobotModel, base: BaseMotion, time: Array) -> tuple[Array, Array, Array]:
+    """The base's configuration, velocity and acceleration at the sample times, Pinocchio's.
 
-    The torques are clipped at the motors' limits with an actuator; the base's configuration,
-    velocity and acceleration are Pinocchio's (:func:`~aaria_pin.core.kinematics.full_state`).
+    (:func:`~aaria_pin.core.kinematics.full_state`, the joints at rest: only the base columns
+    are used.)
     """
-    n = robot.n_joints
-    T = time.size
-    tau = check_torques(torques, T, n)
-    if actuator is not None:
-        limit = torque_limits(actuator, model_effort_limits(robot))
-        tau = np.clip(tau, -limit, limit)
-    zeros = np.zeros((T, n))
-    q_base, v_base, a_base = full_state(robot, base, JointTrajectory(time, zeros, zeros, zeros))
-    return tau, q_base, v_base, a_base
+    zeros = np.zeros((time.size, robot.n_joints))
+    return full_state(robot, base, JointTrajectory(time, zeros, zeros, zeros))
+
+
+def kernel_base(robot: RobotModel, base: BaseMotion, time: Array) -> tuple[Array, Array, Array]:
+    """The base's state as the compiled kernels read it: its own columns, contiguous."""
+    q_base, v_base, a_base = base_states(robot, base, time)
+    nb_q, nb_v = robot.base_nq, robot.base_nv
+    return (
+        np.ascontiguousarray(q_base[:, :nb_q]),
+        np.ascontiguousarray(v_base[:, :nb_v]),
+        np.ascontiguousarray(a_base[:, :nb_v]),
+    )
+
+
+def joint_torque_limits(robot: RobotModel, actuator: ActuatorModel | None) -> Array:
+    """Each joint's motor torque limit (inf without an actuator) [N·m or N]."""
+    if actuator is None:
+        return np.full(robot.n_joints, np.inf)
+    return torque_limits(actuator, model_effort_limits(robot))
+
+
+def _checked_torques(
+    robot: RobotModel, torques: ArrayLike, time: Array, actuator: ActuatorModel | None
+) -> Array:
+    """The checked torques, clipped at the motors' limits with an actuator."""
+    tau = check_torques(torques, time.size, robot.n_joints)
+    if actuator is None:
+        return tau
+    limit = joint_torque_limits(robot, actuator)
+    return np.clip(tau, -limit, limit)
 
 
 def reference_forward_simulate(
@@ -388,7 +402,8 @@ def reference_forward_simulate(
     stops = options.get("stops")
     n = robot.n_joints
     T = time.size
-    tau, q_base, v_base, a_base = _prepared(robot, base, torques, time, actuator)
+    tau = _checked_torques(robot, torques, time, actuator)
+    q_base, v_base, a_base = base_states(robot, base, time)
     dt = float(time[1] - time[0]) if T > 1 else 0.0
     h = dt / substeps
     omega = _omega(h)
