@@ -67,13 +67,6 @@ def _robot(name: str, moving_base: bool) -> RobotModel:
     return load_urdf_robot(text, moving_base=moving_base).robot
 
 
-def _motor_tuple(actuator: ActuatorModel | None, n: int) -> tuple[object, ...]:
-    if actuator is None:
-        return (False, *(np.ones(n) for _ in range(6)))
-    names = ("viscous", "coulomb", "coulomb_velocity", "stribeck_torque", "stribeck_velocity")
-    return (True, armature(actuator, n), *(np.full(n, getattr(actuator, k)) for k in names))
-
-
 def _kernel_qdd(
     robot: RobotModel,
     qf: np.ndarray,
@@ -86,7 +79,7 @@ def _kernel_qdd(
     assert flat is not None
     nb_q, nb_v = robot.base_nq, robot.base_nv
     out = np.empty(robot.n_joints)
-    motor = _motor_tuple(actuator, robot.n_joints)
+    motor = kernel_motor(actuator, robot.n_joints)
     joint_accelerations(
         flat,
         qf[:nb_q].copy(),
