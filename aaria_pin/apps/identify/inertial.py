@@ -29,15 +29,23 @@ import numpy as np
 
 from aaria_pin.apps.identify.inertial_base import (
     DEFAULT_TOLERANCE,
+    BaseParameterSet,
     base_parameters,
     triangular_factor,
+)
+from aaria_pin.apps.identify.inertial_friction import (
+    coulomb_velocity,
+    friction_names,
+    friction_regressor,
+    friction_truth,
 )
 from aaria_pin.apps.identify.inertial_regressor import (
     body_frames,
     standard_parameters,
     torque_regressor,
 )
-from aaria_pin.apps.identify.inertial_result import DynamicIdentification
+from aaria_pin.apps.identify.inertial_result import DynamicIdentification, StandardEstimate
+from aaria_pin.apps.identify.inertial_torques import JointTorques, joint_torques
 from aaria_pin.apps.record_model import record_base, record_columns, record_model
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import RunRecord
@@ -58,8 +66,8 @@ IDENTIFY_CHUNK = 2048
 moving base: 2048 × 12 × 70 numbers, 14 MB)."""
 
 
-def _centre_of_mass_rows(robot: RobotModel, trajectory: JointTrajectory) -> Array:
-    """Rows mapping the standard parameters to the robot's first moment, (T, 3, p).
+def _centre_of_mass_rows(robot: RobotModel, trajectory: JointTrajectory, p: int) -> Array:
+    """Rows mapping the p parameters to the robot's first moment, (T, 3, p) (bodies' first).
 
     ``sum_i m_i·p_i``: the whole robot's mass times its centre of mass, about the base origin,
     base axes.
@@ -80,16 +88,18 @@ def _centre_of_mass_rows(robot: RobotModel, trajectory: JointTrajectory) -> Arra
     probe = replace(robot, model=model, sensor_frames=())
     resting = BaseMotion.resting(trajectory.q.shape[0])  # poses in the base frame
     poses = frame_poses(probe, resting, trajectory, frames)
-    rows = np.zeros((trajectory.q.shape[0], 3, 10 * len(joints)))
+    rows = np.zeros((trajectory.q.shape[0], 3, p))
     for b in range(len(joints)):
         rows[:, :, 10 * b] = poses[:, b, :3, 3]
         rows[:, :, 10 * b + 1 : 10 * b + 4] = poses[:, b, :3, :3]
     return rows
 
 
-def _measured(record: RunRecord, base: BaseMotion, columns: list[int], wrench: bool) -> Array:
+def _measured(
+    record: RunRecord, torques: JointTorques, base: BaseMotion, columns: list[int], wrench: bool
+) -> Array:
     """The measured generalized forces, (T, nv): base wrench in base axes, then the joints."""
-    tau = np.asarray(record.tau, dtype=float)[:, columns]
+    tau = torques.values[:, columns]
     if not wrench:
         return tau
     w = np.asarray(record.base_wrench, dtype=float)
@@ -135,6 +145,31 @@ class _Sums:
             return error / np.where(signal > 0, signal, np.nan), error
 
 
+def _weights(torques: JointTorques, measured: Array, columns: list[int], wrench: bool) -> Array:
+    """Each signal's weight: ``1/σ`` of known sensor noise (joints only), else ``1/RMS``."""
+    if torques.noise is not None and not wrench:
+        return 1.0 / torques.noise[columns]
+    signal_rms = np.sqrt(np.mean(np.square(measured), axis=0))
+    return 1.0 / np.where(signal_rms > 0, signal_rms, 1.0)
+
+
+def _standard_estimate(
+    R: Array, base_set: BaseParameterSet, estimate: Array, bodies: int, consistent: bool
+) -> Array:
+    """Standard parameters giving the base estimate: any (OLS), or a consistent body set."""
+    p = R.shape[1] - 1
+    standard = np.zeros(p)
+    standard[list(base_set.independent)] = estimate  # any pi with K·pi = estimate
+    if not consistent:
+        return standard
+    from aaria_pin.apps.identify.inertial_consistent import consistent_fit
+
+    norms = np.linalg.norm(R[:, :p], axis=0)
+    scale = np.where(norms > 0, norms, 1.0)
+    least_norm, *_ = np.linalg.lstsq(R[:, :p] / scale, R[:, p], rcond=1e-12)
+    return consistent_fit(R, bodies, least_norm / scale)
+
+
 @checked
 def identify_dynamics(
     record: RunRecord,
@@ -143,8 +178,11 @@ def identify_dynamics(
     tolerance: float = DEFAULT_TOLERANCE,
     use_base_wrench: bool = True,
     chunk: int = IDENTIFY_CHUNK,
+    torques: str = "auto",
+    friction: bool | None = None,
+    consistent: bool = False,
 ) -> DynamicIdentification:
-    """Identify the inertial base parameters of a run's robot from its q, qd, qdd, tau.
+    """Identify the inertial base parameters of a run's robot from its q, qd, qdd and torques.
 
     The model (joints, kinematics; its inertias only as the truth reported beside the
     estimates) and the base motion come from the record. The base wrench enters when the
@@ -164,13 +202,23 @@ def identify_dynamics(
         tolerance: relative rank tolerance (:func:`base_parameters`)
         use_base_wrench: use the base wrench rows when the record has a base wrench
         chunk: samples per piece, >= 1
+        torques: the joint torques fitted, one of
+            :data:`~aaria_pin.apps.identify.inertial_torques.TORQUE_SOURCES` (``auto``: the
+            torque sensors', else the motors', else the rigid body's)
+        friction: fit each joint's viscous and Coulomb friction and armature
+            (:mod:`~aaria_pin.apps.identify.inertial_friction`; None: when the torques hold
+            them, the motors')
+        consistent: constrain every body's pseudo-inertia to be positive definite and the
+            friction and armature to be >= 0
+            (:mod:`~aaria_pin.apps.identify.inertial_consistent`)
 
     Returns:
         The identification.
 
     Raises:
-        ParameterError: a holdout outside [0, 0.9], or too few training samples for the
-            parameters.
+        ParameterError: a holdout outside [0, 0.9], too few training samples for the
+            parameters, torques the record does not have, or friction asked of torques
+            without it.
         InputFileError: a record whose model cannot be rebuilt.
     """
     import scipy.linalg
@@ -179,6 +227,14 @@ def identify_dynamics(
 
     if not (np.isfinite(holdout) and 0 <= holdout <= 0.9):
         raise ParameterError(parameter="holdout", value=holdout, allowed="0 <= holdout <= 0.9")
+    fitted = joint_torques(record, torques)
+    with_friction = fitted.with_friction if friction is None else friction
+    if with_friction and not fitted.with_friction:
+        raise ParameterError(
+            f"friction is on but the {fitted.source} torques hold no friction; allowed: "
+            "torques motor (the torque sensors read the link side, after the gearbox)",
+            parameter="friction",
+        )
     n = record.n_samples
     motion = record_base(record)
     wrench = use_base_wrench and (
@@ -196,9 +252,14 @@ def identify_dynamics(
             for x in (record.q, record.qd, record.qdd)
         ),
     )
-    measured = _measured(record, base, columns, wrench)
+    measured = _measured(record, fitted, base, columns, wrench)
     signals = (*(BASE_WRENCH_SIGNALS if wrench else ()), *robot.joint_names)
     names, truth = standard_parameters(robot)
+    bodies = len(names) // 10
+    if with_friction:
+        names = (*names, *friction_names(robot.joint_names))
+        truth = np.concatenate([truth, friction_truth(record, columns)])
+    smoothing = coulomb_velocity(record, columns)
     p, n_signals = len(names), len(signals)
     n_train = n - round(holdout * n)
     if n_train * n_signals < p or n_train < 2:
@@ -210,10 +271,15 @@ def identify_dynamics(
     skip = 6 if robot.moving_base and not wrench else 0  # the free flyer's rows, unused
 
     def regressor(start: int, stop: int) -> Array:
-        return torque_regressor(robot, *_piece(base, trajectory, start, stop))[:, skip:]
+        piece = _piece(base, trajectory, start, stop)
+        Y = torque_regressor(robot, *piece)[:, skip:]
+        if not with_friction:
+            return Y
+        first = 6 if wrench else 0
+        extra = friction_regressor(piece[1].qd, piece[1].qdd, smoothing, n_signals, first)
+        return np.concatenate([Y, extra], axis=2)
 
-    signal_rms = np.sqrt(np.mean(np.square(measured[:n_train]), axis=0))
-    weight = 1.0 / np.where(signal_rms > 0, signal_rms, 1.0)
+    weight = _weights(fitted, measured[:n_train], columns, wrench)
     R = np.zeros((0, p + 1))
     for start, stop in chunk_bounds(n_train, chunk):
         A = np.empty((stop - start, n_signals, p + 1))
@@ -235,10 +301,11 @@ def identify_dynamics(
     R11 = np.linalg.qr(R1, mode="r")
     R_inverse = scipy.linalg.solve_triangular(R11, np.eye(base_set.rank))
     std = np.sqrt(variance * np.sum(np.square(R_inverse), axis=1)) / scale
-    standard_estimate = np.zeros(p)
-    standard_estimate[independent] = estimate  # any pi with K·pi = estimate
+    standard_estimate = _standard_estimate(R, base_set, estimate, bodies, consistent)
+    if consistent:
+        estimate = base_set.combination @ standard_estimate
     mass_row = np.zeros(p)
-    mass_row[0::10] = 1.0
+    mass_row[0 : 10 * bodies : 10] = 1.0
     mass_model = float(mass_row @ truth)
     total_mass = float(mass_row @ standard_estimate) if base_set.identifiable(mass_row) else np.nan
     with_com = bool(np.isfinite(total_mass) and total_mass > 0)
@@ -252,7 +319,7 @@ def identify_dynamics(
         held_out.add(error[split:], signal[split:])
         if not with_com:
             continue
-        rows = _centre_of_mass_rows(robot, _piece(base, trajectory, start, stop)[1])
+        rows = _centre_of_mass_rows(robot, _piece(base, trajectory, start, stop)[1], p)
         with_com = base_set.identifiable(rows[:: max(n // 20, 1)].reshape(-1, p))
         com_estimate = (rows @ standard_estimate) / total_mass
         com_model = (rows @ truth) / mass_model
@@ -267,6 +334,7 @@ def identify_dynamics(
     com_error = {"rms": float(np.sqrt(com_sum / n)), "max": com_max} if with_com else {}
     train_relative, _ = train.rms()
     holdout_relative, holdout_rms = held_out.rms()
+    _, body_names = body_frames(robot)
     return DynamicIdentification(
         signals=signals,
         base=base_set,
@@ -282,5 +350,18 @@ def identify_dynamics(
         total_mass_model=mass_model,
         com_error=com_error,
         com_start=com_start if with_com else {},
-        extras={"regressor_rows": n_train * n_signals, "moving_base": bool(wrench)},
+        standard=StandardEstimate(
+            values=standard_estimate,
+            model=truth,
+            bodies=tuple(body_names),
+            joints=tuple(robot.joint_names) if with_friction else (),
+            consistent=consistent,
+            determined=tuple(base_set.identifiable(row) for row in np.eye(p)),
+        ),
+        extras={
+            "regressor_rows": n_train * n_signals,
+            "moving_base": bool(wrench),
+            "torques": fitted.source,
+            "torque_noise": None if fitted.noise is None else fitted.noise[columns].tolist(),
+        },
     )

@@ -11,7 +11,84 @@ from aaria_pin.apps.identify._json import json_number
 from aaria_pin.apps.identify.inertial_base import BaseParameterSet
 from aaria_pin.core.se3 import Array
 
-__all__ = ["DynamicIdentification", "dynamics_summary"]
+__all__ = ["DynamicIdentification", "StandardEstimate", "dynamics_summary"]
+
+
+def _body(standard: Array) -> dict[str, Any]:
+    """A body's mass [kg], centre of mass [m] and inertia about it [kg·m²], body axes."""
+    from aaria_pin.apps.identify.inertial_consistent import pseudo_inertia
+
+    mass = float(standard[0])
+    com = standard[1:4] / mass if mass > 0 else np.full(3, np.nan)
+    J = pseudo_inertia(standard)[0]
+    origin = np.array(
+        [[standard[4], standard[5], standard[7]],
+         [standard[5], standard[6], standard[8]],
+         [standard[7], standard[8], standard[9]]]
+    )  # fmt: skip
+    shift = mass * (float(com @ com) * np.eye(3) - np.outer(com, com)) if mass > 0 else 0.0
+    return {
+        "mass": mass,
+        "com": [json_number(float(c)) for c in com],
+        "inertia_com": (origin - shift).tolist(),  # parallel axis theorem
+        "pseudo_inertia_min_eigenvalue": float(np.linalg.eigvalsh(J).min()),
+    }
+
+
+@dataclass(frozen=True)
+class StandardEstimate:
+    """Standard parameters that give the base estimate: per body, and friction per joint.
+
+    Without ``consistent`` they are one of many sets giving the same torques (the parameters
+    not determined by the data are 0); with it, a set of physical bodies.
+
+    Attributes:
+        values: the bodies' ten parameters each, then the joints' ``[Fv, Fc, Ia]`` each
+        model: the same in the record's model (the truth of a simulated run)
+        bodies: the bodies' names
+        joints: the joints whose friction was fitted (empty: none)
+        consistent: whether the bodies were constrained to be physical
+        determined: per parameter, whether the data determine it alone
+    """
+
+    values: Array
+    model: Array
+    bodies: tuple[str, ...]
+    joints: tuple[str, ...]
+    consistent: bool
+    determined: tuple[bool, ...]
+
+    def friction(self) -> Array:
+        """The joints' ``[Fv, Fc, Ia]``, (n, 3)."""
+        return self.values[10 * len(self.bodies) :].reshape(-1, 3)
+
+    def to_json(self) -> dict[str, Any]:
+        """The bodies (with ``consistent``) and the friction as plain JSON types."""
+        out: dict[str, Any] = {"consistent": self.consistent}
+        if self.consistent:
+            out["bodies"] = [
+                {
+                    "name": name,
+                    **_body(self.values[10 * b : 10 * b + 10]),
+                    "model": _body(self.model[10 * b : 10 * b + 10]),
+                }
+                for b, name in enumerate(self.bodies)
+            ]
+        first = 10 * len(self.bodies)
+        model = self.model[first:].reshape(-1, 3)
+        determined = np.reshape(self.determined[first:], (-1, 3))
+        out["friction"] = [
+            {
+                "joint": joint,
+                **{k: float(v) for k, v in zip(("Fv", "Fc", "Ia"), row, strict=True)},
+                "model": {k: float(v) for k, v in zip(("Fv", "Fc", "Ia"), truth, strict=True)},
+                "determined": {k: bool(v) for k, v in zip(("Fv", "Fc", "Ia"), d, strict=True)},
+            }
+            for joint, row, truth, d in zip(
+                self.joints, self.friction(), model, determined, strict=True
+            )
+        ]
+        return out
 
 
 @dataclass(frozen=True)
@@ -38,6 +115,7 @@ class DynamicIdentification:
             model's centre of mass of the whole robot, base frame [m] (empty when not
             determined)
         com_start: estimated and model centre of mass at the first sample, base frame [m]
+        standard: standard parameters giving the estimate (per body, friction per joint)
         extras: anything else reported (rank tolerance, regressor size)
     """
 
@@ -55,6 +133,7 @@ class DynamicIdentification:
     total_mass_model: float
     com_error: dict[str, float] = field(default_factory=dict)
     com_start: dict[str, list[float]] = field(default_factory=dict)
+    standard: StandardEstimate | None = None
     extras: dict[str, Any] = field(default_factory=dict)
 
     @property
@@ -107,8 +186,13 @@ class DynamicIdentification:
                     strict=True,
                 )
             ],
+            **({} if self.standard is None else self.standard.to_json()),
             **self.extras,
         }
+
+
+def _vector(values: list[float | None]) -> str:
+    return "[" + " ".join(_shown(v, ".4g") for v in values) + "]"
 
 
 def _shown(value: float | None, spec: str = ".3g") -> str:
@@ -154,7 +238,28 @@ def dynamics_summary(report: dict[str, Any], show_parameters: bool = False) -> l
         )
     else:
         lines.append("centre of mass: not determined by the data")
+    if report.get("torques"):
+        lines.append(f"torques fitted: {report['torques']}")
+    for row in report.get("friction", []):
+        values = ", ".join(
+            f"{k} {row[k]:.4g} (model {row['model'][k]:.4g})"
+            if row["determined"][k]
+            else f"{k} not determined"
+            for k in ("Fv", "Fc", "Ia")
+        )
+        lines.append(f"friction {row['joint']}: {values}")
+    if report.get("bodies"):
+        smallest = min(body["pseudo_inertia_min_eigenvalue"] for body in report["bodies"])
+        lines.append(
+            f"bodies: {len(report['bodies'])} physically consistent "
+            f"(smallest pseudo-inertia eigenvalue {smallest:.3g} kg·m²)"
+        )
     if show_parameters:
+        lines += [
+            f"{body['name']}: mass {body['mass']:.6g} kg (model {body['model']['mass']:.6g}), "
+            f"com {_vector(body['com'])} m (model {_vector(body['model']['com'])})"
+            for body in report.get("bodies", [])
+        ]
         lines += [
             f"{parameter['name']}: {parameter['estimate']:.6g} ± "
             f"{_shown(parameter['std'])} (model {parameter['model']:.6g}) = "
