@@ -183,7 +183,7 @@ def consistent_fit(R: Array, bodies: int, start: Array, max_evaluations: int = 4
     solution = scipy.optimize.least_squares(
         residual,
         z0,
-        jac=jacobian,  # type: ignore[arg-type]
+        jac=jacobian,
         bounds=(lower, np.full(p, np.inf)),
         method="trf",
         x_scale="jac",

@@ -36,8 +36,9 @@ FRICTION_PARAMETERS = ("Fv", "Fc", "Ia")
 """Per joint: viscous coefficient [N·m·s/rad or N·s/m], Coulomb torque [N·m or N], armature
 [kg·m² or kg]."""
 
-DEFAULT_COULOMB_VELOCITY = ActuatorModel().coulomb_velocity
-"""The Coulomb smoothing velocity when the run records no actuator [rad/s or m/s]."""
+DEFAULT_COULOMB_VELOCITY = float(np.asarray(ActuatorModel().coulomb_velocity))
+"""The Coulomb smoothing velocity when the run records no actuator [rad/s or m/s] (the
+:class:`~aaria_pin.core.joint_sensors.ActuatorModel` default)."""
 
 
 def friction_names(joint_names: Sequence[str]) -> tuple[str, ...]:
@@ -54,7 +55,7 @@ def coulomb_velocity(record: RunRecord, columns: Sequence[int]) -> Array:
     """Each model joint's Coulomb smoothing velocity (the run's actuator's, else the default)."""
     model = _actuator(record)
     if model is None:
-        return np.full(len(columns), float(DEFAULT_COULOMB_VELOCITY))
+        return np.full(len(columns), DEFAULT_COULOMB_VELOCITY)
     values = per_joint(model.coulomb_velocity, len(record.joint_names), "coulomb_velocity")
     return values[list(columns)]
 
