@@ -357,6 +357,7 @@ def identify_dynamics(
             joints=tuple(robot.joint_names) if with_friction else (),
             consistent=consistent,
             determined=tuple(base_set.identifiable(row) for row in np.eye(p)),
+            free_flyer=robot.moving_base,
         ),
         extras={
             "regressor_rows": n_train * n_signals,

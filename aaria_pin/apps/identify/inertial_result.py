@@ -49,6 +49,7 @@ class StandardEstimate:
         joints: the joints whose friction was fitted (empty: none)
         consistent: whether the bodies were constrained to be physical
         determined: per parameter, whether the data determine it alone
+        free_flyer: whether the model had a free-flyer root (its first body the base's)
     """
 
     values: Array
@@ -57,6 +58,7 @@ class StandardEstimate:
     joints: tuple[str, ...]
     consistent: bool
     determined: tuple[bool, ...]
+    free_flyer: bool = False
 
     def friction(self) -> Array:
         """The joints' ``[Fv, Fc, Ia]``, (n, 3)."""
