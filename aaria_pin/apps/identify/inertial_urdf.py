@@ -133,8 +133,8 @@ def identified_urdf(
     robot = record_model(record, moving_base=standard.free_flyer)
     parser = ET.XMLParser(target=ET.TreeBuilder(insert_comments=True))
     root = ET.fromstring(record.urdf, parser=parser)
-    links = {link.get("name"): link for link in root.findall("link")}
-    joints = {joint.get("name"): joint for joint in root.findall("joint")}
+    links = {str(link.get("name")): link for link in root.findall("link")}
+    joints = {str(joint.get("name")): joint for joint in root.findall("joint")}
     bodies = _body_links(robot)
     if len(bodies) != len(standard.bodies):
         raise ParameterError(
