@@ -136,7 +136,7 @@ def _standard_jacobian(theta: Array) -> Array:
     return standard_from_pseudo(dJ.reshape(B * 10, 4, 4)).reshape(B, 10, 10).transpose(0, 2, 1)
 
 
-def consistent_fit(R: Array, bodies: int, start: Array, max_evaluations: int = 400) -> Array:
+def consistent_fit(R: Array, bodies: int, start: Array, max_evaluations: int = 200) -> Array:
     """The physically consistent least squares of ``R[:, :p]·x ≈ R[:, p]`` (module docstring).
 
     Args:
@@ -157,7 +157,7 @@ def consistent_fit(R: Array, bodies: int, start: Array, max_evaluations: int = 4
     W, y = R[:, :p], R[:, p]
     bodies_start = start[:inertial].reshape(bodies, 10)
     size = float(np.max(np.abs(np.linalg.eigvalsh(pseudo_inertia(bodies_start))), initial=0.0))
-    floor = max(1e-6 * size, 1e-12)
+    floor = 1e-6 * size if size > 0 else 1e-3  # no body at all: start from small ones
     theta0 = log_cholesky_of(pseudo_inertia(project_consistent(bodies_start, floor)))
     z0 = np.concatenate([theta0.reshape(-1), np.maximum(start[inertial:], 0.0)])
     damping = DAMPING * max(float(np.linalg.norm(y)), 1e-300)
@@ -186,10 +186,9 @@ def consistent_fit(R: Array, bodies: int, start: Array, max_evaluations: int = 4
         jac=jacobian,
         bounds=(lower, np.full(p, np.inf)),
         method="trf",
-        x_scale="jac",
-        ftol=1e-15,
-        xtol=1e-15,
-        gtol=1e-15,
+        ftol=1e-10,
+        xtol=1e-10,
+        gtol=1e-10,
         max_nfev=max_evaluations,
     )
     return standard(solution.x)

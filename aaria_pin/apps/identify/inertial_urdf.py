@@ -30,7 +30,7 @@ from aaria_pin.apps.identify.inertial_result import DynamicIdentification
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.urdf_emitter import exact_number, exact_numbers
-from aaria_pin.errors import ParameterError
+from aaria_pin.errors import InputFileError, ParameterError
 
 if TYPE_CHECKING:
     from aaria_pin.core.model import RobotModel
@@ -120,6 +120,7 @@ def identified_urdf(
 
     Raises:
         ParameterError: an identification that is not consistent, or of another robot.
+        InputFileError: a run without its URDF (a 0.1.0 file).
     """
     standard = result.standard
     if standard is None or not standard.consistent:
@@ -130,6 +131,11 @@ def identified_urdf(
         )
     from aaria_pin.apps.record_model import record_model
 
+    if not record.urdf:
+        raise InputFileError(
+            "the run stores no URDF; allowed: a run of version 2 or later (it stores its model)",
+            parameter="file",
+        )
     robot = record_model(record, moving_base=standard.free_flyer)
     parser = ET.XMLParser(target=ET.TreeBuilder(insert_comments=True))
     root = ET.fromstring(record.urdf, parser=parser)
