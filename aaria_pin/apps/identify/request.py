@@ -54,6 +54,13 @@ class IdentifyRequest:
         holdout: share of each run held out of the dynamic fit (dynamics; default
             :data:`DEFAULT_HOLDOUT`)
         parameters: a text line for every base parameter (dynamics of one run)
+        torques: the joint torques fitted (dynamics of one run; ``auto``, ``measured``,
+            ``motor``, ``rigid``: :mod:`~aaria_pin.apps.identify.inertial_torques`)
+        friction: fit friction and armature (dynamics of one run; None: when the torques
+            hold them)
+        consistent: physically consistent bodies (dynamics of one run)
+        dynamics_urdf: the run's URDF with the identified dynamics (``.urdf``; dynamics of
+            one run; the fit is then consistent)
         workers: processes (data-set mode; default 1)
         limit: at most this many runs of each data set (data-set mode)
         plot: where the caller draws the tool-tip error CDF (data-set mode; only checked here,
@@ -73,6 +80,10 @@ class IdentifyRequest:
     urdf: Path | None = None
     holdout: float | None = None
     parameters: bool = False
+    torques: str = "auto"
+    friction: bool | None = None
+    consistent: bool = False
+    dynamics_urdf: Path | None = None
     workers: int | None = None
     limit: int | None = None
     plot: Path | None = None
@@ -106,6 +117,16 @@ class IdentifyRequest:
             ("holdout", self.holdout is not None, "dynamics", False),
             ("parameters", self.parameters, "dataset", True),
             ("parameters", self.parameters, "dynamics", False),
+            *(
+                (name, given, mode, mode == "dataset")
+                for name, given in (
+                    ("torques", self.torques != "auto"),
+                    ("friction", self.friction is not None),
+                    ("consistent", self.consistent),
+                    ("dynamics_urdf", self.dynamics_urdf is not None),
+                )
+                for mode in ("dynamics", "dataset")
+            ),
             ("workers", self.workers is not None, "dataset", False),
             ("limit", self.limit is not None, "dataset", False),
             ("plot", self.plot is not None, "dataset", False),
@@ -217,6 +238,7 @@ def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
         _check_output(request.urdf, "urdf", "URDF", ".urdf")
     else:
         _check_output(request.output, "output", "JSON report", ".json")
+        _check_output(request.dynamics_urdf, "dynamics_urdf", "URDF", ".urdf")
     if request.dataset:
         return _benchmark(request)
     from aaria_pin.files.source import open_record
@@ -233,6 +255,18 @@ def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
     from aaria_pin.apps.identify.inertial_result import dynamics_summary
 
     holdout = DEFAULT_HOLDOUT if request.holdout is None else request.holdout
-    report = identify_dynamics(record, holdout=holdout).to_json()
+    fit = identify_dynamics(
+        record,
+        holdout=holdout,
+        torques=request.torques,
+        friction=request.friction,
+        consistent=request.consistent or request.dynamics_urdf is not None,
+    )
+    report = fit.to_json()
     _write_json(request.output, report)
+    if request.dynamics_urdf is not None:
+        from aaria_pin.apps.identify.inertial_urdf import identified_urdf
+        from aaria_pin.files.io import write_text_atomic
+
+        write_text_atomic(request.dynamics_urdf, identified_urdf(record, fit))
     return IdentifyOutcome(report, tuple(dynamics_summary(report, request.parameters)))
