@@ -4,6 +4,7 @@ each computes from it (plus the fitted friction and armature) are the run's moto
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
+from dataclasses import replace
 from pathlib import Path
 
 import mujoco
@@ -17,7 +18,7 @@ from aaria_pin.apps.identify.inertial_result import DynamicIdentification
 from aaria_pin.apps.identify.inertial_urdf import identified_urdf
 from aaria_pin.apps.record_model import record_columns, record_model
 from aaria_pin.core.record import RunRecord
-from aaria_pin.errors import InputFileError, ParameterError
+from aaria_pin.errors import InputFileError, OutputFileError, ParameterError
 from aaria_pin.files.source import open_record
 
 HARDWARE = """[actuator]
@@ -114,7 +115,30 @@ def test_only_a_consistent_fit_is_written(fitted: tuple[RunRecord, DynamicIdenti
     with pytest.raises(ParameterError) as info:
         identified_urdf(record, loose)
     assert info.value.parameter == "consistent"
-    from dataclasses import replace
 
     with pytest.raises(InputFileError):
         identified_urdf(replace(record, urdf=""), fitted[1])
+
+
+def test_identify_request_writes_the_identified_urdf(tmp_path: Path) -> None:
+    from aaria_pin.apps.identify.request import IdentifyRequest, identify_files
+    from aaria_pin.core.conflicts import OptionConflictError
+
+    (tmp_path / "hw.toml").write_text(HARDWARE)
+    code, _, err = run_cli(
+        "simulate", "--robot", "ur5", "--fixed-base", "--duration", "2", "--rate", "100",
+        "--no-noise", "--hardware", str(tmp_path / "hw.toml"), "-o", str(tmp_path / "run.h5"),
+    )  # fmt: skip
+    assert code == 0, err
+    target = tmp_path / "fitted.urdf"
+    request = IdentifyRequest((tmp_path / "run.h5",), dynamics=True, dynamics_urdf=target)
+    outcome = identify_files(request)
+    assert outcome.report["consistent"] and outcome.report["torques"] == "motor"
+    assert any(line.startswith("friction shoulder_pan_joint") for line in outcome.lines)
+    model = pin.buildModelFromUrdf(str(target))
+    assert model.nv == 6 and np.all(model.damping > 0)
+    with pytest.raises(OptionConflictError) as info:
+        IdentifyRequest((tmp_path / "run.h5",), consistent=True)  # kinematics: no such option
+    assert info.value.parameter == "consistent"
+    with pytest.raises(OutputFileError):
+        identify_files(replace(request, dynamics_urdf=tmp_path / "fitted.txt"))
