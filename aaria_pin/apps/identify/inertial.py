@@ -14,10 +14,19 @@ rebuilt from the record, :mod:`aaria_pin.apps.record_model`) is identified the s
    of the stacked regressor; each base parameter is named after its leading standard
    parameter and written out as the combination.
 3. **Fit.** Weighted least squares on the training samples (each signal divided by its RMS,
-   so a joint with small torques weighs as much as the base force), standard deviations from
-   the residual variance, and on the held-out samples (the last ``holdout`` fraction of the
-   run) the relative RMS prediction error of each signal
+   so a joint with small torques weighs as much as the base force; by its sensor noise 1σ when
+   the run records it and no base wrench enters), standard deviations from the residual
+   variance, and on the held-out samples (the last ``holdout`` fraction of the run) the
+   relative RMS prediction error of each signal
    (:class:`~aaria_pin.apps.identify.inertial_result.DynamicIdentification`).
+
+What a real robot gives: the torques fitted are the torque sensors', the motors' or the rigid
+body's (:mod:`~aaria_pin.apps.identify.inertial_torques`); with the motors' the regressor gains
+each joint's viscous and Coulomb friction and armature
+(:mod:`~aaria_pin.apps.identify.inertial_friction`); ``consistent`` constrains every body to a
+physical one (:mod:`~aaria_pin.apps.identify.inertial_consistent`), whose standard parameters
+are then reported per body and can be written back to the URDF
+(:mod:`~aaria_pin.apps.identify.inertial_urdf`).
 """
 
 from __future__ import annotations
