@@ -93,19 +93,10 @@ Examples:
               " are verified and a damaged one made again.")  # fmt: skip
 @click.option("--overwrite", is_flag=True, help="Replace an existing file (once the new one is).")
 @click.option("--quiet", is_flag=True, help="No estimate, no progress bar or lines.")
-@click.option(
-    "--progress-every",
-    type=click.FloatRange(0),
-    help="Seconds between progress lines when stderr is not a terminal (default 10).",
-)
-@click.option(
-    "--print-config",
-    is_flag=True,
-    expose_value=False,
-    is_eager=True,
-    callback=_print_config,
-    help="Print the default configuration and exit.",
-)
+@click.option("--progress-every", type=click.FloatRange(0),
+    help="Seconds between progress lines when stderr is not a terminal (default 10).")  # fmt: skip
+@click.option("--print-config", is_flag=True, expose_value=False, is_eager=True,
+    callback=_print_config, help="Print the default configuration and exit.")  # fmt: skip
 def dataset(output: Path, quiet: bool, progress_every: float | None, **flags: Any) -> None:
     """Simulate N random runs (MODE 1) or N runs of one arm (MODE 2) into a data set.
 

@@ -23,10 +23,8 @@ Examples:
   aaria template dh                        # print it"""
 )
 @click.argument("kind", type=click.Choice(KINDS))
-@click.option(
-    "-o", "--output", type=click.Path(path_type=Path, dir_okay=False, allow_dash=True),
-    help="File to write (default, or '-': print it).",
-)  # fmt: skip
+@click.option("-o", "--output", type=click.Path(path_type=Path, dir_okay=False, allow_dash=True),
+    help="File to write (default, or '-': print it).")  # fmt: skip
 @click.option("--overwrite", is_flag=True, help="Replace an existing file.")
 @click.option("--imu-model", help="The preset of the imu-model template (default adis16485).")
 def template(kind: str, output: Path | None, overwrite: bool, imu_model: str | None) -> None:
