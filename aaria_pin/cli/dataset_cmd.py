@@ -106,6 +106,7 @@ def dataset(output: Path, quiet: bool, progress_every: float | None, **flags: An
     import warnings
 
     from aaria_pin.apps.dataset.generate import DatasetJob, DatasetJobStoppedError, generate_dataset
+    from aaria_pin.apps.dataset.outcome import job_outcome
     from aaria_pin.apps.dataset.progress import estimate_report, progress_report
     from aaria_pin.apps.dataset.spec_sources import DatasetSources
     from aaria_pin.errors import MeshWarning
@@ -131,18 +132,8 @@ def dataset(output: Path, quiet: bool, progress_every: float | None, **flags: An
     except DatasetJobStoppedError as exc:
         click.echo(f"\naaria: {exc}" if sys.stderr.isatty() else f"aaria: {exc}", err=True)
         raise SystemExit(exc.exit_status) from None
-    n_runs = spec.n_runs
-    click.echo("".join(f"run {run} was damaged; re-made\n" for run in report.remade), nl=False)
-    if job.resume and report.written == 0 and report.complete == n_runs and not report.failures:
-        click.echo(f"{report.path}: already complete ({n_runs}/{n_runs} runs); nothing to do")
-        return
-    in_shards = f", {report.shards} shards" if report.shards else ""
-    click.echo(
-        f"wrote {report.path}: {report.complete}/{n_runs} runs complete "
-        f"({report.written} in this job{in_shards}, {report.seconds:.1f} s)"
-    )
-    if report.failures:
-        for run, message in sorted(report.failures.items()):
-            click.echo(f"run {run} failed: {message}", err=True)
-        click.echo(f"failed runs: {sorted(report.failures)}", err=True)
+    text, failures = job_outcome(report, spec.n_runs, job.resume)
+    click.echo(text)
+    if failures:
+        click.echo("\n".join(failures), err=True)
         raise SystemExit(1)
