@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.recording import RecordedRun, SensorStream
+from aaria_pin.core.recording import RecordedRun, SensorStream, joint_groups
 from aaria_pin.errors import OutputFileError
 from aaria_pin.files.recordings.bag_format import (
     IMU_TYPE,
@@ -36,22 +36,10 @@ from aaria_pin.files.recordings.bag_format import (
     rosbags_typestore,
 )
 
-__all__ = ["joint_groups", "write_bag"]
+__all__ = ["write_bag"]
 
 _TOPIC = {"imu": "/imu/{}", "wrench": "/wrench/{}", "joints": JOINTS_TOPIC}
 _TYPE = {"imu": IMU_TYPE, "wrench": WRENCH_TYPE, "joints": JOINTS_TYPE}
-
-
-def joint_groups(stream: SensorStream) -> tuple[list[str], dict[str, list[int]]]:
-    """A joint stream's joints (in order) and each group's columns (``q``, ``qd``, ``tau``)."""
-    groups: dict[str, list[int]] = {"q": [], "qd": [], "tau": []}
-    joints: list[str] = []
-    for index, column in enumerate(stream.columns):
-        group, _, joint = column.partition(":")
-        groups.setdefault(group, []).append(index)
-        if joint not in joints:
-            joints.append(joint)
-    return joints, groups
 
 
 def write_bag(path: str | Path, run: RecordedRun, form: str | None = None) -> Path:
