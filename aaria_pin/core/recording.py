@@ -23,7 +23,14 @@ import numpy as np
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
-__all__ = ["STREAM_COLUMNS", "JointStates", "RecordedRun", "SensorStream", "joint_groups"]
+__all__ = [
+    "STREAM_COLUMNS",
+    "JointStates",
+    "RecordedRun",
+    "SensorStream",
+    "first_repeated",
+    "joint_groups",
+]
 
 STREAM_COLUMNS = {
     "imu": ("wx", "wy", "wz", "fx", "fy", "fz"),
@@ -104,6 +111,12 @@ class SensorStream:
         return float(1.0 / np.median(np.diff(self.time))) if self.time.size > 1 else 0.0
 
 
+def first_repeated(names: Sequence[str]) -> str | None:
+    """The first (sorted) name given more than once, or None."""
+    repeated = sorted({n for n in names if names.count(n) > 1})
+    return repeated[0] if repeated else None
+
+
 def joint_groups(stream: SensorStream) -> tuple[list[str], dict[str, list[int]]]:
     """A joint stream's joints (in order) and each group's columns (``q``, ``qd``, ``tau``)."""
     groups: dict[str, list[int]] = {"q": [], "qd": [], "tau": []}
@@ -154,13 +167,12 @@ class RecordedRun:
     _by_name: dict[str, SensorStream] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        names = [s.name for s in self.streams]
-        repeated = sorted({n for n in names if names.count(n) > 1})
-        if repeated:
+        repeated = first_repeated([s.name for s in self.streams])
+        if repeated is not None:
             raise ParameterError(
-                f"stream {repeated[0]} is recorded twice; allowed: one stream per sensor",
+                f"stream {repeated} is recorded twice; allowed: one stream per sensor",
                 parameter="streams",
-                value=repeated[0],
+                value=repeated,
             )
         object.__setattr__(self, "streams", tuple(self.streams))
         object.__setattr__(self, "_by_name", {s.name: s for s in self.streams})

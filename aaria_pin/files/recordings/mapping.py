@@ -20,6 +20,7 @@ from json import dumps
 from pathlib import Path
 from typing import Any
 
+from aaria_pin.core.recording import first_repeated
 from aaria_pin.errors import InputFileError, ParameterError
 
 __all__ = ["TIME_SOURCES", "RecordingMap", "SensorMap", "map_toml", "read_map", "with_flags"]
@@ -66,14 +67,10 @@ class RecordingMap:
     def __post_init__(self) -> None:
         if self.time not in TIME_SOURCES:
             raise ParameterError(parameter="time", value=self.time, allowed=", ".join(TIME_SOURCES))
-        names = [s.name for s in (*self.imus, *self.wrenches)]
-        twice = sorted({n for n in names if names.count(n) > 1})
-        if twice:
-            raise ParameterError(
-                f"sensor {twice[0]} is mapped twice; allowed: one entry per sensor",
-                parameter="map",
-                value=twice[0],
-            )
+        twice = first_repeated([s.name for s in (*self.imus, *self.wrenches)])
+        if twice is not None:
+            message = f"sensor {twice} is mapped twice; allowed: one entry per sensor"
+            raise ParameterError(message, parameter="map", value=twice)
 
 
 def _sensors(table: Any, key: str, file: Path) -> tuple[SensorMap, ...]:
