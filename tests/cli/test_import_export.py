@@ -81,6 +81,8 @@ def test_a_recorded_run_is_shown_by_info_and_refused_by_commands_needing_truth(
     info = _aaria("info", tmp_path / "rec.h5")
     assert info.exit_code == 0 and "recorded run (measured signals only)" in info.output
     assert "joints joints" in info.output and "/joint_states" in info.output
+    check = _aaria("check", tmp_path / "rec.h5")
+    assert check.exit_code == 0 and "all intact" in check.output, check.output
     for command, suffix in (("torques", ""), ("plot", ".png"), ("view", ".html")):
         extra = ["-o", str(tmp_path / f"x{suffix}")] if suffix else []
         result = _aaria(command, tmp_path / "rec.h5", *extra)
@@ -206,3 +208,16 @@ def test_export_refuses_a_format_that_is_not_the_outputs(run_file: Path, tmp_pat
     result = _aaria("export", run_file, "-o", tmp_path / "folder")
     assert result.exit_code == 2 and "--format is not given" in result.stderr, result.stderr
     assert list(tmp_path.iterdir()) == []  # nothing, not even a scratch folder
+
+
+def test_a_data_sets_run_is_exported(tmp_path: Path) -> None:
+    data = tmp_path / "ds.h5"
+    made = _aaria("dataset", "-n", "2", "--duration", "0.2", "--quiet", "-o", data)
+    assert made.exit_code == 0, made.output
+    assert _aaria("export", data, "--run", "1", "-o", tmp_path / "run1.db3").exit_code == 0
+    assert _aaria("import", tmp_path / "run1.db3", "-o", tmp_path / "rec.h5").exit_code == 0
+    from aaria_pin.files.source import open_record
+
+    _same_as_run(read_recorded_run(tmp_path / "rec.h5"), open_record(data, 1))
+    result = _aaria("export", data, "-o", tmp_path / "run.db3")
+    assert result.exit_code == 2 and "--run is None; allowed: a run index" in result.stderr
