@@ -139,3 +139,66 @@ def test_a_recording_without_imus_and_a_foreign_suffix_are_refused(tmp_path: Pat
         read_bag(path)
     with pytest.raises(InputFileError, match=r"is not a recording; allowed: \.bag"):
         read_bag(tmp_path / "run.txt")
+
+
+def _ros2_joint_bag(folder: Path) -> Path:
+    """A ROS 2 sqlite3 bag written with rosbags directly: an IMU (no frame id) and joint states
+    whose messages carry no effort (an empty array), stamps 3 ms before their log times."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    t = store.types
+    vector = t["geometry_msgs/msg/Vector3"]
+
+    def header(ns: int) -> object:
+        stamp = t["builtin_interfaces/msg/Time"](sec=ns // 10**9, nanosec=ns % 10**9)
+        return t["std_msgs/msg/Header"](stamp=stamp, frame_id="")
+
+    with Writer(folder, version=9, storage_plugin=StoragePlugin.SQLITE3) as writer:
+        imu = writer.add_connection("/arm/imu", "sensor_msgs/msg/Imu", typestore=store)
+        js = writer.add_connection("/joint_states", "sensor_msgs/msg/JointState", typestore=store)
+        for k in range(3):
+            ns = 5 * 10**9 + k * 10**7
+            message = t["sensor_msgs/msg/Imu"](
+                header=header(ns), orientation=t["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0,
+                z=0.0, w=1.0), orientation_covariance=np.zeros(9),
+                angular_velocity=vector(x=float(k), y=0.0, z=0.0),
+                angular_velocity_covariance=np.zeros(9),
+                linear_acceleration=vector(x=0.0, y=0.0, z=9.81),
+                linear_acceleration_covariance=np.zeros(9),
+            )  # fmt: skip
+            writer.write(imu, ns + 3_000_000, store.serialize_cdr(message, "sensor_msgs/msg/Imu"))
+            state = t["sensor_msgs/msg/JointState"](
+                header=header(ns), name=["elbow", "wrist"], position=np.array([k, -k], float),
+                velocity=np.array([1.0, 2.0]), effort=np.zeros(0),
+            )  # fmt: skip
+            raw = store.serialize_cdr(state, "sensor_msgs/msg/JointState")
+            writer.write(js, ns + 3_000_000, raw)
+    return folder
+
+
+def test_a_ros2_bag_folder_written_by_rosbags_reads_in(tmp_path: Path) -> None:
+    from aaria_pin.files.recordings.mapping import RecordingMap
+
+    back = read_bag(_ros2_joint_bag(tmp_path / "lab_bag"))
+    assert back.time_origin_ns == 5 * 10**9 and back.imu_names == ("imu",)  # the topic's name
+    states = back.joint_states()
+    assert states.names == ("elbow", "wrist") and states.tau is None
+    np.testing.assert_array_equal(states.q, [[0, 0], [1, -1], [2, -2]])
+    np.testing.assert_array_equal(states.time, [0.0, 0.01, 0.02])
+    logged = read_bag(tmp_path / "lab_bag", RecordingMap(time="log"))
+    assert logged.time_origin_ns == 5 * 10**9 + 3_000_000
+
+
+def test_a_bag_without_message_definitions_reads_as_humble_ones_do(tmp_path: Path) -> None:
+    import sqlite3
+
+    from rosbags.highlevel import AnyReader
+
+    folder = _ros2_joint_bag(tmp_path / "humble_bag")
+    with sqlite3.connect(next(folder.glob("*.db3"))) as db:  # as a pre-Iron recorder wrote it
+        db.execute("DELETE FROM message_definitions")
+    with pytest.raises(Exception, match="no type definitions"), AnyReader([folder]):
+        pass  # rosbags alone refuses it
+    assert read_bag(folder).imu_names == ("imu",)
