@@ -71,13 +71,9 @@ Examples:
 @json_option()
 def fk(joints: tuple[float, float, float], order: str, radians: bool, as_json: bool) -> None:
     """Tool pose and angles of joint angles J1 J2 J3 (negative values work as they are)."""
-    import numpy as np
+    from aaria_pin.apps.wrist.report import joints_report
 
-    from aaria_pin.apps.wrist.report import wrist_report
-    from aaria_pin.apps.wrist.wrist_kinematics import wrist_fk
-
-    q = np.array(joints) if radians else np.radians(joints)
-    _echo(wrist_report(wrist_fk(q)[:3, :3], order, degrees=not radians), as_json)
+    _echo(joints_report(joints, order, degrees=not radians), as_json)
 
 
 @wrist.command(
@@ -108,20 +104,11 @@ Examples:
 @json_option()
 def ik(angles: Any, order: str, matrix: Any, limits: bool, radians: bool, as_json: bool) -> None:
     """Every joint solution for a tool rotation given as angles or as a matrix."""
-    import numpy as np
-
-    from aaria_pin.apps.wrist.report import nearest_rotation, wrist_report
-    from aaria_pin.core.rotations import matrix_from_angles
+    from aaria_pin.apps.wrist.report import rotation_report
 
     if (angles is None) == (matrix is None):
         raise click.UsageError("give exactly one of --angles A B C or --matrix R11 … R33")
-    if angles is not None:
-        rotation = matrix_from_angles(np.array(angles) if radians else np.radians(angles), order)
-        _echo(wrist_report(rotation, order, limits, not radians), as_json)
-        return
-    rotation, note = nearest_rotation(matrix)
-    notes = () if note is None else (f"--{note}",)
-    _echo(wrist_report(rotation, order, limits, not radians, notes), as_json)
+    _echo(rotation_report(angles, matrix, order, limits, not radians), as_json)
 
 
 @wrist.command(
