@@ -12,6 +12,7 @@ run), and :func:`effort_warnings` says which joints went beyond their URDF effor
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -21,7 +22,62 @@ from aaria_pin.core.record import RunRecord
 from aaria_pin.core.run import RunRequest
 from aaria_pin.errors import ParameterError
 
-__all__ = ["dh_run_request", "effort_warnings", "urdf_run_request"]
+__all__ = [
+    "dh_file_overrides",
+    "dh_run_request",
+    "effort_warnings",
+    "urdf_file_overrides",
+    "urdf_run_request",
+]
+
+
+def _table_overrides(options: Mapping[str, Any], joint_table: str) -> dict[str, Any]:
+    """The joint and base tables of ``joints_file`` and ``base_file`` (where given)."""
+    from aaria_pin.files.io import read_table
+
+    found: dict[str, Any] = {}
+    if options.get("joints_file") is not None:
+        found["joint_table"] = read_table(options["joints_file"], joint_table)
+    if options.get("base_file") is not None:
+        found["base_table"] = read_table(options["base_file"], "senSenB")
+    return found
+
+
+def dh_file_overrides(options: Mapping[str, Any]) -> dict[str, Any]:
+    """A DH run's options from its input files and density (``aaria simulate``'s).
+
+    Args:
+        options: ``joints_file``, ``base_file`` (oscillation tables), ``mount_file`` (IMU
+            mounts: ``.npy`` or a run file), ``density`` [kg/m^3]; absent or None: not given
+    """
+    from aaria_pin.aaria.arm_run import read_imu_mounts
+    from aaria_pin.aaria.dh_robot import BodyDimensions
+
+    found = _table_overrides(options, "senSenJ")
+    if options.get("mount_file") is not None:
+        found["imu_mount"] = read_imu_mounts(options["mount_file"])
+    if options.get("density") is not None:
+        found["dims"] = BodyDimensions(density=options["density"])
+    return found
+
+
+def urdf_file_overrides(options: Mapping[str, Any]) -> dict[str, Any]:
+    """A URDF robot's run options from its tool frame and input files (``aaria simulate``'s).
+
+    Args:
+        options: ``tool_frame``, ``imu_layout_file`` (TOML), ``joints_file``, ``base_file``;
+            absent or None: not given
+    """
+    from aaria_pin.core.imu_layout import read_imu_layout
+    from aaria_pin.files.paths import existing_input
+
+    found: dict[str, Any] = {}
+    if options.get("tool_frame") is not None:
+        found["tool_frame"] = options["tool_frame"]
+    if options.get("imu_layout_file") is not None:
+        layout_file = existing_input(options["imu_layout_file"], None, "IMU layout")
+        found["imu_layout"] = read_imu_layout(layout_file)
+    return {**found, **_table_overrides(options, "joint_table")}
 
 
 def dh_run_request(

@@ -40,25 +40,13 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     import warnings
 
     from aaria_pin.aaria.run_motion import MotionChoice
-    from aaria_pin.aaria.run_source import effort_warnings, urdf_run_request
+    from aaria_pin.aaria.run_source import effort_warnings, urdf_file_overrides, urdf_run_request
     from aaria_pin.apps.run_summary import run_summary as summary
-    from aaria_pin.core.imu_layout import read_imu_layout
-    from aaria_pin.files.io import read_table
     from aaria_pin.files.runfile import write_run_pieces
 
     _refuse_options_without_effect(params)
     overrides = sampling_overrides(params, stored)
-    if params["tool_frame"] is not None:
-        overrides["tool_frame"] = params["tool_frame"]
-    if params["imu_layout_file"] is not None:
-        from aaria_pin.files.paths import existing_input
-
-        layout_file = existing_input(params["imu_layout_file"], None, "IMU layout")
-        overrides["imu_layout"] = read_imu_layout(layout_file)
-    if params["joints_file"] is not None:
-        overrides["joint_table"] = read_table(params["joints_file"], "joint_table")
-    if params["base_file"] is not None:
-        overrides["base_table"] = read_table(params["base_file"], "senSenB")
+    overrides.update(urdf_file_overrides(params))
     overrides.update(drive_overrides(params))
     output = params["output"]
     compress = params["compress"]

@@ -98,14 +98,11 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     joint a random finite Fourier series within its position, speed and acceleration limits)
     or a given trajectory (--trajectory FILE).
     """
-    from aaria_pin.aaria.arm_run import read_imu_mounts
-    from aaria_pin.aaria.dh_robot import BodyDimensions
     from aaria_pin.aaria.run_motion import MotionChoice
-    from aaria_pin.aaria.run_source import dh_run_request
+    from aaria_pin.aaria.run_source import dh_file_overrides, dh_run_request
     from aaria_pin.apps.run_summary import run_summary as summary
     from aaria_pin.core._malloc import tune_malloc
     from aaria_pin.core.conflicts import OptionConflictError
-    from aaria_pin.files.io import read_table
     from aaria_pin.files.runfile import write_run_pieces
 
     tune_malloc()
@@ -135,14 +132,7 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
         if flags[key] not in (None, False):
             raise click.UsageError(f"{flag} is for URDF robots (--robot or --urdf)")
     overrides = sampling_overrides(params, stored)
-    if flags["joints_file"] is not None:
-        overrides["joint_table"] = read_table(flags["joints_file"], "senSenJ")
-    if flags["base_file"] is not None:
-        overrides["base_table"] = read_table(flags["base_file"], "senSenB")
-    if flags["mount_file"] is not None:
-        overrides["imu_mount"] = read_imu_mounts(flags["mount_file"])
-    if flags["density"] is not None:
-        overrides["dims"] = BodyDimensions(density=flags["density"])
+    overrides.update(dh_file_overrides(flags))
     overrides.update(drive_overrides(params))
     for key in ("preset", "dh_file"):  # the run file has its table
         if stored is not None and given(key):
