@@ -208,6 +208,10 @@ def test_export_refuses_a_format_that_is_not_the_outputs(run_file: Path, tmp_pat
     result = _aaria("export", run_file, "-o", tmp_path / "folder")
     assert result.exit_code == 2 and "--format is not given" in result.stderr, result.stderr
     assert list(tmp_path.iterdir()) == []  # nothing, not even a scratch folder
+    (tmp_path / "bag").mkdir()
+    result = _aaria("export", run_file, "-o", tmp_path / "bag", "--format", "ros2-mcap")
+    assert result.exit_code == 2 and "exists; allowed: a new folder" in result.stderr
+    assert [p.name for p in tmp_path.iterdir()] == ["bag"] and not any((tmp_path / "bag").iterdir())
 
 
 def test_a_data_sets_run_is_exported(tmp_path: Path) -> None:
