@@ -208,6 +208,8 @@ def test_export_refuses_a_format_that_is_not_the_outputs(run_file: Path, tmp_pat
     result = _aaria("export", run_file, "-o", tmp_path / "folder")
     assert result.exit_code == 2 and "--format is not given" in result.stderr, result.stderr
     assert list(tmp_path.iterdir()) == []  # nothing, not even a scratch folder
+    result = _aaria("export", run_file, "-o", tmp_path / "no" / "bag", "--format", "ros2-mcap")
+    assert result.exit_code == 2 and "folder" in result.stderr and "does not exist" in result.stderr
     (tmp_path / "bag").mkdir()
     result = _aaria("export", run_file, "-o", tmp_path / "bag", "--format", "ros2-mcap")
     assert result.exit_code == 2 and "exists; allowed: a new folder" in result.stderr

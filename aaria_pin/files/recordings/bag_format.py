@@ -50,7 +50,7 @@ def bag_format(path: Path) -> str:
     if found is None:
         raise InputFileError(
             f"{path} is not a recording; allowed: {', '.join(BAG_SUFFIXES)} (ROS 1 bag, MCAP, "
-            "ROS 2 sqlite3)",
+            "ROS 2 sqlite3), a ROS 2 bag folder, .csv",
             parameter="file",
         )
     return found

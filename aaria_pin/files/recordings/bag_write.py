@@ -60,7 +60,7 @@ def write_bag(path: str | Path, run: RecordedRun, form: str | None = None) -> Pa
         OutputFileError: a folder output that exists.
         InputFileError: ``rosbags`` missing.
     """
-    from aaria_pin.files.paths import atomic_output
+    from aaria_pin.files.paths import atomic_output, check_output
 
     out = Path(path)
     form = export_format(out, form)
@@ -69,6 +69,7 @@ def write_bag(path: str | Path, run: RecordedRun, form: str | None = None) -> Pa
         if out.exists():
             raise OutputFileError(f"{out} exists; allowed: a new folder for a ROS 2 bag",
                                   parameter="path")  # fmt: skip
+        check_output(out)  # "-", a name too long, a missing or unwritable folder
         with _scratch(out.parent) as folder:
             _write(folder / out.name, form.removeprefix("ros2-"), store, run)
             (folder / out.name).rename(out)
