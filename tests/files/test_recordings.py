@@ -141,9 +141,10 @@ def test_a_recording_without_imus_and_a_foreign_suffix_are_refused(tmp_path: Pat
         read_bag(tmp_path / "run.txt")
 
 
-def _ros2_joint_bag(folder: Path) -> Path:
+def _ros2_joint_bag(folder: Path, gripper: bool = False) -> Path:
     """A ROS 2 sqlite3 bag written with rosbags directly: an IMU (no frame id) and joint states
-    whose messages carry no effort (an empty array), stamps 3 ms before their log times."""
+    whose messages carry no effort (an empty array), stamps 3 ms before their log times; with
+    ``gripper``, a second publisher of one joint on the same topic, at 50 Hz."""
     from rosbags.rosbag2 import StoragePlugin, Writer
     from rosbags.typesys import Stores, get_typestore
 
@@ -175,6 +176,13 @@ def _ros2_joint_bag(folder: Path) -> Path:
             )  # fmt: skip
             raw = store.serialize_cdr(state, "sensor_msgs/msg/JointState")
             writer.write(js, ns + 3_000_000, raw)
+            if gripper and k % 2 == 0:
+                finger = t["sensor_msgs/msg/JointState"](
+                    header=header(ns + 1000), name=["finger"], position=np.array([0.01 * k]),
+                    velocity=np.zeros(0), effort=np.array([2.0]),
+                )  # fmt: skip
+                raw = store.serialize_cdr(finger, "sensor_msgs/msg/JointState")
+                writer.write(js, ns + 3_000_001, raw)
     return folder
 
 
@@ -202,3 +210,13 @@ def test_a_bag_without_message_definitions_reads_as_humble_ones_do(tmp_path: Pat
     with pytest.raises(Exception, match="no type definitions"), AnyReader([folder]):
         pass  # rosbags alone refuses it
     assert read_bag(folder).imu_names == ("imu",)
+
+
+def test_two_publishers_on_one_joint_states_topic_are_two_streams(tmp_path: Path) -> None:
+    back = read_bag(_ros2_joint_bag(tmp_path / "two_bag", gripper=True))
+    arm, finger = back.joint_states("joints0"), back.joint_states("joints1")
+    assert arm.names == ("elbow", "wrist") and finger.names == ("finger",)
+    np.testing.assert_array_equal(finger.q, [[0.0], [0.02]])
+    np.testing.assert_array_equal(finger.tau, [[2.0], [2.0]])
+    np.testing.assert_array_equal(finger.time, [1e-6, 0.020001])
+    assert finger.qd is None and arm.tau is None

@@ -3,7 +3,8 @@
 Without a map (:class:`~aaria_pin.files.recordings.mapping.RecordingMap`), every
 ``sensor_msgs/Imu`` topic is an IMU named after its frame id (one IMU per frame id when several
 share the topic; the topic's last part when the frame id is empty), every
-``sensor_msgs/JointState`` topic is a joint stream joined by joint name, every
+``sensor_msgs/JointState`` topic a joint stream joined by joint name (one per set of joints
+when several publishers share the topic: ``joints0``, ``joints1``, …), every
 ``geometry_msgs/WrenchStamped`` topic a wrench named after its topic's last part (the topics
 :func:`~aaria_pin.files.recordings.bag_write.write_bag` writes read back to the same names).
 A map names the sensors it wants and where they are. Each sensor keeps its own time: its
@@ -129,7 +130,8 @@ def _chosen(
             chosen.append(_mapped(file, topics, kind, sensor))
     joints = [t for t in topics.values() if t.kind == "joints"]
     if mapping.joints is not None:
-        joints = [_mapped(file, topics, "joints", SensorMap("joints", mapping.joints))[1]]
+        _mapped(file, topics, "joints", SensorMap("joints", mapping.joints))  # there, of its type
+        joints = [t for t in joints if t.topic == mapping.joints]
     for k, topic in enumerate(joints):
         name = "joints" if len(joints) == 1 else f"joints{k}"
         chosen.append((name, topic, np.ones(topic.stamps.size, bool)))
@@ -198,8 +200,9 @@ def _read_topics(file: Path, store: Any) -> dict[str, _Topic]:
                 found[topic] = _Topic(topic, kind, np.array(stamps, np.int64),
                                       np.array(logs, np.int64), np.array(frames, dtype=object),
                                       values, STREAM_COLUMNS[kind])  # fmt: skip
-            elif info.msgtype == JOINTS_TYPE:
-                found[topic] = _joint_topic(reader, topic, info)
+            elif info.msgtype == JOINTS_TYPE:  # a stream per set of joints (publishers)
+                for k, part in enumerate(_joint_topic(reader, topic, info)):
+                    found[topic if k == 0 else f"{topic} ({k})"] = part
     return found
 
 
@@ -208,36 +211,28 @@ def _stamp(message: Any) -> int:
     return int(message.header.stamp.sec) * 1_000_000_000 + int(message.header.stamp.nanosec)
 
 
-def _joint_topic(reader: Any, topic: str, info: Any) -> _Topic:
-    """A JointState topic as one stream: the groups every message has, by joint name.
+def _joint_topic(reader: Any, topic: str, info: Any) -> list[_Topic]:
+    """A JointState topic as streams: one per set of joints its messages name.
 
-    Raises:
-        InputFileError: messages naming other joints than the first one does.
+    Several publishers share a topic (an arm's and a gripper's); each set of joints (and of
+    the groups ``q``, ``qd``, ``tau`` its messages fill) is a stream, its columns by joint name.
     """
-    stamps: list[int] = []
-    logs: list[int] = []
-    rows: list[Any] = []
-    joints: list[str] | None = None
-    groups: tuple[str, ...] | None = None
+    parts: dict[tuple[tuple[str, ...], tuple[str, ...]], tuple[list[int], list[int], list[Any]]]
+    parts = {}
     for connection, log, raw in reader.messages(connections=info.connections):
         message = reader.deserialize(raw, connection.msgtype)
-        names = list(message.name)
+        names = tuple(message.name)
         arrays = {"q": message.position, "qd": message.velocity, "tau": message.effort}
         present = tuple(g for g, a in arrays.items() if len(a) == len(names))
-        if joints is None:
-            joints, groups = names, present
-        if names != joints or present != groups:
-            raise InputFileError(
-                f"topic {topic} message {len(stamps)} has joints {names} "
-                f"({', '.join(present)}); allowed: the first message's {joints} "
-                f"({', '.join(groups or ())})",
-                parameter="file",
-            )
+        stamps, logs, rows = parts.setdefault((names, present), ([], [], []))
         stamps.append(_stamp(message))
         logs.append(log)
         rows.append(np.concatenate([np.asarray(arrays[g], np.float64) for g in present]))
-    columns = tuple(f"{g}:{j}" for g in (groups or ()) for j in (joints or ()))
-    values = np.array(rows, dtype=np.float64).reshape(-1, len(columns))
-    frames = np.full(len(stamps), "", dtype=object)
-    return _Topic(topic, "joints", np.array(stamps, np.int64), np.array(logs, np.int64), frames,
-                  values, columns)  # fmt: skip
+    found = []
+    for (names, present), (stamps, logs, rows) in parts.items():
+        columns = tuple(f"{g}:{j}" for g in present for j in names)
+        values = np.array(rows, dtype=np.float64).reshape(-1, len(columns))
+        frames = np.full(len(stamps), "", dtype=object)
+        found.append(_Topic(topic, "joints", np.array(stamps, np.int64),
+                            np.array(logs, np.int64), frames, values, columns))  # fmt: skip
+    return found
