@@ -220,3 +220,10 @@ def test_two_publishers_on_one_joint_states_topic_are_two_streams(tmp_path: Path
     np.testing.assert_array_equal(finger.tau, [[2.0], [2.0]])
     np.testing.assert_array_equal(finger.time, [1e-6, 0.020001])
     assert finger.qd is None and arm.tau is None
+
+
+def test_a_sensor_without_header_stamps_keeps_its_log_time_with_a_warning(tmp_path: Path) -> None:
+    with pytest.warns(UserWarning, match=r"wrist \(/wrist/imu\) has no header stamps"):
+        back = read_bag(_bag(tmp_path / "nostamp.bag", [0, 0, 0], [0.1, 0.2, 0.3]))
+    assert back.time_origin_ns == 10**9  # the helper logs message k at 1 s + k ns
+    np.testing.assert_array_equal(back.stream("wrist").time, [0.0, 1e-9, 2e-9])
