@@ -141,8 +141,7 @@ def _check_run_file(file: Path) -> FileCheck:
     """A run file read whole (:func:`~aaria_pin.files.source.open_record`)."""
     from aaria_pin.errors import InputFileError
     from aaria_pin.files._stored import DamagedFileError
-    from aaria_pin.files.runfile import is_run_file
-    from aaria_pin.files.runfile._recorded import is_recorded_file, read_recorded_run
+    from aaria_pin.files.runfile import is_recorded_file, is_run_file, read_recorded_run
     from aaria_pin.files.source import open_record
 
     try:

@@ -65,7 +65,7 @@ def open_recorded(path: str | os.PathLike[str], run: int | None = None) -> Recor
     Raises:
         InputFileError, ParameterError: as :func:`~aaria_pin.files.source.open_record`.
     """
-    from aaria_pin.files.runfile._recorded import is_recorded_file, read_recorded_run
+    from aaria_pin.files.runfile import is_recorded_file, read_recorded_run
     from aaria_pin.files.source import open_record
 
     if run is None and is_recorded_file(path):
@@ -150,7 +150,7 @@ def import_file(
     Per stream: kind, name, messages, rate [Hz], span [s], source.
     """
     from aaria_pin.files.recordings.mapping import map_toml
-    from aaria_pin.files.runfile._recorded import stream_line, write_recorded_run
+    from aaria_pin.files.runfile import stream_line, write_recorded_run
 
     run = import_recordings(paths, mapping)
     form = ",".join(sorted({recording_format(Path(p)) for p in paths}))

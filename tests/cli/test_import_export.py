@@ -15,8 +15,7 @@ pytest.importorskip("rosbags")
 from aaria_pin.cli import main
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.recording import RecordedRun
-from aaria_pin.files.runfile import read_run
-from aaria_pin.files.runfile._recorded import read_recorded_run
+from aaria_pin.files.runfile import read_recorded_run, read_run
 
 
 def _aaria(*args: str | Path) -> Result:

@@ -10,10 +10,10 @@ import pytest
 
 from aaria_pin.core.recording import STREAM_COLUMNS, RecordedRun, SensorStream
 from aaria_pin.errors import InputFileError, OutputFileError
-from aaria_pin.files.runfile import read_run
-from aaria_pin.files.runfile._recorded import (
+from aaria_pin.files.runfile import (
     is_recorded_file,
     read_recorded_run,
+    read_run,
     recorded_summary,
     write_recorded_run,
 )
