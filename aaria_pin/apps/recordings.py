@@ -134,12 +134,36 @@ def import_recordings(
     if len(runs) == 1:
         return runs[0]
     origin = min(r.time_origin_ns for r in runs)
-    streams = [replace(s, time=s.time + (r.time_origin_ns - origin) / 1e9)
-               for r in runs for s in r.streams]  # fmt: skip
+    parts: dict[str, list[SensorStream]] = {}
+    for r in runs:  # a sensor in several recordings (a split bag): its parts in time order
+        for s in r.streams:
+            shifted = replace(s, time=s.time + (r.time_origin_ns - origin) / 1e9)
+            parts.setdefault(s.name, []).append(shifted)
     try:
+        streams = [_joined(pieces) for pieces in parts.values()]
         return RecordedRun(streams, origin, ", ".join(r.source for r in runs))
     except ParameterError as exc:
         raise InputFileError(f"{exc} (in {len(runs)} recordings)", parameter="file") from None
+
+
+def _joined(pieces: list[SensorStream]) -> SensorStream:
+    """One sensor's parts from several recordings, in time order, as one stream.
+
+    Raises:
+        ParameterError: parts of other kinds or columns, or overlapping in time.
+    """
+    first = pieces[0]
+    if len(pieces) == 1:
+        return first
+    for piece in pieces[1:]:
+        if (piece.kind, piece.columns) != (first.kind, first.columns):
+            raise ParameterError(f"stream {first.name} is {piece.kind} {piece.columns} in one"
+                                 f" recording and {first.kind} {first.columns} in another;"
+                                 " allowed: one sensor per name", parameter="file")  # fmt: skip
+    pieces = sorted(pieces, key=lambda s: float(s.time[0]) if s.time.size else 0.0)
+    time = np.concatenate([s.time for s in pieces])
+    values = np.concatenate([s.values for s in pieces])
+    return SensorStream(first.name, first.kind, time, values, first.columns, first.source)
 
 
 def import_file(
@@ -150,13 +174,11 @@ def import_file(
     Per stream: kind, name, messages, rate [Hz], span [s], source.
     """
     from aaria_pin.files.recordings.mapping import map_toml
-    from aaria_pin.files.runfile import stream_line, write_recorded_run
+    from aaria_pin.files.runfile import stream_line, stream_summary, write_recorded_run
 
     run = import_recordings(paths, mapping)
     form = ",".join(sorted({recording_format(Path(p)) for p in paths}))
     write_recorded_run(output, run, form, map_toml(mapping or RecordingMap()))
-    rows = [{"name": s.name, "kind": s.kind, "samples": s.time.size, "rate": s.rate,
-             "span": float(s.time[-1] - s.time[0]) if s.time.size else 0.0, "source": s.source}
-            for s in run.streams]  # fmt: skip
+    rows = [stream_summary(s) for s in run.streams]
     head = f"wrote {output}: recorded run of {len(run.streams)} streams"
     return "\n".join([head, *map(stream_line, rows)])

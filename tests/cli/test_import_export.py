@@ -4,6 +4,7 @@ writer) reads in; bad recordings are one line each, exit 2, nothing written."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -226,3 +227,19 @@ def test_a_data_sets_run_is_exported(tmp_path: Path) -> None:
     _same_as_run(read_recorded_run(tmp_path / "rec.h5"), open_record(data, 1))
     result = _aaria("export", data, "-o", tmp_path / "run.db3")
     assert result.exit_code == 2 and "--run is None; allowed: a run index" in result.stderr
+
+
+def test_a_recording_split_in_two_files_imports_as_one_run(run_file: Path, tmp_path: Path) -> None:
+    from aaria_pin.apps.recordings import open_recorded
+    from aaria_pin.files.recordings.bag_write import write_bag
+
+    whole = open_recorded(run_file)
+    half = whole.streams[0].time.size // 2
+    for name, rows in (("a.bag", slice(None, half)), ("b.bag", slice(half, None))):
+        streams = [replace(s, time=s.time[rows], values=s.values[rows]) for s in whole.streams]
+        write_bag(tmp_path / name, RecordedRun(streams, whole.time_origin_ns))
+    result = _aaria("import", tmp_path / "b.bag", tmp_path / "a.bag", "-o", tmp_path / "rec.h5")
+    assert result.exit_code == 0, result.output
+    _same_as_run(read_recorded_run(tmp_path / "rec.h5"), read_run(run_file))
+    both = _aaria("import", tmp_path / "a.bag", tmp_path / "a.bag", "-o", tmp_path / "x.h5")
+    assert both.exit_code == 2 and "time at sample" in both.stderr, both.stderr

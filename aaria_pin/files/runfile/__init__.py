@@ -86,6 +86,7 @@ from aaria_pin.files.runfile._recorded import (
     read_recorded_run,
     recorded_summary,
     stream_line,
+    stream_summary,
     write_recorded_run,
 )
 from aaria_pin.files.runfile._write import (
@@ -120,6 +121,7 @@ __all__ = [
     "recorded_summary",
     "run_file_summary",
     "stream_line",
+    "stream_summary",
     "view_from_columns",
     "write_recorded_run",
     "write_run",

@@ -36,6 +36,7 @@ __all__ = [
     "recorded_summary",
     "refuse_recorded",
     "stream_line",
+    "stream_summary",
     "write_recorded_run",
 ]
 
@@ -166,17 +167,21 @@ def read_recorded_run(path: str | os.PathLike[str]) -> RecordedRun:
 def recorded_summary(path: str | os.PathLike[str]) -> tuple[dict[str, Any], str]:
     """A recorded run file's summary (for ``aaria info``): as numbers and as text."""
     run = read_recorded_run(path)
-    rows = []
-    for s in run.streams:
-        span = float(s.time[-1] - s.time[0]) if s.time.size else 0.0
-        rows.append({"name": s.name, "kind": s.kind, "source": s.source, "samples": s.time.size,
-                     "rate": s.rate, "span": span, "columns": list(s.columns)})  # fmt: skip
+    rows = [stream_summary(s) for s in run.streams]
     summary = {"path": str(path), "kind": RECORDED_KIND, "source": run.source,
                "time_origin_ns": run.time_origin_ns, "streams": rows}  # fmt: skip
     lines = [f"{path}: recorded run (measured signals only) of {run.source or 'unknown'},"
              f" {len(rows)} streams, time from {run.time_origin_ns} ns"]  # fmt: skip
     lines += [stream_line(row) for row in rows]
     return summary, "\n".join(lines) + "\n"
+
+
+def stream_summary(stream: SensorStream) -> dict[str, Any]:
+    """A stream's name, kind, source, samples, rate [Hz], span [s] and columns."""
+    span = float(stream.time[-1] - stream.time[0]) if stream.time.size else 0.0
+    return {"name": stream.name, "kind": stream.kind, "source": stream.source,
+            "samples": stream.time.size, "rate": stream.rate, "span": span,
+            "columns": list(stream.columns)}  # fmt: skip
 
 
 def stream_line(row: dict[str, Any]) -> str:
