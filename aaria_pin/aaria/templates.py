@@ -154,6 +154,46 @@ def _config() -> str:
 {imu_model_toml(DEFAULT_IMU_MODEL)}"""
 
 
+def _recording() -> str:
+    return """\
+# A recording map: which topics (or CSV columns) are which sensors, for
+#   aaria import REC... --map rec.toml -o rec.h5
+# REC: a ROS 1 .bag, a ROS 2 bag folder (or its .db3 / .mcap), an .mcap file, or a .csv table.
+# As written it maps what `aaria export` writes of an aaria-fig2 run:
+#   aaria simulate --preset aaria-fig2 -o run.h5 && aaria export run.h5 -o run.mcap
+# Without --map (nor --imu, --joints, --wrench) every Imu, JointState and WrenchStamped
+# topic is taken; a sensor named here by a flag is replaced by the flag's.
+
+# Each sensor's time: "header" (its messages' header stamps: when the driver measured)
+# or "log" (when the recorder received them).
+time = "header"
+time_column = "time"        # a CSV table's time column [s]
+
+[joints]
+topic = "/joint_states"     # sensor_msgs/JointState; joints joined by name
+
+# One [[imu]] per IMU; name = the IMU's name in your model or IMU layout.
+# sensor_msgs/Imu: angular_velocity [rad/s], linear_acceleration = specific force [m/s^2].
+[[imu]]
+name = "imu_tool"
+topic = "/imu/imu_tool"
+# frame_id = "tool_imu"     # only this frame id's messages (several IMUs on one topic)
+# columns = ["gx", "gy", "gz", "ax", "ay", "az"]  # a CSV: its six columns (wx wy wz fx fy fz)
+
+[[imu]]
+name = "imu_link6_b"
+topic = "/imu/imu_link6_b"
+
+[[imu]]
+name = "imu_base"
+topic = "/imu/imu_base"
+
+[[wrench]]                  # geometry_msgs/WrenchStamped: force [N], moment [N*m]
+name = "base"
+topic = "/wrench/base"
+"""
+
+
 _TEMPLATES: dict[str, Callable[[], str]] = {
     "dh": _dh,
     "joints": _joints,
@@ -162,6 +202,7 @@ _TEMPLATES: dict[str, Callable[[], str]] = {
     "config": _config,
     "imu-model": imu_model_template,
     "hardware": hardware_template,
+    "recording": _recording,
 }
 
 TEMPLATE_KINDS: tuple[str, ...] = tuple(_TEMPLATES)
@@ -175,6 +216,7 @@ TEMPLATE_FILES: dict[str, str] = {
     "config": "config.toml",
     "imu-model": "imu_model.toml",
     "hardware": "hardware.toml",
+    "recording": "recording.toml",
 }
 """A file name for each template (its suffix is the one the commands read)."""
 

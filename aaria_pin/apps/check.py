@@ -141,11 +141,11 @@ def _check_run_file(file: Path) -> FileCheck:
     """A run file read whole (:func:`~aaria_pin.files.source.open_record`)."""
     from aaria_pin.errors import InputFileError
     from aaria_pin.files._stored import DamagedFileError
-    from aaria_pin.files.runfile import is_run_file
+    from aaria_pin.files.runfile import is_recorded_file, is_run_file, read_recorded_run
     from aaria_pin.files.source import open_record
 
     try:
-        open_record(file)
+        read_recorded_run(file) if is_recorded_file(file) else open_record(file)
     except InputFileError as exc:
         damaged = isinstance(exc, DamagedFileError)  # a .mat whose bytes do not inflate too
         if not damaged and not is_run_file(file):  # not an aaria_pin file: nothing to check

@@ -38,7 +38,7 @@ def describe_file(path: str | os.PathLike[str], card: bool = False) -> tuple[dic
     """
     from aaria_pin.files.dataset.summary import dataset_summary
     from aaria_pin.files.detection import is_dataset_file
-    from aaria_pin.files.runfile import run_file_summary
+    from aaria_pin.files.runfile import is_recorded_file, recorded_summary, run_file_summary
 
     file = Path(path)
     is_dataset = is_dataset_file(file)
@@ -48,6 +48,8 @@ def describe_file(path: str | os.PathLike[str], card: bool = False) -> tuple[dic
         if is_dataset:
             summary = dataset_summary(file)
             return summary, _dataset_text(file, summary)
+        if is_recorded_file(file):  # measured streams, each at its own times
+            return recorded_summary(file)
         summary = run_file_summary(file)
         return summary, _run_text(file, summary)
 

@@ -1,24 +1,42 @@
-"""A simulated run as a robot would have recorded it, and its export to a recording.
+"""Recordings in and out: a run exported as a robot would have recorded it, a recording imported.
 
-:func:`recorded_from_run` keeps what the robot's sensors measured: each IMU's signals (the
-slots that exist), the joint states (``q_measured`` and ``tau_measured`` where the run has
+:func:`recorded_from_run` keeps what a simulated run's sensors measured: each IMU's signals
+(the slots that exist), the joint states (``q_measured`` and ``tau_measured`` where the run has
 encoders and torque sensors, else the true ``q`` and ``tau``; ``qd`` as computed), and the
-base wrench (``base``). :func:`export_run` writes them as a ROS 1 bag, an MCAP file or a ROS 2
-sqlite3 file (:func:`~aaria_pin.files.recordings.bag_write.write_bag`), so Foxglove and
-PlotJuggler open a simulated run, and :func:`~aaria_pin.files.recordings.bag_read.read_bag`
-reads it back to the same arrays.
+base wrench (``base``). :func:`export_run` writes them (or a recorded run's streams) as a ROS 1
+bag, an MCAP file, a ROS 2 sqlite3 file or bag folder
+(:func:`~aaria_pin.files.recordings.bag_write.write_bag`) or a CSV table
+(:func:`~aaria_pin.files.recordings.csv_io.write_csv`), so Foxglove and PlotJuggler open a
+simulated run; :func:`import_recordings` reads recordings back
+(:func:`~aaria_pin.files.recordings.bag_read.read_bag`,
+:func:`~aaria_pin.files.recordings.csv_io.read_csv`) to the same arrays. :func:`export_file`
+and :func:`import_file` are ``aaria export`` and ``aaria import``: file in, file out, the
+lines they print.
 """
 
 from __future__ import annotations
 
+import os
+from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.recording import STREAM_COLUMNS, RecordedRun, SensorStream
+from aaria_pin.errors import InputFileError, ParameterError
+from aaria_pin.files.recordings.mapping import RecordingMap
 
-__all__ = ["export_run", "recorded_from_run"]
+__all__ = [
+    "export_file",
+    "export_run",
+    "import_file",
+    "import_recordings",
+    "open_recorded",
+    "recorded_from_run",
+    "recording_format",
+]
 
 
 def recorded_from_run(record: RunRecord) -> RecordedRun:
@@ -41,12 +59,126 @@ def recorded_from_run(record: RunRecord) -> RecordedRun:
     return RecordedRun(streams, source=str(record.attributes.get("robot", "")))
 
 
-def export_run(record: RunRecord, path: str | Path) -> Path:
-    """Write a run's recorded streams to ``path`` (``.bag``, ``.mcap``, ``.db3``).
+def open_recorded(path: str | os.PathLike[str], run: int | None = None) -> RecordedRun:
+    """The recorded streams of a recorded run file, a run file or run ``run`` of a data set.
 
     Raises:
-        InputFileError: a suffix that is no recording format, or ``rosbags`` missing.
+        InputFileError, ParameterError: as :func:`~aaria_pin.files.source.open_record`.
     """
-    from aaria_pin.files.recordings.bag_write import write_bag
+    from aaria_pin.files.runfile import is_recorded_file, read_recorded_run
+    from aaria_pin.files.source import open_record
 
-    return write_bag(path, recorded_from_run(record))
+    if run is None and is_recorded_file(path):
+        return read_recorded_run(path)
+    return recorded_from_run(open_record(path, run))
+
+
+def export_run(record: RunRecord | RecordedRun, path: str | Path, form: str | None = None) -> Path:
+    """Write a run's recorded streams to ``path`` (module docstring).
+
+    Args:
+        record: a simulated run (its measured streams are written) or a recorded run
+        path: the output: ``.mcap``, ``.bag``, ``.db3``, ``.csv`` or a ROS 2 bag folder
+        form: the format (:data:`~aaria_pin.files.recordings.bag_format.EXPORT_FORMATS`);
+            None: by the suffix
+
+    Raises:
+        ParameterError: an unknown format, or not the path's (parameter ``form``).
+        InputFileError: ``rosbags`` missing.
+    """
+    from aaria_pin.files.recordings.bag_format import export_format
+    from aaria_pin.files.recordings.bag_write import write_bag
+    from aaria_pin.files.recordings.csv_io import write_csv
+
+    run = record if isinstance(record, RecordedRun) else recorded_from_run(record)
+    if export_format(Path(path), form) == "csv":
+        return write_csv(path, run)
+    return write_bag(path, run, form)
+
+
+def export_file(
+    path: str | os.PathLike[str], run: int | None, output: str | Path, form: str | None = None
+) -> str:
+    """``aaria export``: a run file (or run ``run`` of a data set) to a recording; its line."""
+    recorded = open_recorded(path, run)
+    written = export_run(recorded, output, form)
+    samples = sum(s.time.size for s in recorded.streams)
+    return f"wrote {written}: {len(recorded.streams)} streams, {samples} messages"
+
+
+def recording_format(path: Path) -> str:
+    """``ros2`` (a bag folder), ``csv``, or a bag file's format (by its suffix)."""
+    from aaria_pin.files.recordings.bag_format import bag_format
+
+    if path.is_dir():
+        return "ros2"
+    return "csv" if path.suffix.lower() == ".csv" else bag_format(path)
+
+
+def import_recordings(
+    paths: Sequence[str | os.PathLike[str]], mapping: RecordingMap | None = None
+) -> RecordedRun:
+    """One recorded run of one or more recordings (their streams together, one time origin).
+
+    Raises:
+        InputFileError: a recording that is not one, damaged, or without what the map names;
+            two recordings with a sensor of one name (parameter ``file``).
+    """
+    from aaria_pin.files.recordings.bag_read import read_bag
+    from aaria_pin.files.recordings.csv_io import read_csv
+
+    runs = []
+    for path in map(Path, paths):
+        reader = read_csv if recording_format(path) == "csv" else read_bag
+        runs.append(reader(path, mapping))
+    if len(runs) == 1:
+        return runs[0]
+    origin = min(r.time_origin_ns for r in runs)
+    parts: dict[str, list[SensorStream]] = {}
+    for r in runs:  # a sensor in several recordings (a split bag): its parts in time order
+        for s in r.streams:
+            shifted = replace(s, time=s.time + (r.time_origin_ns - origin) / 1e9)
+            parts.setdefault(s.name, []).append(shifted)
+    try:
+        streams = [_joined(pieces) for pieces in parts.values()]
+        return RecordedRun(streams, origin, ", ".join(r.source for r in runs))
+    except ParameterError as exc:
+        raise InputFileError(f"{exc} (in {len(runs)} recordings)", parameter="file") from None
+
+
+def _joined(pieces: list[SensorStream]) -> SensorStream:
+    """One sensor's parts from several recordings, in time order, as one stream.
+
+    Raises:
+        ParameterError: parts of other kinds or columns, or overlapping in time.
+    """
+    first = pieces[0]
+    if len(pieces) == 1:
+        return first
+    for piece in pieces[1:]:
+        if (piece.kind, piece.columns) != (first.kind, first.columns):
+            raise ParameterError(f"stream {first.name} is {piece.kind} {piece.columns} in one"
+                                 f" recording and {first.kind} {first.columns} in another;"
+                                 " allowed: one sensor per name", parameter="file")  # fmt: skip
+    pieces = sorted(pieces, key=lambda s: float(s.time[0]) if s.time.size else 0.0)
+    time = np.concatenate([s.time for s in pieces])
+    values = np.concatenate([s.values for s in pieces])
+    return SensorStream(first.name, first.kind, time, values, first.columns, first.source)
+
+
+def import_file(
+    paths: Sequence[str | os.PathLike[str]], output: str | Path, mapping: RecordingMap | None = None
+) -> str:
+    """``aaria import``: recordings to a recorded run file; the lines it prints.
+
+    Per stream: kind, name, messages, rate [Hz], span [s], source.
+    """
+    from aaria_pin.files.recordings.mapping import map_toml
+    from aaria_pin.files.runfile import stream_line, stream_summary, write_recorded_run
+
+    run = import_recordings(paths, mapping)
+    form = ",".join(sorted({recording_format(Path(p)) for p in paths}))
+    write_recorded_run(output, run, form, map_toml(mapping or RecordingMap()))
+    rows = [stream_summary(s) for s in run.streams]
+    head = f"wrote {output}: recorded run of {len(run.streams)} streams"
+    return "\n".join([head, *map(stream_line, rows)])

@@ -142,11 +142,11 @@ def main() -> None:
 def _register() -> None:
     from importlib import import_module
 
-    for module in ("arm", "check", "dataset", "identify", "info", "mjcf", "plot", "render"):
-        main.add_command(getattr(import_module(f"aaria_pin.cli.{module}_cmd"), module))
-    for module in ("robots", "simulate", "stats", "template", "torques", "urdf", "view", "wrist"):
-        name = "dataset_stats" if module == "stats" else module
-        main.add_command(getattr(import_module(f"aaria_pin.cli.{module}_cmd"), name))
+    names = {"stats": "dataset_stats", "import": "import_"}  # not the module's name
+    for module in ("arm check dataset export identify import info mjcf plot render robots simulate"
+                   " stats template torques urdf view wrist").split():  # fmt: skip
+        command = getattr(import_module(f"aaria_pin.cli.{module}_cmd"), names.get(module, module))
+        main.add_command(command)
 
 
 _register()

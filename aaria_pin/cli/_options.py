@@ -109,13 +109,6 @@ def load_table_source(preset: str | None, dh_file: Path | None, convention: str)
     return dh_table_source(preset, dh_file, convention if given("convention") else None)
 
 
-def robot_name(stem: str) -> str:
-    """A URDF robot name from a preset or file name (:func:`~aaria_pin.aaria.robot_inputs.robot_name`)."""  # noqa: E501
-    from aaria_pin.aaria.robot_inputs import robot_name as name
-
-    return name(stem)
-
-
 fourier_options = stacked(
     click.option("--harmonics", type=click.IntRange(1, 1000),
                  help="Harmonics per joint of --motion fourier (default 5)."),

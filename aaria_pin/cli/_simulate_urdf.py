@@ -39,57 +39,27 @@ def simulate_urdf_command(params: dict[str, Any], stored: RunRecord | None = Non
     """
     import warnings
 
-    from aaria_pin.aaria.robot_inputs import urdf_source
-    from aaria_pin.aaria.run_motion import MotionChoice, urdf_motion
+    from aaria_pin.aaria.run_motion import MotionChoice
+    from aaria_pin.aaria.run_source import effort_warnings, urdf_file_overrides, urdf_run_request
     from aaria_pin.apps.run_summary import run_summary as summary
-    from aaria_pin.core.imu_layout import read_imu_layout
-    from aaria_pin.core.urdf_run import urdf_request, urdf_request_from_record
-    from aaria_pin.files.io import read_table
     from aaria_pin.files.runfile import write_run_pieces
 
     _refuse_options_without_effect(params)
     overrides = sampling_overrides(params, stored)
-    if params["tool_frame"] is not None:
-        overrides["tool_frame"] = params["tool_frame"]
-    if params["imu_layout_file"] is not None:
-        from aaria_pin.files.paths import existing_input
-
-        layout_file = existing_input(params["imu_layout_file"], None, "IMU layout")
-        overrides["imu_layout"] = read_imu_layout(layout_file)
-    if params["joints_file"] is not None:
-        overrides["joint_table"] = read_table(params["joints_file"], "joint_table")
-    if params["base_file"] is not None:
-        overrides["base_table"] = read_table(params["base_file"], "senSenB")
+    overrides.update(urdf_file_overrides(params))
     overrides.update(drive_overrides(params))
     output = params["output"]
     compress = params["compress"]
 
     def announce(record: RunRecord) -> None:
-        for warning in caught:
-            click.echo(f"aaria: warning: {warning.message}", err=True)
-        for joint, (peak, limit) in record.metadata.extra["effort_exceeded"].items():
-            click.echo(
-                f"aaria: warning: joint {joint!r} reaches |tau| {peak:.4g}, beyond its URDF "
-                f"effort limit {limit:.4g} (N*m or N)",
-                err=True,
-            )
+        for line in [str(warning.message) for warning in caught] + effort_warnings(record):
+            click.echo(f"aaria: warning: {line}", err=True)
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        robot, moving = (params["robot"], params["urdf_file"]), not params["fixed_base"]
         choice = MotionChoice.from_options(params)
-        if stored is not None:
-            if params["fixed_base"]:
-                overrides["moving_base"] = False
-            overrides.update(urdf_motion(choice, stored, overrides))
-            chunks = urdf_request_from_record(stored, **overrides).pieces()
-        else:
-            text, folder, source = urdf_source(params["robot"], params["urdf_file"])
-            overrides.update(urdf_motion(choice, None, overrides, text, folder))
-            moving = not params["fixed_base"]
-            request = urdf_request(
-                text, urdf_dir=folder, source=source, moving_base=moving, **overrides
-            )
-            chunks = request.pieces()
+        chunks = urdf_run_request(choice, overrides, robot, stored, moving).pieces()
         record, samples, peak = write_run_pieces(
             output, chunks, None if compress == "none" else compress, announce
         )

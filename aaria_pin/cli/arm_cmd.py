@@ -54,10 +54,8 @@ Examples:
   aaria arm urdf -o arm_big/ --radius 0.04 --height 0.2
   aaria view pp.h5 -o pp.html                           # a pick-place run, with its meshes""",
 )
-@click.option(
-    "-o", "--output", "folder", required=True, type=click.Path(path_type=Path),
-    help="Folder: writes pick_place_arm.urdf and meshes/*.stl.",
-)  # fmt: skip
+@click.option("-o", "--output", "folder", required=True, type=click.Path(path_type=Path),
+    help="Folder: writes pick_place_arm.urdf and meshes/*.stl.")  # fmt: skip
 @_PRESET
 @_CYLINDER
 def urdf(folder: Path, preset: str, radius: float, height: float) -> None:
@@ -79,43 +77,26 @@ Examples:
   aaria arm pick-place --cylinder 0.3 0.2 --place -0.3 0.2 --mass 1.5 --branch left \\
       -o pp.mat --sheet poses.png --animation task.gif --fps 15 --gif-size 400""",
 )
-@click.option(
-    "--cylinder", "cylinder_xy", nargs=2, type=float, required=True, metavar="X Y",
-    help="Where the cylinder stands [m].",
-)  # fmt: skip
-@click.option(
-    "--place", "place_xy", nargs=2, type=float, required=True, metavar="X Y",
-    help="Where to put it down [m].",
-)  # fmt: skip
+@click.option("--cylinder", "cylinder_xy", nargs=2, type=float, required=True, metavar="X Y",
+    help="Where the cylinder stands [m].")  # fmt: skip
+@click.option("--place", "place_xy", nargs=2, type=float, required=True, metavar="X Y",
+    help="Where to put it down [m].")  # fmt: skip
 @shown("--mass", default=0.5, help="Cylinder mass [kg].")
 @_CYLINDER
-@shown(
-    "--branch",
-    default="nearest",
-    type=click.Choice(["nearest", "left", "right"]),
-    help="IK branch of every move.",
-)
+@shown("--branch", default="nearest", type=click.Choice(["nearest", "left", "right"]),
+    help="IK branch of every move.")  # fmt: skip
 @shown("--rate", default=100.0, help="Sample rate [Hz].")
 @_PRESET
 @hardware_options
 @output_option("run file", (".h5", ".hdf5", ".mat"), help="Run file (.h5 or .mat).")
-@output_option(
-    "contact sheet", (".png",), "--sheet", required=False,
-    help="PNG contact sheet of the poses (start and end of every phase).",
-)  # fmt: skip
-@output_option(
-    "animation", (".gif",), "--animation", required=False, help="GIF animation of the task."
-)
-@shown(
-    "--fps", default=10, callback=_within("ANIMATION_FPS", "frames per second"),
-    help="Animation frame rate [frames per second of run time].",
-)  # fmt: skip
-@shown(
-    "--gif-size",
-    default=300,
-    callback=_within("ANIMATION_SIZES", "px"),
-    help="Animation width and height [px].",
-)
+@output_option("contact sheet", (".png",), "--sheet", required=False,
+    help="PNG contact sheet of the poses (start and end of every phase).")  # fmt: skip
+@output_option("animation", (".gif",), "--animation", required=False,
+    help="GIF animation of the task.")  # fmt: skip
+@shown("--fps", default=10, callback=_within("ANIMATION_FPS", "frames per second"),
+    help="Animation frame rate [frames per second of run time].")  # fmt: skip
+@shown("--gif-size", default=300, callback=_within("ANIMATION_SIZES", "px"),
+    help="Animation width and height [px].")  # fmt: skip
 def pick_place(output: Path, sheet: Path | None, animation: Path | None, **task: Any) -> None:
     """Pick a cylinder from the floor and put it elsewhere: path, torques, run file.
 

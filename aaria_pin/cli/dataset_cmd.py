@@ -93,19 +93,10 @@ Examples:
               " are verified and a damaged one made again.")  # fmt: skip
 @click.option("--overwrite", is_flag=True, help="Replace an existing file (once the new one is).")
 @click.option("--quiet", is_flag=True, help="No estimate, no progress bar or lines.")
-@click.option(
-    "--progress-every",
-    type=click.FloatRange(0),
-    help="Seconds between progress lines when stderr is not a terminal (default 10).",
-)
-@click.option(
-    "--print-config",
-    is_flag=True,
-    expose_value=False,
-    is_eager=True,
-    callback=_print_config,
-    help="Print the default configuration and exit.",
-)
+@click.option("--progress-every", type=click.FloatRange(0),
+    help="Seconds between progress lines when stderr is not a terminal (default 10).")  # fmt: skip
+@click.option("--print-config", is_flag=True, expose_value=False, is_eager=True,
+    callback=_print_config, help="Print the default configuration and exit.")  # fmt: skip
 def dataset(output: Path, quiet: bool, progress_every: float | None, **flags: Any) -> None:
     """Simulate N random runs (MODE 1) or N runs of one arm (MODE 2) into a data set.
 
@@ -115,6 +106,7 @@ def dataset(output: Path, quiet: bool, progress_every: float | None, **flags: An
     import warnings
 
     from aaria_pin.apps.dataset.generate import DatasetJob, DatasetJobStoppedError, generate_dataset
+    from aaria_pin.apps.dataset.outcome import job_outcome
     from aaria_pin.apps.dataset.progress import estimate_report, progress_report
     from aaria_pin.apps.dataset.spec_sources import DatasetSources
     from aaria_pin.errors import MeshWarning
@@ -140,18 +132,8 @@ def dataset(output: Path, quiet: bool, progress_every: float | None, **flags: An
     except DatasetJobStoppedError as exc:
         click.echo(f"\naaria: {exc}" if sys.stderr.isatty() else f"aaria: {exc}", err=True)
         raise SystemExit(exc.exit_status) from None
-    n_runs = spec.n_runs
-    click.echo("".join(f"run {run} was damaged; re-made\n" for run in report.remade), nl=False)
-    if job.resume and report.written == 0 and report.complete == n_runs and not report.failures:
-        click.echo(f"{report.path}: already complete ({n_runs}/{n_runs} runs); nothing to do")
-        return
-    in_shards = f", {report.shards} shards" if report.shards else ""
-    click.echo(
-        f"wrote {report.path}: {report.complete}/{n_runs} runs complete "
-        f"({report.written} in this job{in_shards}, {report.seconds:.1f} s)"
-    )
-    if report.failures:
-        for run, message in sorted(report.failures.items()):
-            click.echo(f"run {run} failed: {message}", err=True)
-        click.echo(f"failed runs: {sorted(report.failures)}", err=True)
+    text, failures = job_outcome(report, spec.n_runs, job.resume)
+    click.echo(text)
+    if failures:
+        click.echo("\n".join(failures), err=True)
         raise SystemExit(1)

@@ -23,17 +23,14 @@ Examples:
     "Built-in table (aaria-fig2, aaria-fig3, spherical-wrist) or a plug-in's model preset "
     "(pick-place-arm); an unknown name lists those installed."
 )
-@click.option(
-    "--from", "run_file", type=click.Path(path_type=Path, dir_okay=False),
-    help="Run file of any robot, or a data set (--run): the arm at --time.",
-)  # fmt: skip
+@click.option("--from", "run_file", type=click.Path(path_type=Path, dir_okay=False),
+    help="Run file of any robot, or a data set (--run): the arm at --time.")  # fmt: skip
 @run_option()
 @click.option("--time", type=FINITE_FLOAT, help="Time in the run [s] (default: its start).")
 @shown("--width", default=1000, help="Width [px].")
 @shown("--height", default=800, help="Height [px].")
-@shown(
-    "--elevation", default=20.0, type=FINITE_FLOAT, help="View elevation above the x-y plane [deg]."
-)
+@shown("--elevation", default=20.0, type=FINITE_FLOAT,
+    help="View elevation above the x-y plane [deg].")  # fmt: skip
 @shown("--azimuth", default=-60.0, type=FINITE_FLOAT, help="View azimuth about z [deg].")
 @output_option("picture", PICTURE_SUFFIXES)
 def render(run_file: Path | None, run_index: int | None, output: Path, **options: Any) -> None:

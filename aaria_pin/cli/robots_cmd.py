@@ -16,9 +16,8 @@ Examples:
   aaria simulate --robot ur5 -o ur5.h5"""
 )
 @click.option("--paths", is_flag=True, help="Also print each robot's URDF file.")
-@click.option(
-    "--check", is_flag=True, help="Load each robot: its joint count, or why it is refused."
-)
+@click.option("--check", is_flag=True,
+    help="Load each robot: its joint count, or why it is refused.")  # fmt: skip
 @click.option("--json", "as_json", is_flag=True, help="Print name → URDF file as JSON.")
 def robots(paths: bool, check: bool, as_json: bool) -> None:
     """List the robots of example-robot-data, for --robot NAME of simulate and dataset."""

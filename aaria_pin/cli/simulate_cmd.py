@@ -98,16 +98,11 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
     joint a random finite Fourier series within its position, speed and acceleration limits)
     or a given trajectory (--trajectory FILE).
     """
-    from aaria_pin.aaria.arm_run import read_imu_mounts
-    from aaria_pin.aaria.dh_robot import BodyDimensions
-    from aaria_pin.aaria.presets import get_preset
-    from aaria_pin.aaria.run_motion import MotionChoice, dh_motion
-    from aaria_pin.aaria.simulate import dh_request, dh_request_from_record
+    from aaria_pin.aaria.run_motion import MotionChoice
+    from aaria_pin.aaria.run_source import dh_file_overrides, dh_run_request
     from aaria_pin.apps.run_summary import run_summary as summary
     from aaria_pin.core._malloc import tune_malloc
     from aaria_pin.core.conflicts import OptionConflictError
-    from aaria_pin.errors import ParameterError
-    from aaria_pin.files.io import read_table
     from aaria_pin.files.runfile import write_run_pieces
 
     tune_malloc()
@@ -137,35 +132,15 @@ def simulate(output: Path, compress: str, **flags: Any) -> None:
         if flags[key] not in (None, False):
             raise click.UsageError(f"{flag} is for URDF robots (--robot or --urdf)")
     overrides = sampling_overrides(params, stored)
-    if flags["joints_file"] is not None:
-        overrides["joint_table"] = read_table(flags["joints_file"], "senSenJ")
-    if flags["base_file"] is not None:
-        overrides["base_table"] = read_table(flags["base_file"], "senSenB")
-    if flags["mount_file"] is not None:
-        overrides["imu_mount"] = read_imu_mounts(flags["mount_file"])
-    if flags["density"] is not None:
-        overrides["dims"] = BodyDimensions(density=flags["density"])
+    overrides.update(dh_file_overrides(flags))
     overrides.update(drive_overrides(params))
     for key in ("preset", "dh_file"):  # the run file has its table
         if stored is not None and given(key):
             raise OptionConflictError(parameter=key, other="from_run", given_with=True)
     choice = MotionChoice.from_options(params)
-    if stored is not None:
-        overrides.update(dh_motion(choice, stored, overrides, stored.tables["senSenDH"]))
-        chunks = dh_request_from_record(stored, source=str(from_run), **overrides).pieces()
-    else:
-        table, table_convention, name = load_table_source(preset, dh_file, flags["convention"])
-        if table_convention != "aaria":
-            raise ParameterError(
-                f"table {name!r} is a {table_convention} DH table; allowed: an Aaria 8 × 5 table",
-                parameter="dh_table",
-            )
-        overrides.update(dh_motion(choice, None, overrides, table))
-        if preset is not None:  # its tables where none is given (after the motion's rules)
-            chosen = get_preset(preset)
-            overrides.setdefault("joint_table", chosen.joint_table)
-            overrides.setdefault("base_table", chosen.base_table)
-        chunks = dh_request(table, robot_name=name, **overrides).pieces()
+    remade = None if stored is None else (stored, str(from_run))
+    source = None if remade else load_table_source(preset, dh_file, flags["convention"])
+    chunks = dh_run_request(choice, overrides, source, preset, remade).pieces()
     compression = None if compress == "none" else compress
     record, samples, peak = write_run_pieces(output, chunks, compression)
     click.echo(summary(output, record, samples, peak, robot=False))

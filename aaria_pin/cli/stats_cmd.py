@@ -40,15 +40,11 @@ Examples:
     help="Arrays or views, comma-separated (senSen, signals, imu, q, tau, …); default the "
     "first view.",
 )  # fmt: skip
-@shown(
-    "--split", default="train", type=click.Choice(["train", "validation", "test", "all"]),
-    help="The runs: a split by run, or all complete runs.",
-)  # fmt: skip
+@shown("--split", default="train", type=click.Choice(["train", "validation", "test", "all"]),
+    help="The runs: a split by run, or all complete runs.")  # fmt: skip
 @shown("--seed", default=0, help="The split's seed.")
-@shown(
-    "--fractions", default="0.8,0.1,0.1", callback=_numbers,
-    help="Fractions of the runs in the train, validation and test splits.",
-)  # fmt: skip
+@shown("--fractions", default="0.8,0.1,0.1", callback=_numbers,
+    help="Fractions of the runs in the train, validation and test splits.")  # fmt: skip
 @click.option("--store", is_flag=True, help="Store them in the file (replacing the split's).")
 @json_option("Print {name: {mean, std}} as JSON.")
 def dataset_stats(file: Path, as_json: bool, **settings: Any) -> None:

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from aaria_pin.cli._options import load_table_source, robot_name, table_source_options
+from aaria_pin.cli._options import load_table_source, table_source_options
 from aaria_pin.cli._viz_options import output_option
 
 if TYPE_CHECKING:
@@ -20,19 +20,11 @@ URDF_SUFFIXES = (".urdf", ".xml")
 def table_arm(
     preset: str | None, dh_file: Path | None, convention: str, density: float
 ) -> tuple[DHRobot, str]:
-    """The DH arm of ``--preset`` or ``--dh`` (a preset's measured masses) and its source name."""
-    from aaria_pin.aaria.dh_robot import BodyDimensions, build_dh_robot
-    from aaria_pin.aaria.presets import get_preset
+    """The DH arm of ``--preset`` or ``--dh`` (:func:`~aaria_pin.apps.robot_mjcf.dh_arm`)."""
+    from aaria_pin.apps.robot_mjcf import dh_arm
 
-    table, table_convention, name = load_table_source(preset, dh_file, convention)
-    arm = build_dh_robot(
-        table,
-        table_convention,
-        BodyDimensions(density=density),
-        name=robot_name(name),
-        mass_properties=get_preset(preset).mass_properties if preset else None,
-    )
-    return arm, name
+    source = load_table_source(preset, dh_file, convention)
+    return dh_arm(source, density, preset), source[2]
 
 
 @click.command(
@@ -43,13 +35,8 @@ Examples:
   aaria urdf --dh wrist.csv --convention standard --density 7850 -o wrist.urdf"""
 )
 @table_source_options
-@click.option(
-    "--density",
-    type=float,
-    default=2700.0,
-    show_default=True,
-    help="Density of every body [kg/m^3].",
-)
+@click.option("--density", type=float, default=2700.0, show_default=True,
+    help="Density of every body [kg/m^3].")  # fmt: skip
 @output_option("URDF file", URDF_SUFFIXES, help="URDF file to write (.urdf or .xml).")
 def urdf(
     preset: str | None, dh_file: Path | None, convention: str, density: float, output: Path

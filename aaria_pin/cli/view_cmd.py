@@ -18,10 +18,8 @@ Examples:
 )
 @click.argument("run_file", type=click.Path(path_type=Path, dir_okay=False))
 @run_option()
-@shown(
-    "--max-samples", default=500, type=click.IntRange(2),
-    help="Most samples in the page (the run is decimated evenly).",
-)  # fmt: skip
+@shown("--max-samples", default=500, type=click.IntRange(2),
+    help="Most samples in the page (the run is decimated evenly).")  # fmt: skip
 @output_option("HTML page", (".html", ".htm"))
 def view(run_file: Path, run_index: int | None, max_samples: int, output: Path) -> None:
     """Write an HTML page that plays the run in 3D, its signals beside it (works offline).

@@ -71,13 +71,9 @@ Examples:
 @json_option()
 def fk(joints: tuple[float, float, float], order: str, radians: bool, as_json: bool) -> None:
     """Tool pose and angles of joint angles J1 J2 J3 (negative values work as they are)."""
-    import numpy as np
+    from aaria_pin.apps.wrist.report import joints_report
 
-    from aaria_pin.apps.wrist.report import wrist_report
-    from aaria_pin.apps.wrist.wrist_kinematics import wrist_fk
-
-    q = np.array(joints) if radians else np.radians(joints)
-    _echo(wrist_report(wrist_fk(q)[:3, :3], order, degrees=not radians), as_json)
+    _echo(joints_report(joints, order, degrees=not radians), as_json)
 
 
 @wrist.command(
@@ -108,20 +104,11 @@ Examples:
 @json_option()
 def ik(angles: Any, order: str, matrix: Any, limits: bool, radians: bool, as_json: bool) -> None:
     """Every joint solution for a tool rotation given as angles or as a matrix."""
-    import numpy as np
-
-    from aaria_pin.apps.wrist.report import nearest_rotation, wrist_report
-    from aaria_pin.core.rotations import matrix_from_angles
+    from aaria_pin.apps.wrist.report import rotation_report
 
     if (angles is None) == (matrix is None):
         raise click.UsageError("give exactly one of --angles A B C or --matrix R11 … R33")
-    if angles is not None:
-        rotation = matrix_from_angles(np.array(angles) if radians else np.radians(angles), order)
-        _echo(wrist_report(rotation, order, limits, not radians), as_json)
-        return
-    rotation, note = nearest_rotation(matrix)
-    notes = () if note is None else (f"--{note}",)
-    _echo(wrist_report(rotation, order, limits, not radians, notes), as_json)
+    _echo(rotation_report(angles, matrix, order, limits, not radians), as_json)
 
 
 @wrist.command(
@@ -134,21 +121,15 @@ Examples:
 )
 @click.argument("targets", nargs=3, type=FINITE_FLOAT)
 @shown("--speed", default=40.0, type=FINITE_FLOAT, callback=_positive, help="Joint speed [deg/s].")
-@shown(
-    "--acceleration", default=80.0, type=FINITE_FLOAT, callback=_positive,
-    help="Acceleration limit of the trapezoid [deg/s^2].",
-)  # fmt: skip
-@shown(
-    "--profile", default="trapezoid", type=click.Choice(["trapezoid", "ramp"]),
-    help="Smooth trapezoid (for torques) or the report's ramp.",
-)  # fmt: skip
+@shown("--acceleration", default=80.0, type=FINITE_FLOAT, callback=_positive,
+    help="Acceleration limit of the trapezoid [deg/s^2].")  # fmt: skip
+@shown("--profile", default="trapezoid", type=click.Choice(["trapezoid", "ramp"]),
+    help="Smooth trapezoid (for torques) or the report's ramp.")  # fmt: skip
 @grid_options("(default: 1 s after arrival)", 100.0)
 @click.option("--radians", is_flag=True, help="Targets in radians (default degrees).")
 @hardware_options
-@click.option(
-    "-o", "--output", type=click.Path(dir_okay=False), required=True,
-    help="Run file: .h5 or .mat (time, q, qd, qdd, tau, tool_pose).",
-)  # fmt: skip
+@click.option("-o", "--output", type=click.Path(dir_okay=False), required=True,
+    help="Run file: .h5 or .mat (time, q, qd, qdd, tau, tool_pose).")  # fmt: skip
 def simulate(targets: Any, radians: bool, output: str, **motion: Any) -> None:
     """Move the wrist to TARGETS (J1 J2 J3) after 2 s and write joint torques along the way.
 
@@ -175,19 +156,13 @@ Examples:
   aaria wrist workspace --samples 20000 --json       # one JSON object""",
 )
 @shown("--samples", default=200_000, type=click.IntRange(1, 10_000_000), help="Tool points.")
-@shown(
-    "--theta1", default=(0.0, 360.0), nargs=2, type=FINITE_FLOAT, callback=_range,
-    help="Joint 1 range LOW HIGH [deg] (the report's 0-360).",
-)  # fmt: skip
-@shown(
-    "--theta2", default=(0.0, 180.0), nargs=2, type=FINITE_FLOAT, callback=_range,
-    help="Joint 2 range LOW HIGH [deg] (the report's 0-180).",
-)  # fmt: skip
+@shown("--theta1", default=(0.0, 360.0), nargs=2, type=FINITE_FLOAT, callback=_range,
+    help="Joint 1 range LOW HIGH [deg] (the report's 0-360).")  # fmt: skip
+@shown("--theta2", default=(0.0, 180.0), nargs=2, type=FINITE_FLOAT, callback=_range,
+    help="Joint 2 range LOW HIGH [deg] (the report's 0-180).")  # fmt: skip
 @shown("--seed", default=0, type=click.IntRange(0, MAX_SEED), help="Seed of the samples.")
-@output_option(
-    "picture", PICTURE_SUFFIXES, "--plot", required=False,
-    help="Write a picture of the tool points (.png, .pdf or .svg).",
-)  # fmt: skip
+@output_option("picture", PICTURE_SUFFIXES, "--plot", required=False,
+    help="Write a picture of the tool points (.png, .pdf or .svg).")  # fmt: skip
 @json_option()
 def workspace(theta1: Any, theta2: Any, plot: Path | None, as_json: bool, **samples: Any) -> None:
     """Sample the reachable tool points: radius and covered solid angle."""

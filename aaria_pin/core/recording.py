@@ -23,7 +23,14 @@ import numpy as np
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
-__all__ = ["STREAM_COLUMNS", "RecordedRun", "SensorStream"]
+__all__ = [
+    "STREAM_COLUMNS",
+    "JointStates",
+    "RecordedRun",
+    "SensorStream",
+    "first_repeated",
+    "joint_groups",
+]
 
 STREAM_COLUMNS = {
     "imu": ("wx", "wy", "wz", "fx", "fy", "fz"),
@@ -104,6 +111,43 @@ class SensorStream:
         return float(1.0 / np.median(np.diff(self.time))) if self.time.size > 1 else 0.0
 
 
+def first_repeated(names: Sequence[str]) -> str | None:
+    """The first (sorted) name given more than once, or None."""
+    repeated = sorted({n for n in names if names.count(n) > 1})
+    return repeated[0] if repeated else None
+
+
+def joint_groups(stream: SensorStream) -> tuple[list[str], dict[str, list[int]]]:
+    """A joint stream's joints (in order) and each group's columns (``q``, ``qd``, ``tau``)."""
+    groups: dict[str, list[int]] = {"q": [], "qd": [], "tau": []}
+    joints: list[str] = []
+    for index, column in enumerate(stream.columns):
+        group, _, joint = column.partition(":")
+        groups.setdefault(group, []).append(index)
+        if joint not in joints:
+            joints.append(joint)
+    return joints, groups
+
+
+@dataclass(frozen=True)
+class JointStates:
+    """A joint stream's groups, by joint (what an estimator takes of the encoders).
+
+    Attributes:
+        time: (N,) time stamps, seconds from the run's ``time_origin_ns`` [s]
+        names: the joints, in column order
+        q: (N, n) joint values [rad or m], or None when not recorded
+        qd: (N, n) joint velocities [rad/s or m/s], or None
+        tau: (N, n) joint torques [N·m] or forces [N], or None
+    """
+
+    time: Array
+    names: tuple[str, ...]
+    q: Array | None
+    qd: Array | None
+    tau: Array | None
+
+
 @dataclass(frozen=True)
 class RecordedRun:
     """A run as a robot recorded it: its sensors' streams, no truth.
@@ -123,13 +167,12 @@ class RecordedRun:
     _by_name: dict[str, SensorStream] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        names = [s.name for s in self.streams]
-        repeated = sorted({n for n in names if names.count(n) > 1})
-        if repeated:
+        repeated = first_repeated([s.name for s in self.streams])
+        if repeated is not None:
             raise ParameterError(
-                f"stream {repeated[0]} is recorded twice; allowed: one stream per sensor",
+                f"stream {repeated} is recorded twice; allowed: one stream per sensor",
                 parameter="streams",
-                value=repeated[0],
+                value=repeated,
             )
         object.__setattr__(self, "streams", tuple(self.streams))
         object.__setattr__(self, "_by_name", {s.name: s for s in self.streams})
@@ -150,3 +193,28 @@ class RecordedRun:
                 parameter="stream", value=name, allowed=", ".join(self._by_name) or "none"
             )
         return found
+
+    @property
+    def imu_names(self) -> tuple[str, ...]:
+        """The IMUs' names, in order."""
+        return tuple(s.name for s in self.of_kind("imu"))
+
+    def imu(self, name: str) -> tuple[Array, Array]:
+        """An IMU's time [s] (N,) and signals (N, 6: ``wx wy wz`` [rad/s], ``fx fy fz`` [m/s²]).
+
+        Raises:
+            ParameterError: no stream of that name.
+        """
+        stream = self.stream(name)
+        return stream.time, stream.values
+
+    def joint_states(self, name: str = "joints") -> JointStates:
+        """A joint stream's time and its ``q``, ``qd``, ``tau`` by joint (None: not recorded).
+
+        Raises:
+            ParameterError: no stream of that name.
+        """
+        stream = self.stream(name)
+        joints, groups = joint_groups(stream)
+        parts = {g: stream.values[:, groups[g]] if groups[g] else None for g in ("q", "qd", "tau")}
+        return JointStates(stream.time, tuple(joints), **parts)

@@ -86,3 +86,18 @@ def test_workspace_report_numbers_and_text() -> None:
     }
     assert "radius 132.000 mm (sampled radii 100.000-132.000 mm)" in text
     assert "(25.0% of the sphere), exactly 6.2832 sr" in text
+
+
+def test_the_reports_of_joint_angles_and_of_their_rotation_agree() -> None:
+    from aaria_pin.apps.wrist.report import joints_report, rotation_report
+    from aaria_pin.apps.wrist.wrist_kinematics import wrist_fk
+
+    joints = np.array([30.0, 45.0, 10.0])
+    forward = joints_report(joints, "ZYZ")
+    np.testing.assert_allclose(forward.T_base_tool, wrist_fk(np.radians(joints)), atol=1e-12)
+    by_matrix = rotation_report(None, forward.T_base_tool[:3, :3].ravel(), "ZYZ")
+    by_angles = rotation_report(forward.angles, None, "ZYZ")
+    for report in (by_matrix, by_angles):
+        assert any(np.allclose(q, joints, atol=1e-9) for q in report.solutions)
+    radians = joints_report(np.radians(joints), "ZYZ", degrees=False)
+    np.testing.assert_allclose(radians.angles, np.radians(forward.angles), atol=1e-12)

@@ -139,3 +139,91 @@ def test_a_recording_without_imus_and_a_foreign_suffix_are_refused(tmp_path: Pat
         read_bag(path)
     with pytest.raises(InputFileError, match=r"is not a recording; allowed: \.bag"):
         read_bag(tmp_path / "run.txt")
+
+
+def _ros2_joint_bag(folder: Path, gripper: bool = False) -> Path:
+    """A ROS 2 sqlite3 bag written with rosbags directly: an IMU (no frame id) and joint states
+    whose messages carry no effort (an empty array), stamps 3 ms before their log times; with
+    ``gripper``, a second publisher of one joint on the same topic, at 50 Hz."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    t = store.types
+    vector = t["geometry_msgs/msg/Vector3"]
+
+    def header(ns: int) -> object:
+        stamp = t["builtin_interfaces/msg/Time"](sec=ns // 10**9, nanosec=ns % 10**9)
+        return t["std_msgs/msg/Header"](stamp=stamp, frame_id="")
+
+    with Writer(folder, version=9, storage_plugin=StoragePlugin.SQLITE3) as writer:
+        imu = writer.add_connection("/arm/imu", "sensor_msgs/msg/Imu", typestore=store)
+        js = writer.add_connection("/joint_states", "sensor_msgs/msg/JointState", typestore=store)
+        for k in range(3):
+            ns = 5 * 10**9 + k * 10**7
+            message = t["sensor_msgs/msg/Imu"](
+                header=header(ns), orientation=t["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0,
+                z=0.0, w=1.0), orientation_covariance=np.zeros(9),
+                angular_velocity=vector(x=float(k), y=0.0, z=0.0),
+                angular_velocity_covariance=np.zeros(9),
+                linear_acceleration=vector(x=0.0, y=0.0, z=9.81),
+                linear_acceleration_covariance=np.zeros(9),
+            )  # fmt: skip
+            writer.write(imu, ns + 3_000_000, store.serialize_cdr(message, "sensor_msgs/msg/Imu"))
+            state = t["sensor_msgs/msg/JointState"](
+                header=header(ns), name=["elbow", "wrist"], position=np.array([k, -k], float),
+                velocity=np.array([1.0, 2.0]), effort=np.zeros(0),
+            )  # fmt: skip
+            raw = store.serialize_cdr(state, "sensor_msgs/msg/JointState")
+            writer.write(js, ns + 3_000_000, raw)
+            if gripper and k % 2 == 0:
+                finger = t["sensor_msgs/msg/JointState"](
+                    header=header(ns + 1000), name=["finger"], position=np.array([0.01 * k]),
+                    velocity=np.zeros(0), effort=np.array([2.0]),
+                )  # fmt: skip
+                raw = store.serialize_cdr(finger, "sensor_msgs/msg/JointState")
+                writer.write(js, ns + 3_000_001, raw)
+    return folder
+
+
+def test_a_ros2_bag_folder_written_by_rosbags_reads_in(tmp_path: Path) -> None:
+    from aaria_pin.files.recordings.mapping import RecordingMap
+
+    back = read_bag(_ros2_joint_bag(tmp_path / "lab_bag"))
+    assert back.time_origin_ns == 5 * 10**9 and back.imu_names == ("imu",)  # the topic's name
+    states = back.joint_states()
+    assert states.names == ("elbow", "wrist") and states.tau is None
+    np.testing.assert_array_equal(states.q, [[0, 0], [1, -1], [2, -2]])
+    np.testing.assert_array_equal(states.time, [0.0, 0.01, 0.02])
+    logged = read_bag(tmp_path / "lab_bag", RecordingMap(time="log"))
+    assert logged.time_origin_ns == 5 * 10**9 + 3_000_000
+
+
+def test_a_bag_without_message_definitions_reads_as_humble_ones_do(tmp_path: Path) -> None:
+    import sqlite3
+
+    from rosbags.highlevel import AnyReader
+
+    folder = _ros2_joint_bag(tmp_path / "humble_bag")
+    with sqlite3.connect(next(folder.glob("*.db3"))) as db:  # as a pre-Iron recorder wrote it
+        db.execute("DELETE FROM message_definitions")
+    with pytest.raises(Exception, match="no type definitions"), AnyReader([folder]):
+        pass  # rosbags alone refuses it
+    assert read_bag(folder).imu_names == ("imu",)
+
+
+def test_two_publishers_on_one_joint_states_topic_are_two_streams(tmp_path: Path) -> None:
+    back = read_bag(_ros2_joint_bag(tmp_path / "two_bag", gripper=True))
+    arm, finger = back.joint_states("joints0"), back.joint_states("joints1")
+    assert arm.names == ("elbow", "wrist") and finger.names == ("finger",)
+    np.testing.assert_array_equal(finger.q, [[0.0], [0.02]])
+    np.testing.assert_array_equal(finger.tau, [[2.0], [2.0]])
+    np.testing.assert_array_equal(finger.time, [1e-6, 0.020001])
+    assert finger.qd is None and arm.tau is None
+
+
+def test_a_sensor_without_header_stamps_keeps_its_log_time_with_a_warning(tmp_path: Path) -> None:
+    with pytest.warns(UserWarning, match=r"wrist \(/wrist/imu\) has no header stamps"):
+        back = read_bag(_bag(tmp_path / "nostamp.bag", [0, 0, 0], [0.1, 0.2, 0.3]))
+    assert back.time_origin_ns == 10**9  # the helper logs message k at 1 s + k ns
+    np.testing.assert_array_equal(back.stream("wrist").time, [0.0, 1e-9, 2e-9])

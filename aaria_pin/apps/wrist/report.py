@@ -170,6 +170,49 @@ def wrist_report(
     )
 
 
+def joints_report(joints: ArrayLike, order: str = "xyz", degrees: bool = True) -> WristReport:
+    """:func:`wrist_report` of the tool rotation of joint angles (``aaria wrist fk``).
+
+    Args:
+        joints: J1 J2 J3 [deg, or rad with ``degrees`` False]
+        order: the angle sequence to express the rotation in
+        degrees: angles in and out in degrees (else radians)
+    """
+    q = np.radians(joints) if degrees else np.asarray(joints, dtype=float)
+    return wrist_report(wrist_fk(q)[:3, :3], order, degrees=degrees)
+
+
+def rotation_report(
+    angles: ArrayLike | None,
+    matrix: ArrayLike | None,
+    order: str = "xyz",
+    limits: bool = False,
+    degrees: bool = True,
+) -> WristReport:
+    """:func:`wrist_report` of a tool rotation given as angles or as a matrix (``wrist ik``).
+
+    Args:
+        angles: three angles in the sequence ``order`` [deg, or rad with ``degrees`` False]
+        matrix: else the rotation R11 … R33, row by row (within 1e-5 of a rotation: projected
+            onto the nearest one, with a note; :func:`nearest_rotation`)
+        order: the angles' sequence, and that of the angles reported
+        limits: keep solutions within the report's joint ranges
+        degrees: angles in and out in degrees (else radians)
+
+    Raises:
+        ParameterError: neither angles nor a matrix, or a matrix that is no rotation.
+    """
+    from aaria_pin.core.rotations import matrix_from_angles
+
+    if angles is not None:
+        values = np.radians(angles) if degrees else np.asarray(angles, dtype=float)
+        return wrist_report(matrix_from_angles(values, order), order, limits, degrees)
+    if matrix is None:
+        raise ParameterError(parameter="matrix", value=None, allowed="angles or a matrix")
+    rotation, note = nearest_rotation(matrix)
+    return wrist_report(rotation, order, limits, degrees, () if note is None else (f"--{note}",))
+
+
 def workspace_report(space: Workspace) -> tuple[dict[str, Any], str]:
     """A workspace's numbers (radius, solid angle, share of the sphere) and their text.
 

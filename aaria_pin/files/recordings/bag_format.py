@@ -16,6 +16,7 @@ from aaria_pin.errors import InputFileError
 
 __all__ = [
     "BAG_SUFFIXES",
+    "EXPORT_FORMATS",
     "IMU_TYPE",
     "JOINTS_TOPIC",
     "JOINTS_TYPE",
@@ -26,6 +27,12 @@ __all__ = [
 
 BAG_SUFFIXES = {".bag": "ros1", ".mcap": "mcap", ".db3": "sqlite3"}
 """The recording formats by file suffix."""
+
+EXPORT_FORMATS = {
+    "mcap": ".mcap", "ros1": ".bag", "sqlite3": ".db3", "csv": ".csv", "ros2-sqlite3": "",
+    "ros2-mcap": "",
+}  # fmt: skip
+"""The formats a run is exported to, and their suffix (empty: a ROS 2 bag folder)."""
 
 IMU_TYPE = "sensor_msgs/msg/Imu"
 JOINTS_TYPE = "sensor_msgs/msg/JointState"
@@ -43,10 +50,33 @@ def bag_format(path: Path) -> str:
     if found is None:
         raise InputFileError(
             f"{path} is not a recording; allowed: {', '.join(BAG_SUFFIXES)} (ROS 1 bag, MCAP, "
-            "ROS 2 sqlite3)",
+            "ROS 2 sqlite3), a ROS 2 bag folder, .csv",
             parameter="file",
         )
     return found
+
+
+def export_format(path: Path, form: str | None = None) -> str:
+    """The format of an export to ``path``: ``form`` if given, else by the suffix.
+
+    Raises:
+        ParameterError: an unknown format, or one whose suffix is not the path's; no format
+            for a path without a known suffix (parameter ``form``).
+    """
+    from aaria_pin.errors import ParameterError
+
+    by_suffix = {suffix: name for name, suffix in EXPORT_FORMATS.items() if suffix}
+    suffix = path.suffix.lower()
+    chosen = by_suffix.get(suffix) if form is None else form
+    allowed = ", ".join(EXPORT_FORMATS)
+    if chosen is None or chosen not in EXPORT_FORMATS:
+        what = f"{form}" if form is not None else f"not given and {path} has no known suffix"
+        raise ParameterError(f"form is {what}; allowed: {allowed} (a ROS 2 bag folder:"
+                             " ros2-sqlite3, ros2-mcap)", parameter="form")  # fmt: skip
+    if EXPORT_FORMATS[chosen] != (suffix if suffix in by_suffix else ""):
+        wanted = EXPORT_FORMATS[chosen] or "a folder name without a suffix"
+        raise ParameterError(f"form {chosen} writes {wanted}; {path} is not one", parameter="form")
+    return chosen
 
 
 def rosbags_typestore(ros1: bool) -> Any:

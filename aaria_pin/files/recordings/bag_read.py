@@ -1,21 +1,29 @@
-"""Read a recording (ROS 1 bag, MCAP, ROS 2 sqlite3) into a recorded run (``rosbags``).
+"""Read a recording (ROS 1 bag, ROS 2 bag folder, MCAP, ROS 2 sqlite3) into a recorded run.
 
-Every ``sensor_msgs/Imu`` topic is an IMU named after its frame id (the topic's last part when
-the frame id is empty), every ``sensor_msgs/JointState`` topic is joined by joint name into
-one joint stream, every ``geometry_msgs/WrenchStamped`` topic is a wrench named after its
-topic's last part (the topics :func:`~aaria_pin.files.recordings.bag_write.write_bag` writes
-read back to the same names). Each sensor keeps its own header stamps as its time, from the
-earliest stamp of the recording (``time_origin_ns``). What is wrong in a recording is one line,
-an :class:`~aaria_pin.errors.InputFileError` naming the file: no IMU topic; a file the reader
-cannot open or read through (a truncated or damaged bag: whatever the reader raised, its first
-line; the readers raise more than their own error class, e.g. sqlite's and zstd's); a time
-stamp that does not increase, or a value that is not finite, naming the stream and the sample
-(:class:`~aaria_pin.core.recording.SensorStream`'s own checks).
+Without a map (:class:`~aaria_pin.files.recordings.mapping.RecordingMap`), every
+``sensor_msgs/Imu`` topic is an IMU named after its frame id (one IMU per frame id when several
+share the topic; the topic's last part when the frame id is empty), every
+``sensor_msgs/JointState`` topic a joint stream joined by joint name (one per set of joints
+when several publishers share the topic: ``joints0``, ``joints1``, …), every
+``geometry_msgs/WrenchStamped`` topic a wrench named after its topic's last part (the topics
+:func:`~aaria_pin.files.recordings.bag_write.write_bag` writes read back to the same names).
+A map names the sensors it wants and where they are. Each sensor keeps its own time: its
+messages' header stamps (the map's ``time = "log"``: their log time; stamps all zero: log time,
+with a warning), from the earliest of the recording (``time_origin_ns``).
+
+What is wrong in a recording is one line, an :class:`~aaria_pin.errors.InputFileError` naming
+the file: no IMU topic; a mapped topic missing, of another type, or without the mapped frame id;
+a file the reader cannot open or read through (a truncated or damaged bag: whatever the reader
+raised, its first line; the readers raise more than their own error class, e.g. sqlite's and
+zstd's); a time stamp that does not increase or a value that is not finite, naming the stream
+and the sample (:class:`~aaria_pin.core.recording.SensorStream`'s own checks).
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +38,7 @@ from aaria_pin.files.recordings.bag_format import (
     bag_format,
     rosbags_typestore,
 )
+from aaria_pin.files.recordings.mapping import RecordingMap, SensorMap
 
 __all__ = ["read_bag"]
 
@@ -51,21 +60,38 @@ _ROWS: dict[str, tuple[str, Callable[[Any], tuple[float, ...]]]] = {
 """The fixed-column message types: the stream kind and the row of a message."""
 
 
-def read_bag(path: str | Path) -> RecordedRun:
-    """The recorded run of a ``.bag``, ``.mcap`` or ``.db3`` file.
+@dataclass
+class _Topic:
+    """A topic's messages as read: kind, stamps and log times [ns], frame ids, values."""
+
+    topic: str
+    kind: str
+    stamps: Any
+    logs: Any
+    frames: Any
+    values: Any
+    columns: tuple[str, ...]
+
+
+def read_bag(path: str | Path, mapping: RecordingMap | None = None) -> RecordedRun:
+    """The recorded run of a ``.bag``, ``.mcap`` or ``.db3`` file or a ROS 2 bag folder.
+
+    Args:
+        path: the recording
+        mapping: which topics are which sensors (None: every topic, module docstring)
 
     Raises:
-        InputFileError: a file that is not a readable recording with an IMU topic, or a stream
-            whose time does not increase or whose values are not finite (one line, the file
-            named; parameter ``file``).
+        InputFileError: a file that is not a readable recording with an IMU topic, a mapped
+            sensor not in it, or a stream whose time does not increase or whose values are
+            not finite (one line, the file named; parameter ``file``).
     """
     file = Path(path)
-    form = bag_format(file)
-    if not file.is_file():
+    form = "ros2" if file.is_dir() else bag_format(file)
+    if not file.exists():
         raise InputFileError(f"{file}: no such file", parameter="file")
     store = rosbags_typestore(form == "ros1")
     try:
-        topics = _topics(file, store)
+        topics = _read_topics(file, store)
     except InputFileError:
         raise
     except Exception as exc:  # the readers raise their own, sqlite's, zstd's, OverflowError
@@ -73,50 +99,110 @@ def read_bag(path: str | Path) -> RecordedRun:
         raise InputFileError(
             f"{file} is damaged ({first}); allowed: a complete recording", parameter="file"
         ) from None
-    if not any(kind == "imu" for kind, *_ in topics.values()):
-        raise InputFileError(
-            f"{file} has no {IMU_TYPE} topic; allowed: a recording with IMUs", parameter="file"
-        )
-    origin = min(int(stamps[0]) for _, _, stamps, _, _ in topics.values() if stamps.size)
+    if not any(t.kind == "imu" for t in topics.values()):
+        listed = ", ".join(f"{t.topic} ({t.kind})" for t in topics.values()) or "none"
+        raise InputFileError(f"{file} has no {IMU_TYPE} topic; allowed: a recording with IMUs"
+                             f" (topics read: {listed})", parameter="file")  # fmt: skip
+    mapping = mapping or RecordingMap()
+    chosen = _chosen(file, topics, mapping)
+    clock = [_clock(file, name, t, mask, mapping.time) for name, t, mask in chosen]
+    origin = min(int(ns[0]) for ns in clock if ns.size)
     streams = []
     try:
-        for kind, name, stamps, values, columns in topics.values():
-            time = (stamps - origin) / 1e9
-            streams.append(SensorStream(name, kind, time, values, columns, source=str(file)))
+        for (name, t, mask), ns in zip(chosen, clock, strict=True):
+            streams.append(SensorStream(name, t.kind, (ns - origin) / 1e9, t.values[mask],
+                                        t.columns, source=t.topic))  # fmt: skip
         return RecordedRun(streams, time_origin_ns=origin, source=str(file))
     except ParameterError as exc:
         raise InputFileError(f"{file}: {exc}", parameter="file") from None
 
 
-def _topics(file: Path, store: Any) -> dict[str, tuple[str, str, Any, Any, tuple[str, ...]]]:
-    """Per topic: kind, name, stamps [ns], values, columns (messages in the reader's order)."""
+def _chosen(
+    file: Path, topics: dict[str, _Topic], mapping: RecordingMap
+) -> list[tuple[str, _Topic, Any]]:
+    """The streams to make: name, topic and the mask of its messages."""
+    chosen = []
+    for kind, sensors in (("imu", mapping.imus), ("wrench", mapping.wrenches)):
+        if not sensors:
+            groups = [_default_sensors(t) for t in topics.values() if t.kind == kind]
+            sensors = tuple(s for group in groups for s in group)
+        for sensor in sensors:
+            chosen.append(_mapped(file, topics, kind, sensor))
+    joints = [t for t in topics.values() if t.kind == "joints"]
+    if mapping.joints is not None:
+        _mapped(file, topics, "joints", SensorMap("joints", mapping.joints))  # there, of its type
+        joints = [t for t in joints if t.topic == mapping.joints]
+    for k, topic in enumerate(joints):
+        name = "joints" if len(joints) == 1 else f"joints{k}"
+        chosen.append((name, topic, np.ones(topic.stamps.size, bool)))
+    return chosen
+
+
+def _default_sensors(topic: _Topic) -> list[SensorMap]:
+    """A topic's sensors without a map: one per frame id (IMUs), else named by the topic."""
+    last = topic.topic.rstrip("/").split("/")[-1]
+    frames = sorted(set(topic.frames.tolist()))
+    if topic.kind == "imu" and frames and all(frames):
+        if len(frames) == 1:
+            return [SensorMap(frames[0], topic.topic)]
+        return [SensorMap(frame, topic.topic, frame) for frame in frames]
+    return [SensorMap(last, topic.topic)]
+
+
+def _mapped(
+    file: Path, topics: dict[str, _Topic], kind: str, sensor: SensorMap
+) -> tuple[str, _Topic, Any]:
+    """A mapped sensor's topic and messages (one line if the recording lacks them)."""
+    found = topics.get(sensor.topic)
+    of_kind = ", ".join(t.topic for t in topics.values() if t.kind == kind) or "none"
+    if found is None or found.kind != kind:
+        what = "is not in the recording" if found is None else f"holds {found.kind} messages"
+        raise InputFileError(f"{file}: topic {sensor.topic} ({kind} {sensor.name}) {what};"
+                             f" allowed: {of_kind}", parameter="file")  # fmt: skip
+    mask = np.ones(found.stamps.size, bool)
+    if sensor.frame:
+        mask = found.frames == sensor.frame
+        if not mask.any():
+            seen = ", ".join(sorted(set(found.frames.tolist()))) or "none"
+            raise InputFileError(f"{file}: frame id {sensor.frame} ({kind} {sensor.name}) is in no"
+                                 f" message on {sensor.topic}; allowed: {seen}",
+                                 parameter="file")  # fmt: skip
+    return sensor.name, found, mask
+
+
+def _clock(file: Path, name: str, topic: _Topic, mask: Any, time: str) -> Any:
+    """A stream's time stamps [ns]: header stamps, or log time (asked, or stamps all zero)."""
+    stamps = topic.stamps[mask]
+    if time == "header" and stamps.size and not stamps.any():
+        warnings.warn(f"{file}: {name} ({topic.topic}) has no header stamps (all zero); its log"
+                      " time is used", stacklevel=3)  # fmt: skip
+        time = "log"
+    return topic.logs[mask] if time == "log" else stamps
+
+
+def _read_topics(file: Path, store: Any) -> dict[str, _Topic]:
+    """Every IMU, joint-state and wrench topic (messages in the reader's order)."""
     from rosbags.highlevel import AnyReader
 
-    found: dict[str, tuple[str, str, Any, Any, tuple[str, ...]]] = {}
+    found: dict[str, _Topic] = {}
     with AnyReader([file], default_typestore=store) as reader:
         for topic, info in reader.topics.items():
             if info.msgtype in _ROWS:
                 kind, row = _ROWS[info.msgtype]
-                stamps: list[int] = []
-                rows: list[tuple[float, ...]] = []
-                frames: set[str] = set()
-                for connection, _, raw in reader.messages(connections=info.connections):
+                stamps, logs, rows, frames = [], [], [], []
+                for connection, log, raw in reader.messages(connections=info.connections):
                     message: Any = reader.deserialize(raw, connection.msgtype)
                     stamps.append(_stamp(message))
+                    logs.append(log)
                     rows.append(row(message))
-                    frames.add(message.header.frame_id)
-                frame = next(iter(frames)) if len(frames) == 1 else ""
-                name = frame if kind == "imu" and frame else topic.rstrip("/").split("/")[-1]
+                    frames.append(message.header.frame_id)
                 values = np.array(rows, dtype=np.float64).reshape(-1, 6)
-                found[topic] = (
-                    kind,
-                    name,
-                    np.array(stamps, np.int64),
-                    values,
-                    STREAM_COLUMNS[kind],
-                )
-            elif info.msgtype == JOINTS_TYPE:
-                found[topic] = _joint_topic(reader, info)
+                found[topic] = _Topic(topic, kind, np.array(stamps, np.int64),
+                                      np.array(logs, np.int64), np.array(frames, dtype=object),
+                                      values, STREAM_COLUMNS[kind])  # fmt: skip
+            elif info.msgtype == JOINTS_TYPE:  # a stream per set of joints (publishers)
+                for k, part in enumerate(_joint_topic(reader, topic, info)):
+                    found[topic if k == 0 else f"{topic} ({k})"] = part
     return found
 
 
@@ -125,32 +211,28 @@ def _stamp(message: Any) -> int:
     return int(message.header.stamp.sec) * 1_000_000_000 + int(message.header.stamp.nanosec)
 
 
-def _joint_topic(reader: Any, info: Any) -> tuple[str, str, Any, Any, tuple[str, ...]]:
-    """A JointState topic as one stream: the groups every message has, by joint name.
+def _joint_topic(reader: Any, topic: str, info: Any) -> list[_Topic]:
+    """A JointState topic as streams: one per set of joints its messages name.
 
-    Raises:
-        InputFileError: messages naming other joints than the first one does.
+    Several publishers share a topic (an arm's and a gripper's); each set of joints (and of
+    the groups ``q``, ``qd``, ``tau`` its messages fill) is a stream, its columns by joint name.
     """
-    stamps: list[int] = []
-    rows: list[Any] = []
-    joints: list[str] | None = None
-    groups: tuple[str, ...] | None = None
-    for connection, _, raw in reader.messages(connections=info.connections):
+    parts: dict[tuple[tuple[str, ...], tuple[str, ...]], tuple[list[int], list[int], list[Any]]]
+    parts = {}
+    for connection, log, raw in reader.messages(connections=info.connections):
         message = reader.deserialize(raw, connection.msgtype)
-        names = list(message.name)
+        names = tuple(message.name)
         arrays = {"q": message.position, "qd": message.velocity, "tau": message.effort}
         present = tuple(g for g, a in arrays.items() if len(a) == len(names))
-        if joints is None:
-            joints, groups = names, present
-        if names != joints or present != groups:
-            raise InputFileError(
-                f"topic {info.connections[0].topic} message {len(stamps)} has joints {names} "
-                f"({', '.join(present)}); allowed: the first message's {joints} "
-                f"({', '.join(groups or ())})",
-                parameter="file",
-            )
+        stamps, logs, rows = parts.setdefault((names, present), ([], [], []))
         stamps.append(_stamp(message))
+        logs.append(log)
         rows.append(np.concatenate([np.asarray(arrays[g], np.float64) for g in present]))
-    columns = tuple(f"{g}:{j}" for g in (groups or ()) for j in (joints or ()))
-    values = np.array(rows, dtype=np.float64).reshape(-1, len(columns))
-    return "joints", "joints", np.array(stamps, np.int64), values, columns
+    found = []
+    for (names, present), (stamps, logs, rows) in parts.items():
+        columns = tuple(f"{g}:{j}" for g in present for j in names)
+        values = np.array(rows, dtype=np.float64).reshape(-1, len(columns))
+        frames = np.full(len(stamps), "", dtype=object)
+        found.append(_Topic(topic, "joints", np.array(stamps, np.int64),
+                            np.array(logs, np.int64), frames, values, columns))  # fmt: skip
+    return found

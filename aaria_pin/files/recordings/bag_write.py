@@ -16,66 +16,83 @@ in all three formats, and MCAP's own reference reader (``mcap-ros2-support``) de
 
 from __future__ import annotations
 
+import contextlib
 import shutil
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.recording import RecordedRun, SensorStream
+from aaria_pin.core.recording import RecordedRun, SensorStream, joint_groups
+from aaria_pin.errors import OutputFileError
 from aaria_pin.files.recordings.bag_format import (
     IMU_TYPE,
     JOINTS_TOPIC,
     JOINTS_TYPE,
     WRENCH_TYPE,
-    bag_format,
+    export_format,
     rosbags_typestore,
 )
 
-__all__ = ["joint_groups", "write_bag"]
+__all__ = ["write_bag"]
 
 _TOPIC = {"imu": "/imu/{}", "wrench": "/wrench/{}", "joints": JOINTS_TOPIC}
 _TYPE = {"imu": IMU_TYPE, "wrench": WRENCH_TYPE, "joints": JOINTS_TYPE}
 
 
-def joint_groups(stream: SensorStream) -> tuple[list[str], dict[str, list[int]]]:
-    """A joint stream's joints (in order) and each group's columns (``q``, ``qd``, ``tau``)."""
-    groups: dict[str, list[int]] = {"q": [], "qd": [], "tau": []}
-    joints: list[str] = []
-    for index, column in enumerate(stream.columns):
-        group, _, joint = column.partition(":")
-        groups.setdefault(group, []).append(index)
-        if joint not in joints:
-            joints.append(joint)
-    return joints, groups
-
-
-def write_bag(path: str | Path, run: RecordedRun) -> Path:
-    """Write ``run``'s streams to ``path`` (``.bag``, ``.mcap`` or ``.db3``).
+def write_bag(path: str | Path, run: RecordedRun, form: str | None = None) -> Path:
+    """Write ``run``'s streams to ``path``.
 
     Args:
-        path: the output (its suffix picks the format; it is replaced when complete)
+        path: the output: a ``.bag``, ``.mcap`` or ``.db3`` file, or a ROS 2 bag folder
+            (replaced when complete; a folder must not exist)
         run: the streams
+        form: ``ros1``, ``mcap``, ``sqlite3``, ``ros2-sqlite3`` or ``ros2-mcap`` (a folder);
+            None: by the suffix
 
     Returns:
         The path written.
 
     Raises:
-        InputFileError: a suffix that is no recording format, or ``rosbags`` missing.
+        ParameterError: a format that is no bag's, or not the path's suffix.
+        OutputFileError: a folder output that exists.
+        InputFileError: ``rosbags`` missing.
     """
+    from aaria_pin.files.paths import atomic_output, check_output
+
     out = Path(path)
-    form = bag_format(out)
+    form = export_format(out, form)
     store = rosbags_typestore(form == "ros1")
-    folder = Path(tempfile.mkdtemp(prefix=".aaria-", dir=out.parent))
-    try:
+    if form.startswith("ros2-"):
+        if out.exists():
+            raise OutputFileError(f"{out} exists; allowed: a new folder for a ROS 2 bag",
+                                  parameter="path")  # fmt: skip
+        check_output(out)  # "-", a name too long, a missing or unwritable folder
+        with _scratch(out.parent) as folder:
+            _write(folder / out.name, form.removeprefix("ros2-"), store, run)
+            (folder / out.name).rename(out)
+        return out
+    with atomic_output(out) as temporary, _scratch(temporary.parent) as folder:
         target = folder / ("run.bag" if form == "ros1" else "bag")
         _write(target, form, store, run)
         written = target if form == "ros1" else next(target.glob(f"*{out.suffix}"))
-        written.replace(out)
+        written.replace(temporary)
+    return out
+
+
+@contextlib.contextmanager
+def _scratch(parent: Path) -> Iterator[Path]:
+    """A hidden scratch folder in ``parent``, removed afterwards whatever happens.
+
+    The rosbags writers refuse an existing output: they write in here.
+    """
+    folder = Path(tempfile.mkdtemp(prefix=".aaria-", dir=parent if str(parent) else "."))
+    try:
+        yield folder
     finally:
         shutil.rmtree(folder, ignore_errors=True)
-    return out
 
 
 def _write(target: Path, form: str, store: Any, run: RecordedRun) -> None:

@@ -67,6 +67,10 @@ whole record (which is the one-piece case of the same writer). So is a ``.mat`` 
 
 :func:`read_run` also reads every run file aaria_pin 0.1.0 wrote (:mod:`._legacy_runs`: Aaria DH
 ``.h5``/``.mat``, URDF robot and pick-place ``.h5``, wrist ``.h5``/``.mat``).
+
+A recorded run (``kind = "recorded"``, what ``aaria import`` writes: measured signals, each
+sensor at its own time stamps, no truth) is read by :func:`read_recorded_run` and written by
+:func:`write_recorded_run` (:mod:`._recorded`); :func:`read_run` refuses it in one line.
 """
 
 from aaria_pin.files._stored import JSON_SUFFIX
@@ -76,6 +80,15 @@ from aaria_pin.files.runfile._checksums import CHECKSUMS_ATTRIBUTE, UnverifiedFi
 from aaria_pin.files.runfile._columns import column_source, view_from_columns
 from aaria_pin.files.runfile._legacy_runs import URDF_V1_FORMAT
 from aaria_pin.files.runfile._read import is_run_file, read_run, read_run_inputs, run_file_summary
+from aaria_pin.files.runfile._recorded import (
+    RECORDED_KIND,
+    is_recorded_file,
+    read_recorded_run,
+    recorded_summary,
+    stream_line,
+    stream_summary,
+    write_recorded_run,
+)
 from aaria_pin.files.runfile._write import (
     COMPRESSIONS,
     MAT_VERSIONS,
@@ -91,6 +104,7 @@ __all__ = [
     "COMPRESSIONS",
     "JSON_SUFFIX",
     "MAT_VERSIONS",
+    "RECORDED_KIND",
     "RUN_FORMAT",
     "RUN_FORMAT_VERSION",
     "RUN_SUFFIXES",
@@ -98,12 +112,18 @@ __all__ = [
     "RunFileWriter",
     "UnverifiedFileWarning",
     "column_source",
+    "is_recorded_file",
     "is_run_file",
     "mat_version_for",
+    "read_recorded_run",
     "read_run",
     "read_run_inputs",
+    "recorded_summary",
     "run_file_summary",
+    "stream_line",
+    "stream_summary",
     "view_from_columns",
+    "write_recorded_run",
     "write_run",
     "write_run_chunks",
     "write_run_pieces",

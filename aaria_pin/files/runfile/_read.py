@@ -45,6 +45,7 @@ from aaria_pin.files.runfile._mat import (
     mat_value,
     mat_variables,
 )
+from aaria_pin.files.runfile._recorded import is_recorded_run, refuse_recorded
 
 
 @checked
@@ -155,6 +156,8 @@ def _read_stored(file: Path, series: bool) -> tuple[RunRecord, dict[str, str] | 
         stored = contents.get(MAT_ATTRIBUTE_PREFIX + CHECKSUMS_ATTRIBUTE)
         return record, stored_checksums(file, None if stored is None else mat_value(stored))
     with _probe_hdf5(file) as (handle, layout), damaged_errors(file):
+        if is_recorded_run(handle):  # measured signals, no truth: not a RunRecord
+            raise refuse_recorded(file)
         if layout == LAYOUT_V2:
             record = _read_hdf5_v2(file, handle, series)
             return record, stored_checksums(file, handle.attrs.get(CHECKSUMS_ATTRIBUTE))
