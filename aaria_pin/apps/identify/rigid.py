@@ -1,0 +1,381 @@
+"""Two IMUs on one rigid body: their relative pose and time offset from their signals alone.
+
+:func:`identify_rigid` estimates, for IMUs A and B fixed to one body and no encoder, B's
+rotation ``R_AB`` (``v_A = R_AB·v_B``), B's origin in A's frame ``r`` [m], B's time offset ``δ``
+[s] (B's sample stamped ``t`` is A's instant ``t + δ``), and the biases, with σ:
+
+1. starts: ``δ`` by cross-correlating ``|ω|`` of the two gyroscopes (a rotation does not change
+   it), ``R`` by Kabsch/Wahba on the gyroscope vectors at matched instants (means removed: a
+   bias is a constant), ``r`` and B's accelerometer bias by linear least squares on
+   ``R·f_B - f_A = (α× + ω×ω×)·r + c`` with ω and α from a B-spline fit of A's gyroscope;
+2. one nonlinear least squares over every sample of both IMUs
+   (:func:`~aaria_pin.apps.identify.rigid_fit.gauss_newton`): the body's angular velocity and
+   A's specific force as B-splines, with ``R``, ``r``, ``δ`` and the biases; each block's noise
+   σ re-estimated from its residuals and the fit repeated, the covariance then giving σ;
+3. what the data do not determine, in words: a direction of ``r``, of the rotation or the
+   offset whose σ exceeds :data:`UNDETERMINED` (the position along ω when the body turned about
+   one axis only: ``α×r`` and ``ω×(ω×r)`` vanish for ``r`` along it).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from aaria_pin.apps.identify.rigid_fit import FitLayout, FitState, PairData, gauss_newton
+from aaria_pin.apps.identify.rigid_spline import coefficient_count, spline_basis
+from aaria_pin.core.recording import RecordedRun
+from aaria_pin.core.se3 import Array
+from aaria_pin.errors import ParameterError
+
+__all__ = ["UNDETERMINED", "UNDETERMINED_RATIO", "RigidPairFit", "identify_rigid"]
+
+UNDETERMINED = {"position": 0.01, "rotation": np.radians(1.0), "time_offset": 0.01}
+"""σ above which a direction is reported as not determined [m, rad, s]."""
+
+UNDETERMINED_RATIO = 50.0
+"""A direction of position or rotation whose σ is this many times its block's best-determined
+direction's is reported as not determined too (the data hold only noise about it: a position
+along the one axis the body turned about is then pulled about by the gyroscopes' noise, far
+beyond its σ)."""
+
+MIN_SAMPLES = 50
+"""The fewest samples of each IMU inside the other's span."""
+
+
+@dataclass(frozen=True)
+class RigidPairFit:
+    """B's pose and time offset relative to A, with σ, and what the data did not determine.
+
+    Attributes:
+        imu_a: A's name
+        imu_b: B's name
+        rotation: (3, 3) ``R_AB`` (``v_A = R_AB·v_B``)
+        rotation_sigma: (3,) σ of the rotation about A's axes [rad]
+        position: (3,) B's origin in A's frame [m]
+        position_sigma: (3,) [m]
+        time_offset: B's stamp ``t`` is A's instant ``t + time_offset`` [s]
+        time_offset_sigma: [s]
+        gyro_bias_a: (3,) A's gyroscope bias, mean over the run [rad/s]
+        gyro_bias_b: (3,) B's [rad/s]
+        accel_bias_b: (3,) B's accelerometer bias less A's (in B's axes) [m/s²]
+        noise: A gyro, A accel, B gyro, B accel: the residuals' RMS [rad/s, m/s²]
+        samples: A's and B's samples in the fit
+        iterations: Gauss–Newton steps
+        converged: the last step changed the cost by < 1e-9 of it
+        undetermined: what the data do not determine, one sentence each
+        covariance: (7, 7) of rotation [rad], position [m], offset [s]
+    """
+
+    imu_a: str
+    imu_b: str
+    rotation: Array
+    rotation_sigma: Array
+    position: Array
+    position_sigma: Array
+    time_offset: float
+    time_offset_sigma: float
+    gyro_bias_a: Array
+    gyro_bias_b: Array
+    accel_bias_b: Array
+    noise: Array
+    samples: tuple[int, int]
+    iterations: int
+    converged: bool
+    undetermined: tuple[str, ...] = ()
+    covariance: Array = field(default_factory=lambda: np.zeros((7, 7)), repr=False)
+
+    def rotation_error(self, truth: Array) -> float:
+        """The angle between the estimated and a true ``R_AB`` [rad]."""
+        cos = (np.trace(np.asarray(truth).T @ self.rotation) - 1.0) / 2.0
+        return float(np.arccos(np.clip(cos, -1.0, 1.0)))
+
+    def lines(self) -> list[str]:
+        """The result as text lines (the ``aaria identify --rigid`` report)."""
+        from scipy.spatial.transform import Rotation
+
+        rpy = np.degrees(Rotation.from_matrix(self.rotation).as_euler("xyz"))
+        position = "  ".join(
+            f"{x:.3f} +/- {s:.3f}"
+            for x, s in zip(self.position * 1e3, self.position_sigma * 1e3, strict=True)
+        )
+        turn_sigma = ", ".join(f"{s:.4f}" for s in np.degrees(self.rotation_sigma))
+        gyro_a, accel_a, gyro_b, accel_b = self.noise
+        state = "" if self.converged else " (not converged)"
+        lines = [
+            f"rigid pair {self.imu_a} -> {self.imu_b}: {self.samples[0]} + {self.samples[1]} "
+            f"samples, {self.iterations} iterations{state}",
+            f"  position of {self.imu_b} in {self.imu_a} [mm]: {position}",
+            "  rotation (roll pitch yaw, xyz) [deg]: "
+            + "  ".join(f"{x:.4f}" for x in rpy)
+            + f"  (sigma about {self.imu_a}'s axes: {turn_sigma})",
+            f"  time offset of {self.imu_b} [ms]: {self.time_offset * 1e3:.4f} "
+            f"+/- {self.time_offset_sigma * 1e3:.4f}",
+            f"  residual RMS: gyro {gyro_a:.3g} / {gyro_b:.3g} rad/s, "
+            f"accel {accel_a:.3g} / {accel_b:.3g} m/s^2 ({self.imu_a} / {self.imu_b})",
+        ]
+        return lines + [f"  not determined: {text}" for text in self.undetermined]
+
+    def to_json(self) -> dict[str, object]:
+        """The result as JSON-ready values (SI units in the keys)."""
+        return {
+            "imu_a": self.imu_a,
+            "imu_b": self.imu_b,
+            "rotation": self.rotation.tolist(),
+            "rotation_sigma_rad": self.rotation_sigma.tolist(),
+            "position_m": self.position.tolist(),
+            "position_sigma_m": self.position_sigma.tolist(),
+            "time_offset_s": self.time_offset,
+            "time_offset_sigma_s": self.time_offset_sigma,
+            "gyro_bias_a_rad_s": self.gyro_bias_a.tolist(),
+            "gyro_bias_b_rad_s": self.gyro_bias_b.tolist(),
+            "accel_bias_b_m_s2": self.accel_bias_b.tolist(),
+            "residual_rms": dict(
+                zip(
+                    ("gyro_a_rad_s", "accel_a_m_s2", "gyro_b_rad_s", "accel_b_m_s2"),
+                    self.noise.tolist(),
+                    strict=True,
+                )
+            ),
+            "samples": list(self.samples),
+            "iterations": self.iterations,
+            "converged": self.converged,
+            "undetermined": list(self.undetermined),
+        }
+
+
+Signals = tuple[Array, Array]
+
+
+def _imu(source: RecordedRun | Mapping[str, Signals], name: str) -> Signals:
+    """An IMU's (time, signals) from a recording or a mapping, checked."""
+    if isinstance(source, RecordedRun):
+        stream = source.stream(name)
+        if stream.kind != "imu":
+            raise ParameterError(
+                f"stream {name} is a {stream.kind} stream; allowed: an IMU stream",
+                parameter="imu",
+                value=name,
+            )
+        return stream.time, stream.values
+    if name not in source:
+        raise ParameterError(parameter="imu", value=name, allowed=", ".join(source) or "none")
+    time = np.asarray(source[name][0], dtype=np.float64)
+    values = np.asarray(source[name][1], dtype=np.float64)
+    if time.ndim != 1 or values.shape != (time.size, 6):
+        raise ParameterError(
+            f"IMU {name} has {time.shape} stamps and {values.shape} values; allowed: (N,) "
+            "and (N, 6)",
+            parameter="imu",
+            value=name,
+        )
+    if not (np.isfinite(values).all() and np.isfinite(time).all() and (np.diff(time) > 0).all()):
+        raise ParameterError(
+            f"IMU {name} has values not finite or stamps not increasing; allowed: finite "
+            "values at increasing stamps",
+            parameter="imu",
+            value=name,
+        )
+    return time, values
+
+
+def _correlation_offset(a: Signals, b: Signals, max_offset: float) -> float:
+    """B's time offset by cross-correlating the two gyroscopes' ``|ω|`` [s]."""
+    rate = 2.0 * max(1.0 / np.median(np.diff(a[0])), 1.0 / np.median(np.diff(b[0])))
+    first, last = max(a[0][0], b[0][0]), min(a[0][-1], b[0][-1])
+    grid = np.arange(first, last, 1.0 / rate)
+    if grid.size < MIN_SAMPLES:
+        return 0.0  # no overlap to correlate: the caller finds too few shared samples
+    speeds = []
+    for time, values in (a, b):
+        speed = np.interp(grid, time, np.linalg.norm(values[:, :3], axis=1))
+        speeds.append(speed - speed.mean())
+    n = grid.size
+    size = 1 << int(np.ceil(np.log2(2 * n)))
+    spectrum = np.fft.rfft(speeds[0], size) * np.conj(np.fft.rfft(speeds[1], size))
+    correlation = np.fft.irfft(spectrum, size)
+    lags = np.arange(-(n - 1), n)
+    values = np.concatenate([correlation[-(n - 1) :], correlation[:n]])
+    keep = np.abs(lags) <= max_offset * rate
+    lags, values = lags[keep], values[keep]
+    k = int(np.argmax(values))
+    shift = 0.0
+    if 0 < k < values.size - 1:
+        left, mid, right = values[k - 1 : k + 2]
+        shift = 0.5 * (left - right) / (left - 2.0 * mid + right)
+    return float((lags[k] + shift) / rate)
+
+
+def _kabsch(target: Array, source: Array) -> Array:
+    """The rotation R minimising Σ|target - R·source|² over mean-free rows."""
+    u, _, vt = np.linalg.svd((target - target.mean(0)).T @ (source - source.mean(0)))
+    d = np.sign(np.linalg.det(u @ vt))
+    return np.asarray(u @ np.diag([1.0, 1.0, d]) @ vt)
+
+
+def _start(data: PairData, layout: FitLayout, offset: float) -> tuple[FitState, Array]:
+    """The starting point and the blocks' noise σ from the starts' residuals."""
+    from scipy.sparse import identity
+    from scipy.sparse.linalg import spsolve
+
+    basis = spline_basis(data.time_a, layout.start, layout.interval, layout.count, 3)
+    normals = (basis.T @ basis + 1e-9 * identity(layout.count)).tocsc()
+    omega = np.column_stack([spsolve(normals, basis.T @ data.signals_a[:, i]) for i in range(3)])
+    force = np.column_stack(
+        [spsolve(normals, basis.T @ data.signals_a[:, 3 + i]) for i in range(3)]
+    )
+    tau = data.time_b + offset
+    n0, n1 = (spline_basis(tau, layout.start, layout.interval, layout.count, 3, d) for d in (0, 1))
+    w, w1, s = n0 @ omega, n1 @ omega, n0 @ force
+    rotation = _kabsch(w, data.signals_b[:, :3])
+    gyro_b = data.signals_b[:, :3] - w @ rotation
+    lever = _lever_matrices(w, w1)
+    left = np.concatenate([lever, np.broadcast_to(np.eye(3), lever.shape)], axis=2)
+    right = data.signals_b[:, 3:] @ rotation.T - s
+    solution = np.linalg.lstsq(left.reshape(-1, 6), right.ravel(), rcond=None)[0]
+    position, bias_in_a = solution[:3], solution[3:]
+    accel_b = right - np.einsum("nij,j->ni", lever, position) - bias_in_a
+    sigma = np.array(
+        [
+            np.std(data.signals_a[:, :3] - basis @ omega),
+            np.std(data.signals_a[:, 3:] - basis @ force),
+            np.std(gyro_b - gyro_b.mean(0)),
+            np.std(accel_b),
+        ]
+    )
+    bias = np.zeros((layout.bias_count, 3))
+    state = FitState(
+        omega,
+        force,
+        rotation,
+        position,
+        offset,
+        bias,
+        bias + gyro_b.mean(0),
+        bias + rotation.T @ bias_in_a,
+    )
+    return state, np.maximum(sigma, 1e-9)
+
+
+def _lever_matrices(w: Array, w1: Array) -> Array:
+    """``[α]× + [ω]×[ω]×`` per sample, (n, 3, 3): the lever arm's acceleration is it @ r."""
+    from aaria_pin.apps.identify.rigid_fit import _skew
+
+    skew = _skew(w)
+    return np.asarray(_skew(w1) + skew @ skew)
+
+
+def _undetermined(covariance: Array) -> tuple[str, ...]:
+    """Sentences for the directions of position, rotation and offset not determined.
+
+    Above :data:`UNDETERMINED`, or :data:`UNDETERMINED_RATIO` times the block's best.
+    """
+    found = []
+    for name, block, unit, scale in (
+        ("position", slice(3, 6), "mm", 1e3),
+        ("rotation", slice(0, 3), "deg", np.degrees(1.0)),
+    ):
+        values, vectors = np.linalg.eigh(covariance[block, block])
+        sigmas = np.sqrt(np.maximum(values, 0.0))
+        limit = min(UNDETERMINED[name], UNDETERMINED_RATIO * float(sigmas[0]))
+        for sigma, vector in zip(sigmas, vectors.T, strict=True):
+            if sigma > limit:
+                direction = np.round(vector * np.sign(vector[np.argmax(abs(vector))]), 2) + 0.0
+                axis = " ".join(f"{x:+.2f}" for x in direction)
+                why = (
+                    " (the body turned about that axis only: the lever arm's accelerations do "
+                    "not change along it)"
+                    if name == "position"
+                    else ""
+                )
+                found.append(
+                    f"{name} along [{axis}] in A's axes, sigma {sigma * scale:.3g} {unit}{why}"
+                )
+    sigma = float(np.sqrt(max(covariance[6, 6], 0.0)))
+    if sigma > UNDETERMINED["time_offset"]:
+        found.append(f"time offset, sigma {sigma * 1e3:.3g} ms (too little angular acceleration)")
+    return tuple(found)
+
+
+def identify_rigid(
+    source: RecordedRun | Mapping[str, Signals],
+    imu_a: str,
+    imu_b: str,
+    knot_interval: float = 0.01,
+    bias_interval: float = np.inf,
+    max_offset: float = 1.0,
+) -> RigidPairFit:
+    """B's pose and time offset relative to A, two IMUs on one rigid body, from signals alone.
+
+    Args:
+        source: a recording (its ``imu`` streams) or ``{name: (time [s], (N, 6) signals)}``
+        imu_a: the reference IMU
+        imu_b: the IMU located
+        knot_interval: the knot spacing of the body's angular velocity and specific force [s]
+        bias_interval: the knot spacing of the biases [s] (inf: constant over the run)
+        max_offset: the largest time offset searched for [s]
+
+    Returns:
+        The fit.
+
+    Raises:
+        ParameterError: an IMU not in the source, or A or B with fewer than
+            :data:`MIN_SAMPLES` samples inside the other's span.
+    """
+    a, b = _imu(source, imu_a), _imu(source, imu_b)
+    offset = _correlation_offset(a, b, max_offset)
+    margin = max(0.05, 4.0 * knot_interval)
+    inside = (b[0] + offset > a[0][0] + margin) & (b[0] + offset < a[0][-1] - margin)
+    if inside.sum() < MIN_SAMPLES or a[0].size < MIN_SAMPLES:
+        raise ParameterError(
+            f"IMUs {imu_a} and {imu_b} share {int(inside.sum())} samples; allowed: at least "
+            f"{MIN_SAMPLES} (recordings that overlap in time)",
+            parameter="imu",
+            value=imu_b,
+        )
+    data = PairData(a[0], a[1], b[0][inside], b[1][inside])
+    span = float(a[0][-1] - a[0][0])
+    bias_interval = min(bias_interval, span * 2.0)
+    layout = FitLayout(
+        float(a[0][0]),
+        knot_interval,
+        coefficient_count(span, knot_interval, 3),
+        bias_interval,
+        coefficient_count(span, bias_interval, 1),
+    )
+    state, sigma = _start(data, layout, offset)
+    outcome = gauss_newton(data, layout, state, sigma)
+    sizes = np.array([a[0].size, a[0].size, data.time_b.size, data.time_b.size])
+    unknowns = 6 * layout.count + 7 + 9 * layout.bias_count
+    dof = 6 * sizes.sum() / (6 * sizes.sum() - unknowns)
+    for _ in range(2):
+        blocks = np.split(outcome.residuals, np.cumsum(3 * sizes)[:-1])
+        sigma = sigma * np.sqrt([np.mean(e**2) * dof for e in blocks])
+        outcome = gauss_newton(data, layout, outcome.state, sigma)
+    turn = np.eye(7)
+    turn[:3, :3] = outcome.state.rotation  # the step R·exp(Δφ) is about B's axes: to A's
+    covariance = turn @ outcome.covariance[:7, :7] @ turn.T
+    spread = np.sqrt(np.maximum(np.diag(covariance), 0.0))
+    fitted = outcome.state
+    blocks = np.split(outcome.residuals, np.cumsum(3 * sizes)[:-1])
+    return RigidPairFit(
+        imu_a,
+        imu_b,
+        fitted.rotation,
+        spread[:3],
+        fitted.position,
+        spread[3:6],
+        fitted.offset,
+        float(spread[6]),
+        fitted.gyro_bias_a.mean(0),
+        fitted.gyro_bias_b.mean(0),
+        fitted.accel_bias_b.mean(0),
+        sigma * np.sqrt([np.mean(e**2) for e in blocks]),
+        (int(a[0].size), int(data.time_b.size)),
+        outcome.iterations,
+        outcome.converged,
+        _undetermined(covariance),
+        covariance,
+    )
