@@ -14,8 +14,9 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from aaria_pin.apps.identify.rigid import RigidPairFit, identify_rigid
+from aaria_pin.apps.identify.rigid import RigidPairFit, identify_rigid, identify_rigid_body
 from aaria_pin.apps.identify.rigid_motion import (
+    ImuMount,
     default_pair,
     hand_motion,
     relative_pose,
@@ -123,3 +124,18 @@ def test_bad_inputs_are_one_line() -> None:
     with pytest.raises(ParameterError, match="not finite") as caught:
         identify_rigid(nan, "imu_a", "imu_b")
     assert "\n" not in str(caught.value)
+
+
+def test_three_imus_on_one_body_are_each_located() -> None:
+    a, b = default_pair()
+    c = ImuMount("imu_c", np.eye(3), np.array([-0.05, 0.2, 0.0]), rate=150.0, time_offset=0.003)
+    run = simulate_rigid_body([a, b, c], duration=6.0, model=imu_preset("adis16485"), seed=48)
+    fits = identify_rigid_body(run)
+    assert [(f.imu_a, f.imu_b) for f in fits] == [("imu_a", "imu_b"), ("imu_a", "imu_c")]
+    for fit, mount in zip(fits, (b, c), strict=True):
+        error = _errors(fit, relative_pose(a, mount))
+        assert np.linalg.norm(error[3:6]) <= 1e-3
+        assert abs(error[6]) <= 1e-4
+    with pytest.raises(ParameterError) as caught:
+        identify_rigid_body(run, ["imu_a"])
+    assert caught.value.parameter == "imus"

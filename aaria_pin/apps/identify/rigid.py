@@ -19,7 +19,7 @@ rotation ``R_AB`` (``v_A = R_AB·v_B``), B's origin in A's frame ``r`` [m], B's 
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -30,7 +30,13 @@ from aaria_pin.core.recording import RecordedRun
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
-__all__ = ["UNDETERMINED", "UNDETERMINED_RATIO", "RigidPairFit", "identify_rigid"]
+__all__ = [
+    "UNDETERMINED",
+    "UNDETERMINED_RATIO",
+    "RigidPairFit",
+    "identify_rigid",
+    "identify_rigid_body",
+]
 
 UNDETERMINED = {"position": 0.01, "rotation": np.radians(1.0), "time_offset": 0.01}
 """σ above which a direction is reported as not determined [m, rad, s]."""
@@ -378,4 +384,41 @@ def identify_rigid(
         outcome.converged,
         _undetermined(covariance),
         covariance,
+    )
+
+
+def identify_rigid_body(
+    source: RecordedRun | Mapping[str, Signals],
+    imus: Sequence[str] | None = None,
+    knot_interval: float = 0.01,
+    bias_interval: float = np.inf,
+) -> tuple[RigidPairFit, ...]:
+    """Every IMU of one rigid body located relative to the first: one pair fit each.
+
+    Args:
+        source: a recording or ``{name: (time [s], (N, 6) signals)}``
+        imus: the IMUs, the reference first (None: every IMU of the source, in order)
+        knot_interval: the knot spacing of the body's signals [s]
+        bias_interval: the knot spacing of the biases [s]
+
+    Returns:
+        The fits of IMU 2, 3, … relative to IMU 1.
+
+    Raises:
+        ParameterError: fewer than two IMUs, or a fit's own errors.
+    """
+    if imus is None:
+        names = (
+            [s.name for s in source.of_kind("imu")]
+            if isinstance(source, RecordedRun)
+            else list(source)
+        )
+    else:
+        names = list(imus)
+    if len(names) < 2:
+        raise ParameterError(
+            parameter="imus", value=", ".join(names) or "none", allowed="two or more IMUs"
+        )
+    return tuple(
+        identify_rigid(source, names[0], other, knot_interval, bias_interval) for other in names[1:]
     )
