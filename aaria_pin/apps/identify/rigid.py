@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from aaria_pin.apps.identify.geometry_start import kabsch
 from aaria_pin.apps.identify.rigid_fit import FitLayout, FitState, PairData, gauss_newton
 from aaria_pin.apps.identify.rigid_spline import coefficient_count, spline_basis
 from aaria_pin.core.recording import RecordedRun
@@ -215,10 +216,8 @@ def _correlation_offset(a: Signals, b: Signals, max_offset: float) -> float:
 
 
 def _kabsch(target: Array, source: Array) -> Array:
-    """The rotation R minimising Σ|target - R·source|² over mean-free rows."""
-    u, _, vt = np.linalg.svd((target - target.mean(0)).T @ (source - source.mean(0)))
-    d = np.sign(np.linalg.det(u @ vt))
-    return np.asarray(u @ np.diag([1.0, 1.0, d]) @ vt)
+    """The rotation R minimising Σ|target - R·source|² over mean-free rows (a bias is a mean)."""
+    return kabsch(target - target.mean(0), source - source.mean(0)).T
 
 
 def _start(data: PairData, layout: FitLayout, offset: float) -> tuple[FitState, Array]:

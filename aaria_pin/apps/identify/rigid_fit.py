@@ -21,13 +21,16 @@ covariance of the global parameters is the inverse of the normals' block, solved
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy import sparse
-from scipy.sparse import linalg as sparse_linalg
 
 from aaria_pin.apps.identify.rigid_spline import spline_basis
 from aaria_pin.core.se3 import Array
+
+if TYPE_CHECKING:
+    from scipy import sparse
+    from scipy.sparse import linalg as sparse_linalg
 
 __all__ = ["GLOBALS", "FitLayout", "FitState", "PairData", "gauss_newton", "linearise"]
 
@@ -117,11 +120,15 @@ def _skew(v: Array) -> Array:
 
 def _stacked(per_sample: Array) -> sparse.csr_matrix:
     """Per-sample (n, 3, c) Jacobians as the (3n, c) rows of axis-major residuals."""
+    from scipy import sparse
+
     return sparse.csr_matrix(np.transpose(per_sample, (1, 0, 2)).reshape(-1, per_sample.shape[2]))
 
 
 def _blockwise(matrices: Array, basis: sparse.csr_matrix) -> sparse.csr_matrix:
     """Rows ``a``, columns ``b`` blocks ``diag(matrices[:, a, b]) @ basis``."""
+    from scipy import sparse
+
     return sparse.bmat(
         [[sparse.diags(matrices[:, a, b]) @ basis for b in range(3)] for a in range(3)],
         format="csr",
@@ -150,6 +157,8 @@ def linearise(
     Returns:
         The residuals (A gyro, A accel, B gyro, B accel; each axis-major) and the Jacobian.
     """
+    from scipy import sparse
+
     eye = sparse.identity(3, format="csr")
     basis_a = spline_basis(data.time_a, layout.start, layout.interval, layout.count, 3)
     bias_a = spline_basis(data.time_a, layout.start, layout.bias_interval, layout.bias_count, 1)
@@ -216,6 +225,8 @@ def linearise(
 
 def _factor(normals: sparse.csc_matrix, layout: FitLayout) -> sparse_linalg.SuperLU:
     """The LU factors of the normals in time-major order (a band with a dense border)."""
+    from scipy.sparse import linalg as sparse_linalg
+
     order = _time_major(layout, normals.shape[0])
     permuted = normals[order][:, order].tocsc()
     return sparse_linalg.splu(
@@ -279,6 +290,8 @@ def gauss_newton(
     Returns:
         The outcome, with the covariance of the global parameters at the last point.
     """
+    from scipy import sparse
+
     state = start
     residuals, jacobian = linearise(data, layout, state, sigma)
     cost = float(residuals @ residuals)

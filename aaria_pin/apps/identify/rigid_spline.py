@@ -9,10 +9,14 @@ angular velocity and specific force (cubic) and the IMU biases (linear, or const
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-from scipy import sparse
 
 from aaria_pin.core.se3 import Array
+
+if TYPE_CHECKING:
+    from scipy import sparse
 
 __all__ = ["coefficient_count", "spline_basis"]
 
@@ -58,6 +62,8 @@ def spline_basis(
     Returns:
         A sparse (n, count) matrix.
     """
+    from scipy import sparse
+
     t = np.asarray(times, dtype=np.float64)
     n = t.size
     if degree == 1 and count == 1:
