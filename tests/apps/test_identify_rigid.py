@@ -139,3 +139,19 @@ def test_three_imus_on_one_body_are_each_located() -> None:
     with pytest.raises(ParameterError) as caught:
         identify_rigid_body(run, ["imu_a"])
     assert caught.value.parameter == "imus"
+
+
+@pytest.mark.parametrize(
+    ("option", "value"),
+    [
+        ("knot_interval", 0.0),
+        ("knot_interval", np.inf),
+        ("bias_interval", -1.0),
+        ("max_offset", -0.1),
+    ],
+)
+def test_bad_options_name_their_parameter(option: str, value: float) -> None:
+    run = simulate_rigid_body(default_pair(), duration=1.0, seed=49)
+    with pytest.raises(ParameterError, match="allowed") as caught:
+        identify_rigid(run, "imu_a", "imu_b", **{option: value})
+    assert caught.value.parameter == option

@@ -326,9 +326,18 @@ def identify_rigid(
         The fit.
 
     Raises:
-        ParameterError: an IMU not in the source, or A or B with fewer than
-            :data:`MIN_SAMPLES` samples inside the other's span.
+        ParameterError: an IMU not in the source, A or B with fewer than
+            :data:`MIN_SAMPLES` samples inside the other's span, or an interval or offset out
+            of range.
     """
+    for name, value, allowed in (
+        ("knot_interval", knot_interval, "a finite number > 0 s"),
+        ("bias_interval", bias_interval, "a number > 0 s (inf: constant)"),
+        ("max_offset", max_offset, "a finite number >= 0 s"),
+    ):
+        low_ok = value >= 0.0 if name == "max_offset" else value > 0.0
+        if not (low_ok and (name == "bias_interval" or np.isfinite(value))):
+            raise ParameterError(parameter=name, value=value, allowed=allowed)
     a, b = _imu(source, imu_a), _imu(source, imu_b)
     offset = _correlation_offset(a, b, max_offset)
     margin = max(0.05, 4.0 * knot_interval)
