@@ -9,6 +9,7 @@ the σ it reports cover the error. The truth is the mounts the recording was sim
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -155,3 +156,15 @@ def test_bad_options_name_their_parameter(option: str, value: float) -> None:
     with pytest.raises(ParameterError, match="allowed") as caught:
         identify_rigid(run, "imu_a", "imu_b", **{option: value})
     assert caught.value.parameter == option
+
+
+def test_a_pair_read_back_from_an_mcap_recording(tmp_path: Path) -> None:
+    from aaria_pin.files.recordings.bag_read import read_bag
+    from aaria_pin.files.recordings.bag_write import write_bag
+
+    a, b = default_pair(rate_b=250.0, time_offset=-0.0071)
+    run = simulate_rigid_body([a, b], duration=4.0, model=imu_preset("adis16485"), seed=50)
+    recording = read_bag(write_bag(tmp_path / "pair.mcap", run))
+    error = _errors(identify_rigid(recording, "imu_a", "imu_b"), relative_pose(a, b))
+    assert np.linalg.norm(error[3:6]) <= 1e-3
+    assert abs(error[6]) <= 1e-4
