@@ -1,10 +1,9 @@
 """Two rigid bodies joined by an unknown joint, one IMU on each: the joint's type, axis and place.
 
-For robots whose joints have no encoders. :func:`simulate_jointed_bodies` records an IMU on each
-of two bodies, body 2 turning (revolute) or sliding (prismatic) on body 1 by a smooth random
-joint motion while body 1 is carried by hand (:func:`~aaria_pin.apps.identify.rigid_motion.
-hand_motion`). :func:`identify_joint` finds, from the two IMUs' signals (one clock), without the
-joint's values:
+For robots whose joints have no encoders (simulated recordings:
+:func:`~aaria_pin.apps.identify.rigid_joint_motion.simulate_jointed_bodies`).
+:func:`identify_joint` finds, from the two IMUs' signals (one clock), without the joint's
+values:
 
 * the type: the two gyroscopes related by one constant rotation (Kabsch residual at the noise)
   is a rigid or prismatic link (then the accelerometers after the lever arm's fit tell which:
@@ -12,7 +11,7 @@ joint's values:
 * a revolute joint's axis in both IMUs' frames by the hinge constraint (Seel, Raisch, Schauer
   2012): the angular velocity's part across the axis has one norm on both sides,
   ``|ω_A × j_A| = |ω_B × j_B|``; and its position: the point on the axis has one acceleration
-  seen from both sides, ``|f_A - Γ_A(o_A)| = |f_B - Γ_B(o_B)|`` with
+  seen from both sides, ``|f_A + Γ_A(o_A)| = |f_B + Γ_B(o_B)|`` with
   ``Γ(o) = ω×(ω×o) + ω̇×o``, then moved along the axis to the point nearest the two IMUs
   (a point along the axis is not determined);
 * a prismatic joint's axis in A's frame: the principal direction of what the rigid lever arm
@@ -25,8 +24,10 @@ at A's stamps, so rates may differ; the clocks are taken as one (a time offset, 
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass
+import itertools
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -37,23 +38,12 @@ from aaria_pin.apps.identify.rigid import (
     _lever_matrices,
     identify_rigid,
 )
-from aaria_pin.apps.identify.rigid_motion import (
-    GRAVITY,
-    HandMotion,
-    ImuMount,
-    hand_motion,
-)
 from aaria_pin.apps.identify.rigid_spline import coefficient_count, spline_basis
-from aaria_pin.core.imu_model import ImuNoiseModel
-from aaria_pin.core.imu_noise import add_imu_noise
-from aaria_pin.core.recording import STREAM_COLUMNS, RecordedRun, SensorStream
+from aaria_pin.core.recording import RecordedRun
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
-__all__ = ["JOINT_TYPES", "JointFit", "UnknownJoint", "identify_joint", "simulate_jointed_bodies"]
-
-JOINT_TYPES = ("revolute", "prismatic")
-"""The joints :func:`simulate_jointed_bodies` makes and :func:`identify_joint` tells apart."""
+__all__ = ["RIGID_RATIO", "SLIDE_RATIO", "JointFit", "identify_chain", "identify_joint"]
 
 RIGID_RATIO = 5.0
 """A gyroscope residual of the constant-rotation fit below this many times the gyroscopes' own
@@ -63,124 +53,6 @@ noise is a link whose rotation does not change (rigid or prismatic)."""
 SLIDE_RATIO = 3.0
 """B's accelerometer residual of the rigid pair fit (:func:`~aaria_pin.apps.identify.rigid.
 identify_rigid`) over A's above which a link that does not turn slides (prismatic)."""
-
-
-@dataclass(frozen=True)
-class UnknownJoint:
-    """The joint between body 1 and body 2 (body 2's frame is body 1's at joint value 0).
-
-    Attributes:
-        kind: ``revolute`` or ``prismatic``
-        axis: (3,) unit axis in body 1's frame
-        point: (3,) a point on the axis in body 1's frame [m] (revolute)
-        rate: the joint rate's RMS [rad/s or m/s]
-    """
-
-    kind: str
-    axis: Array
-    point: Array
-    rate: float = 1.0
-
-
-def _joint_motion(seed: int, rate: float, t: Array) -> tuple[Array, Array, Array]:
-    """A smooth random joint value, rate and acceleration: five sinusoids of 0.2–2 Hz.
-
-    ``rate`` is the RMS of the joint rate [rad/s or m/s].
-    """
-    rng = np.random.default_rng([seed, 27])
-    freq = 2.0 * np.pi * rng.uniform(0.2, 2.0, 5)
-    phase = rng.uniform(0.0, 2.0 * np.pi, 5)
-    scale = rate / np.sqrt(5 / 2.0) / freq
-    angle = freq[None] * t[:, None] + phase[None]
-    return (
-        (scale * np.sin(angle)).sum(1),
-        (scale * freq * np.cos(angle)).sum(1),
-        -(scale * freq**2 * np.sin(angle)).sum(1),
-    )
-
-
-def _axis_rotation(axis: Array, angle: Array) -> Array:
-    """Rotations by ``angle`` about one unit axis, (n, 3, 3)."""
-    from scipy.spatial.transform import Rotation
-
-    return np.asarray(Rotation.from_rotvec(angle[:, None] * axis[None]).as_matrix())
-
-
-def _body_two_signals(
-    motion: HandMotion, joint: UnknownJoint, mount: ImuMount, t: Array, seed: int
-) -> Array:
-    """The exact signals of an IMU on body 2, (n, 6)."""
-    state = motion.state(t)
-    w1, a1 = state.angular_velocity, state.angular_acceleration
-    q, qd, qdd = _joint_motion(seed, joint.rate, t)
-    axis = np.asarray(joint.axis, dtype=np.float64)
-    x = np.asarray(mount.position, dtype=np.float64)
-    n = t.size
-    if joint.kind == "revolute":
-        turn = _axis_rotation(axis, q)  # R_12
-        c = np.asarray(joint.point, dtype=np.float64)
-        y = c + np.einsum("nij,j->ni", turn, x - c)
-        y_rate = qd[:, None] * np.cross(axis, y - c)
-        y_accel = qdd[:, None] * np.cross(axis, y - c) + qd[:, None] * np.cross(axis, y_rate)
-        w1_in_2 = np.einsum("nji,nj->ni", turn, w1)
-        w2 = w1_in_2 + qd[:, None] * axis
-    else:
-        turn = np.broadcast_to(np.eye(3), (n, 3, 3))
-        y = x + q[:, None] * axis
-        y_rate, y_accel = qd[:, None] * axis, qdd[:, None] * axis
-        w2 = w1
-    force_1 = (
-        np.einsum("nji,nj->ni", state.rotation, state.acceleration - GRAVITY)
-        + np.cross(a1, y)
-        + np.cross(w1, np.cross(w1, y))
-        + 2.0 * np.cross(w1, y_rate)
-        + y_accel
-    )
-    force_2 = np.einsum("nji,nj->ni", turn, force_1)
-    r_t = np.asarray(mount.rotation, dtype=np.float64).T
-    return np.concatenate([w2 @ r_t.T, force_2 @ r_t.T], axis=1)
-
-
-def simulate_jointed_bodies(
-    joint: UnknownJoint,
-    mounts: tuple[ImuMount, ImuMount],
-    duration: float = 20.0,
-    model: ImuNoiseModel | None = None,
-    seed: int = 0,
-) -> RecordedRun:
-    """A recording of an IMU on body 1 (``mounts[0]``) and one on body 2 (``mounts[1]``).
-
-    Args:
-        joint: the joint (its frame: body 1's)
-        mounts: the IMUs on body 1 and on body 2 (body 2's frame at joint value 0)
-        duration: the span of stamps [s]
-        model: the IMU noise model (None: exact)
-        seed: the seed of the motions and of the noise
-
-    Returns:
-        Two ``imu`` streams.
-
-    Raises:
-        ParameterError: an unknown joint kind.
-    """
-    if joint.kind not in JOINT_TYPES:
-        raise ParameterError(parameter="kind", value=joint.kind, allowed=", ".join(JOINT_TYPES))
-    from aaria_pin.apps.identify.rigid_motion import exact_imu_signals
-
-    motion = hand_motion(seed)
-    streams = []
-    for k, mount in enumerate(mounts):
-        stamps = mount.start + np.arange(int(np.floor(duration * mount.rate)) + 1) / mount.rate
-        at = stamps + mount.time_offset
-        if k == 0:
-            signals = exact_imu_signals(motion, mount, at)
-        else:
-            signals = _body_two_signals(motion, joint, mount, at, seed)
-        if model is not None:
-            rng = np.random.default_rng([seed, 28, k])
-            signals = add_imu_noise(signals[:, None], mount.rate, rng, model)[:, 0]
-        streams.append(SensorStream(mount.name, "imu", stamps, signals, STREAM_COLUMNS["imu"]))
-    return RecordedRun(streams, source="simulated jointed bodies")
 
 
 @dataclass(frozen=True)
@@ -199,6 +71,8 @@ class JointFit:
         gyro_noise: the gyroscopes' noise, from their spline fits [rad/s]
         rigid_residual: the constant-rotation fit's gyroscope residual RMS [rad/s]
         hinge_residual: the hinge constraint's residual RMS [rad/s] (revolute)
+        axis_sigma: (2,) σ of the revolute axis' direction in A's and B's frames [rad]
+        point_sigma: (2,) σ of the point across the axis in A's and B's frames [m]
     """
 
     imu_a: str
@@ -211,6 +85,8 @@ class JointFit:
     gyro_noise: float
     rigid_residual: float
     hinge_residual: float
+    axis_sigma: Array = field(default_factory=lambda: np.zeros(2))
+    point_sigma: Array = field(default_factory=lambda: np.zeros(2))
 
     def lines(self) -> list[str]:
         """The result as text lines."""
@@ -232,10 +108,13 @@ class JointFit:
                 f"[{vec(self.axis_b)}]"
             )
         if self.kind == "revolute":
-            lines.append(
+            deg, mm = np.degrees(self.axis_sigma), self.point_sigma * 1e3
+            lines += [
+                f"  axis sigma [deg]: {deg[0]:.3g} in {self.imu_a}, {deg[1]:.3g} in {self.imu_b}",
                 f"  point on the axis [mm] in {self.imu_a}: [{vec(self.point_a, 1e3)}], in "
-                f"{self.imu_b}: [{vec(self.point_b, 1e3)}] (along the axis: not determined)"
-            )
+                f"{self.imu_b}: [{vec(self.point_b, 1e3)}] (sigma across the axis {mm[0]:.3g}, "
+                f"{mm[1]:.3g}; along the axis: not determined)",
+            ]
         return lines
 
 
@@ -262,8 +141,19 @@ def _unit(angles: Array) -> Array:
     return np.stack([np.sin(p) * np.cos(a), np.sin(p) * np.sin(a), np.cos(p)], axis=-1)
 
 
-def _hinge_axes(wa: Array, wb: Array) -> tuple[Array, Array, float]:
-    """The axis in both frames by the hinge constraint, best of a few starts."""
+def _covariance(fit: Any, effective: float) -> Array:
+    """The covariance of a ``least_squares`` fit's parameters from its Jacobian and residuals.
+
+    The residuals of smoothed signals read at every sample are correlated over a knot interval:
+    the variance is scaled by the samples per ``effective`` independent one (the knots).
+    """
+    n, size = fit.jac.shape
+    variance = float(fit.fun @ fit.fun) / max(n - size, 1) * max(n / effective, 1.0)
+    return np.asarray(np.linalg.pinv(fit.jac.T @ fit.jac) * variance)
+
+
+def _hinge_axes(wa: Array, wb: Array, effective: float) -> tuple[Array, Array, float, Array]:
+    """The axis in both frames by the hinge constraint, best of a few starts, and its σ [rad]."""
     from scipy.optimize import least_squares
 
     def residual(x: Array) -> Array:
@@ -282,13 +172,20 @@ def _hinge_axes(wa: Array, wb: Array) -> tuple[Array, Array, float]:
     ja, jb = _unit(best.x[:2]), _unit(best.x[2:])
     if np.corrcoef(wa @ ja, wb @ jb)[0, 1] < 0:  # one physical axis: same sense both sides
         jb = -jb
-    return ja, jb, float(np.sqrt(np.mean(best.fun**2)))
+    cov = _covariance(best, effective)
+    sigma = [
+        np.sqrt(max(cov[k, k] + np.sin(best.x[k]) ** 2 * cov[k + 1, k + 1], 0.0)) for k in (0, 2)
+    ]
+    return ja, jb, float(np.sqrt(np.mean(best.fun**2))), np.array(sigma)
 
 
 def _hinge_point(
-    sides: tuple[tuple[Array, Array, Array], tuple[Array, Array, Array]], ja: Array, jb: Array
-) -> tuple[Array, Array]:
-    """A point on the axis in both frames, nearest the two IMUs' origins."""
+    sides: tuple[tuple[Array, Array, Array], tuple[Array, Array, Array]],
+    ja: Array,
+    jb: Array,
+    effective: float,
+) -> tuple[Array, Array, Array]:
+    """A point on the axis in both frames, nearest the two IMUs' origins, and σ across it [m]."""
     from scipy.optimize import least_squares
 
     (wa, da, fa), (wb, db, fb) = sides
@@ -299,9 +196,14 @@ def _hinge_point(
         eb = fb + np.einsum("nij,j->ni", lever_b, x[3:])
         return np.asarray(np.linalg.norm(ea, axis=1) - np.linalg.norm(eb, axis=1))
 
-    x = least_squares(residual, np.zeros(6), method="lm").x
+    fit = least_squares(residual, np.zeros(6), method="lm")
+    x, cov = fit.x, _covariance(fit, effective)
+    sigma = []
+    for j, block in ((ja, slice(0, 3)), (jb, slice(3, 6))):
+        across = np.eye(3) - np.outer(j, j)
+        sigma.append(np.sqrt(max(np.trace(across @ cov[block, block] @ across), 0.0)))
     shift = (x[:3] @ ja + x[3:] @ jb) / 2.0
-    return x[:3] - shift * ja, x[3:] - shift * jb
+    return x[:3] - shift * ja, x[3:] - shift * jb, np.array(sigma)
 
 
 def _slide(
@@ -436,8 +338,49 @@ def identify_joint(
         return JointFit(
             imu_a, imu_b, "prismatic", axis, rotation.T @ axis, zero, zero, noise, rigid, 0.0
         )
-    ja, jb, hinge = _hinge_axes(wa, wb)
-    point_a, point_b = _hinge_point(
-        ((wa, ra[:, :3], va[:, 3:]), (wb, rb[:, :3], vb[:, 3:])), ja, jb
+    effective = float(at[-1] - at[0]) / knot_interval
+    ja, jb, hinge, axis_sigma = _hinge_axes(wa, wb, effective)
+    point_a, point_b, point_sigma = _hinge_point(
+        ((wa, ra[:, :3], va[:, 3:]), (wb, rb[:, :3], vb[:, 3:])), ja, jb, effective
     )
-    return JointFit(imu_a, imu_b, "revolute", ja, jb, point_a, point_b, noise, rigid, hinge)
+    return JointFit(
+        imu_a,
+        imu_b,
+        "revolute",
+        ja,
+        jb,
+        point_a,
+        point_b,
+        noise,
+        rigid,
+        hinge,
+        axis_sigma,
+        point_sigma,
+    )
+
+
+def identify_chain(
+    source: RecordedRun | Mapping[str, Signals], imus: Sequence[str], knot_interval: float = 0.02
+) -> tuple[JointFit, ...]:
+    """A chain of bodies, one IMU each, base first: the joint between each two in a row.
+
+    Args:
+        source: a recording or ``{name: (time [s], (N, 6) signals)}`` (one clock)
+        imus: the IMUs from the base body to the last
+        knot_interval: the smoothing splines' knot spacing [s]
+
+    Returns:
+        One fit per joint, base first.
+
+    Raises:
+        ParameterError: fewer than two IMUs, or a joint's own errors.
+    """
+    names = list(imus)
+    if len(names) < 2:
+        raise ParameterError(
+            parameter="imus", value=", ".join(names) or "none", allowed="two or more IMUs"
+        )
+    return tuple(
+        identify_joint(source, parent, child, knot_interval)
+        for parent, child in itertools.pairwise(names)
+    )
