@@ -25,7 +25,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from aaria_pin.apps.identify.geometry_start import kabsch
-from aaria_pin.apps.identify.rigid_fit import FitLayout, FitState, PairData, gauss_newton
+from aaria_pin.apps.identify.rigid_fit import (
+    FitLayout,
+    FitState,
+    PairData,
+    gauss_newton,
+    lever_matrices,
+)
 from aaria_pin.apps.identify.rigid_spline import coefficient_count, spline_basis
 from aaria_pin.core.recording import RecordedRun
 from aaria_pin.core.se3 import Array
@@ -35,8 +41,11 @@ __all__ = [
     "UNDETERMINED",
     "UNDETERMINED_RATIO",
     "RigidPairFit",
+    "Signals",
     "identify_rigid",
     "identify_rigid_body",
+    "imu_signals",
+    "rotation_between",
 ]
 
 UNDETERMINED = {"position": 0.01, "rotation": np.radians(1.0), "time_offset": 0.01}
@@ -156,8 +165,20 @@ class RigidPairFit:
 Signals = tuple[Array, Array]
 
 
-def _imu(source: RecordedRun | Mapping[str, Signals], name: str) -> Signals:
-    """An IMU's (time, signals) from a recording or a mapping, checked."""
+def imu_signals(source: RecordedRun | Mapping[str, Signals], name: str) -> Signals:
+    """An IMU's (time [s], (N, 6) signals) from a recording or a mapping, checked.
+
+    Args:
+        source: a recording (its ``imu`` streams) or ``{name: (time, signals)}``
+        name: the IMU
+
+    Returns:
+        Its stamps (N,) [s] and ``[wx wy wz fx fy fz]`` rows (N, 6) [rad/s, m/s²], float64.
+
+    Raises:
+        ParameterError: a name not in the source, a stream that is not an IMU's, arrays of the
+            wrong shape, values not finite or stamps not increasing.
+    """
     if isinstance(source, RecordedRun):
         stream = source.stream(name)
         if stream.kind != "imu":
@@ -215,8 +236,17 @@ def _correlation_offset(a: Signals, b: Signals, max_offset: float) -> float:
     return float((lags[k] + shift) / rate)
 
 
-def _kabsch(target: Array, source: Array) -> Array:
-    """The rotation R minimising Σ|target - R·source|² over mean-free rows (a bias is a mean)."""
+def rotation_between(target: Array, source: Array) -> Array:
+    """The rotation R minimising Σ|target - R·source|² over mean-free rows (a bias is a mean).
+
+    Args:
+        target: (n, 3) vectors, e.g. A's angular velocities [rad/s]
+        source: (n, 3) the same vectors in the other frame
+
+    Returns:
+        R (3, 3), ``target ≈ R·source`` (Kabsch, :func:`~aaria_pin.apps.identify.
+        geometry_start.kabsch`).
+    """
     return kabsch(target - target.mean(0), source - source.mean(0)).T
 
 
@@ -234,9 +264,9 @@ def _start(data: PairData, layout: FitLayout, offset: float) -> tuple[FitState, 
     tau = data.time_b + offset
     n0, n1 = (spline_basis(tau, layout.start, layout.interval, layout.count, 3, d) for d in (0, 1))
     w, w1, s = n0 @ omega, n1 @ omega, n0 @ force
-    rotation = _kabsch(w, data.signals_b[:, :3])
+    rotation = rotation_between(w, data.signals_b[:, :3])
     gyro_b = data.signals_b[:, :3] - w @ rotation
-    lever = _lever_matrices(w, w1)
+    lever = lever_matrices(w, w1)
     left = np.concatenate([lever, np.broadcast_to(np.eye(3), lever.shape)], axis=2)
     right = data.signals_b[:, 3:] @ rotation.T - s
     solution = np.linalg.lstsq(left.reshape(-1, 6), right.ravel(), rcond=None)[0]
@@ -262,14 +292,6 @@ def _start(data: PairData, layout: FitLayout, offset: float) -> tuple[FitState, 
         bias + rotation.T @ bias_in_a,
     )
     return state, np.maximum(sigma, 1e-9)
-
-
-def _lever_matrices(w: Array, w1: Array) -> Array:
-    """``[α]× + [ω]×[ω]×`` per sample, (n, 3, 3): the lever arm's acceleration is it @ r."""
-    from aaria_pin.apps.identify.rigid_fit import _skew
-
-    skew = _skew(w)
-    return np.asarray(_skew(w1) + skew @ skew)
 
 
 def _undetermined(covariance: Array) -> tuple[str, ...]:
@@ -338,7 +360,7 @@ def identify_rigid(
         low_ok = value >= 0.0 if name == "max_offset" else value > 0.0
         if not (low_ok and (name == "bias_interval" or np.isfinite(value))):
             raise ParameterError(parameter=name, value=value, allowed=allowed)
-    a, b = _imu(source, imu_a), _imu(source, imu_b)
+    a, b = imu_signals(source, imu_a), imu_signals(source, imu_b)
     offset = _correlation_offset(a, b, max_offset)
     margin = max(0.05, 4.0 * knot_interval)
     inside = (b[0] + offset > a[0][0] + margin) & (b[0] + offset < a[0][-1] - margin)

@@ -32,7 +32,17 @@ if TYPE_CHECKING:
     from scipy import sparse
     from scipy.sparse import linalg as sparse_linalg
 
-__all__ = ["GLOBALS", "FitLayout", "FitState", "PairData", "gauss_newton", "linearise"]
+__all__ = [
+    "GLOBALS",
+    "FitLayout",
+    "FitState",
+    "PairData",
+    "blockwise",
+    "gauss_newton",
+    "lever_matrices",
+    "linearise",
+    "skew_rows",
+]
 
 GLOBALS = ("rotation", "position", "time_offset")
 """The global parameters (after the two splines): 3 rotation, 3 position [m], 1 offset [s]."""
@@ -111,11 +121,17 @@ class FitState:
         )
 
 
-def _skew(v: Array) -> Array:
+def skew_rows(v: Array) -> Array:
     """``[v]×`` of rows, (n, 3) → (n, 3, 3)."""
     z = np.zeros(v.shape[0])
     x, y, w = v[:, 0], v[:, 1], v[:, 2]
     return np.stack([z, -w, y, w, z, -x, -y, x, z], axis=1).reshape(-1, 3, 3)
+
+
+def lever_matrices(w: Array, w1: Array) -> Array:
+    """``[α]× + [ω]×[ω]×`` per sample, (n, 3, 3): the lever arm's acceleration is it @ r."""
+    skew = skew_rows(w)
+    return np.asarray(skew_rows(w1) + skew @ skew)
 
 
 def _stacked(per_sample: Array) -> sparse.csr_matrix:
@@ -125,7 +141,7 @@ def _stacked(per_sample: Array) -> sparse.csr_matrix:
     return sparse.csr_matrix(np.transpose(per_sample, (1, 0, 2)).reshape(-1, per_sample.shape[2]))
 
 
-def _blockwise(matrices: Array, basis: sparse.csr_matrix) -> sparse.csr_matrix:
+def blockwise(matrices: Array, basis: sparse.csr_matrix) -> sparse.csr_matrix:
     """Rows ``a``, columns ``b`` blocks ``diag(matrices[:, a, b]) @ basis``."""
     from scipy import sparse
 
@@ -186,7 +202,7 @@ def linearise(
         + np.einsum("n,ij->nij", w @ r, np.eye(3))
         - 2.0 * r[None, :, None] * w[:, None, :]
     )
-    skew_w, skew_r = _skew(w), _skew(r[None])[0]
+    skew_w, skew_r = skew_rows(w), skew_rows(r[None])[0]
     d_offset_a = s1 + np.cross(w2, r) + np.cross(w1, np.cross(w, r)) + np.cross(w, np.cross(w1, r))
     blocks = [
         [sparse.kron(eye, basis_a), None, None, None, None, sparse.kron(eye, bias_a), None, None],
@@ -194,7 +210,7 @@ def linearise(
         [
             sparse.kron(rt, n0),
             None,
-            _stacked(_skew(w @ rot)),
+            _stacked(skew_rows(w @ rot)),
             None,
             sparse.csr_matrix(_flat(w1 @ rot)[:, None]),
             None,
@@ -202,11 +218,11 @@ def linearise(
             None,
         ],
         [
-            _blockwise(np.broadcast_to(-rt @ skew_r, (nb, 3, 3)), n1)
-            + _blockwise(rt[None] @ d_lever, n0),
+            blockwise(np.broadcast_to(-rt @ skew_r, (nb, 3, 3)), n1)
+            + blockwise(rt[None] @ d_lever, n0),
             sparse.kron(rt, n0),
-            _stacked(_skew(in_a @ rot)),
-            _stacked(rt[None] @ (_skew(w1) + skew_w @ skew_w)),
+            _stacked(skew_rows(in_a @ rot)),
+            _stacked(rt[None] @ (skew_rows(w1) + skew_w @ skew_w)),
             sparse.csr_matrix(_flat(d_offset_a @ rot)[:, None]),
             None,
             None,

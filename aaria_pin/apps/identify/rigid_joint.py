@@ -33,11 +33,11 @@ import numpy as np
 
 from aaria_pin.apps.identify.rigid import (
     Signals,
-    _imu,
-    _kabsch,
-    _lever_matrices,
     identify_rigid,
+    imu_signals,
+    rotation_between,
 )
+from aaria_pin.apps.identify.rigid_fit import blockwise, lever_matrices, skew_rows
 from aaria_pin.apps.identify.rigid_spline import coefficient_count, spline_basis
 from aaria_pin.core.recording import RecordedRun
 from aaria_pin.core.se3 import Array
@@ -189,7 +189,7 @@ def _hinge_point(
     from scipy.optimize import least_squares
 
     (wa, da, fa), (wb, db, fb) = sides
-    lever_a, lever_b = _lever_matrices(wa, da), _lever_matrices(wb, db)
+    lever_a, lever_b = lever_matrices(wa, da), lever_matrices(wb, db)
 
     def residual(x: Array) -> Array:
         ea = fa + np.einsum("nij,j->ni", lever_a, x[:3])
@@ -222,16 +222,14 @@ def _slide(
     from scipy import sparse
     from scipy.sparse.linalg import spsolve
 
-    from aaria_pin.apps.identify.rigid_fit import _blockwise, _skew
-
     (value, rate), start = side_a, float(at[0])
     omega = value[:, :3]
     count = coefficient_count(float(at[-1] - at[0]), interval, 3)
     n0, n1, n2 = (spline_basis(at, start, interval, count, 3, d) for d in range(3))
     design = sparse.hstack(
         [
-            _blockwise(_lever_matrices(omega, rate[:, :3]), n0)
-            + _blockwise(2.0 * _skew(omega), n1)
+            blockwise(lever_matrices(omega, rate[:, :3]), n0)
+            + blockwise(2.0 * skew_rows(omega), n1)
             + sparse.kron(sparse.identity(3), n2),
             sparse.kron(sparse.identity(3), np.ones((at.size, 1))),
         ]
@@ -258,11 +256,9 @@ def _slide_axis(
     from scipy import sparse
     from scipy.sparse.linalg import spsolve
 
-    from aaria_pin.apps.identify.rigid_fit import _skew
-
     (value, rate), start = side_a, float(at[0])
     omega, n = value[:, :3], at.size
-    lever, skew = _lever_matrices(omega, rate[:, :3]), _skew(omega)
+    lever, skew = lever_matrices(omega, rate[:, :3]), skew_rows(omega)
     target = force_b - value[:, 3:]
     count = coefficient_count(float(at[-1] - at[0]), interval, 3)
     bases = [spline_basis(at, start, interval, count, 3, d) for d in range(3)]
@@ -311,7 +307,7 @@ def identify_joint(
     Raises:
         ParameterError: an IMU not in the source, or recordings that do not overlap.
     """
-    a, b = _imu(source, imu_a), _imu(source, imu_b)
+    a, b = imu_signals(source, imu_a), imu_signals(source, imu_b)
     first, last = max(a[0][0], b[0][0]) + 0.05, min(a[0][-1], b[0][-1]) - 0.05
     at = a[0][(a[0] >= first) & (a[0] <= last)]
     if at.size < 50:
@@ -323,7 +319,7 @@ def identify_joint(
     (va, ra, noise_a), (vb, rb, noise_b) = (_smoothed(s, at, knot_interval) for s in (a, b))
     wa, wb = va[:, :3], vb[:, :3]
     noise = float(np.hypot(noise_a, noise_b))
-    rotation = _kabsch(wa, wb)
+    rotation = rotation_between(wa, wb)
     rigid = float(np.sqrt(np.mean(np.sum((wa - wb @ rotation.T) ** 2, axis=1) / 3.0)))
     zero = np.zeros(3)
     if rigid < RIGID_RATIO * noise:
