@@ -34,7 +34,9 @@ def _errors(fit: RigidPairFit, truth: tuple[np.ndarray, np.ndarray, float]) -> n
     return np.concatenate([turn, fit.position - position, [fit.time_offset - offset]])
 
 
-@pytest.fixture(scope="module", params=[(41, 200.0, 0.0123), (42, 250.0, -0.0071)])
+@pytest.fixture(
+    scope="module", params=[(41, 200.0, 0.0123), (42, 250.0, -0.0071), (57, 400.0, 0.0302)]
+)
 def adis_pair(request: pytest.FixtureRequest) -> tuple[RigidPairFit, np.ndarray]:
     seed, rate_b, offset = request.param
     a, b = default_pair(rate_b=rate_b, time_offset=offset)
@@ -168,3 +170,23 @@ def test_a_pair_read_back_from_an_mcap_recording(tmp_path: Path) -> None:
     error = _errors(identify_rigid(recording, "imu_a", "imu_b"), relative_pose(a, b))
     assert np.linalg.norm(error[3:6]) <= 1e-3
     assert abs(error[6]) <= 1e-4
+
+
+def test_a_wandering_bias_is_followed_by_a_bias_spline() -> None:
+    a, b = default_pair(rate_b=250.0, time_offset=-0.0071)
+    run = simulate_rigid_body([a, b], model=imu_preset("adis16485"), seed=58)
+    stream = run.stream("imu_b")
+    t = stream.time
+    drift = np.zeros_like(stream.values)  # far above the preset's: 0.02 rad/s, 0.05 m/s²
+    drift[:, :3] = 0.02 * np.sin(2 * np.pi * t / 20.0)[:, None] * np.array([1.0, -0.5, 0.3])
+    drift[:, 3:] = 0.05 * np.sin(2 * np.pi * t / 25.0 + 1.0)[:, None] * np.array([0.2, 1.0, -0.6])
+    arrays = {s.name: (s.time, s.values) for s in run.streams}
+    arrays["imu_b"] = (t, stream.values + drift)
+    constant = identify_rigid(arrays, "imu_a", "imu_b")
+    spline = identify_rigid(arrays, "imu_a", "imu_b", bias_interval=5.0)
+    assert constant.noise[2] > 4.0 * spline.noise[2]  # B's gyro residual: the drift, then noise
+    assert spline.noise[2] < 1.5 * spline.noise[0] and spline.noise[3] < 1.5 * spline.noise[1]
+    _, position, offset = relative_pose(a, b)
+    assert np.linalg.norm(spline.position - position) <= 1e-3
+    assert abs(spline.time_offset - offset) <= 1e-4
+    assert np.all(spline.position_sigma < constant.position_sigma)
