@@ -190,3 +190,27 @@ def test_a_wandering_bias_is_followed_by_a_bias_spline() -> None:
     assert np.linalg.norm(spline.position - position) <= 1e-3
     assert abs(spline.time_offset - offset) <= 1e-4
     assert np.all(spline.position_sigma < constant.position_sigma)
+
+
+def test_a_body_that_does_not_turn_gives_rotation_and_offset_not_position() -> None:
+    a, b = default_pair(rate_b=250.0, time_offset=-0.0071)
+    motion = hand_motion(59, angular_rate=0.0)  # translations only
+    run = simulate_rigid_body([a, b], 10.0, motion, imu_preset("adis16485"), seed=59)
+    fit = identify_rigid(run, "imu_a", "imu_b")
+    error = _errors(fit, relative_pose(a, b))
+    assert np.degrees(np.linalg.norm(error[:3])) <= 0.1  # the accelerometers turn it
+    assert abs(error[6]) <= 1e-4  # the offset from |f| and the specific force's changes
+    assert any(text.startswith("position: the body did not turn") for text in fit.undetermined)
+    assert fit.failure == ""
+
+
+def test_two_imus_on_different_bodies_fail_in_one_line() -> None:
+    a, b = default_pair()
+    one = simulate_rigid_body([a, b], duration=6.0, model=imu_preset("adis16485"), seed=60)
+    other = simulate_rigid_body([a, b], duration=6.0, model=imu_preset("adis16485"), seed=61)
+    arrays = {"imu_a": (one.stream("imu_a").time, one.stream("imu_a").values)}
+    arrays["imu_b"] = (other.stream("imu_b").time, other.stream("imu_b").values)
+    fit = identify_rigid(arrays, "imu_a", "imu_b")
+    assert "above the noise floor" in fit.failure
+    assert fit.lines()[-1].startswith("  fit failed: imu_b's ")
+    assert fit.to_json()["failure"] == fit.failure

@@ -57,6 +57,18 @@ direction's is reported as not determined too (the data hold only noise about it
 along the one axis the body turned about is then pulled about by the gyroscopes' noise, far
 beyond its σ)."""
 
+TURNING = 10.0
+"""``|ω|``'s spread over its noise above which the time offset's start correlates ``|ω|``."""
+
+ABOVE_FLOOR = 5.0
+"""B's residual RMS over A's (same sensor) above which the fit did not reach the noise floor."""
+
+STILL = (
+    "position: the body did not turn (|w| within the gyroscope's noise), so the lever arm's "
+    "accelerations are noise and the position is not a result"
+)
+"""The sentence of a recording without rotation."""
+
 MIN_SAMPLES = 50
 """The fewest samples of each IMU inside the other's span."""
 
@@ -83,6 +95,8 @@ class RigidPairFit:
         converged: the last step changed the cost by < 1e-9 of it
         undetermined: what the data do not determine, one sentence each
         covariance: (7, 7) of rotation [rad], position [m], offset [s]
+        failure: one sentence when the fit ended above the noise floor (:data:`ABOVE_FLOOR`),
+            else empty: the numbers are then not a result
     """
 
     imu_a: str
@@ -102,6 +116,7 @@ class RigidPairFit:
     converged: bool
     undetermined: tuple[str, ...] = ()
     covariance: Array = field(default_factory=lambda: np.zeros((7, 7)), repr=False)
+    failure: str = ""
 
     def rotation_error(self, truth: Array) -> float:
         """The angle between the estimated and a true ``R_AB`` [rad]."""
@@ -132,7 +147,8 @@ class RigidPairFit:
             f"  residual RMS: gyro {gyro_a:.3g} / {gyro_b:.3g} rad/s, "
             f"accel {accel_a:.3g} / {accel_b:.3g} m/s^2 ({self.imu_a} / {self.imu_b})",
         ]
-        return lines + [f"  not determined: {text}" for text in self.undetermined]
+        lines += [f"  not determined: {text}" for text in self.undetermined]
+        return lines + ([f"  fit failed: {self.failure}"] if self.failure else [])
 
     def to_json(self) -> dict[str, object]:
         """The result as JSON-ready values (SI units in the keys)."""
@@ -159,6 +175,7 @@ class RigidPairFit:
             "iterations": self.iterations,
             "converged": self.converged,
             "undetermined": list(self.undetermined),
+            "failure": self.failure,
         }
 
 
@@ -209,16 +226,28 @@ def imu_signals(source: RecordedRun | Mapping[str, Signals], name: str) -> Signa
     return time, values
 
 
+def _turning(values: Array) -> bool:
+    """Whether the gyroscope's ``|ω|`` varies well above its sample-to-sample noise."""
+    speed = np.linalg.norm(values[:, :3], axis=1)
+    noise = np.std(np.diff(speed)) / np.sqrt(2.0)
+    return bool(np.std(speed) > TURNING * noise)
+
+
 def _correlation_offset(a: Signals, b: Signals, max_offset: float) -> float:
-    """B's time offset by cross-correlating the two gyroscopes' ``|ω|`` [s]."""
+    """B's time offset by cross-correlating the two IMUs' ``|ω|`` (``|f|`` if not turning) [s].
+
+    Both magnitudes are the same on one rigid body whatever the IMUs' rotation (``|f|`` up to
+    the lever arm's accelerations, which a body that does not turn does not have).
+    """
     rate = 2.0 * max(1.0 / np.median(np.diff(a[0])), 1.0 / np.median(np.diff(b[0])))
     first, last = max(a[0][0], b[0][0]), min(a[0][-1], b[0][-1])
     grid = np.arange(first, last, 1.0 / rate)
     if grid.size < MIN_SAMPLES:
         return 0.0  # no overlap to correlate: the caller finds too few shared samples
+    columns = slice(0, 3) if _turning(a[1]) else slice(3, 6)
     speeds = []
     for time, values in (a, b):
-        speed = np.interp(grid, time, np.linalg.norm(values[:, :3], axis=1))
+        speed = np.interp(grid, time, np.linalg.norm(values[:, columns], axis=1))
         speeds.append(speed - speed.mean())
     n = grid.size
     size = 1 << int(np.ceil(np.log2(2 * n)))
@@ -312,8 +341,8 @@ def _undetermined(covariance: Array) -> tuple[str, ...]:
                 direction = np.round(vector * np.sign(vector[np.argmax(abs(vector))]), 2) + 0.0
                 axis = " ".join(f"{x:+.2f}" for x in direction)
                 why = (
-                    " (the body turned about that axis only: the lever arm's accelerations do "
-                    "not change along it)"
+                    " (the lever arm's accelerations do not change along it: the body turned "
+                    "about that axis only, or not at all)"
                     if name == "position"
                     else ""
                 )
@@ -396,6 +425,8 @@ def identify_rigid(
     spread = np.sqrt(np.maximum(np.diag(covariance), 0.0))
     fitted = outcome.state
     blocks = np.split(outcome.residuals, np.cumsum(3 * sizes)[:-1])
+    noise = sigma * np.sqrt([np.mean(e**2) for e in blocks])
+    still = () if _turning(a[1]) else (STILL,)
     return RigidPairFit(
         imu_a,
         imu_b,
@@ -408,13 +439,27 @@ def identify_rigid(
         fitted.gyro_bias_a.mean(0),
         fitted.gyro_bias_b.mean(0),
         fitted.accel_bias_b.mean(0),
-        sigma * np.sqrt([np.mean(e**2) for e in blocks]),
+        noise,
         (int(a[0].size), int(data.time_b.size)),
         outcome.iterations,
         outcome.converged,
-        _undetermined(covariance),
+        _undetermined(covariance) + still,
         covariance,
+        _failure(noise, imu_a, imu_b),
     )
+
+
+def _failure(noise: Array, imu_a: str, imu_b: str) -> str:
+    """The sentence of a fit above the noise floor (B's residual :data:`ABOVE_FLOOR`× A's)."""
+    for k, sensor, unit in ((0, "gyroscope", "rad/s"), (1, "accelerometer", "m/s^2")):
+        ratio = noise[2 + k] / max(noise[k], 1e-300)
+        if ratio > ABOVE_FLOOR:
+            return (
+                f"{imu_b}'s {sensor} residual is {noise[2 + k]:.3g} {unit}, {ratio:.0f}x "
+                f"{imu_a}'s: above the noise floor (a local minimum, two IMUs not on one rigid "
+                "body, or parts of very different noise)"
+            )
+    return ""
 
 
 def identify_rigid_body(
