@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.sparse.linalg import lsqr
 
-from aaria_pin.apps.identify.rigid_spline import coefficient_count, spline_basis
+from aaria_pin.apps.identify.rigid_spline import coefficient_count, fit_spline, spline_basis
 
 
 def test_a_cubic_is_reproduced_with_its_derivatives() -> None:
@@ -39,3 +39,18 @@ def test_linear_and_constant_bases() -> None:
     np.testing.assert_allclose(hats[1, :2], [0.5, 0.5])
     np.testing.assert_allclose(hats[:, 0], [1.0, 0.5, 0.0, 0.0])
     np.testing.assert_allclose(hats[3, 4], 1.0)
+
+
+def test_fit_spline_recovers_a_cubic_per_column() -> None:  # to its vanishing ridge
+    times = np.linspace(0.0, 3.0, 301)
+    values = np.column_stack([times**3 - 2 * times, np.sin(0.0 * times) + 4.0])
+    count = coefficient_count(3.0, 0.05, 3)
+    coefficients = fit_spline(times, values, 0.0, 0.05, count)
+    assert coefficients.shape == (count, 2)
+    at = np.linspace(0.1, 2.9, 29)
+    np.testing.assert_allclose(
+        spline_basis(at, 0.0, 0.05, count, 3) @ coefficients[:, 0], at**3 - 2 * at, atol=1e-5
+    )
+    np.testing.assert_allclose(
+        spline_basis(at, 0.0, 0.05, count, 3, 1) @ coefficients[:, 1], 0.0, atol=1e-5
+    )

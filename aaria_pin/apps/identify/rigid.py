@@ -5,8 +5,9 @@ rotation ``R_AB`` (``v_A = R_AB·v_B``), B's origin in A's frame ``r`` [m], B's 
 [s] (B's sample stamped ``t`` is A's instant ``t + δ``), and the biases, with σ:
 
 1. starts: ``δ`` by cross-correlating ``|ω|`` of the two gyroscopes (a rotation does not change
-   it), ``R`` by Kabsch/Wahba on the gyroscope vectors at matched instants (means removed: a
-   bias is a constant), ``r`` and B's accelerometer bias by linear least squares on
+   it; ``|f|`` when the body does not turn), ``R`` by Kabsch/Wahba on the gyroscope vectors at
+   matched instants (means removed: a bias is a constant), ``r`` and B's accelerometer bias by
+   linear least squares on
    ``R·f_B - f_A = (α× + ω×ω×)·r + c`` with ω and α from a B-spline fit of A's gyroscope;
 2. one nonlinear least squares over every sample of both IMUs
    (:func:`~aaria_pin.apps.identify.rigid_fit.gauss_newton`): the body's angular velocity and
@@ -14,7 +15,8 @@ rotation ``R_AB`` (``v_A = R_AB·v_B``), B's origin in A's frame ``r`` [m], B's 
    σ re-estimated from its residuals and the fit repeated, the covariance then giving σ;
 3. what the data do not determine, in words: a direction of ``r``, of the rotation or the
    offset whose σ exceeds :data:`UNDETERMINED` (the position along ω when the body turned about
-   one axis only: ``α×r`` and ``ω×(ω×r)`` vanish for ``r`` along it).
+   one axis only: ``α×r`` and ``ω×(ω×r)`` vanish for ``r`` along it), and a fit that ended
+   above the noise floor (:attr:`RigidPairFit.failure`).
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ from aaria_pin.apps.identify.rigid_fit import (
     gauss_newton,
     lever_matrices,
 )
-from aaria_pin.apps.identify.rigid_spline import coefficient_count, spline_basis
+from aaria_pin.apps.identify.rigid_spline import coefficient_count, fit_spline, spline_basis
 from aaria_pin.core.recording import RecordedRun
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
@@ -281,15 +283,9 @@ def rotation_between(target: Array, source: Array) -> Array:
 
 def _start(data: PairData, layout: FitLayout, offset: float) -> tuple[FitState, Array]:
     """The starting point and the blocks' noise σ from the starts' residuals."""
-    from scipy.sparse import identity
-    from scipy.sparse.linalg import spsolve
-
     basis = spline_basis(data.time_a, layout.start, layout.interval, layout.count, 3)
-    normals = (basis.T @ basis + 1e-9 * identity(layout.count)).tocsc()
-    omega = np.column_stack([spsolve(normals, basis.T @ data.signals_a[:, i]) for i in range(3)])
-    force = np.column_stack(
-        [spsolve(normals, basis.T @ data.signals_a[:, 3 + i]) for i in range(3)]
-    )
+    fitted = fit_spline(data.time_a, data.signals_a, layout.start, layout.interval, layout.count)
+    omega, force = fitted[:, :3], fitted[:, 3:]
     tau = data.time_b + offset
     n0, n1 = (spline_basis(tau, layout.start, layout.interval, layout.count, 3, d) for d in (0, 1))
     w, w1, s = n0 @ omega, n1 @ omega, n0 @ force

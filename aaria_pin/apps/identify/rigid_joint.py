@@ -38,7 +38,7 @@ from aaria_pin.apps.identify.rigid import (
     rotation_between,
 )
 from aaria_pin.apps.identify.rigid_fit import blockwise, lever_matrices, skew_rows
-from aaria_pin.apps.identify.rigid_spline import coefficient_count, spline_basis
+from aaria_pin.apps.identify.rigid_spline import coefficient_count, fit_spline, spline_basis
 from aaria_pin.core.recording import RecordedRun
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
@@ -120,15 +120,10 @@ class JointFit:
 
 def _smoothed(signals: Signals, at: Array, interval: float) -> tuple[Array, Array, float]:
     """An IMU's signals and their derivative at ``at`` by a least-squares cubic B-spline."""
-    from scipy.sparse import identity
-    from scipy.sparse.linalg import spsolve
-
     time, values = signals
-    span = float(time[-1] - time[0])
-    count = coefficient_count(span, interval, 3)
+    count = coefficient_count(float(time[-1] - time[0]), interval, 3)
     basis = spline_basis(time, float(time[0]), interval, count, 3)
-    normals = (basis.T @ basis + 1e-9 * identity(count)).tocsc()
-    coefficients = np.column_stack([spsolve(normals, basis.T @ values[:, i]) for i in range(6)])
+    coefficients = fit_spline(time, values, float(time[0]), interval, count)
     noise = float(np.std(values[:, :3] - basis @ coefficients[:, :3]))
     value = spline_basis(at, float(time[0]), interval, count, 3) @ coefficients
     rate = spline_basis(at, float(time[0]), interval, count, 3, 1) @ coefficients

@@ -18,7 +18,7 @@ from aaria_pin.core.se3 import Array
 if TYPE_CHECKING:
     from scipy import sparse
 
-__all__ = ["coefficient_count", "spline_basis"]
+__all__ = ["coefficient_count", "fit_spline", "spline_basis"]
 
 
 def coefficient_count(duration: float, interval: float, degree: int) -> int:
@@ -80,3 +80,24 @@ def spline_basis(
     rows = np.repeat(np.arange(n), width)
     cols = (segment[:, None] + np.arange(width)[None, :]).ravel()
     return sparse.csr_matrix((weights.ravel(), (rows, cols)), shape=(n, count))
+
+
+def fit_spline(times: Array, values: Array, start: float, interval: float, count: int) -> Array:
+    """The least-squares cubic B-spline through samples: its coefficients, one column each.
+
+    Args:
+        times: (n,) instants [s]
+        values: (n, c) samples
+        start: the first knot [s]
+        interval: the knot spacing [s]
+        count: the coefficients (:func:`coefficient_count`)
+
+    Returns:
+        (count, c) coefficients (a vanishing ridge keeps a knot without samples at 0).
+    """
+    from scipy import sparse
+    from scipy.sparse.linalg import splu
+
+    basis = spline_basis(times, start, interval, count, 3)
+    normals = (basis.T @ basis + 1e-9 * sparse.identity(count)).tocsc()
+    return np.asarray(splu(normals).solve(np.asarray(basis.T @ values)))
