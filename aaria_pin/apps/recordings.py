@@ -60,14 +60,22 @@ def recorded_from_run(record: RunRecord) -> RecordedRun:
 
 
 def open_recorded(path: str | os.PathLike[str], run: int | None = None) -> RecordedRun:
-    """The recorded streams of a recorded run file, a run file or run ``run`` of a data set.
+    """The recorded streams of a recording, a recorded run, a run or run ``run`` of a data set.
+
+    A ROS 1/ROS 2 bag (file or folder), an MCAP file or a CSV is read as ``aaria import`` reads
+    it without a map (:func:`import_recordings`).
 
     Raises:
-        InputFileError, ParameterError: as :func:`~aaria_pin.files.source.open_record`.
+        InputFileError, ParameterError: as :func:`~aaria_pin.files.source.open_record` and
+            :func:`import_recordings`.
     """
+    from aaria_pin.files.recordings.bag_format import BAG_SUFFIXES
     from aaria_pin.files.runfile import is_recorded_file, read_recorded_run
     from aaria_pin.files.source import open_record
 
+    where = Path(path)
+    if run is None and (where.is_dir() or where.suffix.lower() in {*BAG_SUFFIXES, ".csv"}):
+        return import_recordings([where])
     if run is None and is_recorded_file(path):
         return read_recorded_run(path)
     return recorded_from_run(open_record(path, run))

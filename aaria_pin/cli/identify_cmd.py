@@ -20,6 +20,8 @@ Examples:
   aaria identify ds.h5 --run 3 --json                # one run of a data set
   aaria identify --dynamics run.h5 --parameters      # inertial base parameters from torques
   aaria identify --dataset clean.h5 noisy.h5 --workers 2 --plot cdf.png
+  aaria identify --dynamics run.h5 --consistent --write-urdf fitted.urdf
+  aaria identify --rigid imu_a imu_b rec.mcap      # two IMUs on one body, no encoders
 """
 
 
@@ -73,6 +75,17 @@ def _plot_tool_tip_cdf(path: Path, outcome: IdentifyOutcome) -> None:
     help="--dynamics: share of the run, at its end, held out of the fit.  [default: 0.2]",
 )
 @click.option("--parameters", is_flag=True, help="--dynamics: print every base parameter.")
+@click.option("--torques", type=click.Choice(["auto", "measured", "current", "motor", "rigid"]),
+    default="auto", help="--dynamics: the torques fitted (auto: what the run has).")  # fmt: skip
+@click.option("--friction/--no-friction", default=None,
+    help="--dynamics: fit friction and armature  [default: if the torques hold them]")  # fmt: skip
+@click.option("--consistent", is_flag=True, help="--dynamics: physically consistent bodies.")
+@click.option("--write-urdf", "dynamics_urdf", type=click.Path(path_type=Path, dir_okay=False),
+    help="--dynamics: the run's URDF with the identified dynamics (.urdf).")  # fmt: skip
+@click.option("--rigid", nargs=2, multiple=True, metavar="IMU_A IMU_B",
+    help="IMU_B's pose and time offset relative to IMU_A on one rigid body (repeat).")  # fmt: skip
+@click.option("--joint", nargs=2, multiple=True, metavar="IMU_A IMU_B",
+    help="The joint (type, axis, point) between IMU_A's body and IMU_B's (repeat).")  # fmt: skip
 @click.option(
     "--workers", type=click.IntRange(1, 1024), help="--dataset: processes [cores].  [default: 1]"
 )
@@ -93,6 +106,10 @@ def identify(files: tuple[Path, ...], plot: Path | None, as_json: bool, **flags:
 
     With --dynamics: the robot's inertial base parameters (any run, URDF robots too) from
     q, qd, qdd, tau and the base wrench; held-out torque error, total mass, centre of mass.
+
+    With --rigid A B (or --joint A B): FILE is a recording (bag, MCAP, CSV, a recorded or
+    simulated run); B's pose and time offset on A's body (or the joint between their bodies)
+    from the IMU signals alone, with sigma.
 
     With --dataset: every run of the data sets FILES identified (--workers processes), then
     the accuracy against the truth by noise, run length and rate: link types right, tool-tip

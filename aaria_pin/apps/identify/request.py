@@ -65,6 +65,9 @@ class IdentifyRequest:
         limit: at most this many runs of each data set (data-set mode)
         plot: where the caller draws the tool-tip error CDF (data-set mode; only checked here,
             :func:`~aaria_pin.apps.identify.benchmark.tool_tip_cdf` gives its curves)
+        rigid: IMU pairs (A, B) on one rigid body each: B's pose and time offset relative to
+            A from a recording's signals alone (:mod:`~aaria_pin.apps.identify.bodies`)
+        joint: IMU pairs (A, B) on two bodies: the joint between them (type, axis, point)
 
     Raises:
         ParameterError: no file, or several files outside the data-set mode.
@@ -87,6 +90,8 @@ class IdentifyRequest:
     workers: int | None = None
     limit: int | None = None
     plot: Path | None = None
+    rigid: tuple[tuple[str, str], ...] = ()
+    joint: tuple[tuple[str, str], ...] = ()
 
     def __post_init__(self) -> None:
         files = len(self.files)
@@ -110,6 +115,7 @@ class IdentifyRequest:
         """Refuse an option of another mode (it would be ignored), naming the mode's option."""
         from aaria_pin.core.conflicts import OptionConflictError
 
+        self._refuse_body_conflicts()
         for parameter, given, other, given_with in (
             ("run", self.run is not None, "dataset", True),  # the data sets' every run
             ("urdf", self.urdf is not None, "dynamics", True),
@@ -137,6 +143,22 @@ class IdentifyRequest:
                 raise OptionConflictError(
                     parameter=parameter, other=other, given_with=given_with, value=value
                 )
+
+    def _refuse_body_conflicts(self) -> None:
+        """Refuse another mode's option given with ``rigid``/``joint`` (named after the first)."""
+        from aaria_pin.core.conflicts import OptionConflictError
+
+        mode = "rigid" if self.rigid else "joint"
+        for name in ("dynamics", "dataset", "urdf", "holdout", "parameters", "consistent"):
+            value = getattr(self, name)
+            if self.bodies and value not in (None, False):
+                value = str(value) if isinstance(value, Path) else value
+                raise OptionConflictError(parameter=name, other=mode, given_with=True, value=value)
+
+    @property
+    def bodies(self) -> bool:
+        """IMUs on rigid bodies and joints between them (``rigid`` or ``joint`` given)."""
+        return bool(self.rigid or self.joint)
 
 
 @dataclass(frozen=True)
@@ -216,6 +238,18 @@ def _benchmark(request: IdentifyRequest) -> IdentifyOutcome:
     return IdentifyOutcome(report, tuple(lines), tuple(runs), tuple(groups))
 
 
+def _bodies(request: IdentifyRequest) -> IdentifyOutcome:
+    from aaria_pin.apps.identify.bodies import identify_bodies
+    from aaria_pin.apps.recordings import open_recorded
+
+    _check_output(request.output, "output", "JSON report", ".json")
+    found = identify_bodies(open_recorded(request.files[0], request.run), request.rigid,
+                            request.joint)  # fmt: skip
+    if found.failure is None:
+        _write_json(request.output, found.report)
+    return IdentifyOutcome(found.report, found.lines, failure=found.failure)
+
+
 def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
     """Identify what the request asks, write its outputs, and return the report and its text.
 
@@ -232,6 +266,8 @@ def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
         InputFileError: an unreadable file, a run whose model cannot be rebuilt.
         OutputFileError: an output of another type, or one that cannot be written.
     """
+    if request.bodies:
+        return _bodies(request)
     kinematics = not (request.dynamics or request.dataset)
     if kinematics:
         _check_output(request.output, "output", "CSV table", ".csv")

@@ -117,6 +117,23 @@ class JointFit:
             ]
         return lines
 
+    def to_json(self) -> dict[str, object]:
+        """The result as JSON-ready values (SI units in the keys)."""
+        return {
+            "imu_a": self.imu_a,
+            "imu_b": self.imu_b,
+            "kind": self.kind,
+            "axis_a": self.axis_a.tolist(),
+            "axis_b": self.axis_b.tolist(),
+            "point_a_m": self.point_a.tolist(),
+            "point_b_m": self.point_b.tolist(),
+            "axis_sigma_rad": self.axis_sigma.tolist(),
+            "point_sigma_m": self.point_sigma.tolist(),
+            "gyro_noise_rad_s": self.gyro_noise,
+            "rigid_residual_rad_s": self.rigid_residual,
+            "hinge_residual_rad_s": self.hinge_residual,
+        }
+
 
 def _smoothed(signals: Signals, at: Array, interval: float) -> tuple[Array, Array, float]:
     """An IMU's signals and their derivative at ``at`` by a least-squares cubic B-spline."""
