@@ -19,7 +19,12 @@ from aaria_pin.aaria.hardware import (
 )
 from aaria_pin.core.imu_noise import ADIS16485
 from aaria_pin.core.imu_presets import IMU_PRESETS
-from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
+from aaria_pin.core.joint_sensors import (
+    ActuatorModel,
+    CurrentSensorModel,
+    EncoderModel,
+    TorqueSensorModel,
+)
 from aaria_pin.errors import ParameterError
 
 PRESETS = ", ".join(sorted(IMU_PRESETS))
@@ -218,6 +223,7 @@ def test_the_hardware_template_is_every_model_at_its_default(tmp_path: Path) -> 
         "encoder": EncoderModel(),
         "torque_sensor": TorqueSensorModel(),
         "actuator": ActuatorModel(),
+        "current_sensor": CurrentSensorModel(),  # a template run has an actuator for it
     }
 
 
