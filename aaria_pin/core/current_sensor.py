@@ -20,8 +20,6 @@ The record keeps ``current_measured`` (T × n) [A], ``current_sensor_bias`` (1 �
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
 from aaria_pin.core.actuator import actuator_torques, motor_torque
@@ -32,8 +30,7 @@ from aaria_pin.core.joint_sensors import (
     per_joint,
 )
 from aaria_pin.core.se3 import Array
-from aaria_pin.core.seeds import sensor_sequence
-from aaria_pin.core.torque_sensor import torque_reading
+from aaria_pin.core.torque_sensor import SensorReadings
 
 __all__ = ["CurrentSensorModel", "CurrentSensorStream", "amperes_to_torque"]
 
@@ -48,11 +45,12 @@ def amperes_to_torque(torque_constant: Array, gear_ratio: Array) -> Array:
     return torque_constant * gear_ratio
 
 
-class CurrentSensorStream:
+class CurrentSensorStream(SensorReadings):
     """One run's motor current sensors: bias and scale drawn when made, noise piece by piece.
 
     It is a joint channel of the engine (``core/run/measured.py``): :meth:`tables`,
-    :meth:`run_tables`, :meth:`attributes`.
+    :meth:`run_tables` (``current_sensor_bias`` [A], ``current_sensor_scale``),
+    :meth:`attributes`.
 
     Args:
         model: the sensors
@@ -70,39 +68,14 @@ class CurrentSensorStream:
         joints: int,
         noise_seed: int | np.random.SeedSequence,
     ) -> None:
-        self.model = model
+        super().__init__(model, joints, noise_seed)
         self.actuator = actuator
         self.per_ampere = amperes_to_torque(
             per_joint(model.torque_constant, joints, "torque_constant"),
             per_joint(actuator.gear_ratio, joints, "gear_ratio"),
         )
-        self.sigma = per_joint(model.noise, joints, "noise")
-        self.resolution = per_joint(model.resolution, joints, "resolution")
-        self._generator = np.random.default_rng(sensor_sequence(noise_seed, "current_sensor"))
-        draw = self._generator.standard_normal
-        self.bias = per_joint(model.bias, joints, "bias") * draw(joints)
-        self.scale = per_joint(model.scale_error, joints, "scale_error") * draw(joints)
 
     def tables(self, joints: JointColumns) -> dict[str, Array]:
         """``current_measured`` of the next piece (T × n) [A]."""
         motor = motor_torque(joints.tau, actuator_torques(self.actuator, joints.qd, joints.qdd))
-        noise = None
-        if (self.sigma > 0).any():
-            noise = self.sigma * self._generator.standard_normal(motor.shape)
-        current = motor / self.per_ampere
-        return {
-            "current_measured": torque_reading(
-                current, self.scale, self.bias, self.resolution, noise
-            )
-        }
-
-    def run_tables(self) -> dict[str, Array]:
-        """``current_sensor_bias`` (1 × n) [A] and ``current_sensor_scale`` (1 × n) [1]."""
-        return {
-            "current_sensor_bias": self.bias[None, :].copy(),
-            "current_sensor_scale": self.scale[None, :].copy(),
-        }
-
-    def attributes(self) -> dict[str, Any]:
-        """None: the model is recorded as the run's ``current_sensor`` attribute."""
-        return {}
+        return {"current_measured": self.read(motor / self.per_ampere)}
