@@ -10,10 +10,11 @@ of its model, in SI units, 0 turning a term off:
   sub-tables ``[imu.gyro]`` and ``[imu.accel]`` take the fields of
   :class:`~aaria_pin.core.imu_noise.SensorNoise`. The table ``[noise]`` of the configurations
   written before (the same keys, no ``preset``) still reads as ``[imu]``.
-- ``[encoder]``, ``[torque_sensor]``, ``[actuator]``: the fields of
+- ``[encoder]``, ``[torque_sensor]``, ``[actuator]``, ``[current_sensor]``: the fields of
   :class:`~aaria_pin.core.joint_sensors.EncoderModel`,
   :class:`~aaria_pin.core.joint_sensors.TorqueSensorModel`,
-  :class:`~aaria_pin.core.joint_sensors.ActuatorModel`: a number for every joint, or a list of
+  :class:`~aaria_pin.core.joint_sensors.ActuatorModel`,
+  :class:`~aaria_pin.core.joint_sensors.CurrentSensorModel`: a number for every joint, or a list of
   one number per joint (record order). A table not given: that hardware is off (no table).
 
 In a data set's configuration any number may be a range ``[low, high]`` (low <= high), drawn
@@ -47,6 +48,7 @@ from aaria_pin.core.joint_sensors import (
     JOINT_MODELS,
     ActuatorModel,
     ControllerModel,
+    CurrentSensorModel,
     EncoderModel,
     JointModel,
     TorqueSensorModel,
@@ -92,6 +94,7 @@ class Hardware:
         actuator: the joints' motors and gearboxes
         controller: the joint controller of a closed-loop drive (``--drive pd``,
             ``computed-torque``)
+        current_sensor: the motor current sensors (with an actuator)
     """
 
     imu: ImuNoiseModel = ADIS16485
@@ -99,6 +102,7 @@ class Hardware:
     torque_sensor: TorqueSensorModel | None = None
     actuator: ActuatorModel | None = None
     controller: ControllerModel | None = None
+    current_sensor: CurrentSensorModel | None = None
 
     def options(self) -> dict[str, Any]:
         """The run options (:class:`~aaria_pin.core.run.RunSettings` fields) they set."""
@@ -108,6 +112,7 @@ class Hardware:
             "torque_sensor": self.torque_sensor,
             "actuator": self.actuator,
             "controller": self.controller,
+            "current_sensor": self.current_sensor,
         }
 
     def attributes(self) -> dict[str, Any]:

@@ -30,6 +30,7 @@ from aaria_pin.core.imu_noise import ImuNoiseModel
 from aaria_pin.core.joint_sensors import (
     ActuatorModel,
     ControllerModel,
+    CurrentSensorModel,
     EncoderModel,
     TorqueSensorModel,
 )
@@ -87,6 +88,7 @@ class _DhSettings(DriveOptions, total=False):
     torque_sensor: TorqueSensorModel | None
     actuator: ActuatorModel | None
     controller: ControllerModel | None
+    current_sensor: CurrentSensorModel | None
     dims: BodyDimensions | None
     imu_mount: ArrayLike | None
     motion: Motion | JointTrajectory | FourierExcitation | None
@@ -111,6 +113,7 @@ class DhRunOptions(_DhSettings, RunTables, total=False):
         encoder: the joint encoders (the table ``q_measured``; None: none)
         torque_sensor: the joint torque sensors (``tau_measured``; None: none)
         actuator: the joints' motors and gearboxes (``tau_motor``; None: none)
+        current_sensor: the motor current sensors (``current_measured``; None: none)
         dims: body dimensions and densities
         imu_mount: 14 × 4 × 4 pose of each IMU slot in its parent frame, slot order as in
             ``senSen`` (default: :func:`~aaria_pin.aaria.dh_robot.default_imu_slots`); entries of

@@ -143,8 +143,9 @@ def _config() -> str:
 {default_config_toml().rstrip()}
 
 # Hardware: the tables of a hardware file (aaria template hardware: [imu], [encoder],
-# [torque_sensor], [actuator], [controller], each explained); a table left out is off ([imu]:
-# the --imu-model preset). Any number may be a range [low, high], drawn for each run.
+# [torque_sensor], [actuator], [controller], [current_sensor], each explained); a table left
+# out is off ([imu]: the --imu-model preset). Any number may be a range [low, high], drawn for
+# each run.
 # [controller] (the gains of --drive pd|computed-torque) goes with those drives only, e.g.
 #   [controller]
 #   frequency = [30.0, 60.0]  # closed-loop natural frequency [Hz], drawn per run

@@ -59,6 +59,7 @@ __all__ = [
     "armature",
     "friction",
     "model_effort_limits",
+    "motor_torque",
     "torque_limits",
 ]
 
@@ -127,6 +128,16 @@ def actuator_torques(model: ActuatorModel, qd: Array, qdd: Array) -> ActuatorTor
         ``armature·qdd`` and :func:`friction` of ``qd``; ``tau_motor`` is ``tau`` plus both.
     """
     return ActuatorTorques(armature(model, qd.shape[-1]) * qdd, friction(model, qd))
+
+
+def motor_torque(tau: Array, parts: ActuatorTorques) -> Array:
+    """The torque the motor gives, ``tau_motor = tau + armature·qdd + friction(qd)`` [N·m or N].
+
+    Args:
+        tau: the rigid body's torques, T × n [N·m or N]
+        parts: the armature's and friction's torques (:func:`actuator_torques`)
+    """
+    return tau + parts.armature + parts.friction
 
 
 def torque_limits(model: ActuatorModel, effort_limit: ArrayLike) -> Array:

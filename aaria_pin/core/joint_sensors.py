@@ -1,8 +1,9 @@
-"""The joint-side hardware models of a run: encoders, torque sensors, actuators, controller.
+"""The joint-side hardware models of a run: encoders, torque and current sensors, motors, control.
 
 These dataclasses are the contract the engine, the configuration, the files and the MJCF export
 share; their behaviour is built in their own modules (``core/encoder.py``,
-``core/torque_sensor.py``, ``core/actuator.py``), which re-export them.
+``core/torque_sensor.py``, ``core/actuator.py``, ``core/current_sensor.py``), which re-export
+them.
 
 Every value is SI, per joint: a number applies to every joint, a sequence gives one value per
 joint in the record's joint order. Revolute joints read rad, N·m, kg·m²; prismatic joints m, N,
@@ -29,6 +30,7 @@ __all__ = [
     "JOINT_MODELS",
     "ActuatorModel",
     "ControllerModel",
+    "CurrentSensorModel",
     "EncoderModel",
     "JointColumns",
     "JointHardware",
@@ -159,7 +161,41 @@ class ControllerModel:
         object.__setattr__(self, "rate", float(rates[0]))
 
 
-JointModel = EncoderModel | TorqueSensorModel | ActuatorModel | ControllerModel
+@dataclass(frozen=True)
+class CurrentSensorModel:
+    """A motor current sensor: ``current_measured = Q((1 + s)·tau_motor/(k_t·N) + b + n)``.
+
+    What an arm without joint torque sensors logs (a UR5's ``actual_current``): the current of
+    each joint's motor, which gives the motor's torque ``tau_motor`` (friction and armature in
+    it) through the torque constant ``k_t`` and the actuator's gear ratio ``N``; a run with one
+    needs an ``[actuator]``. The defaults are an order of magnitude of a UR-size joint, not one
+    part's data sheet (none was at hand when they were chosen; set yours): a frameless motor of
+    ``k_t`` = 0.1 N·m/A (behind a gearbox of ratio 100: 10 N·m of joint torque per ampere),
+    read by a servo drive's current ADC in 1 mA steps with 10 mA of white noise (1σ; 0.1 N·m at
+    such a joint). A real arm's ``k_t·N`` is identified or taken from its maker
+    (Clochiatti et al. 2024, Robotica, identify a UR5e's electrical parameters from its
+    controller's currents).
+
+    Attributes:
+        torque_constant: the motor's torque constant ``k_t``, motor side [N·m/A or N/A]
+        noise: white noise of the current reading, 1σ [A]
+        bias: 1σ of the per-joint zero offset ``b`` drawn once per run [A]
+        resolution: quantisation step ``Q`` of the reading [A] (0: none)
+        scale_error: 1σ of the per-joint error ``s`` of the torque constant, drawn once per
+            run [1]
+    """
+
+    torque_constant: JointValue = 0.1
+    noise: JointValue = 0.01
+    bias: JointValue = 0.0
+    resolution: JointValue = 0.001
+    scale_error: JointValue = 0.0
+
+    def __post_init__(self) -> None:
+        check_fields(self, positive=("torque_constant",), below={"scale_error": 1.0})
+
+
+JointModel = EncoderModel | TorqueSensorModel | ActuatorModel | ControllerModel | CurrentSensorModel
 """Any of the joint hardware models."""
 
 JOINT_MODELS: dict[str, type[JointModel]] = {
@@ -167,11 +203,15 @@ JOINT_MODELS: dict[str, type[JointModel]] = {
     "torque_sensor": TorqueSensorModel,
     "actuator": ActuatorModel,
     "controller": ControllerModel,
+    "current_sensor": CurrentSensorModel,
 }
 """The joint models by their name: the ``RunSettings`` field, the run attribute and the
-hardware file's table."""
+hardware file's table (the order a data set's hardware ranges are drawn in: a new model goes
+last, so the draws of the others stay)."""
 
-Model = TypeVar("Model", EncoderModel, TorqueSensorModel, ActuatorModel, ControllerModel)
+Model = TypeVar(
+    "Model", EncoderModel, TorqueSensorModel, ActuatorModel, ControllerModel, CurrentSensorModel
+)
 
 
 @dataclass(frozen=True)
@@ -310,7 +350,7 @@ def model_from_attributes(cls: type[Model], stored: Mapping[str, Any]) -> Model:
 class JointHardware(Protocol):
     """The joint models of a run's settings (:class:`~aaria_pin.core.run.settings.RunSettings`).
 
-    A protocol: ``RunSettings``, the hardware of a data set's run, anything with the three.
+    A protocol: ``RunSettings``, the hardware of a data set's run, anything with the models.
     """
 
     @property
@@ -333,9 +373,14 @@ class JointHardware(Protocol):
         """The controller of a closed-loop drive (None: none)."""
         ...
 
+    @property
+    def current_sensor(self) -> CurrentSensorModel | None:
+        """The motor current sensors (None: none)."""
+        ...
+
 
 def joint_model_attributes(settings: JointHardware) -> dict[str, Any]:
-    """The attributes ``encoder``, ``torque_sensor``, ``actuator``, ``controller`` of those on."""
+    """The attributes ``encoder``, ``torque_sensor``, ... (:data:`JOINT_MODELS`) of those on."""
     return {
         name: model_attributes(model)
         for name in JOINT_MODELS

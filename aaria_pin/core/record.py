@@ -29,26 +29,29 @@ number is stored once) and the run's ``attributes`` (rate, duration, seed, noise
 An IMU whose ``parent`` is ``""`` is a slot left empty (an Aaria module of link type 0): its pose
 and its signals are zero.
 
-A run with joint hardware (``RunSettings.encoder``, ``torque_sensor``, ``actuator``) keeps
+A run with joint hardware (``RunSettings.encoder``, ``torque_sensor``, ``actuator``,
+``current_sensor``) keeps
 beside them, as tables, one column per joint of ``joint_names``:
 
-======================= ======= ==============================================================
-name                    shape   what
-======================= ======= ==============================================================
-``q_measured``          T × n   what the encoders report [rad or m] (``q`` stays the true value)
-``tau_measured``        T × n   what the joint torque sensors report [N·m or N]
-``tau_motor``           T × n   the torque the motor gives: ``tau + tau_armature + tau_friction``
-``tau_armature``        T × n   the reflected rotor inertia's torque ``armature·qdd``
-``tau_friction``        T × n   the joint friction torque (viscous, Coulomb, Stribeck)
-``encoder_offset``      1 × n   each encoder's zero offset drawn for the run [rad or m]
-``torque_sensor_bias``  1 × n   each torque sensor's zero offset drawn for the run [N·m or N]
-``torque_sensor_scale`` 1 × n   each torque sensor's scale error drawn for the run [1]
-======================= ======= ==============================================================
+======================== ======= ==============================================================
+name                     shape   what
+======================== ======= ==============================================================
+``q_measured``           T × n   the encoders' reading [rad or m] (``q`` stays the true value)
+``tau_measured``         T × n   what the joint torque sensors report [N·m or N]
+``tau_motor``            T × n   the motor's torque: ``tau + tau_armature + tau_friction``
+``tau_armature``         T × n   the reflected rotor inertia's torque ``armature·qdd``
+``tau_friction``         T × n   the joint friction torque (viscous, Coulomb, Stribeck)
+``encoder_offset``       1 × n   each encoder's zero offset drawn for the run [rad or m]
+``torque_sensor_bias``   1 × n   each torque sensor's zero offset drawn for the run [N·m or N]
+``torque_sensor_scale``  1 × n   each torque sensor's scale error drawn for the run [1]
+``current_measured``     T × n   what the motor current sensors report [A]
+``current_sensor_bias``  1 × n   each current sensor's zero offset drawn for the run [A]
+``current_sensor_scale`` 1 × n   each torque constant's error drawn for the run [1]
+======================== ======= ==============================================================
 
-The first five (:data:`JOINT_SERIES`) have a time axis: a data set stores them in its dtype,
-as the series, and a run in pieces fills them piece by piece. The last three are rows
-(1 × n), as a run file stores a table of one axis. ``tau`` stays the rigid-body
-(RNEA) torque.
+The tables of T × n (:data:`JOINT_SERIES`) have a time axis: a data set stores them in its
+dtype, as the series, and a run in pieces fills them piece by piece. Those of 1 × n are
+rows, as a run file stores a table of one axis. ``tau`` stays the rigid-body (RNEA) torque.
 """
 
 from __future__ import annotations
@@ -92,7 +95,14 @@ IMU_SIGNALS = ("wx", "wy", "wz", "fx", "fy", "fz")
 SERIES = ("time", "q", "qd", "qdd", "tau", "base_pose", "base_wrench", "tool_pose", "imu")
 """The time series of a record (leading axis T), in file order."""
 
-JOINT_SERIES = ("q_measured", "tau_measured", "tau_motor", "tau_armature", "tau_friction")
+JOINT_SERIES = (
+    "q_measured",
+    "tau_measured",
+    "tau_motor",
+    "tau_armature",
+    "tau_friction",
+    "current_measured",
+)
 """The joint hardware's optional tables with a time axis (T × n), in record order."""
 
 CONTROL_SERIES = ("q_reference", "qd_reference", "tau_command")
@@ -112,7 +122,13 @@ TIMED_HARDWARE = (
 bias random walk. A data set stores them in its dtype, as the series (a run with the IMU's
 two is computed in one piece)."""
 
-JOINT_RUN_TABLES = ("encoder_offset", "torque_sensor_bias", "torque_sensor_scale")
+JOINT_RUN_TABLES = (
+    "encoder_offset",
+    "torque_sensor_bias",
+    "torque_sensor_scale",
+    "current_sensor_bias",
+    "current_sensor_scale",
+)
 """The joint hardware's optional per-run tables (1 × n: one value per joint, float64; a row,
 as the files store a table of one axis)."""
 
@@ -139,6 +155,9 @@ HARDWARE_UNITS = {
     "encoder_offset": "rad or m (1 x n)",
     "torque_sensor_bias": "N*m or N (1 x n)",
     "torque_sensor_scale": "1 (1 x n)",
+    "current_measured": "A (T x n)",
+    "current_sensor_bias": "A (1 x n)",
+    "current_sensor_scale": "1 (1 x n)",
     "q_reference": "rad or m (T x n)",
     "qd_reference": "rad/s or m/s (T x n)",
     "tau_command": "N*m or N (T x n)",

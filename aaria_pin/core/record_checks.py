@@ -16,8 +16,9 @@ run of a data set) and what is wrong:
   a stored series is damage; the message names the array, the run and the first bad sample;
 - increasing time (:func:`check_time`): the sample times strictly increase (2+ samples);
 - the joint hardware's optional tables (:func:`check_joint_tables`): ``q_measured``,
-  ``tau_measured``, ``tau_motor``, ``tau_armature``, ``tau_friction`` are T × n and
-  ``encoder_offset``, ``torque_sensor_bias``, ``torque_sensor_scale`` are 1 × n.
+  ``tau_measured``, ``tau_motor``, ``tau_armature``, ``tau_friction``, ``current_measured`` are
+  T × n and ``encoder_offset``, ``torque_sensor_bias``, ``torque_sensor_scale``,
+  ``current_sensor_bias``, ``current_sensor_scale`` are 1 × n.
 
 Example::
 

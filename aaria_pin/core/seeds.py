@@ -29,7 +29,7 @@ format: every data set since 0.2 was drawn from it (``noise_stream`` 3 is stored
 0.4 added ``sensor_errors`` (4: the parent of a run's sensor-error streams,
 :func:`sensor_sequence`) and ``hardware`` (5: the run's draw of the configured hardware ranges)."""
 
-SENSOR_PARTS = ("imu", "encoder", "torque_sensor", "actuator", "controller")
+SENSOR_PARTS = ("imu", "encoder", "torque_sensor", "actuator", "controller", "current_sensor")
 """The sensor-error streams of a run, children of its sensor seed (:func:`sensor_sequence`):
 part ``name`` is spawn-key element ``SENSOR_PARTS.index(name)`` below it (file format)."""
 

@@ -23,11 +23,16 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.joint_sensors import JointColumns, TorqueSensorModel, per_joint
+from aaria_pin.core.joint_sensors import (
+    CurrentSensorModel,
+    JointColumns,
+    TorqueSensorModel,
+    per_joint,
+)
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.seeds import sensor_sequence
 
-__all__ = ["TorqueSensorModel", "TorqueSensorStream", "torque_reading"]
+__all__ = ["SensorReadings", "TorqueSensorModel", "TorqueSensorStream", "torque_reading"]
 
 
 def torque_reading(
@@ -50,11 +55,61 @@ def torque_reading(
     return np.where(stepped, safe * np.round(seen / safe), seen)
 
 
-class TorqueSensorStream:
+class SensorReadings:
+    """One run's readings of a joint sensor of the law :func:`torque_reading`.
+
+    Its bias and scale error are drawn when it is made, its noise piece by piece, all from the
+    run's stream named :attr:`name` (:func:`~aaria_pin.core.seeds.sensor_sequence`); it records
+    them as the tables ``<name>_bias`` and ``<name>_scale``. The torque sensors and the motor
+    current sensors (:mod:`aaria_pin.core.current_sensor`) are such sensors.
+
+    Args:
+        model: the sensors (``noise``, ``bias``, ``resolution``, ``scale_error``)
+        joints: n, the record's joint columns
+        noise_seed: the run's noise seed
+    """
+
+    name = "torque_sensor"
+
+    def __init__(
+        self,
+        model: TorqueSensorModel | CurrentSensorModel,
+        joints: int,
+        noise_seed: int | np.random.SeedSequence,
+    ) -> None:
+        self.model = model
+        self.sigma = per_joint(model.noise, joints, "noise")
+        self.resolution = per_joint(model.resolution, joints, "resolution")
+        self._generator = np.random.default_rng(sensor_sequence(noise_seed, self.name))
+        draw = self._generator.standard_normal
+        self.bias = per_joint(model.bias, joints, "bias") * draw(joints)
+        self.scale = per_joint(model.scale_error, joints, "scale_error") * draw(joints)
+
+    def read(self, values: Array) -> Array:
+        """What the sensors report of the next piece's true ``values`` (T × n)."""
+        noise = None
+        if (self.sigma > 0).any():
+            noise = self.sigma * self._generator.standard_normal(values.shape)
+        return torque_reading(values, self.scale, self.bias, self.resolution, noise)
+
+    def run_tables(self) -> dict[str, Array]:
+        """``<name>_bias`` (1 × n) and ``<name>_scale`` (1 × n) [1]: the values drawn."""
+        return {
+            f"{self.name}_bias": self.bias[None, :].copy(),
+            f"{self.name}_scale": self.scale[None, :].copy(),
+        }
+
+    def attributes(self) -> dict[str, Any]:
+        """None: the model is recorded as the run's attribute :attr:`name`."""
+        return {}
+
+
+class TorqueSensorStream(SensorReadings):
     """One run's torque sensors: bias and scale drawn when made, noise piece by piece.
 
     It is a joint channel of the engine (``core/run/measured.py``): :meth:`tables`,
-    :meth:`run_tables`, :meth:`attributes`.
+    :meth:`run_tables` (``torque_sensor_bias`` [N·m or N], ``torque_sensor_scale``),
+    :meth:`attributes`.
 
     Args:
         model: the sensors
@@ -67,29 +122,8 @@ class TorqueSensorStream:
     def __init__(
         self, model: TorqueSensorModel, joints: int, noise_seed: int | np.random.SeedSequence
     ) -> None:
-        self.model = model
-        self.sigma = per_joint(model.noise, joints, "noise")
-        self.resolution = per_joint(model.resolution, joints, "resolution")
-        self._generator = np.random.default_rng(sensor_sequence(noise_seed, "torque_sensor"))
-        draw = self._generator.standard_normal
-        self.bias = per_joint(model.bias, joints, "bias") * draw(joints)
-        self.scale = per_joint(model.scale_error, joints, "scale_error") * draw(joints)
+        super().__init__(model, joints, noise_seed)
 
     def tables(self, joints: JointColumns) -> dict[str, Array]:
         """``tau_measured`` of the next piece (T × n) [N·m or N]."""
-        noise = None
-        if (self.sigma > 0).any():
-            noise = self.sigma * self._generator.standard_normal(joints.tau.shape)
-        reading = torque_reading(joints.tau, self.scale, self.bias, self.resolution, noise)
-        return {"tau_measured": reading}
-
-    def run_tables(self) -> dict[str, Array]:
-        """``torque_sensor_bias`` (1 × n) [N·m or N] and ``torque_sensor_scale`` (1 × n) [1]."""
-        return {
-            "torque_sensor_bias": self.bias[None, :].copy(),
-            "torque_sensor_scale": self.scale[None, :].copy(),
-        }
-
-    def attributes(self) -> dict[str, Any]:
-        """None: the model is recorded as the run's ``torque_sensor`` attribute."""
-        return {}
+        return {"tau_measured": self.read(joints.tau)}

@@ -26,6 +26,7 @@ from aaria_pin.core.imu_noise import ImuNoiseModel
 from aaria_pin.core.joint_sensors import (
     ActuatorModel,
     ControllerModel,
+    CurrentSensorModel,
     EncoderModel,
     TorqueSensorModel,
 )
@@ -162,6 +163,7 @@ class _UrdfSettings(DriveOptions, total=False):
     torque_sensor: TorqueSensorModel | None
     actuator: ActuatorModel | None
     controller: ControllerModel | None
+    current_sensor: CurrentSensorModel | None
     threads: int
     motion: MotionInput
     chunk: int | None
@@ -188,6 +190,7 @@ class LoadedRobotOptions(_UrdfSettings, RunTables, total=False):
         encoder: the joint encoders (the table ``q_measured``; None: none)
         torque_sensor: the joint torque sensors (``tau_measured``; None: none)
         actuator: the joints' motors and gearboxes (``tau_motor``; None: none)
+        current_sensor: the motor current sensors (``current_measured``; None: none)
         threads: worker threads of the batched RNEA
         torques: (T, n) joint torques [N·m] or forces [N], model order: the joints then move
             under them by forward dynamics, starting from the joint table's values and

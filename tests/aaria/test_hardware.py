@@ -19,7 +19,12 @@ from aaria_pin.aaria.hardware import (
 )
 from aaria_pin.core.imu_noise import ADIS16485
 from aaria_pin.core.imu_presets import IMU_PRESETS
-from aaria_pin.core.joint_sensors import ActuatorModel, EncoderModel, TorqueSensorModel
+from aaria_pin.core.joint_sensors import (
+    ActuatorModel,
+    CurrentSensorModel,
+    EncoderModel,
+    TorqueSensorModel,
+)
 from aaria_pin.errors import ParameterError
 
 PRESETS = ", ".join(sorted(IMU_PRESETS))
@@ -218,6 +223,7 @@ def test_the_hardware_template_is_every_model_at_its_default(tmp_path: Path) -> 
         "encoder": EncoderModel(),
         "torque_sensor": TorqueSensorModel(),
         "actuator": ActuatorModel(),
+        "current_sensor": CurrentSensorModel(),  # a template run has an actuator for it
     }
 
 
@@ -234,3 +240,39 @@ def test_a_run_with_an_actuator_replays_its_motor_torques(tmp_path: Path) -> Non
     tau, grid = read_torques(tmp_path / "run.h5")
     assert np.array_equal(tau, record.tables["tau_motor"]) and not np.array_equal(tau, record.tau)
     assert grid == {"duration": 0.2, "rate": 100.0}
+
+
+def test_a_current_sensor_table_reads_drawn_per_run_and_a_run_remakes_bit_for_bit(
+    tmp_path: Path,
+) -> None:
+    from conftest import run_cli
+
+    from aaria_pin.files.source import open_record
+
+    table = {"torque_constant": [0.1, 0.2, 0.3], "noise": 0.02, "resolution": 0.0}
+    assert _config({"current_sensor": table}).options() == {
+        "current_sensor": CurrentSensorModel(
+            torque_constant=(0.1, 0.2, 0.3), noise=0.02, resolution=0.0
+        )
+    }
+    ranged = _config({"current_sensor": {"noise": [0.01, 0.03]}}, ranges=True)
+    noise = np.asarray(ranged.run_hardware(5, 0, 3).current_sensor.noise)  # type: ignore[union-attr]
+    assert noise.shape == (3,) and np.all((noise >= 0.01) & (noise <= 0.03))
+    file = tmp_path / "hw.toml"
+    file.write_text(
+        "[actuator]\ngear_ratio = 100.0\nviscous = 0.5\n[current_sensor]\nbias = 0.01\n"
+    )
+    code, _, err = run_cli(
+        "simulate", "--robot", "ur5", "--duration", "0.2", "--rate", "100", "--hardware",
+        str(file), "-o", str(tmp_path / "run.h5"),
+    )  # fmt: skip
+    assert code == 0, err
+    code, _, err = run_cli(
+        "simulate", "--from", str(tmp_path / "run.h5"), "-o", str(tmp_path / "again.h5")
+    )
+    assert code == 0, err
+    run, again = open_record(tmp_path / "run.h5", None), open_record(tmp_path / "again.h5", None)
+    assert run.attributes["current_sensor"]["bias"] == 0.01
+    for name in ("current_measured", "current_sensor_bias", "tau_motor"):
+        assert np.array_equal(run.tables[name], again.tables[name])
+    assert np.any(run.tables["current_sensor_bias"] != 0)

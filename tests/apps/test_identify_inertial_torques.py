@@ -3,6 +3,7 @@ one-line refusals."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +11,7 @@ import pytest
 from conftest import run_cli
 
 from aaria_pin.apps.identify import identify_dynamics
-from aaria_pin.apps.identify.inertial_torques import joint_torques
+from aaria_pin.apps.identify.inertial_torques import TorqueSource, joint_torques
 from aaria_pin.core.record import RunRecord
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.source import open_record
@@ -78,3 +79,101 @@ def test_a_run_without_hardware_fits_as_before(plain: RunRecord) -> None:
     assert auto == rigid
     assert auto["torques"] == "rigid" and auto["friction"] == []
     assert "bodies" not in auto  # not constrained: no physical bodies claimed
+
+
+CURRENTS = (
+    "[actuator]\nviscous = 0.5\ngear_ratio = [100.0, 100.0, 100.0, 80.0, 80.0, 80.0]\n"
+    "[current_sensor]\ntorque_constant = 0.12\nnoise = 0.02\nresolution = 0.004\n"
+)
+RATIOS = np.array([100.0, 100.0, 100.0, 80.0, 80.0, 80.0])
+
+
+@pytest.fixture(scope="module")
+def currents(tmp_path_factory: pytest.TempPathFactory) -> RunRecord:
+    return _run(tmp_path_factory.mktemp("currents"), CURRENTS)
+
+
+def test_auto_takes_the_currents_times_kt_and_the_gear_ratio(currents: RunRecord) -> None:
+    torques = joint_torques(currents)  # no torque sensor: the currents before tau_motor
+    assert torques.source == "current" and torques.with_friction
+    amperes = np.asarray(currents.tables["current_measured"], float)
+    assert np.allclose(torques.values, amperes * 0.12 * RATIOS, rtol=1e-12)
+    # the reading's noise in amperes (white and step²/12), times k_t·N
+    expected = np.sqrt(0.02**2 + 0.004**2 / 12) * 0.12 * RATIOS
+    assert torques.noise is not None
+    assert np.allclose(torques.noise, expected)
+    # within its noise of the motor's exact torque
+    error = torques.values - np.asarray(currents.tables["tau_motor"], float)
+    assert np.all(np.abs(error.std(axis=0) / expected - 1) < 0.2)
+    assert joint_torques(currents, "motor").source == "motor"
+
+
+def test_a_torque_constant_given_wins_over_the_runs(currents: RunRecord) -> None:
+    given = joint_torques(currents, TorqueSource("current", torque_constant=0.24))
+    assert np.allclose(given.values, 2 * joint_torques(currents, "current").values)
+    ratio = joint_torques(currents, TorqueSource("current", 0.12, gear_ratio=50.0))
+    amperes = np.asarray(currents.tables["current_measured"], float)
+    assert np.allclose(ratio.values, amperes * 6.0)
+
+
+def test_currents_without_a_torque_constant_are_one_line_naming_it(currents: RunRecord) -> None:
+    attributes = {k: v for k, v in currents.attributes.items() if k != "current_sensor"}
+    recording = replace(currents, attributes=attributes)  # a recording: no sensor model
+    with pytest.raises(ParameterError) as info:
+        joint_torques(recording, "current")
+    assert info.value.parameter == "torque_constant"
+    assert "\n" not in str(info.value) and "no torque_constant" in str(info.value)
+    values = joint_torques(recording, TorqueSource("current", torque_constant=0.12))
+    assert values.noise is None  # not known without the sensor's model: weighed by the RMS
+    with pytest.raises(ParameterError) as info:
+        joint_torques(currents, TorqueSource("current", torque_constant=-1.0))
+    assert info.value.parameter == "torque_constant"
+
+
+FRICTION = {
+    # joints 1 and 5 of aaria-fig2 slide (N·s/m, N; a ball screw of 600 rad/m)
+    "ur5": "viscous = 0.8\ncoulomb = 2.0\ngear_ratio = 100.0\n",
+    "aaria-fig2": (
+        "viscous = [20.0, 0.8, 0.8, 0.8, 20.0, 0.8]\ncoulomb = [10.0, 2.0, 2.0, 2.0, 10.0, 2.0]\n"
+        "gear_ratio = [600.0, 100.0, 100.0, 100.0, 600.0, 100.0]\n"
+    ),
+}
+
+
+@pytest.fixture(scope="module", params=["ur5", "aaria-fig2"])
+def logged(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> RunRecord:
+    """10 s of Fourier motion at 200 Hz with friction, logged by current sensors of 3 mA.
+
+    A third of the default noise: 30 s at the default noise reach the figures of
+    docs/guide/identify-dynamics.md, 10 s at a third of it the same (σ ∝ noise/√T).
+    """
+    folder = tmp_path_factory.mktemp("logged")
+    hardware = folder / "hw.toml"
+    hardware.write_text(
+        f"[actuator]\nrotor_inertia = 3e-5\n{FRICTION[request.param]}\n"
+        "[current_sensor]\nnoise = 0.003\n"
+    )
+    robot = ["--robot", "ur5"] if request.param == "ur5" else ["--preset", "aaria-fig2"]
+    code, _, err = run_cli(
+        "simulate", *robot, "--motion", "fourier", "--duration", "10", "--rate", "200",
+        "--no-noise", "--hardware", str(hardware), "-o", str(folder / "run.h5"),
+    )  # fmt: skip
+    assert code == 0, err
+    return open_record(folder / "run.h5", None)
+
+
+def test_currents_give_physical_bodies_friction_and_torques_at_the_noise(
+    logged: RunRecord,
+) -> None:
+    result = identify_dynamics(logged, consistent=True)  # auto: the currents, no noise added
+    report = result.to_json()
+    assert report["torques"] == "current"
+    assert all(body["pseudo_inertia_min_eigenvalue"] > 0 for body in report["bodies"])
+    stored = logged.attributes["actuator"]
+    for k, row in enumerate(report["friction"]):
+        assert row["Fc"] == pytest.approx(np.broadcast_to(stored["coulomb"], 6)[k], rel=0.02)
+        assert row["Fv"] == pytest.approx(np.broadcast_to(stored["viscous"], 6)[k], rel=0.02)
+    joints = [i for i, name in enumerate(result.signals) if not name.startswith("base_")]
+    noise = np.asarray(report["torque_noise"])
+    ratio = result.holdout_rms[joints] / noise
+    assert np.sqrt(np.mean(ratio**2)) == pytest.approx(1.0, rel=0.1)

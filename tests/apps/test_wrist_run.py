@@ -168,6 +168,9 @@ rotor_inertia = 1.0e-4
 gear_ratio = 50.0
 viscous = 0.1
 coulomb = 0.2
+[current_sensor]
+torque_constant = 0.05
+noise = 0.01
 """
 """A hardware file with every joint model on (armature 1e-4·50² = 0.25 kg·m²)."""
 
@@ -185,7 +188,7 @@ def same_record(a: Path, b: Path) -> None:
     assert first.tables.keys() == second.tables.keys()
     for name, table in first.tables.items():
         assert np.array_equal(table, second.tables[name]), name
-    for name in ("noise_parameters", "encoder", "torque_sensor", "actuator"):
+    for name in ("noise_parameters", "encoder", "torque_sensor", "actuator", "current_sensor"):
         assert first.attributes[name] == second.attributes[name], name
 
 

@@ -16,6 +16,7 @@ from aaria_pin.apps.wrist.run import PointToPoint, wrist_robot
 from aaria_pin.core.catalogue import find_robot
 from aaria_pin.core.joint_sensors import (
     ActuatorModel,
+    CurrentSensorModel,
     EncoderModel,
     TorqueSensorModel,
     joint_model_attributes,
@@ -52,7 +53,15 @@ ACTUATOR = ActuatorModel(
 )
 ENCODER = EncoderModel(counts_per_revolution=2**14, counts_per_metre=1e5, noise=1e-4, offset=1e-3)
 TORQUE_SENSOR = TorqueSensorModel(noise=0.05, bias=0.2, resolution=0.01, scale_error=0.01)
-ALL = {"actuator": ACTUATOR, "encoder": ENCODER, "torque_sensor": TORQUE_SENSOR}
+CURRENT_SENSOR = CurrentSensorModel(
+    torque_constant=0.05, noise=0.01, bias=0.02, resolution=0.001, scale_error=0.01
+)
+ALL = {
+    "actuator": ACTUATOR,
+    "encoder": ENCODER,
+    "torque_sensor": TORQUE_SENSOR,
+    "current_sensor": CURRENT_SENSOR,
+}
 
 
 def _ur5() -> RunRobot:
@@ -99,7 +108,7 @@ def test_the_models_add_tables_and_attributes_and_leave_the_rest_bit_for_bit(
     assert list(fig2.tables)[-len(added) :] == list(expected)  # after the robot's, in order
     assert {n: fig2.tables[n].shape for n in added} == expected
     new = set(fig2.attributes) - set(plain.attributes)
-    assert new == {"encoder", "torque_sensor", "actuator", "actuator_limits"}
+    assert new == {"encoder", "torque_sensor", "actuator", "current_sensor", "actuator_limits"}
     assert "sensors" not in fig2.attributes  # built-in channels are not user sensors
 
 

@@ -152,7 +152,7 @@ def reader_card(reader: DatasetReader) -> DatasetCard:
         hardware=dict(header.attributes.get("hardware") or {}),
         joint_hardware={
             name: dict(header.attributes[name])
-            for name in ("encoder", "torque_sensor", "actuator")
+            for name in ("encoder", "torque_sensor", "actuator", "current_sensor")
             if isinstance(header.attributes.get(name), Mapping)
         },
         drawn=tuple(header.attributes.get("hardware_names") or ()),

@@ -387,7 +387,8 @@ class DatasetSpec(DatasetSettings, HardwareSpec, ABC):
         keys = ("version", "noise_parameters", "N", "samples", "dtype", "seed", "rate",
                 "duration", "noise", "vary", "config", "fixed_tables", "kind", "robot",
                 "robot_info", "motion", "fourier", "sensors", "hardware", "hardware_names",
-                "encoder", "torque_sensor", "actuator", "controller", "drive")  # fmt: skip
+                "encoder", "torque_sensor", "actuator", "controller", "current_sensor",
+                "drive")  # fmt: skip
         return [key for key in keys if _plain(stored.get(key)) != _plain(mine.get(key))]
 
 

@@ -54,7 +54,7 @@ from aaria_pin.apps.identify.inertial_regressor import (
     torque_regressor,
 )
 from aaria_pin.apps.identify.inertial_result import DynamicIdentification, StandardEstimate
-from aaria_pin.apps.identify.inertial_torques import JointTorques, joint_torques
+from aaria_pin.apps.identify.inertial_torques import JointTorques, TorqueSource, joint_torques
 from aaria_pin.apps.record_model import record_base, record_columns, record_model
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import RunRecord
@@ -187,7 +187,7 @@ def identify_dynamics(
     tolerance: float = DEFAULT_TOLERANCE,
     use_base_wrench: bool = True,
     chunk: int = IDENTIFY_CHUNK,
-    torques: str = "auto",
+    torques: str | TorqueSource = "auto",
     friction: bool | None = None,
     consistent: bool = False,
 ) -> DynamicIdentification:
@@ -213,7 +213,9 @@ def identify_dynamics(
         chunk: samples per piece, >= 1
         torques: the joint torques fitted, one of
             :data:`~aaria_pin.apps.identify.inertial_torques.TORQUE_SOURCES` (``auto``: the
-            torque sensors', else the motors', else the rigid body's)
+            torque sensors', else the motor currents', else the motors', else the rigid
+            body's), or a :class:`~aaria_pin.apps.identify.inertial_torques.TorqueSource`
+            (currents with the caller's torque constant)
         friction: fit each joint's viscous and Coulomb friction and armature
             (:mod:`~aaria_pin.apps.identify.inertial_friction`; None: when the torques hold
             them, the motors')
@@ -241,7 +243,7 @@ def identify_dynamics(
     if with_friction and not fitted.with_friction:
         raise ParameterError(
             f"friction is on but the {fitted.source} torques hold no friction; allowed: "
-            "torques motor (the torque sensors read the link side, after the gearbox)",
+            "torques current or motor (the torque sensors read the link side, after the gearbox)",
             parameter="friction",
         )
     n = record.n_samples

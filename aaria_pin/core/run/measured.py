@@ -1,13 +1,15 @@
-"""The run's built-in joint channels: encoders, torque sensors, actuators.
+"""The run's built-in joint channels: encoders, torque sensors, actuators, motor currents.
 
 :func:`run_sensors` turns a run's settings into the per-run channel objects the engine measures
 with (:class:`~aaria_pin.core.run.sensor.Channel`), in this order: the actuators
 (:class:`ActuatorStream`), the encoders (:class:`~aaria_pin.core.encoder.EncoderStream`), the
-torque sensors (:class:`~aaria_pin.core.torque_sensor.TorqueSensorStream`); each draws its
+torque sensors (:class:`~aaria_pin.core.torque_sensor.TorqueSensorStream`), the motor current
+sensors (:class:`~aaria_pin.core.current_sensor.CurrentSensorStream`, which need the
+actuators); each draws its
 per-run values from its own stream of the run's sensor seed. A run whose models are all None
 has no channel and draws nothing. The models are recorded as the attributes ``encoder``,
-``torque_sensor``, ``actuator`` (:mod:`aaria_pin.core.joint_sensors`); :func:`joint_table_shapes`
-is the tables a run of those settings adds.
+``torque_sensor``, ``actuator``, ``current_sensor`` (:mod:`aaria_pin.core.joint_sensors`);
+:func:`joint_table_shapes` is the tables a run of those settings adds.
 
 The actuators' torques are those a prescribed motion needs; a motor torque beyond its limit is
 not clipped (that would change the motion): the run records per joint the limit, the peak
@@ -22,7 +24,13 @@ from typing import Any
 
 import numpy as np
 
-from aaria_pin.core.actuator import actuator_torques, model_effort_limits, torque_limits
+from aaria_pin.core.actuator import (
+    actuator_torques,
+    model_effort_limits,
+    motor_torque,
+    torque_limits,
+)
+from aaria_pin.core.current_sensor import CurrentSensorStream
 from aaria_pin.core.encoder import EncoderStream
 from aaria_pin.core.joint_sensors import (
     JOINT_MODELS,
@@ -56,6 +64,7 @@ JOINT_TABLES = {
     "actuator": ((), ("tau_motor", "tau_armature", "tau_friction")),
     "encoder": (("encoder_offset",), ("q_measured",)),
     "torque_sensor": (("torque_sensor_bias", "torque_sensor_scale"), ("tau_measured",)),
+    "current_sensor": (("current_sensor_bias", "current_sensor_scale"), ("current_measured",)),
     "controller": (
         ("controller_kp", "controller_kd"),
         ("q_reference", "qd_reference", "tau_command"),
@@ -107,7 +116,7 @@ class ActuatorStream:
         ``|tau_motor|`` is beyond a joint's limit.
         """
         parts = actuator_torques(self.model, joints.qd, joints.qdd)
-        motor = joints.tau + parts.armature + parts.friction
+        motor = motor_torque(joints.tau, parts)
         size = np.abs(motor)
         if size.size:
             np.maximum(self.peaks, size.max(axis=0), out=self.peaks)
@@ -216,18 +225,26 @@ def check_joint_values(settings: JointHardware, joints: int, parameter: str | No
 def run_sensors(
     robot: RunRobot, settings: JointHardware, seed: int | np.random.SeedSequence
 ) -> tuple[Channel, ...]:
-    """The run's actuator, encoder and torque-sensor channels (none while every model is off).
+    """The run's actuator, encoder, torque and current channels (none while every model is off).
 
     Args:
         robot: the run's robot (its model says which joints slide, and their effort limits)
-        settings: the run's settings (``actuator``, ``encoder``, ``torque_sensor``)
+        settings: the run's settings (``actuator``, ``encoder``, ``torque_sensor``,
+            ``current_sensor``)
         seed: the run's noise seed (:func:`~aaria_pin.core.seeds.sensor_sequence`)
 
     Raises:
-        ParameterError: a per-joint value of another length than the record's joints.
+        ParameterError: a per-joint value of another length than the record's joints, or a
+            current sensor without an actuator (parameter ``current_sensor``).
     """
     n = len(robot.joint_names)
     check_joint_values(settings, n)  # refused before any piece
+    if settings.current_sensor is not None and settings.actuator is None:
+        raise ParameterError(
+            "current_sensor is on but the run has no actuator; allowed: a current sensor with "
+            "an actuator (its gear ratio turns the motor's current into the joint's torque)",
+            parameter="current_sensor",
+        )
     channels: list[Channel] = []
     if settings.actuator is not None:
         channels.append(
@@ -236,6 +253,8 @@ def run_sensors(
             )
         )
     channels.extend(c for c in sensor_streams(robot, settings, seed) if c is not None)
+    if settings.current_sensor is not None and settings.actuator is not None:
+        channels.append(CurrentSensorStream(settings.current_sensor, settings.actuator, n, seed))
     if robot.columns is None or len(robot.columns) == n:
         return tuple(channels)
     present = record_joint_values(robot, np.ones(len(robot.columns), dtype=bool), False)

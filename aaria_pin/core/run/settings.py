@@ -21,6 +21,7 @@ from aaria_pin.core.joint_sensors import (
     CLOSED_LOOP_DRIVES,
     ActuatorModel,
     ControllerModel,
+    CurrentSensorModel,
     EncoderModel,
     TorqueSensorModel,
     joint_model_attributes,
@@ -149,6 +150,8 @@ class RunSettings:
         actuator: the joints' motors and gearboxes (None: none; no ``tau_motor``)
         controller: the joint controller of a closed-loop drive (``pd``, ``computed-torque``;
             None: none, and a run of another drive has none)
+        current_sensor: the motor current sensors (None: none; no ``current_measured``;
+            needs an ``actuator``)
 
     Raises:
         ParameterError: a duration or rate outside its range or giving fewer than two samples
@@ -168,6 +171,7 @@ class RunSettings:
     torque_sensor: TorqueSensorModel | None = None
     actuator: ActuatorModel | None = None
     controller: ControllerModel | None = None
+    current_sensor: CurrentSensorModel | None = None
 
     def __post_init__(self) -> None:
         sample_count(self.duration, self.rate, None)  # ranges, and two samples at least

@@ -1,0 +1,81 @@
+"""Motor current sensors: ``current_measured = Q((1 + s)·tau_motor/(k_t·N) + b + n)``.
+
+An arm without joint torque sensors (a UR5, most industrial arms) logs the current of each
+joint's motor. The motor's torque on the motor side is ``k_t·i`` (``k_t`` the torque constant,
+:class:`~aaria_pin.core.joint_sensors.CurrentSensorModel`), and through the gearbox of ratio
+``N`` (the actuator's ``gear_ratio``) it is ``tau_motor = k_t·N·i`` at the joint, with the
+rotor's inertia and the friction in it (:mod:`aaria_pin.core.actuator`). So the sensor reads
+``tau_motor/(k_t·N)`` [A], with the errors of the torque sensor's law
+(:func:`~aaria_pin.core.torque_sensor.torque_reading`, in amperes): ``s`` the torque
+constant's error and ``b`` the zero offset, drawn once per run and joint from
+``N(0, scale_error²)`` and ``N(0, bias²)``, ``n`` white noise ``N(0, noise²)`` per sample, ``Q``
+the reading's step (0: none). The draws come from the run's ``current_sensor`` stream
+(:func:`~aaria_pin.core.seeds.sensor_sequence`): the biases, then the scale errors, then the
+noise piece by piece in time order, so a run in pieces reads what the run held whole reads.
+
+The record keeps ``current_measured`` (T × n) [A], ``current_sensor_bias`` (1 × n) [A] and
+``current_sensor_scale`` (1 × n) [1]. Identification multiplies the reading back by ``k_t·N``
+(:mod:`aaria_pin.apps.identify.inertial_torques`, the ``current`` torques).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from aaria_pin.core.actuator import actuator_torques, motor_torque
+from aaria_pin.core.joint_sensors import (
+    ActuatorModel,
+    CurrentSensorModel,
+    JointColumns,
+    per_joint,
+)
+from aaria_pin.core.se3 import Array
+from aaria_pin.core.torque_sensor import SensorReadings
+
+__all__ = ["CurrentSensorModel", "CurrentSensorStream", "amperes_to_torque"]
+
+
+def amperes_to_torque(torque_constant: Array, gear_ratio: Array) -> Array:
+    """Each joint's torque per ampere of its motor, ``k_t·N`` [N·m/A or N/A].
+
+    Args:
+        torque_constant: each motor's ``k_t``, n [N·m/A]
+        gear_ratio: each gearbox's ratio ``N``, n [1]
+    """
+    return torque_constant * gear_ratio
+
+
+class CurrentSensorStream(SensorReadings):
+    """One run's motor current sensors: bias and scale drawn when made, noise piece by piece.
+
+    It is a joint channel of the engine (``core/run/measured.py``): :meth:`tables`,
+    :meth:`run_tables` (``current_sensor_bias`` [A], ``current_sensor_scale``),
+    :meth:`attributes`.
+
+    Args:
+        model: the sensors
+        actuator: the motors and gearboxes (their torque, and the gear ratio)
+        joints: n, the record's joint columns
+        noise_seed: the run's noise seed; the draws come from its ``current_sensor`` stream
+    """
+
+    name = "current_sensor"
+
+    def __init__(
+        self,
+        model: CurrentSensorModel,
+        actuator: ActuatorModel,
+        joints: int,
+        noise_seed: int | np.random.SeedSequence,
+    ) -> None:
+        super().__init__(model, joints, noise_seed)
+        self.actuator = actuator
+        self.per_ampere = amperes_to_torque(
+            per_joint(model.torque_constant, joints, "torque_constant"),
+            per_joint(actuator.gear_ratio, joints, "gear_ratio"),
+        )
+
+    def tables(self, joints: JointColumns) -> dict[str, Array]:
+        """``current_measured`` of the next piece (T × n) [A]."""
+        motor = motor_torque(joints.tau, actuator_torques(self.actuator, joints.qd, joints.qdd))
+        return {"current_measured": self.read(motor / self.per_ampere)}
