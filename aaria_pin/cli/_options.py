@@ -135,8 +135,8 @@ hardware_options = stacked(
     click.option("--imu-model", help="IMU model: a preset (adis16485, the default; adis16470,"
                  " bmi088, icm42688p, mpu6050) or a TOML file (aaria template imu-model)."),
     click.option("--hardware", "hardware_file", type=_FILE, help="TOML file of [imu], [encoder],"
-                 " [torque_sensor], [actuator] (aaria template hardware); with --from the stored"
-                 " ones stay unless given."),
+                 " [torque_sensor], [current_sensor], [actuator] (aaria template hardware); with"
+                 " --from the stored ones stay unless given."),
 )  # fmt: skip
 """``--imu-model NAME|FILE`` and ``--hardware FILE``: the run's IMU and joint hardware."""
 

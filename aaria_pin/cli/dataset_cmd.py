@@ -71,8 +71,8 @@ Examples:
               " signals, torques, poses); the input tables stay float64.")  # fmt: skip
 @click.option("--config", "config_file", type=_FILE,
               help="TOML file of ranges and of the hardware: [imu], [encoder], [torque_sensor],"
-              " [actuator], any number a range [low, high] drawn per run (aaria template config,"
-              " aaria template hardware).")  # fmt: skip
+              " [current_sensor], [actuator], any number a range [low, high] drawn per run"
+              " (aaria template config, aaria template hardware).")  # fmt: skip
 @click.option("--vary",
               help="What is random, comma separated (default: structure,joints,base less the parts"
               " given by --preset/--dh, --joints, --base).")  # fmt: skip

@@ -77,6 +77,10 @@ def _plot_tool_tip_cdf(path: Path, outcome: IdentifyOutcome) -> None:
 @click.option("--parameters", is_flag=True, help="--dynamics: print every base parameter.")
 @click.option("--torques", type=click.Choice(["auto", "measured", "current", "motor", "rigid"]),
     default="auto", help="--dynamics: the torques fitted (auto: what the run has).")  # fmt: skip
+@click.option("--torque-constant", type=click.FloatRange(min=0.0, min_open=True),
+    help="--torques current: motor torque constant [N*m/A]  [default: the run's]")  # fmt: skip
+@click.option("--gear-ratio", type=click.FloatRange(min=0.0, min_open=True),
+    help="--torques current: the gearboxes' ratio  [default: the run's]")  # fmt: skip
 @click.option("--friction/--no-friction", default=None,
     help="--dynamics: fit friction and armature  [default: if the torques hold them]")  # fmt: skip
 @click.option("--consistent", is_flag=True, help="--dynamics: physically consistent bodies.")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -68,3 +69,37 @@ def test_motor_torques_friction_consistent_urdf(ur5_run: Path, tmp_path: Path) -
 def test_dynamics_flags_need_dynamics(ur5_run: Path) -> None:
     code, _, err = run_cli("identify", str(ur5_run), "--consistent")
     assert code == 2 and "--consistent is given without --dynamics" in err
+
+
+def test_motor_currents_with_a_torque_constant(tmp_path: Path) -> None:
+    hardware = tmp_path / "hardware.toml"
+    hardware.write_text(
+        "[actuator]\ngear_ratio = 100.0\nviscous = 0.8\ncoulomb = 2.0\n\n"
+        "[current_sensor]\ntorque_constant = 0.1\nnoise = 0.003\n"
+    )
+    run = tmp_path / "ur5.h5"
+    code, _, err = run_cli(
+        "simulate", "--robot", "ur5", "--fixed-base", "--motion", "fourier", "--duration", "6",
+        "--rate", "100", "--no-noise", "--hardware", str(hardware), "-o", str(run),
+    )  # fmt: skip
+    assert code == 0, err
+
+    def fit(*extra: str) -> dict[str, Any]:
+        code, out, err = run_cli(
+            "identify", "--dynamics", str(run), "--torques", "current", "--json", *extra
+        )
+        assert code == 0, err
+        return json.loads(out)
+
+    def friction(report: dict[str, Any]) -> np.ndarray:
+        return np.array([[row["Fv"], row["Fc"]] for row in report["friction"]])
+
+    from_run = fit()
+    assert friction(from_run)[:, 0] == pytest.approx(0.8, rel=0.05)
+    assert friction(from_run)[:, 1] == pytest.approx(2.0, rel=0.05)
+    given = fit("--torque-constant", "0.1", "--gear-ratio", "100")
+    assert np.allclose(friction(given), friction(from_run))
+    # a wrong torque constant: the base wrench (rigid-body loads, in newtons) no longer agrees
+    # with the joints' torques, so the held-out error grows far above the noise
+    wrong = fit("--torque-constant", "0.2")
+    assert wrong["worst_holdout_relative_rms"] > 10 * from_run["worst_holdout_relative_rms"]

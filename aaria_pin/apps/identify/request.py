@@ -55,7 +55,9 @@ class IdentifyRequest:
             :data:`DEFAULT_HOLDOUT`)
         parameters: a text line for every base parameter (dynamics of one run)
         torques: the joint torques fitted (dynamics of one run; ``auto``, ``measured``,
-            ``motor``, ``rigid``: :mod:`~aaria_pin.apps.identify.inertial_torques`)
+            ``current``, ``motor``, ``rigid``: :mod:`~aaria_pin.apps.identify.inertial_torques`)
+        torque_constant: the motors' torque constant [N·m/A] (``current``; None: the run's)
+        gear_ratio: the gearboxes' ratio [1] (``current``; None: the run's)
         friction: fit friction and armature (dynamics of one run; None: when the torques
             hold them)
         consistent: physically consistent bodies (dynamics of one run)
@@ -90,6 +92,8 @@ class IdentifyRequest:
     workers: int | None = None
     limit: int | None = None
     plot: Path | None = None
+    torque_constant: float | None = None
+    gear_ratio: float | None = None
     rigid: tuple[tuple[str, str], ...] = ()
     joint: tuple[tuple[str, str], ...] = ()
 
@@ -130,6 +134,8 @@ class IdentifyRequest:
                     ("friction", self.friction is not None),
                     ("consistent", self.consistent),
                     ("dynamics_urdf", self.dynamics_urdf is not None),
+                    ("torque_constant", self.torque_constant is not None),
+                    ("gear_ratio", self.gear_ratio is not None),
                 )
                 for mode in ("dynamics", "dataset")
             ),
@@ -289,12 +295,13 @@ def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
         return IdentifyOutcome(result.to_json(), tuple(result.summary()), failure=result.failure)
     from aaria_pin.apps.identify.inertial import identify_dynamics
     from aaria_pin.apps.identify.inertial_result import dynamics_summary
+    from aaria_pin.apps.identify.inertial_torques import TorqueSource
 
     holdout = DEFAULT_HOLDOUT if request.holdout is None else request.holdout
     fit = identify_dynamics(
         record,
         holdout=holdout,
-        torques=request.torques,
+        torques=TorqueSource(request.torques, request.torque_constant, request.gear_ratio),
         friction=request.friction,
         consistent=request.consistent or request.dynamics_urdf is not None,
     )
