@@ -19,6 +19,7 @@ Example::
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -58,6 +59,8 @@ class IdentifyRequest:
         limit: at most this many runs of each data set (data-set mode)
         plot: where the caller draws the tool-tip error CDF (data-set mode; only checked here,
             :func:`~aaria_pin.apps.identify.benchmark.tool_tip_cdf` gives its curves)
+        progress: called with a line per stage, per start of a kinematic fit and per run of
+            the data-set mode (the CLI writes them to stderr), or None
 
     Raises:
         ParameterError: no file, or several files outside the data-set mode.
@@ -76,6 +79,7 @@ class IdentifyRequest:
     workers: int | None = None
     limit: int | None = None
     plot: Path | None = None
+    progress: Callable[[str], None] | None = None
 
     def __post_init__(self) -> None:
         files = len(self.files)
@@ -179,11 +183,24 @@ def _benchmark(request: IdentifyRequest) -> IdentifyOutcome:
         benchmark_datasets,
     )
 
+    say = request.progress
+    done: list[RunAccuracy] = []
+
+    def arrived(run: RunAccuracy) -> None:
+        done.append(run)
+        if say is not None:
+            what = run.error or (
+                f"tool tip RMS {run.tool_tip_rms * 1e3:.3g} mm, link types "
+                f"{'right' if run.link_types_right else 'wrong'}"
+            )
+            say(f"run {len(done)} done ({run.dataset} run {run.run}): {what}, {run.seconds:.1f} s")
+
     runs = benchmark_datasets(
         request.files,
         workers=request.workers or 1,
         dynamics=request.dynamics,
         limit=request.limit,
+        progress=arrived,
         holdout=DEFAULT_HOLDOUT if request.holdout is None else request.holdout,
     )
     groups = accuracy_table(runs)
@@ -225,7 +242,7 @@ def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
     if kinematics:
         from aaria_pin.apps.identify.geometry import identify_kinematics
 
-        result = identify_kinematics(record)
+        result = identify_kinematics(record, progress=request.progress)
         if result.failure is None:
             _write_kinematics(result, request)
         return IdentifyOutcome(result.to_json(), tuple(result.summary()), failure=result.failure)
