@@ -89,8 +89,7 @@ def identify(files: tuple[Path, ...], plot: Path | None, as_json: bool, **flags:
     FILE is a DH run file, or a data set with --run K. From the encoders, the IMU signals and
     each IMU's link: the structure, the DH table and the link IMUs' mounts (the base and tool
     IMUs define the base and tool-tip frames). Printed: the table, what the data cannot
-    determine, σ, residuals per IMU, errors against the truth; a failed fit: one line,
-    exit 1. Its stages and starts (--dataset: each run) are lines on stderr (not with --json).
+    determine, σ, residuals per IMU, truth errors; a failed fit: one line, exit 1. Stderr: stages.
 
     With --dynamics: the robot's inertial base parameters (any run, URDF robots too) from
     q, qd, qdd, tau and the base wrench; held-out torque error, total mass, centre of mass.
@@ -101,11 +100,7 @@ def identify(files: tuple[Path, ...], plot: Path | None, as_json: bool, **flags:
     """
     from aaria_pin.apps.identify.request import IdentifyRequest, identify_files
 
-    def progress(line: str) -> None:  # plain lines on stderr: a log keeps them
-        click.echo(f"aaria: identify: {line}", err=True)
-
-    say = None if as_json else progress  # --json: stderr stays quiet too
-    request = IdentifyRequest(files, plot=plot, progress=say, **flags)  # flags: its fields
+    request = IdentifyRequest(files, plot=plot, log=not as_json, **flags)  # flags: its fields
     if plot is not None:
         from aaria_pin.viz._formats import PICTURE_SUFFIXES
 

@@ -19,6 +19,7 @@ Example::
 from __future__ import annotations
 
 import json
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -59,8 +60,8 @@ class IdentifyRequest:
         limit: at most this many runs of each data set (data-set mode)
         plot: where the caller draws the tool-tip error CDF (data-set mode; only checked here,
             :func:`~aaria_pin.apps.identify.benchmark.tool_tip_cdf` gives its curves)
-        progress: called with a line per stage, per start of a kinematic fit and per run of
-            the data-set mode (the CLI writes them to stderr), or None
+        log: write a line per stage, per start of a kinematic fit and per run of the data-set
+            mode to stderr (``aaria: identify: ...``; plain lines, a log keeps them)
 
     Raises:
         ParameterError: no file, or several files outside the data-set mode.
@@ -79,7 +80,19 @@ class IdentifyRequest:
     workers: int | None = None
     limit: int | None = None
     plot: Path | None = None
-    progress: Callable[[str], None] | None = None
+    log: bool = False
+
+    @property
+    def progress(self) -> Callable[[str], None] | None:
+        """The stderr line writer of :attr:`log`, or None."""
+        if not self.log:
+            return None
+
+        def line(text: str) -> None:
+            sys.stderr.write(f"aaria: identify: {text}\n")
+            sys.stderr.flush()
+
+        return line
 
     def __post_init__(self) -> None:
         files = len(self.files)
