@@ -18,9 +18,12 @@ the base pose. It estimates
    is a local minimum: other starts (each prismatic theta forced to each quarter turn, the
    closed-form start from more samples) are walked, the best few fitted, the smallest
    residual kept, stopping at the floor. On noisy records the base IMU's signals, inputs of
-   the model, are smoothed and differentiated with windows the data choose
-   (:func:`~aaria_pin.apps.identify.geometry_signals.smoothed`);
-4. each parameter's standard deviation from the Jacobian at the solution, the residual RMS per
+   the model, are taken as measured, its rates differentiated by the filter that errs least
+   (:func:`~aaria_pin.apps.identify.geometry_signals.noisy_derivative`), and each IMU
+   channel's bias is a B-spline of time projected off the fit
+   (:mod:`~aaria_pin.apps.identify.geometry_bias`);
+4. each parameter's standard deviation (the sandwich estimate of
+   :func:`~aaria_pin.apps.identify.geometry_fit.sandwich_sigmas`), the residual RMS per
    IMU, the parameter combinations the data cannot determine (the Jacobian's null space, named
    in words: "d2 and d3 add up (only d2 + d3 is determined)"), and, when the record holds the
    truth, the errors: link types, the tool tip's position over the run from an independent
