@@ -165,6 +165,7 @@ def identify_dataset_run(
         dynamics_holdout_relative_rms=dynamics_error,
         dynamics_seconds=dynamics_seconds,
         sigma_coverage=None if truth is None else dict(truth.coverage),
+        error=result.failure,  # a fit above the noise floor is a failure, counted as one
     )
 
 
@@ -278,7 +279,11 @@ def accuracy_table(results: Iterable[RunAccuracy]) -> list[dict[str, Any]]:
     table = []
     for (noise, duration, rate), runs in sorted(groups.items()):
         rms = np.array(
-            [r.tool_tip_rms if np.isfinite(r.tool_tip_rms) else np.inf for r in runs], dtype=float
+            [
+                r.tool_tip_rms if np.isfinite(r.tool_tip_rms) and r.error is None else np.inf
+                for r in runs
+            ],
+            dtype=float,
         )
         seconds = np.array([r.seconds for r in runs], dtype=float)
         row: dict[str, Any] = {
