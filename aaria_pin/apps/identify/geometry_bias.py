@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from aaria_pin.apps.identify.geometry_signals import signal_weights
 from aaria_pin.core.imu_noise import ADIS16485
 from aaria_pin.core.se3 import Array
 
@@ -49,22 +50,17 @@ def knot_spacing(noise_parameters: Any, rate: float) -> tuple[float, float]:
         rate: the sample rate [Hz]
     """
     parameters = noise_parameters if isinstance(noise_parameters, dict) else {}
+    levels = 1.0 / signal_weights(rate, noise_parameters)  # the white noise's, per sample
+    correlation = float(parameters.get("bias_correlation_time_s", ADIS16485.bias_correlation_time))
     spacings = []
-    for sensor, units, model in (
-        ("gyro", "rad_s", ADIS16485.gyro),
-        ("accel", "m_s2", ADIS16485.accel),
+    for level, (sensor, units, model) in zip(
+        levels[::3],
+        (("gyro", "rad_s", ADIS16485.gyro), ("accel", "m_s2", ADIS16485.accel)),
+        strict=True,
     ):
-        density = float(
-            parameters.get(f"{sensor}_noise_density_{units}_sqrtHz", model.noise_density)
-        )
-        lsb = float(parameters.get(f"{sensor}_lsb_{units}", model.lsb))
-        level = float(np.hypot(density * np.sqrt(rate / 2.0), lsb / np.sqrt(12.0)))
         stability = float(parameters.get(f"{sensor}_bias_stability_{units}", model.bias_stability))
-        correlation = float(
-            parameters.get("bias_correlation_time_s", ADIS16485.bias_correlation_time)
-        )
         walk = stability * np.sqrt(2.0 / max(correlation, 1e-9))
-        spacings.append(level / (walk * np.sqrt(rate)) if walk > 0 else np.inf)
+        spacings.append(float(level) / (walk * np.sqrt(rate)) if walk > 0 else np.inf)
     return spacings[0], spacings[1]
 
 
