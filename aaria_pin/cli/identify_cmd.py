@@ -106,7 +106,7 @@ def identify(files: tuple[Path, ...], plot: Path | None, as_json: bool, **flags:
     FILE is a DH run file, or a data set with --run K. From the encoders, the IMU signals and
     each IMU's link: the structure, the DH table and the link IMUs' mounts (the base and tool
     IMUs define the base and tool-tip frames). Printed: the table, what the data cannot
-    determine, residuals, errors against the truth; a failed fit: one line, exit 1.
+    determine, σ, residuals per IMU, truth errors; a failed fit: one line, exit 1. Stderr: stages.
 
     With --dynamics: the robot's inertial base parameters (any run, URDF robots too) from
     q, qd, qdd, tau and the base wrench; held-out torque error, total mass, centre of mass.
@@ -121,7 +121,7 @@ def identify(files: tuple[Path, ...], plot: Path | None, as_json: bool, **flags:
     """
     from aaria_pin.apps.identify.request import IdentifyRequest, identify_files
 
-    request = IdentifyRequest(files, plot=plot, **flags)  # the other flags are its fields
+    request = IdentifyRequest(files, plot=plot, log=not as_json, **flags)  # flags: its fields
     if plot is not None:
         from aaria_pin.viz._formats import PICTURE_SUFFIXES
 

@@ -180,34 +180,32 @@ def _random_record(k: int, noise: bool) -> tuple[np.ndarray, RunRecord]:
     return table, record
 
 
-def test_noisy_arm_leaves_a_local_minimum() -> None:
+def test_noisy_arm_reaches_the_noise_floor() -> None:
     # random arm 13 (prismatic modules 4 and 6) with ADIS16485 noise: its closed-form start
-    # ends in a local minimum 0.86 m off at the tool tip, five times the noise floor; another
-    # start (a prismatic theta a quarter turn on) reaches the floor and the right arm
+    # once ended in a local minimum 0.86 m off at the tool tip, five times the noise floor,
+    # when the base's signals were smoothed (a bias); taken as measured, the fit reaches the
+    # floor and the right arm
     table, record = _random_record(13, noise=True)
     result = identify_kinematics(record)
-    assert result.fit["starts"] > 1
     assert result.fit["end_rms_weighted"] < 1.1  # weights are 1 / the noise level
     assert result.link_types == tuple(int(t) for t in table[:6, 4])
     assert _tool_tip_error(result.table, record) < 0.01
 
 
-def test_smoothed_derivative_of_a_noisy_sine() -> None:
-    # against the analytic derivative: a slow and a fast sine under white noise, both within
-    # 1.5 % of their amplitude (a plain difference quotient: 0.14 rad/s², 30 times more)
-    from aaria_pin.apps.identify.geometry_signals import smoothed as _smoothed
+def test_noisy_derivative_of_a_sine() -> None:
+    # against the analytic derivative: a slow sine takes a long window (error within 1 % of
+    # its amplitude), a fast one a shorter window (within 2 %: the longest would bend it by
+    # 70 %); both far below a difference quotient's error
+    from aaria_pin.apps.identify.geometry_signals import noisy_derivative
 
     rng = np.random.default_rng(3)
     time = np.arange(6001) / 200.0
     level = 1e-3
-    for frequency in (0.5, 6.0):  # [rad/s]
+    for frequency, share in ((0.5, 1e-2), (6.0, 2e-2)):  # [rad/s]
         exact = 0.05 * np.sin(frequency * time)
+        truth = 0.05 * frequency * np.cos(frequency * time)
         noisy = exact + level * rng.standard_normal(time.size)
-        derivative = _smoothed(time, noisy[:, None], level, 1)[:, 0]
-        error = np.sqrt(np.mean((derivative - 0.05 * frequency * np.cos(frequency * time)) ** 2))
-        raw = np.sqrt(
-            np.mean((np.gradient(noisy, time) - 0.05 * frequency * np.cos(frequency * time)) ** 2)
-        )
-        assert error < 0.015 * 0.05 * frequency and error < raw / 30
-        smooth = _smoothed(time, noisy[:, None], level, 0)[:, 0]
-        assert np.sqrt(np.mean((smooth - exact) ** 2)) < level / 4
+        estimate = noisy_derivative(time, noisy[:, None], level)[:, 0]
+        error = np.sqrt(np.mean((estimate - truth)[600:-600] ** 2))
+        raw = np.sqrt(np.mean((np.gradient(noisy, time) - truth) ** 2))
+        assert error < share * 0.05 * frequency and error < raw / 40, (frequency, error, raw)

@@ -66,6 +66,8 @@ class RunAccuracy:
             over the joints, else None
         dynamics_seconds: time of the dynamic identification [s], or None
         error: the one-line error of a run whose identification failed, else None
+        sigma_coverage: per DH parameter kind, the determined parameters within 2σ of the
+            truth and their count (:func:`~aaria_pin.apps.identify.geometry_truth.sigma_coverage`)
     """
 
     dataset: str
@@ -82,6 +84,7 @@ class RunAccuracy:
     dynamics_holdout_relative_rms: float | None = None
     dynamics_seconds: float | None = None
     error: str | None = None
+    sigma_coverage: dict[str, tuple[int, int]] | None = None
 
     def to_json(self) -> dict[str, Any]:
         """A JSON-ready dict (NaN as None)."""
@@ -161,6 +164,8 @@ def identify_dataset_run(
         seconds=seconds,
         dynamics_holdout_relative_rms=dynamics_error,
         dynamics_seconds=dynamics_seconds,
+        sigma_coverage=None if truth is None else dict(truth.coverage),
+        error=result.failure,  # a fit above the noise floor is a failure, counted as one
     )
 
 
@@ -263,8 +268,10 @@ def accuracy_table(results: Iterable[RunAccuracy]) -> list[dict[str, Any]]:
         One dict per group, sorted by noise, duration, rate: ``noise``, ``duration_s``,
         ``rate_hz``, ``runs``, ``failed``, ``link_types_right_share``,
         ``tool_tip_rms_median_m``, ``tool_tip_rms_p95_m``, ``tool_tip_rms_max_m``,
-        ``within_1mm_share``, ``within_1cm_share``, ``seconds_median``, ``seconds_max``, and
-        (when identified) ``dynamics_holdout_relative_rms_median`` and ``…_max``.
+        ``within_1mm_share``, ``within_1cm_share``, ``seconds_median``, ``seconds_max``, the
+        share of determined DH parameters within 2σ of the truth ``sigma_coverage_2sigma``
+        (and ``sigma_coverage_by_kind``), and (when identified)
+        ``dynamics_holdout_relative_rms_median`` and ``…_max``.
     """
     groups: dict[tuple[bool, float, float], list[RunAccuracy]] = {}
     for result in results:
@@ -272,7 +279,11 @@ def accuracy_table(results: Iterable[RunAccuracy]) -> list[dict[str, Any]]:
     table = []
     for (noise, duration, rate), runs in sorted(groups.items()):
         rms = np.array(
-            [r.tool_tip_rms if np.isfinite(r.tool_tip_rms) else np.inf for r in runs], dtype=float
+            [
+                r.tool_tip_rms if np.isfinite(r.tool_tip_rms) and r.error is None else np.inf
+                for r in runs
+            ],
+            dtype=float,
         )
         seconds = np.array([r.seconds for r in runs], dtype=float)
         row: dict[str, Any] = {
@@ -290,6 +301,18 @@ def accuracy_table(results: Iterable[RunAccuracy]) -> list[dict[str, Any]]:
             "seconds_median": float(np.median(seconds)),
             "seconds_max": float(np.max(seconds)),
         }
+        covered: dict[str, list[int]] = {}
+        for r in runs:
+            for kind, (inside, count) in (r.sigma_coverage or {}).items():
+                covered.setdefault(kind, [0, 0])
+                covered[kind][0] += inside
+                covered[kind][1] += count
+        if covered:
+            inside = sum(v[0] for v in covered.values())
+            row["sigma_coverage_2sigma"] = inside / max(sum(v[1] for v in covered.values()), 1)
+            row["sigma_coverage_by_kind"] = {
+                kind: {"within_2sigma": v[0], "parameters": v[1]} for kind, v in covered.items()
+            }
         dynamic = _finite(r.dynamics_holdout_relative_rms for r in runs)
         if dynamic.size:
             row["dynamics_holdout_relative_rms_median"] = float(np.median(dynamic))
@@ -315,7 +338,7 @@ def accuracy_lines(groups: Sequence[dict[str, Any]]) -> list[str]:
     header = (
         f"{'group':<{width}} {'arms':>5} {'failed':>6} {'types right':>11} "
         f"{'tool tip RMS [mm]: median':>25} {'p95':>7} {'max':>7} {'<=1 mm':>7} {'<=1 cm':>7} "
-        f"{'s/arm':>6}"
+        f"{'s/arm':>6} {'2σ cover':>8}"
     )
     lines = [header + (f" {'torque held-out rel. RMS':>24}" if dynamics else "")]
     for g in groups:
@@ -324,7 +347,7 @@ def accuracy_lines(groups: Sequence[dict[str, Any]]) -> list[str]:
             f"{g['link_types_right_share']:>11.1%} {_mm(g['tool_tip_rms_median_m']):>25} "
             f"{_mm(g['tool_tip_rms_p95_m']):>7} {_mm(g['tool_tip_rms_max_m']):>7} "
             f"{g['within_1mm_share']:>7.1%} {g['within_1cm_share']:>7.1%} "
-            f"{g['seconds_median']:>6.1f}"
+            f"{g['seconds_median']:>6.1f} {g.get('sigma_coverage_2sigma', float('nan')):>8.1%}"
         )
         if dynamics:
             value = g.get("dynamics_holdout_relative_rms_median")

@@ -18,9 +18,12 @@ the base pose. It estimates
    is a local minimum: other starts (each prismatic theta forced to each quarter turn, the
    closed-form start from more samples) are walked, the best few fitted, the smallest
    residual kept, stopping at the floor. On noisy records the base IMU's signals, inputs of
-   the model, are smoothed and differentiated with windows the data choose
-   (:func:`~aaria_pin.apps.identify.geometry_signals.smoothed`);
-4. each parameter's standard deviation from the Jacobian at the solution, the residual RMS per
+   the model, are taken as measured, its rates differentiated by the filter that errs least
+   (:func:`~aaria_pin.apps.identify.geometry_signals.noisy_derivative`), and each IMU
+   channel's bias is a B-spline of time projected off the fit
+   (:mod:`~aaria_pin.apps.identify.geometry_bias`);
+4. each parameter's standard deviation (the sandwich estimate of
+   :func:`~aaria_pin.apps.identify.geometry_fit.sandwich_sigmas`), the residual RMS per
    IMU, the parameter combinations the data cannot determine (the Jacobian's null space, named
    in words: "d2 and d3 add up (only d2 + d3 is determined)"), and, when the record holds the
    truth, the errors: link types, the tool tip's position over the run from an independent
@@ -45,17 +48,24 @@ fits in. The base row (row 8) is unused by the kinematics (zeros); the tool row 
 from __future__ import annotations
 
 import time as _time
+from collections.abc import Callable
 
 import numpy as np
 
-from aaria_pin.apps.identify.geometry_fit import WeightedFit, deficiencies, non_negative_lengths
+from aaria_pin.apps.identify.geometry_bias import knot_spacing
+from aaria_pin.apps.identify.geometry_fit import (
+    WeightedFit,
+    deficiencies,
+    non_negative_lengths,
+    sandwich_sigmas,
+)
 from aaria_pin.apps.identify.geometry_model import ArmLayout, KinematicData, predict_signals
 from aaria_pin.apps.identify.geometry_result import KinematicIdentification
 from aaria_pin.apps.identify.geometry_signals import (
+    noisy_derivative,
     rounding_level,
     sample_derivatives,
     signal_weights,
-    smoothed,
     uniform_time,
 )
 from aaria_pin.apps.identify.geometry_start import INIT_SAMPLES, other_starts, start_parameters
@@ -85,6 +95,7 @@ _EXACT_FLOOR = 1e-3  # the noise floor of a noise-free record (its fits end near
 _ROUNDED_FLOOR = 1e-2
 _REFITS = 3  # other starts fitted on every sample, after their walks
 _FAILED = 10.0  # a fit whose weighted RMS ends above this many noise floors has failed
+_CORRELATION = 3.0  # [s] residuals correlated over up to this (the base's derivative filter)
 _PLAUSIBLE_LENGTH = 5.0  # [m] a longer |a| or |d| is a degenerate table (lengths cancelling)
 
 
@@ -124,8 +135,8 @@ def _rms(values: Array) -> float:
 
 def _measured_data(
     record: RunRecord, layout: ArmLayout, base: int
-) -> tuple[ArmLayout, KinematicData, Array, Array]:
-    """The layout with its joint kinds, the model's inputs, the measured signals, the weights."""
+) -> tuple[ArmLayout, KinematicData, Array, Array, Array]:
+    """The layout with its joint kinds, the model's inputs, the signals, weights and times."""
     time = uniform_time(np.asarray(record.time, dtype=float))
     columns = [m - 1 for m in layout.modules]
     q = np.asarray(record.q, dtype=float)[:, columns]
@@ -139,16 +150,17 @@ def _measured_data(
     omega_base = np.asarray(record.imu[:, base, :3], dtype=float)
     force_base = np.asarray(record.imu[:, base, 3:], dtype=float)
     if metadata.noise:
-        # the base IMU's signals are inputs of the model: smoothed (and differentiated) with
-        # windows the data choose, from the noise level the weights hold
-        omega_dot = smoothed(time, omega_base, 1.0 / weights[0], 1)
-        omega_base = smoothed(time, omega_base, 1.0 / weights[0], 0)
-        force_base = smoothed(time, force_base, 1.0 / weights[3], 0)
+        # the base IMU's signals are inputs of the model, taken as measured (a smoothing
+        # bends the motion: a bias the whole run repeats); its angular velocity differentiated
+        omega_dot = noisy_derivative(time, omega_base, 1.0 / weights[0])
+        # the base IMU's noise, an input, enters every prediction: as much again as the
+        # predicted IMU's own (the same part), so each weight is 1 / (√2 its noise level)
+        weights = weights / np.sqrt(2.0)
     else:
         (omega_dot,) = sample_derivatives(time, omega_base, 1)
     data = KinematicData(omega_base, omega_dot, force_base, q, qd, qdd)
     measured = np.asarray(record.imu[:, list(layout.imus)], dtype=float)
-    return layout, data, measured, weights
+    return layout, data, measured, weights, time
 
 
 @checked
@@ -158,6 +170,7 @@ def identify_kinematics(
     max_fit_samples: int = _FIT_SAMPLES,
     max_iterations: int = 100,
     with_truth: bool = True,
+    progress: Callable[[str], None] | None = None,
 ) -> KinematicIdentification:
     """Identify an Aaria arm's structure, DH table and IMU mounts from a DH run's signals.
 
@@ -171,6 +184,8 @@ def identify_kinematics(
             nonlinear fit (residual RMS and truth errors use every sample)
         max_iterations: most Levenberg–Marquardt iterations of the nonlinear fit
         with_truth: compare with the truth the record holds (``senSenDH``), if any
+        progress: called with a line per stage and per start (``start 1 (closed form):
+            weighted RMS 1.02 after 5 iterations, 3.1 s``), for a log
 
     Returns:
         The identification.
@@ -188,15 +203,29 @@ def identify_kinematics(
             allowed=f"at least {_MIN_SAMPLES} samples",
         )
     layout, base = arm_layout(record)
-    layout, data, measured, weights = _measured_data(record, layout, base)
+    layout, data, measured, weights, time = _measured_data(record, layout, base)
     n_samples = data.q.shape[0]
+
+    def say(line: str) -> None:
+        if progress is not None:
+            progress(f"{line}, {_time.perf_counter() - started:.1f} s")
+
+    modules = zip(layout.modules, layout.kinds, strict=True)
+    say(
+        f"structure: {', '.join(f'{m} {k}' for m, k in modules)}; "
+        f"{len(layout.imus)} IMUs fitted on {min(max_fit_samples, n_samples)} samples"
+    )
 
     def spread(count: int) -> Array:
         return np.unique(np.linspace(0, n_samples - 1, min(count, n_samples)).astype(int))
 
     start = spread(INIT_SAMPLES)
     lengths = length_indices(layout)
-    problem = WeightedFit(layout, data, measured, weights, lengths)
+    spacings = None
+    if record.metadata.noise:
+        rate = (time.size - 1) / (time[-1] - time[0])
+        spacings = knot_spacing(record.metadata.extra.get("noise_parameters"), rate)
+    problem = WeightedFit(layout, data, measured, weights, lengths, time, spacings)
     # The walk along equivalent tables takes many short steps and does not need many
     # samples: it runs on the start's few, then the fit ends on more.
     walk_index, fit_index = spread(_WALK_SAMPLES), spread(max_fit_samples)
@@ -204,21 +233,27 @@ def identify_kinematics(
     exact = _EXACT_FLOOR if rounding_level(measured) is None else _ROUNDED_FLOOR
     floor = _AT_FLOOR * (1.0 if record.metadata.noise else exact)
     x0 = start_parameters(layout, data.subsample(start), measured[start], weights, lengths)
-    x, fun, _, walk = problem.fit(x0, x0, walk_index, max_iterations)
+    x, fun, _, walk = problem.fit(x0, x0, walk_index, max_iterations, biases=False)
     start_rms = _rms(fun)
     x, fun, jac, iterations = problem.fit(x, x0, fit_index, max_iterations)
     starts = 1
+    say(f"start 1 (closed form): weighted RMS {_rms(fun):.3g} after {iterations} iterations")
     if _rms(fun) > floor:
         # a local minimum: other starts (the quarter turns of prismatic thetas the gyroscopes
         # cannot give, a start from more samples), each walked on few samples; the best few
         # walks fitted on all, the smallest residual kept, stopping at the noise floor
         walked: list[tuple[float, int, Array, Array, int]] = []
+        say(f"above the noise floor ({floor:.3g}): walking other starts")
         for other in other_starts(layout, data, measured, weights, spread, x0):
-            z, z_fun, _, z_walk = problem.fit(other, other, walk_index, max_iterations)
+            z, z_fun, _, z_walk = problem.fit(other, other, walk_index, max_iterations, False)
             walked.append((_rms(z_fun), len(walked), z, other, z_walk))
         for z_rms, _, z, other, z_walk in sorted(walked, key=lambda item: item[:2])[:_REFITS]:
             z, z_fun, z_jac, z_iterations = problem.fit(z, other, fit_index, max_iterations)
             starts += 1
+            say(
+                f"start {starts} (of {len(walked)} walked): weighted RMS {_rms(z_fun):.3g} "
+                f"after {z_iterations} iterations"
+            )
             if _rms(z_fun) < _rms(fun):
                 x, fun, jac, iterations, walk, start_rms, x0 = (
                     z,
@@ -232,15 +267,17 @@ def identify_kinematics(
             if _rms(fun) <= floor:
                 break
     names = layout.parameter_names(record.imu_names)
-    found, sigmas, basis = deficiencies(jac, names, layout.n_dh)
+    found, sigmas, basis, covariance = deficiencies(jac, names, layout.n_dh)
     moved = non_negative_lengths(x, basis, lengths)
     # a null direction is a symmetry to first order only: keep the move if the signals stay
     # as well fitted
     if not np.array_equal(moved, x):
         if problem.cost(moved, fit_index) <= 1.01 * problem.cost(x, fit_index) + 1e-9 * fun.size:
             x = moved
-    dof = max(fun.size - int(np.isfinite(sigmas).sum()), 1)
-    sigmas = sigmas * np.sqrt(float(fun @ fun) / dof)
+    fit_rate = (fit_index.size - 1) / max(float(time[fit_index[-1]] - time[fit_index[0]]), 1e-300)
+    window = round(_CORRELATION * fit_rate)
+    robust = sandwich_sigmas(covariance, jac, fun, 6 * len(layout.imus), window)
+    sigmas = np.where(np.isfinite(sigmas), robust, np.nan)
     predicted, _ = predict_signals(x, layout, data)
     error = predicted - measured
     residual_rms = {
@@ -273,6 +310,6 @@ def identify_kinematics(
         sigmas,
         residual_rms,
         found,
-        truth_errors(record, table) if with_truth else None,
+        truth_errors(record, table, (layout, x, sigmas)) if with_truth else None,
         fit_summary,
     )

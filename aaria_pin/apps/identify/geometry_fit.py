@@ -13,16 +13,24 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from aaria_pin.apps.identify.geometry_bias import BiasModel
 from aaria_pin.apps.identify.geometry_model import (
     ArmLayout,
     KinematicData,
+    base_sensitivity,
     predict_signals,
     weighted_jacobian,
 )
 from aaria_pin.apps.identify.geometry_result import Deficiency
 from aaria_pin.core.se3 import Array
 
-__all__ = ["WeightedFit", "deficiencies", "levenberg_marquardt", "non_negative_lengths"]
+__all__ = [
+    "WeightedFit",
+    "deficiencies",
+    "levenberg_marquardt",
+    "non_negative_lengths",
+    "sandwich_sigmas",
+]
 
 _DEFICIENT = 1e-5  # singular value ratio below which a direction is not determined
 
@@ -165,8 +173,14 @@ def _describe(names: Sequence[str], coefficients: Sequence[float]) -> str:
 
 def deficiencies(
     jacobian: Array, names: Sequence[str], n_dh: int
-) -> tuple[tuple[Deficiency, ...], Array, Array]:
-    """Null directions of the fit, named; and the parameters' standard deviations (unit σ²)."""
+) -> tuple[tuple[Deficiency, ...], Array, Array, Array]:
+    """Null directions of the fit, named; the parameters' standard deviations (unit σ²).
+
+    Returns:
+        The deficiencies, the standard deviations (NaN: not determined), the null directions
+        (rows, parameter units) and the pseudo-inverse of ``JᵀJ`` on the determined
+        directions (parameter units).
+    """
     scale = np.linalg.norm(jacobian, axis=0)
     scale[scale == 0] = 1.0
     normal = (jacobian.T @ jacobian) / np.outer(scale, scale)
@@ -178,6 +192,7 @@ def deficiencies(
     kept = ~null
     covariance = (Vt[kept].T / singular[kept] ** 2) @ Vt[kept]
     sigmas = np.sqrt(np.diag(covariance)) / scale
+    covariance = covariance / np.outer(scale, scale)
     basis = Vt[null] / scale  # null directions in parameter units
     undetermined = np.zeros(len(names), dtype=bool)
     if basis.size:
@@ -198,7 +213,39 @@ def deficiencies(
         coefficients = tuple(float(c / lead) for _, c in dh)
         labels = tuple(n for n, _ in dh)
         deficiencies.append(Deficiency(labels, coefficients, _describe(labels, coefficients)))
-    return tuple(deficiencies), sigmas, basis
+    return tuple(deficiencies), sigmas, basis, covariance
+
+
+def sandwich_sigmas(
+    covariance: Array, jacobian: Array, residual: Array, per_sample: int, window: int
+) -> Array:
+    """Standard deviations that hold when the residual is not white: the sandwich estimate.
+
+    ``C·(Σ_t g_t)(Σ_t g_t)ᵀ·C`` with ``C = (JᵀJ)⁺`` and ``g_t = J_tᵀ r_t`` the score of
+    sample ``t`` (all its rows); the middle's expectation is estimated by overlapping batch
+    means over ``window`` samples (a Bartlett-kernel long-run covariance: residuals correlated
+    over up to a window, the base IMU's filtered noise, are counted as they are; each signal's
+    own variance enters through its residual, not through its nominal noise level).
+
+    Args:
+        covariance: ``(JᵀJ)⁺``, n × n (parameter units)
+        jacobian: the weighted Jacobian, (T·k) × n, rows by sample
+        residual: the weighted residual, T·k
+        per_sample: the rows of one sample, k
+        window: the batch length [samples]
+    """
+    n = covariance.shape[0]
+    scores = np.einsum(
+        "tk,tkn->tn",
+        residual.reshape(-1, per_sample),
+        jacobian.reshape(-1, per_sample, n),
+    )
+    count = scores.shape[0]
+    window = int(min(max(window, 1), max(count // 4, 1)))
+    sums = np.cumsum(np.vstack([np.zeros((1, n)), scores]), axis=0)
+    batches = sums[window:] - sums[:-window]
+    middle = (batches.T @ batches) * count / (window * batches.shape[0])
+    return np.sqrt(np.clip(np.diag(covariance @ middle @ covariance), 0.0, None))
 
 
 @dataclass(frozen=True)
@@ -216,6 +263,10 @@ class WeightedFit:
         measured: the measured signals of :attr:`ArmLayout.imus`, T × S × 6
         weights: the weight of each signal, 6 (1 / its noise level)
         lengths: indices of the parameters that must not be negative
+        time: the sample times [s] (needed with ``bias_spacings``)
+        bias_spacings: the bias splines' knot spacing of the gyroscopes and accelerometers
+            [s] (:func:`~aaria_pin.apps.identify.geometry_bias.knot_spacing`), or None: no
+            bias model (noise-free records)
     """
 
     layout: ArmLayout
@@ -223,40 +274,76 @@ class WeightedFit:
     measured: Array
     weights: Array
     lengths: Sequence[int]
+    time: Array | None = None
+    bias_spacings: tuple[float, float] | None = None
+
+    def _signal_residual(
+        self, index: Array, at: Array, biases: bool = True
+    ) -> tuple[Callable[[Array], Array], Callable[[Array], Array], KinematicData]:
+        """The weighted signal residuals on ``index``, biases projected off if modelled.
+
+        The base IMU's bias columns depend on the arm's rotations; they are taken at ``at``
+        (the fit's start: the rotations the walk found move little in the final fit).
+
+        Returns:
+            ``z`` → the flat residual; the projection of a Jacobian (T·S·6 × n); the data at
+            ``index``.
+        """
+        layout, weights = self.layout, self.weights
+        part, part_measured = self.data.subsample(index), self.measured[index]
+        if not biases or self.bias_spacings is None or self.time is None:
+
+            def plain(z: Array) -> Array:
+                return ((predict_signals(z, layout, part)[0] - part_measured) * weights).ravel()
+
+            return plain, lambda jac: jac, part
+        span = (float(self.time[0]), float(self.time[-1]))
+        model = BiasModel.at(self.time[index], span, self.bias_spacings)
+        base = model.base_space(base_sensitivity(at, layout, part), weights)
+        shape = (index.size, len(layout.imus), 6)
+
+        def projected(z: Array) -> Array:
+            weighted = (predict_signals(z, layout, part)[0] - part_measured) * weights
+            return model.project(weighted, base)
+
+        def project(jac: Array) -> Array:
+            return model.project(jac.reshape(*shape, -1), base)
+
+        return projected, project, part
 
     def fit(
-        self, x: Array, anchor: Array, index: Array, iterations: int
+        self, x: Array, anchor: Array, index: Array, iterations: int, biases: bool = True
     ) -> tuple[Array, Array, Array, int]:
         """Levenberg–Marquardt from ``x`` on the samples ``index``, pulled towards ``anchor``.
+
+        With :attr:`bias_spacings` and ``biases``, each IMU channel's bias (and the base
+        IMU's) is a spline of time projected off the residual and its Jacobian
+        (:class:`BiasModel`); the walks from the starts, on few samples, go without.
 
         Returns:
             The solution, its weighted signal residuals, their Jacobian (prior and penalty rows
             left out) and the iterations done.
         """
         layout, lengths, weights = self.layout, list(self.lengths), self.weights
-        part, part_measured = self.data.subsample(index), self.measured[index]
+        signal, project, part = self._signal_residual(index, x, biases)
         identity = _PRIOR * np.eye(layout.n_params)
         extra = layout.n_params + len(lengths)
 
         def residual(z: Array) -> Array:
-            predicted, _ = predict_signals(z, layout, part)
             return np.concatenate(
-                [
-                    ((predicted - part_measured) * weights).ravel(),
-                    _PRIOR * (z - anchor),
-                    _PENALTY * np.minimum(z[lengths], 0.0),
-                ]
+                [signal(z), _PRIOR * (z - anchor), _PENALTY * np.minimum(z[lengths], 0.0)]
             )
 
         def jacobian(z: Array) -> Array:
             penalty = np.zeros((len(lengths), layout.n_params))
             penalty[np.arange(len(lengths)), lengths] = _PENALTY * (z[lengths] < 0.0)
-            return np.vstack([weighted_jacobian(z, layout, part, weights), identity, penalty])
+            jac = project(weighted_jacobian(z, layout, part, weights))
+            return np.vstack([jac, identity, penalty])
 
         x, fun, jac, done = levenberg_marquardt(residual, jacobian, x, iterations)
         return x, fun[:-extra], jac[:-extra], done
 
     def cost(self, x: Array, index: Array) -> float:
         """The weighted squared signal residual of ``x`` on the samples ``index``."""
-        predicted, _ = predict_signals(x, self.layout, self.data.subsample(index))
-        return float(np.sum(((predicted - self.measured[index]) * self.weights) ** 2))
+        flat = self._signal_residual(index, x)[0](x)
+        return float(flat @ flat)

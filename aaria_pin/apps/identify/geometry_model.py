@@ -26,6 +26,7 @@ from aaria_pin.core.se3 import Array
 __all__ = [
     "ArmLayout",
     "KinematicData",
+    "base_sensitivity",
     "chain_states",
     "mount_signal",
     "predict_signals",
@@ -285,3 +286,26 @@ def weighted_jacobian(
             slot += 1
     jac *= weights[None, None, :, None]
     return jac.reshape(n * slots * 6, layout.n_params)
+
+
+def base_sensitivity(params: Array, layout: ArmLayout, data: KinematicData) -> Array:
+    """The change of the predicted signals per unit of the base IMU's specific force, T × S × 6 × 3.
+
+    The specific force enters linearly: a unit step is exact. (Its angular velocity's bias,
+    3e-5 rad/s for an ADIS16485, moves the predictions below their noise and is left out.)
+
+    Args:
+        params: the parameter vector
+        layout: the arm's modules and IMUs
+        data: the measured base motion and joint motions
+    """
+    base, _ = predict_signals(params, layout, data)
+    out = np.empty((*base.shape, 3))
+    for axis in range(3):
+        force = data.force_base.copy()
+        force[:, axis] += 1.0
+        moved = KinematicData(
+            data.omega_base, data.omega_dot_base, force, data.q, data.qd, data.qdd
+        )
+        out[..., axis] = predict_signals(params, layout, moved)[0] - base
+    return out

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -40,6 +40,9 @@ class TruthErrors:
         tool_tip_max: its largest value [m]
         axis_angle_max: per module present in both, the largest angle between the estimated
             and the true joint axis over the run [rad]
+        coverage: per parameter kind (``alpha``, ``a``, ``d``, ``theta``, ``a7``), how many
+            of the determined DH parameters are within 2σ of the true table's entry, and how
+            many there are
     """
 
     link_types_true: tuple[int, ...]
@@ -47,6 +50,7 @@ class TruthErrors:
     tool_tip_rms: float
     tool_tip_max: float
     axis_angle_max: dict[int, float]
+    coverage: dict[str, tuple[int, int]] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -120,6 +124,7 @@ class KinematicIdentification:
                 "tool_tip_rms_m": json_number(t.tool_tip_rms),
                 "tool_tip_max_m": json_number(t.tool_tip_max),
                 "axis_angle_max_rad": {str(k): v for k, v in t.axis_angle_max.items()},
+                "sigma_coverage": {k: list(v) for k, v in t.coverage.items()},
             }
         return out
 
@@ -145,12 +150,23 @@ class KinematicIdentification:
         lines += [
             "  " + " ".join(f"{v:9.5f}" for v in row[:4]) + f" {int(row[4])}" for row in self.table
         ]
-        lines += [f"not determined: {d.description}" for d in self.deficiencies]
-        worst = max(self.residual_rms.items(), key=lambda item: item[1]["accel_m_s2"])
+        n_dh = 1 + max(i for i, n in enumerate(self.parameter_names) if "." not in n)
         lines.append(
-            f"residual RMS: largest accelerometer {worst[1]['accel_m_s2']:.3g} m/s^2 "
-            f"({worst[0]}), fit {self.fit['seconds']:.1f} s on {self.fit['samples']} samples"
+            "sigma: "
+            + ", ".join(
+                f"{name} {value:.5g} ± {'undetermined' if np.isnan(sigma) else f'{sigma:.2g}'}"
+                for name, value, sigma in zip(
+                    self.parameter_names[:n_dh], self.estimates, self.sigmas, strict=False
+                )
+            )
         )
+        lines += [f"not determined: {d.description}" for d in self.deficiencies]
+        lines += [
+            f"residual RMS {name}: gyroscope {rms['gyro_rad_s']:.3g} rad/s, accelerometer "
+            f"{rms['accel_m_s2']:.3g} m/s^2"
+            for name, rms in self.residual_rms.items()
+        ]
+        lines.append(f"fit {self.fit['seconds']:.1f} s on {self.fit['samples']} samples")
         truth = self.truth
         if truth is not None:
             lines.append(

@@ -19,6 +19,8 @@ Example::
 from __future__ import annotations
 
 import json
+import sys
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -70,6 +72,8 @@ class IdentifyRequest:
         rigid: IMU pairs (A, B) on one rigid body each: B's pose and time offset relative to
             A from a recording's signals alone (:mod:`~aaria_pin.apps.identify.bodies`)
         joint: IMU pairs (A, B) on two bodies: the joint between them (type, axis, point)
+        log: write a line per stage, per start of a kinematic fit and per run of the data-set
+            mode to stderr (``aaria: identify: ...``; plain lines, a log keeps them)
 
     Raises:
         ParameterError: no file, or several files outside the data-set mode.
@@ -96,6 +100,19 @@ class IdentifyRequest:
     gear_ratio: float | None = None
     rigid: tuple[tuple[str, str], ...] = ()
     joint: tuple[tuple[str, str], ...] = ()
+    log: bool = False
+
+    @property
+    def progress(self) -> Callable[[str], None] | None:
+        """The stderr line writer of :attr:`log`, or None."""
+        if not self.log:
+            return None
+
+        def line(text: str) -> None:
+            sys.stderr.write(f"aaria: identify: {text}\n")
+            sys.stderr.flush()
+
+        return line
 
     def __post_init__(self) -> None:
         files = len(self.files)
@@ -228,11 +245,24 @@ def _benchmark(request: IdentifyRequest) -> IdentifyOutcome:
         benchmark_datasets,
     )
 
+    say = request.progress
+    done: list[RunAccuracy] = []
+
+    def arrived(run: RunAccuracy) -> None:
+        done.append(run)
+        if say is not None:
+            what = run.error or (
+                f"tool tip RMS {run.tool_tip_rms * 1e3:.3g} mm, link types "
+                f"{'right' if run.link_types_right else 'wrong'}"
+            )
+            say(f"run {len(done)} done ({run.dataset} run {run.run}): {what}, {run.seconds:.1f} s")
+
     runs = benchmark_datasets(
         request.files,
         workers=request.workers or 1,
         dynamics=request.dynamics,
         limit=request.limit,
+        progress=arrived,
         holdout=DEFAULT_HOLDOUT if request.holdout is None else request.holdout,
     )
     groups = accuracy_table(runs)
@@ -289,7 +319,7 @@ def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
     if kinematics:
         from aaria_pin.apps.identify.geometry import identify_kinematics
 
-        result = identify_kinematics(record)
+        result = identify_kinematics(record, progress=request.progress)
         if result.failure is None:
             _write_kinematics(result, request)
         return IdentifyOutcome(result.to_json(), tuple(result.summary()), failure=result.failure)
