@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -155,6 +157,19 @@ def run_cli(*args: str) -> tuple[int, str, str]:
 
     result = CliRunner().invoke(main, list(args))
     return result.exit_code, result.stdout, result.stderr
+
+
+def simulated_with_hardware(folder: Path, robot: str, hardware: str, duration: float) -> Path:
+    """A Fourier run at 200 Hz without IMU noise of ``robot`` (``ur5`` or a preset) with the
+    hardware TOML text ``hardware``, made by ``aaria simulate`` in ``folder``."""
+    (folder / "hardware.toml").write_text(hardware)
+    chosen = ["--robot", robot] if robot == "ur5" else ["--preset", robot]
+    code, _, err = run_cli(
+        "simulate", *chosen, "--motion", "fourier", "--duration", str(duration), "--rate", "200",
+        "--no-noise", "--hardware", str(folder / "hardware.toml"), "-o", str(folder / "run.h5"),
+    )  # fmt: skip
+    assert code == 0, err
+    return folder / "run.h5"
 
 
 @pytest.fixture

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import run_cli
+from conftest import simulated_with_hardware
 
 from aaria_pin.apps.identify import identify_dynamics
 from aaria_pin.apps.identify.inertial_friction import friction_names, friction_regressor
@@ -45,15 +45,8 @@ def _toml(values: dict[str, list[float]]) -> str:
 @pytest.fixture(scope="module", params=["ur5", "aaria-fig2"])
 def run(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> RunRecord:
     folder = tmp_path_factory.mktemp("friction")
-    hardware = folder / "hardware.toml"
-    hardware.write_text(_toml(HARDWARE[request.param]))
-    robot = ["--robot", "ur5"] if request.param == "ur5" else ["--preset", "aaria-fig2"]
-    code, _, err = run_cli(
-        "simulate", *robot, "--motion", "fourier", "--duration", "10", "--rate", "200",
-        "--no-noise", "--hardware", str(hardware), "-o", str(folder / "run.h5"),
-    )  # fmt: skip
-    assert code == 0, err
-    return open_record(folder / "run.h5", None)
+    path = simulated_with_hardware(folder, request.param, _toml(HARDWARE[request.param]), 10.0)
+    return open_record(path, None)
 
 
 def _with_noisy_motor(record: RunRecord) -> RunRecord:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import run_cli
+from conftest import run_cli, simulated_with_hardware
 
 from aaria_pin.apps.identify import identify_dynamics
 from aaria_pin.apps.identify.inertial_torques import TorqueSource, joint_torques
@@ -148,18 +148,11 @@ def logged(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFact
     docs/guide/identify-dynamics.md, 10 s at a third of it the same (σ ∝ noise/√T).
     """
     folder = tmp_path_factory.mktemp("logged")
-    hardware = folder / "hw.toml"
-    hardware.write_text(
+    hardware = (
         f"[actuator]\nrotor_inertia = 3e-5\n{FRICTION[request.param]}\n"
         "[current_sensor]\nnoise = 0.003\n"
     )
-    robot = ["--robot", "ur5"] if request.param == "ur5" else ["--preset", "aaria-fig2"]
-    code, _, err = run_cli(
-        "simulate", *robot, "--motion", "fourier", "--duration", "10", "--rate", "200",
-        "--no-noise", "--hardware", str(hardware), "-o", str(folder / "run.h5"),
-    )  # fmt: skip
-    assert code == 0, err
-    return open_record(folder / "run.h5", None)
+    return open_record(simulated_with_hardware(folder, request.param, hardware, 10.0), None)
 
 
 def test_currents_give_physical_bodies_friction_and_torques_at_the_noise(
