@@ -85,7 +85,7 @@ def _plot_tool_tip_cdf(path: Path, outcome: IdentifyOutcome) -> None:
     help="--dynamics: fit friction and armature  [default: if the torques hold them]")  # fmt: skip
 @click.option("--consistent", is_flag=True, help="--dynamics: physically consistent bodies.")
 @click.option("--write-urdf", "dynamics_urdf", type=click.Path(path_type=Path, dir_okay=False),
-    help="--dynamics: the run's URDF with the identified dynamics (.urdf).")  # fmt: skip
+    help="--dynamics: the run's URDF, fitted dynamics (.urdf; implies --consistent).")  # fmt: skip
 @click.option("--rigid", nargs=2, multiple=True, metavar="IMU_A IMU_B",
     help="IMU_B's pose and time offset relative to IMU_A on one rigid body (repeat).")  # fmt: skip
 @click.option("--joint", nargs=2, multiple=True, metavar="IMU_A IMU_B",
@@ -101,7 +101,7 @@ def _plot_tool_tip_cdf(path: Path, outcome: IdentifyOutcome) -> None:
 )
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def identify(files: tuple[Path, ...], plot: Path | None, as_json: bool, **flags: Any) -> None:
-    """Identify an Aaria arm's kinematic model from a DH run's IMU signals and encoders.
+    """Identify a robot: DH table and IMU mounts, dynamics, IMU pairs and joints from IMUs.
 
     FILE is a DH run file, or a data set with --run K. From the encoders, the IMU signals and
     each IMU's link: the structure, the DH table and the link IMUs' mounts (the base and tool

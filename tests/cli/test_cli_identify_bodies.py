@@ -90,3 +90,27 @@ def test_unknown_imu_one_line(recording: tuple[Path, Path], tmp_path: Path) -> N
     )
     assert code == 2 and len(err.strip().splitlines()) == 1 and "nope" in err
     assert not report.exists()
+
+
+def test_noise_free_pair_is_a_result_different_links_fail(tmp_path: Path) -> None:
+    """Without noise A's residual is ~1e-16 (A's samples set the splines): no floor to compare
+    B's with; the fit is a result, and a pair on two links still fails (exit 1)."""
+    run = tmp_path / "clean.h5"
+    code, _, err = run_cli(
+        "simulate", "--preset", "aaria-fig2", "--duration", "6", "--rate", "100", "--motion",
+        "fourier", "--no-noise", "-o", str(run),
+    )  # fmt: skip
+    assert code == 0, err
+    code, out, err = run_cli("identify", "--rigid", "imu_link3_a", "imu_link3_b", str(run))
+    assert code == 0, err + out
+    assert "fit failed" not in out
+    code, out, _ = run_cli("identify", "--rigid", "imu_link3_a", "imu_link2_a", str(run))
+    assert code == 1 and "fit failed" in out
+
+
+def test_a_link_that_only_slides_is_no_result(recording: tuple[Path, Path]) -> None:
+    """Link 1 of aaria-fig2 is on a prismatic joint: it hardly turns, so its two IMUs' lever arm
+    is not in their signals; the fit must say it failed (exit 1), not print a pose."""
+    run, _ = recording
+    code, out, _ = run_cli("identify", "--rigid", "imu_link1_a", "imu_link1_b", str(run))
+    assert code == 1 and "fit failed" in out

@@ -6,7 +6,10 @@ identification estimated:
 - each identified body's ``<inertial>`` (mass, centre of mass, inertia about it, in the body's
   first link's axes): a body is what Pinocchio merges into one joint's inertia, that link and
   every link fixed to it, so the estimate goes to the first and the others lose their
-  ``<inertial>``; a fixed base's root link (not identified) keeps its own;
+  ``<inertial>``; a fixed base's root link (not identified) keeps its own; a moving base's
+  identified base body goes on the URDF's root link (ur5's ``world``): load the file with a
+  free-flyer root joint (``pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer())``, MJCF a
+  free joint) to keep it, a fixed-base load merges it into the world;
 - each fitted joint's ``<dynamics damping="Fv" friction="Fc"/>`` (viscous, Coulomb). Pinocchio
   reads them as ``model.damping`` and ``model.friction``, MuJoCo as the joint's ``damping`` and
   ``frictionloss`` (dry friction as a constraint, without the fit's ``tanh`` smoothing);

@@ -342,4 +342,7 @@ def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
         from aaria_pin.files.io import write_text_atomic
 
         write_text_atomic(request.dynamics_urdf, identified_urdf(record, fit))
-    return IdentifyOutcome(report, tuple(dynamics_summary(report, request.parameters)))
+    lines = dynamics_summary(report, request.parameters)
+    if request.dynamics_urdf is not None:
+        lines.append(f"wrote {request.dynamics_urdf}: the run's URDF with the fitted dynamics")
+    return IdentifyOutcome(report, tuple(lines))

@@ -65,6 +65,15 @@ TURNING = 10.0
 ABOVE_FLOOR = 5.0
 """B's residual RMS over A's (same sensor) above which the fit did not reach the noise floor."""
 
+KNOT_INTERVAL = 0.01
+"""[s] The default knot spacing of the body's splines (docs/guide/identify-rigid.md's figures)."""
+
+KNOT_SAMPLES = 2.0
+"""The fewest of A's sampling periods in a knot interval, by default (100 Hz: 0.02 s)."""
+
+MODEL_FLOOR = 1e-4
+"""B's residual RMS over its signal's RMS (same sensor) below which the fit is at the floor."""
+
 STILL = (
     "position: the body did not turn (|w| within the gyroscope's noise), so the lever arm's "
     "accelerations are noise and the position is not a result"
@@ -249,7 +258,7 @@ def identify_rigid(
     source: RecordedRun | Mapping[str, Signals],
     imu_a: str,
     imu_b: str,
-    knot_interval: float = 0.01,
+    knot_interval: float | None = None,
     bias_interval: float = np.inf,
     max_offset: float = 1.0,
 ) -> RigidPairFit:
@@ -260,11 +269,14 @@ def identify_rigid(
         imu_a: the reference IMU
         imu_b: the IMU located
         knot_interval: the knot spacing of the body's angular velocity and specific force [s]
+            (None: :data:`KNOT_INTERVAL`, and at least :data:`KNOT_SAMPLES` of A's sampling
+            periods: with fewer A's samples alone set the splines and leave no residual)
         bias_interval: the knot spacing of the biases [s] (inf: constant over the run)
         max_offset: the largest time offset searched for [s]
 
     Returns:
-        The fit.
+        The fit; a fit that did not converge, or ended above the noise floor, has its
+        ``failure`` sentence (its numbers are not a result).
 
     Raises:
         ParameterError: an IMU not in the source, A or B with fewer than
@@ -272,7 +284,7 @@ def identify_rigid(
             of range.
     """
     for name, value, allowed in (
-        ("knot_interval", knot_interval, "a finite number > 0 s"),
+        ("knot_interval", 1.0 if knot_interval is None else knot_interval, "a finite number > 0 s"),
         ("bias_interval", bias_interval, "a number > 0 s (inf: constant)"),
         ("max_offset", max_offset, "a finite number >= 0 s"),
     ):
@@ -280,6 +292,8 @@ def identify_rigid(
         if not (low_ok and (name == "bias_interval" or np.isfinite(value))):
             raise ParameterError(parameter=name, value=value, allowed=allowed)
     a, b = imu_signals(source, imu_a), imu_signals(source, imu_b)
+    if knot_interval is None:
+        knot_interval = max(KNOT_INTERVAL, KNOT_SAMPLES * float(np.median(np.diff(a[0]))))
     offset = _correlation_offset(a, b, max_offset)
     margin = max(0.05, 4.0 * knot_interval)
     inside = (b[0] + offset > a[0][0] + margin) & (b[0] + offset < a[0][-1] - margin)
@@ -335,15 +349,32 @@ def identify_rigid(
         outcome.converged,
         _undetermined(covariance) + still,
         covariance,
-        _failure(noise, imu_a, imu_b),
+        _failure(
+            noise,
+            imu_a,
+            imu_b,
+            outcome.converged or bool(still),  # still: its position wanders, said already
+            np.sqrt(np.mean(np.square(b[1]).reshape(-1, 2, 3), (0, 2))),
+        ),
     )
 
 
-def _failure(noise: Array, imu_a: str, imu_b: str) -> str:
-    """The sentence of a fit above the noise floor (B's residual :data:`ABOVE_FLOOR`× A's)."""
+def _failure(noise: Array, imu_a: str, imu_b: str, converged: bool, level: Array) -> str:
+    """The sentence of a fit above the noise floor (B's residual :data:`ABOVE_FLOOR`× A's).
+
+    A's residual is no floor when A's samples alone set the body's splines (noise-free or
+    stored signals: ~1e-16): B's residual is then what the splines do not follow between A's
+    samples and the storage's rounding, and counts as at the floor below :data:`MODEL_FLOOR`
+    of B's signal (a pair not on one body leaves residuals of the order of the signal).
+    """
+    if not converged:
+        return (
+            f"the fit of {imu_b} on {imu_a} did not converge (a local minimum, or two IMUs not "
+            "on one rigid body)"
+        )
     for k, sensor, unit in ((0, "gyroscope", "rad/s"), (1, "accelerometer", "m/s^2")):
         ratio = noise[2 + k] / max(noise[k], 1e-300)
-        if ratio > ABOVE_FLOOR:
+        if ratio > ABOVE_FLOOR and noise[2 + k] > MODEL_FLOOR * level[k]:
             return (
                 f"{imu_b}'s {sensor} residual is {noise[2 + k]:.3g} {unit}, {ratio:.0f}x "
                 f"{imu_a}'s: above the noise floor (a local minimum, two IMUs not on one rigid "
@@ -355,7 +386,7 @@ def _failure(noise: Array, imu_a: str, imu_b: str) -> str:
 def identify_rigid_body(
     source: RecordedRun | Mapping[str, Signals],
     imus: Sequence[str] | None = None,
-    knot_interval: float = 0.01,
+    knot_interval: float | None = None,
     bias_interval: float = np.inf,
 ) -> tuple[RigidPairFit, ...]:
     """Every IMU of one rigid body located relative to the first: one pair fit each.
@@ -363,7 +394,7 @@ def identify_rigid_body(
     Args:
         source: a recording or ``{name: (time [s], (N, 6) signals)}``
         imus: the IMUs, the reference first (None: every IMU of the source, in order)
-        knot_interval: the knot spacing of the body's signals [s]
+        knot_interval: the knot spacing of the body's signals [s] (None: as :func:`identify_rigid`)
         bias_interval: the knot spacing of the biases [s]
 
     Returns:

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from aaria_pin.apps.identify.rigid import (
+    UNDETERMINED,
     Signals,
     identify_rigid,
     imu_signals,
@@ -115,7 +116,24 @@ class JointFit:
                 f"{self.imu_b}: [{vec(self.point_b, 1e3)}] (sigma across the axis {mm[0]:.3g}, "
                 f"{mm[1]:.3g}; along the axis: not determined)",
             ]
+            lines += [f"  not determined: {text}" for text in self.undetermined]
         return lines
+
+    @property
+    def undetermined(self) -> tuple[str, ...]:
+        """What of a revolute joint the motion did not show, one sentence each.
+
+        The axis or the point whose σ exceeds the rotation or position of
+        :data:`~aaria_pin.apps.identify.rigid.UNDETERMINED`.
+        """
+        if self.kind != "revolute":
+            return ()
+        texts = []
+        if self.axis_sigma.max() > UNDETERMINED["rotation"]:
+            texts.append(f"the axis (sigma {np.degrees(self.axis_sigma.max()):.2g} deg)")
+        if self.point_sigma.max() > UNDETERMINED["position"]:
+            texts.append(f"the point on the axis (sigma {self.point_sigma.max() * 1e3:.3g} mm)")
+        return tuple(texts)
 
     def to_json(self) -> dict[str, object]:
         """The result as JSON-ready values (SI units in the keys)."""
@@ -132,6 +150,7 @@ class JointFit:
             "gyro_noise_rad_s": self.gyro_noise,
             "rigid_residual_rad_s": self.rigid_residual,
             "hinge_residual_rad_s": self.hinge_residual,
+            "undetermined": list(self.undetermined),
         }
 
 
