@@ -69,13 +69,11 @@ def open_recorded(path: str | os.PathLike[str], run: int | None = None) -> Recor
         InputFileError, ParameterError: as :func:`~aaria_pin.files.source.open_record` and
             :func:`import_recordings`.
     """
-    from aaria_pin.files.recordings.bag_format import BAG_SUFFIXES
     from aaria_pin.files.runfile import is_recorded_file, read_recorded_run
     from aaria_pin.files.source import open_record
 
-    where = Path(path)
-    if run is None and (where.is_dir() or where.suffix.lower() in {*BAG_SUFFIXES, ".csv"}):
-        return import_recordings([where])
+    if run is None and is_recording(Path(path)):
+        return import_recordings([path])
     if run is None and is_recorded_file(path):
         return read_recorded_run(path)
     return recorded_from_run(open_record(path, run))
@@ -112,6 +110,13 @@ def export_file(
     written = export_run(recorded, output, form)
     samples = sum(s.time.size for s in recorded.streams)
     return f"wrote {written}: {len(recorded.streams)} streams, {samples} messages"
+
+
+def is_recording(path: Path) -> bool:
+    """Whether ``path`` is a recording :func:`recording_format` names (a folder, a bag, CSV)."""
+    from aaria_pin.files.recordings.bag_format import BAG_SUFFIXES
+
+    return path.is_dir() or path.suffix.lower() in {*BAG_SUFFIXES, ".csv"}
 
 
 def recording_format(path: Path) -> str:

@@ -136,7 +136,6 @@ class IdentifyRequest:
         """Refuse an option of another mode (it would be ignored), naming the mode's option."""
         from aaria_pin.core.conflicts import OptionConflictError
 
-        self._refuse_body_conflicts()
         for parameter, given, other, given_with in (
             ("run", self.run is not None, "dataset", True),  # the data sets' every run
             ("urdf", self.urdf is not None, "dynamics", True),
@@ -159,24 +158,25 @@ class IdentifyRequest:
             ("workers", self.workers is not None, "dataset", False),
             ("limit", self.limit is not None, "dataset", False),
             ("plot", self.plot is not None, "dataset", False),
+            *(  # the IMU-pair modes take a recording and no option of another mode
+                (name, given, mode, True)
+                for name, given in (
+                    ("dynamics", self.dynamics),
+                    ("dataset", self.dataset),
+                    ("urdf", self.urdf is not None),
+                    ("holdout", self.holdout is not None),
+                    ("parameters", self.parameters),
+                    ("consistent", self.consistent),
+                )
+                for mode in ("rigid", "joint")
+            ),
         ):
-            if given and getattr(self, other) == given_with:
+            if given and bool(getattr(self, other)) == given_with:
                 value = getattr(self, parameter)
                 value = str(value) if isinstance(value, Path) else value
                 raise OptionConflictError(
                     parameter=parameter, other=other, given_with=given_with, value=value
                 )
-
-    def _refuse_body_conflicts(self) -> None:
-        """Refuse another mode's option given with ``rigid``/``joint`` (named after the first)."""
-        from aaria_pin.core.conflicts import OptionConflictError
-
-        mode = "rigid" if self.rigid else "joint"
-        for name in ("dynamics", "dataset", "urdf", "holdout", "parameters", "consistent"):
-            value = getattr(self, name)
-            if self.bodies and value not in (None, False):
-                value = str(value) if isinstance(value, Path) else value
-                raise OptionConflictError(parameter=name, other=mode, given_with=True, value=value)
 
     @property
     def bodies(self) -> bool:
