@@ -7,7 +7,13 @@ The front door. A robot (:func:`preset_arm`, :func:`dh_arm`, :func:`urdf_robot_r
 :func:`open_record` (any run file, or run K of a data set) store and read it. Data sets:
 :func:`generate_dataset` of :class:`DatasetSources` ``.spec()`` and a :class:`DatasetJob`. The
 spherical wrist: :func:`wrist_fk`, :func:`wrist_ik`; rotations in every Tait-Bryan and Euler
-sequence: :func:`matrix_from_angles`, :func:`angles_from_matrix`::
+sequence: :func:`matrix_from_angles`, :func:`angles_from_matrix`. Recordings (a ROS 1/ROS 2 bag,
+an MCAP file, a CSV): :func:`import_recordings` and :func:`open_recorded` read them (or a run
+file) as a :class:`RecordedRun`, :func:`export_run` writes one. Identification:
+:func:`identify_kinematics`, :func:`identify_dynamics` (its torques a :class:`TorqueSource`),
+:func:`identified_urdf` (the fitted bodies and friction in the run's URDF), and from IMU signals
+alone :func:`identify_rigid` (two IMUs on one body) and :func:`identify_joint` (the joint between
+two bodies)::
 
     import aaria_pin as ap
 
@@ -63,12 +69,18 @@ if TYPE_CHECKING:
         generate_dataset,
     )
     from aaria_pin.apps.identify import identify_dynamics, identify_kinematics
+    from aaria_pin.apps.identify.inertial_torques import TorqueSource
+    from aaria_pin.apps.identify.inertial_urdf import identified_urdf
+    from aaria_pin.apps.identify.rigid import identify_rigid
+    from aaria_pin.apps.identify.rigid_joint import identify_joint
     from aaria_pin.apps.record_model import record_mjcf, replay_in_mujoco
+    from aaria_pin.apps.recordings import export_run, import_recordings, open_recorded
     from aaria_pin.apps.wrist import WristSolutions, wrist_fk, wrist_ik
     from aaria_pin.core.catalogue import find_robot
     from aaria_pin.core.excitation import fourier_motion
     from aaria_pin.core.model import RobotModel, build_model
     from aaria_pin.core.record import ColumnView, ImuMount, RunRecord
+    from aaria_pin.core.recording import RecordedRun
     from aaria_pin.core.rotations import Angles, angles_from_matrix, matrix_from_angles
     from aaria_pin.core.run import (
         FourierMotion,
@@ -148,6 +160,15 @@ _LAZY = {
     "replay_in_mujoco": "aaria_pin.apps.record_model",
     "identify_kinematics": "aaria_pin.apps.identify",
     "identify_dynamics": "aaria_pin.apps.identify",
+    "identify_rigid": "aaria_pin.apps.identify.rigid",
+    "identify_joint": "aaria_pin.apps.identify.rigid_joint",
+    "identified_urdf": "aaria_pin.apps.identify.inertial_urdf",
+    "TorqueSource": "aaria_pin.apps.identify.inertial_torques",
+    # recordings
+    "RecordedRun": "aaria_pin.core.recording",
+    "open_recorded": "aaria_pin.apps.recordings",
+    "import_recordings": "aaria_pin.apps.recordings",
+    "export_run": "aaria_pin.apps.recordings",
     # data sets
     "generate_dataset": "aaria_pin.apps.dataset",
     "DatasetSources": "aaria_pin.apps.dataset",
@@ -185,6 +206,7 @@ __all__ = [
     "ParameterError",
     "ParameterTypeError",
     "Preset",
+    "RecordedRun",
     "RobotDescription",
     "RobotModel",
     "RunRecord",
@@ -196,6 +218,7 @@ __all__ = [
     "TableError",
     "TableTypeError",
     "TorqueDrive",
+    "TorqueSource",
     "UrdfError",
     "UrdfRobot",
     "UrdfRunSpec",
@@ -210,15 +233,21 @@ __all__ = [
     "dh_fourier_excitation",
     "dh_request",
     "emit_urdf",
+    "export_run",
     "find_robot",
     "fourier_motion",
     "generate_dataset",
     "get_preset",
+    "identified_urdf",
     "identify_dynamics",
+    "identify_joint",
     "identify_kinematics",
+    "identify_rigid",
+    "import_recordings",
     "load_urdf_robot",
     "matrix_from_angles",
     "open_record",
+    "open_recorded",
     "preset_arm",
     "read_run",
     "read_run_inputs",

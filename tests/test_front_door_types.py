@@ -46,6 +46,7 @@ RESULTS = {
     "DatasetReport",
     "KinematicChain",
     "Preset",
+    "RecordedRun",
     "RobotDescription",
     "RobotModel",
     "RunRecord",
@@ -54,10 +55,11 @@ RESULTS = {
     "WristSolutions",
 }
 """Classes of results the library makes (by :func:`build_dh_robot`, :func:`simulate`, a reader's
-``windows``, ...); the functions that make them are checked."""
+``windows``, :func:`import_recordings`, ...); the functions that make them are checked."""
 
 ALIASES = {
     "Convention": "str",
+    "JointValue": "float | Sequence[float]",
     "BalanceInertia": "bool | str",
     "MotionInput": "Motion | None",
     "Seeds": "RunSeeds | int | SeedSequence",
@@ -244,6 +246,21 @@ class Valid:
 
     @property
     @cache  # noqa: B019
+    def recorded(self) -> Any:
+        return aaria_pin.open_recorded(self.run_file)
+
+    @property
+    @cache  # noqa: B019
+    def recording(self) -> Path:
+        return aaria_pin.export_run(self.record, self.folder / "recording.csv")
+
+    @property
+    @cache  # noqa: B019
+    def consistent(self) -> Any:
+        return aaria_pin.identify_dynamics(self.record, consistent=True)
+
+    @property
+    @cache  # noqa: B019
     def spec(self) -> Any:
         sources = aaria_pin.DatasetSources(n_runs=2, duration=0.2, preset="aaria-fig2")
         return sources.spec()
@@ -302,19 +319,33 @@ class Valid:
             "dh_fourier_excitation": lambda: {"dh_table": table, "duration": 0.2},
             "dh_request": lambda: {"dh_table": table, "duration": 0.2},
             "emit_urdf": lambda: {"description": aaria_pin.build_dh_robot(table).description},
+            "export_run": lambda: {"record": self.record, "path": self.new_path(".csv")},
             "find_robot": lambda: {"name": "ur5"},
             "fourier_motion": lambda: {"n_joints": 3, "duration": 0.2, "rate": 100.0},
             "generate_dataset": lambda: {"path": self.new_path(".h5"), "spec": self.spec},
             "get_preset": lambda: {"name": "aaria-fig2"},
+            "identified_urdf": lambda: {"record": self.record, "result": self.consistent},
+            "identify_joint": lambda: {
+                "source": self.recorded,
+                "imu_a": "imu_link1_a",
+                "imu_b": "imu_link2_a",
+            },
+            "identify_rigid": lambda: {
+                "source": self.recorded,
+                "imu_a": "imu_link2_a",
+                "imu_b": "imu_link2_b",
+            },
             "identify_dynamics": lambda: {"record": self.record},
             "identify_kinematics": lambda: {
                 "record": self.record,
                 "max_iterations": 1,
                 "max_fit_samples": 20,
             },
+            "import_recordings": lambda: {"paths": [self.recording]},
             "load_urdf_robot": lambda: {"urdf": self.urdf},
             "matrix_from_angles": lambda: {"angles": [0.1, 0.2, 0.3], "seq": "xyz"},
             "open_record": lambda: {"path": self.run_file},
+            "open_recorded": lambda: {"path": self.run_file},
             "preset_arm": lambda: {"name": "aaria-fig2"},
             "read_run": lambda: {"path": self.run_file},
             "read_run_inputs": lambda: {"path": self.run_file},

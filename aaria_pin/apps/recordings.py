@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.recording import STREAM_COLUMNS, RecordedRun, SensorStream
 from aaria_pin.errors import InputFileError, ParameterError
@@ -59,6 +60,7 @@ def recorded_from_run(record: RunRecord) -> RecordedRun:
     return RecordedRun(streams, source=str(record.attributes.get("robot", "")))
 
 
+@checked
 def open_recorded(path: str | os.PathLike[str], run: int | None = None) -> RecordedRun:
     """The recorded streams of a recording, a recorded run, a run or run ``run`` of a data set.
 
@@ -79,6 +81,7 @@ def open_recorded(path: str | os.PathLike[str], run: int | None = None) -> Recor
     return recorded_from_run(open_record(path, run))
 
 
+@checked
 def export_run(record: RunRecord | RecordedRun, path: str | Path, form: str | None = None) -> Path:
     """Write a run's recorded streams to ``path`` (module docstring).
 
@@ -128,6 +131,7 @@ def recording_format(path: Path) -> str:
     return "csv" if path.suffix.lower() == ".csv" else bag_format(path)
 
 
+@checked
 def import_recordings(
     paths: Sequence[str | os.PathLike[str]], mapping: RecordingMap | None = None
 ) -> RecordedRun:

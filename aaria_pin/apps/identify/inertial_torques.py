@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.current_sensor import amperes_to_torque
 from aaria_pin.core.joint_sensors import JointValue, per_joint
 from aaria_pin.core.record import RunRecord
@@ -48,6 +49,7 @@ _TABLES = {"measured": "tau_measured", "current": "current_measured", "motor": "
 _WITH_FRICTION = ("current", "motor")
 
 
+@checked
 @dataclass(frozen=True)
 class TorqueSource:
     """The joint torques fitted, and what turns motor currents into them.

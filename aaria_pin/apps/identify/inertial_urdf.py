@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from aaria_pin.apps.identify.inertial_result import DynamicIdentification
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.urdf_emitter import exact_number, exact_numbers
@@ -107,6 +108,7 @@ def _write_friction(joints: dict[str, ET.Element], name: str, values: Array) -> 
     joint.append(ET.Comment(f" armature {exact_number(armature)} (kg·m² or kg; no URDF field) "))
 
 
+@checked
 def identified_urdf(
     record: RunRecord, result: DynamicIdentification, keep_meshes: bool = False
 ) -> str:

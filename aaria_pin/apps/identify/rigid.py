@@ -35,6 +35,7 @@ from aaria_pin.apps.identify.rigid_fit import (
 )
 from aaria_pin.apps.identify.rigid_result import RigidPairFit
 from aaria_pin.apps.identify.rigid_spline import coefficient_count, fit_spline, spline_basis
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.recording import RecordedRun
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
@@ -254,12 +255,13 @@ def _undetermined(covariance: Array) -> tuple[str, ...]:
     return tuple(found)
 
 
+@checked
 def identify_rigid(
     source: RecordedRun | Mapping[str, Signals],
     imu_a: str,
     imu_b: str,
     knot_interval: float | None = None,
-    bias_interval: float = np.inf,
+    bias_interval: float | None = None,
     max_offset: float = 1.0,
 ) -> RigidPairFit:
     """B's pose and time offset relative to A, two IMUs on one rigid body, from signals alone.
@@ -271,7 +273,7 @@ def identify_rigid(
         knot_interval: the knot spacing of the body's angular velocity and specific force [s]
             (None: :data:`KNOT_INTERVAL`, and at least :data:`KNOT_SAMPLES` of A's sampling
             periods: with fewer A's samples alone set the splines and leave no residual)
-        bias_interval: the knot spacing of the biases [s] (inf: constant over the run)
+        bias_interval: the knot spacing of the biases [s] (None: constant over the run)
         max_offset: the largest time offset searched for [s]
 
     Returns:
@@ -283,9 +285,10 @@ def identify_rigid(
             :data:`MIN_SAMPLES` samples inside the other's span, or an interval or offset out
             of range.
     """
+    bias_interval = np.inf if bias_interval is None else bias_interval
     for name, value, allowed in (
         ("knot_interval", 1.0 if knot_interval is None else knot_interval, "a finite number > 0 s"),
-        ("bias_interval", bias_interval, "a number > 0 s (inf: constant)"),
+        ("bias_interval", bias_interval, "a number > 0 s (None: constant)"),
         ("max_offset", max_offset, "a finite number >= 0 s"),
     ):
         low_ok = value >= 0.0 if name == "max_offset" else value > 0.0
@@ -387,7 +390,7 @@ def identify_rigid_body(
     source: RecordedRun | Mapping[str, Signals],
     imus: Sequence[str] | None = None,
     knot_interval: float | None = None,
-    bias_interval: float = np.inf,
+    bias_interval: float | None = None,
 ) -> tuple[RigidPairFit, ...]:
     """Every IMU of one rigid body located relative to the first: one pair fit each.
 
@@ -395,7 +398,7 @@ def identify_rigid_body(
         source: a recording or ``{name: (time [s], (N, 6) signals)}``
         imus: the IMUs, the reference first (None: every IMU of the source, in order)
         knot_interval: the knot spacing of the body's signals [s] (None: as :func:`identify_rigid`)
-        bias_interval: the knot spacing of the biases [s]
+        bias_interval: the knot spacing of the biases [s] (None: constant over the run)
 
     Returns:
         The fits of IMU 2, 3, … relative to IMU 1.

@@ -40,6 +40,7 @@ from aaria_pin.apps.identify.rigid import (
 )
 from aaria_pin.apps.identify.rigid_fit import blockwise, lever_matrices, skew_rows
 from aaria_pin.apps.identify.rigid_spline import coefficient_count, fit_spline, spline_basis
+from aaria_pin.core.arguments import checked
 from aaria_pin.core.recording import RecordedRun
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
@@ -318,6 +319,7 @@ def _slide_axis(
     return np.asarray(axis * np.sign(axis[np.argmax(np.abs(axis))]))
 
 
+@checked
 def identify_joint(
     source: RecordedRun | Mapping[str, Signals],
     imu_a: str,
