@@ -13,11 +13,13 @@ rebuilt from the record, :mod:`aaria_pin.apps.record_model`) is identified the s
 2. **Base parameters** (:mod:`~aaria_pin.apps.identify.inertial_base`): QR with column pivoting
    of the stacked regressor; each base parameter is named after its leading standard
    parameter and written out as the combination.
-3. **Fit.** Weighted least squares on the training samples (each signal divided by its RMS,
-   so a joint with small torques weighs as much as the base force; by its sensor noise 1σ when
-   the run records it and no base wrench enters), standard deviations from the residual
-   variance, and on the held-out samples (the last ``holdout`` fraction of the run) the
-   relative RMS prediction error of each signal
+3. **Fit.** Weighted least squares on the training samples: each joint divided by its sensor
+   noise 1σ when the run records it and no base wrench enters; else each signal (joint, base
+   force, base moment) divided by its RMS, fitted, then divided by its own residual RMS and
+   fitted again (the two-step weighted least squares of Gautier and Poignet, 2001: a quiet
+   signal, such as a load cell, is not drowned by a noisy one). Standard deviations from the
+   residual variance, and on the held-out samples (the last ``holdout`` fraction of the run)
+   the relative RMS prediction error of each signal
    (:class:`~aaria_pin.apps.identify.inertial_result.DynamicIdentification`).
 
 What a real robot gives: the torques fitted are the torque sensors', the motors' or the rigid
@@ -179,6 +181,33 @@ def _standard_estimate(
     return consistent_fit(R, bodies, least_norm / scale)
 
 
+def _residual_noise(factors: list[Array], samples: int) -> Array:
+    """Each signal's noise, 1σ, from its residual of the fit weighted as given [weighted units].
+
+    The second step of the weighted least squares of Gautier and Poignet (Control Engineering
+    Practice 9(12), 2001): each signal (joint, base force or moment) is then divided by its
+    own residual RMS, so a quiet signal (a load cell, a torque sensor of a small joint) is
+    not drowned by a noisy one and the fit is the minimum-variance one. The residuals come
+    from the signals' triangular factors (``‖A_s·x − y_s‖ = ‖R_s·[x; −1]‖``), so no pass
+    over the run is repeated. A residual under 1e-6 of the signal (an exact one: a simulated
+    run's torques) is taken as that, so exact signals keep their RMS weights.
+
+    Args:
+        factors: each signal's triangular factor of its weighted ``[W | y]``, (p + 1) columns
+        samples: the training samples
+    """
+    R = triangular_factor(np.vstack(factors))
+    p = R.shape[1] - 1
+    norms = np.linalg.norm(R[:, :p], axis=0)
+    scale = np.where(norms > 0, norms, 1.0)
+    solution, *_ = np.linalg.lstsq(R[:, :p] / scale, R[:, p], rcond=1e-12)
+    x = np.append(solution / scale, -1.0)
+    residual = np.array([np.linalg.norm(f @ x) for f in factors])
+    signal = np.array([np.linalg.norm(f[:, p]) for f in factors])
+    floor = np.maximum(1e-6 * signal, np.finfo(float).tiny)
+    return np.maximum(residual, floor) / np.sqrt(samples)
+
+
 @checked
 def identify_dynamics(
     record: RunRecord,
@@ -291,12 +320,16 @@ def identify_dynamics(
         return np.concatenate([Y, extra], axis=2)
 
     weight = _weights(fitted, measured[:n_train], columns, wrench)
-    R = np.zeros((0, p + 1))
+    factors = [np.zeros((0, p + 1))] * n_signals  # each signal's [W | y] = Q·R
     for start, stop in chunk_bounds(n_train, chunk):
         A = np.empty((stop - start, n_signals, p + 1))
         np.multiply(regressor(start, stop), weight[:, None], out=A[..., :p])
         np.multiply(measured[start:stop], weight, out=A[..., p])
-        R = triangular_factor(np.vstack([R, A.reshape(-1, p + 1)]))
+        factors = [triangular_factor(np.vstack([f, A[:, s]])) for s, f in enumerate(factors)]
+    sigma = np.ones(n_signals)  # each weighted signal's noise, 1σ (1: the sensor's, known)
+    if fitted.noise is None or wrench:
+        sigma = _residual_noise(factors, n_train)
+    R = triangular_factor(np.vstack([f / s for f, s in zip(factors, sigma, strict=True)]))
     # [W | y] = Q·R: the least squares of any columns of W against y is the same problem on
     # the columns of R (solved on unit columns, so that it does not depend on units).
     base_set = base_parameters(R[:, :p], names, tolerance=tolerance)
@@ -375,5 +408,6 @@ def identify_dynamics(
             "moving_base": bool(wrench),
             "torques": fitted.source,
             "torque_noise": None if fitted.noise is None else fitted.noise[columns].tolist(),
+            "signal_noise": (sigma / weight).tolist(),
         },
     )
