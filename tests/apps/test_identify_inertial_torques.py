@@ -144,8 +144,8 @@ FRICTION = {
 def logged(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> RunRecord:
     """10 s of Fourier motion at 200 Hz with friction, logged by current sensors of 3 mA.
 
-    A third of the default noise: 30 s at the default noise reach the figures of
-    docs/guide/identify-dynamics.md, 10 s at a third of it the same (σ ∝ noise/√T).
+    Quieter than the default (18.9 mA): 30 s at the default noise give the figures of
+    docs/guide/identify-dynamics.md, 10 s at 3 mA fit within 2 % (σ ∝ noise/√T).
     """
     folder = tmp_path_factory.mktemp("logged")
     hardware = (
