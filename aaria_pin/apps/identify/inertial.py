@@ -309,27 +309,35 @@ def identify_dynamics(
             allowed=f"a training part of at least {-(-p // n_signals)} samples (the run has {n})",
         )
     skip = 6 if robot.moving_base and not wrench else 0  # the free flyer's rows, unused
+    first = 6 if wrench else 0  # the joints' first row
 
     def regressor(start: int, stop: int) -> Array:
         piece = _piece(base, trajectory, start, stop)
         Y = torque_regressor(robot, *piece)[:, skip:]
         if not with_friction:
             return Y
-        first = 6 if wrench else 0
         extra = friction_regressor(piece[1].qd, piece[1].qdd, smoothing, n_signals, first)
         return np.concatenate([Y, extra], axis=2)
 
     weight = _weights(fitted, measured[:n_train], columns, wrench)
-    factors = [np.zeros((0, p + 1))] * n_signals  # each signal's [W | y] = Q·R
+    # currents with the base wrench: each joint's measured torque as one more column, whose
+    # coefficient checks its k_t·N (inertial_scale)
+    scaled = n_signals - first if fitted.source == "current" and wrench else 0
+    q = p + scaled
+    factors = [np.zeros((0, q + 1))] * n_signals  # each signal's [W | T | y] = Q·R
     for start, stop in chunk_bounds(n_train, chunk):
-        A = np.empty((stop - start, n_signals, p + 1))
+        A = np.zeros((stop - start, n_signals, q + 1))
         np.multiply(regressor(start, stop), weight[:, None], out=A[..., :p])
-        np.multiply(measured[start:stop], weight, out=A[..., p])
+        np.multiply(measured[start:stop], weight, out=A[..., q])
+        for j in range(scaled):
+            A[:, first + j, p + j] = A[:, first + j, q]
         factors = [triangular_factor(np.vstack([f, A[:, s]])) for s, f in enumerate(factors)]
+    fit_columns = [*range(p), q]
     sigma = np.ones(n_signals)  # each weighted signal's noise, 1σ (1: the sensor's, known)
     if fitted.noise is None or wrench:
-        sigma = _residual_noise(factors, n_train)
-    R = triangular_factor(np.vstack([f / s for f, s in zip(factors, sigma, strict=True)]))
+        sigma = _residual_noise([f[:, fit_columns] for f in factors], n_train)
+    R_all = triangular_factor(np.vstack([f / s for f, s in zip(factors, sigma, strict=True)]))
+    R = R_all[:, fit_columns]
     # [W | y] = Q·R: the least squares of any columns of W against y is the same problem on
     # the columns of R (solved on unit columns, so that it does not depend on units).
     base_set = base_parameters(R[:, :p], names, tolerance=tolerance)
@@ -345,6 +353,20 @@ def identify_dynamics(
     R11 = np.linalg.qr(R1, mode="r")
     R_inverse = scipy.linalg.solve_triangular(R11, np.eye(base_set.rank))
     std = np.sqrt(variance * np.sum(np.square(R_inverse), axis=1)) / scale
+    scale_rows = []
+    if scaled:
+        from aaria_pin.apps.identify.inertial_scale import torque_scale
+
+        # each joint's noise in R_all's units: the sensor's when recorded, else its residual's
+        joint_rows = slice(first, n_signals)
+        known = np.ones(scaled)
+        if fitted.noise is not None:
+            known = fitted.noise[columns] * weight[joint_rows] / sigma[joint_rows]
+        c, c_std = torque_scale(R_all, independent, range(p, q), known * np.sqrt(n_train), dof)
+        scale_rows = [
+            {"joint": j, "scale": float(v), "std": float(e) if np.isfinite(e) else None}
+            for j, v, e in zip(robot.joint_names, c, c_std, strict=True)
+        ]
     standard_estimate = _standard_estimate(R, base_set, estimate, bodies, consistent)
     if consistent:
         estimate = base_set.combination @ standard_estimate
@@ -409,5 +431,6 @@ def identify_dynamics(
             "torques": fitted.source,
             "torque_noise": None if fitted.noise is None else fitted.noise[columns].tolist(),
             "signal_noise": (sigma / weight).tolist(),
+            "torque_scale": scale_rows,
         },
     )

@@ -242,6 +242,10 @@ def dynamics_summary(report: dict[str, Any], show_parameters: bool = False) -> l
         lines.append("centre of mass: not determined by the data")
     if report.get("torques"):
         lines.append(f"torques fitted: {report['torques']}")
+    if report.get("torque_scale"):
+        from aaria_pin.apps.identify.inertial_scale import scale_line
+
+        lines.append(scale_line(report["torque_scale"]))
     for row in report.get("friction", []):
         values = ", ".join(
             f"{k} {row[k]:.4g} (model {row['model'][k]:.4g})"
