@@ -10,9 +10,9 @@ measured torque, on its own rows) whose coefficient ``d = 1 − c`` is estimated
 inertial parameters, by least squares corrected for the noise that column shares with the
 measurements (:func:`torque_scale`). A scale ``c`` off 1 by more than three of its σ and 1 %
 says the ``torque_constant`` or ``gear_ratio`` given is wrong, in one line
-(:func:`scale_line`). On ur5 and aaria-fig2 (30 s, default current sensors) σ is 0.01–0.3 %
-on the arm's joints and up to 3 % on a wrist whose torque is almost all its own friction and
-armature; a ``k_t`` 3 % off is called out on every other joint.
+(:func:`scale_line`). On ur5 and aaria-fig2 (30 s, default current sensors) σ is 0.01–0.03 %
+on the arms' joints and 0.2–33 % on ur5's wrists, whose torque is mostly their own friction
+and armature (docs/guide/identify-dynamics.md).
 """
 
 from __future__ import annotations
