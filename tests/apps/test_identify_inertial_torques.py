@@ -185,3 +185,17 @@ def test_each_signal_is_weighed_by_its_own_residual_noise(logged: RunRecord) -> 
     # the simulated load cell is exact: weighed by its (small) residual, it is fitted far
     # tighter than with 1/RMS weights (about 1e-4 of the signal on ur5's run, 3e-7 now)
     assert np.all(result.train_relative_rms[wrench] < 1e-5)
+
+
+def test_each_friction_coefficient_carries_its_sigma(logged: RunRecord) -> None:
+    """The σ of Fv and Fc (each a base parameter alone) covers their error, and is shown."""
+    from aaria_pin.apps.identify.inertial_result import dynamics_summary
+
+    report = identify_dynamics(logged).to_json()
+    for row in report["friction"]:
+        for key in ("Fv", "Fc"):
+            sigma = row["std"][key]
+            assert sigma is not None and sigma > 0
+            assert abs(row[key] - row["model"][key]) < 5 * sigma
+    shown = [line for line in dynamics_summary(report) if line.startswith("friction ")]
+    assert len(shown) == 6 and all(" ± " in line for line in shown)

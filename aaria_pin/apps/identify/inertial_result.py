@@ -188,9 +188,31 @@ class DynamicIdentification:
                     strict=True,
                 )
             ],
-            **({} if self.standard is None else self.standard.to_json()),
+            **({} if self.standard is None else self._with_friction_std(self.standard.to_json())),
             **self.extras,
         }
+
+    def _with_friction_std(self, standard: dict[str, Any]) -> dict[str, Any]:
+        """The friction rows with each coefficient's σ (None: not a base parameter alone).
+
+        The unconstrained fit's σ of the base parameter that is the coefficient by itself
+        (``Fv_<joint>`` and ``Fc_<joint>`` are, unless the motion leaves them tied to others):
+        how well the excitation determines the friction.
+        """
+        alone = {
+            name: json_number(float(std))
+            for name, expression, std in zip(
+                self.base.names, self.base.expressions, self.std, strict=True
+            )
+            if expression == name  # the base parameter is the coefficient, nothing added
+        }
+        for row in standard.get("friction", []):
+            row["std"] = {k: alone.get(f"{k}_{row['joint']}") for k in ("Fv", "Fc", "Ia")}
+        return standard
+
+
+def _sigma(value: float | None) -> str:
+    return "" if value is None else f" ± {value:.2g}"
 
 
 def _vector(values: list[float | None]) -> str:
@@ -247,8 +269,9 @@ def dynamics_summary(report: dict[str, Any], show_parameters: bool = False) -> l
 
         lines.append(scale_line(report["torque_scale"]))
     for row in report.get("friction", []):
+        std = row.get("std", {})
         values = ", ".join(
-            f"{k} {row[k]:.4g} (model {row['model'][k]:.4g})"
+            f"{k} {row[k]:.4g}{_sigma(std.get(k))} (model {row['model'][k]:.4g})"
             if row["determined"][k]
             else f"{k} not determined"
             for k in ("Fv", "Fc", "Ia")
