@@ -11,7 +11,11 @@ from aaria_pin.apps.identify._json import json_number
 from aaria_pin.apps.identify.inertial_base import BaseParameterSet
 from aaria_pin.core.se3 import Array
 
-__all__ = ["DynamicIdentification", "StandardEstimate", "dynamics_summary"]
+__all__ = ["LOOSE", "DynamicIdentification", "StandardEstimate", "dynamics_summary"]
+
+
+LOOSE = 0.01
+"""Relative σ of a friction coefficient above which the summary calls it loosely determined."""
 
 
 def _body(standard: Array) -> dict[str, Any]:
@@ -277,6 +281,18 @@ def dynamics_summary(report: dict[str, Any], show_parameters: bool = False) -> l
             for k in ("Fv", "Fc", "Ia")
         )
         lines.append(f"friction {row['joint']}: {values}")
+    loose = [
+        f"{k} {row['joint']} {100 * row['std'][k] / abs(row[k]):.2g} %"
+        for row in report.get("friction", [])
+        for k in ("Fv", "Fc")
+        if row.get("std", {}).get(k) is not None and row["std"][k] > LOOSE * abs(row[k])
+    ]
+    if loose:
+        lines.append(
+            f"friction loosely determined (σ above {100 * LOOSE:g} %): {', '.join(loose)}; a "
+            "faster motion within the joints' limits (--base-frequency) or a longer run "
+            "tightens it"
+        )
     if report.get("bodies"):
         smallest = min(body["pseudo_inertia_min_eigenvalue"] for body in report["bodies"])
         lines.append(
