@@ -25,7 +25,9 @@ rebuilt from the record, :mod:`aaria_pin.apps.record_model`) is identified the s
 What a real robot gives: the torques fitted are the torque sensors', the motors' or the rigid
 body's (:mod:`~aaria_pin.apps.identify.inertial_torques`); with the motors' the regressor gains
 each joint's viscous and Coulomb friction and armature
-(:mod:`~aaria_pin.apps.identify.inertial_friction`); ``consistent`` constrains every body to a
+(:mod:`~aaria_pin.apps.identify.inertial_friction`), and with motor currents and the base
+wrench each joint's torque per ampere is checked against the wrench
+(:mod:`~aaria_pin.apps.identify.inertial_scale`); ``consistent`` constrains every body to a
 physical one (:mod:`~aaria_pin.apps.identify.inertial_consistent`), whose standard parameters
 are then reported per body and can be written back to the URDF
 (:mod:`~aaria_pin.apps.identify.inertial_urdf`).
