@@ -13,6 +13,27 @@ the reading's step (0: none). The draws come from the run's ``current_sensor`` s
 (:func:`~aaria_pin.core.seeds.sensor_sequence`): the biases, then the scale errors, then the
 noise piece by piece in time order, so a run in pieces reads what the run held whole reads.
 
+The defaults of :class:`~aaria_pin.core.joint_sensors.CurrentSensorModel`, each from a data sheet:
+
+- ``torque_constant`` 0.036 N·m/A: maxon EC 45 flat ∅43.5 mm, brushless, 50 W, the 24 V
+  winding (maxon catalogue, "EC 45 flat 50 W" page, motor data line 12 "torque constant"
+  36 mNm/A; line 13 the speed constant 265 rpm/V agrees, 60/(2π·265) = 36.0 mN·m/A; line 6
+  its nominal current 2.52 A).
+- ``noise`` 0.0189 A: Allegro ACS712ELCTR-05B Hall current sensor (ACS712 data sheet, "x05B
+  performance characteristics" table: sensitivity 185 mV/A typical, noise V_NOISE(PP) 21 mV
+  peak to peak at C_F = 47 nF, 2 kHz bandwidth, optimized range ±5 A, which holds the motor's
+  nominal current). The data sheet gives peak to peak only; taken as 6σ:
+  21/185/6 = 18.9 mA, 1σ.
+- ``resolution`` 0.0066 A: the drive's converter, not the sensor's data sheet: 12 bits over the
+  sensor's 0–5 V output (V_CC = 5 V in the same table) are 5 V/4096 = 1.22 mV, 6.6 mA at
+  185 mV/A.
+- ``bias`` and ``scale_error`` 0: a drive zeroes the offset at power-up; the sensitivity's
+  spread, 180–190 mV/A min–max (±2.7 %, the same table), is the torque constant's error a run
+  may set (``scale_error``) and identification then sees as a wrong ``k_t``.
+
+Behind a gearbox of ratio 100 that is 3.6 N·m of joint torque per ampere and 0.068 N·m of
+noise; on a ball screw of 600 rad/m (10 mm per turn) 21.6 N/A and 0.41 N.
+
 The record keeps ``current_measured`` (T × n) [A], ``current_sensor_bias`` (1 × n) [A] and
 ``current_sensor_scale`` (1 × n) [1]. Identification multiplies the reading back by ``k_t·N``
 (:mod:`aaria_pin.apps.identify.inertial_torques`, the ``current`` torques).

@@ -168,11 +168,12 @@ class CurrentSensorModel:
     What an arm without joint torque sensors logs (a UR5's ``actual_current``): the current of
     each joint's motor, which gives the motor's torque ``tau_motor`` (friction and armature in
     it) through the torque constant ``k_t`` and the actuator's gear ratio ``N``; a run with one
-    needs an ``[actuator]``. The defaults are an order of magnitude of a UR-size joint, not one
-    part's data sheet (none was at hand when they were chosen; set yours): a frameless motor of
-    ``k_t`` = 0.1 N·m/A (behind a gearbox of ratio 100: 10 N·m of joint torque per ampere),
-    read by a servo drive's current ADC in 1 mA steps with 10 mA of white noise (1σ; 0.1 N·m at
-    such a joint). A real arm's ``k_t·N`` is identified or taken from its maker
+    needs an ``[actuator]``. The defaults are two data sheets' numbers
+    (:mod:`aaria_pin.core.current_sensor` cites them): ``k_t`` = 36 mN·m/A, a maxon EC 45 flat
+    50 W motor's 24 V winding, read by an Allegro ACS712ELCTR-05B Hall sensor (185 mV/A, 21 mV
+    peak to peak at 2 kHz: 18.9 mA, 1σ) through a 12-bit converter over its 5 V output
+    (6.6 mA steps). Behind a gearbox of ratio 100 that is 3.6 N·m of joint torque per ampere
+    and 0.068 N·m of noise. A real arm's ``k_t·N`` is identified or taken from its maker
     (Clochiatti et al. 2024, Robotica, identify a UR5e's electrical parameters from its
     controller's currents).
 
@@ -185,10 +186,10 @@ class CurrentSensorModel:
             run [1]
     """
 
-    torque_constant: JointValue = 0.1
-    noise: JointValue = 0.01
+    torque_constant: JointValue = 0.036
+    noise: JointValue = 0.0189
     bias: JointValue = 0.0
-    resolution: JointValue = 0.001
+    resolution: JointValue = 0.0066
     scale_error: JointValue = 0.0
 
     def __post_init__(self) -> None:

@@ -103,3 +103,17 @@ def test_motor_currents_with_a_torque_constant(tmp_path: Path) -> None:
     # with the joints' torques, so the held-out error grows far above the noise
     wrong = fit("--torque-constant", "0.2")
     assert wrong["worst_holdout_relative_rms"] > 10 * from_run["worst_holdout_relative_rms"]
+    # and it is estimated: each joint's k_t·N against the base wrench, half the one given
+    for row in wrong["torque_scale"]:
+        assert row["scale"] == pytest.approx(0.5, abs=max(3 * row["std"], 0.005))
+    for row in from_run["torque_scale"]:
+        assert row["scale"] == pytest.approx(1.0, abs=max(3 * row["std"], 0.01))
+    # said in one line of the text output, naming the joints
+    code, out, err = run_cli(
+        "identify", "--dynamics", str(run), "--torques", "current", "--torque-constant", "0.2"
+    )
+    assert code == 0, err
+    said = [line for line in out.splitlines() if line.startswith("torque constant × gear ratio")]
+    assert len(said) == 1 and "is off" in said[0] and "shoulder_pan_joint 0.5" in said[0]
+    code, out, err = run_cli("identify", "--dynamics", str(run), "--torques", "current")
+    assert "the base wrench agrees with the one given on every joint" in out

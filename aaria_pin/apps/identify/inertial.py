@@ -13,17 +13,21 @@ rebuilt from the record, :mod:`aaria_pin.apps.record_model`) is identified the s
 2. **Base parameters** (:mod:`~aaria_pin.apps.identify.inertial_base`): QR with column pivoting
    of the stacked regressor; each base parameter is named after its leading standard
    parameter and written out as the combination.
-3. **Fit.** Weighted least squares on the training samples (each signal divided by its RMS,
-   so a joint with small torques weighs as much as the base force; by its sensor noise 1σ when
-   the run records it and no base wrench enters), standard deviations from the residual
-   variance, and on the held-out samples (the last ``holdout`` fraction of the run) the
-   relative RMS prediction error of each signal
+3. **Fit.** Weighted least squares on the training samples: each joint divided by its sensor
+   noise 1σ when the run records it and no base wrench enters; else each signal (joint, base
+   force, base moment) divided by its RMS, fitted, then divided by its own residual RMS and
+   fitted again (the two-step weighted least squares of Gautier and Poignet, 2001: a quiet
+   signal, such as a load cell, is not drowned by a noisy one). Standard deviations from the
+   residual variance, and on the held-out samples (the last ``holdout`` fraction of the run)
+   the relative RMS prediction error of each signal
    (:class:`~aaria_pin.apps.identify.inertial_result.DynamicIdentification`).
 
 What a real robot gives: the torques fitted are the torque sensors', the motors' or the rigid
 body's (:mod:`~aaria_pin.apps.identify.inertial_torques`); with the motors' the regressor gains
 each joint's viscous and Coulomb friction and armature
-(:mod:`~aaria_pin.apps.identify.inertial_friction`); ``consistent`` constrains every body to a
+(:mod:`~aaria_pin.apps.identify.inertial_friction`), and with motor currents and the base
+wrench each joint's torque per ampere is checked against the wrench
+(:mod:`~aaria_pin.apps.identify.inertial_scale`); ``consistent`` constrains every body to a
 physical one (:mod:`~aaria_pin.apps.identify.inertial_consistent`), whose standard parameters
 are then reported per body and can be written back to the URDF
 (:mod:`~aaria_pin.apps.identify.inertial_urdf`).
@@ -179,6 +183,33 @@ def _standard_estimate(
     return consistent_fit(R, bodies, least_norm / scale)
 
 
+def _residual_noise(factors: list[Array], samples: int) -> Array:
+    """Each signal's noise, 1σ, from its residual of the fit weighted as given [weighted units].
+
+    The second step of the weighted least squares of Gautier and Poignet (Control Engineering
+    Practice 9(12), 2001): each signal (joint, base force or moment) is then divided by its
+    own residual RMS, so a quiet signal (a load cell, a torque sensor of a small joint) is
+    not drowned by a noisy one and the fit is the minimum-variance one. The residuals come
+    from the signals' triangular factors (``‖A_s·x − y_s‖ = ‖R_s·[x; −1]‖``), so no pass
+    over the run is repeated. A residual under 1e-6 of the signal (an exact one: a simulated
+    run's torques) is taken as that, so exact signals keep their RMS weights.
+
+    Args:
+        factors: each signal's triangular factor of its weighted ``[W | y]``, (p + 1) columns
+        samples: the training samples
+    """
+    R = triangular_factor(np.vstack(factors))
+    p = R.shape[1] - 1
+    norms = np.linalg.norm(R[:, :p], axis=0)
+    scale = np.where(norms > 0, norms, 1.0)
+    solution, *_ = np.linalg.lstsq(R[:, :p] / scale, R[:, p], rcond=1e-12)
+    x = np.append(solution / scale, -1.0)
+    residual = np.array([np.linalg.norm(f @ x) for f in factors])
+    signal = np.array([np.linalg.norm(f[:, p]) for f in factors])
+    floor = np.maximum(1e-6 * signal, np.finfo(float).tiny)
+    return np.maximum(residual, floor) / np.sqrt(samples)
+
+
 @checked
 def identify_dynamics(
     record: RunRecord,
@@ -280,23 +311,35 @@ def identify_dynamics(
             allowed=f"a training part of at least {-(-p // n_signals)} samples (the run has {n})",
         )
     skip = 6 if robot.moving_base and not wrench else 0  # the free flyer's rows, unused
+    first = 6 if wrench else 0  # the joints' first row
 
     def regressor(start: int, stop: int) -> Array:
         piece = _piece(base, trajectory, start, stop)
         Y = torque_regressor(robot, *piece)[:, skip:]
         if not with_friction:
             return Y
-        first = 6 if wrench else 0
         extra = friction_regressor(piece[1].qd, piece[1].qdd, smoothing, n_signals, first)
         return np.concatenate([Y, extra], axis=2)
 
     weight = _weights(fitted, measured[:n_train], columns, wrench)
-    R = np.zeros((0, p + 1))
+    # currents with the base wrench: each joint's measured torque as one more column, whose
+    # coefficient checks its k_t·N (inertial_scale)
+    scaled = n_signals - first if fitted.source == "current" and wrench else 0
+    q = p + scaled
+    factors = [np.zeros((0, q + 1))] * n_signals  # each signal's [W | T | y] = Q·R
     for start, stop in chunk_bounds(n_train, chunk):
-        A = np.empty((stop - start, n_signals, p + 1))
+        A = np.zeros((stop - start, n_signals, q + 1))
         np.multiply(regressor(start, stop), weight[:, None], out=A[..., :p])
-        np.multiply(measured[start:stop], weight, out=A[..., p])
-        R = triangular_factor(np.vstack([R, A.reshape(-1, p + 1)]))
+        np.multiply(measured[start:stop], weight, out=A[..., q])
+        for j in range(scaled):
+            A[:, first + j, p + j] = A[:, first + j, q]
+        factors = [triangular_factor(np.vstack([f, A[:, s]])) for s, f in enumerate(factors)]
+    fit_columns = [*range(p), q]
+    sigma = np.ones(n_signals)  # each weighted signal's noise, 1σ (1: the sensor's, known)
+    if fitted.noise is None or wrench:
+        sigma = _residual_noise([f[:, fit_columns] for f in factors], n_train)
+    R_all = triangular_factor(np.vstack([f / s for f, s in zip(factors, sigma, strict=True)]))
+    R = R_all[:, fit_columns]
     # [W | y] = Q·R: the least squares of any columns of W against y is the same problem on
     # the columns of R (solved on unit columns, so that it does not depend on units).
     base_set = base_parameters(R[:, :p], names, tolerance=tolerance)
@@ -312,6 +355,20 @@ def identify_dynamics(
     R11 = np.linalg.qr(R1, mode="r")
     R_inverse = scipy.linalg.solve_triangular(R11, np.eye(base_set.rank))
     std = np.sqrt(variance * np.sum(np.square(R_inverse), axis=1)) / scale
+    scale_rows = []
+    if scaled:
+        from aaria_pin.apps.identify.inertial_scale import torque_scale
+
+        # each joint's noise in R_all's units: the sensor's when recorded, else its residual's
+        joint_rows = slice(first, n_signals)
+        known = np.ones(scaled)
+        if fitted.noise is not None:
+            known = fitted.noise[columns] * weight[joint_rows] / sigma[joint_rows]
+        c, c_std = torque_scale(R_all, independent, range(p, q), known * np.sqrt(n_train), dof)
+        scale_rows = [
+            {"joint": j, "scale": float(v), "std": float(e) if np.isfinite(e) else None}
+            for j, v, e in zip(robot.joint_names, c, c_std, strict=True)
+        ]
     standard_estimate = _standard_estimate(R, base_set, estimate, bodies, consistent)
     if consistent:
         estimate = base_set.combination @ standard_estimate
@@ -375,5 +432,7 @@ def identify_dynamics(
             "moving_base": bool(wrench),
             "torques": fitted.source,
             "torque_noise": None if fitted.noise is None else fitted.noise[columns].tolist(),
+            "signal_noise": (sigma / weight).tolist(),
+            "torque_scale": scale_rows,
         },
     )

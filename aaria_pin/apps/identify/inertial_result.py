@@ -11,7 +11,11 @@ from aaria_pin.apps.identify._json import json_number
 from aaria_pin.apps.identify.inertial_base import BaseParameterSet
 from aaria_pin.core.se3 import Array
 
-__all__ = ["DynamicIdentification", "StandardEstimate", "dynamics_summary"]
+__all__ = ["LOOSE", "DynamicIdentification", "StandardEstimate", "dynamics_summary"]
+
+
+LOOSE = 0.01
+"""Relative σ of a friction coefficient above which the summary calls it loosely determined."""
 
 
 def _body(standard: Array) -> dict[str, Any]:
@@ -188,9 +192,31 @@ class DynamicIdentification:
                     strict=True,
                 )
             ],
-            **({} if self.standard is None else self.standard.to_json()),
+            **({} if self.standard is None else self._with_friction_std(self.standard.to_json())),
             **self.extras,
         }
+
+    def _with_friction_std(self, standard: dict[str, Any]) -> dict[str, Any]:
+        """The friction rows with each coefficient's σ (None: not a base parameter alone).
+
+        The unconstrained fit's σ of the base parameter that is the coefficient by itself
+        (``Fv_<joint>`` and ``Fc_<joint>`` are, unless the motion leaves them tied to others):
+        how well the excitation determines the friction.
+        """
+        alone = {
+            name: json_number(float(std))
+            for name, expression, std in zip(
+                self.base.names, self.base.expressions, self.std, strict=True
+            )
+            if expression == name  # the base parameter is the coefficient, nothing added
+        }
+        for row in standard.get("friction", []):
+            row["std"] = {k: alone.get(f"{k}_{row['joint']}") for k in ("Fv", "Fc", "Ia")}
+        return standard
+
+
+def _sigma(value: float | None) -> str:
+    return "" if value is None else f" ± {value:.2g}"
 
 
 def _vector(values: list[float | None]) -> str:
@@ -242,14 +268,31 @@ def dynamics_summary(report: dict[str, Any], show_parameters: bool = False) -> l
         lines.append("centre of mass: not determined by the data")
     if report.get("torques"):
         lines.append(f"torques fitted: {report['torques']}")
+    if report.get("torque_scale"):
+        from aaria_pin.apps.identify.inertial_scale import scale_line
+
+        lines.append(scale_line(report["torque_scale"]))
     for row in report.get("friction", []):
+        std = row.get("std", {})
         values = ", ".join(
-            f"{k} {row[k]:.4g} (model {row['model'][k]:.4g})"
+            f"{k} {row[k]:.4g}{_sigma(std.get(k))} (model {row['model'][k]:.4g})"
             if row["determined"][k]
             else f"{k} not determined"
             for k in ("Fv", "Fc", "Ia")
         )
         lines.append(f"friction {row['joint']}: {values}")
+    loose = [
+        f"{k} {row['joint']} {100 * row['std'][k] / abs(row[k]):.2g} %"
+        for row in report.get("friction", [])
+        for k in ("Fv", "Fc")
+        if row.get("std", {}).get(k) is not None and row["std"][k] > LOOSE * abs(row[k])
+    ]
+    if loose:
+        lines.append(
+            f"friction loosely determined (σ above {100 * LOOSE:g} %): {', '.join(loose)}; a "
+            "faster motion within the joints' limits (--base-frequency) or a longer run "
+            "tightens it"
+        )
     if report.get("bodies"):
         smallest = min(body["pseudo_inertia_min_eigenvalue"] for body in report["bodies"])
         lines.append(
