@@ -16,9 +16,12 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from aaria_pin.apps.identify.rigid import (
+    KNOT_INTERVAL,
     TURNING,
+    VIBRATING_KNOTS,
     RigidPairFit,
     body_turns,
+    default_knot_interval,
     identify_rigid,
     identify_rigid_body,
 )
@@ -231,7 +234,12 @@ def test_a_vibrating_quadrotor_turns() -> None:
     speed = np.linalg.norm(signals[:, :3], axis=1)
     assert np.std(speed) < TURNING * np.std(np.diff(speed)) / np.sqrt(2.0)  # the raw test fails
     assert body_turns((time, signals))
+    assert not body_turns((time, signals), 0.0)  # the same test on the samples themselves
+    assert default_knot_interval((time, signals)) == VIBRATING_KNOTS  # splines not following it
     a, b = default_pair()
     motion = hand_motion(59, angular_rate=0.0)
     still = simulate_rigid_body([a, b], 10.0, motion, imu_preset("adis16485"), seed=59)
     assert not body_turns((still.stream("imu_a").time, still.stream("imu_a").values))
+    turning = simulate_rigid_body([a, b], 10.0, hand_motion(59), imu_preset("adis16485"), seed=59)
+    signals_a = (turning.stream("imu_a").time, turning.stream("imu_a").values)
+    assert body_turns(signals_a, 0.0) and default_knot_interval(signals_a) == KNOT_INTERVAL

@@ -38,6 +38,7 @@ class RigidPairFit:
         undetermined: what the data do not determine, one sentence each
         covariance: (7, 7) of rotation [rad], position [m], offset [s]
         failure: one sentence when the fit ended above the noise floor
+        knot_interval: the knot spacing of the body's splines [s] (0: not given)
             (:data:`~aaria_pin.apps.identify.rigid.ABOVE_FLOOR`), else empty: the numbers are
             then not a result
     """
@@ -60,6 +61,7 @@ class RigidPairFit:
     undetermined: tuple[str, ...] = ()
     covariance: Array = field(default_factory=lambda: np.zeros((7, 7)), repr=False)
     failure: str = ""
+    knot_interval: float = 0.0
 
     def rotation_error(self, truth: Array) -> float:
         """The angle between the estimated and a true ``R_AB`` [rad]."""
@@ -78,9 +80,10 @@ class RigidPairFit:
         turn_sigma = ", ".join(f"{s:.4f}" for s in np.degrees(self.rotation_sigma))
         gyro_a, accel_a, gyro_b, accel_b = self.noise
         state = "" if self.converged else " (not converged)"
+        knots = f", knots every {self.knot_interval:.3g} s" if self.knot_interval > 0.0 else ""
         lines = [
             f"rigid pair {self.imu_a} -> {self.imu_b}: {self.samples[0]} + {self.samples[1]} "
-            f"samples, {self.iterations} iterations{state}",
+            f"samples, {self.iterations} iterations{state}{knots}",
             f"  position of {self.imu_b} in {self.imu_a} [mm]: {position}",
             "  rotation (roll pitch yaw, xyz) [deg]: "
             + "  ".join(f"{x:.4f}" for x in rpy)
@@ -119,4 +122,5 @@ class RigidPairFit:
             "converged": self.converged,
             "undetermined": list(self.undetermined),
             "failure": self.failure,
+            "knot_interval_s": self.knot_interval,
         }
