@@ -1,0 +1,172 @@
+"""Kinematic identification of a recording (``ArmSignals.of_recorded``): a DH table from a bag.
+
+Each table is checked against an independent expectation: the tool tip by Pinocchio's forward
+kinematics of the estimated and of the true table (the simulated run's ``senSenDH``) at the
+run's true joint values, and the link types against the true table's. The recordings are made
+from simulated runs' arrays, with each sensor's own stamps where the test is about them.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from aaria_pin.aaria.dh_robot import build_dh_robot
+from aaria_pin.aaria.presets import get_preset
+from aaria_pin.aaria.simulate import dh_request
+from aaria_pin.apps.identify import identify_kinematics
+from aaria_pin.apps.identify.geometry_input import ArmSignals, imu_parent, white_noise_level
+from aaria_pin.apps.recordings import export_run, import_recordings, recorded_from_run
+from aaria_pin.core.record import RunRecord
+from aaria_pin.core.recording import STREAM_COLUMNS, RecordedRun, SensorStream
+from aaria_pin.errors import ParameterError
+
+MM = 1e-3
+
+
+def small_arm(duration: float, rate: float, noise: bool) -> RunRecord:
+    """A 3-module arm: module 1 revolute, module 2 empty, module 3 prismatic; a moving base."""
+    table = np.zeros((8, 5))
+    table[0] = [np.pi / 2, 0.3, 0.0, 0.2, 1]
+    table[2] = [np.pi / 3, 0.25, 0.4, 0.3, 2]
+    table[6] = [0.0, 0.2, 0.0, 0.0, 1]
+    joints = np.zeros((8, 5))
+    joints[0] = [0.6, 0.0, 0.0, 2.3, 2.5]
+    joints[2] = [0.0, 0.08, 0.0, 1.7, 1.5]
+    base = get_preset("aaria-fig3").base_table
+    request = dh_request(
+        table, joint_table=joints, base_table=base, duration=duration, rate=rate, noise=noise
+    )
+    return request.record()
+
+
+def tool_tip_error(table: np.ndarray, truth: RunRecord) -> float:
+    """Largest distance [m] between the tool tips of ``table`` and the true table (Pinocchio)."""
+    tips = []
+    for dh in (table, truth.tables["senSenDH"]):
+        robot = build_dh_robot(np.asarray(dh, dtype=float))
+        model = robot.model()
+        data = model.model.createData()
+        frame = model.frame_id("tool_tip")
+        columns = [m - 1 for m in robot.chain.modules]
+        rows = []
+        for t in np.linspace(0, truth.n_samples - 1, 50).astype(int):
+            pin.framesForwardKinematics(model.model, data, np.asarray(truth.q[t, columns], float))
+            rows.append(data.oMf[frame].translation.copy())
+        tips.append(np.array(rows))
+    return float(np.max(np.linalg.norm(tips[0] - tips[1], axis=1)))
+
+
+def true_types(truth: RunRecord) -> tuple[int, ...]:
+    return tuple(int(t) for t in truth.tables["senSenDH"][:6, 4])
+
+
+@pytest.fixture(scope="module")
+def clean() -> RunRecord:
+    return small_arm(2.0, 200.0, noise=False)
+
+
+def test_a_recording_of_a_run_gives_the_runs_table(clean: RunRecord, tmp_path: Path) -> None:
+    path = export_run(clean, tmp_path / "run.mcap")
+    signals = ArmSignals.of_recorded(import_recordings([path]))
+    assert not signals.noisy and signals.noise_model.startswith("none")
+    assert signals.truth is None and signals.notes == ()
+    found = identify_kinematics(signals)
+    assert found.failure is None and found.truth is None
+    assert found.link_types == true_types(clean)
+    assert tool_tip_error(found.table, clean) <= 1 * MM
+    # the run file's own identification: the same arrays, the same table
+    np.testing.assert_allclose(found.table, identify_kinematics(clean).table, atol=1e-9)
+    assert [m.parent for m in found.mounts] == ["base", "link1", "link1", "link3", "link3",
+                                                "tool_tip"]  # fmt: skip
+
+
+def _jittered(record: RunRecord, step: int, rng: np.random.Generator) -> np.ndarray:
+    """Indices of every ``step``-th sample, each moved by up to a fifth of the step."""
+    index = np.arange(step, record.n_samples - step, step)
+    return np.unique(index + rng.integers(-(step // 5), step // 5 + 1, index.size))
+
+
+def test_jittered_stamps_and_an_imu_at_half_the_rate() -> None:
+    # simulated at 1000 Hz; every IMU and the joints sampled at ~200 Hz with their own jitter
+    # (up to 1 ms of the 5 ms period), imu_link3_a at ~100 Hz
+    fine = small_arm(2.0, 1000.0, noise=False)
+    rng = np.random.default_rng(7)
+    time = np.asarray(fine.time, dtype=float)
+    streams = []
+    for stream in recorded_from_run(fine).streams:
+        if stream.kind == "wrench":
+            continue
+        index = _jittered(fine, 10 if stream.name == "imu_link3_a" else 5, rng)
+        streams.append(SensorStream(stream.name, stream.kind, time[index],
+                                    stream.values[index], stream.columns))  # fmt: skip
+    recording = RecordedRun(streams)
+    steps = np.diff(recording.stream("imu_base").time)
+    assert steps.max() - steps.min() > 1e-3  # the base's own stamps are not even
+    signals = ArmSignals.of_recorded(recording)
+    assert any(note.startswith("imu_link3_a resampled") for note in signals.notes)
+    assert any(note.startswith("joint states resampled") for note in signals.notes)
+    found = identify_kinematics(signals)
+    assert found.failure is None
+    assert found.link_types == true_types(fine)
+    assert tool_tip_error(found.table, fine) <= 1 * MM
+
+
+def test_noisy_recording_as_accurate_as_its_run(tmp_path: Path) -> None:
+    # ADIS16485 noise, the simulator's default: the recording assumes that model, measures
+    # its noise as the model's, and reaches what the run file reaches (not a tuned constant)
+    noisy = small_arm(6.0, 200.0, noise=True)
+    signals = ArmSignals.of_recorded(import_recordings([export_run(noisy, tmp_path / "n.bag")]))
+    assert signals.noisy and signals.noise_model.startswith("ADIS16485 (assumed")
+    from_recording = identify_kinematics(signals)
+    from_run = identify_kinematics(noisy)
+    assert from_recording.link_types == from_run.link_types == true_types(noisy)
+    assert tool_tip_error(from_recording.table, noisy) <= tool_tip_error(from_run.table, noisy)
+
+
+def test_white_noise_level_of_jittered_samples() -> None:
+    # a smooth signal at jittered stamps plus white noise of σ = 0.01: the level is σ, not
+    # the jitter; without the noise it is far below
+    rng = np.random.default_rng(3)
+    time = np.sort(rng.uniform(0.0, 10.0, 2000))
+    smooth = np.column_stack([np.sin(2 * time), np.cos(0.7 * time)])
+    noisy = smooth + 0.01 * rng.standard_normal(smooth.shape)
+    assert white_noise_level(time, noisy) == pytest.approx([0.01, 0.01], rel=0.1)
+    assert np.all(white_noise_level(time, smooth) < 1e-6)
+
+
+def _renamed(stream: SensorStream) -> SensorStream:
+    return SensorStream("wrist", "imu", stream.time, stream.values, STREAM_COLUMNS["imu"])
+
+
+def _streams(record: RunRecord) -> list[SensorStream]:
+    return list(recorded_from_run(record).streams)
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (lambda s: [x for x in s if x.name != "imu_base"], "recording has no IMU imu_base"),
+        (lambda s: [_renamed(x) if x.name == "imu_tool" else x for x in s], "IMU name is wrist;"),
+        (lambda s: [x for x in s if x.kind != "joints"], "recording has 0 joint state streams"),
+        (
+            lambda s: [x for x in s if not x.name.startswith("imu_link3")],
+            "module 3 moves but no IMU is on its link",
+        ),
+    ],
+)
+def test_bad_recordings_are_refused(clean: RunRecord, change: object, message: str) -> None:
+    streams = change(_streams(clean))  # type: ignore[operator]
+    with pytest.raises(ParameterError, match=message):
+        identify_kinematics(ArmSignals.of_recorded(RecordedRun(streams)))
+
+
+def test_imu_parent_of_the_names_export_writes() -> None:
+    assert imu_parent("imu_base") == "base" and imu_parent("imu_tool") == "tool_tip"
+    assert imu_parent("imu_link4_b") == "link4"
+    for bad in ("imu_link7_a", "imu_link1_c", "IMU_BASE"):
+        with pytest.raises(ParameterError, match=f"IMU name is {bad};"):
+            imu_parent(bad)
