@@ -11,11 +11,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pinocchio as pin
 import pytest
+from recorded_arm import small_arm_tables, tool_tip_error
 
-from aaria_pin.aaria.dh_robot import build_dh_robot
-from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import dh_request
 from aaria_pin.apps.identify import identify_kinematics
 from aaria_pin.apps.identify.geometry_input import ArmSignals, imu_parent, white_noise_level
@@ -28,36 +26,16 @@ MM = 1e-3
 
 
 def small_arm(duration: float, rate: float, noise: bool) -> RunRecord:
-    """A 3-module arm: module 1 revolute, module 2 empty, module 3 prismatic; a moving base."""
-    table = np.zeros((8, 5))
-    table[0] = [np.pi / 2, 0.3, 0.0, 0.2, 1]
-    table[2] = [np.pi / 3, 0.25, 0.4, 0.3, 2]
-    table[6] = [0.0, 0.2, 0.0, 0.0, 1]
-    joints = np.zeros((8, 5))
-    joints[0] = [0.6, 0.0, 0.0, 2.3, 2.5]
-    joints[2] = [0.0, 0.08, 0.0, 1.7, 1.5]
-    base = get_preset("aaria-fig3").base_table
+    """The 3-module arm (module 2 empty) on a moving base, simulated."""
+    table, joints, base = small_arm_tables()
     request = dh_request(
         table, joint_table=joints, base_table=base, duration=duration, rate=rate, noise=noise
     )
     return request.record()
 
 
-def tool_tip_error(table: np.ndarray, truth: RunRecord) -> float:
-    """Largest distance [m] between the tool tips of ``table`` and the true table (Pinocchio)."""
-    tips = []
-    for dh in (table, truth.tables["senSenDH"]):
-        robot = build_dh_robot(np.asarray(dh, dtype=float))
-        model = robot.model()
-        data = model.model.createData()
-        frame = model.frame_id("tool_tip")
-        columns = [m - 1 for m in robot.chain.modules]
-        rows = []
-        for t in np.linspace(0, truth.n_samples - 1, 50).astype(int):
-            pin.framesForwardKinematics(model.model, data, np.asarray(truth.q[t, columns], float))
-            rows.append(data.oMf[frame].translation.copy())
-        tips.append(np.array(rows))
-    return float(np.max(np.linalg.norm(tips[0] - tips[1], axis=1)))
+def tip_error(table: np.ndarray, truth: RunRecord) -> float:
+    return tool_tip_error(table, truth.tables["senSenDH"], np.asarray(truth.q))
 
 
 def true_types(truth: RunRecord) -> tuple[int, ...]:
@@ -77,7 +55,7 @@ def test_a_recording_of_a_run_gives_the_runs_table(clean: RunRecord, tmp_path: P
     found = identify_kinematics(signals)
     assert found.failure is None and found.truth is None
     assert found.link_types == true_types(clean)
-    assert tool_tip_error(found.table, clean) <= 1 * MM
+    assert tip_error(found.table, clean) <= 1 * MM
     # the run file's own identification: the same arrays, the same table
     np.testing.assert_allclose(found.table, identify_kinematics(clean).table, atol=1e-9)
     assert [m.parent for m in found.mounts] == ["base", "link1", "link1", "link3", "link3",
@@ -112,7 +90,7 @@ def test_jittered_stamps_and_an_imu_at_half_the_rate() -> None:
     found = identify_kinematics(signals)
     assert found.failure is None
     assert found.link_types == true_types(fine)
-    assert tool_tip_error(found.table, fine) <= 1 * MM
+    assert tip_error(found.table, fine) <= 1 * MM
 
 
 def test_noisy_recording_as_accurate_as_its_run(tmp_path: Path) -> None:
@@ -124,7 +102,7 @@ def test_noisy_recording_as_accurate_as_its_run(tmp_path: Path) -> None:
     from_recording = identify_kinematics(signals)
     from_run = identify_kinematics(noisy)
     assert from_recording.link_types == from_run.link_types == true_types(noisy)
-    assert tool_tip_error(from_recording.table, noisy) <= tool_tip_error(from_run.table, noisy)
+    assert tip_error(from_recording.table, noisy) <= tip_error(from_run.table, noisy)
 
 
 def test_white_noise_level_of_jittered_samples() -> None:

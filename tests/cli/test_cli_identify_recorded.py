@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import run_cli
+from recorded_arm import small_arm_tables, tool_tip_error
 
 from aaria_pin.apps.recordings import export_run, recorded_from_run
 from aaria_pin.core.recording import STREAM_COLUMNS, RecordedRun, SensorStream
@@ -26,38 +27,15 @@ MM = 1e-3
 
 def _tool_tip_error(table: list[list[float]], truth_file: Path, run: int | None) -> float:
     """Largest tool-tip distance [m] between ``table`` and the run's true table (Pinocchio)."""
-    import pinocchio as pin
-
-    from aaria_pin.aaria.dh_robot import build_dh_robot
-
     truth = open_record(truth_file, run)
-    tips = []
-    for dh in (np.asarray(table), np.asarray(truth.tables["senSenDH"], dtype=float)):
-        robot = build_dh_robot(dh)
-        model = robot.model()
-        data = model.model.createData()
-        frame = model.frame_id("tool_tip")
-        columns = [m - 1 for m in robot.chain.modules]
-        rows = []
-        for t in np.linspace(0, truth.n_samples - 1, 50).astype(int):
-            pin.framesForwardKinematics(model.model, data, np.asarray(truth.q[t, columns], float))
-            rows.append(data.oMf[frame].translation.copy())
-        tips.append(np.array(rows))
-    return float(np.max(np.linalg.norm(tips[0] - tips[1], axis=1)))
+    return tool_tip_error(np.asarray(table), truth.tables["senSenDH"], np.asarray(truth.q))
 
 
 @pytest.fixture(scope="module")
 def small_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """``aaria simulate`` of a 3-module arm (module 2 empty), 2 s at 200 Hz, no noise."""
     folder = tmp_path_factory.mktemp("recorded")
-    table = np.zeros((8, 5))
-    table[0] = [np.pi / 2, 0.3, 0.0, 0.2, 1]
-    table[2] = [np.pi / 3, 0.25, 0.4, 0.3, 2]
-    table[6] = [0.0, 0.2, 0.0, 0.0, 1]
-    joints = np.zeros((8, 5))
-    joints[0] = [0.6, 0.0, 0.0, 2.3, 2.5]
-    joints[2] = [0.0, 0.08, 0.0, 1.7, 1.5]
-    base = np.array([[0.05, 0.0, 1.0, 0.0], [0.05, 0.0, 0.7, 0.3]])
+    table, joints, base = small_arm_tables()
     for name, values in (("dh", table), ("joints", joints), ("base", base)):
         np.savetxt(folder / f"{name}.csv", values, delimiter=",")
     path = folder / "run.h5"
