@@ -8,6 +8,7 @@ from simulated runs' arrays, with each sensor's own stamps where the test is abo
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -68,25 +69,41 @@ def _jittered(record: RunRecord, step: int, rng: np.random.Generator) -> np.ndar
     return np.unique(index + rng.integers(-(step // 5), step // 5 + 1, index.size))
 
 
-def test_jittered_stamps_and_an_imu_at_half_the_rate() -> None:
+@pytest.fixture(scope="module")
+def fine() -> RunRecord:
+    return small_arm(2.0, 1000.0, noise=False)
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_jittered_stamps_and_an_imu_at_half_the_rate(fine: RunRecord, dtype: type) -> None:
     # simulated at 1000 Hz; every IMU and the joints sampled at ~200 Hz with their own jitter
-    # (up to 1 ms of the 5 ms period), imu_link3_a at ~100 Hz
-    fine = small_arm(2.0, 1000.0, noise=False)
+    # (up to 1 ms of the 5 ms period), imu_link3_a at ~100 Hz; stored in float64 or float32
     rng = np.random.default_rng(7)
     time = np.asarray(fine.time, dtype=float)
-    streams = []
+    streams, taken = [], {}
     for stream in recorded_from_run(fine).streams:
         if stream.kind == "wrench":
             continue
-        index = _jittered(fine, 10 if stream.name == "imu_link3_a" else 5, rng)
-        streams.append(SensorStream(stream.name, stream.kind, time[index],
-                                    stream.values[index], stream.columns))  # fmt: skip
+        index = taken[stream.name] = _jittered(fine, 10 if stream.name == "imu_link3_a" else 5, rng)
+        values = stream.values[index].astype(dtype).astype(float)
+        streams.append(SensorStream(stream.name, stream.kind, time[index], values, stream.columns))
     recording = RecordedRun(streams)
     steps = np.diff(recording.stream("imu_base").time)
     assert steps.max() - steps.min() > 1e-3  # the base's own stamps are not even
     signals = ArmSignals.of_recorded(recording)
-    assert any(note.startswith("imu_link3_a resampled") for note in signals.notes)
-    assert any(note.startswith("joint states resampled") for note in signals.notes)
+    half = [note for note in signals.notes if note.startswith("imu_link3_a resampled")]
+    assert len(half) == 1 and any(
+        note.startswith("joint states resampled") for note in signals.notes
+    )
+    if dtype is np.float64:
+        # the stated error of the resampling against the simulated signals at the base's stamps
+        at = taken["imu_base"][np.isin(time[taken["imu_base"]], signals.time)]
+        true = fine.imu[at, fine.imu_names.index("imu_link3_a")]
+        error = np.abs(signals.imu[:, signals.imu_names.index("imu_link3_a")] - true)
+        stated = [
+            float(x) for x in re.findall(r"error ([0-9.e+-]+) rad/s, ([0-9.e+-]+) m/s", half[0])[0]
+        ]
+        assert error[:, :3].max() <= 2 * stated[0] and error[:, 3:].max() <= 2 * stated[1]
     found = identify_kinematics(signals)
     assert found.failure is None
     assert found.link_types == true_types(fine)
@@ -120,6 +137,11 @@ def _renamed(stream: SensorStream) -> SensorStream:
     return SensorStream("wrist", "imu", stream.time, stream.values, STREAM_COLUMNS["imu"])
 
 
+def _joints_named(stream: SensorStream) -> SensorStream:
+    columns = tuple(c.replace(":joint", ":j") for c in stream.columns)
+    return SensorStream(stream.name, "joints", stream.time, stream.values, columns)
+
+
 def _streams(record: RunRecord) -> list[SensorStream]:
     return list(recorded_from_run(record).streams)
 
@@ -129,7 +151,9 @@ def _streams(record: RunRecord) -> list[SensorStream]:
     [
         (lambda s: [x for x in s if x.name != "imu_base"], "recording has no IMU imu_base"),
         (lambda s: [_renamed(x) if x.name == "imu_tool" else x for x in s], "IMU name is wrist;"),
+        (lambda s: [x for x in s if x.name != "imu_tool"], "recording has no IMU imu_tool"),
         (lambda s: [x for x in s if x.kind != "joints"], "recording has 0 joint state streams"),
+        (lambda s: [_joints_named(x) if x.kind == "joints" else x for x in s], "joint name is j1;"),
         (
             lambda s: [x for x in s if not x.name.startswith("imu_link3")],
             "module 3 moves but no IMU is on its link",
