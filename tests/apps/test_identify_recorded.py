@@ -142,6 +142,12 @@ def _joints_named(stream: SensorStream) -> SensorStream:
     return SensorStream(stream.name, "joints", stream.time, stream.values, columns)
 
 
+def _without_joint3(stream: SensorStream) -> SensorStream:
+    kept = [k for k, c in enumerate(stream.columns) if not c.endswith(":joint3")]
+    columns = tuple(stream.columns[k] for k in kept)
+    return SensorStream(stream.name, "joints", stream.time, stream.values[:, kept], columns)
+
+
 def _streams(record: RunRecord) -> list[SensorStream]:
     return list(recorded_from_run(record).streams)
 
@@ -154,6 +160,10 @@ def _streams(record: RunRecord) -> list[SensorStream]:
         (lambda s: [x for x in s if x.name != "imu_tool"], "recording has no IMU imu_tool"),
         (lambda s: [x for x in s if x.kind != "joints"], "recording has 0 joint state streams"),
         (lambda s: [_joints_named(x) if x.kind == "joints" else x for x in s], "joint name is j1;"),
+        (
+            lambda s: [_without_joint3(x) if x.kind == "joints" else x for x in s],
+            "IMU imu_link3_a is on module 3, whose joint3 is not in the joint states",
+        ),
         (
             lambda s: [x for x in s if not x.name.startswith("imu_link3")],
             "module 3 moves but no IMU is on its link",

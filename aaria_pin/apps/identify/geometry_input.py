@@ -183,7 +183,8 @@ class ArmSignals:
         Raises:
             ParameterError: an IMU name outside the scheme (:func:`imu_parent`), no
                 ``imu_base`` or ``imu_tool``, no joint stream (or several), a joint name
-                outside ``joint1`` to ``joint6``, no joint values, streams without a common
+                outside ``joint1`` to ``joint6``, no joint values, an IMU on a module whose
+                joint is not recorded, streams without a common
                 span (parameter ``recording``).
         """
         imus = recording.of_kind("imu")
@@ -196,6 +197,14 @@ class ArmSignals:
                                f" stream, the IMU whose frame is the {frame} frame")  # fmt: skip
         base = imus[parents.index(BASE_PARENT)]
         joints = _joint_stream(recording)
+        recorded = _joint_modules(joints)
+        for stream, parent in zip(imus, parents, strict=True):
+            if parent.startswith("link") and int(parent[4:]) not in recorded.values():
+                raise _refused(
+                    f"IMU {stream.name} is on module {parent[4:]}, whose joint{parent[4:]} is not "
+                    f"in the joint states; allowed: an IMU on a module whose joint is recorded "
+                    f"({', '.join(f'joint{m}' for m in sorted(recorded.values()))})"
+                )
         keep, time = _common_axis(base.time, [*imus, joints])
         period = float(np.median(np.diff(base.time)))
         notes: list[str] = []
@@ -277,6 +286,23 @@ def _joint_stream(recording: RecordedRun) -> SensorStream:
     return streams[0]
 
 
+def _joint_modules(stream: SensorStream) -> dict[int, int]:
+    """The module (1 to 6) of each joint value column of a joint stream, by column index.
+
+    Raises:
+        ParameterError: a joint name outside ``joint1`` to ``joint6``.
+    """
+    modules = {}
+    for index, column in enumerate(stream.columns):
+        group, _, joint = column.partition(":")
+        if group == "q":
+            module = _JOINT.fullmatch(joint)
+            if module is None:
+                raise _refused(f"joint name is {joint}; allowed: joint1 to joint6 (module k)")
+            modules[index] = int(module.group(1))
+    return modules
+
+
 def _same_stamps(time: Array, reference: Array, period: float) -> bool:
     """Whether a stream's stamps are the reference's, within :data:`SAME_STAMPS` of a period."""
     return time.size == reference.size and bool(
@@ -338,20 +364,10 @@ def _resampling_error(time: Array, values: Array) -> tuple[float, float]:
 def _joint_values(
     stream: SensorStream, reference: Array, keep: Array, period: float
 ) -> tuple[Array, tuple[Array, Array] | None, str]:
-    """The joint values by module at the kept stamps, their rates when resampled, the note.
-
-    Raises:
-        ParameterError: a joint name outside ``joint1`` to ``joint6``.
-    """
+    """The joint values by module at the kept stamps, their rates when resampled, the note."""
     q = np.zeros((stream.time.size, 6))
-    for index, column in enumerate(stream.columns):
-        group, _, joint = column.partition(":")
-        if group != "q":
-            continue
-        module = _JOINT.fullmatch(joint)
-        if module is None:
-            raise _refused(f"joint name is {joint}; allowed: joint1 to joint6 (module k)")
-        q[:, int(module.group(1)) - 1] = stream.values[:, index]
+    for index, module in _joint_modules(stream).items():
+        q[:, module - 1] = stream.values[:, index]
     if _same_stamps(stream.time, reference, period):
         return q[keep], None, ""
     time = uniform_time(stream.time)
