@@ -184,8 +184,8 @@ class ArmSignals:
             ParameterError: an IMU name outside the scheme (:func:`imu_parent`), no
                 ``imu_base`` or ``imu_tool``, no joint stream (or several), a joint name
                 outside ``joint1`` to ``joint6``, no joint values, an IMU on a module whose
-                joint is not recorded, streams without a common
-                span (parameter ``recording``).
+                joint is not recorded, streams without a common span (parameter
+                ``recording``).
         """
         imus = recording.of_kind("imu")
         parents = tuple(imu_parent(stream.name) for stream in imus)
