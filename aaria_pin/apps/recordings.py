@@ -36,6 +36,7 @@ __all__ = [
     "import_recordings",
     "open_recorded",
     "recorded_from_run",
+    "recorded_input",
     "recording_format",
 ]
 
@@ -60,25 +61,41 @@ def recorded_from_run(record: RunRecord) -> RecordedRun:
     return RecordedRun(streams, source=str(record.attributes.get("robot", "")))
 
 
-@checked
-def open_recorded(path: str | os.PathLike[str], run: int | None = None) -> RecordedRun:
-    """The recorded streams of a recording, a recorded run, a run or run ``run`` of a data set.
+def recorded_input(path: str | os.PathLike[str], run: int | None = None) -> RecordedRun | None:
+    """The recorded run of a recording or a recorded run file; None for a run or a data set.
 
     A ROS 1/ROS 2 bag (file or folder), an MCAP file or a CSV is read as ``aaria import`` reads
-    it without a map (:func:`import_recordings`).
+    it without a map (:func:`import_recordings`); a recorded run file as ``aaria import`` wrote
+    it. With ``run`` given the file is a data set: None.
 
     Raises:
-        InputFileError, ParameterError: as :func:`~aaria_pin.files.source.open_record` and
-            :func:`import_recordings`.
+        InputFileError, ParameterError: as :func:`import_recordings` and
+            :func:`~aaria_pin.files.runfile.read_recorded_run`.
     """
     from aaria_pin.files.runfile import is_recorded_file, read_recorded_run
-    from aaria_pin.files.source import open_record
 
     if run is None and is_recording(Path(path)):
         return import_recordings([path])
     if run is None and is_recorded_file(path):
         return read_recorded_run(path)
-    return recorded_from_run(open_record(path, run))
+    return None
+
+
+@checked
+def open_recorded(path: str | os.PathLike[str], run: int | None = None) -> RecordedRun:
+    """The recorded streams of a recording, a recorded run, a run or run ``run`` of a data set.
+
+    A recording or a recorded run file as :func:`recorded_input` reads it; a simulated run's
+    streams as :func:`recorded_from_run` makes them.
+
+    Raises:
+        InputFileError, ParameterError: as :func:`~aaria_pin.files.source.open_record` and
+            :func:`import_recordings`.
+    """
+    from aaria_pin.files.source import open_record
+
+    recorded = recorded_input(path, run)
+    return recorded if recorded is not None else recorded_from_run(open_record(path, run))
 
 
 @checked

@@ -46,7 +46,7 @@ def _plot_tool_tip_cdf(path: Path, outcome: IdentifyOutcome) -> None:
 
 
 @click.command(epilog=_MODES_HELP)
-@click.argument("files", nargs=-1, type=click.Path(path_type=Path, dir_okay=False))
+@click.argument("files", nargs=-1, type=click.Path(path_type=Path))  # a bag folder too
 @click.option(
     "--dynamics",
     is_flag=True,
@@ -103,7 +103,9 @@ def _plot_tool_tip_cdf(path: Path, outcome: IdentifyOutcome) -> None:
 def identify(files: tuple[Path, ...], plot: Path | None, as_json: bool, **flags: Any) -> None:
     """Identify a robot: DH table and IMU mounts, dynamics, IMU pairs and joints from IMUs.
 
-    FILE is a DH run file, or a data set with --run K. From the encoders, the IMU signals and
+    FILE is a DH run file, a data set with --run K, or a recording (bag, bag folder, MCAP, CSV,
+    aaria import's file; IMUs named imu_base, imu_tool, imu_link<k>_a|b, joints joint<k>). From
+    the encoders, the IMU signals and
     each IMU's link: the structure, the DH table and the link IMUs' mounts (the base and tool
     IMUs define the base and tool-tip frames). Printed: the table, what the data cannot
     determine, σ, residuals per IMU, truth errors; a failed fit: one line, exit 1. Stderr: stages.

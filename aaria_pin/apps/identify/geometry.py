@@ -1,7 +1,9 @@
 """Identify an Aaria arm's kinematic model from its IMU signals and joint encoders.
 
-:func:`identify_kinematics` takes a DH run's record and uses only what a real set-up has: the
-sample times, the joint encoder columns ``q``, the IMU signals, which link each IMU is on
+:func:`identify_kinematics` takes a DH run's record or a recording (as
+:class:`~aaria_pin.apps.identify.geometry_input.ArmSignals`: a recording's IMUs and joints on
+the base IMU's stamps, its structure from the IMU names) and uses only what a real set-up has:
+the sample times, the joint encoder columns ``q``, the IMU signals, which link each IMU is on
 (``imu_mounts[i].parent``), and nothing of the DH table, the IMU mounting poses, the tool pose or
 the base pose. It estimates
 
@@ -59,14 +61,13 @@ from aaria_pin.apps.identify.geometry_fit import (
     non_negative_lengths,
     sandwich_sigmas,
 )
+from aaria_pin.apps.identify.geometry_input import ArmSignals, measured_rates
 from aaria_pin.apps.identify.geometry_model import ArmLayout, KinematicData, predict_signals
 from aaria_pin.apps.identify.geometry_result import KinematicIdentification
 from aaria_pin.apps.identify.geometry_signals import (
     noisy_derivative,
     rounding_level,
-    sample_derivatives,
     signal_weights,
-    uniform_time,
 )
 from aaria_pin.apps.identify.geometry_start import INIT_SAMPLES, other_starts, start_parameters
 from aaria_pin.apps.identify.geometry_structure import (
@@ -134,22 +135,24 @@ def _rms(values: Array) -> float:
 
 
 def _measured_data(
-    record: RunRecord, layout: ArmLayout, base: int
+    signals: ArmSignals, layout: ArmLayout, base: int
 ) -> tuple[ArmLayout, KinematicData, Array, Array, Array]:
     """The layout with its joint kinds, the model's inputs, the signals, weights and times."""
-    time = uniform_time(np.asarray(record.time, dtype=float))
+    time = signals.time
     columns = [m - 1 for m in layout.modules]
-    q = np.asarray(record.q, dtype=float)[:, columns]
-    qd, qdd = sample_derivatives(time, q, 2)
+    q = np.asarray(signals.q, dtype=float)[:, columns]
+    if signals.joint_rates is None:
+        qd, qdd = measured_rates(time, q, 2)
+    else:
+        qd, qdd = (np.asarray(rate, dtype=float)[:, columns] for rate in signals.joint_rates)
     layout = ArmLayout(
-        layout.modules, joint_kinds(record, layout, base, qd), layout.link_imus, layout.tool_imu
+        layout.modules, joint_kinds(signals, layout, base, qd), layout.link_imus, layout.tool_imu
     )
     rate = (time.size - 1) / (time[-1] - time[0])
-    metadata = record.metadata
-    weights = signal_weights(rate, metadata.extra.get("noise_parameters"))
-    omega_base = np.asarray(record.imu[:, base, :3], dtype=float)
-    force_base = np.asarray(record.imu[:, base, 3:], dtype=float)
-    if metadata.noise:
+    weights = signal_weights(rate, signals.noise_parameters)
+    omega_base = np.asarray(signals.imu[:, base, :3], dtype=float)
+    force_base = np.asarray(signals.imu[:, base, 3:], dtype=float)
+    if signals.noisy:
         # the base IMU's signals are inputs of the model, taken as measured (a smoothing
         # bends the motion: a bias the whole run repeats); its angular velocity differentiated
         omega_dot = noisy_derivative(time, omega_base, 1.0 / weights[0])
@@ -157,15 +160,15 @@ def _measured_data(
         # predicted IMU's own (the same part), so each weight is 1 / (√2 its noise level)
         weights = weights / np.sqrt(2.0)
     else:
-        (omega_dot,) = sample_derivatives(time, omega_base, 1)
+        (omega_dot,) = measured_rates(time, omega_base, 1)
     data = KinematicData(omega_base, omega_dot, force_base, q, qd, qdd)
-    measured = np.asarray(record.imu[:, list(layout.imus)], dtype=float)
+    measured = np.asarray(signals.imu[:, list(layout.imus)], dtype=float)
     return layout, data, measured, weights, time
 
 
 @checked
 def identify_kinematics(
-    record: RunRecord,
+    record: RunRecord | ArmSignals,
     *,
     max_fit_samples: int = _FIT_SAMPLES,
     max_iterations: int = 100,
@@ -175,15 +178,18 @@ def identify_kinematics(
     """Identify an Aaria arm's structure, DH table and IMU mounts from a DH run's signals.
 
     Uses only ``time``, ``q`` (encoders), ``imu`` and each IMU's ``parent`` (module docstring:
-    what is measured, what is defined, the steps).
+    what is measured, what is defined, the steps), as :class:`ArmSignals` holds them.
 
     Args:
         record: a DH run's record (``read_run``, ``DatasetReader(...).record(k)``,
-            ``simulate_run``): 6 joint columns by module, a base, a tool and link IMUs
+            ``simulate_run``): 6 joint columns by module, a base, a tool and link IMUs; or
+            the signals of one (:meth:`ArmSignals.of_record`) or of a recording
+            (:meth:`ArmSignals.of_recorded`)
         max_fit_samples: at most this many samples, evenly spread over the run, enter the
             nonlinear fit (residual RMS and truth errors use every sample)
         max_iterations: most Levenberg–Marquardt iterations of the nonlinear fit
-        with_truth: compare with the truth the record holds (``senSenDH``), if any
+        with_truth: compare with the truth the record holds (``senSenDH``), if any (a
+            recording holds none)
         progress: called with a line per stage and per start (``start 1 (closed form):
             weighted RMS 1.02 after 5 iterations, 3.1 s``), for a log
 
@@ -195,15 +201,16 @@ def identify_kinematics(
             on its link, no moving module, or fewer than 20 samples.
     """
     started = _time.perf_counter()
-    if record.n_samples < _MIN_SAMPLES:
+    signals = record if isinstance(record, ArmSignals) else ArmSignals.of_record(record)
+    if signals.n_samples < _MIN_SAMPLES:
         raise ParameterError(
-            f"record has {record.n_samples} samples; allowed: at least {_MIN_SAMPLES}",
+            f"record has {signals.n_samples} samples; allowed: at least {_MIN_SAMPLES}",
             parameter="record",
-            value=record.n_samples,
+            value=signals.n_samples,
             allowed=f"at least {_MIN_SAMPLES} samples",
         )
-    layout, base = arm_layout(record)
-    layout, data, measured, weights, time = _measured_data(record, layout, base)
+    layout, base = arm_layout(signals)
+    layout, data, measured, weights, time = _measured_data(signals, layout, base)
     n_samples = data.q.shape[0]
 
     def say(line: str) -> None:
@@ -222,16 +229,16 @@ def identify_kinematics(
     start = spread(INIT_SAMPLES)
     lengths = length_indices(layout)
     spacings = None
-    if record.metadata.noise:
+    if signals.noisy:
         rate = (time.size - 1) / (time[-1] - time[0])
-        spacings = knot_spacing(record.metadata.extra.get("noise_parameters"), rate)
+        spacings = knot_spacing(signals.noise_parameters, rate)
     problem = WeightedFit(layout, data, measured, weights, lengths, time, spacings)
     # The walk along equivalent tables takes many short steps and does not need many
     # samples: it runs on the start's few, then the fit ends on more.
     walk_index, fit_index = spread(_WALK_SAMPLES), spread(max_fit_samples)
     # the weights are 1 / the noise level: a fit at the noise floor has a weighted RMS near 1
     exact = _EXACT_FLOOR if rounding_level(measured) is None else _ROUNDED_FLOOR
-    floor = _AT_FLOOR * (1.0 if record.metadata.noise else exact)
+    floor = _AT_FLOOR * (1.0 if signals.noisy else exact)
     x0 = start_parameters(layout, data.subsample(start), measured[start], weights, lengths)
     x, fun, _, walk = problem.fit(x0, x0, walk_index, max_iterations, biases=False)
     start_rms = _rms(fun)
@@ -266,7 +273,7 @@ def identify_kinematics(
                 )
             if _rms(fun) <= floor:
                 break
-    names = layout.parameter_names(record.imu_names)
+    names = layout.parameter_names(signals.imu_names)
     found, sigmas, basis, covariance = deficiencies(jac, names, layout.n_dh)
     moved = non_negative_lengths(x, basis, lengths)
     # a null direction is a symmetry to first order only: keep the move if the signals stay
@@ -281,7 +288,7 @@ def identify_kinematics(
     predicted, _ = predict_signals(x, layout, data)
     error = predicted - measured
     residual_rms = {
-        record.imu_names[imu]: {
+        signals.imu_names[imu]: {
             "gyro_rad_s": float(np.sqrt(np.mean(error[:, slot, :3] ** 2))),
             "accel_m_s2": float(np.sqrt(np.mean(error[:, slot, 3:] ** 2))),
         }
@@ -304,12 +311,16 @@ def identify_kinematics(
     return KinematicIdentification(
         table,
         tuple(int(t) for t in table[:6, 4]),
-        estimated_mounts(record, layout, x),
+        estimated_mounts(signals, layout, x),
         names,
         x,
         sigmas,
         residual_rms,
         found,
-        truth_errors(record, table, (layout, x, sigmas)) if with_truth else None,
+        (
+            truth_errors(signals.truth, table, (layout, x, sigmas))
+            if with_truth and signals.truth is not None
+            else None
+        ),
         fit_summary,
     )

@@ -1,4 +1,4 @@
-"""The arm's structure from a record, and the DH table and IMU mounts of a parameter vector.
+"""The arm's structure from its signals, and the DH table and IMU mounts of a parameter vector.
 
 What the set-up defines rather than measures: the base IMU's frame is the base frame and the
 tool IMU's frame is the tool-tip frame (``imu_base`` at the base origin, ``imu_tool`` at the
@@ -12,15 +12,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from aaria_pin.apps.identify.geometry_input import BASE_PARENT, TOOL_PARENT, ArmSignals
 from aaria_pin.apps.identify.geometry_model import ArmLayout, rotation_from_vector, wrap_angle
 from aaria_pin.apps.identify.geometry_start import detect_kind
-from aaria_pin.core.record import ImuMount, RunRecord
+from aaria_pin.core.record import ImuMount
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
 __all__ = [
-    "BASE_PARENT",
-    "TOOL_PARENT",
     "arm_layout",
     "estimated_mounts",
     "joint_kinds",
@@ -29,44 +28,26 @@ __all__ = [
     "table_of",
 ]
 
-BASE_PARENT = "base"
-
-
-TOOL_PARENT = "tool_tip"
-
-
 _MOVING = 1e-9  # [rad or m] an encoder whose range is below this does not move
 
 
 _ROUND_UP = 1e-3  # [m] a length this close below 0 is 0
 
 
-def arm_layout(record: RunRecord) -> tuple[ArmLayout, int]:
+def arm_layout(signals: ArmSignals) -> tuple[ArmLayout, int]:
     """The arm's structure from the encoders and the IMUs' parents.
 
     Args:
-        record: a DH run's record: 6 joint columns by module, a base, a tool and link IMUs
+        signals: a DH arm's signals: 6 joint columns by module, a base, a tool and link IMUs
 
     Returns:
-        The layout (joint kinds still unknown: ``""``) and the base IMU's record index.
+        The layout (joint kinds still unknown: ``""``) and the base IMU's index.
 
     Raises:
-        ParameterError: no base or tool IMU, not 6 joint columns, a moving module without an
-            IMU on its link (or one with IMUs that never moves), no moving module.
+        ParameterError: no base or tool IMU, a moving module without an IMU on its link (or
+            one with IMUs that never moves), no moving module.
     """
-    kind = record.attributes.get("kind", "dh")
-    if kind != "dh":
-        robot = record.attributes.get("robot", "")
-        raise ParameterError(
-            f"record is a {kind} run{f' of {robot}' if robot else ''}; allowed: a DH arm's run "
-            "(aaria dataset, or aaria simulate --preset/--dh): kinematic identification finds "
-            "an Aaria arm's extended DH table; for a URDF robot's inertial parameters, see "
-            "aaria identify --dynamics",
-            parameter="record",
-            value=kind,
-            allowed="a DH arm's run",
-        )
-    parents = [mount.parent for mount in record.imu_mounts]
+    parents = list(signals.parents)
     for needed in (BASE_PARENT, TOOL_PARENT):
         if needed not in parents:
             raise ParameterError(
@@ -76,17 +57,10 @@ def arm_layout(record: RunRecord) -> tuple[ArmLayout, int]:
                 allowed="base and tool IMUs",
             )
     base, tool = parents.index(BASE_PARENT), parents.index(TOOL_PARENT)
-    if record.q.shape[1] != 6:
-        raise ParameterError(
-            f"record has {record.q.shape[1]} joint columns; allowed: 6 (a DH run by module)",
-            parameter="record",
-            value=record.q.shape[1],
-            allowed="6 joint columns",
-        )
     modules, link_imus = [], []
     for module in range(1, 7):
         on_link = tuple(i for i, p in enumerate(parents) if p == f"link{module}")
-        moving = float(np.ptp(record.q[:, module - 1])) > _MOVING
+        moving = float(np.ptp(signals.q[:, module - 1])) > _MOVING
         if not moving and not on_link:
             continue
         if not on_link or not moving:
@@ -109,13 +83,13 @@ def arm_layout(record: RunRecord) -> tuple[ArmLayout, int]:
     return ArmLayout(tuple(modules), ("",) * len(modules), tuple(link_imus), tool), base
 
 
-def joint_kinds(record: RunRecord, layout: ArmLayout, base: int, qd: Array) -> tuple[str, ...]:
+def joint_kinds(signals: ArmSignals, layout: ArmLayout, base: int, qd: Array) -> tuple[str, ...]:
     """Each module's joint kind from the gyroscopes on either side of it (``detect_kind``).
 
     Args:
-        record: the run
+        signals: the arm's signals
         layout: its layout (:func:`arm_layout`)
-        base: the base IMU's record index
+        base: the base IMU's index
         qd: the layout's joint velocities, T × m
 
     Returns:
@@ -124,7 +98,8 @@ def joint_kinds(record: RunRecord, layout: ArmLayout, base: int, qd: Array) -> t
     kinds = []
     for index, group in enumerate(layout.link_imus):
         parent = base if index == 0 else layout.link_imus[index - 1][0]
-        kind, _ = detect_kind(record.imu[:, group[0], :3], record.imu[:, parent, :3], qd[:, index])
+        imu = signals.imu
+        kind, _ = detect_kind(imu[:, group[0], :3], imu[:, parent, :3], qd[:, index])
         kinds.append(kind)
     return tuple(kinds)
 
@@ -169,8 +144,8 @@ def table_of(layout: ArmLayout, x: Array, q: Array) -> Array:
     return table
 
 
-def estimated_mounts(record: RunRecord, layout: ArmLayout, x: Array) -> tuple[ImuMount, ...]:
-    """Every IMU's mount of a parameter vector, in record order.
+def estimated_mounts(signals: ArmSignals, layout: ArmLayout, x: Array) -> tuple[ImuMount, ...]:
+    """Every IMU's mount of a parameter vector, in the signals' order.
 
     The base and tool IMUs are identity (as defined); slots with no predicted IMU get a zero
     pose and parent ``""``.
@@ -184,11 +159,11 @@ def estimated_mounts(record: RunRecord, layout: ArmLayout, x: Array) -> tuple[Im
             T[:3, 3] = x[offset + 3 : offset + 6]
             poses[imu] = T
     out = []
-    for i, mount in enumerate(record.imu_mounts):
-        if mount.parent in (BASE_PARENT, TOOL_PARENT):
-            out.append(ImuMount(mount.name, mount.parent, np.eye(4)))
+    for i, (name, parent) in enumerate(zip(signals.imu_names, signals.parents, strict=True)):
+        if parent in (BASE_PARENT, TOOL_PARENT):
+            out.append(ImuMount(name, parent, np.eye(4)))
         elif i in poses:
-            out.append(ImuMount(mount.name, mount.parent, poses[i]))
+            out.append(ImuMount(name, parent, poses[i]))
         else:
-            out.append(ImuMount(mount.name, "", np.zeros((4, 4))))
+            out.append(ImuMount(name, "", np.zeros((4, 4))))
     return tuple(out)

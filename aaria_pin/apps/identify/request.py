@@ -286,6 +286,28 @@ def _bodies(request: IdentifyRequest) -> IdentifyOutcome:
     return IdentifyOutcome(found.report, found.lines, failure=found.failure)
 
 
+def _kinematics(request: IdentifyRequest) -> IdentifyOutcome:
+    """The DH table of a simulated run, or of a recording (its noise model said first)."""
+    from aaria_pin.apps.identify.geometry import identify_kinematics
+    from aaria_pin.apps.identify.geometry_input import ArmSignals
+    from aaria_pin.apps.recordings import recorded_input
+    from aaria_pin.files.source import open_record
+
+    recorded = recorded_input(request.files[0], request.run)
+    if recorded is None:
+        signals = ArmSignals.of_record(open_record(request.files[0], request.run))
+    else:
+        signals = ArmSignals.of_recorded(recorded)
+    result = identify_kinematics(signals, progress=request.progress)
+    if result.failure is None:
+        _write_kinematics(result, request)
+    report, lines = result.to_json(), result.summary()
+    if recorded is not None:  # a recording holds no noise model and no truth: say what was assumed
+        report["noise_model"], report["resampled"] = signals.noise_model, list(signals.notes)
+        lines = [f"noise model: {signals.noise_model}", *signals.notes, *lines]
+    return IdentifyOutcome(report, tuple(lines), failure=result.failure)
+
+
 def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
     """Identify what the request asks, write its outputs, and return the report and its text.
 
@@ -313,16 +335,11 @@ def identify_files(request: IdentifyRequest) -> IdentifyOutcome:
         _check_output(request.dynamics_urdf, "dynamics_urdf", "URDF", ".urdf")
     if request.dataset:
         return _benchmark(request)
+    if kinematics:
+        return _kinematics(request)
     from aaria_pin.files.source import open_record
 
     record = open_record(request.files[0], request.run)
-    if kinematics:
-        from aaria_pin.apps.identify.geometry import identify_kinematics
-
-        result = identify_kinematics(record, progress=request.progress)
-        if result.failure is None:
-            _write_kinematics(result, request)
-        return IdentifyOutcome(result.to_json(), tuple(result.summary()), failure=result.failure)
     from aaria_pin.apps.identify.inertial import identify_dynamics
     from aaria_pin.apps.identify.inertial_result import dynamics_summary
     from aaria_pin.apps.identify.inertial_torques import TorqueSource
