@@ -95,6 +95,11 @@ def _plot_tool_tip_cdf(path: Path, outcome: IdentifyOutcome) -> None:
 )
 @click.option("--limit", type=click.IntRange(1), help="--dataset: at most N runs of each data set.")
 @click.option(
+    "--imu-model",
+    help="A recording's IMUs: a preset (adis16485, the default; adis16470,"
+    " bmi088, icm42688p, mpu6050) or a TOML file (aaria template imu-model).",
+)
+@click.option(
     "--plot",
     type=click.Path(path_type=Path, dir_okay=False),
     help="--dataset: the CDF of tool-tip errors per group (.png, .pdf, .svg).",

@@ -133,3 +133,17 @@ def test_bad_recordings_one_line_exit_2(
     code, out, err = run_cli("identify", str(bad), "-o", str(table))
     assert code == 2 and out == "" and not table.exists()
     assert len(err.strip().splitlines()) == 1 and message in err
+
+
+def test_the_recordings_imu_model_is_given_by_flag(small_run: Path, tmp_path: Path) -> None:
+    recording = tmp_path / "run.mcap"
+    assert run_cli("export", str(small_run), "-o", str(recording))[0] == 0
+    report = _identified(str(recording), "--imu-model", "bmi088")
+    assert str(report["noise_model"]).endswith("of bmi088's (below 0.01: a noise-free recording)")
+    # a simulated run holds its own noise model; another mode takes none: one line, exit 2
+    for args in ((str(small_run),), (str(recording), "--rigid", "imu_base", "imu_tool")):
+        code, out, err = run_cli("identify", *args, "--imu-model", "bmi088")
+        assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
+        assert "--imu-model" in err
+    code, _, err = run_cli("identify", str(recording), "--imu-model", "no-such-part")
+    assert code == 2 and "--imu-model" in err and "bmi088" in err

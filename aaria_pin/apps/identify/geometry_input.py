@@ -171,7 +171,10 @@ class ArmSignals:
 
     @classmethod
     def of_recorded(
-        cls, recording: RecordedRun, noise_parameters: dict[str, Any] | None = None
+        cls,
+        recording: RecordedRun,
+        noise_parameters: dict[str, Any] | None = None,
+        noise_name: str = "the given model",
     ) -> ArmSignals:
         """The signals of a recording on the base IMU's stamps (module docstring).
 
@@ -179,6 +182,7 @@ class ArmSignals:
             recording: the recorded run (``open_recorded``)
             noise_parameters: its IMUs' noise model (a run's ``noise_parameters``); None:
                 ADIS16485's
+            noise_name: that model's name in the output (with ``noise_parameters``)
 
         Raises:
             ParameterError: an IMU name outside the scheme (:func:`imu_parent`), no
@@ -220,17 +224,15 @@ class ArmSignals:
         model_level = 1.0 / signal_weights(rate, noise_parameters)
         measured = np.concatenate([white_noise_level(s.time, s.values) for s in imus])
         ratio = float(np.median(measured / np.tile(model_level, len(imus))))
-        name = "the given model" if noise_parameters is not None else "ADIS16485"
+        name = noise_name if noise_parameters is not None else "ADIS16485"
         if ratio < NOISE_FREE:
             described = (
                 f"none: the measured white noise is {ratio:.2g} of {name}'s (below "
                 f"{NOISE_FREE:g}: a noise-free recording)"
             )
         else:
-            described = (
-                f"{name} (assumed: a recording holds no noise model; its measured white noise "
-                f"is {ratio:.2g} of the model's)"
-            )
+            how = "given" if noise_parameters is not None else "assumed: a recording holds none"
+            described = f"{name} ({how}; its measured white noise is {ratio:.2g} of the model's)"
         return cls(
             time,
             q,

@@ -72,6 +72,9 @@ class IdentifyRequest:
         rigid: IMU pairs (A, B) on one rigid body each: B's pose and time offset relative to
             A from a recording's signals alone (:mod:`~aaria_pin.apps.identify.bodies`)
         joint: IMU pairs (A, B) on two bodies: the joint between them (type, axis, point)
+        imu_model: the recording's IMUs (a preset name or an IMU-model TOML file; kinematics
+            of a recording; None: ADIS16485's, said in the output): the fit's weights and bias
+            knots
         log: write a line per stage, per start of a kinematic fit and per run of the data-set
             mode to stderr (``aaria: identify: ...``; plain lines, a log keeps them)
 
@@ -100,6 +103,7 @@ class IdentifyRequest:
     gear_ratio: float | None = None
     rigid: tuple[tuple[str, str], ...] = ()
     joint: tuple[tuple[str, str], ...] = ()
+    imu_model: str | None = None
     log: bool = False
 
     @property
@@ -154,6 +158,10 @@ class IdentifyRequest:
                     ("gear_ratio", self.gear_ratio is not None),
                 )
                 for mode in ("dynamics", "dataset")
+            ),
+            *(  # the IMUs of a recording's kinematics, not of another mode
+                ("imu_model", self.imu_model is not None, mode, True)
+                for mode in ("dynamics", "dataset", "rigid", "joint")
             ),
             ("workers", self.workers is not None, "dataset", False),
             ("limit", self.limit is not None, "dataset", False),
@@ -286,6 +294,16 @@ def _bodies(request: IdentifyRequest) -> IdentifyOutcome:
     return IdentifyOutcome(found.report, found.lines, failure=found.failure)
 
 
+def _noise_parameters(imu_model: str | None) -> dict[str, Any] | None:
+    """The noise terms of ``imu_model`` (a preset or a TOML file) as a run records them."""
+    if imu_model is None:
+        return None
+    from aaria_pin.aaria.hardware import imu_model_option
+    from aaria_pin.core.imu_noise import noise_attributes
+
+    return noise_attributes(imu_model_option(imu_model))
+
+
 def _kinematics(request: IdentifyRequest) -> IdentifyOutcome:
     """The DH table of a simulated run, or of a recording (its noise model said first)."""
     from aaria_pin.apps.identify.geometry import identify_kinematics
@@ -295,9 +313,18 @@ def _kinematics(request: IdentifyRequest) -> IdentifyOutcome:
 
     recorded = recorded_input(request.files[0], request.run)
     if recorded is None:
+        if request.imu_model is not None:
+            raise ParameterError(
+                f"imu_model is {request.imu_model} for a simulated run; allowed: with a "
+                "recording (a simulated run holds the noise it was made with)",
+                parameter="imu_model",
+                value=request.imu_model,
+            )
         signals = ArmSignals.of_record(open_record(request.files[0], request.run))
     else:
-        signals = ArmSignals.of_recorded(recorded)
+        signals = ArmSignals.of_recorded(
+            recorded, _noise_parameters(request.imu_model), str(request.imu_model)
+        )
     result = identify_kinematics(signals, progress=request.progress)
     if result.failure is None:
         _write_kinematics(result, request)
