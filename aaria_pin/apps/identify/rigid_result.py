@@ -38,9 +38,9 @@ class RigidPairFit:
         undetermined: what the data do not determine, one sentence each
         covariance: (7, 7) of rotation [rad], position [m], offset [s]
         failure: one sentence when the fit ended above the noise floor
-        knot_interval: the knot spacing of the body's splines [s] (0: not given)
             (:data:`~aaria_pin.apps.identify.rigid.ABOVE_FLOOR`), else empty: the numbers are
             then not a result
+        knot_interval: the knot spacing of the body's splines [s] (0: not given)
     """
 
     imu_a: str
