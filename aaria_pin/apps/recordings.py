@@ -150,9 +150,14 @@ def recording_format(path: Path) -> str:
 
 @checked
 def import_recordings(
-    paths: Sequence[str | os.PathLike[str]], mapping: RecordingMap | None = None
+    paths: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
+    mapping: RecordingMap | None = None,
 ) -> RecordedRun:
     """One recorded run of one or more recordings (their streams together, one time origin).
+
+    Args:
+        paths: a recording, or several (a split bag)
+        mapping: topics or frame ids to sensor names (None: as ``aaria import`` without a map)
 
     Raises:
         InputFileError: a recording that is not one, damaged, or without what the map names;
@@ -162,7 +167,7 @@ def import_recordings(
     from aaria_pin.files.recordings.csv_io import read_csv
 
     runs = []
-    for path in map(Path, paths):
+    for path in map(Path, [paths] if isinstance(paths, str | os.PathLike) else paths):
         reader = read_csv if recording_format(path) == "csv" else read_bag
         runs.append(reader(path, mapping))
     if len(runs) == 1:

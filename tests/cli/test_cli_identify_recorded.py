@@ -106,7 +106,7 @@ def test_a_recorded_run_file_and_a_bag_folder(small_run: Path, tmp_path: Path) -
     assert _tool_tip_error(from_file["table"], small_run, None) <= 1 * MM  # type: ignore[arg-type]
     # commands that need the truth still refuse a recorded run, naming what it can do
     code, _, err = run_cli("identify", "--dynamics", str(recorded))
-    assert code == 2 and "aaria identify FILE for its DH table" in err
+    assert code == 2 and "aaria identify FILE for an Aaria arm's DH table" in err
 
 
 def _renamed(stream: SensorStream, name: str) -> SensorStream:
