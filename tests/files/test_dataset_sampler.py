@@ -93,3 +93,21 @@ def test_a_shuffled_epoch_reads_each_run_once(tmp_path: Path) -> None:
     assert sorted(seen) == expected
     per_source = {name for name, _ in reads}
     assert len(reads) == 3 * len(per_source)  # each run's arrays read once in the epoch
+
+
+def test_batches_handed_to_two_workers_in_turn_cover_the_epoch(tmp_path: Path) -> None:
+    path = tmp_path / "ds.h5"
+    generate_dataset(path, DhDatasetSpec(n_runs=3, seed=2, duration=0.2), workers=1)
+    with DatasetReader(path) as reader:
+        windows = reader.windows(5, 3, names=("imu", "link_types"))
+    expected = sorted((k, s) for k, s, _ in windows)
+    sampler = RunBlockSampler.for_windows(windows, runs_per_block=2, seed=4)
+    order = list(sampler)
+    batches = [order[i : i + 4] for i in range(0, len(order), 4)]  # as a DataLoader batches
+    workers = [pickle.loads(pickle.dumps(windows)) for _ in range(2)]  # each its own copy
+    seen = [
+        (int(w["run"]), int(w["start"]))
+        for b, batch in enumerate(batches)
+        for w in map(workers[b % 2].__getitem__, batch)  # batches to the workers in turn
+    ]
+    assert sorted(seen) == expected and len(seen) == len(set(seen))

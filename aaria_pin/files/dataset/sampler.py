@@ -1,8 +1,8 @@
 """A shuffled order of a data set's windows that reads each run once an epoch: blocks of runs.
 
 A uniformly shuffled epoch takes windows of random runs one after the other: each window
-decompresses its run's chunk again (a run is one HDF5 chunk), so it read about 690 windows/s
-against 7,000/s in run order (200-sample windows of ``senSen`` and ``tau``, below).
+decompresses its run's chunk again (a run is one HDF5 chunk), so it read about 8 % as many
+windows a second as reading in run order (figures below).
 :class:`RunBlockSampler` shuffles at the run level and within blocks: each epoch it puts the
 runs in a random order, cuts that order into blocks of ``runs_per_block`` runs, and gives the
 windows of each block in a random order, block after block. With a
@@ -18,11 +18,12 @@ consecutive windows come from the same run with probability ``(W - 1) / (G·W - 
 runs (of about ``min(B, R)`` when uniform). A larger block is closer to uniform and needs a
 larger cache (G whole runs in memory per process).
 
-Measured (``python benchmarks/bench_windows.py``: 40 runs of 10 s at 200 Hz made by ``aaria
-dataset -n 40 --duration 10 --rate 200``, 200-sample windows with stride 50, ``senSen`` and
-``tau``, one process, 2 shared cores): in run order 8,900 windows/s, uniform shuffle 1,500/s,
-this sampler (8 runs a block) 8,700/s, 98 % of in-order (each figure the median of 3 epochs;
-with the cache off, as before it existed: in order 7,000/s, uniform 690/s).
+Measured (``aaria dataset -n 40 --duration 10 --rate 200 -o ds40.h5``, then ``python
+benchmarks/bench_windows.py --dataset ds40.h5 --repeats 5``: 1,480 windows of 200 samples,
+stride 50, ``senSen`` and ``tau``, one process on 2 cores shared with other jobs, medians):
+in run order 5,500 windows/s, uniform shuffle 470/s (8.6 %), this sampler (8 runs a block)
+6,600/s (121 % of in order); with the read cache off, as before it existed, in order 5,200/s
+and uniform 470/s. A quieter run (3 repeats) gave 9,400, 770 and 9,500/s (101 %).
 
 It is an iterable of indices with a length, as PyTorch's ``DataLoader(ds, sampler=...)`` takes
 it (aaria_pin imports no torch); the order of an epoch is a function of ``(seed, epoch)`` alone:
