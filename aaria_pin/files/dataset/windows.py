@@ -13,6 +13,12 @@ Window ``i`` is found by arithmetic: every run has T samples, so every complete 
 has ``(T - length) // stride + 1`` windows, and ``i`` is window ``i % W`` of the split's run
 ``i // W``; nothing per window is kept, whatever their number.
 
+Names may be stored arrays, views or labels (:mod:`.labels`: ``link_types``, ``empty_mask``,
+computed from the stored DH table when a run is read). Normalisation is per name
+(:func:`normalised_names`: all but the labels, none, or some names, the others raw). Each process
+keeps the last few runs it read whole (:attr:`WindowDataset.cache_runs`), so a shuffled epoch
+ordered by :class:`~.sampler.RunBlockSampler` reads each run once.
+
 **Splits by run** (:func:`split_runs`): the runs, complete or not, are ordered by a key drawn
 for each run, run k's key being the k-th raw 64-bit output of NumPy's ``PCG64(seed)`` bit
 generator (a stream NumPy means to keep fixed across versions; ties, of odds about N² / 2⁶⁵,
