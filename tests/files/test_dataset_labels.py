@@ -70,3 +70,17 @@ def test_a_label_exists_only_with_its_source() -> None:
     assert available_labels(("q", "tau", "joint_table")) == ()
     assert set(available_labels(("senSenDH",))) == set(LABELS)
     assert label_sources(("imu", "link_types", "empty_mask", "senSenDH")) == ("imu", "senSenDH")
+
+
+@pytest.mark.parametrize("version", ["v0_1_0", "v0_3_0"])
+def test_labels_of_older_files_and_of_a_urdf_data_set(version: str) -> None:
+    fixtures = Path(__file__).resolve().parent.parent / "fixtures" / version
+    with h5py.File(fixtures / "dh_dataset.h5", "r") as handle:
+        codes = handle["senSenDH"][0, :6, 4]
+    with DatasetReader(fixtures / "dh_dataset.h5") as reader:
+        assert reader.labels(0)["link_types"].tolist() == [round(float(c)) for c in codes]
+    with DatasetReader(fixtures / "ur5_dataset.h5") as reader:  # a fixed structure: no labels
+        assert reader.label_names == ()
+        with pytest.raises(ParameterError) as caught:
+            reader.windows(5, names=("q", "link_types"))
+        assert caught.value.parameter == "names"
