@@ -23,6 +23,7 @@ ROOT = Path(__file__).resolve().parent.parent
         "bench_identify.py",
         "bench_identify_dynamics.py",
         "bench_forward.py",
+        "bench_windows.py",
     ],
 )
 def test_benchmark_smoke(script: str) -> None:

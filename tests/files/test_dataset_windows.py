@@ -384,3 +384,60 @@ def test_statistics_of_an_empty_split_are_refused_not_nan(dataset: Path) -> None
         with pytest.raises(ParameterError) as error:
             reader.statistics(("tau",), split="test", fractions=(0.5, 0.5, 0.0))
     assert error.value.parameter == "split" and "holds none" in str(error.value)
+
+
+def test_normalisation_per_field(dataset: Path, tmp_path: Path) -> None:
+    path = tmp_path / "ds.h5"
+    shutil.copyfile(dataset, path)
+    names = ("imu", "senSenDH", "tau", "link_types")
+    with DatasetReader(path) as reader:
+        reader.statistics(("imu",), store=True)  # only imu's: enough to normalise imu alone
+        train_runs = reader.split_runs("train")
+        windows = reader.windows(10, 7, names=names, normalise=("imu",))
+        assert windows.statistics is not None and set(windows.statistics) == {"imu"}
+        as_string = reader.windows(10, 7, names=names, normalise="imu")
+        everything = reader.windows(10, 7, names=("imu", "link_types"), normalise=True)
+        raw = reader.windows(10, 7, names=names, normalise=False)
+        with pytest.raises(InputFileError, match="'tau'") as missing:
+            reader.windows(10, names=names, normalise=("imu", "tau"))
+        assert "\n" not in str(missing.value)
+        for bad in (("q",), ("link_types",), ("imu", "nope")):
+            with pytest.raises(ParameterError) as caught:
+                reader.windows(10, names=names, normalise=bad)
+            assert caught.value.parameter == "normalise"
+    with h5py.File(path, "r") as handle:
+        imu = np.stack([handle["imu"][k] for k in train_runs]).astype(np.float64)
+        mean, std = imu.reshape(-1, *imu.shape[2:]).mean(0), imu.reshape(-1, *imu.shape[2:]).std(0)
+        for i in range(0, len(windows), 5):
+            k, s = windows.locate(i)
+            window, raw_window = windows[i], raw[i]
+            stored = handle["imu"][k, s : s + 10].astype(np.float64)
+            expected = (stored - mean) / np.where(std > 0, std, 1.0)
+            np.testing.assert_allclose(window["imu"], expected, rtol=1e-5, atol=1e-5)
+            np.testing.assert_array_equal(as_string[i]["imu"], window["imu"])
+            np.testing.assert_array_equal(everything[i]["imu"], window["imu"])
+            np.testing.assert_array_equal(window["tau"], handle["tau"][k, s : s + 10])  # raw
+            np.testing.assert_array_equal(window["senSenDH"], handle["senSenDH"][k])
+            np.testing.assert_array_equal(raw_window["imu"], handle["imu"][k, s : s + 10])
+            assert window["link_types"].dtype == np.int64  # a label: never normalised
+    assert "normalised=('imu',)" in repr(windows)
+
+
+def test_read_cache_gives_the_stored_numbers(dataset: Path) -> None:
+    with DatasetReader(dataset) as reader:
+        cached = reader.windows(10, 3, names=("senSen", "tau", "imu_mount"))
+        direct = reader.windows(10, 3, names=("senSen", "tau", "imu_mount"))
+    direct.cache_runs = 0
+    cached.cache_runs = 2
+    order = np.random.default_rng(4).permutation(len(cached))
+    for i in order[:60].tolist():
+        window = cached[i]
+        for name in ("senSen", "tau", "imu_mount"):
+            np.testing.assert_array_equal(window[name], direct[i][name])
+        window["tau"][:] = 1e9  # a window changed in place leaves the cached run as stored
+        window["imu_mount"][:] = 1e9
+        np.testing.assert_array_equal(cached[i]["tau"], direct[i]["tau"])
+        np.testing.assert_array_equal(cached[i]["imu_mount"], direct[i]["imu_mount"])
+    assert len(cached._cache) <= 2
+    copy = pickle.loads(pickle.dumps(cached))
+    assert len(copy._cache) == 0 and copy.cache_runs == 2

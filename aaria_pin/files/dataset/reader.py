@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import copy
 import os
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -36,6 +36,7 @@ from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, ParameterError
 from aaria_pin.files._stored import decode_attributes, first_line
 from aaria_pin.files.dataset.header import DatasetHeader
+from aaria_pin.files.dataset.labels import available_labels, derive_labels, label_sources
 from aaria_pin.files.dataset.layout import (
     DATASET_FORMAT,
     DATASET_FORMAT_VERSION,
@@ -46,10 +47,10 @@ from aaria_pin.files.dataset.layout import (
 from aaria_pin.files.dataset.legacy_datasets import LEGACY_VERSION, legacy_names, legacy_record
 from aaria_pin.files.dataset.manifest import missing_shards
 from aaria_pin.files.dataset.statistics import (
-    channel_statistics,
+    names_statistics,
     read_statistics,
     store_statistics,
-    view_statistics,
+    training_statistics,
 )
 from aaria_pin.files.dataset.verify import READ_ERRORS, check_arrays, run_check
 from aaria_pin.files.dataset.windows import (
@@ -57,7 +58,9 @@ from aaria_pin.files.dataset.windows import (
     WindowCut,
     WindowDataset,
     WindowSplit,
+    check_cut,
     check_fractions,
+    normalised_names,
     split_runs,
     view_sources,
 )
@@ -305,19 +308,40 @@ class DatasetReader:
         """The stored per-run arrays without a time axis."""
         return frozenset(self.names) - set(self.series_names)
 
-    def _chosen_names(self, names: Sequence[str] | None) -> tuple[str, ...]:
+    @property
+    def label_names(self) -> tuple[str, ...]:
+        """The labels this file's stored arrays give (:mod:`.labels`: ``link_types``, …)."""
+        return available_labels(self.stored_names)
+
+    def labels(self, index: int, names: Sequence[str] | None = None) -> dict[str, Array]:
+        """Labels of one complete run (by default every one of :attr:`label_names`).
+
+        Raises:
+            ParameterError: index out of range, a run that is not complete, or an unknown label.
+            InputFileError: the run's source arrays are damaged or not finite (see :meth:`run`).
+        """
+        chosen = self.label_names if names is None else tuple(names)
+        unknown = [name for name in chosen if name not in self.label_names]
+        if unknown:
+            raise ParameterError(
+                parameter="names", value=unknown[0], allowed=", ".join(self.label_names)
+            )
+        return derive_labels(chosen, self.run(index, label_sources(chosen)))
+
+    def _chosen_names(self, names: Sequence[str] | None, labels: bool = False) -> tuple[str, ...]:
         """Names to read, checked (default: the first view, ``senSen`` or ``signals``)."""
         if names is None:
             first = next(iter(self.layout.views)) if self.layout is not None else self.names[0]
             return (first,)
         if isinstance(names, str):
             names = (names,)
-        unknown = [name for name in names if name not in self.names]
+        known = (*self.names, *self.label_names) if labels else self.names
+        unknown = [name for name in names if name not in known]
         if unknown or not names:
             raise ParameterError(
                 parameter="names",
                 value=unknown[0] if unknown else ",".join(names),
-                allowed=", ".join(self.names),
+                allowed=", ".join(known),
             )
         return tuple(names)
 
@@ -350,7 +374,7 @@ class DatasetReader:
         split: str | None = None,
         seed: int = 0,
         fractions: Sequence[float] = DEFAULT_FRACTIONS,
-        normalise: bool = False,
+        normalise: bool | Collection[str] = False,
     ) -> WindowDataset:
         """Fixed-length windows over the complete runs (of one split), as a map-style dataset.
 
@@ -362,32 +386,33 @@ class DatasetReader:
         Args:
             length: samples per window
             stride: samples between window starts (default ``length``: no overlap)
-            names: arrays or views (``senSen``, ``signals``, ``imu``, ``q``, ``tau``,
-                ``base_wrench``, …; default the first view, ``senSen`` or ``signals``); a
-                series is cut along time, a per-run constant (``senSenDH``, ``imu_mount``, …)
-                comes whole
+            names: arrays, views or labels (``senSen``, ``signals``, ``imu``, ``q``, ``tau``,
+                ``base_wrench``, ``link_types``, …; default the first view, ``senSen`` or
+                ``signals``); a series is cut along time, a per-run constant (``senSenDH``,
+                ``imu_mount``, a label of :attr:`label_names`) comes whole
             split: ``"train"``, ``"validation"``, ``"test"``, or None for every complete run
             seed: the split's seed
             fractions: of the runs in the training, validation and test splits
-            normalise: subtract the mean and divide by the std (a channel of std 0 only
-                centred) stored for the training split of the same seed and fractions (see
-                :meth:`statistics`)
+            normalise: which names to normalise, the others raw: True (every name but the
+                labels), False, or some of the names (``("imu",)``); each is centred on the
+                mean and divided by the std (a channel of std 0 only centred) stored for the
+                training split of the same seed and fractions (see :meth:`statistics`)
 
         Raises:
             ParameterError: a length outside [1, T], a stride below 1, an unknown name or
-                split, a negative seed or bad fractions.
-            InputFileError: ``normalise`` without such stored statistics for every name.
+                split, a negative seed, bad fractions, or a name to normalise not among the
+                names (or a label).
+            InputFileError: no such stored statistics for a name to normalise (named).
         """
-        stride = length if stride is None else stride
-        if not 1 <= length <= self.samples:
-            raise ParameterError(
-                parameter="length", value=length, allowed=f"1 to {self.samples} (samples per run)"
-            )
-        if stride < 1:
-            raise ParameterError(parameter="stride", value=stride, allowed="an integer >= 1")
-        chosen = self._chosen_names(names)
+        stride = check_cut(length, stride, self.samples)
+        chosen = self._chosen_names(names, labels=True)
         runs = self.split_runs(split, seed, fractions)
-        statistics = self._normalisation(chosen, seed, fractions) if normalise else None
+        scaled = normalised_names(normalise, chosen)
+        statistics = (
+            training_statistics(self._handle, self.path, scaled, seed, fractions)
+            if scaled
+            else None
+        )
         cut = WindowCut(length, stride, chosen, self._views, self._constants, self.samples)
         return WindowDataset(
             self.path,
@@ -438,16 +463,12 @@ class DatasetReader:
                 allowed=f"a split holding a complete run (this one holds none of {len(self)}"
                 " with these fractions and seed)",
             )
-        views = {name: self._views[name] for name in chosen if name in self._views}
-        sources = view_sources(chosen, views)
-        constants = self._constants
-        stored = channel_statistics(
-            self._handle, sources, [name not in constants for name in sources], runs, self._check
+        computed = names_statistics(
+            self._handle,
+            WindowCut(1, 1, chosen, self._views, self._constants, 1),
+            runs,
+            self._check,
         )
-        computed = {
-            name: view_statistics(views[name], stored) if name in views else stored[name]
-            for name in chosen
-        }
         if store:
             import h5py
 
@@ -465,28 +486,6 @@ class DatasetReader:
             InputFileError: none stored for that split.
         """
         return read_statistics(self._handle, split, self.path)[0]
-
-    def _normalisation(
-        self, names: Sequence[str], seed: int, fractions: Sequence[float]
-    ) -> dict[str, tuple[Array, Array]]:
-        """Stored training statistics of the names, checked to be of the same split."""
-        values, attributes = read_statistics(self._handle, "train", self.path)
-        wanted = (int(seed), tuple(float(f) for f in check_fractions(fractions)))
-        if (attributes["seed"], attributes["fractions"]) != wanted:
-            raise InputFileError(
-                f"{self.path}: statistics stored for split seed {attributes['seed']}, fractions "
-                f"{attributes['fractions']}; allowed: those of the windows (seed {wanted[0]}, "
-                f"fractions {wanted[1]}): store them again with these",
-                parameter="normalise",
-            )
-        missing = [name for name in names if name not in values]
-        if missing:
-            raise InputFileError(
-                f"{self.path}: no training statistics stored for {missing[0]!r}; allowed: "
-                f"{', '.join(values)} (store them with DatasetReader.statistics)",
-                parameter="normalise",
-            )
-        return {name: values[name] for name in names}
 
     def close(self) -> None:
         """Close the file."""

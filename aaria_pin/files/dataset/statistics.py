@@ -38,14 +38,17 @@ from aaria_pin.files._space import (
     spare_room,
 )
 from aaria_pin.files.dataset.verify import RunCheck
+from aaria_pin.files.dataset.windows import WindowCut, check_fractions, view_sources
 from aaria_pin.files.paths import write_failure
 
 __all__ = [
     "BLOCK_BYTES",
     "STATISTICS_GROUP",
     "channel_statistics",
+    "names_statistics",
     "read_statistics",
     "store_statistics",
+    "training_statistics",
     "view_statistics",
 ]
 
@@ -141,6 +144,28 @@ def view_statistics(
     mean = np.array([statistics[s.array][0][s.index] for s in view.sources], dtype=np.float64)
     std = np.array([statistics[s.array][1][s.index] for s in view.sources], dtype=np.float64)
     return mean, std, statistics[view.sources[0].array][2]
+
+
+def names_statistics(
+    handle: Any, cut: WindowCut, runs: np.ndarray, check: RunCheck | None = None
+) -> dict[str, tuple[np.ndarray, np.ndarray, int]]:
+    """Per-channel mean, std and count of arrays and views over some runs (see the module).
+
+    Args:
+        handle: the open h5py file of the data set
+        cut: the names, the file's views and its per-run constants (length, stride and samples
+            unused)
+        runs: the runs, increasing (complete ones)
+        check: how each run's array is read and checked (see :func:`channel_statistics`)
+    """
+    views = {name: cut.views[name] for name in cut.names if name in cut.views}
+    sources = view_sources(cut.names, views)
+    series = [name not in cut.constants for name in sources]
+    stored = channel_statistics(handle, sources, series, runs, check)
+    return {
+        name: view_statistics(views[name], stored) if name in views else stored[name]
+        for name in cut.names
+    }
 
 
 def _split_group(split: str | None) -> str:
@@ -270,3 +295,45 @@ def read_statistics(
     }
     values = {name: (entry["mean"][()], entry["std"][()]) for name, entry in group.items()}
     return values, attributes
+
+
+def training_statistics(
+    handle: Any,
+    path: str | os.PathLike[str],
+    names: Sequence[str],
+    seed: int,
+    fractions: Sequence[float],
+) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Stored training statistics of some names, checked to be of the windows' split.
+
+    Args:
+        handle: the open h5py file of the data set
+        path: the file, for messages
+        names: the names to normalise (only these need stored statistics)
+        seed: the windows' split seed
+        fractions: the windows' split fractions
+
+    Returns:
+        ``{name: (mean, std)}`` of the names.
+
+    Raises:
+        InputFileError: no training statistics stored, stored for another seed or fractions,
+            or none stored for one of the names (named).
+    """
+    values, attributes = read_statistics(handle, "train", path)
+    wanted = (int(seed), tuple(float(f) for f in check_fractions(fractions)))
+    if (attributes["seed"], attributes["fractions"]) != wanted:
+        raise InputFileError(
+            f"{path}: statistics stored for split seed {attributes['seed']}, fractions "
+            f"{attributes['fractions']}; allowed: those of the windows (seed {wanted[0]}, "
+            f"fractions {wanted[1]}): store them again with these",
+            parameter="normalise",
+        )
+    missing = [name for name in names if name not in values]
+    if missing:
+        raise InputFileError(
+            f"{path}: no training statistics stored for {missing[0]!r}; allowed: "
+            f"{', '.join(values)} (store them with DatasetReader.statistics)",
+            parameter="normalise",
+        )
+    return {name: values[name] for name in names}

@@ -13,6 +13,12 @@ Window ``i`` is found by arithmetic: every run has T samples, so every complete 
 has ``(T - length) // stride + 1`` windows, and ``i`` is window ``i % W`` of the split's run
 ``i // W``; nothing per window is kept, whatever their number.
 
+Names may be stored arrays, views or labels (:mod:`.labels`: ``link_types``, ``empty_mask``,
+computed from the stored DH table when a run is read). Normalisation is per name
+(:func:`normalised_names`: all but the labels, none, or some names, the others raw). Each process
+keeps the last few runs it read whole (:attr:`WindowDataset.cache_runs`), so a shuffled epoch
+ordered by :class:`~.sampler.RunBlockSampler` reads each run once.
+
 **Splits by run** (:func:`split_runs`): the runs, complete or not, are ordered by a key drawn
 for each run, run k's key being the k-th raw 64-bit output of NumPy's ``PCG64(seed)`` bit
 generator (a stream NumPy means to keep fixed across versions; ties, of odds about N² / 2⁶⁵,
@@ -27,6 +33,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections import OrderedDict
 from collections.abc import Collection, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -36,16 +43,20 @@ import numpy as np
 
 from aaria_pin.core.record import ColumnView
 from aaria_pin.errors import ParameterError
+from aaria_pin.files.dataset.labels import LABELS, derive_labels, label_sources
 from aaria_pin.files.dataset.verify import RunCheck
 
 __all__ = [
+    "DEFAULT_CACHE_RUNS",
     "DEFAULT_FRACTIONS",
     "SPLITS",
     "WindowCut",
     "WindowDataset",
     "WindowSplit",
+    "check_cut",
     "check_fractions",
     "normalised",
+    "normalised_names",
     "split_runs",
     "view_sources",
 ]
@@ -54,6 +65,9 @@ SPLITS = ("train", "validation", "test")
 """The splits by run, in the order of their fractions."""
 DEFAULT_FRACTIONS = (0.8, 0.1, 0.1)
 """Fractions of the runs in the training, validation and test splits."""
+
+DEFAULT_CACHE_RUNS = 8
+"""Whole runs a :class:`WindowDataset` keeps read in each process (the latest used)."""
 
 Statistics = Mapping[str, tuple[np.ndarray, np.ndarray]]
 """Per-channel statistics by array name: ``(mean, std)``, each of the channel shape."""
@@ -77,6 +91,22 @@ def check_fractions(fractions: Sequence[float]) -> tuple[float, float, float]:
             allowed="three fractions (train, validation, test) in [0, 1] summing to 1",
         )
     return values[0], values[1], values[2]
+
+
+def check_cut(length: int, stride: int | None, samples: int) -> int:
+    """Check a window length and stride against the samples per run; the stride (default length).
+
+    Raises:
+        ParameterError: a length outside [1, samples], a stride below 1.
+    """
+    stride = length if stride is None else stride
+    if not 1 <= length <= samples:
+        raise ParameterError(
+            parameter="length", value=length, allowed=f"1 to {samples} (samples per run)"
+        )
+    if stride < 1:
+        raise ParameterError(parameter="stride", value=stride, allowed="an integer >= 1")
+    return stride
 
 
 def split_runs(
@@ -118,6 +148,31 @@ def normalised(array: np.ndarray, mean: np.ndarray, std: np.ndarray) -> np.ndarr
     dtype = array.dtype if np.issubdtype(array.dtype, np.floating) else np.dtype(np.float64)
     scale = np.where(std > 0.0, std, 1.0)
     return ((array - mean) / scale).astype(dtype, copy=False)
+
+
+def normalised_names(normalise: bool | Collection[str], names: Sequence[str]) -> tuple[str, ...]:
+    """The names of some windows to normalise, in their order.
+
+    Args:
+        normalise: True: every name but the labels (:mod:`.labels`, never normalised); False:
+            none; a collection of names (a single name as a string): those
+        names: the windows' names
+
+    Raises:
+        ParameterError: a name to normalise that is not among the names, or is a label.
+    """
+    if isinstance(normalise, bool):
+        return tuple(name for name in names if name not in LABELS) if normalise else ()
+    wanted = (normalise,) if isinstance(normalise, str) else tuple(normalise)
+    bad = [name for name in wanted if name not in names or name in LABELS]
+    if bad:
+        allowed = [name for name in names if name not in LABELS]
+        raise ParameterError(
+            parameter="normalise",
+            value=bad[0],
+            allowed=f"True, False or names of the windows, labels apart ({', '.join(allowed)})",
+        )
+    return tuple(name for name in names if name in wanted)
 
 
 def view_sources(names: Sequence[str], views: Mapping[str, ColumnView]) -> tuple[str, ...]:
@@ -182,9 +237,16 @@ class WindowDataset:
     <aaria_pin.files.dataset.reader.DatasetReader.windows>`, which checks the arguments.
 
     ``ds[i]`` is a dict: each name's window (``length × …`` of a time series, the whole per-run
-    array of a constant one such as ``senSenDH`` or ``imu_mount``), plus ``run`` and ``start``
-    (0-d int64 arrays: the run and the window's first sample). Iterating gives the same windows
-    in the same order as ``(run, start, {name: window})``, reading each run once.
+    array of a constant one such as ``senSenDH`` or ``imu_mount``, or of a label such as
+    ``link_types``, see :mod:`.labels`), plus ``run`` and ``start`` (0-d int64 arrays: the run
+    and the window's first sample). Iterating gives the same windows in the same order as
+    ``(run, start, {name: window})``, reading each run once.
+
+    **Read cache**: each process keeps the stored arrays of the last :attr:`cache_runs` runs it
+    read, whole (a run is one HDF5 chunk: reading one window decompresses the whole run anyway),
+    and cuts windows from them in memory; ``ds.cache_runs = 0`` reads each window from the file.
+    A shuffled epoch reads each run once when consecutive windows come from a few runs at a
+    time: :class:`~.sampler.RunBlockSampler` orders them so (its docstring has the figures).
 
     A view of a version 2 file (``senSen``, ``signals``) is put together from its series'
     windows (:meth:`ColumnView.materialise <aaria_pin.core.record.ColumnView.materialise>`),
@@ -198,7 +260,8 @@ class WindowDataset:
         cut: how the runs are cut (window length, stride, names; the file's views, constants
             and samples per run)
         split: the runs to cut and the split they are
-        statistics: per-channel ``(mean, std)`` by name to normalise with, or None
+        statistics: per-channel ``(mean, std)`` of the names to normalise (the others raw), or
+            None
         check: how runs are checked as they are read (:class:`~.verify.RunCheck`: each run's
             arrays read whole, finite and verified against their checksums once per process);
             None reads them as stored, errors made one line
@@ -206,6 +269,7 @@ class WindowDataset:
     Attributes:
         path, length, stride, names, runs, split, seed, fractions, statistics: as given
         windows_per_run: windows of one run W
+        cache_runs: whole runs kept read in each process (default :data:`DEFAULT_CACHE_RUNS`)
     """
 
     def __init__(
@@ -221,7 +285,7 @@ class WindowDataset:
         self.stride = int(cut.stride)
         self.names = tuple(cut.names)
         self._views = {name: cut.views[name] for name in self.names if name in cut.views}
-        self._sources = view_sources(self.names, self._views)
+        self._sources = view_sources(label_sources(self.names), self._views)
         self._constant = tuple(name in cut.constants for name in self._sources)
         self.samples = int(cut.samples)
         self.runs = np.asarray(split.runs, dtype=np.int64)
@@ -234,6 +298,8 @@ class WindowDataset:
         self._handle: Any = None
         self._datasets: list[Any] = []
         self._pid = -1
+        self.cache_runs = DEFAULT_CACHE_RUNS
+        self._cache: OrderedDict[int, dict[str, np.ndarray]] = OrderedDict()
 
     def __len__(self) -> int:
         return len(self.runs) * self.windows_per_run
@@ -263,20 +329,43 @@ class WindowDataset:
 
     def _read(self, run: int, samples: slice) -> dict[str, np.ndarray]:
         """The names' arrays of one run over some samples (constants whole), normalised."""
-        stored = {
-            name: self._stored(dataset, name, run, samples if not constant else slice(None))
-            for name, constant, dataset in zip(
-                self._sources, self._constant, self._arrays(), strict=True
-            )
-        }
+        stored = self._run_arrays(run, samples)
+        labels = derive_labels(self.names, stored)
         items = {
-            name: self._views[name].materialise(stored) if name in self._views else stored[name]
+            name: labels[name]
+            if name in labels
+            else self._views[name].materialise(stored)
+            if name in self._views
+            else stored[name]
             for name in self.names
         }
-        if self.statistics is not None:
-            for name, array in items.items():
-                items[name] = normalised(array, *self.statistics[name])
+        for name, (mean, std) in (self.statistics or {}).items():
+            items[name] = normalised(items[name], mean, std)
         return items
+
+    def _run_arrays(self, run: int, samples: slice) -> dict[str, np.ndarray]:
+        """The stored arrays of one run over some samples (constants whole), from the cache."""
+        sources = zip(self._sources, self._constant, self._arrays(), strict=True)
+        if self.cache_runs < 1:
+            return {
+                name: self._stored(dataset, name, run, slice(None) if constant else samples)
+                for name, constant, dataset in sources
+            }
+        whole = self._cache.get(run)
+        if whole is None:
+            whole = {
+                name: self._stored(dataset, name, run, slice(None)) for name, _, dataset in sources
+            }
+            self._cache[run] = whole
+            while len(self._cache) > self.cache_runs:
+                self._cache.popitem(last=False)
+        else:
+            self._cache.move_to_end(run)
+        # copies: a caller changing a window in place must not change the cached run
+        return {
+            name: whole[name].copy() if constant else whole[name][samples].copy()
+            for name, constant in zip(self._sources, self._constant, strict=True)
+        }
 
     def _stored(self, dataset: Any, name: str, run: int, samples: slice) -> np.ndarray:
         """A stored array of a run over some samples; the run's whole array checked once.
@@ -299,6 +388,7 @@ class WindowDataset:
 
     def __iter__(self) -> Iterator[tuple[int, int, dict[str, np.ndarray]]]:
         constant = {name for name, c in zip(self._sources, self._constant, strict=True) if c}
+        constant.update(LABELS)
         for run in self.runs:
             arrays = self._read(int(run), slice(None))
             for start in range(0, self.windows_per_run * self.stride, self.stride):
@@ -317,15 +407,16 @@ class WindowDataset:
         if self._handle is not None and self._pid == os.getpid():
             self._handle.close()
         self._handle, self._datasets, self._pid = None, [], -1
+        self._cache.clear()
 
     def __getstate__(self) -> dict[str, Any]:
         state = dict(self.__dict__)
-        state.update(_handle=None, _datasets=[], _pid=-1)
+        state.update(_handle=None, _datasets=[], _pid=-1, _cache=OrderedDict())
         return state
 
     def __repr__(self) -> str:
         return (
             f"WindowDataset({str(self.path)!r}, length={self.length}, stride={self.stride}, "
             f"names={self.names}, split={self.split!r}, runs={len(self.runs)}, "
-            f"windows={len(self)}, normalised={self.statistics is not None})"
+            f"windows={len(self)}, normalised={tuple(self.statistics or ())})"
         )
