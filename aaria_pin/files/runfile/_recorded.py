@@ -122,7 +122,8 @@ def refuse_recorded(file: str | os.PathLike[str]) -> InputFileError:
     """The one line a command that needs a simulated run (its truth, its model) says."""
     return InputFileError(f"{file} is a recorded run (measured signals only); allowed: a"
                           " simulated run (a recorded run: aaria info, aaria export, aaria"
-                          " identify FILE for an Aaria arm's DH table, aaria identify --rigid/--joint)",
+                          " identify FILE for an Aaria arm's DH table, aaria identify"
+                          " --rigid/--joint)",
                           parameter="file")  # fmt: skip
 
 
