@@ -229,9 +229,10 @@ class OnlineRuns:
         missing = [name for name in scaled if name not in (statistics or {})]
         if missing:
             raise ParameterError(
+                f"statistics has none of {missing[0]!r}; allowed: (mean, std) of every name to"
+                " normalise (OnlineRuns.statistics)",
                 parameter="statistics",
                 value=missing[0],
-                allowed="(mean, std) of every name to normalise (OnlineRuns.statistics)",
             )
         given = {name: (statistics or {})[name] for name in scaled}
         return OnlineWindows(
@@ -274,6 +275,7 @@ class OnlineWindows:
         self.stride = int(cut.stride)
         self.names = tuple(cut.names)
         self._views = {name: cut.views[name] for name in self.names if name in cut.views}
+        self._sources = view_sources(label_sources(self.names), self._views)
         self._constant = frozenset(cut.constants) | frozenset(LABELS)
         self.samples = int(cut.samples)
         self.runs = np.asarray(split.runs, dtype=np.int64)
@@ -320,11 +322,8 @@ class OnlineWindows:
         """The windows of worker ``worker`` of ``workers``'s runs, each run simulated once."""
         for run in self.worker_runs(worker, workers).tolist():
             stored = self.source.simulate(run)
-            sources = label_sources(self.names)
-            needed = view_sources(sources, self._views)
-            items = run_items(
-                self.names, self._views, {n: stored[n] for n in needed}, self.statistics
-            )
+            needed = {name: stored[name] for name in self._sources}
+            items = run_items(self.names, self._views, needed, self.statistics)
             for start, window in cut_windows(
                 items, self._constant, self.length, self.stride, self.samples
             ):
