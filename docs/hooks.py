@@ -47,7 +47,7 @@ def on_config(config: Any) -> Any:
             pages.append({module: _api_path(module)})  # the front door, errors
         else:
             layers.setdefault(parts[1], []).append({module: _api_path(module)})
-    order = ("core", "files", "aaria", "apps", "viz")  # bottom up, as the architecture page
+    order = ("core", "files", "aaria", "apps", "ml", "viz")  # bottom up, as the architecture page
     ranked = sorted(layers, key=lambda name: (order.index(name) if name in order else 99, name))
     pages += [{f"aaria_pin.{layer}": layers[layer]} for layer in ranked]
     for index, entry in enumerate(config["nav"]):

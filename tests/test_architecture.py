@@ -1,6 +1,6 @@
 """The package's architecture as a contract: layers and no import cycle (import-linter), the README.
 
-The layers are ``cli > viz > apps > aaria > files > core`` (a layer imports only those below);
+The layers are ``cli > viz > ml > apps > aaria > files > core`` (a layer imports only those below);
 ``lint-imports`` checks the contracts written in ``pyproject.toml``. "No import cycle" is the
 ``acyclic_siblings`` contract over the whole package: at every depth, the children of a package
 (its modules and sub-packages, each taken whole) import one another without a cycle. The one
@@ -23,7 +23,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-LAYERS = ("cli", "viz", "apps", "aaria", "files", "core")
+LAYERS = ("cli", "viz", "ml", "apps", "aaria", "files", "core")
 CONFIG = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["importlinter"]
 
 

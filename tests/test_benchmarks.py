@@ -24,6 +24,7 @@ ROOT = Path(__file__).resolve().parent.parent
         "bench_identify_dynamics.py",
         "bench_forward.py",
         "bench_windows.py",
+        "bench_online.py",
     ],
 )
 def test_benchmark_smoke(script: str) -> None:

@@ -55,8 +55,10 @@ __all__ = [
     "WindowSplit",
     "check_cut",
     "check_fractions",
+    "cut_windows",
     "normalised",
     "normalised_names",
+    "run_items",
     "split_runs",
     "view_sources",
 ]
@@ -190,6 +192,59 @@ def view_sources(names: Sequence[str], views: Mapping[str, ColumnView]) -> tuple
         else:
             needed[name] = None
     return tuple(needed)
+
+
+def run_items(
+    names: Sequence[str],
+    views: Mapping[str, ColumnView],
+    stored: Mapping[str, np.ndarray],
+    statistics: Statistics | None = None,
+) -> dict[str, np.ndarray]:
+    """The names' arrays of one run from its stored arrays: labels, views, normalisation.
+
+    Args:
+        names: arrays, views or labels
+        views: the views among the names, by name (put together from their series)
+        stored: the run's stored arrays by name (over some samples; constants whole), the
+            names' sources among them (:func:`view_sources` of :func:`~.labels.label_sources`)
+        statistics: per-channel ``(mean, std)`` of the names to normalise, or None
+    """
+    labels = derive_labels(names, stored)
+    items = {
+        name: labels[name]
+        if name in labels
+        else views[name].materialise(stored)
+        if name in views
+        else stored[name]
+        for name in names
+    }
+    for name, (mean, std) in (statistics or {}).items():
+        items[name] = normalised(items[name], mean, std)
+    return items
+
+
+def cut_windows(
+    items: Mapping[str, np.ndarray],
+    constant: Collection[str],
+    length: int,
+    stride: int,
+    samples: int,
+) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
+    """The windows of one whole run, in order: ``(start, {name: window})``.
+
+    Args:
+        items: the run's arrays by name (:func:`run_items` of the whole run)
+        constant: the names without a time axis (per-run constants, labels): given whole
+        length: samples per window
+        stride: samples between window starts
+        samples: samples of the run T (``(T - length) // stride + 1`` windows)
+    """
+    for start in range(0, (samples - length) // stride * stride + 1, stride):
+        window = slice(start, start + length)
+        yield (
+            start,
+            {name: array if name in constant else array[window] for name, array in items.items()},
+        )
 
 
 @dataclass(frozen=True)
@@ -329,19 +384,7 @@ class WindowDataset:
 
     def _read(self, run: int, samples: slice) -> dict[str, np.ndarray]:
         """The names' arrays of one run over some samples (constants whole), normalised."""
-        stored = self._run_arrays(run, samples)
-        labels = derive_labels(self.names, stored)
-        items = {
-            name: labels[name]
-            if name in labels
-            else self._views[name].materialise(stored)
-            if name in self._views
-            else stored[name]
-            for name in self.names
-        }
-        for name, (mean, std) in (self.statistics or {}).items():
-            items[name] = normalised(items[name], mean, std)
-        return items
+        return run_items(self.names, self._views, self._run_arrays(run, samples), self.statistics)
 
     def _run_arrays(self, run: int, samples: slice) -> dict[str, np.ndarray]:
         """The stored arrays of one run over some samples (constants whole), from the cache."""
@@ -391,16 +434,9 @@ class WindowDataset:
         constant.update(LABELS)
         for run in self.runs:
             arrays = self._read(int(run), slice(None))
-            for start in range(0, self.windows_per_run * self.stride, self.stride):
-                window = slice(start, start + self.length)
-                yield (
-                    int(run),
-                    start,
-                    {
-                        name: array if name in constant else array[window]
-                        for name, array in arrays.items()
-                    },
-                )
+            cut = cut_windows(arrays, constant, self.length, self.stride, self.samples)
+            for start, window in cut:
+                yield int(run), start, window
 
     def close(self) -> None:
         """Close this process's handle on the file (the next read reopens it)."""
