@@ -56,7 +56,9 @@ def score(task: str, directory: Path, predictions: Path, as_json: bool) -> None:
     click.echo(json.dumps(result, indent=2) if as_json else "\n".join(score_lines(result)))
 
 
-@bench_task.command(epilog="\b\nExample:\n  aaria bench-task baseline structure structure/ -o id.npz")
+@bench_task.command(
+    epilog="\b\nExample:\n  aaria bench-task baseline structure structure/ -o id.npz"
+)
 @click.argument("task")
 @click.argument("directory", type=_FOLDER)
 @click.option("-o", "--output", type=_FILE, required=True, help="Predictions file (.npz).")

@@ -33,10 +33,12 @@ def test_written_predictions_read_back(tmp_path: Path) -> None:
         ({"run_3": np.zeros((5, 2)), "run_7": np.full((5, 2), np.inf)}, "run_7[0, 0] is inf"),
     ],
 )
-def test_bad_predictions_are_refused(tmp_path: Path, arrays: dict[str, np.ndarray], wanted: str) -> None:
+def test_bad_predictions_are_refused(
+    tmp_path: Path, arrays: dict[str, np.ndarray], wanted: str
+) -> None:
     path = tmp_path / "p.npz"
     np.savez(path, **arrays)
-    with pytest.raises(InputFileError, match="p.npz") as caught:
+    with pytest.raises(InputFileError, match=r"p\.npz") as caught:
         read_predictions(path, [3, 7], (5, 2))
     assert wanted in str(caught.value)
     assert caught.value.parameter == "file"

@@ -50,7 +50,8 @@ def test_the_card_names_the_splits_and_the_shrunk_spec(folders: dict[str, Path])
     assert card["inputs"] == ["q", "imu"]
     for split in ("train", "validation", "test"):
         assert card["splits"][split] == split_runs(3, split, 0, (0.6, 0.2, 0.2)).tolist()
-    assert sorted(sum((card["splits"][s] for s in ("train", "validation", "test")), [])) == [0, 1, 2]
+    runs = [k for s in ("train", "validation", "test") for k in card["splits"][s]]
+    assert sorted(runs) == [0, 1, 2]
     with DatasetReader(folders["structure"] / DATASET_NAME) as reader:
         assert len(reader) == 3 and reader.samples == 21
         assert reader.attributes["seed"] == 2701
@@ -79,10 +80,14 @@ def test_structure_truth_scores_perfectly_and_a_longer_tool_by_its_length(
     assert score["runs"] == len(truth)
 
 
-def test_structure_tool_tip_error_of_a_longer_tool(folders: dict[str, Path], tmp_path: Path) -> None:
+def test_structure_tool_tip_error_of_a_longer_tool(
+    folders: dict[str, Path], tmp_path: Path
+) -> None:
     truth = _truth(folders["structure"], "senSenDH")
-    longer = {run: table + np.where(np.arange(40).reshape(8, 5) == 31, 0.01, 0.0)
-              for run, table in truth.items()}  # fmt: skip  (row 7 = index 6, column a = 1)
+    longer = {
+        run: table + np.where(np.arange(40).reshape(8, 5) == 31, 0.01, 0.0)
+        for run, table in truth.items()
+    }  # fmt: skip  (row 7 = index 6, column a = 1)
     write_predictions(tmp_path / "longer.npz", longer)
     score = score_task("structure", folders["structure"], tmp_path / "longer.npz")
     assert score["tool_tip_rms_median_m"] == pytest.approx(0.01, rel=1e-6)
@@ -90,7 +95,9 @@ def test_structure_tool_tip_error_of_a_longer_tool(folders: dict[str, Path], tmp
     assert score["link_type_accuracy"] == 1.0
 
 
-def test_inverse_dynamics_truth_and_ten_percent_more(folders: dict[str, Path], tmp_path: Path) -> None:
+def test_inverse_dynamics_truth_and_ten_percent_more(
+    folders: dict[str, Path], tmp_path: Path
+) -> None:
     truth = _truth(folders["inverse-dynamics"], "tau")
     write_predictions(tmp_path / "true.npz", truth)
     score = score_task("inverse-dynamics", folders["inverse-dynamics"], tmp_path / "true.npz")

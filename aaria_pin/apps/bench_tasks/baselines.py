@@ -87,7 +87,9 @@ def _train_mean(dataset: Path, card: dict[str, Any], _workers: int) -> dict[int,
 
     target = card["target"]
     with DatasetReader(dataset) as reader:
-        train = [reader.run(int(k), [target])[target].astype(float) for k in card["splits"]["train"]]
+        train = [
+            reader.run(int(k), [target])[target].astype(float) for k in card["splits"]["train"]
+        ]
     mean = np.mean(np.concatenate(train), axis=0)
     shape = tuple(card["target_shape"])
     return {int(run): np.broadcast_to(mean, shape).copy() for run in card["splits"]["test"]}

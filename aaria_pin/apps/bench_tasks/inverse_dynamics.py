@@ -26,20 +26,22 @@ if TYPE_CHECKING:
 __all__ = ["InverseDynamicsTask"]
 
 
+_SPEC = TaskSpec(n_runs=200, seed=2702, duration=5.0, rate=100.0)
+"""The task's data set: N random arms, seed, run length [s], rate [Hz], noise."""
+
+
 @dataclass(frozen=True)
 class InverseDynamicsTask:
     """Task 2 (see the module docstring); its attributes as :class:`~.task.BenchTask`'s."""
 
     name: str = "inverse-dynamics"
     summary: str = "joint torques of unseen arms from their motion and structure"
-    spec: TaskSpec = TaskSpec(n_runs=200, seed=2702, duration=5.0, rate=100.0)
+    spec: TaskSpec = _SPEC
     inputs: tuple[str, ...] = ("q", "qd", "qdd", "base_pose", "senSenDH")
     target: str = "tau"
     metric: str = "relative RMS of the torques per run (RMS of error / RMS of truth): median, mean"
 
-    def score(
-        self, reader: DatasetReader, predictions: Mapping[int, np.ndarray]
-    ) -> dict[str, Any]:
+    def score(self, reader: DatasetReader, predictions: Mapping[int, np.ndarray]) -> dict[str, Any]:
         """Per-run relative RMS of the predicted torques, and its median, mean and largest."""
         values = {
             run: relative_rms(reader.run(run, [self.target])[self.target], predicted)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import os
 import zipfile
 from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -35,8 +36,9 @@ def write_predictions(path: str | os.PathLike[str], predictions: Mapping[int, np
     """
     from aaria_pin.files.paths import atomic_output
 
+    arrays: dict[str, Any] = {run_key(run): np.asarray(a) for run, a in sorted(predictions.items())}
     with atomic_output(path) as temporary, open(temporary, "wb") as stream:
-        np.savez(stream, **{run_key(run): np.asarray(a) for run, a in sorted(predictions.items())})
+        np.savez(stream, **arrays)
 
 
 def _refused(path: object, what: str, allowed: str) -> InputFileError:

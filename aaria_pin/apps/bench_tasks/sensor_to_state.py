@@ -27,20 +27,22 @@ _KINDS = {1: "revolute_rad", 2: "prismatic_m"}
 """Link type code → the key of its RMS per joint (empty modules, code 0, are not scored)."""
 
 
+_SPEC = TaskSpec(n_runs=200, seed=2703, duration=5.0, rate=100.0)
+"""The task's data set: N random arms, seed, run length [s], rate [Hz], noise."""
+
+
 @dataclass(frozen=True)
 class SensorToStateTask:
     """Task 3 (see the module docstring); its attributes as :class:`~.task.BenchTask`'s."""
 
     name: str = "sensor-to-state"
     summary: str = "joint values from the IMUs alone"
-    spec: TaskSpec = TaskSpec(n_runs=200, seed=2703, duration=5.0, rate=100.0)
+    spec: TaskSpec = _SPEC
     inputs: tuple[str, ...] = ("imu",)
     target: str = "q"
     metric: str = "RMS error per joint over the test runs, revolute [rad] and prismatic [m] apart"
 
-    def score(
-        self, reader: DatasetReader, predictions: Mapping[int, np.ndarray]
-    ) -> dict[str, Any]:
+    def score(self, reader: DatasetReader, predictions: Mapping[int, np.ndarray]) -> dict[str, Any]:
         """RMS error per joint, per joint kind (see the module docstring)."""
         runs = sorted(predictions)
         truths = [reader.run(run, [self.target])[self.target] for run in runs]

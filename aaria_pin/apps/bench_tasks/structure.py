@@ -28,13 +28,17 @@ if TYPE_CHECKING:
 __all__ = ["StructureTask"]
 
 
+_SPEC = TaskSpec(n_runs=100, seed=2701, duration=10.0, rate=100.0)
+"""The task's data set: N random arms, seed, run length [s], rate [Hz], noise."""
+
+
 @dataclass(frozen=True)
 class StructureTask:
     """Task 1 (see the module docstring); its attributes as :class:`~.task.BenchTask`'s."""
 
     name: str = "structure"
     summary: str = "link types and DH table of an unseen random arm from its encoders and IMUs"
-    spec: TaskSpec = TaskSpec(n_runs=100, seed=2701, duration=10.0, rate=100.0)
+    spec: TaskSpec = _SPEC
     inputs: tuple[str, ...] = ("q", "imu")
     target: str = "senSenDH"
     metric: str = (
@@ -42,9 +46,7 @@ class StructureTask:
         "predicted table over the run [m] (median, 95th percentile, share within 1 mm and 1 cm)"
     )
 
-    def score(
-        self, reader: DatasetReader, predictions: Mapping[int, np.ndarray]
-    ) -> dict[str, Any]:
+    def score(self, reader: DatasetReader, predictions: Mapping[int, np.ndarray]) -> dict[str, Any]:
         """Link-type accuracy and tool-tip error of the predicted tables (see the module)."""
         from aaria_pin.apps.identify.benchmark import WITHIN
         from aaria_pin.apps.identify.geometry_truth import truth_errors
@@ -67,7 +69,10 @@ class StructureTask:
             modules += errors.link_types_right
             arms.append(all(errors.link_types_right))
             rms.append(tip)
-            per_run[f"run_{run}"] = {"link_types_right": arms[-1], "tool_tip_rms_m": json_number(tip)}
+            per_run[f"run_{run}"] = {
+                "link_types_right": arms[-1],
+                "tool_tip_rms_m": json_number(tip),
+            }
         tips = np.asarray(rms)
         return {
             "runs": len(arms),

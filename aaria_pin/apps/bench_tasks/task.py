@@ -59,27 +59,39 @@ class TaskSpec:
 
 
 class BenchTask(Protocol):
-    """A benchmark task.
+    """A benchmark task: its read-only attributes below, and its scorer."""
 
-    Attributes:
-        name: its name on the command line (``structure``)
-        summary: one line
-        spec: its fixed data set
-        inputs: the fields a model reads (stored arrays, views or labels of the data set)
-        target: the stored per-run array it predicts (a prediction has its shape)
-        metric: the metric, in words
-    """
+    @property
+    def name(self) -> str:
+        """Its name on the command line (``structure``)."""
+        ...
 
-    name: str
-    summary: str
-    spec: TaskSpec
-    inputs: tuple[str, ...]
-    target: str
-    metric: str
+    @property
+    def summary(self) -> str:
+        """One line."""
+        ...
 
-    def score(
-        self, reader: DatasetReader, predictions: Mapping[int, np.ndarray]
-    ) -> dict[str, Any]:
+    @property
+    def spec(self) -> TaskSpec:
+        """Its fixed data set."""
+        ...
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        """The fields a model reads (stored arrays, views or labels of the data set)."""
+        ...
+
+    @property
+    def target(self) -> str:
+        """The stored per-run array it predicts (a prediction has its shape)."""
+        ...
+
+    @property
+    def metric(self) -> str:
+        """The metric, in words."""
+        ...
+
+    def score(self, reader: DatasetReader, predictions: Mapping[int, np.ndarray]) -> dict[str, Any]:
         """The metric of predictions of some runs (run index → the target's array).
 
         Args:
