@@ -62,7 +62,11 @@ def score(task: str, directory: Path, predictions: Path, as_json: bool) -> None:
 @click.argument("task")
 @click.argument("directory", type=_FOLDER)
 @click.option("-o", "--output", type=_FILE, required=True, help="Predictions file (.npz).")
-@click.option("--baseline", help="identify, nominal (structure); zero, train-mean; [the first].")
+@click.option(
+    "--baseline",
+    help="structure: identify, nominal; inverse-dynamics: zero, train-mean, rigid-body;"
+    " sensor-to-state: train-mean [the first].",
+)
 @click.option("--workers", type=click.IntRange(1, 1024), default=1, show_default=True,
               help="Processes (identify).")  # fmt: skip
 def baseline(task: str, directory: Path, output: Path, **settings: Any) -> None:

@@ -130,6 +130,11 @@ def test_baselines_give_the_floors(folders: dict[str, Path], tmp_path: Path) -> 
     assert score_task("inverse-dynamics", folders["inverse-dynamics"], zero)[
         "relative_rms_median"
     ] == pytest.approx(1.0)
+    physics = run_baseline(
+        "inverse-dynamics", folders["inverse-dynamics"], tmp_path / "r.npz", "rigid-body"
+    )  # the stored torques are the model's RNEA torques, to float32 storage
+    score = score_task("inverse-dynamics", folders["inverse-dynamics"], physics)
+    assert score["relative_rms_max"] < 1e-6
     folder = folders["sensor-to-state"]
     card = json.loads((folder / CARD_NAME).read_text())
     with DatasetReader(folder / DATASET_NAME) as reader:

@@ -6,8 +6,11 @@ Per task, by name (:data:`BASELINES`):
   :func:`~aaria_pin.apps.identify.geometry.identify_kinematics`, from the run's encoders and
   IMUs) of each test arm, its table as the prediction (an arm it refuses gets the ``nominal``
   table); ``nominal``, the ``aaria-fig2`` preset's table for every arm (a floor);
-- ``inverse-dynamics``: ``zero`` (no torque: relative RMS 1 exactly) and ``train-mean``, each
-  joint's mean torque over the training runs, at every sample;
+- ``inverse-dynamics``: ``zero`` (no torque: relative RMS 1 exactly), ``train-mean``, each
+  joint's mean torque over the training runs, at every sample, and ``rigid-body``, the physics:
+  the RNEA torques of each test arm's model as the data set rebuilds it from the run
+  (:func:`~aaria_pin.apps.record_model.record_model`, from the structure) along its joint
+  motion and its base table ``senSenB`` (a ceiling: the simulator's own model);
 - ``sensor-to-state``: ``train-mean``, each joint's mean value over the training runs.
 
 Each baseline reads the task's folder only (its card, and of its data set the training runs'
@@ -95,13 +98,38 @@ def _train_mean(dataset: Path, card: dict[str, Any], _workers: int) -> dict[int,
     return {int(run): np.broadcast_to(mean, shape).copy() for run in card["splits"]["test"]}
 
 
+def _rigid_body(dataset: Path, card: dict[str, Any], _workers: int) -> dict[int, np.ndarray]:
+    """The RNEA torques of each test arm's model along its motion (the physics, a ceiling)."""
+    from aaria_pin.apps.record_model import record_base, record_columns, record_model
+    from aaria_pin.apps.torques import torque_split
+    from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
+    from aaria_pin.files.dataset.reader import DatasetReader
+
+    predictions: dict[int, np.ndarray] = {}
+    with DatasetReader(dataset) as reader:
+        for run in (int(k) for k in card["splits"]["test"]):
+            record = reader.record(run)
+            base = record_base(record)
+            robot = record_model(record, moving_base=base is not None)
+            columns = record_columns(record, robot)
+            motion = [np.ascontiguousarray(np.asarray(getattr(record, name), float)[:, columns])
+                      for name in ("q", "qd", "qdd")]  # fmt: skip
+            time = np.asarray(record.time, dtype=float)
+            trajectory = JointTrajectory(time, *motion)
+            split = torque_split(robot, base or BaseMotion.resting(time.size), trajectory)
+            torques = np.zeros(card["target_shape"])
+            torques[:, columns] = sum(split.values())
+            predictions[run] = torques
+    return predictions
+
+
 def _zero(_dataset: Path, card: dict[str, Any], _workers: int) -> dict[int, np.ndarray]:
     return {int(run): np.zeros(card["target_shape"]) for run in card["splits"]["test"]}
 
 
 BASELINES: Mapping[str, Mapping[str, Baseline]] = {
     "structure": {"identify": _identify, "nominal": _nominal},
-    "inverse-dynamics": {"zero": _zero, "train-mean": _train_mean},
+    "inverse-dynamics": {"zero": _zero, "train-mean": _train_mean, "rigid-body": _rigid_body},
     "sensor-to-state": {"train-mean": _train_mean},
 }
 """Per task, its baselines by name (the module docstring says what each predicts)."""

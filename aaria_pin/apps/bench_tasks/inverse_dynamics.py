@@ -1,7 +1,8 @@
 """Task 2, ``inverse-dynamics``: the joint torques of unseen arms from their motion and structure.
 
 Inputs: the joint values, rates and accelerations ``q``, ``qd``, ``qdd``, the base's pose
-``base_pose`` (it moves: its motion enters the dynamics) and the structure ``senSenDH``;
+``base_pose`` and its motion as the base oscillation table ``senSenB`` (it moves: its motion
+enters the dynamics), and the structure ``senSenDH``;
 target: the joint torques ``tau`` (``T × 6``, N·m, or N for a prismatic joint; zeros in an
 empty module's column). The score is per run the relative RMS error (the RMS of the error over
 the RMS of the true torques, over every sample and joint), its median, mean and largest over
@@ -37,7 +38,7 @@ class InverseDynamicsTask:
     name: str = "inverse-dynamics"
     summary: str = "joint torques of unseen arms from their motion and structure"
     spec: TaskSpec = _SPEC
-    inputs: tuple[str, ...] = ("q", "qd", "qdd", "base_pose", "senSenDH")
+    inputs: tuple[str, ...] = ("q", "qd", "qdd", "base_pose", "senSenB", "senSenDH")
     target: str = "tau"
     metric: str = "relative RMS of the torques per run (RMS of error / RMS of truth): median, mean"
 
