@@ -143,8 +143,8 @@ def _register() -> None:
     from importlib import import_module
 
     names = {"stats": "dataset_stats", "import": "import_"}  # not the module's name
-    for module in ("arm check dataset export identify import info mjcf plot render robots simulate"
-                   " stats template torques urdf view wrist").split():  # fmt: skip
+    for module in ("arm bench_task check dataset export identify import info mjcf plot render"
+                   " robots simulate stats template torques urdf view wrist").split():  # fmt: skip
         command = getattr(import_module(f"aaria_pin.cli.{module}_cmd"), names.get(module, module))
         main.add_command(command)
 

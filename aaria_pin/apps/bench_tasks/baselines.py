@@ -1,0 +1,170 @@
+"""The baselines of the benchmark tasks: predictions of the test runs written as a task wants.
+
+Per task, by name (:data:`BASELINES`):
+
+- ``structure``: ``identify``, the classical identification (``aaria identify``'s
+  :func:`~aaria_pin.apps.identify.geometry.identify_kinematics`, from the run's encoders and
+  IMUs) of each test arm, its table as the prediction (an arm it refuses gets the ``nominal``
+  table); ``nominal``, the ``aaria-fig2`` preset's table for every arm (a floor);
+- ``inverse-dynamics``: ``zero`` (no torque: relative RMS 1 exactly), ``train-mean``, each
+  joint's mean torque over the training runs, at every sample, and ``rigid-body``, the physics:
+  the RNEA torques of each test arm's model as the data set rebuilds it from the run
+  (:func:`~aaria_pin.apps.record_model.record_model`, from the structure) along its joint
+  motion and its base table ``senSenB`` (a ceiling: the simulator's own model);
+- ``sensor-to-state``: ``train-mean``, each joint's mean value over the training runs.
+
+Each baseline reads the task's folder only (its card, and of its data set the training runs'
+targets or the test runs' inputs), never a test run's target.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from aaria_pin.apps.bench_tasks.card import task_card
+from aaria_pin.apps.bench_tasks.predictions import write_predictions
+
+__all__ = ["BASELINES", "Baseline", "run_baseline"]
+
+Baseline = Callable[[Path, dict[str, Any], int], dict[int, np.ndarray]]
+"""A baseline: (the data set, the task's card, worker processes) → run index → prediction."""
+
+_NOMINAL = "aaria-fig2"
+"""The preset whose table the ``nominal`` structure baseline predicts."""
+
+
+def _nominal_table() -> np.ndarray:
+    from aaria_pin.aaria.presets import get_preset
+
+    return np.array(get_preset(_NOMINAL).table, dtype=float)
+
+
+def _nominal(_dataset: Path, card: dict[str, Any], _workers: int) -> dict[int, np.ndarray]:
+    return {int(run): _nominal_table() for run in card["splits"]["test"]}
+
+
+def _identified_table(task: tuple[str, int]) -> np.ndarray:
+    """The identified table of one run (the nominal one when the identification refuses it)."""
+    from aaria_pin.apps.identify.geometry import identify_kinematics
+    from aaria_pin.errors import AariaError
+    from aaria_pin.files.dataset.reader import DatasetReader
+
+    path, run = task
+    with DatasetReader(path) as reader:
+        record = reader.record(run)
+    try:
+        return np.asarray(identify_kinematics(record, with_truth=False).table, dtype=float)
+    except AariaError:
+        return _nominal_table()
+
+
+def _in_pool(tasks: Sequence[tuple[str, int]], workers: int) -> Iterator[np.ndarray]:
+    """The identified tables in task order, in this process or a pool (fork on Linux)."""
+    if workers <= 1 or len(tasks) <= 1:
+        yield from map(_identified_table, tasks)
+        return
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    method = "fork" if sys.platform.startswith("linux") else "spawn"
+    context = multiprocessing.get_context(method)
+    with ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=context) as pool:
+        yield from pool.map(_identified_table, tasks)
+
+
+def _identify(dataset: Path, card: dict[str, Any], workers: int) -> dict[int, np.ndarray]:
+    runs = [int(run) for run in card["splits"]["test"]]
+    tables = _in_pool([(str(dataset), run) for run in runs], workers)
+    return dict(zip(runs, tables, strict=True))
+
+
+def _train_mean(dataset: Path, card: dict[str, Any], _workers: int) -> dict[int, np.ndarray]:
+    """Each column's mean of the target over the training runs, at every sample of a test run."""
+    from aaria_pin.files.dataset.reader import DatasetReader
+
+    target = card["target"]
+    with DatasetReader(dataset) as reader:
+        train = [
+            reader.run(int(k), [target])[target].astype(float) for k in card["splits"]["train"]
+        ]
+    mean = np.mean(np.concatenate(train), axis=0)
+    shape = tuple(card["target_shape"])
+    return {int(run): np.broadcast_to(mean, shape).copy() for run in card["splits"]["test"]}
+
+
+def _rigid_body(dataset: Path, card: dict[str, Any], _workers: int) -> dict[int, np.ndarray]:
+    """The RNEA torques of each test arm's model along its motion (the physics, a ceiling)."""
+    from aaria_pin.apps.record_model import record_base, record_columns, record_model
+    from aaria_pin.apps.torques import torque_split
+    from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
+    from aaria_pin.files.dataset.reader import DatasetReader
+
+    predictions: dict[int, np.ndarray] = {}
+    with DatasetReader(dataset) as reader:
+        for run in (int(k) for k in card["splits"]["test"]):
+            record = reader.record(run)
+            base = record_base(record)
+            robot = record_model(record, moving_base=base is not None)
+            columns = record_columns(record, robot)
+            motion = [np.ascontiguousarray(np.asarray(getattr(record, name), float)[:, columns])
+                      for name in ("q", "qd", "qdd")]  # fmt: skip
+            time = np.asarray(record.time, dtype=float)
+            trajectory = JointTrajectory(time, *motion)
+            split = torque_split(robot, base or BaseMotion.resting(time.size), trajectory)
+            torques = np.zeros(card["target_shape"])
+            torques[:, columns] = sum(split.values())
+            predictions[run] = torques
+    return predictions
+
+
+def _zero(_dataset: Path, card: dict[str, Any], _workers: int) -> dict[int, np.ndarray]:
+    return {int(run): np.zeros(card["target_shape"]) for run in card["splits"]["test"]}
+
+
+BASELINES: Mapping[str, Mapping[str, Baseline]] = {
+    "structure": {"identify": _identify, "nominal": _nominal},
+    "inverse-dynamics": {"zero": _zero, "train-mean": _train_mean, "rigid-body": _rigid_body},
+    "sensor-to-state": {"train-mean": _train_mean},
+}
+"""Per task, its baselines by name (the module docstring says what each predicts)."""
+
+
+def run_baseline(
+    name: str,
+    directory: str | os.PathLike[str],
+    output: str | os.PathLike[str],
+    baseline: str | None = None,
+    workers: int = 1,
+) -> Path:
+    """Write a baseline's predictions of a task's test runs as a predictions file.
+
+    Args:
+        name: the task
+        directory: the task's folder (``aaria bench-task make``)
+        output: the predictions file to write (``.npz``)
+        baseline: the baseline's name (None: the task's first, ``identify`` for ``structure``)
+        workers: processes (the ``identify`` baseline's arms in parallel)
+
+    Returns:
+        The predictions file's path.
+
+    Raises:
+        ParameterError: an unknown task or baseline, a folder of another task.
+        InputFileError: no card, a damaged data set.
+        OutputFileError: the output cannot be written.
+    """
+    from aaria_pin.errors import ParameterError
+
+    task, card = task_card(name, directory)
+    known = BASELINES[task.name]
+    chosen = next(iter(known)) if baseline is None else baseline
+    if chosen not in known:
+        raise ParameterError(parameter="baseline", value=chosen, allowed=", ".join(known))
+    write_predictions(output, known[chosen](Path(directory) / card["dataset"], card, workers))
+    return Path(output)
