@@ -326,7 +326,7 @@ def identify_dynamics(
     # checked, with one constant column per joint for its current offset (inertial_scale)
     scaled = n_signals - first if fitted.from_currents and wrench and with_friction else 0
     q = p + scaled
-    factors = [np.zeros((0, q + 1))] * n_signals  # each signal's [W | T | y] = Q·R
+    factors = [np.zeros((0, q + 1))] * n_signals  # each signal's [W | 1… | y] = Q·R
     for start, stop in chunk_bounds(n_train, chunk):
         A = np.zeros((stop - start, n_signals, q + 1))
         np.multiply(regressor(start, stop), weight[:, None], out=A[..., :p])
