@@ -21,6 +21,7 @@ import subprocess
 import tempfile
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -30,12 +31,12 @@ HARDWARE = (
 )
 
 
-def _fit(record: object, torques: object) -> tuple[np.ndarray, np.ndarray, list[str]]:
+def _fit(record: Any, torques: Any) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """Each joint's scale, its σ (NaN: not determined) and the joints called off."""
     from aaria_pin.apps.identify import identify_dynamics
     from aaria_pin.apps.identify.inertial_scale import scale_off
 
-    rows = identify_dynamics(record, torques=torques).to_json()["torque_scale"]  # type: ignore[arg-type]
+    rows = identify_dynamics(record, torques=torques).to_json()["torque_scale"]
     c = np.array([row["scale"] for row in rows])
     std = np.array([np.nan if row["std"] is None else row["std"] for row in rows])
     return c, std, [row["joint"] for row in scale_off(rows)]
