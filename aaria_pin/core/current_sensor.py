@@ -32,7 +32,13 @@ The defaults of :class:`~aaria_pin.core.joint_sensors.CurrentSensorModel`, each 
   may set (``scale_error``) and identification then sees as a wrong ``k_t``.
 
 Behind a gearbox of ratio 100 that is 3.6 N·m of joint torque per ampere and 0.068 N·m of
-noise; on a ball screw of 600 rad/m (10 mm per turn) 21.6 N/A and 0.41 N.
+noise; on a ball screw of 600 rad/m (2π/600 m = 10.5 mm per turn) 21.6 N/A and 0.41 N.
+
+These defaults suit a joint of up to about 9 N·m continuous behind a ratio of 100 (the motor's
+nominal 2.52 A; the ACS712-05B's range ±5 A is 18 N·m): a wrist of a UR5-sized arm. No range
+or clipping is modelled: a joint that needs more reads an unclipped current (ur5's shoulder
+lift needs about 15 A RMS, 21 A peak on a 6 s Fourier run), so give such joints their own
+motor's ``torque_constant`` (and sensor) per joint.
 
 The record keeps ``current_measured`` (T × n) [A], ``current_sensor_bias`` (1 × n) [A] and
 ``current_sensor_scale`` (1 × n) [1]. Identification multiplies the reading back by ``k_t·N``

@@ -19,6 +19,7 @@ from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any, Protocol, TypeVar
 
 import numpy as np
+from numpy.typing import NDArray
 
 from aaria_pin.errors import InputFileError, ParameterError
 
@@ -45,8 +46,8 @@ __all__ = [
     "select_joints",
 ]
 
-JointValue = float | Sequence[float]
-"""One value for every joint, or one per joint (record order)."""
+JointValue = float | Sequence[float] | NDArray[np.float64]
+"""One value for every joint, or one per joint (record order: a sequence or a 1-D array)."""
 
 
 @dataclass(frozen=True)

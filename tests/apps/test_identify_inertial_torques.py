@@ -130,8 +130,16 @@ def test_currents_without_a_torque_constant_are_one_line_naming_it(currents: Run
     assert info.value.parameter == "torque_constant"
 
 
+def test_a_torque_constant_per_joint_may_be_an_array(currents: RunRecord) -> None:
+    # a 1-D float array is one value per joint, as a list is (refused once by @checked)
+    array = joint_torques(currents, TorqueSource("current", torque_constant=np.full(6, 0.24)))
+    listed = joint_torques(currents, TorqueSource("current", torque_constant=[0.24] * 6))
+    assert np.array_equal(array.values, listed.values)
+    assert array.from_currents and not joint_torques(currents, "motor").from_currents
+
+
 FRICTION = {
-    # joints 1 and 5 of aaria-fig2 slide (N·s/m, N; a ball screw of 600 rad/m)
+    # joints 1 and 5 of aaria-fig2 slide (N·s/m, N; a ball screw of 600 rad/m, 10.5 mm a turn)
     "ur5": "viscous = 0.8\ncoulomb = 2.0\ngear_ratio = 100.0\n",
     "aaria-fig2": (
         "viscous = [20.0, 0.8, 0.8, 0.8, 20.0, 0.8]\ncoulomb = [10.0, 2.0, 2.0, 2.0, 10.0, 2.0]\n"
@@ -205,3 +213,28 @@ def test_each_friction_coefficient_carries_its_sigma(logged: RunRecord) -> None:
     row["std"]["Fv"] = 0.015 * row["Fv"]  # as aaria-fig2's sliding joint at the default noise
     said = [line for line in dynamics_summary(report) if "loosely" in line]
     assert len(said) == 1 and f"Fv {row['joint']} 1.5 %" in said[0]
+
+
+def test_without_friction_the_torque_constant_is_not_checked(logged: RunRecord) -> None:
+    """The scale column would take up the motor's friction the currents hold: no check."""
+    from aaria_pin.apps.identify.inertial_result import dynamics_summary
+
+    report = identify_dynamics(logged, friction=False).to_json()
+    assert report["torque_scale"] == []
+    said = [line for line in dynamics_summary(report) if line.startswith("torque constant")]
+    assert len(said) == 1 and "not checked, the friction is not fitted" in said[0]
+
+
+def test_a_current_offset_is_not_read_as_a_wrong_torque_constant(logged: RunRecord) -> None:
+    """A constant offset of each current (a drive's zero, 20 mA): k_t·N is still found right."""
+    from aaria_pin.apps.identify.inertial_scale import scale_off
+
+    tables = dict(logged.tables)
+    tables["current_measured"] = np.asarray(tables["current_measured"], float) + np.linspace(
+        -0.02, 0.02, 6
+    )
+    report = identify_dynamics(replace(logged, tables=tables)).to_json()
+    assert report["torque_scale"] and scale_off(report["torque_scale"]) == []
+    for row in report["torque_scale"]:
+        if row["std"] is not None and row["std"] < 0.01:
+            assert abs(row["scale"] - 1) < 4 * row["std"]

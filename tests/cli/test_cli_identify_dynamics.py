@@ -9,6 +9,7 @@ inertials, and Pinocchio's RNEA of the written URDF against the run's rigid-body
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 from typing import Any
 
@@ -114,6 +115,19 @@ def test_motor_currents_with_a_torque_constant(tmp_path: Path) -> None:
     )
     assert code == 0, err
     said = [line for line in out.splitlines() if line.startswith("torque constant × gear ratio")]
-    assert len(said) == 1 and "is off" in said[0] and "shoulder_pan_joint 0.5" in said[0]
+    assert len(said) == 1 and "is off" in said[0]
+    shown = re.search(r"shoulder_pan_joint ([0-9.]+) ±", said[0])
+    assert shown is not None and float(shown.group(1)) == pytest.approx(0.5, abs=0.01)
     code, out, err = run_cli("identify", "--dynamics", str(run), "--torques", "current")
-    assert "the base wrench agrees with the one given on every joint" in out
+    assert "the base wrench agrees with the one given on shoulder_pan_joint" in out
+
+
+@pytest.mark.parametrize("torques", ["rigid", "measured", "motor"])
+def test_a_torque_constant_with_other_torques_is_refused(ur5_run: Path, torques: str) -> None:
+    # k_t and N turn currents into torques: with other torques they would be ignored
+    for flag, value in (("--torque-constant", "0.1"), ("--gear-ratio", "50")):
+        code, out, err = run_cli(
+            "identify", "--dynamics", str(ur5_run), "--torques", torques, flag, value
+        )
+        assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
+        assert f"{flag} is given with --torques {torques}" in err

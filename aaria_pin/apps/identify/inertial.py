@@ -322,17 +322,17 @@ def identify_dynamics(
         return np.concatenate([Y, extra], axis=2)
 
     weight = _weights(fitted, measured[:n_train], columns, wrench)
-    # currents with the base wrench: each joint's measured torque as one more column, whose
-    # coefficient checks its k_t·N (inertial_scale)
-    scaled = n_signals - first if fitted.source == "current" and wrench else 0
+    # currents with the base wrench (and the friction they hold fitted): each joint's k_t·N
+    # checked, with one constant column per joint for its current offset (inertial_scale)
+    scaled = n_signals - first if fitted.from_currents and wrench and with_friction else 0
     q = p + scaled
-    factors = [np.zeros((0, q + 1))] * n_signals  # each signal's [W | T | y] = Q·R
+    factors = [np.zeros((0, q + 1))] * n_signals  # each signal's [W | 1… | y] = Q·R
     for start, stop in chunk_bounds(n_train, chunk):
         A = np.zeros((stop - start, n_signals, q + 1))
         np.multiply(regressor(start, stop), weight[:, None], out=A[..., :p])
         np.multiply(measured[start:stop], weight, out=A[..., q])
         for j in range(scaled):
-            A[:, first + j, p + j] = A[:, first + j, q]
+            A[:, first + j, p + j] = weight[first + j]
         factors = [triangular_factor(np.vstack([f, A[:, s]])) for s, f in enumerate(factors)]
     fit_columns = [*range(p), q]
     sigma = np.ones(n_signals)  # each weighted signal's noise, 1σ (1: the sensor's, known)
@@ -359,12 +359,8 @@ def identify_dynamics(
     if scaled:
         from aaria_pin.apps.identify.inertial_scale import torque_scale
 
-        # each joint's noise in R_all's units: the sensor's when recorded, else its residual's
-        joint_rows = slice(first, n_signals)
-        known = np.ones(scaled)
-        if fitted.noise is not None:
-            known = fitted.noise[columns] * weight[joint_rows] / sigma[joint_rows]
-        c, c_std = torque_scale(R_all, independent, range(p, q), known * np.sqrt(n_train), dof)
+        weighted = [f / s for f, s in zip(factors, sigma, strict=True)]
+        c, c_std = torque_scale(weighted, first, independent, n_train)
         scale_rows = [
             {"joint": j, "scale": float(v), "std": float(e) if np.isfinite(e) else None}
             for j, v, e in zip(robot.joint_names, c, c_std, strict=True)
@@ -434,5 +430,13 @@ def identify_dynamics(
             "torque_noise": None if fitted.noise is None else fitted.noise[columns].tolist(),
             "signal_noise": (sigma / weight).tolist(),
             "torque_scale": scale_rows,
+            **(
+                {
+                    "torque_scale_unchecked": "not checked, the friction is not fitted (the "
+                    "scale would take up the motor's friction the currents hold)"
+                }
+                if fitted.from_currents and wrench and not with_friction
+                else {}
+            ),
         },
     )

@@ -268,10 +268,12 @@ def dynamics_summary(report: dict[str, Any], show_parameters: bool = False) -> l
         lines.append("centre of mass: not determined by the data")
     if report.get("torques"):
         lines.append(f"torques fitted: {report['torques']}")
-    if report.get("torque_scale"):
-        from aaria_pin.apps.identify.inertial_scale import scale_line
+    from aaria_pin.apps.identify.inertial_scale import scale_line, scale_off
 
+    if report.get("torque_scale"):
         lines.append(scale_line(report["torque_scale"]))
+    if report.get("torque_scale_unchecked"):
+        lines.append(f"torque constant × gear ratio: {report['torque_scale_unchecked']}")
     for row in report.get("friction", []):
         std = row.get("std", {})
         values = ", ".join(
@@ -289,9 +291,14 @@ def dynamics_summary(report: dict[str, Any], show_parameters: bool = False) -> l
     ]
     if loose:
         lines.append(
-            f"friction loosely determined (σ above {100 * LOOSE:g} %): {', '.join(loose)}; a "
-            "faster motion within the joints' limits (--base-frequency) or a longer run "
-            "tightens it"
+            f"friction loosely determined (σ above {100 * LOOSE:g} %): {', '.join(loose)}; "
+            + (
+                "set torque_constant and gear_ratio first (the friction was fitted with the "
+                "wrong ones)"
+                if scale_off(report.get("torque_scale", []))
+                else "a faster motion within the joints' limits (--base-frequency) or a longer "
+                "run tightens it"
+            )
         )
     if report.get("bodies"):
         smallest = min(body["pseudo_inertia_min_eigenvalue"] for body in report["bodies"])

@@ -77,12 +77,15 @@ class JointTorques:
         noise: each joint's noise, 1σ, n [N·m or N] (white noise and quantisation; None: not
             known, or zero)
         with_friction: whether the torques hold the motor's friction and armature
+        from_currents: whether the torques are motor currents times a given ``k_t·N`` (which
+            the base wrench can check: inertial_scale)
     """
 
     source: str
     values: Array
     noise: Array | None
     with_friction: bool
+    from_currents: bool = False
 
 
 def _reading_noise(model: Any, joints: int) -> Array | None:
@@ -175,4 +178,4 @@ def joint_torques(record: RunRecord, source: str | TorqueSource = "auto") -> Joi
         values = values * per_ampere
         amperes = _reading_noise(record.attributes.get("current_sensor"), joints)
         noise = None if amperes is None else amperes * per_ampere
-    return JointTorques(name, values, noise, name in _WITH_FRICTION)
+    return JointTorques(name, values, noise, name in _WITH_FRICTION, name == "current")

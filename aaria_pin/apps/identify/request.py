@@ -159,6 +159,13 @@ class IdentifyRequest:
                 )
                 for mode in ("dynamics", "dataset")
             ),
+            *(  # k_t and N turn currents into torques: meaningless with the other torques
+                (name, given and self.torques in ("rigid", "measured", "motor"), "torques", True)
+                for name, given in (
+                    ("torque_constant", self.torque_constant is not None),
+                    ("gear_ratio", self.gear_ratio is not None),
+                )
+            ),
             *(  # the IMUs of a recording's kinematics, not of another mode
                 ("imu_model", self.imu_model is not None, mode, True)
                 for mode in ("dynamics", "dataset", "rigid", "joint")
@@ -183,7 +190,11 @@ class IdentifyRequest:
                 value = getattr(self, parameter)
                 value = str(value) if isinstance(value, Path) else value
                 raise OptionConflictError(
-                    parameter=parameter, other=other, given_with=given_with, value=value
+                    parameter=parameter,
+                    other=other,
+                    given_with=given_with,
+                    value=value,
+                    other_value=self.torques if other == "torques" else "",
                 )
 
     @property
