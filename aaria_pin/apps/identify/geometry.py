@@ -95,6 +95,7 @@ _EXACT_FLOOR = 1e-3  # the noise floor of a noise-free record (its fits end near
 _ROUNDED_FLOOR = 1e-2
 _REFITS = 3  # other starts fitted on every sample, after their walks
 _FAILED = 10.0  # a fit whose weighted RMS ends above this many noise floors has failed
+_POLISH = 20  # Levenberg–Marquardt iterations from a point moved along a null direction
 _CORRELATION = 3.0  # [s] residuals correlated over up to this (the base's derivative filter)
 _PLAUSIBLE_LENGTH = 5.0  # [m] a longer |a| or |d| is a degenerate table (lengths cancelling)
 
@@ -269,11 +270,25 @@ def identify_kinematics(
     names = layout.parameter_names(record.imu_names)
     found, sigmas, basis, covariance = deficiencies(jac, names, layout.n_dh)
     moved = non_negative_lengths(x, basis, lengths)
+    table = table_of(layout, moved, data.q)
+    if not np.all(np.abs(table[table_lengths(layout)]) <= _PLAUSIBLE_LENGTH):
+        moved = problem.shorten(moved, basis, names, walk_index)
     # a null direction is a symmetry to first order only: keep the move if the signals stay
-    # as well fitted
+    # as well fitted, after a short polish from the moved point if they do not at once
     if not np.array_equal(moved, x):
-        if problem.cost(moved, fit_index) <= 1.01 * problem.cost(x, fit_index) + 1e-9 * fun.size:
+        fitted = problem.cost(x, fit_index)
+        allowed = 1.01 * fitted + 1e-9 * fun.size
+        polished = None
+        if problem.cost(moved, fit_index) > allowed:
+            polished = problem.fit(moved, moved, fit_index, _POLISH)
+            moved = polished[0]
+            ratio = problem.cost(moved, fit_index) / max(fitted, 1e-300)
+            say(f"lengths moved, polished in {polished[3]} iterations: cost {ratio:.3g} times")
+        if problem.cost(moved, fit_index) <= allowed:
             x = moved
+            if polished is not None:
+                fun, jac = polished[1], polished[2]
+                found, sigmas, basis, covariance = deficiencies(jac, names, layout.n_dh)
     fit_rate = (fit_index.size - 1) / max(float(time[fit_index[-1]] - time[fit_index[0]]), 1e-300)
     window = round(_CORRELATION * fit_rate)
     robust = sandwich_sigmas(covariance, jac, fun, 6 * len(layout.imus), window)
