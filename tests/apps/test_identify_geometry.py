@@ -241,3 +241,19 @@ def test_noisy_derivative_of_a_sine() -> None:
         error = np.sqrt(np.mean((estimate - truth)[600:-600] ** 2))
         raw = np.sqrt(np.mean((np.gradient(noisy, time) - truth) ** 2))
         assert error < share * 0.05 * frequency and error < raw / 40, (frequency, error, raw)
+
+
+def test_clipped_samples_are_those_at_an_imu_range() -> None:
+    from aaria_pin.apps.identify.geometry_signals import clipped_samples
+    from aaria_pin.core.imu_noise import ADIS16485, noise_attributes
+
+    parameters = noise_attributes(ADIS16485)
+    g_range, a_range = parameters["gyro_range_rad_s"], parameters["accel_range_m_s2"]
+    imu = np.zeros((10, 3, 6))
+    imu[2, 1, 4] = -a_range  # an accelerometer at -5 g
+    imu[5, 0, 1] = g_range  # a gyroscope at +450 °/s
+    imu[7, 2, 3] = 0.99 * a_range  # within range: kept
+    expected = np.zeros(10, dtype=bool)
+    expected[[2, 5]] = True
+    np.testing.assert_array_equal(clipped_samples(imu, parameters), expected)
+    assert not clipped_samples(imu, None).any()  # no noise model: no range known

@@ -62,6 +62,7 @@ from aaria_pin.apps.identify.geometry_fit import (
 from aaria_pin.apps.identify.geometry_model import ArmLayout, KinematicData, predict_signals
 from aaria_pin.apps.identify.geometry_result import KinematicIdentification
 from aaria_pin.apps.identify.geometry_signals import (
+    clipped_samples,
     noisy_derivative,
     rounding_level,
     sample_derivatives,
@@ -217,8 +218,14 @@ def identify_kinematics(
         f"{len(layout.imus)} IMUs fitted on {min(max_fit_samples, n_samples)} samples"
     )
 
+    # samples with a clipped IMU channel are left out of the fit (geometry_signals.clipped_samples)
+    clipped = clipped_samples(np.asarray(record.imu), record.metadata.extra.get("noise_parameters"))
+    kept = np.logical_not(clipped)
+    usable = np.flatnonzero(kept) if np.sum(kept) >= _MIN_SAMPLES else np.arange(n_samples)
+
     def spread(count: int) -> Array:
-        return np.unique(np.linspace(0, n_samples - 1, min(count, n_samples)).astype(int))
+        picks = np.linspace(0, usable.size - 1, min(count, usable.size)).astype(int)
+        return usable[np.unique(picks)]
 
     start = spread(INIT_SAMPLES)
     lengths = length_indices(layout)
