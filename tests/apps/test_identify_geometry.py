@@ -126,6 +126,38 @@ def test_detect_kind_on_rates() -> None:
     assert detect_kind(omega_parent @ R, omega_parent, qd)[0] == "prismatic"
 
 
+def test_detect_kind_of_a_slow_sliding_joint_under_noise() -> None:
+    # ADIS16485-like gyroscope noise (1.7e-3 rad/s per sample) on both IMUs, 30 s at 200 Hz:
+    # a prismatic joint moving at 2-10 mm/s (its qd² far below the noise of the squared rates)
+    # and a revolute joint at 0.5 rad/s
+    rng = np.random.default_rng(7)
+    t = np.linspace(0.0, 30.0, 6001)
+    omega_parent = 0.5 * np.column_stack([np.sin(0.7 * t), np.cos(0.4 * t + 1), np.sin(0.3 * t)])
+    R = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+    R *= np.sign(np.linalg.det(R))
+
+    def noisy(values: np.ndarray) -> np.ndarray:
+        return values + 1.7e-3 * rng.standard_normal(values.shape)
+
+    for speed in (0.002, 0.003, 0.005, 0.007, 0.01):  # [m/s]: the qd² coefficient's error 0.3-8
+        slow = speed * np.cos(0.9 * t)
+        kind, slope = detect_kind(noisy(omega_parent @ R), noisy(omega_parent), slow)
+        assert kind == "prismatic" and slope < 0.1
+    qd = 0.5 * np.cos(0.9 * t)
+    q = 0.5 / 0.9 * np.sin(0.9 * t)
+    # the child turns about its z axis by q after a fixed rotation R from the parent
+    c, s = np.cos(q), np.sin(q)
+    turned = omega_parent @ R
+    child = np.column_stack(
+        [
+            c * turned[:, 0] + s * turned[:, 1],
+            -s * turned[:, 0] + c * turned[:, 1],
+            turned[:, 2] + qd,
+        ]
+    )
+    assert detect_kind(noisy(child), noisy(omega_parent), qd)[0] == "revolute"
+
+
 def test_record_without_tool_imu_is_refused() -> None:
     record = _preset_record("aaria-fig3")
     mounts = tuple(
@@ -209,3 +241,19 @@ def test_noisy_derivative_of_a_sine() -> None:
         error = np.sqrt(np.mean((estimate - truth)[600:-600] ** 2))
         raw = np.sqrt(np.mean((np.gradient(noisy, time) - truth) ** 2))
         assert error < share * 0.05 * frequency and error < raw / 40, (frequency, error, raw)
+
+
+def test_clipped_samples_are_those_at_an_imu_range() -> None:
+    from aaria_pin.apps.identify.geometry_signals import clipped_samples
+    from aaria_pin.core.imu_noise import ADIS16485, noise_attributes
+
+    parameters = noise_attributes(ADIS16485)
+    g_range, a_range = parameters["gyro_range_rad_s"], parameters["accel_range_m_s2"]
+    imu = np.zeros((10, 3, 6))
+    imu[2, 1, 4] = -a_range  # an accelerometer at -5 g
+    imu[5, 0, 1] = g_range  # a gyroscope at +450 °/s
+    imu[7, 2, 3] = 0.99 * a_range  # within range: kept
+    expected = np.zeros(10, dtype=bool)
+    expected[[2, 5]] = True
+    np.testing.assert_array_equal(clipped_samples(imu, parameters), expected)
+    assert not clipped_samples(imu, None).any()  # no noise model: no range known

@@ -65,6 +65,7 @@ from aaria_pin.apps.identify.geometry_input import ArmSignals, measured_rates
 from aaria_pin.apps.identify.geometry_model import ArmLayout, KinematicData, predict_signals
 from aaria_pin.apps.identify.geometry_result import KinematicIdentification
 from aaria_pin.apps.identify.geometry_signals import (
+    clipped_samples,
     noisy_derivative,
     rounding_level,
     signal_weights,
@@ -96,6 +97,7 @@ _EXACT_FLOOR = 1e-3  # the noise floor of a noise-free record (its fits end near
 _ROUNDED_FLOOR = 1e-2
 _REFITS = 3  # other starts fitted on every sample, after their walks
 _FAILED = 10.0  # a fit whose weighted RMS ends above this many noise floors has failed
+_POLISH = 20  # Levenberg–Marquardt iterations from a point moved along a null direction
 _CORRELATION = 3.0  # [s] residuals correlated over up to this (the base's derivative filter)
 _PLAUSIBLE_LENGTH = 5.0  # [m] a longer |a| or |d| is a degenerate table (lengths cancelling)
 
@@ -223,8 +225,14 @@ def identify_kinematics(
         f"{len(layout.imus)} IMUs fitted on {min(max_fit_samples, n_samples)} samples"
     )
 
+    # samples with a clipped IMU channel are left out of the fit (geometry_signals.clipped_samples)
+    clipped = clipped_samples(np.asarray(record.imu), record.metadata.extra.get("noise_parameters"))
+    kept = np.logical_not(clipped)
+    usable = np.flatnonzero(kept) if np.sum(kept) >= _MIN_SAMPLES else np.arange(n_samples)
+
     def spread(count: int) -> Array:
-        return np.unique(np.linspace(0, n_samples - 1, min(count, n_samples)).astype(int))
+        picks = np.linspace(0, usable.size - 1, min(count, usable.size)).astype(int)
+        return usable[np.unique(picks)]
 
     start = spread(INIT_SAMPLES)
     lengths = length_indices(layout)
@@ -276,11 +284,25 @@ def identify_kinematics(
     names = layout.parameter_names(signals.imu_names)
     found, sigmas, basis, covariance = deficiencies(jac, names, layout.n_dh)
     moved = non_negative_lengths(x, basis, lengths)
+    table = table_of(layout, moved, data.q)
+    if not np.all(np.abs(table[table_lengths(layout)]) <= _PLAUSIBLE_LENGTH):
+        moved = problem.shorten(moved, basis, names, walk_index)
     # a null direction is a symmetry to first order only: keep the move if the signals stay
-    # as well fitted
+    # as well fitted, after a short polish from the moved point if they do not at once
     if not np.array_equal(moved, x):
-        if problem.cost(moved, fit_index) <= 1.01 * problem.cost(x, fit_index) + 1e-9 * fun.size:
+        fitted = problem.cost(x, fit_index)
+        allowed = 1.01 * fitted + 1e-9 * fun.size
+        polished = None
+        if problem.cost(moved, fit_index) > allowed:
+            polished = problem.fit(moved, moved, fit_index, _POLISH)
+            moved = polished[0]
+            ratio = problem.cost(moved, fit_index) / max(fitted, 1e-300)
+            say(f"lengths moved, polished in {polished[3]} iterations: cost {ratio:.3g} times")
+        if problem.cost(moved, fit_index) <= allowed:
             x = moved
+            if polished is not None:
+                fun, jac = polished[1], polished[2]
+                found, sigmas, basis, covariance = deficiencies(jac, names, layout.n_dh)
     fit_rate = (fit_index.size - 1) / max(float(time[fit_index[-1]] - time[fit_index[0]]), 1e-300)
     window = round(_CORRELATION * fit_rate)
     robust = sandwich_sigmas(covariance, jac, fun, 6 * len(layout.imus), window)

@@ -16,6 +16,7 @@ from aaria_pin.core.imu_noise import ADIS16485
 from aaria_pin.core.se3 import Array
 
 __all__ = [
+    "clipped_samples",
     "derivatives",
     "noisy_derivative",
     "rounding_level",
@@ -212,3 +213,29 @@ def signal_weights(rate: float, noise_parameters: Any = None) -> Array:
         level = np.hypot(density * np.sqrt(rate / 2.0), lsb / np.sqrt(12.0))
         levels += [1.0 / level] * 3
     return np.array(levels)
+
+
+def clipped_samples(imu: Array, noise_parameters: Any) -> Array:
+    """The samples at which some IMU channel is at its range (clipped), a boolean per sample.
+
+    A clipped signal is not the model's: on run 12 of ``aaria dataset -n 40 --seed 2033``
+    (ADIS16485, ±5 g) 52 samples of 6001 at the range kept the fit at 2.5 noise floors, the same
+    from the true table (not a local minimum), the tool tip 25 mm off. A channel is at its range
+    within one least significant bit, from the record's ``noise_parameters`` (none: nothing is
+    clipped).
+
+    Args:
+        imu: the record's IMU signals, T × S × 6 [rad/s, m/s²]
+        noise_parameters: the record's ``noise_parameters``
+    """
+    if not isinstance(noise_parameters, dict):
+        return np.zeros(imu.shape[0], dtype=bool)
+    out = np.zeros(imu.shape[0], dtype=bool)
+    for sensor, units, channels in (("gyro", "rad_s", slice(0, 3)), ("accel", "m_s2", slice(3, 6))):
+        limit = noise_parameters.get(f"{sensor}_range_{units}")
+        if limit is None or not np.isfinite(float(limit)) or float(limit) <= 0:
+            continue
+        lsb = float(noise_parameters.get(f"{sensor}_lsb_{units}", 0.0) or 0.0)
+        level = float(limit) - max(lsb, 1e-6 * float(limit))
+        out |= np.any(np.abs(imu[:, :, channels]) >= level, axis=(1, 2))
+    return out
