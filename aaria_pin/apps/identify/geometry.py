@@ -226,7 +226,7 @@ def identify_kinematics(
     )
 
     # samples with a clipped IMU channel are left out of the fit (geometry_signals.clipped_samples)
-    clipped = clipped_samples(np.asarray(record.imu), record.metadata.extra.get("noise_parameters"))
+    clipped = clipped_samples(np.asarray(signals.imu), signals.noise_parameters)
     kept = np.logical_not(clipped)
     usable = np.flatnonzero(kept) if np.sum(kept) >= _MIN_SAMPLES else np.arange(n_samples)
 
