@@ -15,12 +15,17 @@ _FOLDER = click.Path(path_type=Path, file_okay=False)
 _FILE = click.Path(path_type=Path, dir_okay=False)
 
 
-@click.group("bench-task", cls=AariaGroup)
+@click.group("bench-task", cls=AariaGroup, epilog="""\b
+Examples:
+  aaria bench-task list
+  aaria bench-task make structure -o structure/
+  aaria bench-task baseline structure structure/ -o id.npz
+  aaria bench-task score structure structure/ id.npz""")  # fmt: skip
 def bench_task() -> None:
     """Benchmark tasks: a fixed data set, splits by run, a metric, a scorer of predictions."""
 
 
-@bench_task.command("list")
+@bench_task.command("list", epilog="\b\nExamples:\n  aaria bench-task list")
 def list_() -> None:
     """The tasks, one line each."""
     from aaria_pin.apps.bench_tasks.registry import TASKS
@@ -29,7 +34,7 @@ def list_() -> None:
         click.echo(f"{task.name:<17} {task.summary}")
 
 
-@bench_task.command(epilog="\b\nExample:\n  aaria bench-task make structure -o structure/")
+@bench_task.command(epilog="\b\nExamples:\n  aaria bench-task make structure -o structure/")
 @click.argument("task")
 @click.option("-o", "--output", "directory", type=_FOLDER, required=True, help="Task folder.")
 @click.option("--runs", "n_runs", type=int, help="Fewer runs than the task's (not the benchmark).")
@@ -43,7 +48,7 @@ def make(task: str, **settings: Any) -> None:
     click.echo(f"wrote {make_task(task, **settings)}")
 
 
-@bench_task.command(epilog="\b\nExample:\n  aaria bench-task score structure structure/ pred.npz")
+@bench_task.command(epilog="\b\nExamples:\n  aaria bench-task score structure structure/ pred.npz")
 @click.argument("task")
 @click.argument("directory", type=_FOLDER)
 @click.argument("predictions", type=_FILE)
@@ -57,7 +62,7 @@ def score(task: str, directory: Path, predictions: Path, as_json: bool) -> None:
 
 
 @bench_task.command(
-    epilog="\b\nExample:\n  aaria bench-task baseline structure structure/ -o id.npz"
+    epilog="\b\nExamples:\n  aaria bench-task baseline structure structure/ -o id.npz"
 )
 @click.argument("task")
 @click.argument("directory", type=_FOLDER)
