@@ -110,6 +110,21 @@ def test_jittered_stamps_and_an_imu_at_half_the_rate(fine: RunRecord, dtype: typ
     assert tip_error(found.table, fine) <= 1 * MM
 
 
+def test_a_late_recordings_own_stamps_are_kept(clean: RunRecord) -> None:
+    # an hour into a log, stamps jittered by 0.1 ms: within 4 float32 roundings of an even grid
+    # (1 ms at 3600 s), but float64 stamps of their own, not a float32 run's: kept as they are
+    rng = np.random.default_rng(3)
+    time = np.asarray(clean.time, dtype=float) + 3600.0
+    time = time + rng.uniform(-1e-4, 1e-4, time.size)
+    streams = [
+        SensorStream(s.name, s.kind, time, s.values, s.columns)
+        for s in recorded_from_run(clean).streams
+        if s.kind != "wrench"
+    ]
+    signals = ArmSignals.of_recorded(RecordedRun(streams))
+    np.testing.assert_array_equal(signals.time, time)
+
+
 def test_noisy_recording_as_accurate_as_its_run(tmp_path: Path) -> None:
     # ADIS16485 noise, the simulator's default: the recording assumes that model, measures
     # its noise as the model's, and reaches what the run file reaches (not a tuned constant)

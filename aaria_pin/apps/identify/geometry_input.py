@@ -328,7 +328,16 @@ def _common_axis(reference: Array, streams: list[SensorStream]) -> tuple[Array, 
             "recording's streams share no time span; allowed: IMUs and joint states recorded "
             "over a common span"
         )
-    return keep, uniform_time(reference[keep])
+    return keep, _stored_grid(reference[keep])
+
+
+def _stored_grid(time: Array) -> Array:
+    """A recording's stamps, or the even grid they round (:func:`uniform_time`) when every one
+    is a float32 number: a run stored in float32 and exported. A recording's own float64
+    stamps stay as they are: 4 float32 roundings at 3600 s are 1 ms, beyond a real jitter."""
+    if np.array_equal(time, time.astype(np.float32)):
+        return uniform_time(time)
+    return time
 
 
 def _spline(time: Array, values: Array) -> Any:
@@ -372,7 +381,7 @@ def _joint_values(
         q[:, module - 1] = stream.values[:, index]
     if _same_stamps(stream.time, reference, period):
         return q[keep], None, ""
-    time = uniform_time(stream.time)
+    time = _stored_grid(stream.time)
     rates = measured_rates(time, q, 2)
     at = reference[keep]
     resampled = [_spline(time, values)(at) for values in (q, *rates)]
