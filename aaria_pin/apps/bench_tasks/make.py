@@ -62,6 +62,7 @@ def make_task(
         raise ParameterError(
             parameter="n_runs", value=spec.n_runs, allowed="enough runs for a test split (>= 3)"
         )
+    dataset_spec = DatasetSources(**spec.to_json()).spec()  # checked before anything is made
     folder = Path(directory)
     try:
         folder.mkdir(parents=True, exist_ok=True)
@@ -69,7 +70,7 @@ def make_task(
         raise OutputFileError(f"{folder}: cannot be made ({exc})", parameter="path") from None
     generate_dataset(
         folder / DATASET_NAME,
-        DatasetSources(**spec.to_json()).spec(),
+        dataset_spec,
         DatasetJob(workers=workers, overwrite=overwrite, progress=progress_report(quiet, None)),
     )
     card: dict[str, Any] = {

@@ -14,11 +14,12 @@ from __future__ import annotations
 import os
 import zipfile
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from aaria_pin.errors import InputFileError
+from aaria_pin.errors import InputFileError, OutputFileError
 
 __all__ = ["read_predictions", "run_key", "write_predictions"]
 
@@ -36,6 +37,12 @@ def write_predictions(path: str | os.PathLike[str], predictions: Mapping[int, np
     """
     from aaria_pin.files.paths import atomic_output
 
+    if Path(path).suffix.lower() != ".npz":
+        raise OutputFileError(
+            f"{path} is not an .npz file; allowed: a predictions file ending in .npz",
+            parameter="path",
+            value=str(path),
+        )
     arrays: dict[str, Any] = {run_key(run): np.asarray(a) for run, a in sorted(predictions.items())}
     with atomic_output(path) as temporary, open(temporary, "wb") as stream:
         np.savez(stream, **arrays)

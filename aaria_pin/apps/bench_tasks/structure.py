@@ -57,6 +57,14 @@ class StructureTask:
         rms: list[float] = []
         per_run: dict[str, Any] = {}
         for run, table in sorted(predictions.items()):
+            types = np.asarray(table, dtype=float)[:6, 4]
+            if not np.isin(types, (0.0, 1.0, 2.0)).all():
+                raise InputFileError(
+                    f"run_{run}'s link types (column 5, rows 1-6) are {types.tolist()}; "
+                    "allowed: 0, 1 or 2 (empty, revolute, prismatic)",
+                    parameter="file",
+                    value=run,
+                )
             errors = truth_errors(reader.record(run), np.asarray(table, dtype=float))
             if errors is None:
                 raise InputFileError(

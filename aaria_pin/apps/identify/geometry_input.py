@@ -332,9 +332,12 @@ def _common_axis(reference: Array, streams: list[SensorStream]) -> tuple[Array, 
 
 
 def _stored_grid(time: Array) -> Array:
-    """A recording's stamps, or the even grid they round (:func:`uniform_time`) when every one
-    is a float32 number: a run stored in float32 and exported. A recording's own float64
-    stamps stay as they are: 4 float32 roundings at 3600 s are 1 ms, beyond a real jitter."""
+    """A recording's stamps, or the even grid they round when every one is a float32 number.
+
+    Such stamps are a run stored in float32 and exported (:func:`uniform_time` rebuilds them).
+    A recording's own float64 stamps stay as they are: 4 float32 roundings at 3600 s are 1 ms,
+    beyond a real jitter.
+    """
     if np.array_equal(time, time.astype(np.float32)):
         return uniform_time(time)
     return time
