@@ -513,7 +513,9 @@ def run(
         stats = reader.statistics(
             list(spec.normalise), split="train", seed=splits["seed"], fractions=splits["fractions"]
         )
+        started = time.perf_counter()
         curve, predictions = spec.train(Data(card, reader, stats), s)
+        rest = time.perf_counter() - started - curve.seconds  # reading the splits, predicting
     write_predictions(out / "predictions.npz", predictions)
     plot_curve(curve, task, out / "curve.png")
     settings = {
@@ -523,6 +525,7 @@ def run(
         "standard": card.get("standard"),
         "torch": torch.__version__,
         "train_seconds": round(curve.seconds, 1),
+        "load_and_predict_seconds": round(rest, 2),
         "epochs_run": len(curve.train),
         "best_epoch": curve.best_epoch + 1,
         "train_loss": curve.train,
