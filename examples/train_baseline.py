@@ -29,6 +29,7 @@ import argparse
 import json
 import time
 from collections.abc import Callable, Iterable, Iterator
+from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -65,11 +66,28 @@ class Settings:
 
 @dataclass
 class Data:
-    """A task's data set opened for training: the card, the reader, the training statistics."""
+    """A task's data set opened for training: the card, the reader, the training statistics.
+
+    ``extra``: another data set whose every run replaces the training split (``--train-data``),
+    or None; the validation and test splits are the task's always.
+    """
 
     card: dict[str, Any]
     reader: DatasetReader
     stats: dict[str, tuple[np.ndarray, np.ndarray]]
+    extra: DatasetReader | None = None
+
+    def source(self, split: str) -> tuple[DatasetReader, str | None]:
+        """The reader of a split and the split to ask it for (None: all its runs)."""
+        if split == "train" and self.extra is not None:
+            return self.extra, None
+        return self.reader, split
+
+    def training_tables(self) -> np.ndarray:
+        """The DH tables of the training runs (N × 8 × 5)."""
+        reader, split = self.source("train")
+        runs = self.split("train") if split else reader.split_runs(None).tolist()
+        return np.stack([reader.run(k, ["senSenDH"])["senSenDH"] for k in runs])
 
     def split(self, name: str) -> list[int]:
         """The card's runs of one split."""
@@ -85,17 +103,17 @@ class Data:
         mean, std = self.stats[name]
         return array * np.where(std > 0, std, 1.0) + mean
 
-    def windows(self, split: str, names: list[str], length: int, stride: int) -> Any:
-        """Windows of a split (raw; :meth:`scaled` normalises them)."""
+    def windows(self, split: str, names: list[str], length: int, stride: int | None) -> Any:
+        """Windows of a split (raw; :meth:`scaled` normalises them); length 0: whole runs."""
+        reader, asked = self.source(split)
         splits = self.card["splits"]
-        fractions = splits["fractions"]
-        return self.reader.windows(
-            min(length, self.reader.samples),
+        return reader.windows(
+            min(length, reader.samples) if length else reader.samples,
             stride,
             names=names,
-            split=split,
+            split=asked,
             seed=splits["seed"],
-            fractions=fractions,
+            fractions=splits["fractions"],
         )
 
 
@@ -213,8 +231,7 @@ def _stack_structure(data: Data, items: list[dict[str, Any]]) -> Batch:
 
 def train_structure(data: Data, s: Settings) -> tuple[Curve, dict[int, np.ndarray]]:
     """Train the structure model; predict the test runs' tables."""
-    tables = np.stack([data.reader.run(k, ["senSenDH"])["senSenDH"] for k in data.split("train")])
-    layout = Table.from_tables(tables)
+    layout = Table.from_tables(data.training_tables())
     s.notes["classified_columns"] = sorted(layout.classes)
     classes = {c: len(v) for c, v in layout.classes.items()}
     model = StructureNet(6 + 14 * 6, s.width, classes, 8 * len(layout.real), s.dropout)
@@ -257,7 +274,7 @@ _ID_SERIES = ("q", "qd", "qdd", "base_pose")
 def _dynamics_samples(data: Data, split: str) -> tuple[np.ndarray, np.ndarray | None]:
     """Per-sample features (N × F) of a split's runs, and their normalised torques (None: test)."""
     names = [*_ID_SERIES, "senSenDH"] + ([] if split == "test" else ["tau"])
-    ds = data.windows(split, names, data.reader.samples, None)  # one window: the whole run
+    ds = data.windows(split, names, 0, None)  # one window: the whole run
     features, targets = [], []
     for i in range(len(ds)):
         run = ds[i]
@@ -488,7 +505,13 @@ def plot_curve(curve: Curve, task: str, path: Path) -> None:
 
 
 def run(
-    task: str, folder: Path, out: Path, epochs: int | None, seed: int, tiny: bool
+    task: str,
+    folder: Path,
+    out: Path,
+    epochs: int | None,
+    seed: int,
+    tiny: bool,
+    train_data: Path | None = None,
 ) -> dict[str, Any]:
     """Train the task's model, write predictions, curve and settings to ``out``; the settings."""
     torch.manual_seed(seed)
@@ -508,20 +531,29 @@ def run(
     )
     card = json.loads((folder / "task.json").read_text())
     out.mkdir(parents=True, exist_ok=True)
-    with DatasetReader(folder / card["dataset"]) as reader:
+    with ExitStack() as files:
+        reader = files.enter_context(DatasetReader(folder / card["dataset"]))
+        extra = files.enter_context(DatasetReader(train_data)) if train_data else None
         splits = card["splits"]
-        stats = reader.statistics(
-            list(spec.normalise), split="train", seed=splits["seed"], fractions=splits["fractions"]
+        stats = (extra or reader).statistics(
+            list(spec.normalise),
+            split=None if extra else "train",
+            seed=splits["seed"],
+            fractions=splits["fractions"],
         )
         started = time.perf_counter()
-        curve, predictions = spec.train(Data(card, reader, stats), s)
+        curve, predictions = spec.train(Data(card, reader, stats, extra), s)
         rest = time.perf_counter() - started - curve.seconds  # reading the splits, predicting
+        s.notes["training_arms"] = (
+            len(extra.split_runs(None)) if extra else len(card["splits"]["train"])
+        )
     write_predictions(out / "predictions.npz", predictions)
     plot_curve(curve, task, out / "curve.png")
     settings = {
         **{k: v for k, v in vars(s).items() if k != "notes"},
         **s.notes,
         "task_dir": str(folder),
+        "train_data": str(train_data) if train_data else None,
         "standard": card.get("standard"),
         "torch": torch.__version__,
         "train_seconds": round(curve.seconds, 1),
@@ -544,8 +576,16 @@ def main() -> None:
     parser.add_argument("--epochs", type=int, default=None)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--tiny", action="store_true", help="smoke test: 2 epochs, tiny model")
+    parser.add_argument(
+        "--train-data",
+        type=Path,
+        default=None,
+        help="train on every run of this data set instead of the task's training split",
+    )
     args = parser.parse_args()
-    settings = run(args.task, args.task_dir, args.output, args.epochs, args.seed, args.tiny)
+    settings = run(
+        args.task, args.task_dir, args.output, args.epochs, args.seed, args.tiny, args.train_data
+    )
     print(f"{args.task}: {settings['epochs_run']} epochs, {settings['train_seconds']} s")
 
 

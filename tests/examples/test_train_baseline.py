@@ -57,3 +57,26 @@ def test_a_tiny_training_writes_predictions_the_scorer_accepts(tmp_path: Path, t
         train(task, folder, tmp_path / "again")
         with np.load(tmp_path / "again" / "predictions.npz") as again:
             assert all(np.array_equal(again[k], v) for k, v in predictions.items())
+
+
+@pytest.mark.slow
+def test_train_data_replaces_the_training_split(tmp_path: Path) -> None:
+    folder = tmp_path / "task"
+    card = json.loads(make_task("inverse-dynamics", folder, n_runs=3, duration=0.5).read_text())
+    extra = tmp_path / "extra.h5"
+    subprocess.run(
+        [*"aaria dataset -n 4 --seed 5 --duration 0.5 --rate 100 -o".split(), str(extra)],
+        check=True,
+        capture_output=True,
+    )
+    out = tmp_path / "out"
+    argv = [sys.executable, str(SCRIPT), "inverse-dynamics", str(folder), "-o", str(out)]
+    subprocess.run(
+        [*argv, "--tiny", "--train-data", str(extra)],
+        check=True,
+        capture_output=True,
+    )
+    settings = json.loads((out / "settings.json").read_text())
+    assert settings["training_arms"] == 4 != len(card["splits"]["train"])
+    score = score_task("inverse-dynamics", folder, out / "predictions.npz")
+    assert score["runs"] == len(card["splits"]["test"])
