@@ -1,6 +1,7 @@
 """Train a small learned baseline of a benchmark task on CPU, predict its test runs, write them.
 
     python examples/train_baseline.py TASK TASK_DIR -o OUT [--epochs N] [--seed S] [--tiny]
+        [--train-data DATASET]
 
 ``TASK_DIR`` is a folder of ``aaria bench-task make TASK -o TASK_DIR``. The model (one per task,
 :data:`MODELS`) trains on the card's training split, keeps the weights of its best validation
@@ -20,7 +21,10 @@ losses, the seconds). Deterministic on CPU for a seed (one thread, deterministic
 
 Inputs and targets are normalised with the training split's statistics
 (``DatasetReader.statistics``); ``--tiny`` is a smoke test (2 epochs, short windows, small
-models).
+models). ``--train-data`` trains on every run of another data set (``aaria dataset`` with the
+task's settings and another seed: fresh arms) instead of the task's training split (its
+statistics too); validation and test stay the task's. The training loop is in
+``baseline_training.py`` beside this file.
 """
 
 from __future__ import annotations
