@@ -334,11 +334,11 @@ def _common_axis(reference: Array, streams: list[SensorStream]) -> tuple[Array, 
 def _stored_grid(time: Array) -> Array:
     """A recording's stamps, or the even grid they round when every one is a float32 number.
 
-    Such stamps are a run stored in float32 and exported (:func:`uniform_time` rebuilds them).
-    A recording's own float64 stamps stay as they are: 4 float32 roundings at 3600 s are 1 ms,
-    beyond a real jitter.
+    Such stamps are a run stored in float32 and exported (to whole nanoseconds: within 1 ns of
+    a float32 number; :func:`uniform_time` rebuilds them). A recording's own float64 stamps
+    stay as they are: 4 float32 roundings at 3600 s are 1 ms, beyond a real jitter.
     """
-    if np.array_equal(time, time.astype(np.float32)):
+    if float(np.max(np.abs(time - time.astype(np.float32)))) <= 1e-9:
         return uniform_time(time)
     return time
 
