@@ -58,6 +58,10 @@ def test_the_zero_baseline_scores_one(folder: Path, tmp_path: Path) -> None:
         (("make", "structure", "-o", "{tmp}", "--runs", "2"), "--runs is 2"),
         (("baseline", "inverse-dynamics", "{folder}", "-o", "{tmp}/p.npz", "--baseline", "x"),
          "--baseline is 'x'"),
+        (("make", "inverse-dynamics", "-o", "{folder}", "--runs", "3", "--duration", "0.2"),
+         "holds a task's data set already; allowed: another folder, or overwrite it (--overwrite)"),
+        (("baseline", "inverse-dynamics", "{folder}", "-o", "{tmp}/p.txt", "--baseline", "zero"),
+         "is not an .npz file"),
     ],
 )  # fmt: skip
 def test_refusals_are_one_line_exit_2(

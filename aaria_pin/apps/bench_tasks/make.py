@@ -64,6 +64,13 @@ def make_task(
         )
     dataset_spec = DatasetSources(**spec.to_json()).spec()  # checked before anything is made
     folder = Path(directory)
+    if (folder / DATASET_NAME).exists() and not overwrite:
+        raise OutputFileError(
+            f"{folder} holds a task's data set already; allowed: another folder, or overwrite "
+            "it (--overwrite)",
+            parameter="overwrite",
+            value=str(folder),
+        )
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
