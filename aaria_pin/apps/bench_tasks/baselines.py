@@ -20,8 +20,7 @@ targets or the test runs' inputs), never a test run's target.
 from __future__ import annotations
 
 import os
-import sys
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -64,24 +63,12 @@ def _identified_table(task: tuple[str, int]) -> np.ndarray:
         return _nominal_table()
 
 
-def _in_pool(tasks: Sequence[tuple[str, int]], workers: int) -> Iterator[np.ndarray]:
-    """The identified tables in task order, in this process or a pool (fork on Linux)."""
-    if workers <= 1 or len(tasks) <= 1:
-        yield from map(_identified_table, tasks)
-        return
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
-
-    method = "fork" if sys.platform.startswith("linux") else "spawn"
-    context = multiprocessing.get_context(method)
-    with ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=context) as pool:
-        yield from pool.map(_identified_table, tasks)
-
-
 def _identify(dataset: Path, card: dict[str, Any], workers: int) -> dict[int, np.ndarray]:
     runs = [int(run) for run in card["splits"]["test"]]
-    tables = _in_pool([(str(dataset), run) for run in runs], workers)
-    return dict(zip(runs, tables, strict=True))
+    from aaria_pin.apps.pool import completed
+
+    tasks = [(str(dataset), run) for run in runs]
+    return {runs[index]: table for index, table in completed(_identified_table, tasks, workers)}
 
 
 def _train_mean(dataset: Path, card: dict[str, Any], _workers: int) -> dict[int, np.ndarray]:

@@ -21,7 +21,6 @@ Example::
 from __future__ import annotations
 
 import os
-import sys
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass
@@ -30,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from aaria_pin.apps.identify._json import json_number
+from aaria_pin.apps.pool import completed
 
 __all__ = [
     "WITHIN",
@@ -227,28 +227,12 @@ def benchmark_datasets(
             )
         tasks += [(str(path), k, dynamics, holdout) for k in runs[:limit]]
     results: list[RunAccuracy] = []
-    for result in _run_tasks(tasks, workers):
+    for _, result in completed(_identify_task, tasks, workers):
         if progress is not None:
             progress(result)
         results.append(result)
     order = {(path, run): i for i, (path, run, *_) in enumerate(tasks)}
     return sorted(results, key=lambda r: order[(r.dataset, r.run)])
-
-
-def _run_tasks(tasks: list[tuple[str, int, bool, float]], workers: int) -> Iterable[RunAccuracy]:
-    """Results in completion order: in this process, or from a process pool (fork on Linux)."""
-    if workers <= 1 or len(tasks) <= 1:
-        yield from map(_identify_task, tasks)
-        return
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    method = "fork" if sys.platform.startswith("linux") else "spawn"
-    context = multiprocessing.get_context(method)
-    with ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=context) as pool:
-        futures = [pool.submit(_identify_task, task) for task in tasks]
-        for future in as_completed(futures):
-            yield future.result()
 
 
 def _finite(values: Iterable[float | None]) -> Any:
