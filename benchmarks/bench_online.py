@@ -12,7 +12,9 @@ iterated, each run read once); the online windows in this process
 (:class:`~aaria_pin.ml.online.OnlineWindows` iterated, each run simulated once); and, with
 torch installed, a ``DataLoader`` over the online windows (batches of 64, collated into tensors)
 in this process (0 workers) and with 1 and 2 worker processes (their start-up counted: a fresh
-loader per epoch, as without ``persistent_workers``). Modes alternate over the repeats; each
+loader per epoch, as without ``persistent_workers``), and with 1 and 2 persistent workers
+(``persistent_workers=True``, ``torch(advance_epochs=True)``: fresh arms each epoch, the
+workers started once, before the timing). Modes alternate over the repeats; each
 figure is the median, and the ratio is against the file-backed figure of the same process.
 """
 
@@ -56,6 +58,24 @@ def loader_epoch(windows: OnlineWindows, workers: int) -> int:
     return sum(len(batch["run"]) for batch in loader)
 
 
+def persistent_loader(windows: OnlineWindows, workers: int) -> Callable[[], int]:
+    """An epoch of a ``DataLoader`` whose workers persist (fresh arms each epoch), warmed up."""
+    import torch
+
+    loader = torch.utils.data.DataLoader(
+        windows.torch(advance_epochs=True),
+        batch_size=64,
+        num_workers=workers,
+        persistent_workers=True,
+    )
+
+    def epoch() -> int:
+        return sum(len(batch["run"]) for batch in loader)
+
+    epoch()  # the workers started and their first epoch run, outside the timing
+    return epoch
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=16)
@@ -83,6 +103,9 @@ def main() -> int:
         for workers in (0, 1, 2):
             name = f"online, DataLoader {workers} worker{'s' * (workers != 1)}"
             modes[name] = lambda w=workers: loader_epoch(windows, w)
+        for workers in (1, 2):
+            name = f"online, persistent {workers} worker{'s' * (workers != 1)}"
+            modes[name] = persistent_loader(windows, workers)
     except ModuleNotFoundError:
         print("torch not installed: no DataLoader figures (pip install aaria-pin[ml])")
     with tempfile.TemporaryDirectory() as folder:
@@ -107,7 +130,7 @@ def main() -> int:
     for name, values in rates.items():
         value = statistics.median(values)
         print(
-            f"  {name:32s} {value:9.0f} windows/s {value / per_run:8.2f} runs/s"
+            f"  {name:34s} {value:9.0f} windows/s {value / per_run:8.2f} runs/s"
             f"  {value / reference:7.1%} of the file"
         )
     return 0

@@ -18,23 +18,41 @@ class OnlineWindows(Protocol):
 
     def __len__(self) -> int: ...
 
+    @property
+    def epoch(self) -> int: ...
+
     def set_epoch(self, epoch: int) -> None: ...
 
 
 class TorchWindows(IterableDataset[dict[str, np.ndarray]]):
     """:class:`~.online.OnlineWindows` for a ``DataLoader``: each worker iterates its share.
 
+    With ``advance_epochs`` each iteration after the first moves the windows to the next epoch
+    (fresh arms) in the process that iterates them: what a ``DataLoader`` with
+    ``persistent_workers=True`` needs, since its workers keep the copy they were given at the
+    first epoch and never see a later :meth:`set_epoch` of the main process. Its workers each
+    iterate once per epoch (the loader re-creates their iterators on each new epoch), so they
+    move together. Measured reason (``python benchmarks/bench_online.py``): a loader that starts
+    its workers anew each epoch pays their start-up (about a third of a second each) per epoch.
+
     Args:
         windows: the windows
+        advance_epochs: move to the next epoch at each iteration after the first
 
     Attributes:
-        windows: as given
+        windows: as given (a worker's copy holds that worker's epoch)
+        advance_epochs: as given
     """
 
-    def __init__(self, windows: OnlineWindows) -> None:
+    def __init__(self, windows: OnlineWindows, advance_epochs: bool = False) -> None:
         self.windows = windows
+        self.advance_epochs = advance_epochs
+        self._iterations = 0
 
     def __iter__(self) -> Iterator[dict[str, np.ndarray]]:
+        if self.advance_epochs and self._iterations:
+            self.windows.set_epoch(self.windows.epoch + 1)
+        self._iterations += 1
         return iter(self.windows)
 
     def __len__(self) -> int:

@@ -334,15 +334,20 @@ class OnlineWindows:
     def __iter__(self) -> Iterator[dict[str, np.ndarray]]:
         return self.iterate(*worker_info())
 
-    def torch(self) -> Any:
+    def torch(self, advance_epochs: bool = False) -> Any:
         """These windows as a ``torch.utils.data.IterableDataset`` (for a ``DataLoader``).
+
+        Args:
+            advance_epochs: each iteration after the first takes the next epoch's runs (for a
+                ``DataLoader`` with ``persistent_workers=True``, whose workers never see a
+                later :meth:`set_epoch`; :class:`~aaria_pin.ml._torch.TorchWindows`)
 
         Raises:
             ModuleNotFoundError: torch is not installed (``pip install aaria-pin[ml]``).
         """
         from aaria_pin.ml._torch import TorchWindows
 
-        return TorchWindows(self)
+        return TorchWindows(self, advance_epochs)
 
     def __repr__(self) -> str:
         return (

@@ -196,3 +196,19 @@ def test_a_torch_data_loader_with_two_workers_reads_each_window_once() -> None:
         seen += list(zip(batch["run"].tolist(), batch["start"].tolist(), strict=True))
     assert sorted(seen) == [(run, start) for run in range(4) for start in (0, 10)]
     assert len(loader.dataset) == len(windows) == 8
+
+
+def test_persistent_workers_take_fresh_arms_each_epoch() -> None:
+    torch = pytest.importorskip("torch")
+    runs = OnlineRuns.defaults(4, seed=SEED, duration=0.2, rate=100.0)
+    windows = runs.windows(20, names=("link_types",))
+    loader = torch.utils.data.DataLoader(
+        windows.torch(advance_epochs=True), batch_size=2, num_workers=2, persistent_workers=True
+    )
+    for epoch in range(3):
+        seen = sorted(run for batch in loader for run in batch["run"].tolist())
+        assert seen == [k + 4 * epoch for k in range(4)], epoch  # run k + e·N in epoch e
+    assert windows.epoch == 0  # the workers moved their own copies
+    plain = torch.utils.data.DataLoader(windows.torch(), batch_size=2, num_workers=0)
+    for _ in range(2):  # without advance_epochs: the same runs again
+        assert sorted(run for batch in plain for run in batch["run"].tolist()) == [0, 1, 2, 3]
