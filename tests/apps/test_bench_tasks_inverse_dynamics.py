@@ -177,3 +177,19 @@ def test_a_folder_of_the_older_definition_is_refused(folder: Path, tmp_path: Pat
         with pytest.raises(InputFileError, match=r"older definition of the task: make it again"):
             call()
     assert not (tmp_path / "p.npz").exists()
+
+
+def test_the_data_set_is_aaria_dataset_with_the_encoder_table(folder: Path, tmp_path: Path) -> None:
+    """The card's equivalence: ``aaria dataset`` with a config of the ``[encoder]`` table."""
+    from aaria_pin.apps.dataset.generate import generate_dataset
+    from aaria_pin.apps.dataset.job import DatasetJob
+    from aaria_pin.apps.dataset.spec_sources import DatasetSources
+
+    config = tmp_path / "encoder.toml"
+    fields = "\n".join(f"{key} = {value!r}" for key, value in asdict(ENCODER).items())
+    config.write_text(f"[encoder]\n{fields}\n")
+    sources = DatasetSources(n_runs=6, seed=2702, duration=0.5, rate=100.0, config_file=config)
+    generate_dataset(tmp_path / "d.h5", sources.spec(), DatasetJob(workers=1))
+    with DatasetReader(tmp_path / "d.h5") as made, DatasetReader(folder / DATASET_NAME) as task:
+        for name in ("q_measured", "imu", "tau", "senSenDH"):
+            np.testing.assert_array_equal(made.run(4, [name])[name], task.run(4, [name])[name])
