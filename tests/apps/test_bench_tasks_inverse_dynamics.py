@@ -193,3 +193,11 @@ def test_the_data_set_is_aaria_dataset_with_the_encoder_table(folder: Path, tmp_
     with DatasetReader(tmp_path / "d.h5") as made, DatasetReader(folder / DATASET_NAME) as task:
         for name in ("q_measured", "imu", "tau", "senSenDH"):
             np.testing.assert_array_equal(made.run(4, [name])[name], task.run(4, [name])[name])
+
+
+def test_runs_shorter_than_a_window_are_refused(tmp_path: Path) -> None:
+    folder = tmp_path / "short"
+    make_task("inverse-dynamics", folder, n_runs=3, duration=0.03, workers=1)
+    with pytest.raises(InputFileError, match="runs of 4 samples; allowed: at least 5"):
+        run_baseline("inverse-dynamics", folder, tmp_path / "p.npz", "rigid-body")
+    assert not (tmp_path / "p.npz").exists()

@@ -154,6 +154,9 @@ def choose_window(dataset: Path, train: Sequence[int], rate: float, workers: int
 
     Returns:
         The window [samples] (the shortest of equal medians).
+
+    Raises:
+        InputFileError: runs shorter than the shortest window.
     """
     from aaria_pin.apps.pool import completed
     from aaria_pin.files.dataset.reader import DatasetReader
@@ -161,6 +164,15 @@ def choose_window(dataset: Path, train: Sequence[int], rate: float, workers: int
     with DatasetReader(dataset) as reader:
         samples = reader.samples
     windows = tuple(w for w in WINDOWS if w <= samples)
+    if not windows:
+        from aaria_pin.errors import InputFileError
+
+        raise InputFileError(
+            f"{dataset}: runs of {samples} samples; allowed: at least {WINDOWS[0]} (the "
+            "rigid-body baseline's shortest filter window)",
+            parameter="directory",
+            value=samples,
+        )
     tasks = [(str(dataset), int(run), rate, windows) for run in train]
     errors = np.zeros((len(tasks), len(windows)))
     for index, values in completed(_training_errors, tasks, workers):
