@@ -69,11 +69,12 @@ def score(task: str, directory: Path, predictions: Path, as_json: bool) -> None:
 @click.option("-o", "--output", type=_FILE, required=True, help="Predictions file (.npz).")
 @click.option(
     "--baseline",
-    help="structure: identify, nominal; inverse-dynamics: zero, train-mean, rigid-body;"
+    help="structure: identify, nominal; inverse-dynamics: zero, train-mean, rigid-body,"
+    " rigid-body-truth (the ceiling);"
     " sensor-to-state: train-mean [the first].",
 )
 @click.option("--workers", type=click.IntRange(1, 1024), default=1, show_default=True,
-              help="Processes (identify).")  # fmt: skip
+              help="Processes (identify, rigid-body).")  # fmt: skip
 def baseline(task: str, directory: Path, output: Path, **settings: Any) -> None:
     """Write a baseline's predictions of TASK's test runs (structure: aaria identify)."""
     from aaria_pin.apps.bench_tasks.baselines import run_baseline

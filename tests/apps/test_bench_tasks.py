@@ -131,7 +131,7 @@ def test_baselines_give_the_floors(folders: dict[str, Path], tmp_path: Path) -> 
         "relative_rms_median"
     ] == pytest.approx(1.0)
     physics = run_baseline(
-        "inverse-dynamics", folders["inverse-dynamics"], tmp_path / "r.npz", "rigid-body"
+        "inverse-dynamics", folders["inverse-dynamics"], tmp_path / "r.npz", "rigid-body-truth"
     )  # the stored torques are the model's RNEA torques, to float32 storage
     score = score_task("inverse-dynamics", folders["inverse-dynamics"], physics)
     assert score["relative_rms_max"] < 1e-6

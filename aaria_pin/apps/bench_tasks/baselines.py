@@ -7,14 +7,16 @@ Per task, by name (:data:`BASELINES`):
   IMUs) of each test arm, its table as the prediction (an arm it refuses gets the ``nominal``
   table); ``nominal``, the ``aaria-fig2`` preset's table for every arm (a floor);
 - ``inverse-dynamics``: ``zero`` (no torque: relative RMS 1 exactly), ``train-mean``, each
-  joint's mean torque over the training runs, at every sample, and ``rigid-body``, the physics:
-  the RNEA torques of each test arm's model as the data set rebuilds it from the run
-  (:func:`~aaria_pin.apps.record_model.record_model`, from the structure) along its joint
-  motion and its base table ``senSenB`` (a ceiling: the simulator's own model);
+  joint's mean torque over the training runs, at every sample, ``rigid-body``, the classical
+  physics: the RNEA torques of the arm built from its table along the motion differentiated
+  from its encoders (:func:`~.rigid_body.rigid_body`, the filter's window chosen on the
+  training runs), and ``rigid-body-truth``, the ceiling: the same physics along the hidden true
+  motion (:func:`~.rigid_body.rigid_body_truth`; it reads what the task hides);
 - ``sensor-to-state``: ``train-mean``, each joint's mean value over the training runs.
 
 Each baseline reads the task's folder only (its card, and of its data set the training runs'
-targets or the test runs' inputs), never a test run's target.
+targets or the test runs' inputs), never a test run's target (``rigid-body-truth`` reads the
+test runs' true motion: the ceiling, labelled so).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import numpy as np
 
 from aaria_pin.apps.bench_tasks.card import task_card
 from aaria_pin.apps.bench_tasks.predictions import write_predictions
+from aaria_pin.apps.bench_tasks.rigid_body import rigid_body, rigid_body_truth
 
 __all__ = ["BASELINES", "Baseline", "run_baseline"]
 
@@ -85,38 +88,18 @@ def _train_mean(dataset: Path, card: dict[str, Any], _workers: int) -> dict[int,
     return {int(run): np.broadcast_to(mean, shape).copy() for run in card["splits"]["test"]}
 
 
-def _rigid_body(dataset: Path, card: dict[str, Any], _workers: int) -> dict[int, np.ndarray]:
-    """The RNEA torques of each test arm's model along its motion (the physics, a ceiling)."""
-    from aaria_pin.apps.record_model import record_base, record_columns, record_model
-    from aaria_pin.apps.torques import torque_split
-    from aaria_pin.core.trajectory import BaseMotion, JointTrajectory
-    from aaria_pin.files.dataset.reader import DatasetReader
-
-    predictions: dict[int, np.ndarray] = {}
-    with DatasetReader(dataset) as reader:
-        for run in (int(k) for k in card["splits"]["test"]):
-            record = reader.record(run)
-            base = record_base(record)
-            robot = record_model(record, moving_base=base is not None)
-            columns = record_columns(record, robot)
-            motion = [np.ascontiguousarray(np.asarray(getattr(record, name), float)[:, columns])
-                      for name in ("q", "qd", "qdd")]  # fmt: skip
-            time = np.asarray(record.time, dtype=float)
-            trajectory = JointTrajectory(time, *motion)
-            split = torque_split(robot, base or BaseMotion.resting(time.size), trajectory)
-            torques = np.zeros(card["target_shape"])
-            torques[:, columns] = sum(split.values())
-            predictions[run] = torques
-    return predictions
-
-
 def _zero(_dataset: Path, card: dict[str, Any], _workers: int) -> dict[int, np.ndarray]:
     return {int(run): np.zeros(card["target_shape"]) for run in card["splits"]["test"]}
 
 
 BASELINES: Mapping[str, Mapping[str, Baseline]] = {
     "structure": {"identify": _identify, "nominal": _nominal},
-    "inverse-dynamics": {"zero": _zero, "train-mean": _train_mean, "rigid-body": _rigid_body},
+    "inverse-dynamics": {
+        "zero": _zero,
+        "train-mean": _train_mean,
+        "rigid-body": rigid_body,
+        "rigid-body-truth": rigid_body_truth,
+    },
     "sensor-to-state": {"train-mean": _train_mean},
 }
 """Per task, its baselines by name (the module docstring says what each predicts)."""

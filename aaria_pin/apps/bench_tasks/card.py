@@ -3,7 +3,8 @@
 ``aaria bench-task make TASK -o DIR`` writes ``DIR/dataset.h5`` (the data set) and
 ``DIR/task.json``, whose keys are: ``task`` (its name), ``summary``, ``dataset``
 (``"dataset.h5"``, relative to the card), ``spec`` (the data set's ``n_runs``, ``seed``,
-``duration`` [s], ``rate`` [Hz], ``noise``, ``dtype``; random Aaria DH arms, sine motion),
+``duration`` [s], ``rate`` [Hz], ``noise``, ``dtype`` and, for a task whose runs have
+encoders, ``encoder``, the encoder's fields; random Aaria DH arms, sine motion),
 ``standard`` (false when the spec was shrunk: not the benchmark), ``splits`` (``seed``,
 ``fractions`` and the run indices of ``train``, ``validation``, ``test``), ``inputs`` (the
 fields a model may read), ``target`` (the field it predicts), ``target_shape`` (one run's),
@@ -86,11 +87,15 @@ def read_card(directory: str | os.PathLike[str]) -> dict[str, Any]:
 
 
 def task_card(name: str, directory: str | os.PathLike[str]) -> tuple[BenchTask, dict[str, Any]]:
-    """A task and the card of its folder, which must be the same task's.
+    """A task and the card of its folder, which must be the same task's, as defined now.
+
+    A folder whose card lists other inputs was made by an older definition of the task (the
+    ``inverse-dynamics`` task read the true ``q``, ``qd``, ``qdd`` before it read the
+    encoders): it is refused, in one line naming the way out, never scored as the task.
 
     Raises:
         ParameterError: an unknown task, a folder made for another task.
-        InputFileError: no card, or not a task card.
+        InputFileError: no card, not a task card, or the card of an older definition.
     """
     task = get_task(name)
     card = read_card(directory)
@@ -99,5 +104,13 @@ def task_card(name: str, directory: str | os.PathLike[str]) -> tuple[BenchTask, 
             f"task is {task.name!r}; allowed: {card['task']!r} (the task of {directory})",
             parameter="task",
             value=task.name,
+        )
+    if card.get("inputs", list(task.inputs)) != list(task.inputs):
+        raise InputFileError(
+            f"{Path(directory) / CARD_NAME}: the task's inputs are {card['inputs']}; allowed: "
+            f"{list(task.inputs)} (a folder of an older definition of the task: make it again, "
+            "aaria bench-task make)",
+            parameter="directory",
+            value=str(directory),
         )
     return task, card

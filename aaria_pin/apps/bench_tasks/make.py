@@ -1,8 +1,9 @@
 """Make a benchmark task's folder: its data set (``aaria dataset``) and its card.
 
 The data set is made by :func:`~aaria_pin.apps.dataset.generate.generate_dataset` from the
-task's :class:`~.task.TaskSpec` (random Aaria DH arms, sine motion), so
-``aaria dataset -n N --seed S --duration D --rate R [--no-noise] --dtype T`` makes the same
+task's :class:`~.task.TaskSpec` (random Aaria DH arms, sine motion, the spec's encoders), so
+``aaria dataset -n N --seed S --duration D --rate R [--no-noise] --dtype T`` (with
+``--config FILE`` holding the ``[encoder]`` table of a spec with encoders) makes the same
 file. Its splits are by run (:func:`~aaria_pin.files.dataset.windows.split_runs`, seed
 :data:`~.task.SPLIT_SEED`, fractions :data:`~.task.FRACTIONS`).
 """
@@ -51,7 +52,6 @@ def make_task(
     from aaria_pin.apps.dataset.generate import generate_dataset
     from aaria_pin.apps.dataset.job import DatasetJob
     from aaria_pin.apps.dataset.progress import progress_report
-    from aaria_pin.apps.dataset.spec_sources import DatasetSources
     from aaria_pin.errors import OutputFileError, ParameterError
     from aaria_pin.files.dataset.windows import SPLITS, split_runs
 
@@ -62,7 +62,7 @@ def make_task(
         raise ParameterError(
             parameter="n_runs", value=spec.n_runs, allowed="enough runs for a test split (>= 3)"
         )
-    dataset_spec = DatasetSources(**spec.to_json()).spec()  # checked before anything is made
+    dataset_spec = spec.dataset_spec()  # checked before anything is made
     folder = Path(directory)
     if (folder / DATASET_NAME).exists() and not overwrite:
         raise OutputFileError(

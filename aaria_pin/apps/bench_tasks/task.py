@@ -13,7 +13,10 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
+from aaria_pin.core.joint_sensors import EncoderModel
+
 if TYPE_CHECKING:
+    from aaria_pin.apps.dataset.spec import DatasetSpec
     from aaria_pin.files.dataset.reader import DatasetReader
 
 __all__ = ["FRACTIONS", "SPLIT_SEED", "BenchTask", "TaskSpec"]
@@ -36,6 +39,8 @@ class TaskSpec:
         rate: sample rate [Hz]
         noise: IMU noise (ADIS16485)
         dtype: the stored series' number type
+        encoder: the joint encoders of every run (the data set's ``q_measured``; None: no
+            encoder, the runs record the true ``q`` only)
     """
 
     n_runs: int
@@ -44,10 +49,36 @@ class TaskSpec:
     rate: float
     noise: bool = True
     dtype: str = "float32"
+    encoder: EncoderModel | None = None
 
     def to_json(self) -> dict[str, Any]:
-        """The spec as a JSON-ready dict (the keywords of ``DatasetSources``)."""
-        return asdict(self)
+        """The spec as a JSON-ready dict (``encoder``, a dict of its fields, only when set)."""
+        return {key: value for key, value in asdict(self).items() if value is not None}
+
+    def dataset_spec(self) -> DatasetSpec:
+        """The checked spec of the task's data set.
+
+        ``aaria dataset -n N --seed S --duration D --rate R [--no-noise] --dtype T`` makes the
+        same data set, with ``--config FILE`` whose ``[encoder]`` table holds the encoder's
+        fields when the spec has one.
+
+        Raises:
+            ParameterError: a setting the data set refuses.
+        """
+        from aaria_pin.aaria.hardware import HardwareConfig
+        from aaria_pin.apps.dataset.spec_sources import DatasetSources
+
+        settings = {key: value for key, value in self.to_json().items() if key != "encoder"}
+        spec = DatasetSources(**settings).spec()
+        if self.encoder is None:
+            return spec
+        hardware = HardwareConfig.from_mapping(
+            {"encoder": asdict(self.encoder)},
+            "the task's spec",
+            "config",
+            imu_model=spec.hardware.imu_model,
+        )
+        return replace(spec, hardware=hardware)
 
     def shrunk(self, n_runs: int | None = None, duration: float | None = None) -> TaskSpec:
         """The same spec with fewer runs or a shorter duration (for tests and smoke runs)."""
