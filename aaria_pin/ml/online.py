@@ -200,8 +200,8 @@ class OnlineRuns:
         """Fixed-length windows of the runs (of one split), simulated as they are iterated.
 
         The arguments are those of :meth:`DatasetReader.windows
-        <aaria_pin.files.dataset.reader.DatasetReader.windows>`, but the statistics to
-        normalise with, which a file stores and these runs do not.
+        <aaria_pin.files.dataset.reader.DatasetReader.windows>`, but ``statistics`` is needed
+        to normalise: a file stores its own, these runs none.
 
         Args:
             length: samples per window; None: each run whole (one window a run)
