@@ -80,9 +80,10 @@ def given_statistics(
     missing = [name for name in names if name not in statistics]
     if missing:
         raise ParameterError(
+            f"statistics has none of {missing[0]!r}; allowed: (mean, std) of every name to"
+            f" normalise ({', '.join(names)})",
             parameter="statistics",
             value=missing[0],
-            allowed=f"(mean, std) of every name to normalise ({', '.join(names)})",
         )
     return {
         name: (
