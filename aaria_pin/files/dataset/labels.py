@@ -30,14 +30,15 @@ aaria_pin 0.3.0 store (:mod:`aaria_pin.apps.dataset.inertial_table`; an older fi
 it: its :attr:`DatasetReader.names <aaria_pin.files.dataset.reader.DatasetReader.names>` lack
 it).
 
-No label gives the inertial *base* parameters: they are the combinations of the standard ones
-that the motion determines, and their number and coefficients depend on the arm (which modules
-are empty, prismatic or revolute, the angles between their axes) and on how it moved (the base
-parameter set is found numerically, by a pivoted QR of the run's regressor,
-:func:`aaria_pin.apps.identify.inertial_base.base_parameters`). A fixed-shape vector of them
-would hold other combinations in the same entry from one random arm to the next; they are
-``basis.combination @ pi`` of the standard parameters ``pi`` and the run's regressor (the guide's
-page "Reading data sets and training" has the example).
+No label gives the inertial *base* parameters, as no fixed-shape vector of them means the same
+from one run to the next: they are the combinations of the standard ones that the measurements
+determine, and their number and coefficients depend on the arm (which modules are empty,
+prismatic or revolute, the angles between their axes), on what is measured (the joint torques
+alone, or the base wrench too) and on the motion (a base at rest, a run that does not excite
+every direction); the set is found numerically, by a pivoted QR of the run's regressor
+(:func:`aaria_pin.apps.identify.inertial_base.base_parameters`). They are
+``basis.combination @ pi`` of the standard parameters ``pi`` (the guide's page "Reading data
+sets and training" has the example).
 """
 
 from __future__ import annotations
