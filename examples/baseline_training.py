@@ -16,7 +16,7 @@ import torch
 from torch import nn
 
 from aaria_pin import DatasetReader
-from aaria_pin.files.dataset.windows import normalised
+from aaria_pin.files.dataset.normalisation import normalised
 
 Batch = dict[str, torch.Tensor]
 

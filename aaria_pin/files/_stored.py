@@ -60,6 +60,7 @@ TABLE_UNITS = {
     "joint_table": "columns: amplitude rad, prismatic amplitude m, bias rad or m, "
     "frequency rad/s, phase rad",
     "base_table": "columns: amplitude m or rad, bias m or rad, frequency rad/s, phase rad",
+    "inertial_parameters": "m kg, mx my mz kg m, Ixx Ixy Iyy Ixz Iyz Izz kg m^2 (joint origin)",
 }
 """The ``units`` attribute of the known input tables (other tables get ``""``)."""
 

@@ -26,21 +26,27 @@ simulates with its own copy; a URDF robot is loaded once per process).
 from __future__ import annotations
 
 import sys
-from collections.abc import Collection, Iterator, Mapping, Sequence
+from collections.abc import Collection, Iterator, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from aaria_pin.errors import ParameterError
-from aaria_pin.files.dataset.labels import LABELS, available_labels, label_sources
+from aaria_pin.files.dataset.labels import LABELS, available_labels
+from aaria_pin.files.dataset.normalisation import (
+    GivenStatistics,
+    Statistics,
+    given_statistics,
+    normalised_names,
+)
 from aaria_pin.files.dataset.windows import (
     DEFAULT_FRACTIONS,
     WindowCut,
+    WindowedRuns,
     WindowSplit,
     check_cut,
     check_fractions,
     cut_windows,
-    normalised_names,
     run_items,
     split_runs,
     view_sources,
@@ -52,9 +58,6 @@ if TYPE_CHECKING:
     from aaria_pin.files.dataset.layout import DatasetLayout
 
 __all__ = ["OnlineRuns", "OnlineWindows", "worker_info"]
-
-Statistics = Mapping[str, tuple[np.ndarray, np.ndarray]]
-"""Per-channel ``(mean, std)`` by name."""
 
 
 def worker_info() -> tuple[int, int]:
@@ -184,7 +187,7 @@ class OnlineRuns:
 
     def windows(
         self,
-        length: int,
+        length: int | None,
         stride: int | None = None,
         *,
         names: Sequence[str] | None = None,
@@ -192,16 +195,16 @@ class OnlineRuns:
         seed: int = 0,
         fractions: Sequence[float] = DEFAULT_FRACTIONS,
         normalise: bool | Collection[str] = False,
-        statistics: Statistics | None = None,
+        statistics: GivenStatistics | None = None,
     ) -> OnlineWindows:
         """Fixed-length windows of the runs (of one split), simulated as they are iterated.
 
         The arguments are those of :meth:`DatasetReader.windows
-        <aaria_pin.files.dataset.reader.DatasetReader.windows>`, but the statistics to
-        normalise with, which a file stores and these runs do not.
+        <aaria_pin.files.dataset.reader.DatasetReader.windows>`, but ``statistics`` is needed
+        to normalise: a file stores its own, these runs none.
 
         Args:
-            length: samples per window
+            length: samples per window; None: each run whole (one window a run)
             stride: samples between window starts (default ``length``)
             names: arrays, views or labels (default the first view)
             split: ``"train"``, ``"validation"``, ``"test"``, or None for every run
@@ -212,29 +215,21 @@ class OnlineRuns:
             statistics: ``{name: (mean, std)}`` of (at least) the names to normalise:
                 :meth:`statistics`, or a file's :meth:`DatasetReader.statistics
                 <aaria_pin.files.dataset.reader.DatasetReader.statistics>`
+                (:func:`~aaria_pin.files.dataset.normalisation.given_statistics`)
 
         Raises:
             ParameterError: a length outside [1, T], a stride below 1, an unknown name or
                 split, a negative seed, bad fractions, a name to normalise not among the names
                 (or a label), or without statistics.
         """
-        stride = check_cut(length, stride, self.samples)
+        length, stride = check_cut(length, stride, self.samples)
         chosen = self._chosen(names, labels=True)
         if split is None:
             check_fractions(fractions)
             runs = np.arange(len(self), dtype=np.int64)
         else:
             runs = split_runs(len(self), split, seed, fractions)
-        scaled = normalised_names(normalise, chosen)
-        missing = [name for name in scaled if name not in (statistics or {})]
-        if missing:
-            raise ParameterError(
-                f"statistics has none of {missing[0]!r}; allowed: (mean, std) of every name to"
-                " normalise (OnlineRuns.statistics)",
-                parameter="statistics",
-                value=missing[0],
-            )
-        given = {name: (statistics or {})[name] for name in scaled}
+        given = given_statistics(normalised_names(normalise, chosen), statistics or {})
         return OnlineWindows(
             self,
             self._cut(length, stride, chosen),
@@ -243,7 +238,7 @@ class OnlineRuns:
         )
 
 
-class OnlineWindows:
+class OnlineWindows(WindowedRuns):
     """The windows of some runs, simulated run by run as they are iterated.
 
     Made by :meth:`OnlineRuns.windows`. Iterating gives each window as a dict: each name's
@@ -270,24 +265,9 @@ class OnlineWindows:
         split: WindowSplit,
         statistics: Statistics | None = None,
     ) -> None:
+        super().__init__(cut, split, statistics)
         self.source = runs
-        self.length = int(cut.length)
-        self.stride = int(cut.stride)
-        self.names = tuple(cut.names)
-        self._views = {name: cut.views[name] for name in self.names if name in cut.views}
-        self._sources = view_sources(label_sources(self.names), self._views)
-        self._constant = frozenset(cut.constants) | frozenset(LABELS)
-        self.samples = int(cut.samples)
-        self.runs = np.asarray(split.runs, dtype=np.int64)
-        self.split = split.split
-        self.seed = int(split.seed)
-        self.fractions = tuple(float(f) for f in split.fractions)
-        self.statistics = dict(statistics) if statistics is not None else None
-        self.windows_per_run = (self.samples - self.length) // self.stride + 1
         self.epoch = 0
-
-    def __len__(self) -> int:
-        return len(self.runs) * self.windows_per_run
 
     def set_epoch(self, epoch: int) -> None:
         """Take the runs of an epoch: run ``k + epoch·N`` for each run k given (fresh arms).
@@ -325,7 +305,7 @@ class OnlineWindows:
             needed = {name: stored[name] for name in self._sources}
             items = run_items(self.names, self._views, needed, self.statistics)
             for start, window in cut_windows(
-                items, self._constant, self.length, self.stride, self.samples
+                items, self._whole, self.length, self.stride, self.samples
             ):
                 window["run"] = np.asarray(run, dtype=np.int64)
                 window["start"] = np.asarray(start, dtype=np.int64)

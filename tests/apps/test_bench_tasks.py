@@ -14,7 +14,7 @@ import pytest
 
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.apps.bench_tasks.baselines import run_baseline
-from aaria_pin.apps.bench_tasks.card import CARD_NAME, DATASET_NAME
+from aaria_pin.apps.bench_tasks.card import CARD_NAME, DATASET_NAME, read_card, split_arguments
 from aaria_pin.apps.bench_tasks.make import make_task
 from aaria_pin.apps.bench_tasks.predictions import write_predictions
 from aaria_pin.apps.bench_tasks.registry import TASKS, get_task
@@ -55,6 +55,18 @@ def test_the_card_names_the_splits_and_the_shrunk_spec(folders: dict[str, Path])
     with DatasetReader(folders["structure"] / DATASET_NAME) as reader:
         assert len(reader) == 3 and reader.samples == 21
         assert reader.attributes["seed"] == 2701
+
+
+def test_split_arguments_give_the_cards_runs_of_every_split(folders: dict[str, Path]) -> None:
+    for folder in folders.values():
+        card = read_card(folder)
+        split = split_arguments(card)
+        assert split == {"seed": 0, "fractions": (0.6, 0.2, 0.2)}
+        with DatasetReader(folder / DATASET_NAME) as reader:
+            for name in ("train", "validation", "test"):
+                assert reader.split_runs(name, **split).tolist() == card["splits"][name]
+                windows = reader.windows(None, names=("q",), split=name, **split)
+                assert [int(windows[i]["run"]) for i in range(len(windows))] == card["splits"][name]
 
 
 def test_structure_truth_scores_perfectly_and_a_longer_tool_by_its_length(

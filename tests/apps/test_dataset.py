@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+import json
 import os
 import re
 import signal
@@ -393,20 +394,34 @@ FIXTURES_0_3 = Path(__file__).resolve().parent.parent / "fixtures" / "v0_3_0"
 def test_the_0_3_data_sets_are_made_again_bit_for_bit(
     tmp_path: Path, name: str, args: list[str]
 ) -> None:
-    """The commands of tests/fixtures/v0_3_0/README.md write the same arrays and settings."""
+    """The commands of tests/fixtures/v0_3_0/README.md write the same arrays and settings.
+
+    And one array more, the table ``inertial_parameters`` (added after 0.3): the layout lists it
+    last among the tables, and the checksum has its column last.
+    """
     path = tmp_path / name
     common = ["--duration", "0.2", "--seed", "7", "--workers", "1", "--quiet"]
     result = CliRunner().invoke(main, ["dataset", *args, *common, "-o", str(path)])
     assert result.exit_code == 0, result.output
+    added = "inertial_parameters"
     with h5py.File(FIXTURES_0_3 / name, "r") as want, h5py.File(path, "r") as got:
         names: list[str] = []
         want.visit(names.append)
-        assert sorted(names) == sorted(_names(got))
+        assert sorted([*names, added]) == sorted(_names(got))
         for array in names:
-            np.testing.assert_array_equal(got[array][()], want[array][()], err_msg=array)
-        changed = {"version", "versions_json", "command", "card_json"}  # this job's, not the data
+            made = got[array][()]
+            if array == "checksum":  # a column per stored array: the new one's last
+                assert made.shape[1] == want[array].shape[1] + 1
+                made = made[:, :-1]
+            np.testing.assert_array_equal(made, want[array][()], err_msg=array)
+        # this job's, not the data; the layout: compared without the new table below
+        changed = {"version", "versions_json", "command", "card_json", "layout_json"}
         for key in set(want.attrs) - changed:
             assert np.array_equal(got.attrs[key], want.attrs[key]), key
+        layout = json.loads(got.attrs["layout_json"])
+        assert list(layout["tables"])[-1] == added
+        del layout["tables"][added]
+        assert layout == json.loads(want.attrs["layout_json"])
 
 
 def _names(handle: h5py.File) -> list[str]:

@@ -176,6 +176,9 @@ def test_every_column_has_its_stored_units_and_a_frame(random_arms: Path) -> Non
     assert columns["base_pose"].frame.startswith("T_world_base")
     assert columns["imu"].frame == "each IMU's own axes"
     assert columns["senSen"].role == "view" and columns["senSenDH"].role == "input"
+    inertial = columns["inertial_parameters"]
+    assert inertial.role == "input" and inertial.shape[1:] == (7, 10)
+    assert inertial.units.startswith("m kg") and "the base body" in inertial.frame
     groups = {g.quantity: g for g in columns["senSen"].column_groups}
     assert [g.count for g in groups.values()] == [1, 6, 42, 42]  # 91 columns
     assert groups["angular velocity"].units == "rad/s"

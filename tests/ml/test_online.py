@@ -112,6 +112,22 @@ def test_statistics_and_normalised_windows_equal_the_file_backed_ones(dh_file: P
     _windows_equal(list(online), expected)
 
 
+def test_whole_runs_normalised_with_a_files_statistics_equal_the_file_backed_ones(
+    dh_file: Path,
+) -> None:
+    runs = OnlineRuns.defaults(N_RUNS, seed=SEED, duration=0.2, rate=100.0)
+    names = ("imu", "tau", "inertial_parameters", "empty_mask")
+    with DatasetReader(dh_file) as reader:
+        statistics = reader.statistics(("imu", "tau"), split=None)
+        windows = reader.windows(None, names=names, normalise=("imu", "tau"), statistics=statistics)
+        expected = [windows[i] for i in range(len(windows))]
+    online = runs.windows(None, names=names, normalise=("imu", "tau"), statistics=statistics)
+    assert len(online) == N_RUNS and online.length == 21
+    _windows_equal(list(online), expected)
+    again = runs.windows(None, names=names, normalise=("imu", "tau"), statistics=online.statistics)
+    _windows_equal(list(again), expected)  # a window dataset's statistics, passed on
+
+
 def test_two_workers_share_the_runs_each_simulated_once() -> None:
     runs = OnlineRuns.defaults(5, seed=SEED, duration=0.2, rate=100.0)
     windows = runs.windows(10, names=("q",))

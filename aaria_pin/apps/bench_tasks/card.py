@@ -27,6 +27,7 @@ __all__ = [
     "DATASET_NAME",
     "PREDICTIONS_FORMAT",
     "read_card",
+    "split_arguments",
     "task_card",
     "write_card",
 ]
@@ -84,6 +85,20 @@ def read_card(directory: str | os.PathLike[str]) -> dict[str, Any]:
             parameter="directory",
         )
     return card
+
+
+def split_arguments(card: dict[str, Any]) -> dict[str, Any]:
+    """The split keywords of a task's card, ``{"seed": …, "fractions": …}``, to pass as they are.
+
+    ``reader.windows(200, split="train", **split_arguments(card))`` cuts the task's training
+    runs (so do ``reader.split_runs``, ``reader.statistics`` and ``OnlineRuns.windows``): the
+    runs of each split are those the card lists (``splits.train`` …).
+
+    Args:
+        card: a task card (:func:`read_card`)
+    """
+    splits = card["splits"]
+    return {"seed": int(splits["seed"]), "fractions": tuple(float(f) for f in splits["fractions"])}
 
 
 def task_card(name: str, directory: str | os.PathLike[str]) -> tuple[BenchTask, dict[str, Any]]:

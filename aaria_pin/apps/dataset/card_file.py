@@ -55,6 +55,8 @@ _FRAMES = {
     "tool_pose": "T_world_tool: the tool frame in the world frame",
     "imu": "each IMU's own axes",
     "imu_mount": "T_parent_imu: each IMU in its parent frame",
+    "inertial_parameters": "a row per joint of joint_names (the body it moves), then the base "
+    "body; first moments and inertia in each joint's frame, about its origin",
 }
 """The frame of each record array, as :mod:`aaria_pin.core.record` defines them."""
 

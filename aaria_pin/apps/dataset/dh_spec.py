@@ -6,7 +6,8 @@ table and its base table from its own streams, unless the spec fixes them, and i
 module order (joints
 ``joint1`` … ``joint6``, 14 IMU slots; an empty module's columns are zero), so every run has
 the same layout: the tables ``senSenDH``, ``senSenJ`` (8 × 5) and ``senSenB`` (6 × 4: a 2 × 4
-table is stored expanded, one row per axis), and the view ``senSen`` (T × 91). With a Fourier
+table is stored expanded, one row per axis), ``inertial_parameters`` (7 × 10,
+:mod:`.inertial_table`) and the view ``senSen`` (T × 91). With a Fourier
 excitation (``motion="fourier"``) run k follows
 :func:`~aaria_pin.aaria.simulate.dh_fourier_excitation` of its table, drawn from its joint
 stream, stored as the table ``fourier_coefficients`` (6 × (1 + 2L)); its ``senSenJ`` is the
@@ -22,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from aaria_pin.aaria.randomize import random_dh_table, random_joint_table
+from aaria_pin.apps.dataset.inertial_table import INERTIAL_TABLE, inertial_shape
 from aaria_pin.apps.dataset.spec import DatasetSpec, RunInputs
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.seeds import RunSeeds
@@ -172,6 +174,7 @@ def dh_layout(urdf: str = "", harmonics: int = 0) -> DatasetLayout:
     tables = {"senSenDH": (8, 5), "senSenJ": (8, 5), "senSenB": (6, 4)}
     if harmonics:
         tables["fourier_coefficients"] = (N_MODULES, 1 + 2 * harmonics)
+    tables[INERTIAL_TABLE] = inertial_shape(N_MODULES)
     return DatasetLayout(
         JOINT_NAMES,
         imu_slot_order(),

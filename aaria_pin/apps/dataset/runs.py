@@ -7,7 +7,8 @@ and hands them to :func:`simulate_inputs`, which runs the engine
 arm, :func:`~aaria_pin.core.run.urdf_kind.urdf_robot_run` for a URDF robot), its motion
 (:meth:`~.spec.DatasetSpec.run_motion`), its settings (:meth:`~.spec.DatasetSpec.run_settings`:
 its hardware drawn from the config's ranges),
-the run's noise stream and the spec's extra sensors.
+the run's noise stream and the spec's extra sensors; the record then gets the robot's standard
+inertial parameters as its table ``inertial_parameters`` (:mod:`.inertial_table`).
 
 The specs are typed ``Any`` here: this module imports no other module of the data sets (the spec
 calls it), so it adds no import cycle.
@@ -33,9 +34,13 @@ def simulate_inputs(spec: Any, inputs: Any, settings: Any) -> RunRecord:
             noise, its hardware)
 
     Returns:
-        The run as a record (every series in float64).
+        The run as a record (every series in float64), with its table ``inertial_parameters``.
     """
+    from dataclasses import replace
+
+    from aaria_pin.apps.dataset.inertial_table import INERTIAL_TABLE, inertial_table
     from aaria_pin.core.run import simulate
 
     robot, motion = spec.run_robot(inputs), spec.run_motion(inputs)
-    return simulate(robot, motion, settings, inputs.noise_seed, spec.sensors)
+    record = simulate(robot, motion, settings, inputs.noise_seed, spec.sensors)
+    return replace(record, tables={**record.tables, INERTIAL_TABLE: inertial_table(robot)})

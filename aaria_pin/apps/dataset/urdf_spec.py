@@ -6,7 +6,8 @@ table from the same streams as an Aaria data set; run k is simulated by
 :func:`aaria_pin.core.urdf_run.simulate_loaded_robot` (:mod:`.runs`). Its layout: the robot's
 actuated joints
 in model order, its IMU layout, the tables ``joint_table`` (n × 5) and, on a moving base,
-``base_table`` (6 × 4), and the robot's URDF text; with a Fourier excitation
+``base_table`` (6 × 4), ``inertial_parameters`` ((n + 1) × 10, :mod:`.inertial_table`), and the
+robot's URDF text; with a Fourier excitation
 (``motion="fourier"``) also ``fourier_coefficients`` (n × (1 + 2L):
 :func:`~aaria_pin.core.urdf_run.urdf_fourier_excitation`, drawn from the run's joint stream;
 its ``joint_table`` is then the robot's default, not followed). The file's ``robot_info``
@@ -22,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from aaria_pin.apps.dataset.inertial_table import INERTIAL_TABLE, inertial_shape
 from aaria_pin.apps.dataset.spec import DatasetSpec, RunInputs
 from aaria_pin.core.record import ImuMount
 from aaria_pin.errors import ParameterError
@@ -178,6 +180,7 @@ class UrdfDatasetSpec(DatasetSpec):
         if self.motion == "fourier":
             harmonics = self.fourier_settings()["harmonics"]
             tables["fourier_coefficients"] = (loaded.robot.n_joints, 1 + 2 * harmonics)
+        tables[INERTIAL_TABLE] = inertial_shape(len(loaded.robot.joint_names))
         return DatasetLayout(
             loaded.robot.joint_names,
             tuple(mount.name for mount in loaded.imu_mounts),

@@ -21,8 +21,24 @@ The other targets are stored arrays already, read by their names: the extended D
 ``senSenDH`` (``8 × 5`` float64, ``[alpha [rad], a [m], theta [rad], d [m], link type]``, rows
 1–6 modules, 7 the tool, 8 the base), the IMU mounts ``imu_mount`` (``S × 4 × 4`` float64, each
 IMU's pose in its parent link's frame [m]), the joint torques ``tau`` (a series, ``length × n``
-a window, N·m or N for a prismatic joint). Inertial base parameters are not stored in a data set
-(only the tables the arm was built from), so no label gives them.
+a window, N·m or N for a prismatic joint) and the standard inertial parameters
+``inertial_parameters`` (``(n + 1) × 10`` float64, ``7 × 10`` for an Aaria arm: a row per joint
+column, the body it moves, zeros for an empty module, then the base body; each row
+``[m [kg], m·c [kg·m], I [kg·m²]]`` in Pinocchio's ``Inertia.toDynamicParameters`` order, about
+the joint's origin; the tool is in the last joint's row), which data sets made after
+aaria_pin 0.3.0 store (:mod:`aaria_pin.apps.dataset.inertial_table`; an older file does not have
+it: its :attr:`DatasetReader.names <aaria_pin.files.dataset.reader.DatasetReader.names>` lack
+it).
+
+No label gives the inertial *base* parameters, as no fixed-shape vector of them means the same
+from one run to the next: they are the combinations of the standard ones that the measurements
+determine, and their number and coefficients depend on the arm (which modules are empty,
+prismatic or revolute, the angles between their axes), on what is measured (the joint torques
+alone, or the base wrench too) and on the motion (a base at rest, a run that does not excite
+every direction); the set is found numerically, by a pivoted QR of the run's regressor
+(:func:`aaria_pin.apps.identify.inertial_base.base_parameters`). They are
+``basis.combination @ pi`` of the standard parameters ``pi`` (the guide's page "Reading data
+sets and training" has the example).
 """
 
 from __future__ import annotations

@@ -30,11 +30,12 @@ from typing import Any
 import numpy as np
 
 from aaria_pin.core.arguments import checked
-from aaria_pin.core.record import SERIES, ColumnView, RunRecord, mounts_from_poses
+from aaria_pin.core.record import SERIES, ColumnView, RunRecord
 from aaria_pin.core.record_checks import check_record, record_source
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import InputFileError, ParameterError
 from aaria_pin.files._stored import decode_attributes, first_line
+from aaria_pin.files.dataset.dataset_record import dataset_record
 from aaria_pin.files.dataset.header import DatasetHeader
 from aaria_pin.files.dataset.labels import available_labels, derive_labels, label_sources
 from aaria_pin.files.dataset.layout import (
@@ -42,10 +43,14 @@ from aaria_pin.files.dataset.layout import (
     DATASET_FORMAT_VERSION,
     DatasetLayout,
     read_layout,
-    record_attributes,
 )
 from aaria_pin.files.dataset.legacy_datasets import LEGACY_VERSION, legacy_names, legacy_record
 from aaria_pin.files.dataset.manifest import missing_shards
+from aaria_pin.files.dataset.normalisation import (
+    GivenStatistics,
+    given_statistics,
+    normalised_names,
+)
 from aaria_pin.files.dataset.statistics import (
     names_statistics,
     read_statistics,
@@ -60,15 +65,11 @@ from aaria_pin.files.dataset.windows import (
     WindowSplit,
     check_cut,
     check_fractions,
-    normalised_names,
     split_runs,
     view_sources,
 )
 
 __all__ = ["DatasetReader"]
-
-_NOISE_STREAM = 3
-"""The noise stream of a run when the file records none (as the engine draws it)."""
 
 
 @checked
@@ -246,32 +247,7 @@ class DatasetReader:
         if self.layout is None:
             self._check.verify_run(self._handle, index, self.names)  # readable and finite
             return legacy_record(self._handle, index, self.header)
-        layout = self.layout
-        arrays = {
-            name: np.asarray(self._check.checked(self._handle, name, index), dtype=float)
-            for name in layout.names
-        }
-        mounts = mounts_from_poses(layout.imu_names, layout.imu_parents, arrays["imu_mount"])
-        stream = _NOISE_STREAM if self.header.noise_stream is None else self.header.noise_stream
-        return RunRecord(
-            time=arrays["time"],
-            joint_names=layout.joint_names,
-            q=arrays["q"],
-            qd=arrays["qd"],
-            qdd=arrays["qdd"],
-            tau=arrays["tau"],
-            base_pose=arrays["base_pose"],
-            base_wrench=arrays["base_wrench"],
-            tool_pose=arrays["tool_pose"],
-            imu=arrays["imu"],
-            imu_mounts=mounts,
-            urdf=layout.urdf,
-            tables={name: arrays[name] for name in layout.tables},
-            views=dict(layout.views),
-            attributes=record_attributes(
-                self.header.attributes, index, stream, arrays.get("hardware_values")
-            ),
-        )
+        return dataset_record(self._handle, self._check, self.header, self.layout, index)
 
     @property
     def verifiable(self) -> bool:
@@ -367,7 +343,7 @@ class DatasetReader:
 
     def windows(
         self,
-        length: int,
+        length: int | None,
         stride: int | None = None,
         *,
         names: Sequence[str] | None = None,
@@ -375,6 +351,7 @@ class DatasetReader:
         seed: int = 0,
         fractions: Sequence[float] = DEFAULT_FRACTIONS,
         normalise: bool | Collection[str] = False,
+        statistics: GivenStatistics | None = None,
     ) -> WindowDataset:
         """Fixed-length windows over the complete runs (of one split), as a map-style dataset.
 
@@ -384,7 +361,8 @@ class DatasetReader:
         ``(run, start, {name: window})`` run by run, each run read once.
 
         Args:
-            length: samples per window
+            length: samples per window; None: each run whole (one window a run, the run's
+                arrays normalised as asked)
             stride: samples between window starts (default ``length``: no overlap)
             names: arrays, views or labels (``senSen``, ``signals``, ``imu``, ``q``, ``tau``,
                 ``base_wrench``, ``link_types``, …; default the first view, ``senSen`` or
@@ -395,30 +373,33 @@ class DatasetReader:
             fractions: of the runs in the training, validation and test splits
             normalise: which names to normalise, the others raw: True (every name but the
                 labels), False, or some of the names (``("imu",)``); each is centred on the
-                mean and divided by the std (a channel of std 0 only centred) stored for the
-                training split of the same seed and fractions (see :meth:`statistics`)
+                mean and divided by the std (a channel of std 0 only centred) of
+                ``statistics``, else stored for the training split of the same seed and
+                fractions (see :meth:`statistics`)
+            statistics: ``{name: (mean, std)}`` to normalise with instead of the stored ones
+                (another data set's :meth:`statistics`, ``OnlineRuns.statistics``, a window
+                dataset's ``statistics``; :func:`~.normalisation.given_statistics`)
 
         Raises:
             ParameterError: a length outside [1, T], a stride below 1, an unknown name or
-                split, a negative seed, bad fractions, or a name to normalise not among the
-                names (or a label).
+                split, a negative seed, bad fractions, a name to normalise not among the
+                names (or a label), or not in ``statistics``.
             InputFileError: no such stored statistics for a name to normalise (named).
         """
-        stride = check_cut(length, stride, self.samples)
+        length, stride = check_cut(length, stride, self.samples)
         chosen = self._chosen_names(names, labels=True)
         runs = self.split_runs(split, seed, fractions)
         scaled = normalised_names(normalise, chosen)
-        statistics = (
-            training_statistics(self._handle, self.path, scaled, seed, fractions)
-            if scaled
-            else None
-        )
+        if statistics is not None:
+            given = given_statistics(scaled, statistics)
+        else:
+            given = training_statistics(self._handle, self.path, scaled, seed, fractions)
         cut = WindowCut(length, stride, chosen, self._views, self._constants, self.samples)
         return WindowDataset(
             self.path,
             cut,
             WindowSplit(runs, split, seed, tuple(fractions)),
-            statistics,
+            given or None,
             copy.deepcopy(self._check),
         )
 

@@ -314,12 +314,14 @@ def training_statistics(
         fractions: the windows' split fractions
 
     Returns:
-        ``{name: (mean, std)}`` of the names.
+        ``{name: (mean, std)}`` of the names (none: ``{}``, nothing read).
 
     Raises:
         InputFileError: no training statistics stored, stored for another seed or fractions,
             or none stored for one of the names (named).
     """
+    if not names:
+        return {}
     values, attributes = read_statistics(handle, "train", path)
     wanted = (int(seed), tuple(float(f) for f in check_fractions(fractions)))
     if (attributes["seed"], attributes["fractions"]) != wanted:

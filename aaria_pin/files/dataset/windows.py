@@ -15,9 +15,11 @@ has ``(T - length) // stride + 1`` windows, and ``i`` is window ``i % W`` of the
 
 Names may be stored arrays, views or labels (:mod:`.labels`: ``link_types``, ``empty_mask``,
 computed from the stored DH table when a run is read). Normalisation is per name
-(:func:`normalised_names`: all but the labels, none, or some names, the others raw). Each process
-keeps the last few runs it read whole (:attr:`WindowDataset.cache_runs`), so a shuffled epoch
-ordered by :class:`~.sampler.RunBlockSampler` reads each run once.
+(:mod:`.normalisation`: all but the labels, none, or some names, the others raw; with the
+stored training statistics or statistics held in memory). A window may be a whole run
+(``length=None`` in the readers). Each process keeps the last few runs it read whole
+(:attr:`WindowDataset.cache_runs`), so a shuffled epoch ordered by
+:class:`~.sampler.RunBlockSampler` reads each run once.
 
 **Splits by run** (:func:`split_runs`): the runs, complete or not, are ordered by a key drawn
 for each run, run k's key being the k-th raw 64-bit output of NumPy's ``PCG64(seed)`` bit
@@ -44,6 +46,7 @@ import numpy as np
 from aaria_pin.core.record import ColumnView
 from aaria_pin.errors import ParameterError
 from aaria_pin.files.dataset.labels import LABELS, derive_labels, label_sources
+from aaria_pin.files.dataset.normalisation import Statistics, normalised
 from aaria_pin.files.dataset.verify import RunCheck
 
 __all__ = [
@@ -53,11 +56,10 @@ __all__ = [
     "WindowCut",
     "WindowDataset",
     "WindowSplit",
+    "WindowedRuns",
     "check_cut",
     "check_fractions",
     "cut_windows",
-    "normalised",
-    "normalised_names",
     "run_items",
     "split_runs",
     "view_sources",
@@ -70,9 +72,6 @@ DEFAULT_FRACTIONS = (0.8, 0.1, 0.1)
 
 DEFAULT_CACHE_RUNS = 8
 """Whole runs a :class:`WindowDataset` keeps read in each process (the latest used)."""
-
-Statistics = Mapping[str, tuple[np.ndarray, np.ndarray]]
-"""Per-channel statistics by array name: ``(mean, std)``, each of the channel shape."""
 
 
 def check_fractions(fractions: Sequence[float]) -> tuple[float, float, float]:
@@ -95,20 +94,28 @@ def check_fractions(fractions: Sequence[float]) -> tuple[float, float, float]:
     return values[0], values[1], values[2]
 
 
-def check_cut(length: int, stride: int | None, samples: int) -> int:
-    """Check a window length and stride against the samples per run; the stride (default length).
+def check_cut(length: int | None, stride: int | None, samples: int) -> tuple[int, int]:
+    """Check a window length and stride against the samples per run: ``(length, stride)``.
+
+    Args:
+        length: samples per window, or None: the whole run (one window a run)
+        stride: samples between window starts (None: the length)
+        samples: samples per run T
 
     Raises:
         ParameterError: a length outside [1, samples], a stride below 1.
     """
+    length = samples if length is None else length
     stride = length if stride is None else stride
     if not 1 <= length <= samples:
         raise ParameterError(
-            parameter="length", value=length, allowed=f"1 to {samples} (samples per run)"
+            parameter="length",
+            value=length,
+            allowed=f"1 to {samples} (samples per run), or None (whole runs)",
         )
     if stride < 1:
         raise ParameterError(parameter="stride", value=stride, allowed="an integer >= 1")
-    return stride
+    return length, stride
 
 
 def split_runs(
@@ -139,42 +146,6 @@ def split_runs(
     cuts.append(n_runs)
     at = SPLITS.index(split)
     return np.sort(order[cuts[at] : cuts[at + 1]]).astype(np.int64)
-
-
-def normalised(array: np.ndarray, mean: np.ndarray, std: np.ndarray) -> np.ndarray:
-    """``(array - mean) / std`` in the array's floating type; a channel of zero std is only centred.
-
-    A constant channel (the last row of a pose, an empty module's joint) has std 0: dividing by 1
-    there, as scikit-learn's ``StandardScaler`` does, keeps it finite (zero).
-    """
-    dtype = array.dtype if np.issubdtype(array.dtype, np.floating) else np.dtype(np.float64)
-    scale = np.where(std > 0.0, std, 1.0)
-    return ((array - mean) / scale).astype(dtype, copy=False)
-
-
-def normalised_names(normalise: bool | Collection[str], names: Sequence[str]) -> tuple[str, ...]:
-    """The names of some windows to normalise, in their order.
-
-    Args:
-        normalise: True: every name but the labels (:mod:`.labels`, never normalised); False:
-            none; a collection of names (a single name as a string): those
-        names: the windows' names
-
-    Raises:
-        ParameterError: a name to normalise that is not among the names, or is a label.
-    """
-    if isinstance(normalise, bool):
-        return tuple(name for name in names if name not in LABELS) if normalise else ()
-    wanted = (normalise,) if isinstance(normalise, str) else tuple(normalise)
-    bad = [name for name in wanted if name not in names or name in LABELS]
-    if bad:
-        allowed = [name for name in names if name not in LABELS]
-        raise ParameterError(
-            parameter="normalise",
-            value=bad[0],
-            allowed=f"True, False or names of the windows, labels apart ({', '.join(allowed)})",
-        )
-    return tuple(name for name in names if name in wanted)
 
 
 def view_sources(names: Sequence[str], views: Mapping[str, ColumnView]) -> tuple[str, ...]:
@@ -285,7 +256,46 @@ class WindowSplit:
     fractions: Sequence[float] = DEFAULT_FRACTIONS
 
 
-class WindowDataset:
+class WindowedRuns:
+    """What a window dataset cuts: the runs, their windows, the names and their normalisation.
+
+    The part :class:`WindowDataset` (over a file) and ``aaria_pin.ml.OnlineWindows`` (over runs
+    simulated on demand) have in common, made from the same three values.
+
+    Args:
+        cut: how the runs are cut (window length, stride, names; the views, constants and
+            samples per run)
+        split: the runs to cut and the split they are
+        statistics: per-channel ``(mean, std)`` of the names to normalise (the others raw), or
+            None
+
+    Attributes:
+        length, stride, names, samples, runs, split, seed, fractions, statistics: as given
+        windows_per_run: windows of one run W
+    """
+
+    def __init__(
+        self, cut: WindowCut, split: WindowSplit, statistics: Statistics | None = None
+    ) -> None:
+        self.length = int(cut.length)
+        self.stride = int(cut.stride)
+        self.names = tuple(cut.names)
+        self._views = {name: cut.views[name] for name in self.names if name in cut.views}
+        self._sources = view_sources(label_sources(self.names), self._views)
+        self._whole = frozenset(cut.constants) | frozenset(LABELS)  # no time axis: given whole
+        self.samples = int(cut.samples)
+        self.runs = np.asarray(split.runs, dtype=np.int64)
+        self.split = split.split
+        self.seed = int(split.seed)
+        self.fractions = tuple(float(f) for f in split.fractions)
+        self.statistics = dict(statistics) if statistics is not None else None
+        self.windows_per_run = (self.samples - self.length) // self.stride + 1
+
+    def __len__(self) -> int:
+        return len(self.runs) * self.windows_per_run
+
+
+class WindowDataset(WindowedRuns):
     """Fixed-length windows over the complete runs of a data set (or of one split of its runs).
 
     Made by :meth:`DatasetReader.windows
@@ -335,29 +345,15 @@ class WindowDataset:
         statistics: Statistics | None = None,
         check: RunCheck | None = None,
     ) -> None:
+        super().__init__(cut, split, statistics)
         self.path = Path(path).resolve()  # a pickled copy may run in another folder
-        self.length = int(cut.length)
-        self.stride = int(cut.stride)
-        self.names = tuple(cut.names)
-        self._views = {name: cut.views[name] for name in self.names if name in cut.views}
-        self._sources = view_sources(label_sources(self.names), self._views)
-        self._constant = tuple(name in cut.constants for name in self._sources)
-        self.samples = int(cut.samples)
-        self.runs = np.asarray(split.runs, dtype=np.int64)
-        self.split = split.split
-        self.seed = int(split.seed)
-        self.fractions = tuple(float(f) for f in split.fractions)
-        self.statistics = dict(statistics) if statistics is not None else None
-        self.windows_per_run = (self.samples - self.length) // self.stride + 1
+        self._constant = tuple(name in self._whole for name in self._sources)
         self._check = check if check is not None else RunCheck(self.path, 0)
         self._handle: Any = None
         self._datasets: list[Any] = []
         self._pid = -1
         self.cache_runs = DEFAULT_CACHE_RUNS
         self._cache: OrderedDict[int, dict[str, np.ndarray]] = OrderedDict()
-
-    def __len__(self) -> int:
-        return len(self.runs) * self.windows_per_run
 
     def _arrays(self) -> list[Any]:
         """The stored h5py datasets to read, opened in this process (again after a fork)."""
@@ -430,11 +426,9 @@ class WindowDataset:
         return items
 
     def __iter__(self) -> Iterator[tuple[int, int, dict[str, np.ndarray]]]:
-        constant = {name for name, c in zip(self._sources, self._constant, strict=True) if c}
-        constant.update(LABELS)
         for run in self.runs:
             arrays = self._read(int(run), slice(None))
-            cut = cut_windows(arrays, constant, self.length, self.stride, self.samples)
+            cut = cut_windows(arrays, self._whole, self.length, self.stride, self.samples)
             for start, window in cut:
                 yield int(run), start, window
 
