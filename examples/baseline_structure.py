@@ -7,7 +7,8 @@ table entry). One MLP, shared by the rows (a one-hot of the row beside the featu
 classifies each row's link type (empty, revolute, prismatic), its alpha among the random arms'
 ``alpha_choices`` and its theta among ``theta_choices`` (learned on prismatic rows only: a
 revolute module's theta is not used), and regresses a and d scaled by their ranges
-(``RandomConfig``; d learned on modules only, the tool has none). The predicted table keeps
+(``RandomConfig``; d learned on modules only, the tool has none) as a learned blend, per row,
+of the features' own estimates of them and a free value. The predicted table keeps
 the classes' values, the lengths clipped at 0, the tool row ``[0, a, 0, 0, 1]``.
 
 The training arms come from the task's training split, another data set (``--train-data``)
@@ -24,7 +25,7 @@ from typing import Any
 import numpy as np
 import torch
 from baseline_training import Batch, Curve, Data, Settings, fit
-from structure_features import FEATURES, ROWS, run_features
+from structure_features import ESTIMATES, FEATURES, ROWS, run_features
 from torch import nn
 
 from aaria_pin.aaria.randomize import RandomConfig
@@ -83,18 +84,24 @@ class RowNet(nn.Module):
             nn.ReLU(),
             nn.Dropout(dropout),
         )
-        self.out = nn.Linear(width, 3 + len(ALPHAS) + len(THETAS) + 2)
+        self.out = nn.Linear(width, 3 + len(ALPHAS) + len(THETAS) + 4)
 
     def forward(self, x: torch.Tensor) -> dict[str, torch.Tensor]:
-        """``x``: (B, 7, F) → logits and lengths per row."""
+        """``x``: (B, 7, F) → logits and scaled lengths per row.
+
+        The lengths blend the features' own estimates of a and d (columns
+        :data:`~structure_features.ESTIMATES`) with free values, by a learned gate per row.
+        """
         rows = torch.eye(ROWS, dtype=x.dtype).expand(len(x), ROWS, ROWS)
         h = self.out(self.trunk(torch.cat([x, rows], dim=2)))
-        cuts = np.cumsum([3, len(ALPHAS), len(THETAS)]).tolist()
+        cuts = np.cumsum([3, len(ALPHAS), len(THETAS), 2]).tolist()
+        gate = torch.sigmoid(h[..., cuts[3] :])
+        lengths = gate * x[..., list(ESTIMATES)] + (1 - gate) * h[..., cuts[2] : cuts[3]]
         return {
             "type": h[..., : cuts[0]],
             "alpha": h[..., cuts[0] : cuts[1]],
             "theta": h[..., cuts[1] : cuts[2]],
-            "lengths": h[..., cuts[2] :],
+            "lengths": lengths,
         }
 
 
