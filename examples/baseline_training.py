@@ -36,6 +36,7 @@ class Settings:
     patience: int = 15
     weight_decay: float = 0.0
     dropout: float = 0.0
+    workers: int = 1
     notes: dict[str, Any] = field(default_factory=dict)
 
 
@@ -44,13 +45,15 @@ class Data:
     """A task's data set opened for training: the card, the reader, the training statistics.
 
     ``extra``: another data set whose every run replaces the training split (``--train-data``),
-    or None; the validation and test splits are the task's always.
+    or None; ``online``: the :class:`~aaria_pin.ml.OnlineRuns` whose fresh arms replace it
+    (``--online``), or None; the validation and test splits are the task's always.
     """
 
     card: dict[str, Any]
     reader: DatasetReader
     stats: dict[str, tuple[np.ndarray, np.ndarray]]
     extra: DatasetReader | None = None
+    online: Any = None
 
     def source(self, split: str) -> tuple[DatasetReader, str | None]:
         """The reader of a split and the split to ask it for (None: all its runs)."""

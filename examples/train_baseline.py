@@ -1,7 +1,7 @@
 """Train a small learned baseline of a benchmark task on CPU, predict its test runs, write them.
 
     python examples/train_baseline.py TASK TASK_DIR -o OUT [--epochs N] [--seed S] [--tiny]
-        [--train-data DATASET]
+        [--train-data DATASET | --online N [--online-seed S] [--workers W]]
 
 ``TASK_DIR`` is a folder of ``aaria bench-task make TASK -o TASK_DIR``. The model (one per task,
 :data:`MODELS`) trains on the card's training split, keeps the weights of its best validation
@@ -10,10 +10,11 @@ only its inputs. ``OUT`` receives ``predictions.npz`` (for ``aaria bench-task sc
 ``curve.png`` (training and validation loss per epoch) and ``settings.json`` (the settings, the
 losses, the seconds). Deterministic on CPU for a seed (one thread, deterministic algorithms).
 
-- ``structure``: a 1-D CNN over windows of the encoders and IMUs, pooled over time, gives per
-  run a summary; heads classify each column of the DH table that takes few values (alpha, theta,
-  link type: the training tables' distinct values) and regress the others (a, d); a test run's
-  table is predicted from the mean of its windows' outputs;
+- ``structure``: per table row (modules 1–6, the tool), features the rigid-body physics offers
+  (``structure_features.py``: the encoders' spread, rotations between consecutive links'
+  angular velocities, lever arms between IMUs) into one MLP shared by the rows that classifies
+  the link type, alpha and theta among the random arms' choices and regresses a and d
+  (``baseline_structure.py``);
 - ``inverse-dynamics``: an MLP per sample from q, sin q, cos q, qd, qdd, the base pose and the
   DH table to the torques;
 - ``sensor-to-state``: a fully convolutional 1-D CNN from the IMU series to q at every sample
@@ -23,8 +24,11 @@ Inputs and targets are normalised with the training split's statistics
 (``DatasetReader.statistics``); ``--tiny`` is a smoke test (2 epochs, short windows, small
 models). ``--train-data`` trains on every run of another data set (``aaria dataset`` with the
 task's settings and another seed: fresh arms) instead of the task's training split (its
-statistics too); validation and test stay the task's. The training loop is in
-``baseline_training.py`` beside this file.
+statistics too). ``--online N`` trains on N fresh arms per epoch simulated inside the loop
+(:class:`aaria_pin.ml.OnlineWindows` of the task's spec with the seed ``--online-seed``,
+default :data:`ONLINE_SEED`, not the task's: epoch e takes runs ``k + e·N``, so no arm is seen
+twice) in ``--workers`` ``DataLoader`` workers (structure, sensor-to-state). Validation and
+test stay the task's. The training loop is in ``baseline_training.py`` beside this file.
 """
 
 from __future__ import annotations
@@ -40,161 +44,13 @@ from typing import Any
 
 import numpy as np
 import torch
+from baseline_structure import train_structure
 from baseline_training import Batch, Curve, Data, Settings, fit, plot_curve, tensor_batches
 from torch import nn
 
 from aaria_pin import DatasetReader
 from aaria_pin.apps.bench_tasks.predictions import write_predictions
 from aaria_pin.files.dataset.sampler import RunBlockSampler
-
-# --- structure -----------------------------------------------------------------------------
-
-
-def _encoder(channels: int, width: int) -> nn.Module:
-    """Strided 1-D convolutions pooled (mean and max) over time: ``(B, C, T) -> (B, 2 width)``."""
-
-    class Pool(nn.Module):
-        def forward(self, x: torch.Tensor) -> torch.Tensor:
-            return torch.cat([x.mean(dim=2), x.amax(dim=2)], dim=1)
-
-    return nn.Sequential(
-        nn.Conv1d(channels, width, 7, stride=2, padding=3),
-        nn.ReLU(),
-        nn.Conv1d(width, width, 7, stride=2, padding=3),
-        nn.ReLU(),
-        nn.Conv1d(width, width, 5, stride=2, padding=2),
-        nn.ReLU(),
-        Pool(),
-    )
-
-
-class StructureNet(nn.Module):
-    """Summary of a window of encoders and IMUs → DH table class logits and regressed values."""
-
-    def __init__(
-        self, channels: int, width: int, n_classes: dict[int, int], n_real: int, dropout: float
-    ) -> None:
-        super().__init__()
-        self.encoder = _encoder(channels, width)
-        self.trunk = nn.Sequential(
-            nn.Linear(2 * width + channels, 2 * width), nn.ReLU(), nn.Dropout(dropout)
-        )
-        self.heads = nn.ModuleDict(
-            {str(c): nn.Linear(2 * width, 8 * n) for c, n in n_classes.items()}
-        )
-        self.real = nn.Linear(2 * width, n_real)
-
-    def forward(self, x: torch.Tensor) -> dict[str, torch.Tensor]:
-        """Logits (B × 8 × classes) per classified column, ``real``: the regressed entries."""
-        spread = torch.log(x.std(dim=2) + 1e-3)  # per channel: a joint's range tells its type
-        h = self.trunk(torch.cat([self.encoder(x), spread], dim=1))
-        out = {c: head(h).view(len(x), 8, -1) for c, head in self.heads.items()}
-        out["real"] = self.real(h)
-        return out
-
-
-@dataclass
-class Table:
-    """How the DH table (8 × 5) is learned: columns of few values classified, others regressed."""
-
-    classes: dict[int, np.ndarray]  # column -> its distinct training values
-    real: list[int]  # regressed columns
-    mean: np.ndarray  # of the regressed entries (8 × len(real)), flattened
-    std: np.ndarray
-
-    @classmethod
-    def from_tables(cls, tables: np.ndarray, max_classes: int = 4) -> Table:
-        """From the training tables (N × 8 × 5)."""
-        rounded = np.round(tables, 6)
-        values = [np.unique(rounded[:, :, c]) for c in range(tables.shape[2])]
-        classes = {c: v for c, v in enumerate(values) if len(v) <= max_classes}
-        real = [c for c in range(tables.shape[2]) if c not in classes]
-        entries = tables[:, :, real].reshape(len(tables), -1)
-        std = entries.std(axis=0)
-        return cls(classes, real, entries.mean(axis=0), np.where(std > 0, std, 1.0))
-
-    def targets(self, tables: np.ndarray) -> Batch:
-        """Class indices per classified column and normalised regressed entries."""
-        out = {
-            str(c): torch.as_tensor(
-                np.abs(np.round(tables[:, :, c], 6)[..., None] - v).argmin(axis=-1)
-            )
-            for c, v in self.classes.items()
-        }
-        entries = tables[:, :, self.real].reshape(len(tables), -1)
-        out["real"] = torch.as_tensor(((entries - self.mean) / self.std).astype(np.float32))
-        return out
-
-    def table(self, outputs: dict[str, np.ndarray]) -> np.ndarray:
-        """The predicted table (8 × 5) from mean outputs of one run (logits, normalised values)."""
-        table = np.zeros((8, 5))
-        for c, v in self.classes.items():
-            table[:, c] = v[outputs[str(c)].argmax(axis=-1)]
-        real = outputs["real"] * self.std + self.mean
-        table[:, self.real] = np.clip(real.reshape(8, len(self.real)), 0.0, None)
-        return table
-
-
-def _structure_windows(
-    data: Data, split: str, s: Settings, names: list[str], epoch: int
-) -> Iterator[Batch]:
-    """Batches of normalised ``q`` + ``imu`` windows ``(B, 90, L)`` (and the tables), run blocks."""
-    ds = data.windows(split, names, s.window, max(s.window // 4, 1))
-    order = RunBlockSampler.for_windows(ds, seed=s.seed).order(epoch)
-    for first in range(0, len(order), s.batch):
-        items = [ds[int(i)] for i in order[first : first + s.batch]]
-        yield _stack_structure(data, items)
-
-
-def _stack_structure(data: Data, items: list[dict[str, Any]]) -> Batch:
-    q = np.stack([data.scaled("q", it["q"]) for it in items])
-    imu = np.stack([data.scaled("imu", it["imu"]) for it in items])
-    x = np.concatenate([q, imu.reshape(len(items), imu.shape[1], -1)], axis=2)
-    out = {
-        "x": torch.as_tensor(x.transpose(0, 2, 1).copy()),
-        "run": torch.tensor([int(it["run"]) for it in items]),
-    }
-    if "senSenDH" in items[0]:
-        out["table"] = torch.as_tensor(np.stack([it["senSenDH"] for it in items]))
-    return out
-
-
-def train_structure(data: Data, s: Settings) -> tuple[Curve, dict[int, np.ndarray]]:
-    """Train the structure model; predict the test runs' tables."""
-    layout = Table.from_tables(data.training_tables())
-    s.notes["classified_columns"] = sorted(layout.classes)
-    classes = {c: len(v) for c, v in layout.classes.items()}
-    model = StructureNet(6 + 14 * 6, s.width, classes, 8 * len(layout.real), s.dropout)
-    names = ["q", "imu", "senSenDH"]
-
-    def loss(batch: Batch) -> torch.Tensor:
-        out = model(batch["x"])
-        target = layout.targets(batch["table"].numpy())
-        total = nn.functional.mse_loss(out["real"], target["real"])
-        for c in layout.classes:
-            logits = out[str(c)]
-            total = total + nn.functional.cross_entropy(
-                logits.reshape(-1, logits.shape[-1]), target[str(c)].reshape(-1)
-            )
-        return total
-
-    def batches(split: str, epoch: int) -> Iterable[Batch]:
-        return _structure_windows(data, split, s, names, epoch)
-
-    curve = fit(model, loss, batches, s)
-    predictions: dict[int, list[dict[str, np.ndarray]]] = {}
-    model.eval()
-    with torch.no_grad():
-        for batch in _structure_windows(data, "test", s, ["q", "imu"], 0):
-            out = {k: v.numpy() for k, v in model(batch["x"]).items()}
-            for i, run in enumerate(batch["run"].tolist()):
-                predictions.setdefault(run, []).append({k: v[i] for k, v in out.items()})
-    mean = {
-        run: {k: np.mean([o[k] for o in outs], axis=0) for k in outs[0]}
-        for run, outs in predictions.items()
-    }
-    return curve, {run: layout.table(m) for run, m in mean.items()}
-
 
 # --- inverse dynamics ----------------------------------------------------------------------
 
@@ -291,16 +147,42 @@ def _imu_input(data: Data, imu: np.ndarray) -> np.ndarray:
 
 
 def _state_windows(data: Data, split: str, s: Settings, epoch: int) -> Iterator[Batch]:
+    if split == "train" and data.online is not None:
+        yield from _online_state_windows(data, s, epoch)
+        return
     ds = data.windows(split, ["imu", "q"], s.window, max(s.window // 2, 1))
     order = RunBlockSampler.for_windows(ds, seed=s.seed).order(epoch)
     for first in range(0, len(order), s.batch):
-        items = [ds[int(i)] for i in order[first : first + s.batch]]
-        imu = np.stack([it["imu"] for it in items])
-        q = np.stack([data.scaled("q", it["q"]) for it in items])
-        yield {
-            "x": torch.as_tensor(_imu_input(data, imu)),
-            "y": torch.as_tensor(q.transpose(0, 2, 1).copy()),
-        }
+        yield _state_batch(data, [ds[int(i)] for i in order[first : first + s.batch]])
+
+
+def _online_state_windows(data: Data, s: Settings, epoch: int) -> Iterator[Batch]:
+    """Windows of the epoch's fresh arms (``--online``), shuffled within a buffer of 8 batches."""
+    length = min(s.window, data.online.samples)
+    windows = data.online.windows(length, max(length // 2, 1), names=["imu", "q"])
+    windows.set_epoch(epoch)
+    loader = torch.utils.data.DataLoader(windows.torch(), batch_size=None, num_workers=s.workers)
+    rng = np.random.default_rng([s.seed, epoch])
+    buffer: list[dict[str, Any]] = []
+    for item in loader:
+        buffer.append(item)
+        if len(buffer) == 8 * s.batch:
+            rng.shuffle(buffer)  # type: ignore[arg-type]
+            yield _state_batch(data, buffer[: s.batch])
+            del buffer[: s.batch]
+    rng.shuffle(buffer)  # type: ignore[arg-type]
+    for first in range(0, len(buffer), s.batch):
+        yield _state_batch(data, buffer[first : first + s.batch])
+
+
+def _state_batch(data: Data, items: list[dict[str, Any]]) -> Batch:
+    """Scaled IMU windows and joint values of some windows, as tensors (B × C × L)."""
+    imu = np.stack([np.asarray(it["imu"]) for it in items])
+    q = np.stack([data.scaled("q", np.asarray(it["q"])) for it in items])
+    return {
+        "x": torch.as_tensor(_imu_input(data, imu)),
+        "y": torch.as_tensor(q.transpose(0, 2, 1).copy()),
+    }
 
 
 def train_state(data: Data, s: Settings) -> tuple[Curve, dict[int, np.ndarray]]:
@@ -339,9 +221,7 @@ class Model:
 
 
 MODELS: dict[str, Model] = {
-    "structure": Model(
-        train_structure, ("q", "imu"), 60, window=256, width=64, weight_decay=1e-2, dropout=0.3
-    ),
+    "structure": Model(train_structure, (), 60, batch=32, width=128, weight_decay=1e-3),
     "inverse-dynamics": Model(
         train_dynamics,
         ("q", "qd", "qdd", "base_pose", "senSenDH", "tau"),
@@ -356,48 +236,77 @@ MODELS: dict[str, Model] = {
 """The learned baseline of each task."""
 
 
-def run(
-    task: str,
-    folder: Path,
-    out: Path,
-    epochs: int | None,
-    seed: int,
-    tiny: bool,
-    train_data: Path | None = None,
-) -> dict[str, Any]:
+ONLINE_SEED = 9127
+"""The seed of the arms ``--online`` simulates (not a task's: the test arms stay unseen)."""
+
+
+@dataclass(frozen=True)
+class Options:
+    """How a model is trained (the command line's options, see the module docstring)."""
+
+    epochs: int | None = None
+    seed: int = 0
+    tiny: bool = False
+    train_data: Path | None = None
+    online: int = 0
+    online_seed: int = ONLINE_SEED
+    workers: int = 1
+
+
+def _online_runs(card: dict[str, Any], o: Options) -> Any:
+    """The task's spec with ``o.online`` runs and the online seed (``None`` without --online)."""
+    if not o.online:
+        return None
+    from aaria_pin.apps.dataset.spec_sources import DatasetSources
+    from aaria_pin.ml import OnlineRuns
+
+    return OnlineRuns(DatasetSources(**{**card["spec"], "n_runs": o.online, "seed": o.online_seed}))
+
+
+def run(task: str, folder: Path, out: Path, o: Options) -> dict[str, Any]:
     """Train the task's model, write predictions, curve and settings to ``out``; the settings."""
-    torch.manual_seed(seed)
+    torch.manual_seed(o.seed)
     torch.use_deterministic_algorithms(True)
     torch.set_num_threads(1)
     spec = MODELS[task]
     s = Settings(
         task,
-        epochs or (2 if tiny else spec.epochs),
-        seed,
-        tiny,
+        o.epochs or (2 if o.tiny else spec.epochs),
+        o.seed,
+        o.tiny,
         batch=spec.batch,
-        width=16 if tiny else spec.width,
-        window=16 if tiny else spec.window,
+        width=16 if o.tiny else spec.width,
+        window=16 if o.tiny else spec.window,
         weight_decay=spec.weight_decay,
         dropout=spec.dropout,
+        workers=o.workers,
     )
     card = json.loads((folder / "task.json").read_text())
     out.mkdir(parents=True, exist_ok=True)
     with ExitStack() as files:
         reader = files.enter_context(DatasetReader(folder / card["dataset"]))
-        extra = files.enter_context(DatasetReader(train_data)) if train_data else None
+        extra = files.enter_context(DatasetReader(o.train_data)) if o.train_data else None
         splits = card["splits"]
-        stats = (extra or reader).statistics(
-            list(spec.normalise),
-            split=None if extra else "train",
-            seed=splits["seed"],
-            fractions=splits["fractions"],
+        stats = (
+            (extra or reader).statistics(
+                list(spec.normalise),
+                split=None if extra else "train",
+                seed=splits["seed"],
+                fractions=splits["fractions"],
+            )
+            if spec.normalise
+            else {}
         )
+        online = _online_runs(card, o)
         started = time.perf_counter()
-        curve, predictions = spec.train(Data(card, reader, stats, extra), s)
+        curve, predictions = spec.train(Data(card, reader, stats, extra, online), s)
         rest = time.perf_counter() - started - curve.seconds  # reading the splits, predicting
         s.notes["training_arms"] = (
-            len(extra.split_runs(None)) if extra else len(card["splits"]["train"])
+            o.online * len(curve.train)
+            if online
+            else len(extra.split_runs(None))
+            if extra
+            else len(card["splits"]["train"])
         )
     write_predictions(out / "predictions.npz", predictions)
     plot_curve(curve, task, out / "curve.png")
@@ -405,11 +314,16 @@ def run(
         **{k: v for k, v in vars(s).items() if k != "notes"},
         **s.notes,
         "task_dir": str(folder),
-        "train_data": str(train_data) if train_data else None,
+        "train_data": str(o.train_data) if o.train_data else None,
+        "online": o.online,
+        "online_seed": o.online_seed if o.online else None,
         "standard": card.get("standard"),
         "torch": torch.__version__,
         "train_seconds": round(curve.seconds, 1),
         "load_and_predict_seconds": round(rest, 2),
+        "predict_seconds_per_arm": round(
+            s.notes.get("predict_seconds", rest) / len(predictions), 4
+        ),
         "epochs_run": len(curve.train),
         "best_epoch": curve.best_epoch + 1,
         "train_loss": curve.train,
@@ -428,16 +342,35 @@ def main() -> None:
     parser.add_argument("--epochs", type=int, default=None)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--tiny", action="store_true", help="smoke test: 2 epochs, tiny model")
-    parser.add_argument(
+    source = parser.add_mutually_exclusive_group()
+    source.add_argument(
         "--train-data",
         type=Path,
         default=None,
         help="train on every run of this data set instead of the task's training split",
     )
-    args = parser.parse_args()
-    settings = run(
-        args.task, args.task_dir, args.output, args.epochs, args.seed, args.tiny, args.train_data
+    source.add_argument(
+        "--online",
+        type=int,
+        default=0,
+        metavar="N",
+        help="train on N fresh arms per epoch, simulated in the loop (structure, sensor-to-state)",
     )
+    parser.add_argument("--online-seed", type=int, default=ONLINE_SEED)
+    parser.add_argument("--workers", type=int, default=1, help="DataLoader workers of --online")
+    args = parser.parse_args()
+    if args.online and args.task == "inverse-dynamics":
+        parser.error("--online trains structure or sensor-to-state")
+    options = Options(
+        args.epochs,
+        args.seed,
+        args.tiny,
+        args.train_data,
+        args.online,
+        args.online_seed,
+        args.workers,
+    )
+    settings = run(args.task, args.task_dir, args.output, options)
     print(f"{args.task}: {settings['epochs_run']} epochs, {settings['train_seconds']} s")
 
 

@@ -6,6 +6,7 @@ import json
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -19,13 +20,14 @@ pytest.importorskip("matplotlib")
 SCRIPT = Path(__file__).resolve().parents[2] / "examples" / "train_baseline.py"
 
 
-def train(task: str, folder: Path, out: Path) -> dict[str, object]:
+def train(task: str, folder: Path, out: Path, *extra: str) -> dict[str, Any]:
     subprocess.run(
-        [sys.executable, str(SCRIPT), task, str(folder), "-o", str(out), "--tiny"],
+        [sys.executable, str(SCRIPT), task, str(folder), "-o", str(out), "--tiny", *extra],
         check=True,
         capture_output=True,
     )
-    return json.loads((out / "settings.json").read_text())
+    settings: dict[str, Any] = json.loads((out / "settings.json").read_text())
+    return settings
 
 
 @pytest.mark.parametrize(
@@ -80,3 +82,40 @@ def test_train_data_replaces_the_training_split(tmp_path: Path) -> None:
     assert settings["training_arms"] == 4 != len(card["splits"]["train"])
     score = score_task("inverse-dynamics", folder, out / "predictions.npz")
     assert score["runs"] == len(card["splits"]["test"])
+
+
+@pytest.mark.parametrize(
+    "task", ["structure", pytest.param("sensor-to-state", marks=pytest.mark.slow)]
+)
+def test_online_trains_on_fresh_arms_in_a_worker(tmp_path: Path, task: str) -> None:
+    folder = tmp_path / "task"
+    card = json.loads(make_task(task, folder, n_runs=3, duration=0.5).read_text())
+    settings = train(task, folder, tmp_path / "out", "--online", "3", "--workers", "1")
+    # 2 epochs of 3 arms each, simulated with a seed that is not the task's
+    assert settings["training_arms"] == 6 and settings["online"] == 3
+    assert settings["online_seed"] != card["spec"]["seed"]
+    assert all(np.isfinite(settings["train_loss"]))
+    score = score_task(task, folder, tmp_path / "out" / "predictions.npz")
+    assert score["runs"] == len(card["splits"]["test"])
+
+
+def test_structure_features_read_the_arm_from_its_imus(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The features' estimates of alpha (revolute rotation) and a match the true table."""
+    monkeypatch.syspath_prepend(str(SCRIPT.parent))
+    from structure_features import ESTIMATES, run_features
+
+    from aaria_pin.ml import OnlineRuns
+
+    run = OnlineRuns.defaults(1, seed=1, duration=5.0)[0]
+    table = run["senSenDH"]
+    features = run_features(run["q"], run["imu"], 100.0)
+    assert np.array_equal(features[:6, 0] > 0, table[:6, 4] > 0)  # empty modules' IMUs read 0
+    # revolute modules after a link (module 1's parent is the base, turned by R_WORLD_DH)
+    revolute = [row for row in range(6) if table[row, 4] == 1 and table[:row, 4].any()]
+    excited = [row for row in revolute if features[row, 42] * 5 > -2]
+    assert excited  # the seed gives some (the check below is not empty)
+    for row in excited:
+        rotation = features[row, 6:15].reshape(3, 3)  # Kabsch, revolute hypothesis: Rx(alpha)
+        assert abs(np.arctan2(rotation[2, 1], rotation[1, 1]) - table[row, 0]) < 0.05
+        scaled_a = (table[row, 1] - 0.85) / 0.05  # a in half-ranges of RandomConfig().a
+        assert abs(features[row, ESTIMATES[0]] - scaled_a) < 0.2
