@@ -15,8 +15,10 @@ losses, the seconds). Deterministic on CPU for a seed (one thread, deterministic
   angular velocities, lever arms between IMUs) into one MLP shared by the rows that classifies
   the link type, alpha and theta among the random arms' choices and regresses a and d
   (``baseline_structure.py``);
-- ``inverse-dynamics``: an MLP per sample from q, sin q, cos q, qd, qdd, the base pose and the
-  DH table to the torques;
+- ``inverse-dynamics``: an MLP per sample from what the task gives (the encoder readings, their
+  sin and cos, rates and accelerations from them by the ``rigid-body`` baseline's
+  Savitzky-Golay filter (:data:`ID_WINDOW` samples), the base pose and the DH table) to the
+  torques;
 - ``sensor-to-state``: a fully convolutional 1-D CNN from the IMU series to q at every sample
   (trained on windows, applied to whole runs).
 
@@ -50,16 +52,22 @@ from torch import nn
 
 from aaria_pin import DatasetReader
 from aaria_pin.apps.bench_tasks.predictions import write_predictions
+from aaria_pin.apps.bench_tasks.rigid_body import encoder_motion
 from aaria_pin.files.dataset.sampler import RunBlockSampler
 
 # --- inverse dynamics ----------------------------------------------------------------------
 
-_ID_SERIES = ("q", "qd", "qdd", "base_pose")
+_ID_INPUTS = ("q_measured", "base_pose", "senSenDH")
+"""What the model reads of a run (the task's inputs; not the true q, qd, qdd)."""
+
+ID_WINDOW = 21
+"""The Savitzky-Golay window [samples] of the rates and accelerations: the one the
+``rigid-body`` baseline chose on the standard task's training runs."""
 
 
 def _dynamics_samples(data: Data, split: str) -> tuple[np.ndarray, np.ndarray | None]:
     """Per-sample features (N × F) of a split's runs, and their normalised torques (None: test)."""
-    names = [*_ID_SERIES, "senSenDH"] + ([] if split == "test" else ["tau"])
+    names = [*_ID_INPUTS] + ([] if split == "test" else ["tau"])
     ds = data.windows(split, names, 0, None)  # one window: the whole run
     features, targets = [], []
     for i in range(len(ds)):
@@ -73,11 +81,23 @@ def _dynamics_samples(data: Data, split: str) -> tuple[np.ndarray, np.ndarray | 
 
 
 def _dynamics_features(data: Data, run: dict[str, Any]) -> np.ndarray:
-    """One run's features per sample: scaled series, sin/cos of q, the scaled table repeated."""
-    q = np.asarray(run["q"], dtype=np.float64)
-    series = [data.scaled(name, run[name]).reshape(len(q), -1) for name in _ID_SERIES]
-    table = np.broadcast_to(data.scaled("senSenDH", run["senSenDH"]).ravel(), (len(q), 40))
-    return np.concatenate([*series, np.sin(q), np.cos(q), table], axis=1).astype(np.float32)
+    """One run's features per sample, unscaled.
+
+    The encoders' q, qd, qdd (Savitzky-Golay), sin/cos of q, the base pose, the DH table repeated.
+    """
+    readings = np.asarray(run["q_measured"], dtype=np.float64)
+    longest = len(readings) - (len(readings) + 1) % 2  # odd, at most T
+    q, qd, qdd = encoder_motion(
+        readings, float(data.card["spec"]["rate"]), max(min(ID_WINDOW, longest), 5)
+    )
+    pose = np.asarray(run["base_pose"], dtype=np.float64).reshape(len(q), -1)
+    table = np.broadcast_to(np.asarray(run["senSenDH"], dtype=np.float64).ravel(), (len(q), 40))
+    return np.concatenate([q, qd, qdd, np.sin(q), np.cos(q), pose, table], axis=1)
+
+
+def _standardised(x: np.ndarray, mean: np.ndarray, std: np.ndarray) -> np.ndarray:
+    """Features standardised with the training split's per-feature mean and std, float32."""
+    return ((x - mean) / np.where(std > 0, std, 1.0)).astype(np.float32)
 
 
 def _mlp(inputs: int, width: int, outputs: int, dropout: float) -> nn.Module:
@@ -96,6 +116,9 @@ def train_dynamics(data: Data, s: Settings) -> tuple[Curve, dict[int, np.ndarray
     """Train the per-sample MLP; predict the test runs' torques."""
     train = _dynamics_samples(data, "train")
     validation = _dynamics_samples(data, "validation")
+    mean, std = train[0].mean(axis=0), train[0].std(axis=0)
+    train = (_standardised(train[0], mean, std), train[1])
+    validation = (_standardised(validation[0], mean, std), validation[1])
     model = _mlp(train[0].shape[1], s.width, 6, s.dropout)
 
     def loss(batch: Batch) -> torch.Tensor:
@@ -110,8 +133,9 @@ def train_dynamics(data: Data, s: Settings) -> tuple[Curve, dict[int, np.ndarray
     out = {}
     with torch.no_grad():
         for k in data.split("test"):
-            run = data.reader.run(k, [*_ID_SERIES, "senSenDH"])
-            y = model(torch.as_tensor(_dynamics_features(data, run))).numpy()
+            run = data.reader.run(k, list(_ID_INPUTS))
+            x = _standardised(_dynamics_features(data, run), mean, std)
+            y = model(torch.as_tensor(x)).numpy()
             out[k] = data.unscaled("tau", y)
     return curve, out
 
@@ -224,7 +248,7 @@ MODELS: dict[str, Model] = {
     "structure": Model(train_structure, (), 60, batch=32, width=128, weight_decay=1e-3),
     "inverse-dynamics": Model(
         train_dynamics,
-        ("q", "qd", "qdd", "base_pose", "senSenDH", "tau"),
+        ("tau",),
         40,
         batch=512,
         width=256,

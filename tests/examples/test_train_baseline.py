@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -12,7 +13,9 @@ import numpy as np
 import pytest
 
 from aaria_pin.apps.bench_tasks.make import make_task
+from aaria_pin.apps.bench_tasks.registry import get_task
 from aaria_pin.apps.bench_tasks.scoring import score_task
+from aaria_pin.apps.dataset.generate import generate_dataset
 
 pytest.importorskip("torch")
 pytest.importorskip("matplotlib")
@@ -65,12 +68,9 @@ def test_a_tiny_training_writes_predictions_the_scorer_accepts(tmp_path: Path, t
 def test_train_data_replaces_the_training_split(tmp_path: Path) -> None:
     folder = tmp_path / "task"
     card = json.loads(make_task("inverse-dynamics", folder, n_runs=3, duration=0.5).read_text())
-    extra = tmp_path / "extra.h5"
-    subprocess.run(
-        [*"aaria dataset -n 4 --seed 5 --duration 0.5 --rate 100 -o".split(), str(extra)],
-        check=True,
-        capture_output=True,
-    )
+    extra = tmp_path / "extra.h5"  # the task's settings (its encoders), other arms
+    spec = replace(get_task("inverse-dynamics").spec, n_runs=4, seed=5, duration=0.5)
+    generate_dataset(extra, spec.dataset_spec(), workers=1)
     out = tmp_path / "out"
     argv = [sys.executable, str(SCRIPT), "inverse-dynamics", str(folder), "-o", str(out)]
     subprocess.run(
