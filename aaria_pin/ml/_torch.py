@@ -6,7 +6,7 @@ from collections.abc import Iterator
 from typing import Protocol
 
 import numpy as np
-from torch.utils.data import IterableDataset
+from torch.utils.data import IterableDataset, get_worker_info
 
 __all__ = ["TorchWindows"]
 
@@ -27,13 +27,15 @@ class OnlineWindows(Protocol):
 class TorchWindows(IterableDataset[dict[str, np.ndarray]]):
     """:class:`~.online.OnlineWindows` for a ``DataLoader``: each worker iterates its share.
 
-    With ``advance_epochs`` each iteration after the first moves the windows to the next epoch
-    (fresh arms) in the process that iterates them: what a ``DataLoader`` with
+    With ``advance_epochs`` each iteration after the first in a ``DataLoader`` worker moves
+    that worker's copy to the next epoch (fresh arms): what a ``DataLoader`` with
     ``persistent_workers=True`` needs, since its workers keep the copy they were given at the
     first epoch and never see a later :meth:`set_epoch` of the main process. Its workers each
     iterate once per epoch (the loader re-creates their iterators on each new epoch), so they
-    move together. Measured reason (``python benchmarks/bench_online.py``): a loader that starts
-    its workers anew each epoch pays their start-up (about a third of a second each) per epoch.
+    move together. In the main process (no workers) nothing moves: :meth:`set_epoch` there, as
+    without the option. Measured reason (``python benchmarks/bench_online.py``): a loader that
+    starts its workers anew each epoch pays their start-up (about a third of a second each) per
+    epoch.
 
     Args:
         windows: the windows
@@ -50,9 +52,10 @@ class TorchWindows(IterableDataset[dict[str, np.ndarray]]):
         self._iterations = 0
 
     def __iter__(self) -> Iterator[dict[str, np.ndarray]]:
-        if self.advance_epochs and self._iterations:
-            self.windows.set_epoch(self.windows.epoch + 1)
-        self._iterations += 1
+        if self.advance_epochs and get_worker_info() is not None:  # a worker's own copy only
+            if self._iterations:
+                self.windows.set_epoch(self.windows.epoch + 1)
+            self._iterations += 1
         return iter(self.windows)
 
     def __len__(self) -> int:

@@ -318,7 +318,7 @@ class OnlineWindows(WindowedRuns):
         """These windows as a ``torch.utils.data.IterableDataset`` (for a ``DataLoader``).
 
         Args:
-            advance_epochs: each iteration after the first takes the next epoch's runs (for a
+            advance_epochs: each iteration after the first in a worker takes its next epoch (for a
                 ``DataLoader`` with ``persistent_workers=True``, whose workers never see a
                 later :meth:`set_epoch`; :class:`~aaria_pin.ml._torch.TorchWindows`)
 

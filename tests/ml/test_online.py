@@ -228,3 +228,9 @@ def test_persistent_workers_take_fresh_arms_each_epoch() -> None:
     plain = torch.utils.data.DataLoader(windows.torch(), batch_size=2, num_workers=0)
     for _ in range(2):  # without advance_epochs: the same runs again
         assert sorted(run for batch in plain for run in batch["run"].tolist()) == [0, 1, 2, 3]
+    here = torch.utils.data.DataLoader(windows.torch(advance_epochs=True), batch_size=2)
+    for epoch in range(3):  # no workers: set_epoch moves it, each epoch once, none skipped
+        windows.set_epoch(epoch)
+        seen = sorted(run for batch in here for run in batch["run"].tolist())
+        assert seen == [k + 4 * epoch for k in range(4)], epoch
+    assert windows.epoch == 2
