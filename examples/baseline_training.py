@@ -16,6 +16,7 @@ import torch
 from torch import nn
 
 from aaria_pin import DatasetReader
+from aaria_pin.apps.bench_tasks.card import split_arguments
 from aaria_pin.files.dataset.normalisation import normalised
 
 Batch = dict[str, torch.Tensor]
@@ -84,14 +85,12 @@ class Data:
     def windows(self, split: str, names: list[str], length: int, stride: int | None) -> Any:
         """Windows of a split (raw; :meth:`scaled` normalises them); length 0: whole runs."""
         reader, asked = self.source(split)
-        splits = self.card["splits"]
         return reader.windows(
             min(length, reader.samples) if length else reader.samples,
             stride,
             names=names,
             split=asked,
-            seed=splits["seed"],
-            fractions=splits["fractions"],
+            **split_arguments(self.card),
         )
 
 

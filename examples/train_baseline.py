@@ -17,8 +17,9 @@ losses, the seconds). Deterministic on CPU for a seed (one thread, deterministic
   (``baseline_structure.py``);
 - ``inverse-dynamics``: an MLP per sample from what the task gives (the encoder readings, their
   sin and cos, rates and accelerations from them by the ``rigid-body`` baseline's
-  Savitzky-Golay filter (:data:`ID_WINDOW` samples), the base pose and the DH table) to the
-  torques;
+  Savitzky-Golay filter, its window chosen as that baseline chooses it on the training runs,
+  the base pose, the base's velocity, acceleration and angular rates from its table, and the
+  DH table) to the torques;
 - ``sensor-to-state``: a fully convolutional 1-D CNN from the IMU series to q at every sample
   (trained on windows, applied to whole runs).
 
@@ -51,28 +52,26 @@ from baseline_training import Batch, Curve, Data, Settings, fit, plot_curve, ten
 from torch import nn
 
 from aaria_pin import DatasetReader
+from aaria_pin.apps.bench_tasks.card import split_arguments
 from aaria_pin.apps.bench_tasks.predictions import write_predictions
-from aaria_pin.apps.bench_tasks.rigid_body import encoder_motion
+from aaria_pin.apps.bench_tasks.rigid_body import choose_window, encoder_motion
+from aaria_pin.core.oscillation import base_motion
 from aaria_pin.files.dataset.sampler import RunBlockSampler
 
 # --- inverse dynamics ----------------------------------------------------------------------
 
-_ID_INPUTS = ("q_measured", "base_pose", "senSenDH")
-"""What the model reads of a run (the task's inputs; not the true q, qd, qdd)."""
-
-ID_WINDOW = 21
-"""The Savitzky-Golay window [samples] of the rates and accelerations: the one the
-``rigid-body`` baseline chose on the standard task's training runs."""
+_ID_INPUTS = ("time", "q_measured", "base_pose", "senSenB", "senSenDH")
+"""What the model reads of a run (the task's inputs, the sample times; not the true q, qd, qdd)."""
 
 
-def _dynamics_samples(data: Data, split: str) -> tuple[np.ndarray, np.ndarray | None]:
+def _dynamics_samples(data: Data, split: str, window: int) -> tuple[np.ndarray, np.ndarray | None]:
     """Per-sample features (N × F) of a split's runs, and their normalised torques (None: test)."""
     names = [*_ID_INPUTS] + ([] if split == "test" else ["tau"])
     ds = data.windows(split, names, 0, None)  # one window: the whole run
     features, targets = [], []
     for i in range(len(ds)):
         run = ds[i]
-        features.append(_dynamics_features(data, run))
+        features.append(_dynamics_features(data, run, window))
         if "tau" in run:
             targets.append(data.scaled("tau", run["tau"]))
     if not features:  # an empty split (a tiny task's validation)
@@ -80,19 +79,18 @@ def _dynamics_samples(data: Data, split: str) -> tuple[np.ndarray, np.ndarray | 
     return np.concatenate(features), np.concatenate(targets) if targets else None
 
 
-def _dynamics_features(data: Data, run: dict[str, Any]) -> np.ndarray:
+def _dynamics_features(data: Data, run: dict[str, Any], window: int) -> np.ndarray:
     """One run's features per sample, unscaled.
 
     The encoders' q, qd, qdd (Savitzky-Golay), sin/cos of q, the base pose, the DH table repeated.
     """
     readings = np.asarray(run["q_measured"], dtype=np.float64)
-    longest = len(readings) - (len(readings) + 1) % 2  # odd, at most T
-    q, qd, qdd = encoder_motion(
-        readings, float(data.card["spec"]["rate"]), max(min(ID_WINDOW, longest), 5)
-    )
+    q, qd, qdd = encoder_motion(readings, float(data.card["spec"]["rate"]), window)
+    base = base_motion(run["senSenB"], np.asarray(run["time"], dtype=np.float64))
     pose = np.asarray(run["base_pose"], dtype=np.float64).reshape(len(q), -1)
     table = np.broadcast_to(np.asarray(run["senSenDH"], dtype=np.float64).ravel(), (len(q), 40))
-    return np.concatenate([q, qd, qdd, np.sin(q), np.cos(q), pose, table], axis=1)
+    moving = [base.velocity, base.acceleration, base.omega, base.omega_dot]
+    return np.concatenate([q, qd, qdd, np.sin(q), np.cos(q), pose, *moving, table], axis=1)
 
 
 def _standardised(x: np.ndarray, mean: np.ndarray, std: np.ndarray) -> np.ndarray:
@@ -114,8 +112,11 @@ def _mlp(inputs: int, width: int, outputs: int, dropout: float) -> nn.Module:
 
 def train_dynamics(data: Data, s: Settings) -> tuple[Curve, dict[int, np.ndarray]]:
     """Train the per-sample MLP; predict the test runs' torques."""
-    train = _dynamics_samples(data, "train")
-    validation = _dynamics_samples(data, "validation")
+    rate = float(data.card["spec"]["rate"])  # the rigid-body baseline's filter window
+    window = choose_window(data.reader.path, data.split("train"), rate, 1)
+    s.notes["filter_window"] = window
+    train = _dynamics_samples(data, "train", window)
+    validation = _dynamics_samples(data, "validation", window)
     mean, std = train[0].mean(axis=0), train[0].std(axis=0)
     train = (_standardised(train[0], mean, std), train[1])
     validation = (_standardised(validation[0], mean, std), validation[1])
@@ -134,7 +135,7 @@ def train_dynamics(data: Data, s: Settings) -> tuple[Curve, dict[int, np.ndarray
     with torch.no_grad():
         for k in data.split("test"):
             run = data.reader.run(k, list(_ID_INPUTS))
-            x = _standardised(_dynamics_features(data, run), mean, std)
+            x = _standardised(_dynamics_features(data, run, window), mean, std)
             y = model(torch.as_tensor(x)).numpy()
             out[k] = data.unscaled("tau", y)
     return curve, out
@@ -287,6 +288,24 @@ def _online_runs(card: dict[str, Any], o: Options) -> Any:
     return OnlineRuns(DatasetSources(**{**card["spec"], "n_runs": o.online, "seed": o.online_seed}))
 
 
+def _refuse_the_task_arms(card: dict[str, Any], o: Options) -> None:
+    """Stop when the extra training arms would be the task's own (its seed: its test arms)."""
+    task_seed = int(card["spec"]["seed"])
+    if o.online and o.online_seed == task_seed:
+        raise SystemExit(
+            f"train_baseline.py: --online-seed is {task_seed}, the task's seed (its test arms); "
+            "allowed: another seed"
+        )
+    if o.train_data:
+        with DatasetReader(o.train_data) as extra:
+            seed = extra.attributes.get("seed")
+        if seed is not None and int(seed) == task_seed:
+            raise SystemExit(
+                f"train_baseline.py: --train-data's seed is {task_seed}, the task's (its test "
+                "arms); allowed: a data set of another seed"
+            )
+
+
 def run(task: str, folder: Path, out: Path, o: Options) -> dict[str, Any]:
     """Train the task's model, write predictions, curve and settings to ``out``; the settings."""
     torch.manual_seed(o.seed)
@@ -306,17 +325,16 @@ def run(task: str, folder: Path, out: Path, o: Options) -> dict[str, Any]:
         workers=o.workers,
     )
     card = json.loads((folder / "task.json").read_text())
+    _refuse_the_task_arms(card, o)
     out.mkdir(parents=True, exist_ok=True)
     with ExitStack() as files:
         reader = files.enter_context(DatasetReader(folder / card["dataset"]))
         extra = files.enter_context(DatasetReader(o.train_data)) if o.train_data else None
-        splits = card["splits"]
         stats = (
             (extra or reader).statistics(
                 list(spec.normalise),
                 split=None if extra else "train",
-                seed=splits["seed"],
-                fractions=splits["fractions"],
+                **split_arguments(card),
             )
             if spec.normalise
             else {}

@@ -119,3 +119,22 @@ def test_structure_features_read_the_arm_from_its_imus(monkeypatch: pytest.Monke
         assert abs(np.arctan2(rotation[2, 1], rotation[1, 1]) - table[row, 0]) < 0.05
         scaled_a = (table[row, 1] - 0.85) / 0.05  # a in half-ranges of RandomConfig().a
         assert abs(features[row, ESTIMATES[0]] - scaled_a) < 0.2
+
+
+@pytest.mark.parametrize("flag", ["--online-seed", "--train-data"])
+def test_training_on_the_task_arms_is_refused(tmp_path: Path, flag: str) -> None:
+    folder = tmp_path / "task"
+    card = json.loads(make_task("structure", folder, n_runs=3, duration=0.5).read_text())
+    seed = int(card["spec"]["seed"])
+    if flag == "--train-data":  # a data set of the task's seed holds its test arms
+        value = tmp_path / "same.h5"
+        spec = replace(get_task("structure").spec, n_runs=3, duration=0.5)
+        generate_dataset(value, spec.dataset_spec(), workers=1)
+        extra = [flag, str(value)]
+    else:
+        extra = ["--online", "3", flag, str(seed)]
+    argv = [sys.executable, str(SCRIPT), "structure", str(folder), "-o", str(tmp_path / "out")]
+    result = subprocess.run([*argv, "--tiny", *extra], capture_output=True, text=True)
+    assert result.returncode == 1
+    assert "the task's" in result.stderr and "allowed: " in result.stderr
+    assert not (tmp_path / "out").exists()
