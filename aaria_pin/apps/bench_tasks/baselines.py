@@ -136,10 +136,8 @@ BASELINES: Mapping[str, Mapping[str, Baseline]] = {
 def _start_tables(path: str | os.PathLike[str], card: dict[str, Any]) -> dict[int, np.ndarray]:
     """The start tables of the test runs from a predictions file; its errors name ``start``."""
     from aaria_pin.apps.bench_tasks.predictions import read_predictions
-    from aaria_pin.errors import InputFileError
-
     from aaria_pin.apps.identify.geometry_warm import checked_start
-    from aaria_pin.errors import AariaError
+    from aaria_pin.errors import AariaError, InputFileError
 
     runs = [int(run) for run in card["splits"]["test"]]
     try:
