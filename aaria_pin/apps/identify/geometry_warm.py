@@ -20,17 +20,17 @@ Why this order (measured on the standard ``structure`` task's 20 test arms, 10 s
 with noise; ``docs/guide/bench-tasks.md``): the table's fit is tried first because a near table
 (the truth) ends at the floor from it (7 arms looked at one by one), and the closed-form
 start, a grid of candidates module by module, is then never built; the usual starts stay
-behind it because a far table must not decide the result. The link types are the detection's wherever it is sure:
-it is right on every module of those arms, the learned tables on 82 % to 97.5 %. What it buys
-is little there: the time is the final fit's (its bias splines on every sample) and the other
-starts' on arms that end just above the floor from any start (run 98: 1.12 floors from the
-truth too), which a warm start does not shorten, and the tool tip's error is the noise's (the
-truth as the start gives the cold median, 4.6 mm; 596 s for the 20 arms, the cold 603 s).
-Tables far off (the learned ones: 4.4 m off at the tool tip) mostly still walk to the floor,
-in more iterations than the closed-form start needs (and pulled towards the far table by the
-fit's prior): 1377 s and 709 s for the 20 arms (two models' tables), the same link types,
-and on one arm whose fit hardly determines some lengths, the tool tip pulled towards the far
-table (run 71: 12.9 mm cold, 48 mm and 0.32 m warm) at the same residual.
+behind it because a far table must not decide the result. The link types are the detection's
+wherever it is sure: it is right on every module of those arms, the learned tables on 82 % to
+97.5 %. What it buys is little there: the time is the final fit's (its bias splines on every
+sample) and the other starts' on arms that end just above the floor from any start (run 98:
+1.12 floors from the truth too), which a warm start does not shorten, and the tool tip's error
+is the noise's (the truth as the start gives the cold median, 4.6 mm; 596 s for the 20 arms,
+the cold 603 s). Tables far off (the learned ones: 4.4 m off at the tool tip) mostly still
+walk to the floor, in more iterations than the closed-form start needs (and pulled towards
+the far table by the fit's prior): 1377 s and 709 s for the 20 arms (two models' tables), the
+same link types, and on one arm whose fit hardly determines some lengths, the tool tip pulled
+towards the far table (run 71: 12.9 mm cold, 48 mm and 0.32 m warm) at the same residual.
 """
 
 from __future__ import annotations
