@@ -25,11 +25,11 @@ wherever it is sure: it is right on every module of those arms, the learned tabl
 97.5 %. What it buys is little there: the time is the final fit's (its bias splines on every
 sample) and the other starts' on arms that end just above the floor from any start (run 98:
 1.12 floors from the truth too), which a warm start does not shorten, and the tool tip's error
-is the noise's (the truth as the start gives the cold median, 4.6 mm; 596 s for the 20 arms,
-the cold 603 s). Tables far off (the learned ones: 4.4 m off at the tool tip) mostly still
-walk to the floor, in more iterations than the closed-form start needs (and pulled towards
-the far table by the fit's prior): 1377 s and 709 s for the 20 arms (two models' tables), the
-same link types, and on one arm whose fit hardly determines some lengths, the tool tip pulled
+is the noise's (the truth as the start gives the cold median, 4.6 mm, in 55 s for the 20 arms
+against the cold 80 s). Tables far off (the learned ones: 4.4 m off at the tool tip) mostly
+still walk to the floor, in more iterations than the closed-form start needs (and pulled
+towards the far table by the fit's prior): 158 s and 259 s (two models' tables), the same
+link types, and on one arm whose fit hardly determines some lengths, the tool tip pulled
 towards the far table (run 71: 12.9 mm cold, 48 mm and 0.32 m warm) at the same residual.
 """
 
