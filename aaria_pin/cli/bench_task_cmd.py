@@ -61,9 +61,10 @@ def score(task: str, directory: Path, predictions: Path, as_json: bool) -> None:
     click.echo(json.dumps(result, indent=2) if as_json else "\n".join(score_lines(result)))
 
 
-@bench_task.command(
-    epilog="\b\nExamples:\n  aaria bench-task baseline structure structure/ -o id.npz"
-)
+@bench_task.command(epilog="""\b
+Examples:
+  aaria bench-task baseline structure structure/ -o id.npz
+  aaria bench-task baseline structure structure/ -o warm.npz --start learned.npz""")  # fmt: skip
 @click.argument("task")
 @click.argument("directory", type=_FOLDER)
 @click.option("-o", "--output", type=_FILE, required=True, help="Predictions file (.npz).")
@@ -75,6 +76,8 @@ def score(task: str, directory: Path, predictions: Path, as_json: bool) -> None:
 )
 @click.option("--workers", type=click.IntRange(1, 1024), default=1, show_default=True,
               help="Processes (identify, rigid-body).")  # fmt: skip
+@click.option("--start", type=_FILE, help="identify: start each arm's fit from its table in"
+              " this structure predictions file (.npz).")  # fmt: skip
 def baseline(task: str, directory: Path, output: Path, **settings: Any) -> None:
     """Write a baseline's predictions of TASK's test runs (structure: aaria identify)."""
     from aaria_pin.apps.bench_tasks.baselines import run_baseline

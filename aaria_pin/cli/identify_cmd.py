@@ -18,6 +18,7 @@ _MODES_HELP = """
 Examples:
   aaria identify run.h5 -o est.csv --urdf est.urdf   # kinematics of a DH run
   aaria identify ds.h5 --run 3 --json                # one run of a data set
+  aaria identify run.h5 --start guess.npy            # fit from a start table first
   aaria identify --dynamics run.h5 --parameters      # inertial base parameters from torques
   aaria identify --dataset clean.h5 noisy.h5 --workers 2 --plot cdf.png
   aaria identify --dynamics run.h5 --consistent --write-urdf fitted.urdf
@@ -104,6 +105,8 @@ def _plot_tool_tip_cdf(path: Path, outcome: IdentifyOutcome) -> None:
     type=click.Path(path_type=Path, dir_okay=False),
     help="--dataset: the CDF of tool-tip errors per group (.png, .pdf, .svg).",
 )
+@click.option("--start", type=click.Path(path_type=Path, dir_okay=False), help="A start table"
+              " (8 x 5 .npy, CSV, .mat, run file): its fit first, the usual after.")  # fmt: skip
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def identify(files: tuple[Path, ...], plot: Path | None, as_json: bool, **flags: Any) -> None:
     """Identify a robot: DH table and IMU mounts, dynamics, IMU pairs and joints from IMUs.

@@ -19,6 +19,7 @@ from aaria_pin.apps.bench_tasks.make import make_task
 from aaria_pin.apps.bench_tasks.predictions import write_predictions
 from aaria_pin.apps.bench_tasks.registry import TASKS, get_task
 from aaria_pin.apps.bench_tasks.scoring import score_lines, score_task
+from aaria_pin.apps.identify import identify_kinematics
 from aaria_pin.errors import InputFileError, ParameterError
 from aaria_pin.files.dataset.reader import DatasetReader
 from aaria_pin.files.dataset.windows import split_runs
@@ -176,3 +177,29 @@ def test_refusals(folders: dict[str, Path], tmp_path: Path) -> None:
     with pytest.raises(ParameterError, match="test split"):
         make_task("structure", tmp_path / "two", n_runs=2, duration=0.2)
     assert not (tmp_path / "two").exists()
+
+
+def test_the_identify_baseline_starts_from_a_predictions_file(
+    folders: dict[str, Path], tmp_path: Path
+) -> None:
+    folder = folders["structure"]
+    truth = _truth(folder, "senSenDH")
+    start = tmp_path / "truth.npz"
+    write_predictions(start, truth)
+    warm = run_baseline("structure", folder, tmp_path / "w.npz", "identify", start=start)
+    with np.load(warm) as archive, DatasetReader(folder / DATASET_NAME) as reader:
+        for run, table in truth.items():  # each run's fit started from its own table
+            direct = identify_kinematics(reader.record(run), with_truth=False, start=table)
+            np.testing.assert_array_equal(archive[f"run_{run}"], direct.table)
+    bad = {run: np.where(np.arange(5) == 4, 3.0, table) for run, table in truth.items()}
+    write_predictions(tmp_path / "bad.npz", bad)
+    run = next(iter(truth))
+    with pytest.raises(InputFileError, match=f"run_{run}'s row 1, column 5 .link type. is 3") as e:
+        run_baseline("structure", folder, tmp_path / "p.npz", start=tmp_path / "bad.npz")
+    assert e.value.parameter == "start"
+    write_predictions(tmp_path / "other.npz", {999: truth[run]})
+    with pytest.raises(InputFileError, match=f"^start .*has no array run_{run}"):
+        run_baseline("structure", folder, tmp_path / "p.npz", start=tmp_path / "other.npz")
+    with pytest.raises(ParameterError, match="allowed: with the identify baseline") as e:
+        run_baseline("structure", folder, tmp_path / "p.npz", "nominal", start=start)
+    assert e.value.parameter == "start" and not (tmp_path / "p.npz").exists()

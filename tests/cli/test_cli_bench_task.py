@@ -62,6 +62,8 @@ def test_the_zero_baseline_scores_one(folder: Path, tmp_path: Path) -> None:
          "holds a task's data set already; allowed: another folder, or overwrite it (--overwrite)"),
         (("baseline", "inverse-dynamics", "{folder}", "-o", "{tmp}/p.txt", "--baseline", "zero"),
          "is not an .npz file"),
+        (("baseline", "inverse-dynamics", "{folder}", "-o", "{tmp}/p.npz", "--baseline", "zero",
+          "--start", "{bad}"), "--start is '"),
     ],
 )  # fmt: skip
 def test_refusals_are_one_line_exit_2(

@@ -122,6 +122,8 @@ def test_dataset_benchmark_table_report_and_plot(tiny_dataset: Path, tmp_path: P
             "--parameters is given with --dataset",
         ),
         ([], "no FILE"),
+        (["{run}", "--start", "{tmp}/none.npy"], "--start {tmp}/none.npy: no such file"),
+        (["--dynamics", "{run}", "--start", "{run}"], "--start is given with --dynamics"),
     ],
 )
 def test_bad_inputs_exit_2_one_line_nothing_written(
@@ -130,5 +132,25 @@ def test_bad_inputs_exit_2_one_line_nothing_written(
     values = {"run": str(run_file), "ds": str(tiny_dataset), "tmp": str(tmp_path)}
     code, _, err = run_cli("identify", *(a.format(**values) for a in arguments))
     assert code == 2
-    assert len(err.strip().splitlines()) == 1 and message in err
+    assert len(err.strip().splitlines()) == 1 and message.format(**values) in err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_start_table_is_fitted_first_and_a_bad_one_refused(
+    run_file: Path, tmp_path: Path
+) -> None:
+    table = np.asarray(get_preset("aaria-fig3").table, dtype=float)
+    np.save(tmp_path / "truth.npy", table)
+    code, out, err = run_cli("identify", str(run_file), "--start", str(tmp_path / "truth.npy"),
+                             "--json")  # fmt: skip
+    assert code == 0, err
+    report = json.loads(out)
+    assert report["fit"]["start"] == "start table" and report["fit"]["closed_form"] is False
+    assert report["link_types"] == [int(t) for t in table[:6, 4]]
+    np.save(tmp_path / "short.npy", table[:7])
+    code, out, err = run_cli("identify", str(run_file), "--start", str(tmp_path / "short.npy"))
+    assert code == 2 and out == ""
+    assert err.strip() == (
+        "aaria: error: --start is a table of shape (7, 5); allowed: 8 × 5 (senSenDH: rows 1-6 "
+        "modules, 7 tool, 8 base)"
+    )

@@ -21,6 +21,7 @@ test runs' true motion: the ceiling, labelled so).
 
 from __future__ import annotations
 
+import functools
 import os
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -51,26 +52,36 @@ def _nominal(_dataset: Path, card: dict[str, Any], _workers: int) -> dict[int, n
     return {int(run): _nominal_table() for run in card["splits"]["test"]}
 
 
-def _identified_table(task: tuple[str, int]) -> np.ndarray:
-    """The identified table of one run (the nominal one when the identification refuses it)."""
+def _identified_table(task: tuple[str, int, np.ndarray | None]) -> np.ndarray:
+    """The identified table of one run (the nominal one when the identification refuses it).
+
+    ``task``: the data set, the run and its start table (None: a cold start).
+    """
     from aaria_pin.apps.identify.geometry import identify_kinematics
     from aaria_pin.errors import AariaError
     from aaria_pin.files.dataset.reader import DatasetReader
 
-    path, run = task
+    path, run, start = task
     with DatasetReader(path) as reader:
         record = reader.record(run)
     try:
-        return np.asarray(identify_kinematics(record, with_truth=False).table, dtype=float)
+        result = identify_kinematics(record, with_truth=False, start=start)
+        return np.asarray(result.table, dtype=float)
     except AariaError:
         return _nominal_table()
 
 
-def _identify(dataset: Path, card: dict[str, Any], workers: int) -> dict[int, np.ndarray]:
+def _identify(
+    dataset: Path,
+    card: dict[str, Any],
+    workers: int,
+    starts: Mapping[int, np.ndarray] | None = None,
+) -> dict[int, np.ndarray]:
+    """``aaria identify`` of each test run, from its start table in ``starts`` if given."""
     runs = [int(run) for run in card["splits"]["test"]]
     from aaria_pin.apps.pool import completed
 
-    tasks = [(str(dataset), run) for run in runs]
+    tasks = [(str(dataset), run, None if starts is None else starts[run]) for run in runs]
     return {runs[index]: table for index, table in completed(_identified_table, tasks, workers)}
 
 
@@ -105,12 +116,33 @@ BASELINES: Mapping[str, Mapping[str, Baseline]] = {
 """Per task, its baselines by name (the module docstring says what each predicts)."""
 
 
+def _start_tables(path: str | os.PathLike[str], card: dict[str, Any]) -> dict[int, np.ndarray]:
+    """The start tables of the test runs from a predictions file; its errors name ``start``."""
+    from aaria_pin.apps.bench_tasks.predictions import read_predictions
+    from aaria_pin.apps.identify.geometry_warm import checked_start
+    from aaria_pin.errors import AariaError, InputFileError
+
+    runs = [int(run) for run in card["splits"]["test"]]
+    try:
+        tables = read_predictions(path, runs, tuple(card["target_shape"]))
+    except InputFileError as error:
+        raise InputFileError(f"start {error}", parameter="start", value=str(path)) from None
+    for run, table in tables.items():
+        try:
+            checked_start(table)
+        except AariaError as error:  # "start row 1, ..." → "start run_5: row 1, ..."
+            message = f"start {path}: run_{run}'s {str(error).removeprefix('start ')}"
+            raise InputFileError(message, parameter="start", value=str(path)) from None
+    return tables
+
+
 def run_baseline(
     name: str,
     directory: str | os.PathLike[str],
     output: str | os.PathLike[str],
     baseline: str | None = None,
     workers: int = 1,
+    start: str | os.PathLike[str] | None = None,
 ) -> Path:
     """Write a baseline's predictions of a task's test runs as a predictions file.
 
@@ -120,13 +152,18 @@ def run_baseline(
         output: the predictions file to write (``.npz``)
         baseline: the baseline's name (None: the task's first, ``identify`` for ``structure``)
         workers: processes (the ``identify`` baseline's arms in parallel)
+        start: a structure predictions file (``run_<k>`` tables, as ``score`` reads it): the
+            ``identify`` baseline starts each run's fit from its table (a warm start,
+            :mod:`~aaria_pin.apps.identify.geometry_warm`)
 
     Returns:
         The predictions file's path.
 
     Raises:
-        ParameterError: an unknown task or baseline, a folder of another task.
-        InputFileError: no card, a damaged data set.
+        ParameterError: an unknown task or baseline, a folder of another task, ``start``
+            with another baseline than ``identify``.
+        InputFileError: no card, a damaged data set, a ``start`` file ``score`` would refuse
+            (its ``parameter`` is ``start``).
         OutputFileError: the output cannot be written.
     """
     from aaria_pin.errors import ParameterError
@@ -136,5 +173,16 @@ def run_baseline(
     chosen = next(iter(known)) if baseline is None else baseline
     if chosen not in known:
         raise ParameterError(parameter="baseline", value=chosen, allowed=", ".join(known))
-    write_predictions(output, known[chosen](Path(directory) / card["dataset"], card, workers))
+    predict = known[chosen]
+    if start is not None:
+        if predict is not _identify:
+            raise ParameterError(
+                f"start is given with the {chosen} baseline; allowed: with the identify baseline "
+                "of the structure task",
+                parameter="start",
+                value=str(start),
+                allowed="with the identify baseline of the structure task",
+            )
+        predict = functools.partial(_identify, starts=_start_tables(start, card))
+    write_predictions(output, predict(Path(directory) / card["dataset"], card, workers))
     return Path(output)

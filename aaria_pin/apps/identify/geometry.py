@@ -51,8 +51,10 @@ from __future__ import annotations
 
 import time as _time
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from aaria_pin.apps.identify.geometry_bias import knot_spacing
 from aaria_pin.apps.identify.geometry_fit import (
@@ -70,7 +72,12 @@ from aaria_pin.apps.identify.geometry_signals import (
     rounding_level,
     signal_weights,
 )
-from aaria_pin.apps.identify.geometry_start import INIT_SAMPLES, other_starts, start_parameters
+from aaria_pin.apps.identify.geometry_start import (
+    INIT_SAMPLES,
+    other_starts,
+    start_parameters,
+    table_start,
+)
 from aaria_pin.apps.identify.geometry_structure import (
     arm_layout,
     estimated_mounts,
@@ -80,6 +87,7 @@ from aaria_pin.apps.identify.geometry_structure import (
     table_of,
 )
 from aaria_pin.apps.identify.geometry_truth import truth_errors
+from aaria_pin.apps.identify.geometry_warm import checked_start, start_kinds
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
@@ -137,9 +145,12 @@ def _rms(values: Array) -> float:
 
 
 def _measured_data(
-    signals: ArmSignals, layout: ArmLayout, base: int
-) -> tuple[ArmLayout, KinematicData, Array, Array, Array]:
-    """The layout with its joint kinds, the model's inputs, the signals, weights and times."""
+    signals: ArmSignals, layout: ArmLayout, base: int, start: Array | None
+) -> tuple[ArmLayout, KinematicData, Array, Array, Array, tuple[int, ...]]:
+    """The layout with its joint kinds, the model's inputs, the signals, weights and times.
+
+    The last item: the modules whose kind the start table decided (:func:`start_kinds`).
+    """
     time = signals.time
     columns = [m - 1 for m in layout.modules]
     q = np.asarray(signals.q, dtype=float)[:, columns]
@@ -147,9 +158,11 @@ def _measured_data(
         qd, qdd = measured_rates(time, q, 2)
     else:
         qd, qdd = (np.asarray(rate, dtype=float)[:, columns] for rate in signals.joint_rates)
-    layout = ArmLayout(
-        layout.modules, joint_kinds(signals, layout, base, qd), layout.link_imus, layout.tool_imu
-    )
+    detected = joint_kinds(signals, layout, base, qd)
+    kinds, decided = tuple(kind for kind, _ in detected), tuple[int, ...]()
+    if start is not None:
+        kinds, decided = start_kinds(layout.modules, detected, start)
+    layout = ArmLayout(layout.modules, kinds, layout.link_imus, layout.tool_imu)
     rate = (time.size - 1) / (time[-1] - time[0])
     weights = signal_weights(rate, signals.noise_parameters)
     omega_base = np.asarray(signals.imu[:, base, :3], dtype=float)
@@ -165,7 +178,24 @@ def _measured_data(
         (omega_dot,) = measured_rates(time, omega_base, 1)
     data = KinematicData(omega_base, omega_dot, force_base, q, qd, qdd)
     measured = np.asarray(signals.imu[:, list(layout.imus)], dtype=float)
-    return layout, data, measured, weights, time
+    return layout, data, measured, weights, time, decided
+
+
+class _Fit(NamedTuple):
+    """A fit from one start: its solution, residuals, Jacobian, iterations and start."""
+
+    x: Array
+    fun: Array
+    jac: Array
+    iterations: int
+    walk: int
+    walk_rms: float
+    start: Array
+    label: str
+
+    @property
+    def rms(self) -> float:
+        return _rms(self.fun)
 
 
 @checked
@@ -176,6 +206,7 @@ def identify_kinematics(
     max_iterations: int = 100,
     with_truth: bool = True,
     progress: Callable[[str], None] | None = None,
+    start: ArrayLike | None = None,
 ) -> KinematicIdentification:
     """Identify an Aaria arm's structure, DH table and IMU mounts from a DH run's signals.
 
@@ -194,15 +225,21 @@ def identify_kinematics(
             recording holds none)
         progress: called with a line per stage and per start (``start 1 (closed form):
             weighted RMS 1.02 after 5 iterations, 3.1 s``), for a log
+        start: a start table, 8 × 5 (``senSenDH``'s layout: a prediction, an earlier
+            estimate): its link types where the detection is unsure, its angles and lengths
+            as the first start, the usual starts after it unless its fit ends at the noise
+            floor (:mod:`~aaria_pin.apps.identify.geometry_warm`: what and why)
 
     Returns:
         The identification.
 
     Raises:
         ParameterError: not a DH run with base and tool IMUs, a moving module without an IMU
-            on its link, no moving module, or fewer than 20 samples.
+            on its link, no moving module, fewer than 20 samples, or a start table that is
+            not 8 × 5 finite numbers with link types 0, 1 or 2.
     """
     started = _time.perf_counter()
+    table_given = None if start is None else checked_start(start)
     signals = record if isinstance(record, ArmSignals) else ArmSignals.of_record(record)
     if signals.n_samples < _MIN_SAMPLES:
         raise ParameterError(
@@ -212,7 +249,9 @@ def identify_kinematics(
             allowed=f"at least {_MIN_SAMPLES} samples",
         )
     layout, base = arm_layout(signals)
-    layout, data, measured, weights, time = _measured_data(signals, layout, base)
+    layout, data, measured, weights, time, decided = _measured_data(
+        signals, layout, base, table_given
+    )
     n_samples = data.q.shape[0]
 
     def say(line: str) -> None:
@@ -247,40 +286,47 @@ def identify_kinematics(
     # the weights are 1 / the noise level: a fit at the noise floor has a weighted RMS near 1
     exact = _EXACT_FLOOR if rounding_level(measured) is None else _ROUNDED_FLOOR
     floor = _AT_FLOOR * (1.0 if signals.noisy else exact)
-    x0 = start_parameters(layout, data.subsample(start), measured[start], weights, lengths)
-    x, fun, _, walk = problem.fit(x0, x0, walk_index, max_iterations, biases=False)
-    start_rms = _rms(fun)
-    x, fun, jac, iterations = problem.fit(x, x0, fit_index, max_iterations)
-    starts = 1
-    say(f"start 1 (closed form): weighted RMS {_rms(fun):.3g} after {iterations} iterations")
-    if _rms(fun) > floor:
+    part, part_measured = data.subsample(start), measured[start]
+
+    def fit_from(x0: Array, label: str) -> _Fit:
+        x, fun, _, walk = problem.fit(x0, x0, walk_index, max_iterations, biases=False)
+        walk_rms = _rms(fun)
+        x, fun, jac, iterations = problem.fit(x, x0, fit_index, max_iterations)
+        say(f"start {len(fits) + 1} ({label}): weighted RMS {_rms(fun):.3g} after {iterations} "
+            "iterations")  # fmt: skip
+        return _Fit(x, fun, jac, iterations, walk, walk_rms, x0, label)
+
+    fits: list[_Fit] = []
+    if table_given is not None:
+        if decided:
+            say(f"link types of modules {', '.join(map(str, decided))} from the start table")
+        x_table, _ = table_start(layout, part, part_measured, weights, table_given)
+        fits.append(fit_from(x_table, "start table"))
+    if not fits or fits[0].rms > floor:
+        x0 = start_parameters(layout, part, part_measured, weights, lengths)
+        fits.append(fit_from(x0, "closed form"))
+    best = min(fits, key=lambda f: f.rms)
+    if best.rms > floor:
         # a local minimum: other starts (the quarter turns of prismatic thetas the gyroscopes
         # cannot give, a start from more samples), each walked on few samples; the best few
         # walks fitted on all, the smallest residual kept, stopping at the noise floor
         walked: list[tuple[float, int, Array, Array, int]] = []
         say(f"above the noise floor ({floor:.3g}): walking other starts")
-        for other in other_starts(layout, data, measured, weights, spread, x0):
+        for other in other_starts(layout, data, measured, weights, spread, fits[-1].start):
             z, z_fun, _, z_walk = problem.fit(other, other, walk_index, max_iterations, False)
             walked.append((_rms(z_fun), len(walked), z, other, z_walk))
         for z_rms, _, z, other, z_walk in sorted(walked, key=lambda item: item[:2])[:_REFITS]:
             z, z_fun, z_jac, z_iterations = problem.fit(z, other, fit_index, max_iterations)
-            starts += 1
+            fits.append(_Fit(z, z_fun, z_jac, z_iterations, z_walk, z_rms, other, "other"))
             say(
-                f"start {starts} (of {len(walked)} walked): weighted RMS {_rms(z_fun):.3g} "
-                f"after {z_iterations} iterations"
+                f"start {len(fits)} (of {len(walked)} walked): weighted RMS "
+                f"{fits[-1].rms:.3g} after {z_iterations} iterations"
             )
-            if _rms(z_fun) < _rms(fun):
-                x, fun, jac, iterations, walk, start_rms, x0 = (
-                    z,
-                    z_fun,
-                    z_jac,
-                    z_iterations,
-                    z_walk,
-                    z_rms,
-                    other,
-                )
-            if _rms(fun) <= floor:
+            best = min(best, fits[-1], key=lambda f: f.rms)
+            if best.rms <= floor:
                 break
+    starts = len(fits)
+    x, fun, jac, iterations, walk, start_rms = best[:6]
     names = layout.parameter_names(signals.imu_names)
     found, sigmas, basis, covariance = deficiencies(jac, names, layout.n_dh)
     moved = non_negative_lengths(x, basis, lengths)
@@ -323,6 +369,9 @@ def identify_kinematics(
         "iterations": iterations,
         "walk_iterations": walk,
         "starts": starts,
+        "start": best.label,
+        "closed_form": any(done.label == "closed form" for done in fits),
+        "link_types_from_start": list(decided),
         "walk_rms_weighted": start_rms,
         "end_rms_weighted": end_rms,
         "seconds": _time.perf_counter() - started,

@@ -71,7 +71,10 @@ class KinematicIdentification:
             [m/s²] residuals over the whole run
         deficiencies: the parameter combinations the data cannot determine
         truth: errors against the truth the record holds, or None
-        fit: how the fit went (samples used, function evaluations, seconds, start's RMS)
+        fit: how the fit went (samples used, iterations, seconds, start's RMS; ``starts``:
+            the starts fitted on every sample, ``start``: the result's (``start table``,
+            ``closed form``, ``other``), ``closed_form``: whether the closed-form start was
+            built, ``link_types_from_start``: the modules whose kind a start table decided)
     """
 
     table: Array

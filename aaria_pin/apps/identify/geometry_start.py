@@ -41,6 +41,7 @@ __all__ = [
     "other_starts",
     "rotation_vector",
     "start_parameters",
+    "table_start",
 ]
 
 _GRID = (0.0, np.pi / 2, -np.pi / 2, np.pi)
@@ -441,3 +442,38 @@ def other_starts(
     trial, _ = initial_parameters(layout, data.subsample(more), measured[more], weights)
     starts.append(trial)
     return [z for z in starts if not any(np.allclose(z, y) for y in [first, *starts[:0]])]
+
+
+def table_start(
+    layout: ArmLayout, data: KinematicData, measured: Array, weights: Array, table: Array
+) -> tuple[Array, float]:
+    """A start from a given table: its angles and lengths, the IMU mounts fitted to them.
+
+    Each module's ``alpha``, ``d`` (revolute) or ``theta`` (prismatic) and ``a`` and the tool
+    length are the table's; the table holds no IMU mount, so each link IMU's rotation follows
+    by Procrustes and its position by linear least squares on the table's frames, as in
+    :func:`initial_parameters` (the chain's frames do not depend on the mounts: one pass).
+
+    Args:
+        layout: the arm's modules and IMUs, its kinds the table's
+        data: the base motion and joint motions (a subsample of the run is enough)
+        measured: the measured signals of :attr:`ArmLayout.imus`, T × S × 6
+        weights: the weight of each signal, 6
+        table: an 8 × 5 Aaria table (checked)
+
+    Returns:
+        The parameter vector and its weighted squared residual over every IMU.
+    """
+    fitter = _Fitter(layout, data, measured, weights)
+    x = np.zeros(layout.n_params)
+    for index, (module, kind) in enumerate(zip(layout.modules, layout.kinds, strict=True)):
+        alpha, a, theta, d = table[module - 1, :4]
+        x[3 * index : 3 * index + 3] = [alpha, d if kind == "revolute" else theta, a]
+    x[layout.n_dh - 1] = table[6, 1]
+    states = fitter.states(x)
+    for index in range(len(layout.modules)):
+        _mount_rotations(fitter, x, index, states)
+        unknowns = [u for u in _length_unknowns(layout, index) if u >= layout.n_dh]
+        fitter.solve_lengths(x, unknowns, _link_slots(layout, index))
+    residual = fitter.residual(x, range(len(layout.imus)))
+    return x, float(residual @ residual)

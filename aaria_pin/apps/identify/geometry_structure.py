@@ -83,7 +83,9 @@ def arm_layout(signals: ArmSignals) -> tuple[ArmLayout, int]:
     return ArmLayout(tuple(modules), ("",) * len(modules), tuple(link_imus), tool), base
 
 
-def joint_kinds(signals: ArmSignals, layout: ArmLayout, base: int, qd: Array) -> tuple[str, ...]:
+def joint_kinds(
+    signals: ArmSignals, layout: ArmLayout, base: int, qd: Array
+) -> tuple[tuple[str, float], ...]:
     """Each module's joint kind from the gyroscopes on either side of it (``detect_kind``).
 
     Args:
@@ -93,14 +95,14 @@ def joint_kinds(signals: ArmSignals, layout: ArmLayout, base: int, qd: Array) ->
         qd: the layout's joint velocities, T × m
 
     Returns:
-        ``"revolute"`` or ``"prismatic"`` per module of the layout.
+        Per module of the layout ``"revolute"`` or ``"prismatic"`` and the statistic that
+        decided (about 1 revolute, 0 prismatic; the threshold is 0.5).
     """
     kinds = []
     for index, group in enumerate(layout.link_imus):
         parent = base if index == 0 else layout.link_imus[index - 1][0]
         imu = signals.imu
-        kind, _ = detect_kind(imu[:, group[0], :3], imu[:, parent, :3], qd[:, index])
-        kinds.append(kind)
+        kinds.append(detect_kind(imu[:, group[0], :3], imu[:, parent, :3], qd[:, index]))
     return tuple(kinds)
 
 

@@ -77,6 +77,10 @@ class IdentifyRequest:
             knots
         log: write a line per stage, per start of a kinematic fit and per run of the data-set
             mode to stderr (``aaria: identify: ...``; plain lines, a log keeps them)
+        start: a start table for the kinematic fit (kinematics of one run): an 8 × 5 table
+            file the DH readers read (``.npy``, CSV such as ``-o``'s, ``.mat``, a run file;
+            :func:`~aaria_pin.files.io.read_table`), its use in
+            :mod:`~aaria_pin.apps.identify.geometry_warm`
 
     Raises:
         ParameterError: no file, or several files outside the data-set mode.
@@ -105,6 +109,7 @@ class IdentifyRequest:
     joint: tuple[tuple[str, str], ...] = ()
     imu_model: str | None = None
     log: bool = False
+    start: Path | None = None
 
     @property
     def progress(self) -> Callable[[str], None] | None:
@@ -168,6 +173,10 @@ class IdentifyRequest:
             ),
             *(  # the IMUs of a recording's kinematics, not of another mode
                 ("imu_model", self.imu_model is not None, mode, True)
+                for mode in ("dynamics", "dataset", "rigid", "joint")
+            ),
+            *(  # a start table of one run's kinematic fit
+                ("start", self.start is not None, mode, True)
                 for mode in ("dynamics", "dataset", "rigid", "joint")
             ),
             ("workers", self.workers is not None, "dataset", False),
@@ -315,6 +324,17 @@ def _noise_parameters(imu_model: str | None) -> dict[str, Any] | None:
     return noise_attributes(imu_model_option(imu_model))
 
 
+def _start_table(path: Path) -> Any:
+    """The start table of a file (a DH reader's), its read errors naming ``start``."""
+    from aaria_pin.errors import InputFileError
+    from aaria_pin.files.io import read_table
+
+    try:
+        return read_table(path, "senSenDH")
+    except InputFileError as error:
+        raise InputFileError(f"start {error}", parameter="start", value=str(path)) from None
+
+
 def _kinematics(request: IdentifyRequest) -> IdentifyOutcome:
     """The DH table of a simulated run, or of a recording (its noise model said first)."""
     from aaria_pin.apps.identify.geometry import identify_kinematics
@@ -336,7 +356,8 @@ def _kinematics(request: IdentifyRequest) -> IdentifyOutcome:
         signals = ArmSignals.of_recorded(
             recorded, _noise_parameters(request.imu_model), str(request.imu_model)
         )
-    result = identify_kinematics(signals, progress=request.progress)
+    start = None if request.start is None else _start_table(request.start)
+    result = identify_kinematics(signals, progress=request.progress, start=start)
     if result.failure is None:
         _write_kinematics(result, request)
     report, lines = result.to_json(), result.summary()
