@@ -106,7 +106,8 @@ def _plot_tool_tip_cdf(path: Path, outcome: IdentifyOutcome) -> None:
     help="--dataset: the CDF of tool-tip errors per group (.png, .pdf, .svg).",
 )
 @click.option("--start", type=click.Path(path_type=Path, dir_okay=False), help="A start table"
-              " (8 x 5 .npy, CSV, .mat, run file): its fit first, the usual after.")  # fmt: skip
+              " (8 x 5 .npy, CSV, .mat, run file): its fit first, the usual after (a far"
+              " table costs time).")  # fmt: skip
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def identify(files: tuple[Path, ...], plot: Path | None, as_json: bool, **flags: Any) -> None:
     """Identify a robot: DH table and IMU mounts, dynamics, IMU pairs and joints from IMUs.

@@ -19,6 +19,10 @@ __all__ = ["relative_rms", "relative_rms_summary", "rms_per_joint", "share_summa
 def relative_rms(truth: np.ndarray, prediction: np.ndarray) -> float:
     """RMS of the error over RMS of the truth, over every element (inf for a zero truth).
 
+    Every element counts alike: a run's torques [N·m] and forces [N] are pooled as numbers
+    (an arm's prismatic forces carry 0 to 100 % of its Σ tau², median 15 % on the standard
+    ``inverse-dynamics`` test arms), as a loss over the whole target would pool them.
+
     Args:
         truth: the true array (a run's ``T × n`` torques)
         prediction: the predicted array of the same shape
