@@ -203,3 +203,23 @@ def test_the_identify_baseline_starts_from_a_predictions_file(
     with pytest.raises(ParameterError, match="allowed: with the identify baseline") as e:
         run_baseline("structure", folder, tmp_path / "p.npz", "nominal", start=start)
     assert e.value.parameter == "start" and not (tmp_path / "p.npz").exists()
+
+
+def test_arms_identify_refuses_are_counted_and_given_the_nominal_table(
+    folders: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import aaria_pin.apps.identify.geometry as geometry
+    from aaria_pin.aaria.presets import get_preset
+
+    def refuse(*_: object, **__: object) -> None:
+        raise ParameterError("record is refused; allowed: a test's", parameter="record")
+
+    monkeypatch.setattr(geometry, "identify_kinematics", refuse)  # one process: workers=1
+    card = json.loads((folders["structure"] / CARD_NAME).read_text())
+    test_runs = card["splits"]["test"]
+    with pytest.warns(UserWarning, match=f"refused {len(test_runs)} of {len(test_runs)} test"):
+        path = run_baseline("structure", folders["structure"], tmp_path / "p.npz", "identify")
+    nominal = np.asarray(get_preset("aaria-fig2").table, dtype=float)
+    with np.load(path) as archive:
+        for run in test_runs:
+            np.testing.assert_array_equal(archive[f"run_{run}"], nominal)

@@ -5,7 +5,8 @@ Per task, by name (:data:`BASELINES`):
 - ``structure``: ``identify``, the classical identification (``aaria identify``'s
   :func:`~aaria_pin.apps.identify.geometry.identify_kinematics`, from the run's encoders and
   IMUs) of each test arm, its table as the prediction (an arm it refuses gets the ``nominal``
-  table); ``nominal``, the ``aaria-fig2`` preset's table for every arm (a floor);
+  table, the refused arms counted in a warning); ``nominal``, the ``aaria-fig2`` preset's
+  table for every arm (a floor);
 - ``inverse-dynamics``: ``zero`` (no torque: relative RMS 1 exactly), ``train-mean``, each
   joint's mean torque over the training runs, at every sample, ``rigid-body``, the classical
   physics: the RNEA torques of the arm built from its table along the motion differentiated
@@ -23,6 +24,7 @@ from __future__ import annotations
 
 import functools
 import os
+import warnings
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -52,8 +54,8 @@ def _nominal(_dataset: Path, card: dict[str, Any], _workers: int) -> dict[int, n
     return {int(run): _nominal_table() for run in card["splits"]["test"]}
 
 
-def _identified_table(task: tuple[str, int, np.ndarray | None]) -> np.ndarray:
-    """The identified table of one run (the nominal one when the identification refuses it).
+def _identified_table(task: tuple[str, int, np.ndarray | None]) -> np.ndarray | None:
+    """The identified table of one run (None when the identification refuses it).
 
     ``task``: the data set, the run and its start table (None: a cold start).
     """
@@ -68,7 +70,7 @@ def _identified_table(task: tuple[str, int, np.ndarray | None]) -> np.ndarray:
         result = identify_kinematics(record, with_truth=False, start=start)
         return np.asarray(result.table, dtype=float)
     except AariaError:
-        return _nominal_table()
+        return None
 
 
 def _identify(
@@ -82,7 +84,16 @@ def _identify(
     from aaria_pin.apps.pool import completed
 
     tasks = [(str(dataset), run, None if starts is None else starts[run]) for run in runs]
-    return {runs[index]: table for index, table in completed(_identified_table, tasks, workers)}
+    tables = {runs[index]: table for index, table in completed(_identified_table, tasks, workers)}
+    refused = sorted(run for run, table in tables.items() if table is None)
+    if refused:  # counted and said: the score includes the nominal tables as predictions
+        warnings.warn(
+            f"identify refused {len(refused)} of {len(runs)} test arms (runs "
+            f"{', '.join(map(str, refused))}): the nominal {_NOMINAL} table predicted for "
+            "them",
+            stacklevel=2,
+        )
+    return {run: _nominal_table() if table is None else table for run, table in tables.items()}
 
 
 def _train_mean(dataset: Path, card: dict[str, Any], _workers: int) -> dict[int, np.ndarray]:
