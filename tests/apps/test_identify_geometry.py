@@ -256,4 +256,20 @@ def test_clipped_samples_are_those_at_an_imu_range() -> None:
     expected = np.zeros(10, dtype=bool)
     expected[[2, 5]] = True
     np.testing.assert_array_equal(clipped_samples(imu, parameters), expected)
-    assert not clipped_samples(imu, None).any()  # no noise model: no range known
+    assert not clipped_samples(imu, None).any()  # no noise model: no flat top either
+
+
+def test_without_a_range_a_flat_top_is_clipped() -> None:
+    from aaria_pin.apps.identify.geometry_signals import clipped_samples
+
+    rng = np.random.default_rng(3)
+    t = np.linspace(0.0, 4.0, 801)
+    imu = np.zeros((t.size, 2, 6))
+    imu[:, :, :] = 30.0 * np.sin(2.0 * np.pi * t)[:, None, None]
+    imu += rng.normal(0.0, 0.05, imu.shape)  # a noisy signal: its peaks are not flat
+    imu[:, 0, 5] = 9.81  # a still axis reads a constant: not clipped
+    assert not clipped_samples(imu, None).any()
+    imu[:, 1, 4] = np.clip(imu[:, 1, 4], -25.0, 25.0)  # an accelerometer saturating at 25 m/s²
+    expected = np.abs(imu[:, 1, 4]) >= 25.0
+    np.testing.assert_array_equal(clipped_samples(imu, None), expected)
+    assert expected.sum() > 100  # (the check can fail: the clip holds many samples)

@@ -215,25 +215,52 @@ def signal_weights(rate: float, noise_parameters: Any = None) -> Array:
     return np.array(levels)
 
 
+FLAT_TOP = 3
+"""Samples in a row at a channel's extreme that make a flat top (a clipped channel)."""
+
+
+def flat_tops(signals: Array) -> Array:
+    """The samples at which some channel holds its extreme for :data:`FLAT_TOP` samples or more.
+
+    Args:
+        signals: T × ... channels (each column's own largest and smallest value)
+    """
+    flat = signals.reshape(signals.shape[0], -1)
+    out = np.zeros(flat.shape[0], dtype=bool)
+    if flat.shape[0] < FLAT_TOP:
+        return out
+    varies = flat.max(axis=0) > flat.min(axis=0)  # a constant channel (a still axis): not clipped
+    for extreme in (flat.max(axis=0), flat.min(axis=0)):
+        at = (flat == extreme) & varies & (extreme != 0.0)  # (zero: a channel at rest)
+        # a run of FLAT_TOP samples at the extreme: every window of that length all True
+        windows = np.lib.stride_tricks.sliding_window_view(at, FLAT_TOP, axis=0)
+        starts = np.asarray(windows.all(axis=-1), dtype=bool)
+        for shift in range(FLAT_TOP):
+            out[shift : shift + starts.shape[0]] |= starts.any(axis=1)
+    return out
+
+
 def clipped_samples(imu: Array, noise_parameters: Any) -> Array:
     """The samples at which some IMU channel is at its range (clipped), a boolean per sample.
 
     A clipped signal is not the model's: on run 12 of ``aaria dataset -n 40 --seed 2033``
     (ADIS16485, ±5 g) 52 samples of 6001 at the range kept the fit at 2.5 noise floors, the same
     from the true table (not a local minimum), the tool tip 25 mm off. A channel is at its range
-    within one least significant bit, from the record's ``noise_parameters`` (none: nothing is
-    clipped).
+    within one least significant bit, from the record's ``noise_parameters``; where they give no
+    range (a recording without ``--imu-model``), a channel is clipped where it holds its run's
+    largest or smallest value for :data:`FLAT_TOP` samples in a row or more (a saturated
+    converter repeats its full-scale code; a noisy signal at a peak does not).
 
     Args:
         imu: the record's IMU signals, T × S × 6 [rad/s, m/s²]
-        noise_parameters: the record's ``noise_parameters``
+        noise_parameters: the record's ``noise_parameters`` (None: no model)
     """
-    if not isinstance(noise_parameters, dict):
-        return np.zeros(imu.shape[0], dtype=bool)
+    parameters = noise_parameters if isinstance(noise_parameters, dict) else {}
     out = np.zeros(imu.shape[0], dtype=bool)
     for sensor, units, channels in (("gyro", "rad_s", slice(0, 3)), ("accel", "m_s2", slice(3, 6))):
-        limit = noise_parameters.get(f"{sensor}_range_{units}")
+        limit = parameters.get(f"{sensor}_range_{units}")
         if limit is None or not np.isfinite(float(limit)) or float(limit) <= 0:
+            out |= flat_tops(np.asarray(imu[:, :, channels], dtype=float))
             continue
         lsb = float(noise_parameters.get(f"{sensor}_lsb_{units}", 0.0) or 0.0)
         level = float(limit) - max(lsb, 1e-6 * float(limit))
