@@ -2,7 +2,9 @@
 
 :func:`recorded_from_run` keeps what a simulated run's sensors measured: each IMU's signals
 (the slots that exist), the joint states (``q_measured`` and ``tau_measured`` where the run has
-encoders and torque sensors, else the true ``q`` and ``tau``; ``qd`` as computed), and the
+encoders and torque sensors; without torque sensors, motor currents times each joint's
+``k_t·N`` as a drive reports effort from them; else the true ``q`` and ``tau``; ``qd`` as
+computed), and the
 base wrench (``base``). :func:`export_run` writes them (or a recorded run's streams) as a ROS 1
 bag, an MCAP file, a ROS 2 sqlite3 file or bag folder
 (:func:`~aaria_pin.files.recordings.bag_write.write_bag`) or a CSV table
@@ -24,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from aaria_pin.core.arguments import checked
+from aaria_pin.core.current_sensor import recorded_per_ampere
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.recording import STREAM_COLUMNS, RecordedRun, SensorStream
 from aaria_pin.errors import InputFileError, ParameterError
@@ -50,7 +53,12 @@ def recorded_from_run(record: RunRecord) -> RecordedRun:
         if mount.parent
     ]
     q = record.tables.get("q_measured", record.q)
-    tau = record.tables.get("tau_measured", record.tau)
+    tau = record.tables.get("tau_measured")
+    if tau is None and "current_measured" in record.tables:  # a joint's torque from its current
+        per_ampere = recorded_per_ampere(record.attributes, record.q.shape[1])
+        if per_ampere is not None:
+            tau = record.tables["current_measured"] * per_ampere
+    tau = record.tau if tau is None else tau
     joints = record.joint_names
     columns = tuple(f"{group}:{j}" for group in ("q", "qd", "tau") for j in joints)
     values = np.concatenate([q, record.qd, tau], axis=1)

@@ -47,6 +47,9 @@ The record keeps ``current_measured`` (T × n) [A], ``current_sensor_bias`` (1 �
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 import numpy as np
 
 from aaria_pin.core.actuator import actuator_torques, motor_torque
@@ -59,7 +62,7 @@ from aaria_pin.core.joint_sensors import (
 from aaria_pin.core.se3 import Array
 from aaria_pin.core.torque_sensor import SensorReadings
 
-__all__ = ["CurrentSensorModel", "CurrentSensorStream", "amperes_to_torque"]
+__all__ = ["CurrentSensorModel", "CurrentSensorStream", "amperes_to_torque", "recorded_per_ampere"]
 
 
 def amperes_to_torque(torque_constant: Array, gear_ratio: Array) -> Array:
@@ -70,6 +73,27 @@ def amperes_to_torque(torque_constant: Array, gear_ratio: Array) -> Array:
         gear_ratio: each gearbox's ratio ``N``, n [1]
     """
     return torque_constant * gear_ratio
+
+
+def recorded_per_ampere(attributes: Mapping[str, Any], joints: int) -> Array | None:
+    """Each joint's torque per ampere ``k_t·N`` a run records (None: no current sensor recorded).
+
+    Args:
+        attributes: the run's attributes (its ``current_sensor`` and ``actuator`` models)
+        joints: n, the record's joint columns
+
+    Raises:
+        ParameterError: a recorded value of another length than ``joints``.
+    """
+    sensor, actuator = attributes.get("current_sensor"), attributes.get("actuator")
+    if not isinstance(sensor, Mapping) or not isinstance(actuator, Mapping):
+        return None
+    constant, ratio = sensor.get("torque_constant"), actuator.get("gear_ratio")
+    if constant is None or ratio is None:
+        return None
+    return amperes_to_torque(
+        per_joint(constant, joints, "torque_constant"), per_joint(ratio, joints, "gear_ratio")
+    )
 
 
 class CurrentSensorStream(SensorReadings):

@@ -227,3 +227,21 @@ def test_a_sensor_without_header_stamps_keeps_its_log_time_with_a_warning(tmp_pa
         back = read_bag(_bag(tmp_path / "nostamp.bag", [0, 0, 0], [0.1, 0.2, 0.3]))
     assert back.time_origin_ns == 10**9  # the helper logs message k at 1 s + k ns
     np.testing.assert_array_equal(back.stream("wrist").time, [0.0, 1e-9, 2e-9])
+
+
+def test_a_run_with_motor_currents_exports_their_torques_as_effort(tmp_path: Path) -> None:
+    from aaria_pin.core.joint_sensors import ActuatorModel, CurrentSensorModel
+
+    text = read_urdf_file(find_robot("ur5").urdf)
+    current = urdf_request(
+        text,
+        source="ur5",
+        duration=0.2,
+        rate=100.0,
+        actuator=ActuatorModel(gear_ratio=100.0, viscous=0.5),
+        current_sensor=CurrentSensorModel(torque_constant=0.1, noise=0.003),
+    ).record()
+    effort = read_bag(export_run(current, tmp_path / "run.mcap")).stream("joints").values[:, 12:]
+    expected = current.tables["current_measured"] * (0.1 * 100.0)  # A x k_t x N = N·m
+    np.testing.assert_allclose(effort, expected, rtol=1e-12)
+    assert np.abs(effort - current.tau).max() > 0.1  # not the rigid-body torques (friction in)
