@@ -77,3 +77,16 @@ def test_refusals_are_one_line_exit_2(
     assert out == "" and len(err.strip().splitlines()) == 1
     assert err.startswith("aaria: error:") and wanted in err
     assert not (tmp_path / "p.npz").exists()
+
+
+def test_the_baseline_help_lists_every_baseline_of_the_registry() -> None:
+    from aaria_pin.apps.bench_tasks.baselines import BASELINES
+
+    code, out, _ = run_cli("bench-task", "baseline", "--help")
+    assert code == 0
+    # the help is written by hand (nothing imported at --help): kept in step with the registry
+    option = " ".join(out.split()).split("--baseline TEXT")[1].split("--workers")[0]
+    for task, baselines in BASELINES.items():
+        listed = option.split(f"{task}:")[1].split(";")[0]
+        names = [name.split("(")[0].split("[")[0].strip(" ,.") for name in listed.split(",")]
+        assert names == list(baselines), (task, names)
