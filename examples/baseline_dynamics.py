@@ -135,6 +135,8 @@ def _train_per_sample(
 
     The hybrid's target is the residual over the run's scale (feature 6): its squared error is
     the task's relative RMS squared, so that runs of small torques weigh as much as large ones.
+    Its predicted residual stays within the training residuals' range, per joint, and is 0 on a
+    joint whose rigid-body torque is 0 over the run (an empty module).
     """
     rate = float(data.card["spec"]["rate"])  # the rigid-body baseline's filter window
     window = choose_window(data.reader.path, data.split("train"), rate, 1)
@@ -157,6 +159,7 @@ def _train_per_sample(
     scale = np.where(scale > 0, scale, 1.0)
     mean, std = x_train.mean(axis=0), x_train.std(axis=0)
     train = (_standardised(x_train, mean, std), ((target - shift) / scale).astype(np.float32))
+    bounds = (train[1].min(axis=0), train[1].max(axis=0)) if hybrid else (-np.inf, np.inf)
     held_target = ((residual(x_held, tau_held) - shift) / scale).astype(np.float32)
     held = (_standardised(x_held, mean, std), held_target)
     model = _mlp(train[0].shape[1], s.width, 6, s.dropout)
@@ -177,7 +180,9 @@ def _train_per_sample(
             x = features(data, reader.run(k, list(inputs)), window, reader.layout.joint_names)
             y = model(torch.as_tensor(_standardised(x, mean, std))).numpy().astype(np.float64)
             torques, run_scale = physics(x)
-            out[k] = torques + run_scale * (y * scale + shift)
+            y = np.clip(y, *bounds)  # no correction beyond the training residuals' range
+            moving = (torques != 0).any(axis=0) if hybrid else True  # an empty module's: 0
+            out[k] = torques + np.where(moving, run_scale * (y * scale + shift), 0.0)
     return curve, out
 
 

@@ -15,11 +15,11 @@ losses, the seconds). Deterministic on CPU for a seed (one thread, deterministic
   angular velocities, lever arms between IMUs) into one MLP shared by the rows that classifies
   the link type, alpha and theta among the random arms' choices and regresses a and d
   (``baseline_structure.py``);
-- ``inverse-dynamics``: an MLP per sample from what the task gives (the encoder readings, their
-  sin and cos, rates and accelerations from them by the ``rigid-body`` baseline's
-  Savitzky-Golay filter, its window chosen as that baseline chooses it on the training runs,
-  the base pose, the base's velocity, acceleration and angular rates from its table, and the
-  DH table) to the torques;
+- ``inverse-dynamics``: a hybrid, the ``rigid-body`` baseline's torques plus a per-sample MLP's
+  residual from what the physics does not use (the IMUs, the encoders' raw readings, the
+  torques of neighbouring filter windows); ``inverse-dynamics-black-box``: an MLP per sample
+  from the task's inputs to the torques (``baseline_dynamics.py``; score either with
+  ``aaria bench-task score inverse-dynamics``);
 - ``sensor-to-state``: a fully convolutional 1-D CNN from the IMU series to q at every sample
   (trained on windows, applied to whole runs).
 
@@ -163,7 +163,9 @@ class Model:
 
 MODELS: dict[str, Model] = {
     "structure": Model(train_structure, (), 60, batch=32, width=128, weight_decay=1e-3),
-    "inverse-dynamics": Model(train_hybrid, (), 40, batch=512, width=256, weight_decay=1e-2),
+    "inverse-dynamics": Model(
+        train_hybrid, (), 40, batch=512, width=256, weight_decay=1e-2, dropout=0.3
+    ),
     "inverse-dynamics-black-box": Model(
         train_black_box, ("tau",), 40, batch=512, width=256, weight_decay=1e-2, dropout=0.3
     ),
