@@ -143,6 +143,7 @@ def _train_per_sample(
     s.notes["filter_window"] = window
     x_train, tau_train = _samples(data, "train", inputs, features, window)
     x_held, tau_held = _samples(data, "validation", inputs, features, window)
+    x_held = x_held.reshape(-1, x_train.shape[1])  # an empty split: no row of F features
 
     def physics(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The physics' torques and the run's scale of each sample (black box: 0 and 1)."""
