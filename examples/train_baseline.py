@@ -15,11 +15,11 @@ losses, the seconds). Deterministic on CPU for a seed (one thread, deterministic
   angular velocities, lever arms between IMUs) into one MLP shared by the rows that classifies
   the link type, alpha and theta among the random arms' choices and regresses a and d
   (``baseline_structure.py``);
-- ``inverse-dynamics``: an MLP per sample from what the task gives (the encoder readings, their
-  sin and cos, rates and accelerations from them by the ``rigid-body`` baseline's
-  Savitzky-Golay filter, its window chosen as that baseline chooses it on the training runs,
-  the base pose, the base's velocity, acceleration and angular rates from its table, and the
-  DH table) to the torques;
+- ``inverse-dynamics``: a hybrid, the ``rigid-body`` baseline's torques plus a per-sample MLP's
+  residual from what the physics does not use (the IMUs, the encoders' raw readings, the
+  torques of neighbouring filter windows); ``inverse-dynamics-black-box``: an MLP per sample
+  from the task's inputs to the torques (``baseline_dynamics.py``; score either with
+  ``aaria bench-task score inverse-dynamics``);
 - ``sensor-to-state``: a fully convolutional 1-D CNN from the IMU series to q at every sample
   (trained on windows, applied to whole runs).
 
@@ -47,99 +47,15 @@ from typing import Any
 
 import numpy as np
 import torch
+from baseline_dynamics import train_black_box, train_hybrid
 from baseline_structure import train_structure
-from baseline_training import Batch, Curve, Data, Settings, fit, plot_curve, tensor_batches
+from baseline_training import Batch, Curve, Data, Settings, fit, plot_curve
 from torch import nn
 
 from aaria_pin import DatasetReader
 from aaria_pin.apps.bench_tasks.card import split_arguments
 from aaria_pin.apps.bench_tasks.predictions import write_predictions
-from aaria_pin.apps.bench_tasks.rigid_body import choose_window, encoder_motion
-from aaria_pin.core.oscillation import base_motion
 from aaria_pin.files.dataset.sampler import RunBlockSampler
-
-# --- inverse dynamics ----------------------------------------------------------------------
-
-_ID_INPUTS = ("time", "q_measured", "base_pose", "senSenB", "senSenDH")
-"""What the model reads of a run (the task's inputs, the sample times; not the true q, qd, qdd)."""
-
-
-def _dynamics_samples(data: Data, split: str, window: int) -> tuple[np.ndarray, np.ndarray | None]:
-    """Per-sample features (N × F) of a split's runs, and their normalised torques (None: test)."""
-    names = [*_ID_INPUTS] + ([] if split == "test" else ["tau"])
-    ds = data.windows(split, names, 0, None)  # one window: the whole run
-    features, targets = [], []
-    for i in range(len(ds)):
-        run = ds[i]
-        features.append(_dynamics_features(data, run, window))
-        if "tau" in run:
-            targets.append(data.scaled("tau", run["tau"]))
-    if not features:  # an empty split (a tiny task's validation)
-        return np.zeros((0, 1), dtype=np.float32), np.zeros((0, 6), dtype=np.float32)
-    return np.concatenate(features), np.concatenate(targets) if targets else None
-
-
-def _dynamics_features(data: Data, run: dict[str, Any], window: int) -> np.ndarray:
-    """One run's features per sample, unscaled.
-
-    The encoders' q, qd, qdd (Savitzky-Golay), sin/cos of q, the base pose, the DH table repeated.
-    """
-    readings = np.asarray(run["q_measured"], dtype=np.float64)
-    q, qd, qdd = encoder_motion(readings, float(data.card["spec"]["rate"]), window)
-    base = base_motion(run["senSenB"], np.asarray(run["time"], dtype=np.float64))
-    pose = np.asarray(run["base_pose"], dtype=np.float64).reshape(len(q), -1)
-    table = np.broadcast_to(np.asarray(run["senSenDH"], dtype=np.float64).ravel(), (len(q), 40))
-    moving = [base.velocity, base.acceleration, base.omega, base.omega_dot]
-    return np.concatenate([q, qd, qdd, np.sin(q), np.cos(q), pose, *moving, table], axis=1)
-
-
-def _standardised(x: np.ndarray, mean: np.ndarray, std: np.ndarray) -> np.ndarray:
-    """Features standardised with the training split's per-feature mean and std, float32."""
-    return ((x - mean) / np.where(std > 0, std, 1.0)).astype(np.float32)
-
-
-def _mlp(inputs: int, width: int, outputs: int, dropout: float) -> nn.Module:
-    return nn.Sequential(
-        nn.Linear(inputs, width),
-        nn.ReLU(),
-        nn.Dropout(dropout),
-        nn.Linear(width, width),
-        nn.ReLU(),
-        nn.Dropout(dropout),
-        nn.Linear(width, outputs),
-    )
-
-
-def train_dynamics(data: Data, s: Settings) -> tuple[Curve, dict[int, np.ndarray]]:
-    """Train the per-sample MLP; predict the test runs' torques."""
-    rate = float(data.card["spec"]["rate"])  # the rigid-body baseline's filter window
-    window = choose_window(data.reader.path, data.split("train"), rate, 1)
-    s.notes["filter_window"] = window
-    train = _dynamics_samples(data, "train", window)
-    validation = _dynamics_samples(data, "validation", window)
-    mean, std = train[0].mean(axis=0), train[0].std(axis=0)
-    train = (_standardised(train[0], mean, std), train[1])
-    validation = (_standardised(validation[0], mean, std), validation[1])
-    model = _mlp(train[0].shape[1], s.width, 6, s.dropout)
-
-    def loss(batch: Batch) -> torch.Tensor:
-        return nn.functional.mse_loss(model(batch["x"]), batch["y"])
-
-    def batches(split: str, epoch: int) -> Iterable[Batch]:
-        x, y = train if split == "train" else validation
-        return tensor_batches(x, y if y is not None else x, s.batch, s.seed, epoch)
-
-    curve = fit(model, loss, batches, s)
-    model.eval()
-    out = {}
-    with torch.no_grad():
-        for k in data.split("test"):
-            run = data.reader.run(k, list(_ID_INPUTS))
-            x = _standardised(_dynamics_features(data, run, window), mean, std)
-            y = model(torch.as_tensor(x)).numpy()
-            out[k] = data.unscaled("tau", y)
-    return curve, out
-
 
 # --- sensor to state -----------------------------------------------------------------------
 
@@ -248,13 +164,10 @@ class Model:
 MODELS: dict[str, Model] = {
     "structure": Model(train_structure, (), 60, batch=32, width=128, weight_decay=1e-3),
     "inverse-dynamics": Model(
-        train_dynamics,
-        ("tau",),
-        40,
-        batch=512,
-        width=256,
-        weight_decay=1e-2,
-        dropout=0.3,
+        train_hybrid, (), 40, batch=512, width=256, weight_decay=1e-2, dropout=0.3
+    ),
+    "inverse-dynamics-black-box": Model(
+        train_black_box, ("tau",), 40, batch=512, width=256, weight_decay=1e-2, dropout=0.3
     ),
     "sensor-to-state": Model(train_state, ("imu", "q"), 40, window=128, batch=32, width=64),
 }
@@ -401,7 +314,7 @@ def main() -> None:
     parser.add_argument("--online-seed", type=int, default=ONLINE_SEED)
     parser.add_argument("--workers", type=int, default=1, help="DataLoader workers of --online")
     args = parser.parse_args()
-    if args.online and args.task == "inverse-dynamics":
+    if args.online and args.task.startswith("inverse-dynamics"):
         parser.error("--online trains structure or sensor-to-state")
     options = Options(
         args.epochs,

@@ -12,8 +12,10 @@ from typing import Any
 import numpy as np
 import pytest
 
+from aaria_pin import DatasetReader
 from aaria_pin.apps.bench_tasks.make import make_task
 from aaria_pin.apps.bench_tasks.registry import get_task
+from aaria_pin.apps.bench_tasks.rigid_body import rigid_body
 from aaria_pin.apps.bench_tasks.scoring import score_task
 from aaria_pin.apps.dataset.generate import generate_dataset
 
@@ -37,13 +39,14 @@ def train(task: str, folder: Path, out: Path, *extra: str) -> dict[str, Any]:
     "task",
     [
         "structure",
-        pytest.param("inverse-dynamics", marks=pytest.mark.slow),
+        pytest.param("inverse-dynamics-black-box", marks=pytest.mark.slow),
         pytest.param("sensor-to-state", marks=pytest.mark.slow),
     ],
 )
 def test_a_tiny_training_writes_predictions_the_scorer_accepts(tmp_path: Path, task: str) -> None:
     folder = tmp_path / "task"
-    card = json.loads(make_task(task, folder, n_runs=3, duration=0.5).read_text())
+    name = task.removesuffix("-black-box")  # the task the model is a baseline of
+    card = json.loads(make_task(name, folder, n_runs=3, duration=0.5).read_text())
     settings = train(task, folder, tmp_path / "out")
     assert settings["epochs_run"] == 2 and len(settings["train_loss"]) == 2
     assert all(np.isfinite(settings["train_loss"]))
@@ -52,7 +55,7 @@ def test_a_tiny_training_writes_predictions_the_scorer_accepts(tmp_path: Path, t
         predictions = dict(stored)
     assert sorted(predictions) == sorted(f"run_{k}" for k in card["splits"]["test"])
     assert all(p.shape == tuple(card["target_shape"]) for p in predictions.values())
-    score = score_task(task, folder, tmp_path / "out" / "predictions.npz")
+    score = score_task(name, folder, tmp_path / "out" / "predictions.npz")
     assert score["runs"] == len(card["splits"]["test"]) == 1
     if task == "structure":  # a table making an arm: known types, no negative length
         table = next(iter(predictions.values()))
@@ -62,6 +65,27 @@ def test_a_tiny_training_writes_predictions_the_scorer_accepts(tmp_path: Path, t
         train(task, folder, tmp_path / "again")
         with np.load(tmp_path / "again" / "predictions.npz") as again:
             assert all(np.array_equal(again[k], v) for k, v in predictions.items())
+
+
+def test_the_hybrid_adds_a_learned_residual_to_the_rigid_body_torques(tmp_path: Path) -> None:
+    """A tiny hybrid scores near the rigid-body baseline (its physics), far below the torques."""
+    folder = tmp_path / "task"
+    card = json.loads(make_task("inverse-dynamics", folder, n_runs=4, duration=0.5).read_text())
+    settings = train("inverse-dynamics", folder, tmp_path / "out", "--epochs", "3")
+    assert settings["epochs_run"] == 3 and all(np.isfinite(settings["train_loss"]))
+    physics = rigid_body(folder / card["dataset"], card, 1)  # the rigid-body baseline's torques
+    with np.load(tmp_path / "out" / "predictions.npz") as stored:
+        hybrid = {int(k.removeprefix("run_")): stored[k] for k in stored}
+    assert sorted(hybrid) == sorted(physics)
+    with DatasetReader(folder / card["dataset"]) as reader:
+        for k, torques in hybrid.items():
+            tau = reader.run(k, ["tau"])["tau"]
+            scale = float(np.sqrt(np.mean(tau**2)))
+            # the learned residual is a correction of the physics' size, not of the torques'
+            assert 0 < np.sqrt(np.mean((torques - physics[k]) ** 2)) < 0.05 * scale
+    score = score_task("inverse-dynamics", folder, tmp_path / "out" / "predictions.npz")
+    assert score["runs"] == len(card["splits"]["test"])
+    assert score["relative_rms_median"] < 0.05  # the black box's is about 1
 
 
 @pytest.mark.slow
