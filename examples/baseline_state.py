@@ -8,9 +8,11 @@ training statistics) feeds two heads:
   in its own kind's units (q less the mean, over the std, of the training samples of that kind:
   about 0.5 rad and 0.05 m; one scale for every channel would leave a prismatic q ten times
   smaller than a revolute one, its error lost in the loss);
-- per joint, the link type (empty, revolute, prismatic) from the features averaged over the
-  window (whole run when predicting): the task's inputs are the IMUs alone, so the type is
-  predicted too (an empty module's IMUs read zeros; a revolute joint turns its child).
+- per joint, the link type (empty, revolute, prismatic): the task's inputs are the IMUs alone,
+  so the type is predicted too, from what does not depend on the IMUs' random mounts
+  (:func:`invariants`: an empty module's IMUs read zeros; a prismatic joint leaves the norm of
+  the angular rate as it is, a revolute one adds its rate), over the window (the whole run
+  when predicting).
 
 The loss is the cross-entropy of the types plus, per kind, the mean squared error of that
 kind's value over the joints of that kind only (an empty module's q, zeros, is not a target).
@@ -39,12 +41,18 @@ _NAMES = ["imu", "q", "link_types"]
 
 
 class StateNet(nn.Module):
-    """IMU series ``(B, 84, T)`` → per-kind q ``(B, 2, 6, T)`` and type logits ``(B, 6, 3)``."""
+    """Inputs ``(B, 96, T)`` → per-kind q ``(B, 2, 6, T)`` and type logits ``(B, 6, 3)``.
+
+    The type head, a small MLP shared by the modules, reads a module's flag and the log of the
+    RMS over the window of its rate-norm difference (:func:`invariants`): over the standard
+    data set's 200 arms, 1.1 to 1.3 mrad/s (the gyros' noise) across every prismatic joint,
+    18 mrad/s to 1.9 rad/s across a revolute one.
+    """
 
     def __init__(self, width: int) -> None:
         super().__init__()
         layers: list[nn.Module] = []
-        channels = 14 * 6
+        channels = 14 * 6 + 12
         for dilation in (1, 2, 4, 8):
             layers += [
                 nn.Conv1d(channels, width, 5, padding=2 * dilation, dilation=dilation),
@@ -53,13 +61,16 @@ class StateNet(nn.Module):
             channels = width
         self.trunk = nn.Sequential(*layers)
         self.values = nn.Conv1d(width, len(KINDS) * JOINTS, 1)
-        self.types = nn.Linear(width, JOINTS * 3)
+        self.types = nn.Sequential(nn.Linear(2, 16), nn.ReLU(), nn.Linear(16, 3))
 
     def forward(self, x: torch.Tensor) -> dict[str, torch.Tensor]:
         """Each kind's normalised q at every sample, and each joint's type logits."""
         h = self.trunk(x)
         values = self.values(h).reshape(len(x), len(KINDS), JOINTS, -1)
-        return {"q": values, "type": self.types(h.mean(dim=2)).reshape(len(x), JOINTS, 3)}
+        invariant = x[:, -12:]  # the flags and the rate-norm differences (:func:`invariants`)
+        spread = invariant[:, 6:].square().mean(dim=2).add(1e-8).sqrt()  # (B, 6) [rad/s]
+        module = torch.stack([invariant[:, :6, 0], torch.log10(spread + 1e-4)], dim=2)
+        return {"q": values, "type": self.types(module)}
 
 
 def kind_statistics(data: Data) -> np.ndarray:
@@ -76,10 +87,33 @@ def kind_statistics(data: Data) -> np.ndarray:
     return np.asarray(rows)
 
 
+def invariants(imu: np.ndarray) -> np.ndarray:
+    """Per module, whether its IMUs read anything and how its angular rate's norm differs.
+
+    ``imu``: ``(B, T, 14, 6)`` raw (slot 0 the base, 2 + 2m and 3 + 2m module m's A and B;
+    angular rate [rad/s] first). Returns ``(B, T, 12)``: 6 flags (an empty module's IMUs read
+    zeros) and, per module, ``|ω|`` of its IMU A less ``|ω|`` of its parent's IMU B (the
+    previous present module's, or the base's) [rad/s]: zero at every sample across a prismatic
+    joint (it does not turn the child), the joint rate's share across a revolute one. Rotation
+    invariant, so blind to the IMUs' mounts, which every arm draws anew.
+    """
+    rate = np.linalg.norm(np.asarray(imu, dtype=np.float64)[..., :3], axis=-1)  # (B, T, 14)
+    present = np.abs(np.asarray(imu)[:, :, 2::2]).max(axis=(1, 3)) > 0  # (B, 6)
+    parent = rate[:, :, 0]
+    difference = np.zeros((*rate.shape[:2], 6))
+    for m in range(6):
+        here = present[:, m, None]
+        difference[:, :, m] = np.where(here, rate[:, :, 2 + 2 * m] - parent, 0.0)
+        parent = np.where(here, rate[:, :, 3 + 2 * m], parent)
+    flags = np.broadcast_to(present[:, None, :], difference.shape)
+    return np.concatenate([flags, difference], axis=2)
+
+
 def _imu_input(data: Data, imu: np.ndarray) -> np.ndarray:
-    """Scaled IMU windows ``(B, T, 14, 6)`` as ``(B, 84, T)``."""
+    """Scaled IMU windows ``(B, T, 14, 6)`` and their :func:`invariants` as ``(B, 96, T)``."""
     x = data.scaled("imu", imu)
-    return x.reshape(*x.shape[:2], -1).transpose(0, 2, 1).copy()
+    x = np.concatenate([x.reshape(*x.shape[:2], -1), invariants(imu)], axis=2)
+    return x.transpose(0, 2, 1).astype(np.float32)
 
 
 def _state_batch(data: Data, items: list[dict[str, Any]], stats: np.ndarray) -> Batch:
