@@ -25,7 +25,7 @@ losses, the seconds). Deterministic on CPU for a seed (one thread, deterministic
   (``baseline_state.py``; trained on windows, applied to whole runs).
 
 Inputs and targets are normalised with the training split's statistics
-(``DatasetReader.statistics``; sensor-to-state's q per joint kind); ``--tiny`` is a smoke test (2 epochs, short windows, small
+(``DatasetReader.statistics``); ``--tiny`` is a smoke test (2 epochs, short windows, small
 models). ``--train-data`` trains on every run of another data set (``aaria dataset`` with the
 task's settings and another seed: fresh arms) instead of the task's training split (its
 statistics too). ``--online N`` trains on N fresh arms per epoch simulated inside the loop
