@@ -20,8 +20,9 @@ losses, the seconds). Deterministic on CPU for a seed (one thread, deterministic
   torques of neighbouring filter windows); ``inverse-dynamics-black-box``: an MLP per sample
   from the task's inputs to the torques (``baseline_dynamics.py``; score either with
   ``aaria bench-task score inverse-dynamics``);
-- ``sensor-to-state``: a fully convolutional 1-D CNN from the IMU series to q at every sample
-  (trained on windows, applied to whole runs).
+- ``sensor-to-state``: a fully convolutional 1-D CNN from the IMU series to q at every sample,
+  each joint's value per kind (revolute, prismatic, scaled apart) and its link type
+  (``baseline_state.py``; trained on windows, applied to whole runs).
 
 Inputs and targets are normalised with the training split's statistics
 (``DatasetReader.statistics``); ``--tiny`` is a smoke test (2 epochs, short windows, small
@@ -39,7 +40,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable
 from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
@@ -48,103 +49,13 @@ from typing import Any
 import numpy as np
 import torch
 from baseline_dynamics import train_black_box, train_hybrid
+from baseline_state import train_state
 from baseline_structure import train_structure
-from baseline_training import Batch, Curve, Data, Settings, fit, plot_curve
-from torch import nn
+from baseline_training import Curve, Data, Settings, plot_curve
 
 from aaria_pin import DatasetReader
 from aaria_pin.apps.bench_tasks.card import split_arguments
 from aaria_pin.apps.bench_tasks.predictions import write_predictions
-from aaria_pin.files.dataset.sampler import RunBlockSampler
-
-# --- sensor to state -----------------------------------------------------------------------
-
-
-class StateNet(nn.Module):
-    """Fully convolutional: IMU series ``(B, 84, T)`` → q series ``(B, 6, T)`` (same length)."""
-
-    def __init__(self, width: int) -> None:
-        super().__init__()
-        layers: list[nn.Module] = []
-        channels = 14 * 6
-        for dilation in (1, 2, 4, 8):
-            layers += [
-                nn.Conv1d(channels, width, 5, padding=2 * dilation, dilation=dilation),
-                nn.ReLU(),
-            ]
-            channels = width
-        layers.append(nn.Conv1d(width, 6, 1))
-        self.net = nn.Sequential(*layers)
-
-    def forward(self, x: torch.Tensor) -> torch.Tensor:
-        """Joint values (normalised) at every sample."""
-        return self.net(x)
-
-
-def _imu_input(data: Data, imu: np.ndarray) -> np.ndarray:
-    """Scaled IMU windows ``(B, T, 14, 6)`` as ``(B, 84, T)``."""
-    x = data.scaled("imu", imu)
-    return x.reshape(*x.shape[:2], -1).transpose(0, 2, 1).copy()
-
-
-def _state_windows(data: Data, split: str, s: Settings, epoch: int) -> Iterator[Batch]:
-    if split == "train" and data.online is not None:
-        yield from _online_state_windows(data, s, epoch)
-        return
-    ds = data.windows(split, ["imu", "q"], s.window, max(s.window // 2, 1))
-    order = RunBlockSampler.for_windows(ds, seed=s.seed).order(epoch)
-    for first in range(0, len(order), s.batch):
-        yield _state_batch(data, [ds[int(i)] for i in order[first : first + s.batch]])
-
-
-def _online_state_windows(data: Data, s: Settings, epoch: int) -> Iterator[Batch]:
-    """Windows of the epoch's fresh arms (``--online``), shuffled within a buffer of 8 batches."""
-    length = min(s.window, data.online.samples)
-    windows = data.online.windows(length, max(length // 2, 1), names=["imu", "q"])
-    windows.set_epoch(epoch)
-    loader = torch.utils.data.DataLoader(windows.torch(), batch_size=None, num_workers=s.workers)
-    rng = np.random.default_rng([s.seed, epoch])
-    buffer: list[dict[str, Any]] = []
-    for item in loader:
-        buffer.append(item)
-        if len(buffer) == 8 * s.batch:
-            rng.shuffle(buffer)  # type: ignore[arg-type]
-            yield _state_batch(data, buffer[: s.batch])
-            del buffer[: s.batch]
-    rng.shuffle(buffer)  # type: ignore[arg-type]
-    for first in range(0, len(buffer), s.batch):
-        yield _state_batch(data, buffer[first : first + s.batch])
-
-
-def _state_batch(data: Data, items: list[dict[str, Any]]) -> Batch:
-    """Scaled IMU windows and joint values of some windows, as tensors (B × C × L)."""
-    imu = np.stack([np.asarray(it["imu"]) for it in items])
-    q = np.stack([data.scaled("q", np.asarray(it["q"])) for it in items])
-    return {
-        "x": torch.as_tensor(_imu_input(data, imu)),
-        "y": torch.as_tensor(q.transpose(0, 2, 1).copy()),
-    }
-
-
-def train_state(data: Data, s: Settings) -> tuple[Curve, dict[int, np.ndarray]]:
-    """Train the convolutional IMU → q model; predict the test runs' joint values."""
-    model = StateNet(s.width)
-
-    def loss(batch: Batch) -> torch.Tensor:
-        return nn.functional.mse_loss(model(batch["x"]), batch["y"])
-
-    def batches(split: str, epoch: int) -> Iterable[Batch]:
-        return _state_windows(data, split, s, epoch)
-
-    curve = fit(model, loss, batches, s)
-    model.eval()
-    out = {}
-    with torch.no_grad():
-        for k in data.split("test"):
-            imu = data.reader.run(k, ["imu"])["imu"][None]
-            y = model(torch.as_tensor(_imu_input(data, imu)))[0].numpy().T
-            out[k] = data.unscaled("q", y)
-    return curve, out
 
 
 @dataclass(frozen=True)
@@ -169,7 +80,7 @@ MODELS: dict[str, Model] = {
     "inverse-dynamics-black-box": Model(
         train_black_box, ("tau",), 40, batch=512, width=256, weight_decay=1e-2, dropout=0.3
     ),
-    "sensor-to-state": Model(train_state, ("imu", "q"), 40, window=128, batch=32, width=64),
+    "sensor-to-state": Model(train_state, ("imu",), 40, window=128, batch=32, width=64),
 }
 """The learned baseline of each task."""
 
