@@ -1,7 +1,7 @@
 """A warm start of the kinematic identification (issue 27): a start table, its checks, its fallback.
 
 On a noise-free run of the ``aaria-fig2`` preset: the true table as the start ends at the truth
-from that start alone (the closed-form start anchors its prior, but is not fitted); a wrong one
+from that start alone (the closed-form start is not built); a wrong one
 (link types swapped, lengths 0.5 m longer, angles a quarter turn off) ends above the noise floor
 and the cold path gives the result, the very table of a cold start. Where the detection of the
 link types is made unsure, the data decide between its kinds and the table's, whichever is

@@ -230,8 +230,8 @@ def identify_kinematics(
             weighted RMS 1.02 after 5 iterations, 3.1 s``), for a log
         start: a start table, 8 × 5 (``senSenDH``'s layout: a prediction, an earlier
             estimate): its link types where the detection is unsure and their closed form
-            fits better, its angles and lengths as the first start (the prior still anchored
-            at the closed-form start), the usual starts after it unless its fit ends at the
+            fits better, its angles and lengths as the first start (its fit's prior anchored
+            at the table), the usual starts after it unless its fit ends at the
             noise floor (:mod:`~aaria_pin.apps.identify.geometry_warm`: what and why)
 
     Returns:
@@ -274,14 +274,13 @@ def identify_kinematics(
     start = spread(INIT_SAMPLES)
     part, part_measured = data.subsample(start), measured[start]
     x0 = None
-    if table_given is not None:
-        # the closed-form start anchors the fits' prior (geometry_warm: why); under both the
-        # detected and the table's link types where they differ, the smaller residual kept
+    if unsure:
+        # the table's link types differ from an unsure detection's: the closed-form start
+        # under both, the smaller residual kept (geometry_warm: why)
         chosen, x0 = closed_form_choice(layouts, part, part_measured, weights)
         layout, decided = layouts[chosen], unsure if chosen else ()
-        if unsure:
-            which = "start table" if chosen else "detection"
-            say(f"link types of unsure modules {', '.join(map(str, unsure))}: the {which}'s")
+        which = "start table" if chosen else "detection"
+        say(f"link types of unsure modules {', '.join(map(str, unsure))}: the {which}'s")
     modules = zip(layout.modules, layout.kinds, strict=True)
     say(
         f"structure: {', '.join(f'{m} {k}' for m, k in modules)}; "
@@ -309,9 +308,9 @@ def identify_kinematics(
         return _Fit(x, fun, jac, iterations, walk, walk_rms, x_start, label)
 
     fits: list[_Fit] = []
-    if table_given is not None and x0 is not None:
+    if table_given is not None:
         x_table, _ = table_start(layout, part, part_measured, weights, table_given)
-        fits.append(fit_from(x_table, x0, "start table"))
+        fits.append(fit_from(x_table, x_table, "start table"))
     if not fits or fits[0].rms > floor:
         if x0 is None:
             x0 = start_parameters(layout, part, part_measured, weights, lengths)

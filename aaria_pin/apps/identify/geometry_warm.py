@@ -11,37 +11,32 @@ in column 5), checked here (:func:`checked_start`). What it does with it:
    smaller residual decides (:func:`closed_form_choice`): the data, never the table alone.
    Which modules move is the encoders' (an empty row of the table for a moving module is not
    obeyed);
-2. the closed-form start (:func:`~aaria_pin.apps.identify.geometry_start.start_parameters`)
-   is built as in a cold start and anchors the fits' prior (the faint pull towards the start,
-   :class:`~aaria_pin.apps.identify.geometry_fit.WeightedFit`), whatever the table;
-3. the table's angles and lengths, with the IMU mounts fitted to them
+2. the table's angles and lengths, with the IMU mounts fitted to them
    (:func:`~aaria_pin.apps.identify.geometry_start.table_start`), are the first start: walked
    and fitted as the closed-form start is. A fit that ends at the noise floor is the result:
-   the closed-form start is not fitted and the other starts are not computed;
-4. else the usual starts follow (the closed-form one, then the others), the smallest residual
+   the closed-form start (unless item 1 built it) and the other starts are not computed;
+3. else the usual starts follow (the closed-form one, then the others), the smallest residual
    kept: a wrong table costs one fit, never the result.
 
-The rule: the warm fit minimises the cold fit's objective (the same signals, weights and
-prior), only from another point. Where the data decide, it ends where the cold one does; the
-combinations they hardly determine follow the closed-form start in both, not the table. What a
-warm start can still change: which minimum is reached where there are several (the table's,
-when its residual is smaller), and the parameters along the exact null directions (the
-equivalent tables, :func:`~aaria_pin.apps.identify.geometry_fit.deficiencies`: the fit does not
-move along them, so the table entries follow the start there while the tool tip and every
-signal do not).
+What a warm start can change against the cold one: the fit's prior (the faint pull towards the
+start, :class:`~aaria_pin.apps.identify.geometry_fit.WeightedFit`) is anchored at the table,
+so the combinations the signals hardly determine follow the start table, not the data, and
+along the exact null directions (the equivalent tables,
+:func:`~aaria_pin.apps.identify.geometry_fit.deficiencies`) the entries follow it too.
 
-Why (measured on the standard ``structure`` task's 20 test arms, 10 s at 100 Hz with noise;
-``docs/guide/bench-tasks.md``): with the prior anchored at the table, a far table pulled the
-weakly determined combinations towards itself at a residual just as small: run 71's tool tip
-12.9 mm off cold, 0.32 m from the earlier structure model's table (``big2``). Anchored at the
-closed-form start, the same table gives 12.89 mm, the cold figure, at the cold residual (1.016
-noise floors); today's learned table gave 12.89 mm before and after. The closed-form start
-costs little against the fits (a grid of candidates module by module on a few samples); the
-time a warm start saves is the walk's iterations. The table's fit is tried first because a
-near table (the truth) ends at the floor from it (7 arms looked at one by one). The link types
-are the detection's wherever it is sure: it is right on every module of those arms, the
-learned tables on 82 % to 97.5 %; the tool tip's error is the noise's (the truth as the start
-gives the cold median, 4.6 mm).
+Measured (the standard ``structure`` task's 20 test arms, 10 s at 100 Hz with noise;
+``docs/guide/bench-tasks.md``): a far table pulls run 71's tool tip from 12.9 mm (cold) to
+0.32 m (the earlier model's ``big2`` table) at the same residual. Anchoring the prior at the
+closed-form start instead was tried: run 71 from ``big2`` then gave 12.89 mm, the cold figure,
+and today's learned tables gave the cold figure on run 9 too (13.7 mm against 25 mm; median
+4.583 mm), but it was not kept: the closed-form start costs about 70 s of CPU on those 20 arms
+(a grid of candidates module by module; 0.1 to 25 s an arm, measured with the fit stopped
+after it), so the warm run took 265 s of CPU against the cold 161 s; and on a noise-free run
+(``aaria-fig3``) the closed-form start lies on another branch of equivalent tables, whose pull
+keeps the true table's fit off the exact noise floor. The link types are the detection's
+wherever it is sure: it is right on every module of those arms, the learned tables on 82 % to
+97.5 %; the tool tip's error is the noise's (the truth as the start gives the cold median,
+4.6 mm).
 """
 
 from __future__ import annotations
