@@ -1,25 +1,32 @@
 """A warm start of the kinematic identification (issue 27): a start table, its checks, its fallback.
 
 On a noise-free run of the ``aaria-fig2`` preset: the true table as the start ends at the truth
-from that start alone (the closed-form start is not built); a wrong one (link types swapped,
-lengths 0.5 m longer, angles a quarter turn off) ends above the noise floor and the cold path
-gives the result, the very table of a cold start.
+from that start alone (the closed-form start is not built); a wrong one
+(link types swapped, lengths 0.5 m longer, angles a quarter turn off) ends above the noise floor
+and the cold path gives the result, the very table of a cold start. Where the detection of the
+link types is made unsure, the data decide between its kinds and the table's, whichever is
+wrong.
 """
 
 from __future__ import annotations
+
+import importlib
 
 import numpy as np
 import pytest
 
 from aaria_pin.aaria.presets import get_preset
 from aaria_pin.aaria.simulate import simulate_run
-from aaria_pin.apps.identify import identify_kinematics
+from aaria_pin.apps.identify import geometry_warm, identify_kinematics
+from aaria_pin.apps.identify.geometry_input import ArmSignals
+from aaria_pin.apps.identify.geometry_model import ArmLayout
 from aaria_pin.apps.identify.geometry_result import KinematicIdentification
 from aaria_pin.apps.identify.geometry_warm import checked_start, start_kinds
 from aaria_pin.core.record import RunRecord
 from aaria_pin.errors import ParameterError
 
 TRUTH = np.asarray(get_preset("aaria-fig2").table, dtype=float)
+_SWAP = {"revolute": "prismatic", "prismatic": "revolute"}
 
 
 @pytest.fixture(scope="module")
@@ -76,6 +83,41 @@ def test_the_table_decides_a_link_type_only_where_the_detection_is_unsure() -> N
     assert decided == (1, 3)
     table[0, 4] = 0  # an empty row for a moving module is not obeyed
     assert start_kinds((1,), detected[:1], table) == (("revolute",), ())
+
+
+def test_an_unsure_wrong_detection_yields_to_the_table_the_data_prefer(
+    record: RunRecord, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the detection made wrong and unsure on every module (statistic 0.5): the true table's
+    # link types differ from it everywhere, and their closed form fits the signals better
+    geometry = importlib.import_module("aaria_pin.apps.identify.geometry")
+    real = geometry.joint_kinds
+
+    def unsure(
+        signals: ArmSignals, layout: ArmLayout, base: int, qd: np.ndarray
+    ) -> tuple[tuple[str, float], ...]:
+        return tuple((_SWAP[kind], 0.5) for kind, _ in real(signals, layout, base, qd))
+
+    monkeypatch.setattr(geometry, "joint_kinds", unsure)
+    warm = identify_kinematics(record, start=TRUTH)
+    assert warm.link_types == tuple(int(t) for t in TRUTH[:6, 4])
+    moving = [module for module in range(1, 7) if TRUTH[module - 1, 4] > 0]
+    assert warm.fit["link_types_from_start"] == moving
+    assert warm.truth is not None and warm.truth.tool_tip_max < 1e-4
+
+
+def test_an_unsure_right_detection_stays_against_a_wrong_table(
+    record: RunRecord, cold: KinematicIdentification, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(geometry_warm, "UNSURE", 0.6)  # every statistic is unsure
+    wrong = TRUTH.copy()
+    used = wrong[:6, 4] > 0
+    wrong[:6, 4][used] = 3 - wrong[:6, 4][used]  # revolute <-> prismatic
+    warm = identify_kinematics(record, start=wrong)
+    assert warm.link_types == tuple(int(t) for t in TRUTH[:6, 4])
+    assert warm.fit["link_types_from_start"] == []
+    assert warm.truth is not None and cold.truth is not None
+    assert warm.truth.tool_tip_max < max(1e-4, 2 * cold.truth.tool_tip_max)
 
 
 @pytest.mark.parametrize(

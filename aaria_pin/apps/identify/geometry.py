@@ -87,7 +87,7 @@ from aaria_pin.apps.identify.geometry_structure import (
     table_of,
 )
 from aaria_pin.apps.identify.geometry_truth import truth_errors
-from aaria_pin.apps.identify.geometry_warm import checked_start, start_kinds
+from aaria_pin.apps.identify.geometry_warm import checked_start, closed_form_choice, start_kinds
 from aaria_pin.core.arguments import checked
 from aaria_pin.core.record import RunRecord
 from aaria_pin.core.se3 import Array
@@ -146,10 +146,11 @@ def _rms(values: Array) -> float:
 
 def _measured_data(
     signals: ArmSignals, layout: ArmLayout, base: int, start: Array | None
-) -> tuple[ArmLayout, KinematicData, Array, Array, Array, tuple[int, ...]]:
-    """The layout with its joint kinds, the model's inputs, the signals, weights and times.
+) -> tuple[list[ArmLayout], KinematicData, Array, Array, Array, tuple[int, ...]]:
+    """The layouts with their joint kinds, the model's inputs, the signals, weights and times.
 
-    The last item: the modules whose kind the start table decided (:func:`start_kinds`).
+    The first layout has the detected kinds; a second one, where a start table's kinds differ
+    from the detection's on unsure modules (the last item: :func:`start_kinds`), the table's.
     """
     time = signals.time
     columns = [m - 1 for m in layout.modules]
@@ -160,9 +161,11 @@ def _measured_data(
         qd, qdd = (np.asarray(rate, dtype=float)[:, columns] for rate in signals.joint_rates)
     detected = joint_kinds(signals, layout, base, qd)
     kinds, decided = tuple(kind for kind, _ in detected), tuple[int, ...]()
+    layouts = [ArmLayout(layout.modules, kinds, layout.link_imus, layout.tool_imu)]
     if start is not None:
         kinds, decided = start_kinds(layout.modules, detected, start)
-    layout = ArmLayout(layout.modules, kinds, layout.link_imus, layout.tool_imu)
+    if decided:
+        layouts.append(ArmLayout(layout.modules, kinds, layout.link_imus, layout.tool_imu))
     rate = (time.size - 1) / (time[-1] - time[0])
     weights = signal_weights(rate, signals.noise_parameters)
     omega_base = np.asarray(signals.imu[:, base, :3], dtype=float)
@@ -178,7 +181,7 @@ def _measured_data(
         (omega_dot,) = measured_rates(time, omega_base, 1)
     data = KinematicData(omega_base, omega_dot, force_base, q, qd, qdd)
     measured = np.asarray(signals.imu[:, list(layout.imus)], dtype=float)
-    return layout, data, measured, weights, time, decided
+    return layouts, data, measured, weights, time, decided
 
 
 class _Fit(NamedTuple):
@@ -226,9 +229,10 @@ def identify_kinematics(
         progress: called with a line per stage and per start (``start 1 (closed form):
             weighted RMS 1.02 after 5 iterations, 3.1 s``), for a log
         start: a start table, 8 × 5 (``senSenDH``'s layout: a prediction, an earlier
-            estimate): its link types where the detection is unsure, its angles and lengths
-            as the first start, the usual starts after it unless its fit ends at the noise
-            floor (:mod:`~aaria_pin.apps.identify.geometry_warm`: what and why)
+            estimate): its link types where the detection is unsure and their closed form
+            fits better, its angles and lengths as the first start (its fit's prior anchored
+            at the table), the usual starts after it unless its fit ends at the
+            noise floor (:mod:`~aaria_pin.apps.identify.geometry_warm`: what and why)
 
     Returns:
         The identification.
@@ -249,20 +253,14 @@ def identify_kinematics(
             allowed=f"at least {_MIN_SAMPLES} samples",
         )
     layout, base = arm_layout(signals)
-    layout, data, measured, weights, time, decided = _measured_data(
+    layouts, data, measured, weights, time, unsure = _measured_data(
         signals, layout, base, table_given
     )
-    n_samples = data.q.shape[0]
+    layout, n_samples, decided = layouts[0], data.q.shape[0], tuple[int, ...]()
 
     def say(line: str) -> None:
         if progress is not None:
             progress(f"{line}, {_time.perf_counter() - started:.1f} s")
-
-    modules = zip(layout.modules, layout.kinds, strict=True)
-    say(
-        f"structure: {', '.join(f'{m} {k}' for m, k in modules)}; "
-        f"{len(layout.imus)} IMUs fitted on {min(max_fit_samples, n_samples)} samples"
-    )
 
     # samples with a clipped IMU channel are left out of the fit (geometry_signals.clipped_samples)
     clipped = clipped_samples(np.asarray(signals.imu), signals.noise_parameters)
@@ -274,6 +272,20 @@ def identify_kinematics(
         return usable[np.unique(picks)]
 
     start = spread(INIT_SAMPLES)
+    part, part_measured = data.subsample(start), measured[start]
+    x0 = None
+    if unsure:
+        # the table's link types differ from an unsure detection's: the closed-form start
+        # under both, the smaller residual kept (geometry_warm: why)
+        chosen, x0 = closed_form_choice(layouts, part, part_measured, weights)
+        layout, decided = layouts[chosen], unsure if chosen else ()
+        which = "start table" if chosen else "detection"
+        say(f"link types of unsure modules {', '.join(map(str, unsure))}: the {which}'s")
+    modules = zip(layout.modules, layout.kinds, strict=True)
+    say(
+        f"structure: {', '.join(f'{m} {k}' for m, k in modules)}; "
+        f"{len(layout.imus)} IMUs fitted on {min(max_fit_samples, n_samples)} samples"
+    )
     lengths = length_indices(layout)
     spacings = None
     if signals.noisy:
@@ -286,25 +298,23 @@ def identify_kinematics(
     # the weights are 1 / the noise level: a fit at the noise floor has a weighted RMS near 1
     exact = _EXACT_FLOOR if rounding_level(measured) is None else _ROUNDED_FLOOR
     floor = _AT_FLOOR * (1.0 if signals.noisy else exact)
-    part, part_measured = data.subsample(start), measured[start]
 
-    def fit_from(x0: Array, label: str) -> _Fit:
-        x, fun, _, walk = problem.fit(x0, x0, walk_index, max_iterations, biases=False)
+    def fit_from(x_start: Array, anchor: Array, label: str) -> _Fit:
+        x, fun, _, walk = problem.fit(x_start, anchor, walk_index, max_iterations, biases=False)
         walk_rms = _rms(fun)
-        x, fun, jac, iterations = problem.fit(x, x0, fit_index, max_iterations)
+        x, fun, jac, iterations = problem.fit(x, anchor, fit_index, max_iterations)
         say(f"start {len(fits) + 1} ({label}): weighted RMS {_rms(fun):.3g} after {iterations} "
             "iterations")  # fmt: skip
-        return _Fit(x, fun, jac, iterations, walk, walk_rms, x0, label)
+        return _Fit(x, fun, jac, iterations, walk, walk_rms, x_start, label)
 
     fits: list[_Fit] = []
     if table_given is not None:
-        if decided:
-            say(f"link types of modules {', '.join(map(str, decided))} from the start table")
         x_table, _ = table_start(layout, part, part_measured, weights, table_given)
-        fits.append(fit_from(x_table, "start table"))
+        fits.append(fit_from(x_table, x_table, "start table"))
     if not fits or fits[0].rms > floor:
-        x0 = start_parameters(layout, part, part_measured, weights, lengths)
-        fits.append(fit_from(x0, "closed form"))
+        if x0 is None:
+            x0 = start_parameters(layout, part, part_measured, weights, lengths)
+        fits.append(fit_from(x0, x0, "closed form"))
     best = min(fits, key=lambda f: f.rms)
     if best.rms > floor:
         # a local minimum: other starts (the quarter turns of prismatic thetas the gyroscopes

@@ -5,32 +5,38 @@
 in column 5), checked here (:func:`checked_start`). What it does with it:
 
 1. the link types: the detection from the gyroscopes
-   (:func:`~aaria_pin.apps.identify.geometry_start.detect_kind`) stays, except where its
-   statistic is within :data:`UNSURE` of its threshold 0.5: there the table's type decides
-   (:func:`start_kinds`). Which modules move is the encoders' (an empty row of the table for a
-   moving module is not obeyed);
+   (:func:`~aaria_pin.apps.identify.geometry_start.detect_kind`) stays where it is sure; where
+   its statistic is within :data:`UNSURE` of its threshold 0.5 and the table's type differs
+   (:func:`start_kinds`), the closed-form start is built under both sets of types and the
+   smaller residual decides (:func:`closed_form_choice`): the data, never the table alone.
+   Which modules move is the encoders' (an empty row of the table for a moving module is not
+   obeyed);
 2. the table's angles and lengths, with the IMU mounts fitted to them
    (:func:`~aaria_pin.apps.identify.geometry_start.table_start`), are the first start: walked
    and fitted as the closed-form start is. A fit that ends at the noise floor is the result:
-   the closed-form start and the other starts are not computed;
+   the closed-form start (unless item 1 built it) and the other starts are not computed;
 3. else the usual starts follow (the closed-form one, then the others), the smallest residual
    kept: a wrong table costs one fit, never the result.
 
-Why this order (measured on the standard ``structure`` task's 20 test arms, 10 s at 100 Hz
-with noise; ``docs/guide/bench-tasks.md``): the table's fit is tried first because a near table
-(the truth) ends at the floor from it (7 arms looked at one by one), and the closed-form
-start, a grid of candidates module by module, is then never built; the usual starts stay
-behind it because a far table must not decide the result. The link types are the detection's
+What a warm start can change against the cold one: the fit's prior (the faint pull towards the
+start, :class:`~aaria_pin.apps.identify.geometry_fit.WeightedFit`) is anchored at the table,
+so the combinations the signals hardly determine follow the start table, not the data, and
+along the exact null directions (the equivalent tables,
+:func:`~aaria_pin.apps.identify.geometry_fit.deficiencies`) the entries follow it too.
+
+Measured (the standard ``structure`` task's 20 test arms, 10 s at 100 Hz with noise;
+``docs/guide/bench-tasks.md``): a far table pulls run 71's tool tip from 12.9 mm (cold) to
+0.32 m (the earlier model's ``big2`` table) at the same residual. Anchoring the prior at the
+closed-form start instead was tried: run 71 from ``big2`` then gave 12.89 mm, the cold figure,
+and today's learned tables gave the cold figure on run 9 too (13.7 mm against 25 mm; median
+4.583 mm), but it was not kept: the closed-form start costs about 70 s of CPU on those 20 arms
+(a grid of candidates module by module; 0.1 to 25 s an arm, measured with the fit stopped
+after it), so the warm run took 265 s of CPU against the cold 161 s; and on a noise-free run
+(``aaria-fig3``) the closed-form start lies on another branch of equivalent tables, whose pull
+keeps the true table's fit off the exact noise floor. The link types are the detection's
 wherever it is sure: it is right on every module of those arms, the learned tables on 82 % to
-97.5 %. What it buys is little there: the time is the final fit's (its bias splines on every
-sample) and the other starts' on arms that end just above the floor from any start (run 98:
-1.12 floors from the truth too), which a warm start does not shorten, and the tool tip's error
-is the noise's (the truth as the start gives the cold median, 4.6 mm, in 55 s for the 20 arms
-against the cold 80 s). Tables far off (the learned ones: 4.4 m off at the tool tip) mostly
-still walk to the floor, in more iterations than the closed-form start needs (and pulled
-towards the far table by the fit's prior): 158 s and 259 s (two models' tables), the same
-link types, and on one arm whose fit hardly determines some lengths, the tool tip pulled
-towards the far table (run 71: 12.9 mm cold, 48 mm and 0.32 m warm) at the same residual.
+97.5 %; the tool tip's error is the noise's (the truth as the start gives the cold median,
+4.6 mm).
 """
 
 from __future__ import annotations
@@ -38,10 +44,13 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from aaria_pin.apps.identify.geometry_model import ArmLayout, KinematicData, predict_signals
+from aaria_pin.apps.identify.geometry_start import start_parameters
+from aaria_pin.apps.identify.geometry_structure import length_indices
 from aaria_pin.core.se3 import Array
 from aaria_pin.errors import ParameterError
 
-__all__ = ["UNSURE", "checked_start", "start_kinds"]
+__all__ = ["UNSURE", "checked_start", "closed_form_choice", "start_kinds"]
 
 UNSURE = 0.25
 """A link-type statistic (about 1 revolute, 0 prismatic) within this of 0.5 is unsure."""
@@ -119,3 +128,32 @@ def start_kinds(
             decided.append(module)
         kinds.append(kind)
     return tuple(kinds), tuple(decided)
+
+
+def closed_form_choice(
+    layouts: list[ArmLayout], data: KinematicData, measured: Array, weights: Array
+) -> tuple[int, Array]:
+    """The closed-form start under each layout (link types), the smallest residual's.
+
+    With a start table the layouts are the detection's and, where the table's link types
+    differ from the detection's on unsure modules (:func:`start_kinds`), the table's: the data
+    decide between them, not the table. The start found anchors the fits' prior.
+
+    Args:
+        layouts: the arm's modules and IMUs, one per candidate set of link types
+        data: the base motion and joint motions (a subsample of the run)
+        measured: the measured signals of :attr:`ArmLayout.imus`, T × S × 6
+        weights: the weight of each signal, 6
+
+    Returns:
+        The index of the layout kept (the first on a tie) and its closed-form start.
+    """
+    starts = [
+        start_parameters(lay, data, measured, weights, length_indices(lay)) for lay in layouts
+    ]
+    costs = [
+        float(np.sum(((predict_signals(x, lay, data)[0] - measured) * weights) ** 2))
+        for x, lay in zip(starts, layouts, strict=True)
+    ]
+    chosen = int(np.argmin(costs))
+    return chosen, starts[chosen]
