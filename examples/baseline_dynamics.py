@@ -33,6 +33,7 @@ from aaria_pin.apps.bench_tasks.rigid_body import (
     table_torques,
 )
 from aaria_pin.core.oscillation import base_motion
+from aaria_pin.files.dataset.normalisation import normalised
 
 _BLACK_BOX_INPUTS = ("time", "q_measured", "base_pose", "senSenB", "senSenDH")
 """What the black box reads of a run (the task's inputs, the sample times; not the true q)."""
@@ -64,7 +65,7 @@ def _samples(
 
 def _standardised(x: np.ndarray, mean: np.ndarray, std: np.ndarray) -> np.ndarray:
     """Features standardised with the training split's per-feature mean and std, float32."""
-    return ((x - mean) / np.where(std > 0, std, 1.0)).astype(np.float32)
+    return normalised(np.asarray(x, dtype=np.float64), mean, std).astype(np.float32)
 
 
 def _mlp(inputs: int, width: int, outputs: int, dropout: float) -> nn.Module:

@@ -62,12 +62,6 @@ class Data:
             return self.extra, None
         return self.reader, split
 
-    def training_tables(self) -> np.ndarray:
-        """The DH tables of the training runs (N × 8 × 5)."""
-        reader, split = self.source("train")
-        runs = self.split("train") if split else reader.split_runs(None).tolist()
-        return np.stack([reader.run(k, ["senSenDH"])["senSenDH"] for k in runs])
-
     def split(self, name: str) -> list[int]:
         """The card's runs of one split."""
         return [int(k) for k in self.card["splits"][name]]
@@ -76,11 +70,6 @@ class Data:
         """An array normalised with the training split's per-channel mean and std, float32."""
         mean, std = self.stats[name]
         return normalised(np.asarray(array, dtype=np.float64), mean, std).astype(np.float32)
-
-    def unscaled(self, name: str, array: np.ndarray) -> np.ndarray:
-        """The inverse of :meth:`scaled` (a channel of std 0 only re-centred)."""
-        mean, std = self.stats[name]
-        return array * np.where(std > 0, std, 1.0) + mean
 
     def windows(self, split: str, names: list[str], length: int, stride: int | None) -> Any:
         """Windows of a split (raw; :meth:`scaled` normalises them); length 0: whole runs."""

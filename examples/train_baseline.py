@@ -112,7 +112,7 @@ def _online_runs(card: dict[str, Any], o: Options) -> Any:
     return OnlineRuns(DatasetSources(**{**card["spec"], "n_runs": o.online, "seed": o.online_seed}))
 
 
-def _refuse_the_task_arms(card: dict[str, Any], o: Options) -> None:
+def _refuse_the_task_arms(card: dict[str, Any], o: Options, extra: DatasetReader | None) -> None:
     """Stop when the extra training arms would be the task's own (its seed: its test arms)."""
     task_seed = int(card["spec"]["seed"])
     if o.online and o.online_seed == task_seed:
@@ -120,14 +120,12 @@ def _refuse_the_task_arms(card: dict[str, Any], o: Options) -> None:
             f"train_baseline.py: --online-seed is {task_seed}, the task's seed (its test arms); "
             "allowed: another seed"
         )
-    if o.train_data:
-        with DatasetReader(o.train_data) as extra:
-            seed = extra.attributes.get("seed")
-        if seed is not None and int(seed) == task_seed:
-            raise SystemExit(
-                f"train_baseline.py: --train-data's seed is {task_seed}, the task's (its test "
-                "arms); allowed: a data set of another seed"
-            )
+    seed = extra.attributes.get("seed") if extra is not None else None
+    if seed is not None and int(seed) == task_seed:
+        raise SystemExit(
+            f"train_baseline.py: --train-data's seed is {task_seed}, the task's (its test "
+            "arms); allowed: a data set of another seed"
+        )
 
 
 def run(task: str, folder: Path, out: Path, o: Options) -> dict[str, Any]:
@@ -149,11 +147,11 @@ def run(task: str, folder: Path, out: Path, o: Options) -> dict[str, Any]:
         workers=o.workers,
     )
     card = json.loads((folder / "task.json").read_text())
-    _refuse_the_task_arms(card, o)
-    out.mkdir(parents=True, exist_ok=True)
     with ExitStack() as files:
         reader = files.enter_context(DatasetReader(folder / card["dataset"]))
         extra = files.enter_context(DatasetReader(o.train_data)) if o.train_data else None
+        _refuse_the_task_arms(card, o, extra)
+        out.mkdir(parents=True, exist_ok=True)
         stats = (
             (extra or reader).statistics(
                 list(spec.normalise),

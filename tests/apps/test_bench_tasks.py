@@ -209,7 +209,6 @@ def test_arms_identify_refuses_are_counted_and_given_the_nominal_table(
     folders: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     import aaria_pin.apps.identify.geometry as geometry
-    from aaria_pin.aaria.presets import get_preset
 
     def refuse(*_: object, **__: object) -> None:
         raise ParameterError("record is refused; allowed: a test's", parameter="record")
