@@ -25,19 +25,11 @@ from typing import Any
 import numpy as np
 import torch
 from baseline_training import Batch, Curve, Data, Settings, fit
-from structure_features import ESTIMATES, FEATURES, ROWS, run_features
+from structure_features import CONFIG, ESTIMATES, FEATURES, ROWS, run_features, scaled
 from torch import nn
 
-from aaria_pin.aaria.randomize import RandomConfig
-
-_CONFIG = RandomConfig()
-ALPHAS = np.asarray(_CONFIG.alpha_choices)
-THETAS = np.asarray(_CONFIG.theta_choices)
-
-
-def _scale(value: np.ndarray, bounds: tuple[float, float]) -> np.ndarray:
-    low, high = bounds
-    return (value - (low + high) / 2) / max((high - low) / 2, 1e-6)
+ALPHAS = np.asarray(CONFIG.alpha_choices)
+THETAS = np.asarray(CONFIG.theta_choices)
 
 
 def _unscale(value: np.ndarray, bounds: tuple[float, float]) -> np.ndarray:
@@ -57,8 +49,8 @@ def structure_item(run: dict[str, Any], rate: float) -> dict[str, np.ndarray]:
         types = np.rint(table[:, 4]).astype(np.int64)
         lengths = np.stack(
             [
-                np.r_[_scale(table[:6, 1], _CONFIG.a), _scale(table[6:, 1], _CONFIG.tool_a)],
-                _scale(table[:, 3], _CONFIG.d),
+                np.r_[scaled(table[:6, 1], CONFIG.a), scaled(table[6:, 1], CONFIG.tool_a)],
+                scaled(table[:, 3], CONFIG.d),
             ],
             axis=1,
         )
@@ -131,9 +123,9 @@ def predicted_table(out: dict[str, np.ndarray]) -> np.ndarray:
     table = np.zeros((8, 5))
     types = out["type"].argmax(axis=-1)
     a = np.r_[
-        _unscale(out["lengths"][:6, 0], _CONFIG.a), _unscale(out["lengths"][6:, 0], _CONFIG.tool_a)
+        _unscale(out["lengths"][:6, 0], CONFIG.a), _unscale(out["lengths"][6:, 0], CONFIG.tool_a)
     ]
-    d = _unscale(out["lengths"][:, 1], _CONFIG.d)
+    d = _unscale(out["lengths"][:, 1], CONFIG.d)
     for row in range(6):
         if types[row]:
             theta = THETAS[out["theta"][row].argmax()] if types[row] == 2 else 0.0

@@ -46,12 +46,12 @@ FEATURES = 44
 ESTIMATES = (27, 31)
 """The columns of the features' own estimates of a and d (scaled by their ranges)."""
 
-_CONFIG = RandomConfig()
+CONFIG = RandomConfig()
 _FORCE_WEIGHT = 0.05
 """Angular velocity [rad/s] per specific force [m/s²] when both are fitted by one rotation."""
 
 
-def _scaled(value: np.ndarray | float, bounds: tuple[float, float]) -> np.ndarray | float:
+def scaled(value: np.ndarray | float, bounds: tuple[float, float]) -> np.ndarray | float:
     """A length centred on its range's middle, in half-ranges."""
     low, high = bounds
     return (value - (low + high) / 2) / max((high - low) / 2, 1e-6)
@@ -174,9 +174,9 @@ def run_features(q: np.ndarray, imu: np.ndarray, rate: float) -> np.ndarray:
             *rot_r.ravel(),
             *rot_p.ravel(),
             *(3 * r_ab),
-            np.clip(_scaled(length, _CONFIG.a), -5, 5),
+            np.clip(scaled(length, CONFIG.a), -5, 5),
             *(3 * r_o),
-            np.clip(_scaled(d_off, _CONFIG.d), -5, 5),
+            np.clip(scaled(d_off, CONFIG.d), -5, 5),
             *rot_f.ravel(),
             res_f / 3,
             sure_a / 5,
@@ -190,6 +190,6 @@ def run_features(q: np.ndarray, imu: np.ndarray, rate: float) -> np.ndarray:
     tip, sure_a = _lever_along(k, force[:, 1] - force[:, last_a], np.array([0, 0, -0.03]), [0])
     out[6, 0] = 1.0
     out[6, 24:27] = 3 * r_tool
-    out[6, 27] = np.clip(_scaled(tip[0] - last_length / 2, _CONFIG.tool_a), -5, 5)
+    out[6, 27] = np.clip(scaled(tip[0] - last_length / 2, CONFIG.tool_a), -5, 5)
     out[6, 42] = sure_a / 5
     return np.nan_to_num(out).astype(np.float32)
